@@ -1,0 +1,28 @@
+# Finds Hemirad's Debian-packaged dependencies; a missing one is a configure error naming its package.
+include(FindPkgConfig)
+
+function(hemirad_require found package)
+  if(NOT ${found})
+    message(FATAL_ERROR "Hemirad: missing dependency; install the Debian package '${package}' "
+                        "(scripts/install-deps.sh installs everything)")
+  endif()
+endfunction()
+
+find_package(Eigen3 3.3 QUIET NO_MODULE)
+hemirad_require(Eigen3_FOUND libeigen3-dev)
+
+find_package(embree 3 QUIET)
+hemirad_require(embree_FOUND libembree-dev)
+
+find_package(OpenMP QUIET COMPONENTS CXX)
+hemirad_require(OpenMP_CXX_FOUND "g++ (libgomp)")
+
+find_package(Threads REQUIRED)
+
+find_path(HEMIRAD_STB_INCLUDE stb/stb_image_write.h)
+hemirad_require(HEMIRAD_STB_INCLUDE libstb-dev)
+
+if(HEMIRAD_WITH_TESTS)
+  find_package(doctest QUIET)
+  hemirad_require(doctest_FOUND doctest-dev)
+endif()

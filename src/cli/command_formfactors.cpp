@@ -1,0 +1,27 @@
+// `hemirad formfactors SCENE.obj -o F.hff|F.mtx`.
+#include "cli/commands.hpp"
+#include "cli/pipeline.hpp"
+#include "engine/form_factor_file.hpp"
+
+#include <iostream>
+
+namespace hemirad {
+
+int runFormFactors(const Options& options) {
+    Reporter reporter(options.quiet);
+    Warnings warnings;
+    Timings timings;
+    const Scene scene = loadScene(options, timings, reporter, warnings);
+    Options computeOnly = options;
+    computeOnly.ffPath.clear();
+    const FormFactors F = obtainFormFactors(scene, computeOnly, timings, reporter, warnings);
+    timings.start("write F");
+    saveFormFactors(F, options.output);
+    timings.stop();
+    reporter.line("wrote " + options.output + " (scene hash " + hexHash(F.sceneHash) + ")");
+    reporter.line(timings.table());
+    if (warnings.count()) std::cerr << "hemirad: " << warnings.summary() << '\n';
+    return 0;
+}
+
+}  // namespace hemirad

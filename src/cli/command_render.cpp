@@ -1,0 +1,48 @@
+// `hemirad render SCENE.obj -o IMAGE.png`: form factors, solve, Gouraud radiosity, camera rays.
+#include "cli/commands.hpp"
+#include "cli/pipeline.hpp"
+#include "engine/result_writer.hpp"
+#include "engine/vertex_radiosity.hpp"
+#include "preprocess/hemisphere/embree_scene.hpp"
+#include "render/raytracer.hpp"
+
+#include <filesystem>
+#include <iostream>
+
+namespace hemirad {
+
+int runRender(const Options& options) {
+    Reporter reporter(options.quiet);
+    Warnings warnings;
+    Timings timings;
+    if (std::filesystem::path(options.output).extension() != ".png")
+        throw UsageError("render -o: the image must be a .png file, got '" + options.output + "'");
+    const Scene scene = loadScene(options, timings, reporter, warnings);
+    const FormFactors F = obtainFormFactors(scene, options, timings, reporter, warnings);
+    const Radiosity result = solveScene(scene, F, options, timings, reporter);
+
+    timings.start("vertex radiosity");
+    const std::vector<Rgb> corner = cornerRadiosity(scene, result.B, options.crease);
+    RenderOptions render;
+    render.width = options.width;
+    render.height = options.height;
+    render.camera = options.camera ? *options.camera : defaultCamera(scene);
+    render.samplesPerPixel = options.samplesPerPixel;
+    render.flat = options.flat;
+    render.maxMirrorDepth = static_cast<int>(options.backend.maxDepth);
+    timings.start("render " + std::to_string(render.width) + "x" + std::to_string(render.height));
+    const RayScene rays(scene, options.backend.threads);
+    const RadianceImage image = renderRadiance(scene, rays, result.B, corner, render);
+    timings.start("write PNG");
+    double scale = 0.0;
+    const std::vector<std::uint8_t> rgb = toneMap(image, options.exposure, scale);
+    writePng(options.output, image.width, image.height, rgb);
+    timings.stop();
+    reporter.line("wrote " + options.output + " (" + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                  ", exposure " + std::to_string(scale) + (options.exposure > 0 ? "" : ", automatic") + ")");
+    reporter.line(timings.table());
+    if (warnings.count()) std::cerr << "hemirad: " << warnings.summary() << '\n';
+    return 0;
+}
+
+}  // namespace hemirad

@@ -1,0 +1,50 @@
+// `hemirad solve SCENE.obj [--ff F] -o B.csv|B.ply`.
+#include "cli/commands.hpp"
+#include "cli/pipeline.hpp"
+#include "engine/result_writer.hpp"
+#include "engine/tone_map.hpp"
+#include "engine/vertex_radiosity.hpp"
+
+#include <filesystem>
+#include <iostream>
+
+namespace hemirad {
+
+int runSolve(const Options& options) {
+    Reporter reporter(options.quiet);
+    Warnings warnings;
+    Timings timings;
+    std::string format;
+    if (!options.output.empty()) {
+        format = std::filesystem::path(options.output).extension().string();
+        if (format != ".csv" && format != ".ply")
+            throw UsageError("solve -o: unknown output type '" + format + "' (use .csv or .ply)");
+    }
+    const Scene scene = loadScene(options, timings, reporter, warnings);
+    const FormFactors F = obtainFormFactors(scene, options, timings, reporter, warnings);
+    const Radiosity result = solveScene(scene, F, options, timings, reporter);
+    if (format == ".csv") {
+        timings.start("write CSV");
+        writeRadiosityCsv(options.output, scene, result.B);
+        timings.stop();
+    } else if (format == ".ply") {
+        timings.start("vertex radiosity");
+        const std::vector<Rgb> corner = cornerRadiosity(scene, result.B, options.crease);
+        timings.start("write PLY");
+        double exposure = options.exposure;
+        if (exposure <= 0.0) {
+            std::vector<double> lum;
+            lum.reserve(scene.size());
+            for (const Rgb& b : result.B) lum.push_back(luminance(b) / kPi);
+            exposure = autoExposure(std::move(lum), 0.9, 0.85);
+        }
+        writeRadiosityPly(options.output, scene, corner, exposure);
+        timings.stop();
+    }
+    if (!options.output.empty()) reporter.line("wrote " + options.output);
+    reporter.line(timings.table());
+    if (warnings.count()) std::cerr << "hemirad: " << warnings.summary() << '\n';
+    return 0;
+}
+
+}  // namespace hemirad

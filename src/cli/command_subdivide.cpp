@@ -1,0 +1,30 @@
+// `hemirad subdivide in.obj -o out.obj --max-edge L`.
+#include "cli/commands.hpp"
+#include "cli/report.hpp"
+#include "engine/obj_loader.hpp"
+#include "engine/obj_writer.hpp"
+#include "engine/subdivide.hpp"
+
+#include <iostream>
+
+namespace hemirad {
+
+int runSubdivide(const Options& options) {
+    Reporter reporter(options.quiet);
+    Warnings warnings;
+    Timings timings;
+    timings.start("load scene");
+    const Scene scene = loadObj(options.inputs.at(0), warnings);
+    timings.start("subdivide");
+    const Scene out = subdivide(scene, options.maxEdge);
+    timings.start("write OBJ");
+    saveObj(out, options.output);
+    timings.stop();
+    reporter.line(options.inputs[0] + ": " + std::to_string(scene.size()) + " patches -> " + options.output + ": " +
+                  std::to_string(out.size()) + " patches (edges <= " + std::to_string(options.maxEdge) + ")");
+    reporter.line(timings.table());
+    if (warnings.count()) std::cerr << "hemirad: " << warnings.summary() << '\n';
+    return 0;
+}
+
+}  // namespace hemirad

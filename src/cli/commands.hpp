@@ -1,0 +1,14 @@
+// The `hemirad` subcommands; each returns the process exit status.
+#pragma once
+
+#include "cli/options.hpp"
+
+namespace hemirad {
+
+int runFormFactors(const Options& options);
+int runSolve(const Options& options);
+int runRender(const Options& options);
+int runInfo(const Options& options);
+int runSubdivide(const Options& options);
+
+}  // namespace hemirad

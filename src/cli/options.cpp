@@ -1,0 +1,243 @@
+// Strict option parsing: each flag lists the commands that accept it; values are range-checked.
+#include "cli/options.hpp"
+
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <functional>
+#include <map>
+#include <set>
+
+namespace hemirad {
+namespace {
+
+const std::set<std::string> kCommands = {"formfactors", "solve", "render", "info", "subdivide", "help"};
+const std::set<std::string> kComputing = {"formfactors", "solve", "render"};
+const std::set<std::string> kSolving = {"solve", "render"};
+
+double parseNumber(const std::string& flag, const std::string& text, double lo, double hi) {
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v))
+        throw UsageError(flag + " expects a number, got '" + text + "'");
+    if (v < lo || v > hi)
+        throw UsageError(flag + " " + text + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return v;
+}
+
+long parseInteger(const std::string& flag, const std::string& text, long lo, long hi) {
+    char* end = nullptr;
+    errno = 0;
+    const long v = std::strtol(text.c_str(), &end, 10);
+    if (text.empty() || *end != '\0' || errno == ERANGE) throw UsageError(flag + " expects an integer, got '" + text + "'");
+    if (v < lo || v > hi)
+        throw UsageError(flag + " " + text + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return v;
+}
+
+std::vector<double> parseList(const std::string& flag, const std::string& text, std::size_t count) {
+    std::vector<double> values;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = text.find(',', start);
+        const std::string piece = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        values.push_back(parseNumber(flag, piece, -1e300, 1e300));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    if (values.size() != count)
+        throw UsageError(flag + " expects " + std::to_string(count) + " comma-separated numbers, got '" + text + "'");
+    return values;
+}
+
+struct Flag {
+    std::set<std::string> commands;  // empty: every command
+    bool takesValue;
+    std::function<void(Options&, const std::string&, const std::string&)> apply;
+};
+
+const std::map<std::string, Flag>& flags() {
+    static const std::map<std::string, Flag> table = {
+        {"-o", {{"formfactors", "solve", "render", "subdivide"}, true,
+                [](Options& o, const std::string&, const std::string& v) { o.output = v; }}},
+        {"--quiet", {{}, false, [](Options& o, const std::string&, const std::string&) { o.quiet = true; }}},
+        {"--subdivide", {kComputing, true,
+                         [](Options& o, const std::string& f, const std::string& v) { o.subdivide = parseNumber(f, v, 1e-12, 1e300); }}},
+        {"--method", {kComputing, true, [](Options& o, const std::string&, const std::string& v) { o.method = v; }}},
+        {"--samples", {kComputing, true,
+                       [](Options& o, const std::string& f, const std::string& v) {
+                           o.backend.samples = static_cast<std::uint32_t>(parseInteger(f, v, 1, 1 << 24));
+                       }}},
+        {"--origins", {kComputing, true,
+                       [](Options& o, const std::string& f, const std::string& v) {
+                           o.backend.origins = static_cast<std::uint32_t>(parseInteger(f, v, 1, 1 << 16));
+                       }}},
+        {"--max-depth", {kComputing, true,
+                         [](Options& o, const std::string& f, const std::string& v) {
+                             o.backend.maxDepth = static_cast<std::uint32_t>(parseInteger(f, v, 0, 1000));
+                         }}},
+        {"--threads", {{}, true,
+                       [](Options& o, const std::string& f, const std::string& v) {
+                           o.backend.threads = static_cast<int>(parseInteger(f, v, 0, 4096));
+                       }}},
+        {"--seed", {kComputing, true,
+                    [](Options& o, const std::string& f, const std::string& v) {
+                        o.backend.seed = static_cast<std::uint64_t>(parseInteger(f, v, 0, 0x7fffffffffffffffL));
+                    }}},
+        {"--all-rows", {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.allRows = true; }}},
+        {"--enforce-reciprocity",
+         {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.enforceReciprocity = true; }}},
+        {"--ff", {kSolving, true, [](Options& o, const std::string&, const std::string& v) { o.ffPath = v; }}},
+        {"--recompute-ff", {kSolving, false, [](Options& o, const std::string&, const std::string&) { o.recomputeFf = true; }}},
+        {"--solver", {kSolving, true,
+                      [](Options& o, const std::string& f, const std::string& v) {
+                          try {
+                              o.solver.kind = parseSolverKind(v);
+                          } catch (const Error& e) {
+                              throw UsageError(f + ": " + e.what());
+                          }
+                      }}},
+        {"--tolerance", {kSolving, true,
+                         [](Options& o, const std::string& f, const std::string& v) {
+                             o.solver.tolerance = parseNumber(f, v, 1e-15, 0.5);
+                         }}},
+        {"--max-iterations", {kSolving, true,
+                              [](Options& o, const std::string& f, const std::string& v) {
+                                  o.solver.maxIterations = static_cast<int>(parseInteger(f, v, 1, 100000000));
+                              }}},
+        {"--allow-unconverged",
+         {kSolving, false, [](Options& o, const std::string&, const std::string&) { o.solver.allowUnconverged = true; }}},
+        {"--crease", {kSolving, true,
+                      [](Options& o, const std::string& f, const std::string& v) { o.crease = parseNumber(f, v, 0, 180); }}},
+        {"--size", {{"render"}, true,
+                    [](Options& o, const std::string& f, const std::string& v) {
+                        const std::size_t x = v.find('x');
+                        if (x == std::string::npos) throw UsageError(f + " expects WxH, e.g. 640x480, got '" + v + "'");
+                        o.width = static_cast<int>(parseInteger(f, v.substr(0, x), 1, 16384));
+                        o.height = static_cast<int>(parseInteger(f, v.substr(x + 1), 1, 16384));
+                    }}},
+        {"--camera", {{"render"}, true,
+                      [](Options& o, const std::string& f, const std::string& v) {
+                          const auto c = parseList(f, v, 7);
+                          Camera cam;
+                          cam.eye = Vec3(c[0], c[1], c[2]);
+                          cam.target = Vec3(c[3], c[4], c[5]);
+                          cam.fovY = c[6];
+                          if (!(cam.fovY > 0 && cam.fovY < 180)) throw UsageError(f + ": field of view must be in (0, 180) degrees");
+                          if ((cam.eye - cam.target).norm() == 0) throw UsageError(f + ": eye and target coincide");
+                          o.camera = cam;
+                      }}},
+        {"--spp", {{"render"}, true,
+                   [](Options& o, const std::string& f, const std::string& v) {
+                       o.samplesPerPixel = static_cast<int>(parseInteger(f, v, 1, 1024));
+                   }}},
+        {"--exposure", {{"render", "solve"}, true,
+                        [](Options& o, const std::string& f, const std::string& v) { o.exposure = parseNumber(f, v, 1e-30, 1e30); }}},
+        {"--flat", {{"render"}, false, [](Options& o, const std::string&, const std::string&) { o.flat = true; }}},
+        {"--max-edge", {{"subdivide"}, true,
+                        [](Options& o, const std::string& f, const std::string& v) { o.maxEdge = parseNumber(f, v, 1e-12, 1e300); }}},
+    };
+    return table;
+}
+
+}  // namespace
+
+Options parseOptions(int argc, const char* const* argv) {
+    Options o;
+    if (argc < 2) throw UsageError("no command given");
+    o.command = argv[1];
+    if (o.command == "--help" || o.command == "-h") o.command = "help";
+    if (!kCommands.count(o.command)) throw UsageError("unknown command '" + o.command + "'");
+    for (int k = 2; k < argc; ++k) {
+        std::string arg = argv[k];
+        if (arg == "--help" || arg == "-h") {
+            o.command = "help";
+            return o;
+        }
+        if (arg.size() > 1 && arg[0] == '-' && !(arg.size() > 1 && (std::isdigit(static_cast<unsigned char>(arg[1])) || arg[1] == '.'))) {
+            std::string value;
+            bool inlineValue = false;
+            const std::size_t eq = arg.find('=');
+            if (arg.rfind("--", 0) == 0 && eq != std::string::npos) {
+                value = arg.substr(eq + 1);
+                arg = arg.substr(0, eq);
+                inlineValue = true;
+            }
+            const auto it = flags().find(arg);
+            if (it == flags().end()) throw UsageError("unknown option '" + arg + "'");
+            const Flag& flag = it->second;
+            if (!flag.commands.empty() && !flag.commands.count(o.command))
+                throw UsageError("option '" + arg + "' does not apply to '" + o.command + "'");
+            if (flag.takesValue && !inlineValue) {
+                if (k + 1 >= argc) throw UsageError("option '" + arg + "' needs a value");
+                value = argv[++k];
+            } else if (!flag.takesValue && inlineValue) {
+                throw UsageError("option '" + arg + "' takes no value");
+            }
+            flag.apply(o, arg, value);
+            continue;
+        }
+        o.inputs.push_back(arg);
+    }
+    if (o.command == "help") return o;
+    if (o.inputs.size() != 1)
+        throw UsageError("'" + o.command + "' takes exactly one input file, got " + std::to_string(o.inputs.size()));
+    const bool needsOutput = o.command == "formfactors" || o.command == "subdivide";
+    if (needsOutput && o.output.empty()) throw UsageError("'" + o.command + "' needs -o OUTPUT");
+    if (o.command == "render" && o.output.empty()) throw UsageError("'render' needs -o IMAGE.png");
+    if (o.command == "solve" && o.output.empty() && o.ffPath.empty())
+        throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F)");
+    if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
+    if (o.recomputeFf && o.ffPath.empty()) throw UsageError("--recompute-ff needs --ff FILE");
+    return o;
+}
+
+std::string usageText() {
+    return R"(hemirad: radiosity with hemisphere (Embree) form factors and sparse solvers
+
+usage: hemirad COMMAND INPUT [options]
+
+commands:
+  formfactors SCENE.obj -o F.hff|F.mtx   compute the form-factor matrix F and store it
+  solve SCENE.obj -o B.csv|B.ply         compute (or reuse with --ff) F and solve radiosity
+  render SCENE.obj -o IMAGE.png          compute, solve and render an image
+  info F.hff|F.mtx                       check an F file and describe it
+  subdivide SCENE.obj -o OUT.obj --max-edge L   split patches until no edge exceeds L
+  help                                   this text
+
+scene:
+  --subdivide L          subdivide patches (edges <= L scene units) before computing
+form factors (formfactors, solve, render):
+  --method NAME          hemisphere (default)
+  --samples N            Beckers directions per origin (default 3072)
+  --origins K            ray origins per patch, stratified over its area (default 1 = centroid)
+  --max-depth D          mirror bounces followed (default 8)
+  --seed S               seed for origin jitter and pattern rotation (default 1)
+  --all-rows             also compute rows of black patches (rho = 0; skipped by default)
+  --enforce-reciprocity  make A_i F_ij = A_j F_ji by averaging each pair
+  --ff FILE              (solve, render) reuse F from FILE when its scene hash matches;
+                         create FILE when it does not exist
+  --recompute-ff         (solve, render) recompute F and overwrite FILE
+solve (solve, render):
+  --solver NAME          auto, lu, cholesky, cg, bicgstab, jacobi, gauss-seidel, southwell
+  --tolerance T          relative residual to reach (default 1e-6)
+  --max-iterations N     iteration limit (default 100000)
+  --allow-unconverged    report an unconverged solve instead of failing
+  --crease DEG           crease angle for vertex radiosity (default 45)
+  --exposure X           display scale for PNG/PLY colours (default automatic)
+render:
+  --size WxH             image size (default 640x640)
+  --camera ex,ey,ez,tx,ty,tz,fov   eye, target, vertical field of view in degrees
+  --spp N                samples per pixel (default 4)
+  --flat                 flat patches instead of Gouraud shading
+general:
+  --threads T            worker threads (default: all cores)
+  --quiet                print errors and warnings only
+
+exit status: 0 success, 1 runtime error, 2 usage error
+)";
+}
+
+}  // namespace hemirad

@@ -1,0 +1,59 @@
+// Command-line options of `hemirad`: one Options struct, strict parsing, usage text.
+#pragma once
+
+#include "engine/error.hpp"
+#include "engine/scene.hpp"
+#include "engine/solver.hpp"
+#include "preprocess/form_factor_backend.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hemirad {
+
+/// A command-line mistake: main() prints it with the usage hint and exits with status 2.
+class UsageError : public Error {
+public:
+    explicit UsageError(const std::string& message) : Error(message) {}
+};
+
+struct Options {
+    std::string command;                 ///< formfactors, solve, render, info, subdivide, help
+    std::vector<std::string> inputs;     ///< positional arguments
+    std::string output;                  ///< -o
+    bool quiet = false;
+
+    // Scene.
+    double subdivide = 0.0;              ///< --subdivide L: max edge length, 0 = off
+
+    // Form factors.
+    std::string method = "hemisphere";
+    BackendOptions backend;
+    bool allRows = false;
+    bool enforceReciprocity = false;
+    std::string ffPath;                  ///< --ff: stored F to reuse (or to create)
+    bool recomputeFf = false;
+
+    // Solve and output.
+    SolverOptions solver;
+    double crease = 45.0;
+
+    // Render.
+    int width = 640, height = 640;
+    std::optional<Camera> camera;
+    int samplesPerPixel = 4;
+    double exposure = 0.0;               ///< 0 = automatic
+    bool flat = false;
+
+    // subdivide command.
+    double maxEdge = 0.0;
+};
+
+/// Parses argv; throws UsageError for unknown commands/flags, missing or malformed values.
+Options parseOptions(int argc, const char* const* argv);
+
+/// The full usage text (`hemirad help`).
+std::string usageText();
+
+}  // namespace hemirad

@@ -1,0 +1,121 @@
+// Console reporting.
+#include "cli/report.hpp"
+
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <unistd.h>
+
+namespace hemirad {
+
+std::string formatSeconds(double seconds) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, seconds < 10 ? "%.3f" : "%.1f", seconds);
+    return buffer;
+}
+
+void Timings::start(std::string stage) {
+    stop();
+    m_current = std::move(stage);
+    m_begin = std::chrono::steady_clock::now();
+}
+
+void Timings::stop() {
+    if (m_current.empty()) return;
+    add(m_current, std::chrono::duration<double>(std::chrono::steady_clock::now() - m_begin).count());
+    m_current.clear();
+}
+
+std::string Timings::table() const {
+    std::ostringstream out;
+    double total = 0.0;
+    std::size_t width = 5;
+    for (const auto& [stage, seconds] : m_stages) width = std::max(width, stage.size());
+    out << std::left << std::setw(static_cast<int>(width)) << "stage" << "  seconds\n";
+    for (const auto& [stage, seconds] : m_stages) {
+        out << std::left << std::setw(static_cast<int>(width)) << stage << "  " << std::right << std::setw(7)
+            << formatSeconds(seconds) << '\n';
+        total += seconds;
+    }
+    out << std::left << std::setw(static_cast<int>(width)) << "total" << "  " << std::right << std::setw(7)
+        << formatSeconds(total) << '\n';
+    return out.str();
+}
+
+Reporter::Reporter(bool quiet) : m_quiet(quiet), m_terminal(::isatty(STDERR_FILENO) == 1) {}
+
+void Reporter::line(const std::string& text) const {
+    if (!m_quiet) std::cout << text << std::endl;
+}
+
+ProgressCallback Reporter::progress(const std::string& label, double raysPerRow) const {
+    if (m_quiet || !m_terminal) return {};
+    return [label, raysPerRow](std::size_t done, std::size_t total, double seconds) {
+        const double fraction = total ? double(done) / total : 1.0;
+        const int width = 30;
+        const int filled = static_cast<int>(fraction * width);
+        const double rate = seconds > 0 ? done * raysPerRow / seconds : 0.0;
+        const double eta = done > 0 ? seconds * (double(total) / done - 1.0) : 0.0;
+        std::fprintf(stderr, "\r%s [%s%s] %zu/%zu rows  %.2f Mrays/s  ETA %s s   ", label.c_str(),
+                     std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), done, total, rate / 1e6,
+                     done > 0 ? formatSeconds(eta).c_str() : "?");
+        if (done == total) std::fprintf(stderr, "\r%*s\r", 100, "");
+        std::fflush(stderr);
+    };
+}
+
+void Reporter::formFactorSummary(const FormFactorRun& run, const BackendOptions& options,
+                                 const std::string& method) const {
+    if (m_quiet) return;
+    const RayCounts& c = run.counts;
+    std::ostringstream out;
+    out.setf(std::ios::fixed);
+    out << "form factors: " << method << ", " << options.samples << " directions x " << options.origins
+        << (options.origins == 1 ? " origin (centroid)" : " origins") << ", " << run.rowsComputed << " rows";
+    if (run.rowsSkipped) out << " (" << run.rowsSkipped << " skipped: black patches, B = E)";
+    out << "\n  rays " << std::setprecision(2) << c.rays / 1e6 << " M in " << formatSeconds(run.computeSeconds)
+        << " s = " << (run.computeSeconds > 0 ? c.rays / run.computeSeconds / 1e6 : 0.0) << " M rays/s";
+    out << "; lost " << std::setprecision(4)
+        << (run.rowsComputed ? 100.0 * c.lostWeight / double(run.rowsComputed) : 0.0) << "% of the power ("
+        << c.misses << " misses, " << c.backfaces << " back faces)";
+    if (c.bounces) {
+        out << "\n  mirror bounces " << c.bounces << "; power cut off by --max-depth " << options.maxDepth
+            << " / weight < " << options.minWeight << ": " << std::setprecision(5)
+            << (run.rowsComputed ? 100.0 * c.cutoffWeight / double(run.rowsComputed) : 0.0) << "% of the emitted power";
+    }
+    line(out.str());
+    formFactorStats(run.stats, run.F.memoryBytes());
+}
+
+void Reporter::formFactorStats(const FormFactorStats& s, std::size_t memoryBytes) const {
+    if (m_quiet) return;
+    std::ostringstream out;
+    out.setf(std::ios::fixed);
+    out << std::setprecision(4) << "  row sums min " << s.rowSumMin << " mean " << s.rowSumMean << " max " << s.rowSumMax
+        << "; reciprocity |A_i F_ij - A_j F_ji| / max: max " << s.reciprocityMax << ", area-weighted mean "
+        << s.reciprocityMean;
+    if (s.selfFactors) out << "; " << s.selfFactors << " rows with F_ii > 0";
+    out << "\n  F: " << s.nonZeros << " nonzeros (" << std::setprecision(1)
+        << (s.computedRows ? double(s.nonZeros) / s.computedRows : 0.0) << " per row), " << std::setprecision(1)
+        << memoryBytes / 1048576.0 << " MiB";
+    line(out.str());
+}
+
+void Reporter::solveSummary(const Radiosity& result) const {
+    if (m_quiet) return;
+    for (const SolveReport& r : result.reports) {
+        std::ostringstream out;
+        out << "solve: " << r.solver << ", channel(s) " << r.channels << ": "
+            << (r.converged ? "converged" : "NOT converged");
+        if (r.iterations) out << " in " << r.iterations << " iterations";
+        out << std::scientific << std::setprecision(2) << ", relative residual " << r.residual;
+        if (std::abs(r.residualOriginal - r.residual) > 1e-3 * std::max(r.residual, 1e-300))
+            out << " (on I - RF: " << r.residualOriginal << ")";
+        out << ", " << formatSeconds(r.seconds) << " s";
+        if (!r.note.empty()) out << "; " << r.note;
+        line(out.str());
+    }
+}
+
+}  // namespace hemirad

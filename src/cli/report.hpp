@@ -1,0 +1,48 @@
+// Console output of the CLI: stage timings, a progress bar on a terminal, F and solver summaries.
+#pragma once
+
+#include "engine/solver.hpp"
+#include "preprocess/form_factor_job.hpp"
+
+#include <chrono>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hemirad {
+
+/// Wall-clock time per pipeline stage, printed as a table at the end of a command.
+class Timings {
+public:
+    /// Measures from now until the next mark() / stop().
+    void start(std::string stage);
+    void stop();
+    void add(std::string stage, double seconds) { m_stages.emplace_back(std::move(stage), seconds); }
+    std::string table() const;
+
+private:
+    std::vector<std::pair<std::string, double>> m_stages;
+    std::string m_current;
+    std::chrono::steady_clock::time_point m_begin;
+};
+
+/// Messages on stdout unless quiet; the progress bar on stderr only when it is a terminal.
+class Reporter {
+public:
+    explicit Reporter(bool quiet);
+    bool quiet() const { return m_quiet; }
+    void line(const std::string& text) const;
+    /// Progress callback for computeFormFactors (rays per row for the rays/s figure).
+    ProgressCallback progress(const std::string& label, double raysPerRow) const;
+    void formFactorSummary(const FormFactorRun& run, const BackendOptions& options, const std::string& method) const;
+    void formFactorStats(const FormFactorStats& stats, std::size_t memoryBytes) const;
+    void solveSummary(const Radiosity& result) const;
+
+private:
+    bool m_quiet;
+    bool m_terminal;
+};
+
+std::string formatSeconds(double seconds);
+
+}  // namespace hemirad

@@ -1,0 +1,30 @@
+// F files: the checked binary .hff format and Matrix Market .mtx (readable by scipy.io.mmread).
+#pragma once
+
+#include "engine/form_factors.hpp"
+
+#include <string>
+
+namespace hemirad {
+
+/// Writes F atomically; the format follows the extension (.hff or .mtx). Throws hemirad::Error.
+void saveFormFactors(const FormFactors& F, const std::string& path);
+/// Reads F, checking structure, checksum (.hff) and values. Throws hemirad::Error naming the file.
+FormFactors loadFormFactors(const std::string& path);
+
+/// Header of an .hff file without its arrays (for `hemirad info`), after checking size and checksum.
+struct FormFactorFileInfo {
+    std::uint32_t version = 0;
+    std::uint64_t size = 0, nonZeros = 0, sceneHash = 0, fileBytes = 0;
+    std::size_t computedRows = 0;
+    std::map<std::string, std::string> parameters;
+};
+FormFactorFileInfo readFormFactorInfo(const std::string& path);
+
+/// Checks that F belongs to the scene with hash `sceneHash` and `patchCount` patches.
+void checkFormFactorsMatch(const FormFactors& F, std::uint64_t sceneHash, std::size_t patchCount,
+                           const std::string& path);
+
+std::string hexHash(std::uint64_t hash);
+
+}  // namespace hemirad

@@ -1,0 +1,96 @@
+// Sparse form-factor matrix F in row-major CSR (float values, 32-bit columns), its builder and statistics.
+#pragma once
+
+#include "engine/math.hpp"
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace hemirad {
+
+class Scene;
+
+/// F(i, j) = fraction of the power leaving patch i diffusely that arrives at patch j (directly or,
+/// with mirrors, through chains of specular reflections; Sillion & Puech 1989).
+/// Memory: 8 bytes per nonzero + 9 bytes per row.
+class FormFactors {
+public:
+    struct Entry {
+        std::uint32_t column;
+        float value;
+    };
+
+    FormFactors() = default;
+    explicit FormFactors(std::size_t n) : m_rowStart(n + 1, 0), m_computed(n, 0) {}
+
+    std::size_t size() const { return m_computed.size(); }
+    std::size_t nonZeros() const { return m_columns.size(); }
+    std::size_t memoryBytes() const;
+
+    std::uint64_t rowBegin(std::size_t i) const { return m_rowStart[i]; }
+    std::uint64_t rowEnd(std::size_t i) const { return m_rowStart[i + 1]; }
+    const std::uint32_t* columns() const { return m_columns.data(); }
+    const float* values() const { return m_values.data(); }
+    float* values() { return m_values.data(); }
+    /// Whether row i was computed (rows of black patches are skipped unless asked for).
+    bool rowComputed(std::size_t i) const { return m_computed[i] != 0; }
+    std::size_t computedRows() const;
+    double rowSum(std::size_t i) const;
+    /// F(i, j) by binary search in row i (columns are sorted); 0 when absent.
+    double at(std::size_t i, std::size_t j) const;
+
+    /// Scene hash (geometry + specular) this F belongs to, and how it was computed.
+    std::uint64_t sceneHash = 0;
+    std::map<std::string, std::string> parameters;  ///< "method", "samples", ... (text, stored in files)
+
+    /// Builds from per-row entry lists (columns sorted, unique); rows with computed[i] == 0 must be empty.
+    static FormFactors fromRows(std::vector<std::vector<Entry>>&& rows, std::vector<std::uint8_t> computed);
+    /// Builds from raw CSR arrays (taking ownership); callers validate.
+    static FormFactors fromCsr(std::vector<std::uint64_t>&& rowStart, std::vector<std::uint32_t>&& columns,
+                               std::vector<float>&& values, std::vector<std::uint8_t>&& computed);
+
+    const std::vector<std::uint64_t>& rowStarts() const { return m_rowStart; }
+    const std::vector<std::uint8_t>& computedFlags() const { return m_computed; }
+    const std::vector<std::uint32_t>& columnVector() const { return m_columns; }
+    const std::vector<float>& valueVector() const { return m_values; }
+
+    /// Takes every row that `other` computed (e.g. rows needed after a material edit); keeps the rest.
+    void replaceRows(const FormFactors& other);
+
+private:
+    std::vector<std::uint64_t> m_rowStart;
+    std::vector<std::uint32_t> m_columns;
+    std::vector<float> m_values;
+    std::vector<std::uint8_t> m_computed;
+};
+
+/// Diagnostics of an F against its scene (computed rows only).
+struct FormFactorStats {
+    std::size_t rows = 0, computedRows = 0, nonZeros = 0;
+    double rowSumMin = 0, rowSumMean = 0, rowSumMax = 0;
+    /// max over pairs (both rows computed) of |A_i F_ij - A_j F_ji| / max(A_i F_ij, A_j F_ji).
+    double reciprocityMax = 0;
+    /// sum |A_i F_ij - A_j F_ji| / sum (A_i F_ij + A_j F_ji): the area-weighted mean violation.
+    double reciprocityMean = 0;
+    std::size_t selfFactors = 0;  ///< rows with F_ii > 0 (legitimate only with mirrors)
+};
+
+FormFactorStats computeStats(const FormFactors& F, const Scene& scene);
+
+/// Replaces F_ij and F_ji (both rows computed) by their area-weighted mean so that A_i F_ij = A_j F_ji.
+/// Returns the number of pairs changed. Entries present in only one row get a partner.
+std::size_t enforceReciprocity(FormFactors& F, const Scene& scene);
+
+/// Checks F before use: size, finite and >= 0 values, row sums <= maxRowSum. Without mirrors a row
+/// sums to at most 1; with mirrors a ray deposits its weight on every patch of its chain, so rows
+/// may reach 1 / (1 - s_max). Throws hemirad::Error naming `source`, the row and value.
+void validateFormFactors(const FormFactors& F, std::size_t patchCount, const std::string& source,
+                         double maxRowSum);
+
+/// The largest row sum F may have: parameters["row_sum_bound"] (written by the back ends), else 1;
+/// plus a tolerance of 1e-3 for float accumulation.
+double rowSumBound(const FormFactors& F);
+
+}  // namespace hemirad

@@ -1,0 +1,97 @@
+// OBJ/MTL writer.
+#include "engine/obj_writer.hpp"
+
+#include "engine/atomic_file.hpp"
+#include "engine/error.hpp"
+
+#include <filesystem>
+#include <map>
+#include <tuple>
+
+namespace hemirad {
+namespace {
+
+void writeMaterial(std::ofstream& out, const Material& m) {
+    out.precision(9);
+    out << "newmtl " << m.name << "\nKd " << m.rho[0] << ' ' << m.rho[1] << ' ' << m.rho[2] << "\nKe " << m.emission[0]
+        << ' ' << m.emission[1] << ' ' << m.emission[2] << '\n';
+    if (m.specular > 0.0) out << "Ks " << m.specular << ' ' << m.specular << ' ' << m.specular << "\nillum 3\n\n";
+    else out << "Ks " << m.ks[0] << ' ' << m.ks[1] << ' ' << m.ks[2] << "\nillum " << (m.illum == 3 || m.illum == 5 || m.illum == 7 ? 2 : m.illum) << "\n\n";
+}
+
+bool sameValues(const Patch& p, const Material& m) {
+    return (p.rho == m.rho).all() && (p.emission == m.emission).all() && p.specular == m.specular;
+}
+
+}  // namespace
+
+void saveObj(const Scene& scene, const std::string& path) {
+    namespace fs = std::filesystem;
+    const fs::path objPath(path);
+    const fs::path mtlPath = fs::path(objPath).replace_extension(".mtl");
+
+    // Materials actually written: originals, plus one derived material per distinct edited value set.
+    std::vector<Material> written = scene.materials;
+    std::vector<std::uint32_t> patchMaterial(scene.size());
+    using Key = std::tuple<std::uint32_t, double, double, double, double, double, double, double>;
+    std::map<Key, std::uint32_t> derived;
+    std::map<std::uint32_t, int> derivedCount;
+    for (PatchId i = 0; i < scene.size(); ++i) {
+        const Patch& p = scene.patches[i];
+        if (p.material < scene.materials.size() && sameValues(p, scene.materials[p.material])) {
+            patchMaterial[i] = p.material;
+            continue;
+        }
+        const Key key{p.material, p.rho[0], p.rho[1], p.rho[2], p.emission[0], p.emission[1], p.emission[2], p.specular};
+        auto [it, added] = derived.emplace(key, static_cast<std::uint32_t>(written.size()));
+        if (added) {
+            Material m = p.material < scene.materials.size() ? scene.materials[p.material] : Material{};
+            m.name = (p.material < scene.materials.size() ? m.name : std::string("material")) + "~" +
+                     std::to_string(++derivedCount[p.material]);
+            m.rho = p.rho;
+            m.emission = p.emission;
+            m.specular = p.specular;
+            m.ks = Rgb::Constant(p.specular);
+            m.illum = p.specular > 0 ? 3 : 2;
+            written.push_back(m);
+        }
+        patchMaterial[i] = it->second;
+    }
+
+    {
+        AtomicFile mtl(mtlPath.string(), false);
+        mtl.stream() << "# Hemirad materials: Kd = diffuse reflectance, Ke = emission (W/m^2), "
+                        "illum 3 + Ks = mirror reflectance\n\n";
+        for (const Material& m : written) writeMaterial(mtl.stream(), m);
+        mtl.commit();
+    }
+    AtomicFile obj(path, false);
+    std::ofstream& out = obj.stream();
+    out.precision(17);
+    out << "# Hemirad scene, " << scene.size() << " patches\n";
+    if (scene.camera) {
+        const Camera& c = *scene.camera;
+        out << "# hemirad camera " << c.eye.x() << ' ' << c.eye.y() << ' ' << c.eye.z() << ' ' << c.target.x() << ' '
+            << c.target.y() << ' ' << c.target.z() << ' ' << c.fovY << '\n';
+    }
+    out << "mtllib " << mtlPath.filename().string() << '\n';
+    for (const Vec3& v : scene.vertices) out << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+    std::uint32_t object = UINT32_MAX, material = UINT32_MAX;
+    for (PatchId i = 0; i < scene.size(); ++i) {
+        const Patch& p = scene.patches[i];
+        if (p.object != object && p.object < scene.objects.size()) {
+            object = p.object;
+            out << "o " << scene.objects[object] << '\n';
+        }
+        if (patchMaterial[i] != material) {
+            material = patchMaterial[i];
+            out << "usemtl " << written[material].name << '\n';
+        }
+        out << 'f';
+        for (std::uint32_t k = 0; k < p.cornerCount; ++k) out << ' ' << scene.corners[p.firstCorner + k] + 1;
+        out << '\n';
+    }
+    obj.commit();
+}
+
+}  // namespace hemirad

@@ -1,0 +1,109 @@
+// Scene bookkeeping: adding measured patches, bounds, and the geometry hash that keys stored F files.
+#include "engine/scene.hpp"
+
+#include "engine/hash.hpp"
+#include "engine/polygon.hpp"
+
+#include <limits>
+
+namespace hemirad {
+
+std::vector<Vec3> Scene::polygon(PatchId id) const {
+    const Patch& p = patches[id];
+    std::vector<Vec3> points(p.cornerCount);
+    for (std::uint32_t k = 0; k < p.cornerCount; ++k) points[k] = corner(p, k);
+    return points;
+}
+
+PatchId Scene::addPatch(const std::vector<std::uint32_t>& vertexIds, std::uint32_t material,
+                        std::uint32_t object, int sourceLine) {
+    Patch p;
+    p.firstCorner = static_cast<std::uint32_t>(corners.size());
+    p.cornerCount = static_cast<std::uint32_t>(vertexIds.size());
+    corners.insert(corners.end(), vertexIds.begin(), vertexIds.end());
+    p.object = object;
+    p.sourceLine = sourceLine;
+    const auto id = static_cast<PatchId>(patches.size());
+    patches.push_back(p);
+    const PolygonMeasures m = measurePolygon(polygon(id));
+    Patch& q = patches.back();
+    q.area = m.area;
+    q.normal = m.normal;
+    q.centroid = m.centroid;
+    Parent parent;
+    parent.firstCorner = static_cast<std::uint32_t>(parentCorners.size());
+    parent.cornerCount = q.cornerCount;
+    parent.firstPatch = id;
+    parent.sourcePatch = id;
+    parentCorners.insert(parentCorners.end(), vertexIds.begin(), vertexIds.end());
+    q.parent = static_cast<std::uint32_t>(parents.size());
+    parents.push_back(parent);
+    applyMaterial(id, material);
+    return id;
+}
+
+void Scene::updateMeasures() {
+    for (PatchId id = 0; id < size(); ++id) {
+        const PolygonMeasures m = measurePolygon(polygon(id));
+        Patch& p = patches[id];
+        p.area = m.area;
+        p.normal = m.normal;
+        p.centroid = m.centroid;
+    }
+}
+
+void Scene::applyMaterial(PatchId id, std::uint32_t material) {
+    Patch& p = patches[id];
+    p.material = material;
+    if (material < materials.size()) {
+        const Material& m = materials[material];
+        p.rho = m.rho;
+        p.emission = m.emission;
+        p.specular = m.specular;
+    }
+}
+
+bool Scene::hasMirrors() const {
+    for (const Patch& p : patches)
+        if (p.specular > 0.0) return true;
+    return false;
+}
+
+void Scene::bounds(Vec3& lo, Vec3& hi) const {
+    lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+    hi = -lo;
+    for (const Patch& p : patches)
+        for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
+            lo = lo.cwiseMin(corner(p, k));
+            hi = hi.cwiseMax(corner(p, k));
+        }
+    if (patches.empty()) lo = hi = Vec3::Zero();
+}
+
+double Scene::extent() const {
+    Vec3 lo, hi;
+    bounds(lo, hi);
+    return (hi - lo).norm();
+}
+
+double Scene::totalArea() const {
+    double sum = 0.0;
+    for (const Patch& p : patches) sum += p.area;
+    return sum;
+}
+
+std::uint64_t Scene::geometryHash() const {
+    Fnv1a h;
+    h.addValue(static_cast<std::uint64_t>(patches.size()));
+    for (const Patch& p : patches) {
+        h.addValue(p.cornerCount);
+        for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
+            const Vec3 v = corner(p, k);
+            h.add(v.data(), 3 * sizeof(double));
+        }
+        h.addValue(p.specular);
+    }
+    return h.value();
+}
+
+}  // namespace hemirad

@@ -1,0 +1,55 @@
+// Radiosity solvers per RGB channel: (I - R F) B = E, direct (Eigen LU/Cholesky) or iterative.
+#pragma once
+
+#include "engine/form_factors.hpp"
+#include "engine/scene.hpp"
+
+#include <string>
+#include <vector>
+
+namespace hemirad {
+
+enum class SolverKind { Auto, LU, Cholesky, CG, BiCGSTAB, Jacobi, GaussSeidel, Southwell };
+
+/// "auto", "lu", "cholesky", "cg", "bicgstab", "jacobi", "gauss-seidel", "southwell".
+SolverKind parseSolverKind(const std::string& name);
+std::string solverName(SolverKind kind);
+
+struct SolverOptions {
+    SolverKind kind = SolverKind::Auto;
+    double tolerance = 1e-6;          ///< relative residual ||E - (I - R F) B|| / ||E|| to reach
+    int maxIterations = 100000;       ///< sweeps / iterations (Southwell: sweeps of N shots)
+    bool allowUnconverged = false;    ///< else an unconverged solve throws hemirad::Error
+    std::size_t memoryLimit = 0;      ///< bytes a direct solver may use; 0 = 80% of available memory
+};
+
+struct SolveReport {
+    std::string solver;
+    std::string channels;     ///< channels this solve served, e.g. "rgb" when all were identical
+    bool converged = false;
+    int iterations = 0;
+    double residual = 0;      ///< relative residual of the system the solver worked on
+    double residualOriginal = 0;  ///< ||E - (I - R F) B|| / ||E|| on the unsymmetrised F
+    double seconds = 0;
+    std::string note;         ///< e.g. "F symmetrised: (A_i F_ij + A_j F_ji) / 2"
+};
+
+struct Radiosity {
+    std::vector<Rgb> B;       ///< per patch, W/m^2
+    std::vector<SolveReport> reports;
+};
+
+/// Solves B_i = E_i + rho_i sum_j F_ij B_j for each distinct channel (identical channels are solved
+/// once). `initial`, if given, warm-starts iterative solvers. Throws hemirad::Error when the system is
+/// singular (rho >= 1 in a closed part), a needed row of F was not computed, a direct solver would
+/// exceed memory, or the solve did not converge (unless allowUnconverged).
+Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverOptions& options,
+                         const std::vector<Rgb>* initial = nullptr);
+
+/// The solver "auto" picks for N patches and the given materials.
+SolverKind chooseSolver(std::size_t patches, const Scene& scene);
+
+/// Bytes of memory available to this process (MemAvailable), 0 if unknown.
+std::size_t availableMemory();
+
+}  // namespace hemirad

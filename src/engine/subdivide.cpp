@@ -1,0 +1,176 @@
+// Regular-grid subdivision of patches with parent bookkeeping for the hemicube's parent-polygon drawing.
+#include "engine/subdivide.hpp"
+
+#include "engine/error.hpp"
+
+#include <cmath>
+#include <map>
+#include <array>
+
+namespace hemirad {
+namespace {
+
+class SubdivisionBuilder {
+public:
+    SubdivisionBuilder(const Scene& in, Scene& out) : m_in(in), m_out(out) {}
+
+    /// Point at parameter t along the input edge (a, b), evaluated from the lower vertex index so
+    /// that both patches sharing the edge produce bit-identical points.
+    std::uint32_t edgePoint(std::uint32_t a, std::uint32_t b, std::uint32_t step, std::uint32_t steps) {
+        if (a > b) {
+            std::swap(a, b);
+            step = steps - step;
+        }
+        if (step == 0) return inputVertex(a);
+        if (step == steps) return inputVertex(b);
+        const double t = static_cast<double>(step) / steps;
+        return vertex(m_in.vertices[a] + t * (m_in.vertices[b] - m_in.vertices[a]));
+    }
+
+    std::uint32_t inputVertex(std::uint32_t v) {
+        auto [it, added] = m_inputToOutput.emplace(v, 0u);
+        if (added) it->second = vertex(m_in.vertices[v]);
+        return it->second;
+    }
+
+    std::uint32_t vertex(const Vec3& p) {
+        const std::array<double, 3> key{p.x(), p.y(), p.z()};
+        auto [it, added] = m_positions.emplace(key, static_cast<std::uint32_t>(m_out.vertices.size()));
+        if (added) m_out.vertices.push_back(p);
+        return it->second;
+    }
+
+    void quad(const Patch& src, PatchId srcId, const std::uint32_t c[4], double maxEdge) {
+        const Vec3 p[4] = {m_in.vertices[c[0]], m_in.vertices[c[1]], m_in.vertices[c[2]], m_in.vertices[c[3]]};
+        const std::uint32_t nu = steps(std::max((p[1] - p[0]).norm(), (p[2] - p[3]).norm()), maxEdge);
+        const std::uint32_t nv = steps(std::max((p[3] - p[0]).norm(), (p[2] - p[1]).norm()), maxEdge);
+        std::vector<std::uint32_t> grid((nu + 1) * (nv + 1));
+        for (std::uint32_t j = 0; j <= nv; ++j)
+            for (std::uint32_t i = 0; i <= nu; ++i) {
+                std::uint32_t& g = grid[j * (nu + 1) + i];
+                if (j == 0) g = edgePoint(c[0], c[1], i, nu);
+                else if (j == nv) g = edgePoint(c[3], c[2], i, nu);
+                else if (i == 0) g = edgePoint(c[0], c[3], j, nv);
+                else if (i == nu) g = edgePoint(c[1], c[2], j, nv);
+                else {
+                    const double u = static_cast<double>(i) / nu, v = static_cast<double>(j) / nv;
+                    g = vertex((1 - u) * (1 - v) * p[0] + u * (1 - v) * p[1] + u * v * p[2] + (1 - u) * v * p[3]);
+                }
+            }
+        const std::uint32_t parent = beginParent(src, srcId, c, 4, GridKind::Quad, nu, nv);
+        for (std::uint32_t j = 0; j < nv; ++j)
+            for (std::uint32_t i = 0; i < nu; ++i)
+                emit(src, parent, i, j,
+                     {grid[j * (nu + 1) + i], grid[j * (nu + 1) + i + 1], grid[(j + 1) * (nu + 1) + i + 1],
+                      grid[(j + 1) * (nu + 1) + i]});
+    }
+
+    void triangle(const Patch& src, PatchId srcId, const std::uint32_t c[3], double maxEdge) {
+        const Vec3 p[3] = {m_in.vertices[c[0]], m_in.vertices[c[1]], m_in.vertices[c[2]]};
+        const std::uint32_t n = steps(std::max({(p[1] - p[0]).norm(), (p[2] - p[1]).norm(), (p[0] - p[2]).norm()}),
+                                      maxEdge);
+        // Barycentric grid: point (a, b) = p0 + a/n (p1 - p0) + b/n (p2 - p0), a + b <= n.
+        auto index = [n](std::uint32_t a, std::uint32_t b) { return b * (n + 1) - b * (b - 1) / 2 + a; };
+        std::vector<std::uint32_t> grid((n + 1) * (n + 2) / 2);
+        for (std::uint32_t b = 0; b <= n; ++b)
+            for (std::uint32_t a = 0; a + b <= n; ++a) {
+                std::uint32_t& g = grid[index(a, b)];
+                if (b == 0) g = edgePoint(c[0], c[1], a, n);
+                else if (a == 0) g = edgePoint(c[0], c[2], b, n);
+                else if (a + b == n) g = edgePoint(c[1], c[2], b, n);
+                else g = vertex(p[0] + (double(a) / n) * (p[1] - p[0]) + (double(b) / n) * (p[2] - p[0]));
+            }
+        const std::uint32_t parent = beginParent(src, srcId, c, 3, GridKind::Triangle, n, n);
+        for (std::uint32_t j = 0; j < n; ++j)
+            for (std::uint32_t i = 0; i + j < n; ++i) {
+                emit(src, parent, 2 * i, j, {grid[index(i, j)], grid[index(i + 1, j)], grid[index(i, j + 1)]});
+                if (i + j + 1 < n)
+                    emit(src, parent, 2 * i + 1, j,
+                         {grid[index(i + 1, j)], grid[index(i + 1, j + 1)], grid[index(i, j + 1)]});
+            }
+    }
+
+    void single(const Patch& src, PatchId srcId) {
+        std::vector<std::uint32_t> ids(src.cornerCount);
+        for (std::uint32_t k = 0; k < src.cornerCount; ++k) ids[k] = inputVertex(m_in.corners[src.firstCorner + k]);
+        const std::uint32_t parent = beginParent(src, srcId, &m_in.corners[src.firstCorner], src.cornerCount,
+                                                 GridKind::Single, 1, 1);
+        emit(src, parent, 0, 0, ids);
+    }
+
+private:
+    static std::uint32_t steps(double length, double maxEdge) {
+        const double n = std::ceil(length / maxEdge * (1.0 - 1e-12));
+        if (n > 1e6) throw Error("subdivide: an edge of length " + std::to_string(length) + " would need " +
+                                 std::to_string(n) + " steps at --max-edge " + std::to_string(maxEdge));
+        return std::max<std::uint32_t>(1, static_cast<std::uint32_t>(n));
+    }
+
+    std::uint32_t beginParent(const Patch&, PatchId srcId, const std::uint32_t* c, std::uint32_t count,
+                              GridKind kind, std::uint32_t nu, std::uint32_t nv) {
+        Parent parent;
+        parent.firstCorner = static_cast<std::uint32_t>(m_out.parentCorners.size());
+        parent.cornerCount = count;
+        for (std::uint32_t k = 0; k < count; ++k) m_out.parentCorners.push_back(inputVertex(c[k]));
+        parent.kind = kind;
+        parent.nu = nu;
+        parent.nv = nv;
+        parent.firstPatch = static_cast<PatchId>(m_out.patches.size());
+        parent.patchCount = 0;
+        parent.sourcePatch = srcId;
+        m_out.parents.push_back(parent);
+        return static_cast<std::uint32_t>(m_out.parents.size() - 1);
+    }
+
+    void emit(const Patch& src, std::uint32_t parent, std::uint32_t i, std::uint32_t j,
+              const std::vector<std::uint32_t>& ids) {
+        const PatchId id = m_out.addPatch(ids, src.material, src.object, src.sourceLine);
+        // addPatch made the patch its own parent; this patch belongs to the grid parent instead.
+        m_out.parents.pop_back();
+        m_out.parentCorners.resize(m_out.parentCorners.size() - ids.size());
+        Patch& p = m_out.patches[id];
+        p.emission = src.emission;
+        p.rho = src.rho;
+        p.specular = src.specular;
+        p.parent = parent;
+        p.cellI = i;
+        p.cellJ = j;
+        ++m_out.parents[parent].patchCount;
+    }
+
+    const Scene& m_in;
+    Scene& m_out;
+    std::map<std::uint32_t, std::uint32_t> m_inputToOutput;
+    std::map<std::array<double, 3>, std::uint32_t> m_positions;
+};
+
+}  // namespace
+
+Scene subdivide(const Scene& in, double maxEdge) {
+    if (!(maxEdge > 0.0) || !std::isfinite(maxEdge))
+        throw Error("subdivide: maximum edge length must be a positive number, got " + std::to_string(maxEdge));
+    Scene out;
+    out.path = in.path;
+    out.materials = in.materials;
+    out.objects = in.objects;
+    out.camera = in.camera;
+    SubdivisionBuilder b(in, out);
+    for (PatchId id = 0; id < in.size(); ++id) {
+        const Patch& p = in.patches[id];
+        const std::uint32_t* c = &in.corners[p.firstCorner];
+        double longest = 0.0;
+        for (std::uint32_t k = 0; k < p.cornerCount; ++k)
+            longest = std::max(longest, (in.vertices[c[(k + 1) % p.cornerCount]] - in.vertices[c[k]]).norm());
+        if (longest <= maxEdge) b.single(p, id);
+        else if (p.cornerCount == 4) b.quad(p, id, c, maxEdge);
+        else if (p.cornerCount == 3) b.triangle(p, id, c, maxEdge);
+        else
+            for (std::uint32_t k = 1; k + 1 < p.cornerCount; ++k) {
+                const std::uint32_t tri[3] = {c[0], c[k], c[k + 1]};
+                b.triangle(p, id, tri, maxEdge);
+            }
+    }
+    return out;
+}
+
+}  // namespace hemirad

@@ -1,0 +1,49 @@
+// Back-end factory and the thread-safe row builder.
+#include "preprocess/form_factor_backend.hpp"
+
+#include "engine/error.hpp"
+#include "preprocess/hemisphere/hemisphere_backend.hpp"
+
+namespace hemirad {
+
+RayCounts& RayCounts::operator+=(const RayCounts& o) {
+    rays += o.rays;
+    bounces += o.bounces;
+    misses += o.misses;
+    backfaces += o.backfaces;
+    lostWeight += o.lostWeight;
+    cutoffWeight += o.cutoffWeight;
+    return *this;
+}
+
+FormFactorBuilder::FormFactorBuilder(std::size_t patches) : m_rows(patches), m_computed(patches, 0) {}
+
+void FormFactorBuilder::setRow(PatchId row, std::vector<FormFactors::Entry>&& entries) {
+    m_rows[row] = std::move(entries);
+    m_computed[row] = 1;
+    m_done.fetch_add(1, std::memory_order_relaxed);
+}
+
+void FormFactorBuilder::addCounts(const RayCounts& counts) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    m_counts += counts;
+}
+
+RayCounts FormFactorBuilder::counts() const {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    return m_counts;
+}
+
+FormFactors FormFactorBuilder::finish() { return FormFactors::fromRows(std::move(m_rows), std::move(m_computed)); }
+
+std::unique_ptr<FormFactorBackend> makeBackend(std::string_view name, const BackendOptions& options) {
+    if (options.samples < 1) throw Error("--samples must be at least 1");
+    if (options.origins < 1) throw Error("--origins must be at least 1");
+    if (!(options.minWeight > 0.0 && options.minWeight < 1.0)) throw Error("minimum ray weight must be in (0, 1)");
+    if (name == "hemisphere") return std::make_unique<HemisphereBackend>(options);
+    if (name == "hemicube")
+        throw Error("--method hemicube is not available in this build yet (issue 3); use --method hemisphere");
+    throw Error("unknown --method '" + std::string(name) + "' (hemisphere)");
+}
+
+}  // namespace hemirad

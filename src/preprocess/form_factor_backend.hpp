@@ -1,0 +1,76 @@
+// The form-factor back-end interface (hemisphere rays, later the hemicube), its options and row builder.
+#pragma once
+
+#include "engine/form_factors.hpp"
+#include "engine/scene.hpp"
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace hemirad {
+
+struct BackendOptions {
+    std::uint32_t samples = 3072;  ///< directions per origin (Beckers cells), >= 1
+    std::uint32_t origins = 1;     ///< ray origins per patch, stratified over its area, >= 1
+    std::uint32_t maxDepth = 8;    ///< mirror bounces followed per ray
+    double minWeight = 1e-4;       ///< a mirror chain stops below this weight
+    int threads = 0;               ///< worker threads; 0 = all cores
+    std::uint64_t seed = 1;        ///< origin jitter and pattern rotation
+};
+
+/// Ray bookkeeping of a computation, summed over rows. Weights are in units of one row's power.
+struct RayCounts {
+    std::uint64_t rays = 0;          ///< rays cast from patches (not counting bounces)
+    std::uint64_t bounces = 0;       ///< mirror reflections traced
+    std::uint64_t misses = 0;        ///< rays (or bounces) that left the scene
+    std::uint64_t backfaces = 0;     ///< rays that hit the back of a patch (lost)
+    double lostWeight = 0;           ///< sum over rows of the row fraction lost to misses and backfaces
+    double cutoffWeight = 0;         ///< sum over rows of the fraction still travelling at the depth/weight limit
+    RayCounts& operator+=(const RayCounts& o);
+};
+
+/// Collects rows from worker threads (each row written once) into a CSR FormFactors.
+class FormFactorBuilder {
+public:
+    explicit FormFactorBuilder(std::size_t patches);
+    /// Thread-safe for distinct rows. Entries sorted by column, unique.
+    void setRow(PatchId row, std::vector<FormFactors::Entry>&& entries);
+    void addCounts(const RayCounts& counts);
+    RayCounts counts() const;
+    std::size_t rowsDone() const { return m_done.load(std::memory_order_relaxed); }
+    /// A back end stops between rows once this is set (GUI Cancel, Ctrl-C).
+    void cancel() { m_cancelled.store(true); }
+    bool cancelled() const { return m_cancelled.load(std::memory_order_relaxed); }
+    FormFactors finish();
+
+private:
+    std::vector<std::vector<FormFactors::Entry>> m_rows;
+    std::vector<std::uint8_t> m_computed;
+    std::atomic<std::size_t> m_done{0};
+    std::atomic<bool> m_cancelled{false};
+    mutable std::mutex m_mutex;
+    RayCounts m_counts;
+};
+
+/// Computes rows of F: F(i,j) = fraction of power leaving patch i that arrives at patch j.
+class FormFactorBackend {
+public:
+    virtual ~FormFactorBackend() = default;
+    virtual std::string_view name() const = 0;
+    /// Builds acceleration structures for `scene`, which must outlive the back end's use of it.
+    virtual void prepare(const Scene& scene) = 0;
+    /// Fills the listed rows (parallel inside). Throws hemirad::Error.
+    virtual void computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) = 0;
+    /// Method and parameters recorded with F ("method", "samples", ...).
+    virtual std::map<std::string, std::string> parameters() const = 0;
+};
+
+/// "hemisphere" (Embree). Throws hemirad::Error for an unknown name or invalid options.
+std::unique_ptr<FormFactorBackend> makeBackend(std::string_view name, const BackendOptions& options);
+
+}  // namespace hemirad

@@ -1,0 +1,64 @@
+// The form-factor job: back end on a worker thread, progress polled from the caller's thread.
+#include "preprocess/form_factor_job.hpp"
+
+#include "engine/error.hpp"
+
+#include <chrono>
+#include <exception>
+#include <thread>
+
+namespace hemirad {
+
+std::vector<PatchId> neededRows(const Scene& scene, bool allRows) {
+    std::vector<PatchId> rows;
+    rows.reserve(scene.size());
+    for (PatchId i = 0; i < scene.size(); ++i)
+        if (allRows || (scene.patches[i].rho > 0.0).any()) rows.push_back(i);
+    return rows;
+}
+
+FormFactorRun computeFormFactors(const Scene& scene, const std::string& method, const BackendOptions& options,
+                                 const std::vector<PatchId>& rows, const ProgressCallback& progress,
+                                 const std::atomic<bool>* cancel) {
+    using Clock = std::chrono::steady_clock;
+    FormFactorRun run;
+    auto backend = makeBackend(method, options);
+    const auto t0 = Clock::now();
+    backend->prepare(scene);
+    const auto t1 = Clock::now();
+    run.prepareSeconds = std::chrono::duration<double>(t1 - t0).count();
+
+    FormFactorBuilder builder(scene.size());
+    std::exception_ptr failure;
+    std::atomic<bool> finished{false};
+    std::thread worker([&] {
+        try {
+            backend->computeRows(rows, builder);
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        finished.store(true);
+    });
+    while (!finished.load()) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        if (cancel && cancel->load()) builder.cancel();
+        if (progress && !finished.load())
+            progress(builder.rowsDone(), rows.size(), std::chrono::duration<double>(Clock::now() - t1).count());
+    }
+    worker.join();
+    if (failure) std::rethrow_exception(failure);
+    if (builder.cancelled()) throw Error("form factors: cancelled");
+    run.computeSeconds = std::chrono::duration<double>(Clock::now() - t1).count();
+    if (progress) progress(rows.size(), rows.size(), run.computeSeconds);
+
+    run.counts = builder.counts();
+    run.F = builder.finish();
+    run.F.sceneHash = scene.geometryHash();
+    run.F.parameters = backend->parameters();
+    run.rowsComputed = rows.size();
+    run.rowsSkipped = scene.size() - rows.size();
+    run.stats = computeStats(run.F, scene);
+    return run;
+}
+
+}  // namespace hemirad

@@ -1,0 +1,32 @@
+// Running a back end over the rows a solve needs, with progress, cancellation, timing and diagnostics.
+#pragma once
+
+#include "preprocess/form_factor_backend.hpp"
+
+#include <atomic>
+#include <functional>
+
+namespace hemirad {
+
+struct FormFactorRun {
+    FormFactors F;
+    FormFactorStats stats;
+    RayCounts counts;
+    double prepareSeconds = 0;   ///< acceleration structures (BVH)
+    double computeSeconds = 0;   ///< rows
+    std::size_t rowsComputed = 0, rowsSkipped = 0;
+};
+
+/// (rows done, rows total, seconds so far); called about 10 times a second from the calling thread.
+using ProgressCallback = std::function<void(std::size_t, std::size_t, double)>;
+
+/// Rows a solve needs: patches with rho > 0 in some channel (B = E for the others); every row with allRows.
+std::vector<PatchId> neededRows(const Scene& scene, bool allRows);
+
+/// Computes `rows` of F for `scene` with the named back end; F carries the scene hash and
+/// parameters. `cancel` (optional) aborts between rows: then hemirad::Error("cancelled") is thrown.
+FormFactorRun computeFormFactors(const Scene& scene, const std::string& method, const BackendOptions& options,
+                                 const std::vector<PatchId>& rows, const ProgressCallback& progress = {},
+                                 const std::atomic<bool>* cancel = nullptr);
+
+}  // namespace hemirad

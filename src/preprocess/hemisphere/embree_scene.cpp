@@ -1,0 +1,169 @@
+// Embree 3 scene adapter: device with an error callback, one triangle geometry, closest-hit queries.
+#include "preprocess/hemisphere/embree_scene.hpp"
+
+#include "engine/error.hpp"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace hemirad {
+
+struct RayScene::Impl {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::vector<PatchId> patchOfTriangle;
+    std::vector<std::uint32_t> fanCornerOfTriangle;
+    std::mutex errorMutex;
+    std::string error;
+
+    ~Impl() {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+
+    void check(const char* what) {
+        std::string message;
+        {
+            std::lock_guard<std::mutex> lock(errorMutex);
+            message.swap(error);
+        }
+        const RTCError code = device ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
+        if (!message.empty() || code != RTC_ERROR_NONE)
+            throw Error(std::string("Embree: ") + what + " failed: " +
+                        (message.empty() ? "error code " + std::to_string(int(code)) : message));
+    }
+};
+
+namespace {
+
+void onEmbreeError(void* user, RTCError code, const char* text) {
+    auto* impl = static_cast<RayScene::Impl*>(user);
+    std::lock_guard<std::mutex> lock(impl->errorMutex);
+    if (impl->error.empty())
+        impl->error = std::string(text ? text : "unknown error") + " (code " + std::to_string(int(code)) + ")";
+}
+
+inline void initRay(RTCRayHit& rh, const float o[3], const float* d, float tfar) {
+    rh.ray.org_x = o[0];
+    rh.ray.org_y = o[1];
+    rh.ray.org_z = o[2];
+    rh.ray.dir_x = d[0];
+    rh.ray.dir_y = d[1];
+    rh.ray.dir_z = d[2];
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = tfar;
+    rh.ray.mask = 0xffffffffu;
+    rh.ray.flags = 0;
+    rh.ray.time = 0.0f;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+}  // namespace
+
+RayScene::RayScene(const Scene& scene, int threads) : m_impl(std::make_unique<Impl>()) {
+    const std::string config = threads > 0 ? "threads=" + std::to_string(threads) : std::string();
+    m_impl->device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
+    if (!m_impl->device) throw Error("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+    rtcSetDeviceErrorFunction(m_impl->device, onEmbreeError, m_impl.get());
+
+    Vec3 lo, hi;
+    scene.bounds(lo, hi);
+    m_centre = 0.5 * (lo + hi);
+    const double halfExtent = 0.5 * (hi - lo).cwiseAbs().maxCoeff();
+    // Lift origins clear of float rounding in the BVH's coordinates (values up to halfExtent) and of
+    // the scene's own scale; 1e-6 of the extent is far below any patch size that matters.
+    m_offset = std::max(1e-6 * (hi - lo).norm(), 64.0 * std::numeric_limits<float>::epsilon() * halfExtent);
+
+    for (const Patch& p : scene.patches) m_triangles += p.cornerCount - 2;
+    if (m_triangles > 0x7fffffffu) throw Error("Embree: too many triangles (" + std::to_string(m_triangles) + ")");
+
+    RTCGeometry geometry = rtcNewGeometry(m_impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                 3 * sizeof(float), scene.vertices.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), m_triangles));
+    m_impl->check("allocating geometry buffers");
+    for (std::size_t v = 0; v < scene.vertices.size(); ++v) toLocal(scene.vertices[v], vertices + 3 * v);
+    m_impl->patchOfTriangle.reserve(m_triangles);
+    m_impl->fanCornerOfTriangle.reserve(m_triangles);
+    std::size_t t = 0;
+    for (PatchId id = 0; id < scene.size(); ++id) {
+        const Patch& p = scene.patches[id];
+        for (std::uint32_t k = 1; k + 1 < p.cornerCount; ++k, ++t) {
+            indices[3 * t] = scene.corners[p.firstCorner];
+            indices[3 * t + 1] = scene.corners[p.firstCorner + k];
+            indices[3 * t + 2] = scene.corners[p.firstCorner + k + 1];
+            m_impl->patchOfTriangle.push_back(id);
+            m_impl->fanCornerOfTriangle.push_back(k);
+        }
+    }
+    rtcCommitGeometry(geometry);
+    m_impl->scene = rtcNewScene(m_impl->device);
+    rtcSetSceneBuildQuality(m_impl->scene, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneFlags(m_impl->scene, RTC_SCENE_FLAG_ROBUST);
+    rtcAttachGeometry(m_impl->scene, geometry);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(m_impl->scene);
+    m_impl->check("building the BVH");
+}
+
+RayScene::~RayScene() = default;
+
+void RayScene::toLocal(const Vec3& p, float out[3]) const {
+    for (int k = 0; k < 3; ++k) out[k] = static_cast<float>(p[k] - m_centre[k]);
+}
+
+RayScene::Hit RayScene::intersect(const Vec3& origin, const Vec3& dir, float tfar) const {
+    float o[3];
+    toLocal(origin, o);
+    const float d[3] = {float(dir.x()), float(dir.y()), float(dir.z())};
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    initRay(rh, o, d, tfar);
+    rtcIntersect1(m_impl->scene, &context, &rh);
+    Hit hit{kNoHit, rh.ray.tfar, rh.hit.u, rh.hit.v, 0};
+    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+        hit.patch = m_impl->patchOfTriangle[rh.hit.primID];
+        hit.fanCorner = m_impl->fanCornerOfTriangle[rh.hit.primID];
+    }
+    return hit;
+}
+
+void RayScene::intersectFan(const float origin[3], const float* dirs, std::size_t count, PatchId* patches) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    const PatchId* table = m_impl->patchOfTriangle.data();
+    for (std::size_t k = 0; k < count; ++k) {
+        RTCRayHit rh;
+        initRay(rh, origin, dirs + 3 * k, std::numeric_limits<float>::infinity());
+        rtcIntersect1(m_impl->scene, &context, &rh);
+        patches[k] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? table[rh.hit.primID] : kNoHit;
+    }
+}
+
+void RayScene::intersectFan(const float origin[3], const float* dirs, std::size_t count, PatchId* patches,
+                            float* distances) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    const PatchId* table = m_impl->patchOfTriangle.data();
+    for (std::size_t k = 0; k < count; ++k) {
+        RTCRayHit rh;
+        initRay(rh, origin, dirs + 3 * k, std::numeric_limits<float>::infinity());
+        rtcIntersect1(m_impl->scene, &context, &rh);
+        const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        patches[k] = hit ? table[rh.hit.primID] : kNoHit;
+        distances[k] = rh.ray.tfar;
+    }
+}
+
+}  // namespace hemirad

@@ -1,0 +1,203 @@
+// Hemisphere back end. Rows run in parallel (OpenMP); each thread accumulates a dense row.
+#include "preprocess/hemisphere/hemisphere_backend.hpp"
+
+#include "engine/error.hpp"
+#include "preprocess/hemisphere/beckers.hpp"
+#include "preprocess/hemisphere/patch_sampler.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+
+namespace hemirad {
+
+/// Per-thread scratch: a dense accumulator over all patches and the list of touched columns.
+struct HemisphereBackend::Workspace {
+    std::vector<std::uint32_t> count;  // integer hits when every ray weighs the same (no mirrors)
+    std::vector<double> weight;        // weighted hits along mirror chains
+    std::vector<std::uint32_t> touched;
+    std::vector<float> dirs;
+    std::vector<PatchId> hits;
+    std::vector<float> distances;
+
+    void touch(PatchId j, bool fresh) {
+        if (fresh) touched.push_back(j);
+    }
+};
+
+HemisphereBackend::HemisphereBackend(const BackendOptions& options) : m_options(options) {
+    m_directions = beckersDirections(options.samples);
+}
+
+HemisphereBackend::~HemisphereBackend() = default;
+
+void HemisphereBackend::prepare(const Scene& scene) {
+    m_scene = &scene;
+    m_rays = std::make_unique<RayScene>(scene, m_options.threads);
+    m_normals.resize(3 * scene.size());
+    for (PatchId i = 0; i < scene.size(); ++i)
+        for (int k = 0; k < 3; ++k) m_normals[3 * i + k] = static_cast<float>(scene.patches[i].normal[k]);
+    m_mirrors = scene.hasMirrors();
+}
+
+std::map<std::string, std::string> HemisphereBackend::parameters() const {
+    // With mirrors a ray deposits on every patch of its chain: rows reach at most sum_k s_max^k.
+    double bound = 1.0, term = 1.0;
+    if (m_mirrors) {
+        double sMax = 0.0;
+        for (const Patch& p : m_scene->patches) sMax = std::max(sMax, p.specular);
+        for (std::uint32_t d = 0; d < m_options.maxDepth && term >= m_options.minWeight; ++d) bound += term *= sMax;
+    }
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", bound);
+    return {{"method", "hemisphere"},
+            {"row_sum_bound", text},
+            {"samples", std::to_string(m_options.samples)},
+            {"origins", std::to_string(m_options.origins)},
+            {"max_depth", std::to_string(m_options.maxDepth)},
+            {"min_weight", std::to_string(m_options.minWeight)},
+            {"seed", std::to_string(m_options.seed)},
+            {"directions", "beckers-disk area-median"}};
+}
+
+void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) {
+    if (!m_scene) throw Error("hemisphere back end: prepare() was not called");
+    const int threads = m_options.threads > 0 ? m_options.threads : omp_get_max_threads();
+    std::exception_ptr failure;
+    const auto count = static_cast<std::ptrdiff_t>(rows.size());
+#pragma omp parallel num_threads(threads)
+    {
+        Workspace ws;
+        if (m_mirrors) ws.weight.assign(m_scene->size(), 0.0);
+        else ws.count.assign(m_scene->size(), 0);
+        ws.dirs.resize(m_directions.size());
+        ws.hits.resize(m_options.samples);
+        ws.distances.resize(m_options.samples);
+        RayCounts counts;
+#pragma omp for schedule(dynamic, 4)
+        for (std::ptrdiff_t r = 0; r < count; ++r) {
+            if (builder.cancelled() || failure) continue;
+            try {
+                const PatchId i = rows[r];
+                if (m_mirrors) computeRow<true>(i, ws, counts);
+                else computeRow<false>(i, ws, counts);
+                std::vector<FormFactors::Entry> entries;
+                std::sort(ws.touched.begin(), ws.touched.end());
+                entries.reserve(ws.touched.size());
+                const double scale = 1.0 / (double(m_options.origins) * m_options.samples);
+                for (std::uint32_t j : ws.touched) {
+                    if (m_mirrors) {
+                        entries.push_back({j, static_cast<float>(ws.weight[j] * scale)});
+                        ws.weight[j] = 0.0;
+                    } else {
+                        entries.push_back({j, static_cast<float>(ws.count[j] * scale)});
+                        ws.count[j] = 0;
+                    }
+                }
+                ws.touched.clear();
+                builder.setRow(i, std::move(entries));
+            } catch (...) {
+#pragma omp critical(hemirad_failure)
+                if (!failure) failure = std::current_exception();
+            }
+        }
+        builder.addCounts(counts);
+    }
+    if (failure) std::rethrow_exception(failure);
+}
+
+template <bool Mirrors>
+void HemisphereBackend::computeRow(PatchId i, Workspace& ws, RayCounts& counts) const {
+    const Patch& patch = m_scene->patches[i];
+    const std::uint32_t N = m_options.samples;
+    Random random(m_options.seed * 0x9e3779b97f4a7c15ULL ^ (std::uint64_t(i) << 20));
+    const std::vector<Vec3> origins = patchOrigins(*m_scene, i, m_options.origins, random);
+    Vec3 t, b;
+    orthonormalBasis(patch.normal, t, b);
+    const double rowWeight = 1.0 / (double(m_options.origins) * N);
+    std::uint64_t lost = 0;
+    for (const Vec3& point : origins) {
+        // A random rotation of the pattern about the normal per origin breaks aliasing between origins.
+        const double angle = 2.0 * kPi * random.uniform();
+        const Vec3 tr = std::cos(angle) * t + std::sin(angle) * b;
+        const Vec3 br = patch.normal.cross(tr);
+        const float T[3] = {float(tr.x()), float(tr.y()), float(tr.z())};
+        const float Bv[3] = {float(br.x()), float(br.y()), float(br.z())};
+        const float Nn[3] = {float(patch.normal.x()), float(patch.normal.y()), float(patch.normal.z())};
+        for (std::uint32_t k = 0; k < N; ++k) {
+            const float* d = &m_directions[3 * k];
+            for (int c = 0; c < 3; ++c) ws.dirs[3 * k + c] = d[0] * T[c] + d[1] * Bv[c] + d[2] * Nn[c];
+        }
+        const Vec3 lifted = point + m_rays->originOffset() * patch.normal;
+        float o[3];
+        m_rays->toLocal(lifted, o);
+        if (Mirrors) m_rays->intersectFan(o, ws.dirs.data(), N, ws.hits.data(), ws.distances.data());
+        else m_rays->intersectFan(o, ws.dirs.data(), N, ws.hits.data());
+        for (std::uint32_t k = 0; k < N; ++k) {
+            const PatchId j = ws.hits[k];
+            if (j == RayScene::kNoHit) {
+                ++counts.misses;
+                ++lost;
+                continue;
+            }
+            const float* d = &ws.dirs[3 * k];
+            const float* n = &m_normals[3 * j];
+            if (d[0] * n[0] + d[1] * n[1] + d[2] * n[2] >= 0.0f) {
+                ++counts.backfaces;
+                ++lost;
+                continue;
+            }
+            if constexpr (Mirrors) {
+                ws.touch(j, ws.weight[j] == 0.0);
+                ws.weight[j] += 1.0;
+                if (m_scene->patches[j].specular > 0.0)
+                    traceMirrorChain(lifted, Vec3(d[0], d[1], d[2]), j, ws.distances[k], rowWeight, ws, counts);
+            } else {
+                ws.touch(j, ws.count[j] == 0);
+                ++ws.count[j];
+            }
+        }
+    }
+    counts.rays += std::uint64_t(N) * origins.size();
+    counts.lostWeight += double(lost) * rowWeight;
+}
+
+void HemisphereBackend::traceMirrorChain(Vec3 origin, Vec3 dir, PatchId mirror, float t, double rowWeight,
+                                         Workspace& ws, RayCounts& counts) const {
+    // Weights here are relative to one ray (1 = the ray's full share); rowWeight converts to row units.
+    double weight = 1.0;
+    for (std::uint32_t depth = 1;; ++depth) {
+        const Patch& m = m_scene->patches[mirror];
+        weight *= m.specular;
+        if (depth > m_options.maxDepth || weight < m_options.minWeight) {
+            counts.cutoffWeight += weight * rowWeight;
+            return;
+        }
+        const Vec3 hitPoint = origin + double(t) * dir;
+        dir = (dir - 2.0 * dir.dot(m.normal) * m.normal).normalized();
+        origin = hitPoint + m_rays->originOffset() * m.normal;
+        const RayScene::Hit hit = m_rays->intersect(origin, dir);
+        ++counts.bounces;
+        if (hit.patch == RayScene::kNoHit) {
+            ++counts.misses;
+            counts.lostWeight += weight * rowWeight;
+            return;
+        }
+        const Patch& receiver = m_scene->patches[hit.patch];
+        if (dir.dot(receiver.normal) >= 0.0) {
+            ++counts.backfaces;
+            counts.lostWeight += weight * rowWeight;
+            return;
+        }
+        ws.touch(hit.patch, ws.weight[hit.patch] == 0.0);
+        ws.weight[hit.patch] += weight;
+        if (receiver.specular <= 0.0) return;
+        mirror = hit.patch;
+        t = hit.t;
+    }
+}
+
+}  // namespace hemirad

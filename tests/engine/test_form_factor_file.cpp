@@ -1,0 +1,194 @@
+// F files: round trips in both formats and a clear error for every kind of damage.
+#include "support.hpp"
+
+#include "engine/atomic_file.hpp"
+#include "engine/error.hpp"
+#include "engine/form_factor_file.hpp"
+
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <iterator>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+namespace {
+
+/// A 4-patch F with a skipped row, a self factor and awkward float values.
+FormFactors sampleF() {
+    std::vector<std::vector<FormFactors::Entry>> rows(4);
+    rows[0] = {{1, 0.25f}, {2, 0.1f}, {3, 1.0f / 3.0f}};
+    rows[1] = {{0, 0.5f}, {1, 1e-7f}};
+    rows[3] = {{0, 0.125f}, {2, 0.875f}};
+    FormFactors F = FormFactors::fromRows(std::move(rows), {1, 1, 0, 1});
+    F.sceneHash = 0x0123456789abcdefULL;
+    F.parameters = {{"method", "hemisphere"}, {"samples", "96"}};
+    return F;
+}
+
+void requireSame(const FormFactors& a, const FormFactors& b) {
+    REQUIRE(a.size() == b.size());
+    REQUIRE(a.nonZeros() == b.nonZeros());
+    CHECK(a.sceneHash == b.sceneHash);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        CHECK(a.rowComputed(i) == b.rowComputed(i));
+        REQUIRE(a.rowBegin(i) == b.rowBegin(i));
+        for (std::uint64_t k = a.rowBegin(i); k < a.rowEnd(i); ++k) {
+            CHECK(a.columns()[k] == b.columns()[k]);
+            CHECK(a.values()[k] == b.values()[k]);  // bit-exact: shortest round-trip text in .mtx
+        }
+    }
+}
+
+std::string readAll(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+}  // namespace
+
+TEST_CASE("F file round-trip keeps every entry (.hff and .mtx)") {
+    const auto dir = tempDir("ff");
+    const FormFactors F = sampleF();
+    for (const char* name : {"F.hff", "F.mtx"}) {
+        const std::string path = (dir / name).string();
+        saveFormFactors(F, path);
+        const FormFactors G = loadFormFactors(path);
+        requireSame(F, G);
+        CHECK(G.parameters.at("method") == "hemisphere");
+        CHECK(G.parameters.at("samples") == "96");
+    }
+    const FormFactorFileInfo info = readFormFactorInfo((dir / "F.hff").string());
+    CHECK(info.size == 4);
+    CHECK(info.nonZeros == 7);
+    CHECK(info.computedRows == 3);
+}
+
+TEST_CASE("F memory is about 8 bytes per nonzero") {
+    const FormFactors F = sampleF();
+    CHECK(F.memoryBytes() == 7 * 8 + 5 * 8 + 4);
+}
+
+TEST_CASE("A damaged .hff file fails with a clear message") {
+    const auto dir = tempDir("ff-bad");
+    const std::string good = (dir / "good.hff").string();
+    saveFormFactors(sampleF(), good);
+    const std::string bytes = readAll(good);
+    auto damaged = [&](const std::string& name, std::string content) {
+        return writeFile(dir / name, content);
+    };
+
+    SUBCASE("truncated inside every section") {
+        // header, parameters, flags, row starts, columns, values, checksum
+        for (std::size_t cut : {std::size_t(10), std::size_t(41), std::size_t(70), std::size_t(100), bytes.size() - 40,
+                                bytes.size() - 12, bytes.size() - 3}) {
+            CAPTURE(cut);
+            CHECK_THROWS_WITH_AS(loadFormFactors(damaged("cut.hff", bytes.substr(0, cut))),
+                                 doctest::Contains("truncated"), Error);
+        }
+    }
+    SUBCASE("bad magic") {
+        std::string b = bytes;
+        b[0] = 'X';
+        CHECK_THROWS_WITH_AS(loadFormFactors(damaged("magic.hff", b)), doctest::Contains("bad magic"), Error);
+    }
+    SUBCASE("unknown version") {
+        std::string b = bytes;
+        b[8] = 9;
+        CHECK_THROWS_WITH_AS(loadFormFactors(damaged("version.hff", b)), doctest::Contains("unsupported version 9"), Error);
+    }
+    SUBCASE("a flipped bit in the values fails the checksum") {
+        std::string b = bytes;
+        b[b.size() - 12] ^= 0x10;
+        CHECK_THROWS_WITH_AS(loadFormFactors(damaged("flip.hff", b)), doctest::Contains("checksum mismatch"), Error);
+    }
+    SUBCASE("inconsistent N or nnz") {
+        std::string b = bytes;
+        b[24] = 10;  // nnz
+        CHECK_THROWS_WITH_AS(loadFormFactors(damaged("nnz.hff", b)), doctest::Contains("truncated"), Error);
+        b[24] = 99;
+        CHECK_THROWS_WITH_AS(loadFormFactors(damaged("nnz.hff", b)),
+                             doctest::Contains("corrupt header: nnz = 99 exceeds N^2"), Error);
+        b = bytes;
+        b[16] = 2;  // N
+        CHECK_THROWS_WITH_AS(loadFormFactors(damaged("n.hff", b)), doctest::Contains("corrupt"), Error);
+    }
+    SUBCASE("not a file") {
+        CHECK_THROWS_WITH_AS(loadFormFactors((dir / "none.hff").string()), doctest::Contains("cannot open"), Error);
+        CHECK_THROWS_WITH_AS(loadFormFactors(dir.string() + "/x.bin"), doctest::Contains("unknown F file type"), Error);
+    }
+}
+
+TEST_CASE("Well-formed files with impossible content are rejected") {
+    const auto dir = tempDir("ff-content");
+    SUBCASE("column out of range") {
+        FormFactors F = FormFactors::fromCsr({0, 1, 1}, {5}, {0.5f}, {1, 1});
+        saveFormFactors(F, (dir / "col.hff").string());
+        CHECK_THROWS_WITH_AS(loadFormFactors((dir / "col.hff").string()),
+                             doctest::Contains("column 5 in row 0 is out of range (N = 2)"), Error);
+    }
+    SUBCASE("NaN value") {
+        FormFactors F = FormFactors::fromCsr({0, 1, 1}, {1}, {std::nanf("")}, {1, 1});
+        saveFormFactors(F, (dir / "nan.hff").string());
+        CHECK_THROWS_WITH_AS(loadFormFactors((dir / "nan.hff").string()),
+                             doctest::Contains("F(0, 1) = nan is not a finite non-negative number"), Error);
+    }
+    SUBCASE("row sum above one") {
+        FormFactors F = FormFactors::fromCsr({0, 2, 2}, {0, 1}, {0.7f, 0.7f}, {1, 1});
+        saveFormFactors(F, (dir / "sum.hff").string());
+        CHECK_THROWS_WITH_AS(loadFormFactors((dir / "sum.hff").string()), doctest::Contains("row 0 of F sums to 1.4"),
+                             Error);
+    }
+}
+
+TEST_CASE("A damaged .mtx file fails with the line") {
+    const auto dir = tempDir("mtx-bad");
+    const std::string head = "%%MatrixMarket matrix coordinate real general\n3 3 2\n";
+    CHECK_THROWS_WITH_AS(loadFormFactors(writeFile(dir / "a.mtx", head + "1 2 0.5\n4 1 0.1\n")),
+                         doctest::Contains("a.mtx:4: entry (4, 1) is outside 1..3"), Error);
+    CHECK_THROWS_WITH_AS(loadFormFactors(writeFile(dir / "b.mtx", head + "1 2 0.5\n")),
+                         doctest::Contains("truncated: 1 of 2 entries"), Error);
+    CHECK_THROWS_WITH_AS(loadFormFactors(writeFile(dir / "c.mtx", head + "1 2 -0.5\n2 1 .1\n")),
+                         doctest::Contains("c.mtx:3: F value '-0.5' is negative"), Error);
+    CHECK_THROWS_WITH_AS(loadFormFactors(writeFile(dir / "d.mtx", "%%MatrixMarket matrix array real general\n")),
+                         doctest::Contains("unsupported Matrix Market type"), Error);
+    CHECK_THROWS_WITH_AS(loadFormFactors(writeFile(dir / "e.mtx", head + "1 2 0.5\n1 2 0.1\n")),
+                         doctest::Contains("duplicate entry (1, 2)"), Error);
+}
+
+TEST_CASE("F computed for another scene is refused") {
+    const FormFactors F = sampleF();
+    CHECK_NOTHROW(checkFormFactorsMatch(F, F.sceneHash, 4, "F.hff"));
+    CHECK_THROWS_WITH_AS(checkFormFactorsMatch(F, F.sceneHash ^ 1, 4, "F.hff"),
+                         doctest::Contains("F.hff: F was computed for another scene"), Error);
+    CHECK_THROWS_WITH_AS(checkFormFactorsMatch(F, F.sceneHash, 5, "F.hff"),
+                         doctest::Contains("F has 4 patches but the scene has 5"), Error);
+}
+
+TEST_CASE("The scene hash changes with geometry and mirrors, not with emission or diffuse reflectance") {
+    Scene s = unitCube();
+    const std::uint64_t h = s.geometryHash();
+    s.patches[0].emission = Rgb(5, 5, 5);
+    s.patches[1].rho = Rgb(0.1, 0.2, 0.3);
+    CHECK(s.geometryHash() == h);
+    s.patches[2].specular = 0.5;
+    CHECK(s.geometryHash() != h);
+    s.patches[2].specular = 0.0;
+    s.vertices[0].x() += 1e-9;
+    CHECK(s.geometryHash() != h);
+}
+
+TEST_CASE("An uncommitted atomic write leaves the target untouched and no temporary file") {
+    const auto dir = tempDir("atomic");
+    const std::string target = writeFile(dir / "keep.txt", "original");
+    {
+        AtomicFile file(target, false);
+        file.stream() << "half-written";
+    }  // destroyed without commit, as when an exception unwinds
+    CHECK(readAll(target) == "original");
+    int files = 0;
+    for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir)) ++files;
+    CHECK(files == 1);
+    CHECK_THROWS_WITH_AS(AtomicFile((dir / "missing" / "x.hff").string()), doctest::Contains("cannot write"), Error);
+}

@@ -1,0 +1,196 @@
+// OBJ/MTL loading: the bundled scenes, and every malformed input named with file:line and value.
+#include "support.hpp"
+
+#include "engine/error.hpp"
+#include "engine/obj_loader.hpp"
+#include "engine/obj_writer.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+namespace {
+
+/// Writes an OBJ (and optionally an MTL beside it) and loads it.
+Scene loadText(const std::string& name, const std::string& obj, const std::string& mtl, Warnings& warnings) {
+    const auto dir = tempDir("obj");
+    if (!mtl.empty()) writeFile(dir / "m.mtl", mtl);
+    return loadObj(writeFile(dir / name, obj), warnings);
+}
+
+const std::string kMtl = "newmtl white\nKd 0.5 0.5 0.5\n";
+const std::string kTriangleHead = "mtllib m.mtl\nusemtl white\nv 0 0 0\nv 1 0 0\nv 0 1 0\n";
+
+}  // namespace
+
+TEST_CASE("The Cornell box loads as 20 patches facing into the box, with its camera") {
+    Warnings w = quietWarnings();
+    const Scene s = loadObj(sourcePath("scenes/cornell_box.obj"), w);
+    CHECK(s.size() == 20);
+    REQUIRE(s.camera.has_value());
+    CHECK(s.camera->eye.isApprox(Vec3(278, 273, -800)));
+    CHECK(s.camera->fovY == doctest::Approx(39.3077));
+    CHECK_FALSE(s.hasMirrors());
+    double emitting = 0;
+    for (const Patch& p : s.patches) {
+        CHECK(p.area > 0);
+        CHECK(p.normal.norm() == doctest::Approx(1.0));
+        if ((p.emission > 0).any()) emitting += p.area;
+    }
+    CHECK(emitting == doctest::Approx(130.0 * 105.0));
+    CHECK(w.count("non-planar patches") == 0);  // the red wall is given as two triangles
+}
+
+TEST_CASE("The mirror Cornell box has one mirror with s = mean(Ks) = 0.9") {
+    Warnings w = quietWarnings();
+    const Scene s = loadObj(sourcePath("scenes/cornell_mirror.obj"), w);
+    int mirrors = 0;
+    for (const Patch& p : s.patches)
+        if (p.specular > 0) {
+            ++mirrors;
+            CHECK(p.specular == doctest::Approx(0.9));
+        }
+    CHECK(mirrors == 1);
+}
+
+TEST_CASE("OBJ: a vertex index out of range names file, line and index") {
+    Warnings w = quietWarnings();
+    CHECK_THROWS_WITH_AS(loadText("a.obj", kTriangleHead + "f 1 2 3\nf 1 2 9\n", kMtl, w),
+                         doctest::Contains("a.obj:7: vertex index 9 is out of range (the file has 3 vertices)"),
+                         Error);
+}
+
+TEST_CASE("OBJ: a NaN vertex coordinate names file, line and value") {
+    Warnings w = quietWarnings();
+    CHECK_THROWS_WITH_AS(loadText("nan.obj", "v 0 0 0\nv 1 nan 0\n", "", w),
+                         doctest::Contains("nan.obj:2: vertex y 'nan' is not a finite number"), Error);
+    CHECK_THROWS_WITH_AS(loadText("inf.obj", "v 0 0 1e999\n", "", w), doctest::Contains("inf.obj:1: vertex z '1e999'"),
+                         Error);
+}
+
+TEST_CASE("OBJ: a missing material library names the library and the line") {
+    Warnings w = quietWarnings();
+    CHECK_THROWS_WITH_AS(loadText("b.obj", "# scene\nmtllib nothere.mtl\n", "", w),
+                         doctest::Contains("b.obj:2: material library 'nothere.mtl' not found"), Error);
+}
+
+TEST_CASE("OBJ: index 0, relative indices before the first vertex and short faces are errors") {
+    Warnings w = quietWarnings();
+    CHECK_THROWS_WITH_AS(loadText("z.obj", kTriangleHead + "f 0 1 2\n", kMtl, w),
+                         doctest::Contains("z.obj:6: face vertex '0': index 0 is invalid"), Error);
+    CHECK_THROWS_WITH_AS(loadText("r.obj", kTriangleHead + "f -1 -2 -4\n", kMtl, w),
+                         doctest::Contains("r.obj:6: relative vertex index -4 reaches before the first vertex"), Error);
+    CHECK_THROWS_WITH_AS(loadText("s.obj", kTriangleHead + "f 1 2\n", kMtl, w),
+                         doctest::Contains("s.obj:6: face has 2 vertices; a patch needs at least 3"), Error);
+    CHECK_THROWS_WITH_AS(loadText("t.obj", kTriangleHead + "f 1/7 2 3\n", kMtl, w),
+                         doctest::Contains("t.obj:6: texture coordinate index 7"), Error);
+}
+
+TEST_CASE("OBJ: relative indices, v/vt/vn forms, CRLF and tabs load") {
+    Warnings w = quietWarnings();
+    const Scene s = loadText("ok.obj",
+                             "mtllib m.mtl\r\nusemtl white\r\nv 0 0 0\r\nv\t1 0 0\r\nv 0 1 0\r\nvt 0 0\r\nvn 0 0 1\r\n"
+                             "f -3/1/1 -2//1 -1/1\r\n",
+                             kMtl, w);
+    REQUIRE(s.size() == 1);
+    CHECK(s.patches[0].area == doctest::Approx(0.5));
+    CHECK(s.patches[0].normal.isApprox(Vec3(0, 0, 1)));
+    CHECK(s.patches[0].sourceLine == 8);
+}
+
+TEST_CASE("OBJ: an unknown usemtl is an error at its line") {
+    Warnings w = quietWarnings();
+    CHECK_THROWS_WITH_AS(loadText("u.obj", "mtllib m.mtl\nusemtl gold\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", kMtl, w),
+                         doctest::Contains("u.obj:2: usemtl 'gold': no such material"), Error);
+}
+
+TEST_CASE("OBJ: empty, binary, line-only and unknown-statement files are rejected clearly") {
+    Warnings w = quietWarnings();
+    CHECK_THROWS_WITH_AS(loadText("e.obj", "", "", w), doctest::Contains("e.obj: no faces"), Error);
+    CHECK_THROWS_WITH_AS(loadText("bin.obj", std::string("v 0 0 0\n\x7f" "ELF\0\x01", 13), "", w),
+                         doctest::Contains("bin.obj:2: contains a NUL byte"), Error);
+    CHECK_THROWS_WITH_AS(loadText("l.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n", "", w),
+                         doctest::Contains("no faces: only lines, points or curves"), Error);
+    CHECK_THROWS_WITH_AS(loadText("k.obj", "v 0 0 0\nfoo 1 2\n", "", w),
+                         doctest::Contains("k.obj:2: unknown OBJ statement 'foo'"), Error);
+    CHECK_THROWS_WITH_AS(loadObj("/nonexistent/scene.obj", w), doctest::Contains("/nonexistent/scene.obj: cannot open"),
+                         Error);
+    CHECK_THROWS_WITH_AS(loadObj(tempDir("dir").string(), w), doctest::Contains("is a directory"), Error);
+}
+
+TEST_CASE("OBJ: degenerate faces are skipped and counted; non-planar ones warned with the deviation") {
+    std::vector<std::string> printed;
+    Warnings w([&](const std::string& m) { printed.push_back(m); });
+    const Scene s = loadText("d.obj",
+                             kTriangleHead + "v 2 0 0\nv 1 1 0.5\nv 0 1 0\n"
+                                             "f 1 2 3\nf 1 2 4\nf 1 2 5 6\n",
+                             kMtl, w);
+    CHECK(s.size() == 2);
+    CHECK(w.count("degenerate patches skipped") == 1);
+    CHECK(w.count("non-planar patches") == 1);
+    REQUIRE(printed.size() == 2);
+    CHECK(printed[0].find("d.obj:10: 1 zero-area face(s) skipped") != std::string::npos);
+    CHECK(printed[1].find("non-planar patch(es); worst deviation") != std::string::npos);
+    CHECK(w.summary().find("2 warnings") == 0);
+}
+
+TEST_CASE("OBJ: a concave polygon is an error (fan triangulation would change its shape)") {
+    Warnings w = quietWarnings();
+    CHECK_THROWS_WITH_AS(
+        loadText("c.obj", "mtllib m.mtl\nusemtl white\nv 0 0 0\nv 2 0 0\nv 1 0.2 0\nv 2 2 0\nv 0 2 0\nf 1 2 3 4 5\n",
+                 kMtl, w),
+        doctest::Contains("c.obj:8: face with 5 vertices is not convex"), Error);
+}
+
+TEST_CASE("MTL: Kd, Ke and mirror reflectance s = mean(Ks) only for illum 3, 5, 7") {
+    Warnings w = quietWarnings();
+    std::vector<Material> m;
+    const auto dir = tempDir("mtl");
+    loadMtl(writeFile(dir / "a.mtl", "newmtl a\nKd .2 .3 .4\nKe 1 2 3\nKs .6 .6 .9\nillum 3\n"
+                                     "newmtl b\nKd 0.5\nKs 1 1 1\nillum 2\nNs 10\nmap_Kd tex.png\n"),
+            m, w);
+    REQUIRE(m.size() == 2);
+    CHECK((m[0].rho == Rgb(.2, .3, .4)).all());
+    CHECK((m[0].emission == Rgb(1, 2, 3)).all());
+    CHECK(m[0].specular == doctest::Approx(0.7));
+    CHECK(m[1].specular == 0.0);
+    CHECK((m[1].rho == Rgb::Constant(0.5)).all());
+    CHECK(w.count("materials with rho + s > 1") == 1);  // a: .4 + .7 > 1
+}
+
+TEST_CASE("MTL: negative or non-numeric values are errors with file:line") {
+    Warnings w = quietWarnings();
+    std::vector<Material> m;
+    const auto dir = tempDir("mtl-bad");
+    CHECK_THROWS_WITH_AS(loadMtl(writeFile(dir / "n.mtl", "newmtl a\nKd .5 -.1 .5\n"), m, w),
+                         doctest::Contains("n.mtl:2: Kd '.5 -.1 .5' has a negative value"), Error);
+    CHECK_THROWS_WITH_AS(loadMtl(writeFile(dir / "x.mtl", "newmtl a\nKe 1 nan 1\n"), m, w),
+                         doctest::Contains("x.mtl:2: Ke 'nan' is not a finite number"), Error);
+    CHECK_THROWS_WITH_AS(loadMtl(writeFile(dir / "y.mtl", "Kd 1 1 1\n"), m, w),
+                         doctest::Contains("y.mtl:1: 'Kd' before any newmtl"), Error);
+}
+
+TEST_CASE("Saving a scene as OBJ + MTL and loading it back keeps geometry, materials and edits") {
+    Warnings w = quietWarnings();
+    Scene s = loadObj(sourcePath("scenes/cornell_mirror.obj"), w);
+    s.patches[3].emission = Rgb(1, 2, 3);  // an edit: the writer must derive a material for it
+    const auto dir = tempDir("save");
+    saveObj(s, (dir / "copy.obj").string());
+    const Scene t = loadObj((dir / "copy.obj").string(), w);
+    REQUIRE(t.size() == s.size());
+    CHECK(t.geometryHash() == s.geometryHash());
+    for (PatchId i = 0; i < s.size(); ++i) {
+        CHECK((t.patches[i].rho == s.patches[i].rho).all());
+        CHECK((t.patches[i].emission == s.patches[i].emission).all());
+        CHECK(t.patches[i].specular == doctest::Approx(s.patches[i].specular));
+    }
+    REQUIRE(t.camera.has_value());
+    CHECK(t.camera->eye.isApprox(s.camera->eye));
+    int files = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+        CHECK(entry.path().string().find(".tmp.") == std::string::npos);
+        ++files;
+    }
+    CHECK(files == 2);
+}

@@ -1,0 +1,178 @@
+// Solvers: the unit-cube table of physics.md, furnace identities, agreement of all methods, failure modes.
+#include "support.hpp"
+
+#include "engine/error.hpp"
+#include "engine/solver.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+namespace {
+
+/// Exact F of the closed unit cube (Howell): opposite faces pair up as (0,1), (2,3), (4,5).
+FormFactors exactCubeF() {
+    std::vector<std::vector<FormFactors::Entry>> rows(6);
+    for (std::uint32_t i = 0; i < 6; ++i)
+        for (std::uint32_t j = 0; j < 6; ++j) {
+            if (i == j) continue;
+            const bool opposite = (i ^ 1) == j;
+            rows[i].push_back({j, static_cast<float>(opposite ? kCubeOpposite : kCubeAdjacent)});
+        }
+    return FormFactors::fromRows(std::move(rows), std::vector<std::uint8_t>(6, 1));
+}
+
+Scene cubeWith(double rho) {
+    Scene s = unitCube();
+    for (Patch& p : s.patches) {
+        p.rho = Rgb::Constant(rho);
+        p.emission = Rgb::Zero();
+    }
+    s.patches[0].emission = Rgb::Constant(1.0);
+    return s;
+}
+
+const SolverKind kAll[] = {SolverKind::LU,     SolverKind::Cholesky,    SolverKind::CG,       SolverKind::BiCGSTAB,
+                           SolverKind::Jacobi, SolverKind::GaussSeidel, SolverKind::Southwell};
+
+Radiosity solveWith(const Scene& s, const FormFactors& F, SolverKind kind, double tolerance = 1e-10) {
+    SolverOptions o;
+    o.kind = kind;
+    o.tolerance = tolerance;
+    return solveRadiosity(s, F, o);
+}
+
+}  // namespace
+
+TEST_CASE("Every solver reproduces the unit-cube table of physics.md") {
+    struct Row {
+        double rho, floor, ceiling, wall;
+    };
+    // physics.md §5, computed with the exact cube factors (float F limits agreement to ~1e-6 relative).
+    const Row table[] = {{0.5, 1.0909090981, 0.1817458261, 0.1818362689},
+                         {0.9, 2.3728813748, 1.5253105511, 1.5254520185},
+                         {0.99, 17.3622704726, 16.5274251277, 16.5275760999}};
+    const FormFactors F = exactCubeF();
+    for (const Row& row : table)
+        for (SolverKind kind : kAll) {
+            CAPTURE(row.rho);
+            CAPTURE(solverName(kind));
+            const Radiosity r = solveWith(cubeWith(row.rho), F, kind);
+            const double tol = 1e-6 / (1 - row.rho);
+            CHECK(r.B[0][0] == doctest::Approx(row.floor).epsilon(tol));
+            CHECK(r.B[1][0] == doctest::Approx(row.ceiling).epsilon(tol));
+            for (int w = 2; w < 6; ++w) CHECK(r.B[w][0] == doctest::Approx(row.wall).epsilon(tol));
+            REQUIRE(r.reports.size() == 1);  // grey: the three channels are one solve
+            CHECK(r.reports[0].channels == "rgb");
+            CHECK(r.reports[0].converged);
+        }
+}
+
+TEST_CASE("Furnace: a closed box with uniform rho and E has B = E / (1 - rho) for every solver") {
+    Scene s = unitCube();
+    for (Patch& p : s.patches) {
+        p.rho = Rgb(0.3, 0.6, 0.9);
+        p.emission = Rgb(1, 2, 3);
+    }
+    const FormFactors F = exactCubeF();
+    for (SolverKind kind : kAll) {
+        CAPTURE(solverName(kind));
+        const Radiosity r = solveWith(s, F, kind);
+        for (const Rgb& b : r.B) {
+            // Float F rows sum to 1 within 1e-7: B is exact to that relative error / (1 - rho).
+            CHECK(b[0] == doctest::Approx(1 / 0.7).epsilon(1e-6));
+            CHECK(b[1] == doctest::Approx(2 / 0.4).epsilon(1e-6));
+            CHECK(b[2] == doctest::Approx(3 / 0.1).epsilon(1e-5));
+        }
+        CHECK(r.reports.size() == 3);  // distinct channels are solved separately
+    }
+}
+
+TEST_CASE("All solvers agree on one non-symmetric system; the symmetric form gives the LU answer") {
+    // Coloured, uneven reflectances and emission on the exact (reciprocal) cube F.
+    Scene s = unitCube();
+    const double rhos[6][3] = {{.7, .2, .1}, {.5, .5, .5}, {.1, .8, .3}, {.9, .4, .2}, {.3, .3, .9}, {.6, .7, .05}};
+    for (int i = 0; i < 6; ++i) {
+        s.patches[i].rho = Rgb(rhos[i][0], rhos[i][1], rhos[i][2]);
+        s.patches[i].emission = Rgb::Zero();
+    }
+    s.patches[1].emission = Rgb(10, 8, 6);
+    s.patches[4].emission = Rgb(0, 1, 2);
+    const FormFactors F = exactCubeF();
+    const Radiosity lu = solveWith(s, F, SolverKind::LU, 1e-12);
+    for (SolverKind kind : kAll) {
+        CAPTURE(solverName(kind));
+        const Radiosity r = solveWith(s, F, kind, 1e-11);
+        for (int i = 0; i < 6; ++i)
+            for (int c = 0; c < 3; ++c) CHECK(r.B[i][c] == doctest::Approx(lu.B[i][c]).epsilon(1e-8));
+    }
+}
+
+TEST_CASE("Black patches (rho = 0) keep B = E; their rows need not be computed") {
+    Scene s = cubeWith(0.5);
+    s.patches[0].rho = Rgb::Zero();
+    s.patches[0].emission = Rgb::Constant(2.0);
+    FormFactors F = exactCubeF();
+    std::vector<std::vector<FormFactors::Entry>> rows(6);
+    for (std::size_t i = 1; i < 6; ++i)
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) rows[i].push_back({F.columns()[k], F.values()[k]});
+    const FormFactors skipped = FormFactors::fromRows(std::move(rows), {0, 1, 1, 1, 1, 1});
+    for (SolverKind kind : kAll) {
+        CAPTURE(solverName(kind));
+        const Radiosity full = solveWith(s, F, kind);
+        const Radiosity partial = solveWith(s, skipped, kind);
+        CHECK(partial.B[0][0] == doctest::Approx(2.0));
+        for (int i = 0; i < 6; ++i) CHECK(partial.B[i][1] == doctest::Approx(full.B[i][1]).epsilon(1e-8));
+    }
+    s.patches[0].rho = Rgb(0.2, 0, 0);
+    CHECK_THROWS_WITH_AS(solveWith(s, skipped, SolverKind::GaussSeidel),
+                         doctest::Contains("row 0 of F was not computed"), Error);
+}
+
+TEST_CASE("rho = 1 in a closed scene is reported as singular, not solved") {
+    const Scene s = cubeWith(1.0);
+    for (SolverKind kind : kAll) {
+        CAPTURE(solverName(kind));
+        CHECK_THROWS_WITH_AS(solveWith(s, exactCubeF(), kind), doctest::Contains("is singular"), Error);
+    }
+}
+
+TEST_CASE("An unconverged solve is an error unless allowed, and says so") {
+    const Scene s = cubeWith(0.99);
+    SolverOptions o;
+    o.kind = SolverKind::Jacobi;
+    o.maxIterations = 5;
+    CHECK_THROWS_WITH_AS(solveRadiosity(s, exactCubeF(), o), doctest::Contains("jacobi did not converge"), Error);
+    o.allowUnconverged = true;
+    const Radiosity r = solveRadiosity(s, exactCubeF(), o);
+    REQUIRE(r.reports.size() == 1);
+    CHECK_FALSE(r.reports[0].converged);
+    CHECK(r.reports[0].iterations == 5);
+    CHECK(r.reports[0].residual > 1e-3);
+}
+
+TEST_CASE("Direct solvers refuse when the factorisation may exceed memory") {
+    SolverOptions o;
+    o.kind = SolverKind::LU;
+    o.memoryLimit = 100;  // bytes
+    CHECK_THROWS_WITH_AS(solveRadiosity(cubeWith(0.5), exactCubeF(), o), doctest::Contains("use --solver cg"), Error);
+}
+
+TEST_CASE("A warm start from the solution converges at once") {
+    const Scene s = cubeWith(0.9);
+    const Radiosity exact = solveWith(s, exactCubeF(), SolverKind::LU);
+    SolverOptions o;
+    o.kind = SolverKind::GaussSeidel;
+    o.tolerance = 1e-8;
+    const Radiosity warm = solveRadiosity(s, exactCubeF(), o, &exact.B);
+    CHECK(warm.reports[0].iterations <= 1);
+    const Radiosity cold = solveRadiosity(s, exactCubeF(), o);
+    CHECK(cold.reports[0].iterations > 20);
+}
+
+TEST_CASE("Solver names parse and print") {
+    for (SolverKind kind : kAll) CHECK(parseSolverKind(solverName(kind)) == kind);
+    CHECK(parseSolverKind("auto") == SolverKind::Auto);
+    CHECK_THROWS_WITH_AS(parseSolverKind("magic"), doctest::Contains("unknown solver 'magic'"), Error);
+}

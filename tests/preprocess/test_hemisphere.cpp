@@ -1,0 +1,188 @@
+// Hemisphere back end against closed forms: plates, disks, the cube, reciprocity, mirrors, skipping.
+#include "support.hpp"
+
+#include "engine/error.hpp"
+#include "engine/obj_loader.hpp"
+#include "engine/subdivide.hpp"
+#include "engine/form_factors.hpp"
+#include "preprocess/form_factor_job.hpp"
+#include "preprocess/hemisphere/beckers.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+namespace {
+
+FormFactorRun run(const Scene& s, std::uint32_t samples, std::uint32_t origins, bool allRows = true,
+                  std::uint32_t maxDepth = 8) {
+    BackendOptions o;
+    o.samples = samples;
+    o.origins = origins;
+    o.maxDepth = maxDepth;
+    return computeFormFactors(s, "hemisphere", o, neededRows(s, allRows));
+}
+
+Scene loadScene(const char* name) {
+    Warnings w = quietWarnings();
+    return loadObj(sourcePath(std::string("scenes/") + name), w);
+}
+
+}  // namespace
+
+TEST_CASE("C-11: parallel unit squares at distance 1 (F = 0.199825)") {
+    const Scene s = loadScene("parallel_plates.obj");
+    const FormFactorRun r = run(s, 3072, 64);
+    CHECK(r.F.at(0, 1) == doctest::Approx(c11(1, 1, 1)).epsilon(5e-3));
+    CHECK(r.F.at(1, 0) == doctest::Approx(c11(1, 1, 1)).epsilon(5e-3));
+    CHECK(c11(1, 1, 1) == doctest::Approx(0.199825).epsilon(1e-5));
+    CHECK(c11(1, 1, 2) == doctest::Approx(0.068590).epsilon(1e-4));
+}
+
+TEST_CASE("C-14: perpendicular plates with a common edge, both directions (0.232853 and 0.116426)") {
+    const Scene s = loadScene("perpendicular_plates.obj");
+    CHECK(c14(1, 2, 1) == doctest::Approx(0.232853).epsilon(1e-5));
+    CHECK(c14(2, 1, 1) == doctest::Approx(0.116426).epsilon(1e-5));
+    const FormFactorRun r = run(s, 3072, 256);
+    CHECK(r.F.at(0, 1) == doctest::Approx(c14(1, 2, 1)).epsilon(1e-2));
+    CHECK(r.F.at(1, 0) == doctest::Approx(c14(2, 1, 1)).epsilon(1e-2));
+    // Reciprocity A_i F_ij = A_j F_ji within the sampling error of both rows.
+    CHECK(1.0 * r.F.at(0, 1) == doctest::Approx(2.0 * r.F.at(1, 0)).epsilon(1.5e-2));
+}
+
+TEST_CASE("A coaxial disk whose rim lies on a Beckers ring boundary is seen exactly from the centre") {
+    // From the centre of a disk, a coaxial disk of radius R at height H covers r^2 = R^2/(R^2+H^2)
+    // of the Nusselt disk. Choose it equal to S[j]/N for N = 96, S = 39: the estimate is exact.
+    const double fraction = 39.0 / 96.0, H = 1.0;
+    const double R = H * std::sqrt(fraction / (1 - fraction));
+    SceneBuilder b;
+    b.disk(Vec3(0, 0, 0), 0.5, 256, true);
+    b.disk(Vec3(0, 0, H), R, 256, false);
+    const FormFactorRun r = run(b.scene, 96, 1);
+    CHECK(r.F.at(0, 1) == doctest::Approx(fraction).epsilon(1e-6));
+    // Area to area, C-41, with origins spread over the emitter.
+    const FormFactorRun area = run(b.scene, 3072, 256);
+    CHECK(area.F.at(0, 1) == doctest::Approx(c41(0.5, R, H)).epsilon(1e-2));
+}
+
+TEST_CASE("Closed unit cube: rows sum to 1, opposite and adjacent factors match the closed forms") {
+    const Scene s = unitCube();
+    const FormFactorRun r = run(s, 3072, 64);
+    CHECK(r.counts.misses == 0);
+    CHECK(r.counts.backfaces == 0);
+    for (PatchId i = 0; i < 6; ++i) {
+        CHECK(r.F.rowSum(i) == doctest::Approx(1.0).epsilon(1e-6));
+        CHECK(r.F.at(i, i) == 0.0);
+        for (PatchId j = 0; j < 6; ++j) {
+            if (i == j) continue;
+            const double expected = (i ^ 1) == j ? kCubeOpposite : kCubeAdjacent;
+            CHECK(r.F.at(i, j) == doctest::Approx(expected).epsilon(1e-2));
+        }
+    }
+    CHECK(r.stats.rowSumMin == doctest::Approx(1.0).epsilon(1e-6));
+    CHECK(r.stats.reciprocityMean < 0.01);
+}
+
+TEST_CASE("A subdivided closed box far from the origin (offset 1e5, scale 1000) loses no ray") {
+    Scene s = subdivide(unitCube(), 0.25);
+    for (Vec3& v : s.vertices) v = 1000.0 * v + Vec3(1e5, -2e5, 3e5);
+    s.updateMeasures();
+    const FormFactorRun r = run(s, 384, 1);
+    CHECK(r.counts.lostWeight / double(s.size()) < 1e-5);
+    CHECK(r.stats.rowSumMin > 0.9999);
+}
+
+TEST_CASE("Image-method mirror factor of physics.md (Sillion & Puech extended form factors)") {
+    const Scene s = loadScene("mirror_pair.obj");
+    REQUIRE(s.hasMirrors());
+    const FormFactorRun r = run(s, 3072, 256);
+    // P1 -> P2 only through the mirror: s (C11(2,1,1) - C11(1,1,1)) = 0.0774454.
+    const double expected = 0.9 * (c11(2, 1, 1) - c11(1, 1, 1));
+    CHECK(expected == doctest::Approx(0.0774454).epsilon(1e-5));
+    CHECK(r.F.at(0, 1) == doctest::Approx(expected).epsilon(1.5e-2));
+    CHECK(r.counts.bounces > 0);
+    // The same scene without mirror recursion sees nothing of P2.
+    const FormFactorRun direct = run(s, 3072, 16, true, 0);
+    CHECK(direct.F.at(0, 1) == 0.0);
+    CHECK(direct.counts.cutoffWeight > 0.0);
+}
+
+TEST_CASE("Without mirrors no bounce is traced") {
+    const FormFactorRun r = run(unitCube(), 96, 1);
+    CHECK(r.counts.bounces == 0);
+    CHECK(r.counts.cutoffWeight == 0.0);
+}
+
+TEST_CASE("Facing mirrors: the depth limit cuts energy off and reports it") {
+    // Two parallel mirrors s = 0.99 with a small diffuse patch between them, facing one mirror.
+    SceneBuilder b;
+    const std::uint32_t mirror = b.material("mirror", Rgb::Zero(), Rgb::Zero(), 0.99);
+    b.rectangle(2, 0, -50, 50, -50, 50, true, mirror);
+    b.rectangle(2, 1, -50, 50, -50, 50, false, mirror);
+    b.rectangle(2, 0.5, -0.1, 0.1, -0.1, 0.1, false);
+    const FormFactorRun shallow = run(b.scene, 96, 1, true, 2);
+    const FormFactorRun deep = run(b.scene, 96, 1, true, 40);
+    CHECK(shallow.counts.cutoffWeight > deep.counts.cutoffWeight);
+    CHECK(shallow.counts.cutoffWeight > 0.5);
+    // A ray deposits its weight on every patch of its chain: mirror rows exceed 1 but stay below
+    // 1 + s + ... + s^depth, the bound recorded with F.
+    const double bound = rowSumBound(deep.F);
+    CHECK(bound < 1.0 / (1.0 - 0.99));
+    CHECK(deep.F.rowSum(0) > 1.0);
+    for (PatchId i = 0; i < b.scene.size(); ++i) CHECK(deep.F.rowSum(i) <= bound);
+    // The diffuse patch sees itself in the mirror it faces: F_ii > 0 is legitimate with mirrors.
+    CHECK(deep.F.at(2, 2) > 0.0);
+}
+
+TEST_CASE("Rows of black patches are skipped unless all rows are asked for") {
+    Scene s = unitCube();
+    s.patches[0].rho = Rgb::Zero();
+    CHECK(neededRows(s, false).size() == 5);
+    CHECK(neededRows(s, true).size() == 6);
+    const FormFactorRun r = run(s, 96, 1, false);
+    CHECK_FALSE(r.F.rowComputed(0));
+    CHECK(r.F.rowBegin(0) == r.F.rowEnd(0));
+    CHECK(r.rowsSkipped == 1);
+}
+
+TEST_CASE("Form factors are reproducible for a seed and change with it") {
+    const Scene s = loadScene("perpendicular_plates.obj");
+    BackendOptions o;
+    o.samples = 384;
+    o.origins = 4;
+    const FormFactorRun a = computeFormFactors(s, "hemisphere", o, neededRows(s, true));
+    const FormFactorRun b = computeFormFactors(s, "hemisphere", o, neededRows(s, true));
+    o.seed = 7;
+    const FormFactorRun c = computeFormFactors(s, "hemisphere", o, neededRows(s, true));
+    CHECK(a.F.at(0, 1) == b.F.at(0, 1));
+    CHECK(a.F.at(0, 1) != c.F.at(0, 1));
+    CHECK(a.F.parameters.at("samples") == "384");
+    CHECK(a.F.sceneHash == s.geometryHash());
+}
+
+TEST_CASE("Unknown methods and invalid options are errors") {
+    BackendOptions o;
+    CHECK_THROWS_WITH_AS(makeBackend("raster", o), doctest::Contains("unknown --method 'raster'"), Error);
+    o.origins = 0;
+    CHECK_THROWS_WITH_AS(makeBackend("hemisphere", o), doctest::Contains("--origins must be at least 1"), Error);
+}
+
+TEST_CASE("Hemisphere F of the closed Cornell box conserves energy and is nearly reciprocal") {
+    // The published floor runs under the blocks, whose bottoms are open: origins there see the
+    // blocks' insides (back faces, lost). Every other row is closed.
+    const Scene s = subdivide(loadScene("cornell_closed.obj"), 100.0);
+    const FormFactorRun r = run(s, 768, 4);
+    std::size_t closed = 0;
+    for (PatchId i = 0; i < s.size(); ++i)
+        if (s.objects[s.patches[i].object] != "floor") closed += r.F.rowSum(i) > 0.999;
+    std::size_t floor = 0;
+    for (const Patch& p : s.patches) floor += s.objects[p.object] == "floor";
+    CHECK(closed == s.size() - floor);
+    CHECK(r.stats.rowSumMax < 1.0 + 1e-6);
+    // Reciprocity violations are sampling noise, dominated by the spread of origins over the
+    // emitter (directions are stratified): four times the origins halve them (1/sqrt(K)).
+    const FormFactorRun finer = run(s, 768, 16);
+    CHECK(finer.stats.reciprocityMean < 0.65 * r.stats.reciprocityMean);
+    CHECK(finer.stats.reciprocityMean > 0.35 * r.stats.reciprocityMean);
+}

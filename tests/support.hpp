@@ -1,0 +1,135 @@
+// Test support: closed-form view factors (Howell's catalogue), scene builders, temporary files.
+#pragma once
+
+#include "engine/scene.hpp"
+#include "engine/warnings.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+#include <unistd.h>
+
+namespace hemirad::test {
+
+/// Howell C-11: identical parallel directly opposed rectangles a x b at distance c.
+inline double c11(double a, double b, double c) {
+    const double X = a / c, Y = b / c;
+    const double x2 = X * X, y2 = Y * Y;
+    return 2.0 / (kPi * X * Y) *
+           (std::log(std::sqrt((1 + x2) * (1 + y2) / (1 + x2 + y2))) +
+            X * std::sqrt(1 + y2) * std::atan(X / std::sqrt(1 + y2)) +
+            Y * std::sqrt(1 + x2) * std::atan(Y / std::sqrt(1 + x2)) - X * std::atan(X) - Y * std::atan(Y));
+}
+
+/// Howell C-14: perpendicular rectangles with a common edge l; emitter w x l, receiver h x l.
+inline double c14(double w, double h, double l) {
+    const double W = w / l, H = h / l;
+    const double W2 = W * W, H2 = H * H, S = W2 + H2;
+    const double a = (1 + W2) * (1 + H2) / (1 + S);
+    const double b = std::pow(W2 * (1 + S) / ((1 + W2) * S), W2);
+    const double c = std::pow(H2 * (1 + S) / ((1 + H2) * S), H2);
+    return 1.0 / (kPi * W) *
+           (W * std::atan(1 / W) + H * std::atan(1 / H) - std::sqrt(S) * std::atan(1 / std::sqrt(S)) +
+            0.25 * std::log(a * b * c));
+}
+
+/// Howell C-41: coaxial parallel disks r1 -> r2 at distance h.
+inline double c41(double r1, double r2, double h) {
+    const double R1 = r1 / h, R2 = r2 / h;
+    const double X = 1 + (1 + R2 * R2) / (R1 * R1);
+    return 0.5 * (X - std::sqrt(X * X - 4 * (R2 / R1) * (R2 / R1)));
+}
+
+constexpr double kCubeOpposite = 0.1998248957;
+constexpr double kCubeAdjacent = 0.2000437761;
+
+/// Builds scenes polygon by polygon: each polygon gets its own vertices.
+class SceneBuilder {
+public:
+    SceneBuilder() {
+        Material m;
+        m.name = "default";
+        m.rho = Rgb::Constant(0.5);
+        scene.materials.push_back(m);
+        scene.objects.push_back("default");
+    }
+    /// Adds a material; returns its index.
+    std::uint32_t material(const std::string& name, Rgb rho, Rgb emission = Rgb::Zero(), double specular = 0.0) {
+        Material m;
+        m.name = name;
+        m.rho = rho;
+        m.emission = emission;
+        m.specular = specular;
+        m.ks = Rgb::Constant(specular);
+        m.illum = specular > 0 ? 3 : 1;
+        scene.materials.push_back(m);
+        return static_cast<std::uint32_t>(scene.materials.size() - 1);
+    }
+    PatchId polygon(const std::vector<Vec3>& points, std::uint32_t materialId = 0) {
+        std::vector<std::uint32_t> ids;
+        for (const Vec3& p : points) {
+            ids.push_back(static_cast<std::uint32_t>(scene.vertices.size()));
+            scene.vertices.push_back(p);
+        }
+        return scene.addPatch(ids, materialId, 0);
+    }
+    /// Axis-aligned rectangle in the plane `axis` = `offset`; normal along +axis or -axis.
+    PatchId rectangle(int axis, double offset, double u0, double u1, double v0, double v1, bool positive,
+                      std::uint32_t materialId = 0) {
+        const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+        auto point = [&](double u, double v) {
+            Vec3 p;
+            p[axis] = offset;
+            p[a] = u;
+            p[b] = v;
+            return p;
+        };
+        std::vector<Vec3> pts = {point(u0, v0), point(u1, v0), point(u1, v1), point(u0, v1)};
+        if (!positive) std::swap(pts[1], pts[3]);
+        return polygon(pts, materialId);
+    }
+    /// Regular n-gon approximating a disk of radius r centred at c in the plane z = c.z, normal +-z.
+    PatchId disk(const Vec3& c, double r, int n, bool up, std::uint32_t materialId = 0) {
+        std::vector<Vec3> pts;
+        for (int k = 0; k < n; ++k) {
+            const double phi = 2 * kPi * (up ? k : -k) / n;
+            pts.push_back(c + Vec3(r * std::cos(phi), r * std::sin(phi), 0));
+        }
+        return polygon(pts, materialId);
+    }
+    Scene scene;
+};
+
+/// The closed unit cube [0,1]^3 of six inward-facing quads; floor (y = 0) first.
+inline Scene unitCube() {
+    SceneBuilder b;
+    b.rectangle(1, 0, 0, 1, 0, 1, true);   // floor y=0, normal +y
+    b.rectangle(1, 1, 0, 1, 0, 1, false);  // ceiling
+    b.rectangle(0, 0, 0, 1, 0, 1, true);   // x=0
+    b.rectangle(0, 1, 0, 1, 0, 1, false);  // x=1
+    b.rectangle(2, 0, 0, 1, 0, 1, true);   // z=0
+    b.rectangle(2, 1, 0, 1, 0, 1, false);  // z=1
+    return b.scene;
+}
+
+inline std::string sourcePath(const std::string& relative) { return std::string(HEMIRAD_SOURCE_DIR) + "/" + relative; }
+
+/// A fresh directory under the build tree for one test's files.
+inline std::filesystem::path tempDir(const std::string& name) {
+    const auto dir = std::filesystem::temp_directory_path() / ("hemirad-test-" + name + "-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+inline std::string writeFile(const std::filesystem::path& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+    return path.string();
+}
+
+/// Warnings that are collected silently for assertions.
+inline Warnings quietWarnings() { return Warnings(nullptr); }
+
+}  // namespace hemirad::test
