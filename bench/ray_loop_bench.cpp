@@ -104,19 +104,26 @@ double bareLoop(const Scene& scene, const BackendOptions& options, double offset
 
 int main(int argc, char** argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: bench_rays SCENE.obj [--subdivide L] [--samples N] [--origins K] [--repeat R]\n");
+        std::fprintf(stderr, "usage: bench_rays SCENE.obj [--subdivide L] [--samples N] [--origins K] [--repeat R] [--rho r,g,b]\n");
         return 2;
     }
     std::string path = argv[1];
     double subdivideLength = 0.0;
     int repeat = 1;
     BackendOptions options;
+    Rgb rho = Rgb::Constant(-1.0);  // keep the scene's reflectances unless --rho is given
     for (int k = 2; k + 1 < argc; k += 2) {
         const std::string flag = argv[k];
         if (flag == "--subdivide") subdivideLength = std::atof(argv[k + 1]);
         else if (flag == "--samples") options.samples = std::uint32_t(std::atoi(argv[k + 1]));
         else if (flag == "--origins") options.origins = std::uint32_t(std::atoi(argv[k + 1]));
         else if (flag == "--repeat") repeat = std::atoi(argv[k + 1]);
+        else if (flag == "--rho") {
+            if (std::sscanf(argv[k + 1], "%lf,%lf,%lf", &rho[0], &rho[1], &rho[2]) != 3) {
+                std::fprintf(stderr, "--rho expects r,g,b\n");
+                return 2;
+            }
+        }
         else {
             std::fprintf(stderr, "unknown option %s\n", flag.c_str());
             return 2;
@@ -126,10 +133,13 @@ int main(int argc, char** argv) {
         Warnings warnings(nullptr);
         Scene scene = loadObj(path, warnings);
         if (subdivideLength > 0) scene = subdivide(scene, subdivideLength);
+        if (rho[0] >= 0.0)
+            for (Patch& p : scene.patches) p.rho = rho;
         const std::vector<PatchId> rows = neededRows(scene, true);
         const double rays = double(scene.size()) * options.samples * options.origins;
         std::printf("scene %s: %zu patches, %u directions x %u origins = %.1f M rays, %d threads\n", path.c_str(),
                     scene.size(), options.samples, options.origins, rays / 1e6, omp_get_max_threads());
+        double bestBare = 1e300, bestHemirad = 1e300;
         for (int r = 0; r < repeat; ++r) {
             std::uint64_t hits = 0;
             double bareBuild = 0.0;
@@ -139,6 +149,8 @@ int main(int argc, char** argv) {
             const double offset = std::max(1e-6 * (hi - lo).norm(), 64.0 * 1.1920929e-7 * 0.5 * (hi - lo).maxCoeff());
             const double bare = bareLoop(scene, options, offset, hits, bareBuild);
             const FormFactorRun run = computeFormFactors(scene, "hemisphere", options, rows);
+            bestBare = std::min(bestBare, bare);
+            bestHemirad = std::min(bestHemirad, run.computeSeconds);
             std::printf("run %d: bare rtcIntersect1 loop %.3f s (%.2f M rays/s, BVH %.3f s, %.4f%% hit)\n", r + 1, bare,
                         rays / bare / 1e6, bareBuild, 100.0 * double(hits) / rays);
             std::printf("run %d: hemirad formfactors  %.3f s (%.2f M rays/s, BVH %.3f s) -> ratio %.3f\n", r + 1,
@@ -148,6 +160,8 @@ int main(int argc, char** argv) {
                         double(run.F.memoryBytes()) / double(std::max<std::size_t>(1, run.F.nonZeros())),
                         run.stats.rowSumMin, run.stats.rowSumMax);
             if (r + 1 < repeat) continue;
+            std::printf("best of %d (runs interleaved): bare %.3f s, hemirad %.3f s -> ratio %.3f\n", repeat, bestBare,
+                        bestHemirad, bestHemirad / bestBare);
             for (SolverKind kind : {SolverKind::Jacobi, SolverKind::GaussSeidel, SolverKind::Southwell, SolverKind::CG,
                                     SolverKind::BiCGSTAB}) {
                 SolverOptions so;

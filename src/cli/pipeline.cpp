@@ -36,6 +36,7 @@ FormFactorRun compute(const Scene& scene, const Options& options, const std::vec
                                            reporter.progress("form factors", raysPerRow));
     timings.add("acceleration structure", run.prepareSeconds);
     timings.add("form factors", run.computeSeconds);
+    timings.add("F diagnostics", run.statsSeconds);
     reporter.formFactorSummary(run, options.backend, options.method);
     return run;
 }

@@ -4,6 +4,8 @@
 #include "engine/error.hpp"
 #include "engine/scene.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -82,80 +84,125 @@ void FormFactors::replaceRows(const FormFactors& other) {
     parameters = std::move(params);
 }
 
+TransposedFormFactors transpose(const FormFactors& F) {
+    // Parallel counting sort: thread t owns a contiguous block of rows and, for every column, a
+    // slot range after the earlier threads' entries, so each column lists its rows in order.
+    const std::size_t n = F.size();
+    const int threads = std::max(1, std::min(omp_get_max_threads(), int(n / 1024) + 1));
+    std::vector<std::size_t> bounds(threads + 1);
+    for (int t = 0; t <= threads; ++t) bounds[t] = n * std::size_t(t) / threads;
+    std::vector<std::uint64_t> counts(std::size_t(threads) * n, 0);
+#pragma omp parallel for num_threads(threads) schedule(static, 1)
+    for (int t = 0; t < threads; ++t) {
+        std::uint64_t* mine = &counts[std::size_t(t) * n];
+        for (std::uint64_t k = F.rowBegin(bounds[t]); k < F.rowBegin(bounds[t + 1]); ++k) ++mine[F.columns()[k]];
+    }
+    TransposedFormFactors out;
+    out.start.assign(n + 1, 0);
+    for (std::size_t j = 0; j < n; ++j) {
+        std::uint64_t offset = out.start[j];
+        for (int t = 0; t < threads; ++t) {
+            const std::uint64_t c = counts[std::size_t(t) * n + j];
+            counts[std::size_t(t) * n + j] = offset;  // becomes thread t's next slot in column j
+            offset += c;
+        }
+        out.start[j + 1] = offset;
+    }
+    out.rows.resize(F.nonZeros());
+    out.values.resize(F.nonZeros());
+#pragma omp parallel for num_threads(threads) schedule(static, 1)
+    for (int t = 0; t < threads; ++t) {
+        std::uint64_t* next = &counts[std::size_t(t) * n];
+        for (std::size_t i = bounds[t]; i < bounds[t + 1]; ++i)
+            for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
+                const std::uint64_t slot = next[F.columns()[k]]++;
+                out.rows[slot] = static_cast<std::uint32_t>(i);
+                out.values[slot] = F.values()[k];
+            }
+    }
+    return out;
+}
+
+namespace {
+
+/// Visits, for row i, every column j of row i or of column i (ascending) with F_ij and F_ji (0 if absent).
+template <class Visit>
+void mergeRowAndColumn(const FormFactors& F, const TransposedFormFactors& Ft, std::size_t i, Visit visit) {
+    std::uint64_t a = F.rowBegin(i), b = Ft.start[i];
+    const std::uint64_t aEnd = F.rowEnd(i), bEnd = Ft.start[i + 1];
+    while (a < aEnd || b < bEnd) {
+        const std::uint32_t ja = a < aEnd ? F.columns()[a] : UINT32_MAX;
+        const std::uint32_t jb = b < bEnd ? Ft.rows[b] : UINT32_MAX;
+        const std::uint32_t j = std::min(ja, jb);
+        const double fij = ja == j ? F.values()[a++] : 0.0;
+        const double fji = jb == j ? Ft.values[b++] : 0.0;
+        visit(j, fij, fji);
+    }
+}
+
+}  // namespace
+
 FormFactorStats computeStats(const FormFactors& F, const Scene& scene) {
     FormFactorStats s;
     s.rows = F.size();
     s.nonZeros = F.nonZeros();
-    s.rowSumMin = std::numeric_limits<double>::infinity();
-    s.rowSumMax = -s.rowSumMin;
-    double sum = 0.0, violation = 0.0, exchanged = 0.0;
-    for (std::size_t i = 0; i < F.size(); ++i) {
+    const TransposedFormFactors Ft = transpose(F);
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo, sum = 0.0, violation = 0.0, exchanged = 0.0;
+    double worst = 0.0;
+    std::size_t computed = 0, self = 0;
+    const auto n = static_cast<std::ptrdiff_t>(F.size());
+    // Each pair is visited from both of its rows: sums double, ratios do not change.
+#pragma omp parallel for schedule(dynamic, 64) reduction(min : lo) reduction(max : hi, worst) \
+    reduction(+ : sum, violation, exchanged, computed, self)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
         if (!F.rowComputed(i)) continue;
-        ++s.computedRows;
+        ++computed;
         const double r = F.rowSum(i);
-        s.rowSumMin = std::min(s.rowSumMin, r);
-        s.rowSumMax = std::max(s.rowSumMax, r);
+        lo = std::min(lo, r);
+        hi = std::max(hi, r);
         sum += r;
         const double Ai = scene.patches[i].area;
-        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
-            const std::size_t j = F.columns()[k];
+        mergeRowAndColumn(F, Ft, i, [&](std::uint32_t j, double fij, double fji) {
             if (j == i) {
-                ++s.selfFactors;
-                continue;
+                self += fij > 0.0;
+                return;
             }
-            if (!F.rowComputed(j)) continue;
-            const double a = Ai * F.values()[k];
-            const double b = scene.patches[j].area * F.at(j, i);
+            if (!F.rowComputed(j)) return;
+            const double a = Ai * fij, b = scene.patches[j].area * fji;
             const double diff = std::abs(a - b);
-            s.reciprocityMax = std::max(s.reciprocityMax, diff / std::max(a, b));
+            worst = std::max(worst, diff / std::max(a, b));
             violation += diff;
             exchanged += a + b;
-        }
-        // Entries F_ji > 0 with F_ij = 0 are counted from row j's side when it is visited.
+        });
     }
-    if (s.computedRows == 0) s.rowSumMin = s.rowSumMax = 0.0;
-    s.rowSumMean = s.computedRows ? sum / static_cast<double>(s.computedRows) : 0.0;
+    s.computedRows = computed;
+    s.selfFactors = self;
+    s.rowSumMin = computed ? lo : 0.0;
+    s.rowSumMax = computed ? hi : 0.0;
+    s.rowSumMean = computed ? sum / double(computed) : 0.0;
+    s.reciprocityMax = worst;
     s.reciprocityMean = exchanged > 0 ? violation / exchanged : 0.0;
     return s;
 }
 
 std::size_t enforceReciprocity(FormFactors& F, const Scene& scene) {
     const std::size_t n = F.size();
+    const TransposedFormFactors Ft = transpose(F);
     std::vector<std::vector<FormFactors::Entry>> rows(n);
     std::size_t changed = 0;
-    for (std::size_t i = 0; i < n; ++i) {
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : changed)
+    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
         if (!F.rowComputed(i)) continue;
         const double Ai = scene.patches[i].area;
-        rows[i].reserve(F.rowEnd(i) - F.rowBegin(i));
-        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
-            const std::uint32_t j = F.columns()[k];
-            double v = F.values()[k];
-            if (j != i && F.rowComputed(j)) {
-                const double mean = 0.5 * (Ai * v + scene.patches[j].area * F.at(j, i));
-                const double nv = mean / Ai;
-                if (nv != v) ++changed;
-                v = nv;
-            }
-            rows[i].push_back({j, static_cast<float>(v)});
-        }
-    }
-    // Partners: F_ji > 0 where F_ij is absent gets F_ij = A_j F_ji / (2 A_i).
-    std::vector<std::vector<FormFactors::Entry>> extra(n);
-    for (std::size_t j = 0; j < n; ++j) {
-        if (!F.rowComputed(j)) continue;
-        for (std::uint64_t k = F.rowBegin(j); k < F.rowEnd(j); ++k) {
-            const std::uint32_t i = F.columns()[k];
-            if (i == j || !F.rowComputed(i) || F.at(i, j) != 0.0) continue;
-            const double v = 0.5 * scene.patches[j].area * F.values()[k] / scene.patches[i].area;
-            extra[i].push_back({static_cast<std::uint32_t>(j), static_cast<float>(v)});
-            ++changed;
-        }
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-        if (extra[i].empty()) continue;
-        rows[i].insert(rows[i].end(), extra[i].begin(), extra[i].end());
-        std::sort(rows[i].begin(), rows[i].end(),
-                  [](const FormFactors::Entry& a, const FormFactors::Entry& b) { return a.column < b.column; });
+        std::vector<FormFactors::Entry>& row = rows[i];
+        row.reserve(F.rowEnd(i) - F.rowBegin(i));
+        mergeRowAndColumn(F, Ft, i, [&](std::uint32_t j, double fij, double fji) {
+            double v = fij;
+            // Both rows known: A_i F_ij = A_j F_ji = their mean (a missing entry counts as 0).
+            if (j != std::uint32_t(i) && F.rowComputed(j)) v = 0.5 * (Ai * fij + scene.patches[j].area * fji) / Ai;
+            if (static_cast<float>(v) != static_cast<float>(fij)) ++changed;
+            if (v > 0.0) row.push_back({j, static_cast<float>(v)});
+        });
     }
     const std::uint64_t hash = F.sceneHash;
     auto params = F.parameters;

@@ -66,6 +66,15 @@ private:
     std::vector<std::uint8_t> m_computed;
 };
 
+/// F^T in CSR: row j lists the patches i with F_ij > 0 (column j of F), sorted by i.
+struct TransposedFormFactors {
+    std::vector<std::uint64_t> start;
+    std::vector<std::uint32_t> rows;
+    std::vector<float> values;
+};
+/// Builds F^T (parallel counting sort, O(nnz); 8 bytes per nonzero).
+TransposedFormFactors transpose(const FormFactors& F);
+
 /// Diagnostics of an F against its scene (computed rows only).
 struct FormFactorStats {
     std::size_t rows = 0, computedRows = 0, nonZeros = 0;

@@ -57,7 +57,9 @@ FormFactorRun computeFormFactors(const Scene& scene, const std::string& method, 
     run.F.parameters = backend->parameters();
     run.rowsComputed = rows.size();
     run.rowsSkipped = scene.size() - rows.size();
+    const auto t2 = Clock::now();
     run.stats = computeStats(run.F, scene);
+    run.statsSeconds = std::chrono::duration<double>(Clock::now() - t2).count();
     return run;
 }
 

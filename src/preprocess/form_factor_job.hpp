@@ -14,6 +14,7 @@ struct FormFactorRun {
     RayCounts counts;
     double prepareSeconds = 0;   ///< acceleration structures (BVH)
     double computeSeconds = 0;   ///< rows
+    double statsSeconds = 0;     ///< diagnostics (row sums, reciprocity)
     std::size_t rowsComputed = 0, rowsSkipped = 0;
 };
 

@@ -1,0 +1,273 @@
+// Eigen's solvers on Hemirad's systems: SparseLU and BiCGSTAB on I - R F; SimplicialLLT and
+// ConjugateGradient on the symmetric positive-definite K = diag(A / rho) - sym(diag(A) F).
+#include "engine/error.hpp"
+#include "engine/solver_detail.hpp"
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
+
+#include <limits>
+#include <sstream>
+
+namespace hemirad::detail {
+namespace {
+
+using ColMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+constexpr const char* kSymmetrisedNote = "F symmetrised for the SPD form: A_i F_ij -> (A_i F_ij + A_j F_ji) / 2";
+
+std::string gib(double bytes) {
+    std::ostringstream s;
+    s.precision(3);
+    s << bytes / double(1 << 30) << " GiB";
+    return s.str();
+}
+
+/// Fills a compressed row-major matrix from per-row counts and a row writer, rows in parallel.
+/// write(i, columns, values) stores row i's entries (sorted) and returns how many it wrote.
+template <class Count, class Write>
+RowMatrix buildRows(std::size_t n, Count count, Write write) {
+    std::vector<std::uint64_t> start(n + 1, 0);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) start[i + 1] = count(std::size_t(i));
+    for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+    if (start[n] > std::uint64_t(std::numeric_limits<int>::max()))
+        throw Error("solve: the system has " + std::to_string(start[n]) + " nonzeros, more than Eigen's 32-bit indices");
+    RowMatrix M(static_cast<int>(n), static_cast<int>(n));
+    M.resizeNonZeros(static_cast<Eigen::Index>(start[n]));
+    int* outer = M.outerIndexPtr();
+    for (std::size_t i = 0; i <= n; ++i) outer[i] = static_cast<int>(start[i]);
+    int* inner = M.innerIndexPtr();
+    double* value = M.valuePtr();
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) write(std::size_t(i), inner + start[i], value + start[i]);
+    return M;
+}
+
+/// I - R F.
+RowMatrix systemMatrix(const FormFactors& F, const Vector& rho) {
+    auto count = [&](std::size_t i) {
+        bool self = false;
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) self |= F.columns()[k] == i;
+        return F.rowEnd(i) - F.rowBegin(i) + (self ? 0 : 1);
+    };
+    auto write = [&](std::size_t i, int* col, double* val) {
+        bool diagonal = false;
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
+            const std::uint32_t j = F.columns()[k];
+            if (!diagonal && j >= i) {
+                *col++ = int(i);
+                *val++ = 1.0 - (j == i ? rho[i] * F.values()[k] : 0.0);
+                diagonal = true;
+                if (j == i) continue;
+            }
+            *col++ = int(j);
+            *val++ = -rho[i] * F.values()[k];
+        }
+        if (!diagonal) {
+            *col = int(i);
+            *val = 1.0;
+        }
+    };
+    return buildRows(F.size(), count, write);
+}
+
+}  // namespace
+
+const RowMatrix& SymmetricForm::matrixFor(const Vector& rho) {
+    const std::size_t n = m_F.size();
+    std::vector<std::uint8_t> active(n);
+    for (std::size_t i = 0; i < n; ++i) active[i] = rho[i] > 0.0;
+    std::vector<double> area(n);  // contiguous: patches are large structs, read at random below
+    for (std::size_t i = 0; i < n; ++i) area[i] = m_scene.patches[i].area;
+    if (active != m_active) {
+        m_active = std::move(active);
+        m_diagonalAt.assign(n, 0);
+        m_self.assign(n, 0.0);
+        // Row i merges row i of F (A_i F_ij) with column i (A_j F_ji), both sorted: O(nnz).
+        auto merge = [&](std::size_t i, auto&& visit) {
+            std::uint64_t a = m_F.rowBegin(i), b = m_Ft.start[i];
+            const std::uint64_t aEnd = m_F.rowEnd(i), bEnd = m_Ft.start[i + 1];
+            while (a < aEnd || b < bEnd) {
+                const std::uint32_t ja = a < aEnd ? m_F.columns()[a] : UINT32_MAX;
+                const std::uint32_t jb = b < bEnd ? m_Ft.rows[b] : UINT32_MAX;
+                const std::uint32_t j = std::min(ja, jb);
+                double g = 0.0;  // (A_i F_ij + A_j F_ji) / 2
+                if (ja == j) g += 0.5 * area[i] * m_F.values()[a++];
+                if (jb == j) g += 0.5 * area[j] * m_Ft.values[b++];
+                visit(j, g);
+            }
+        };
+        auto count = [&](std::size_t i) -> std::uint64_t {
+            std::uint64_t c = 1;  // the diagonal
+            if (m_active[i]) merge(i, [&](std::uint32_t j, double) { c += j != i && m_active[j]; });
+            return c;
+        };
+        auto write = [&](std::size_t i, int* col, double* val) {
+            if (!m_active[i]) {
+                *col = int(i);
+                *val = 1.0;
+                return;
+            }
+            bool placed = false;
+            merge(i, [&](std::uint32_t j, double g) {
+                if (!placed && j >= i) {
+                    *col++ = int(i);
+                    *val++ = 0.0;  // the diagonal, set per channel below
+                    placed = true;
+                    if (j == i) {
+                        m_self[i] = g;
+                        return;
+                    }
+                }
+                if (m_active[j]) {
+                    *col++ = int(j);
+                    *val++ = -g;
+                }
+            });
+            if (!placed) {
+                *col = int(i);
+                *val = 0.0;
+            }
+        };
+        m_K = buildRows(n, count, write);
+        for (std::size_t i = 0; i < n; ++i) {
+            const int* begin = m_K.innerIndexPtr() + m_K.outerIndexPtr()[i];
+            const int* end = m_K.innerIndexPtr() + m_K.outerIndexPtr()[i + 1];
+            m_diagonalAt[i] = static_cast<int>(std::lower_bound(begin, end, int(i)) - m_K.innerIndexPtr());
+        }
+    }
+    double* value = m_K.valuePtr();
+    for (std::size_t i = 0; i < n; ++i)
+        if (m_active[i]) value[m_diagonalAt[i]] = area[i] / rho[i] - m_self[i];
+    return m_K;
+}
+
+struct EigenSystem::Impl {
+    const Scene& scene;
+    const FormFactors& F;
+    Vector rho;
+    SolverKind kind;
+    const SolverOptions& options;
+    Eigen::SparseLU<ColMatrix> lu;
+    Eigen::SimplicialLLT<ColMatrix> llt;
+    RowMatrix system;               // I - R F for BiCGSTAB
+    const RowMatrix* K = nullptr;   // the symmetric form for Cholesky residuals and CG
+
+    Impl(const Scene& s, const FormFactors& f, const Vector& r, SolverKind k, const SolverOptions& o)
+        : scene(s), F(f), rho(r), kind(k), options(o) {}
+
+    /// b_i = A_i E_i / rho_i + A_i sum over black j of F_ij E_j (black patches: B = E, moved right).
+    Vector symmetricRhs(const Vector& E) const {
+        const auto n = static_cast<Eigen::Index>(F.size());
+        Vector b(n);
+        for (Eigen::Index i = 0; i < n; ++i) {
+            if (!(rho[i] > 0.0)) {
+                b[i] = E[i];
+                continue;
+            }
+            double known = 0.0;
+            for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
+                const auto j = static_cast<Eigen::Index>(F.columns()[k]);
+                if (!(rho[j] > 0.0)) known += F.values()[k] * E[j];
+            }
+            b[i] = scene.patches[i].area * (E[i] / rho[i] + known);
+        }
+        return b;
+    }
+};
+
+EigenSystem::EigenSystem(const Scene& scene, const FormFactors& F, SymmetricForm* symmetric, const Vector& rho,
+                         SolverKind kind, const SolverOptions& options)
+    : m_impl(new Impl(scene, F, rho, kind, options)) {
+    const double n = static_cast<double>(F.size());
+    if (kind == SolverKind::LU || kind == SolverKind::Cholesky) {
+        // Radiosity matrices are nearly dense once factored: budget for full fill-in.
+        const double factor = kind == SolverKind::LU ? 1.0 : 0.5;
+        const double estimate = n * n * 8.0 * factor + 24.0 * static_cast<double>(F.nonZeros());
+        std::size_t limit = options.memoryLimit;
+        if (!limit) {
+            const std::size_t available = availableMemory();
+            limit = available ? available / 10 * 8 : std::size_t(8) << 30;
+        }
+        if (estimate > static_cast<double>(limit)) {
+            delete m_impl;
+            throw Error("solver " + solverName(kind) + ": the factorisation of " + std::to_string(F.size()) +
+                        " patches may need " + gib(estimate) + ", more than the " + gib(double(limit)) +
+                        " available; use --solver cg, bicgstab or gauss-seidel");
+        }
+    }
+    try {
+        if (kind == SolverKind::LU) {
+            m_impl->lu.compute(ColMatrix(systemMatrix(F, rho)));
+            if (m_impl->lu.info() != Eigen::Success)
+                throw Error("solver lu: factorisation failed (" + m_impl->lu.lastErrorMessage() + "): I - R F is singular");
+        } else if (kind == SolverKind::Cholesky || kind == SolverKind::CG) {
+            if (!symmetric) throw Error("internal: the symmetric form is missing");
+            m_impl->K = &symmetric->matrixFor(rho);
+            if (kind == SolverKind::Cholesky) {
+                m_impl->llt.compute(ColMatrix(*m_impl->K));
+                if (m_impl->llt.info() != Eigen::Success)
+                    throw Error("solver cholesky: K = diag(A/rho) - sym(A F) is not positive definite "
+                                "(rho >= 1, or F far from reciprocal); use --solver lu or bicgstab");
+            }
+        } else if (kind == SolverKind::BiCGSTAB) {
+            m_impl->system = systemMatrix(F, rho);
+        } else {
+            throw Error("internal: " + solverName(kind) + " is not an Eigen solver");
+        }
+    } catch (...) {
+        delete m_impl;
+        throw;
+    }
+}
+
+EigenSystem::~EigenSystem() { delete m_impl; }
+
+void EigenSystem::solve(Channel& ch) {
+    Impl& s = *m_impl;
+    SolveReport& report = ch.report;
+    switch (s.kind) {
+    case SolverKind::LU:
+        ch.B = s.lu.solve(ch.E);
+        report.converged = s.lu.info() == Eigen::Success;
+        report.residual = relativeResidual(s.F, s.rho, ch.E, ch.B);
+        report.converged = report.converged && std::isfinite(report.residual);
+        break;
+    case SolverKind::Cholesky: {
+        const Vector b = s.symmetricRhs(ch.E);
+        ch.B = s.llt.solve(b);
+        report.converged = s.llt.info() == Eigen::Success;
+        report.residual = b.norm() > 0 ? (b - *s.K * ch.B).norm() / b.norm() : 0.0;
+        report.note = kSymmetrisedNote;
+        break;
+    }
+    case SolverKind::CG: {
+        Eigen::ConjugateGradient<RowMatrix, Eigen::Lower | Eigen::Upper, Eigen::DiagonalPreconditioner<double>> cg;
+        cg.setTolerance(s.options.tolerance);
+        cg.setMaxIterations(s.options.maxIterations);
+        cg.compute(*s.K);
+        ch.B = cg.solveWithGuess(s.symmetricRhs(ch.E), ch.B);
+        report.iterations = static_cast<int>(cg.iterations());
+        report.residual = cg.error();
+        report.converged = cg.info() == Eigen::Success;
+        report.note = kSymmetrisedNote;
+        break;
+    }
+    case SolverKind::BiCGSTAB: {
+        Eigen::BiCGSTAB<RowMatrix, Eigen::DiagonalPreconditioner<double>> solver;
+        solver.setTolerance(s.options.tolerance);
+        solver.setMaxIterations(s.options.maxIterations);
+        solver.compute(s.system);
+        ch.B = solver.solveWithGuess(ch.E, ch.B);
+        report.iterations = static_cast<int>(solver.iterations());
+        report.residual = solver.error();
+        report.converged = solver.info() == Eigen::Success;
+        break;
+    }
+    default: throw Error("internal: not an Eigen solver");
+    }
+}
+
+}  // namespace hemirad::detail
