@@ -4,6 +4,7 @@
 #include "engine/error.hpp"
 #include "preprocess/hemisphere/beckers.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
+#include "preprocess/row_accumulator.hpp"
 
 #include <omp.h>
 
@@ -14,18 +15,13 @@
 
 namespace hemirad {
 
-/// Per-thread scratch: a dense accumulator over all patches and the list of touched columns.
+/// Per-thread scratch: the row being accumulated and the rotated directions and their hits.
 struct HemisphereBackend::Workspace {
-    std::vector<std::uint32_t> count;  // integer hits when every ray weighs the same (no mirrors)
-    std::vector<double> weight;        // weighted hits along mirror chains
-    std::vector<std::uint32_t> touched;
+    explicit Workspace(std::size_t patches) : row(patches) {}
+    RowAccumulator row;
     std::vector<float> dirs;
     std::vector<PatchId> hits;
     std::vector<float> distances;
-
-    void touch(PatchId j, bool fresh) {
-        if (fresh) touched.push_back(j);
-    }
 };
 
 HemisphereBackend::HemisphereBackend(const BackendOptions& options) : m_options(options) {
@@ -70,9 +66,7 @@ void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactor
     const auto count = static_cast<std::ptrdiff_t>(rows.size());
 #pragma omp parallel num_threads(threads)
     {
-        Workspace ws;
-        if (m_mirrors) ws.weight.assign(m_scene->size(), 0.0);
-        else ws.count.assign(m_scene->size(), 0);
+        Workspace ws(m_scene->size());
         ws.dirs.resize(m_directions.size());
         ws.hits.resize(m_options.samples);
         ws.distances.resize(m_options.samples);
@@ -84,7 +78,8 @@ void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactor
                 const PatchId i = rows[r];
                 if (m_mirrors) computeRow<true>(i, ws, counts);
                 else computeRow<false>(i, ws, counts);
-                builder.setRow(i, collectRow(ws));
+                const double scale = 1.0 / (double(m_options.origins) * m_options.samples);
+                builder.setRow(i, ws.row.take(scale, scale));
             } catch (...) {
 #pragma omp critical(hemirad_failure)
                 if (!failure) failure = std::current_exception();
@@ -93,33 +88,6 @@ void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactor
         builder.addCounts(counts);
     }
     if (failure) std::rethrow_exception(failure);
-}
-
-std::vector<FormFactors::Entry> HemisphereBackend::collectRow(Workspace& ws) const {
-    // Columns in order: sorting the touched list costs O(t log t); when a row touches more than
-    // 1/16 of all patches, a scan of the dense accumulator is cheaper.
-    const std::size_t n = m_scene->size();
-    if (ws.touched.size() * 16 > n) {
-        ws.touched.clear();
-        for (std::uint32_t j = 0; j < n; ++j)
-            if (m_mirrors ? ws.weight[j] != 0.0 : ws.count[j] != 0) ws.touched.push_back(j);
-    } else {
-        std::sort(ws.touched.begin(), ws.touched.end());
-    }
-    std::vector<FormFactors::Entry> entries(ws.touched.size());
-    const double scale = 1.0 / (double(m_options.origins) * m_options.samples);
-    for (std::size_t k = 0; k < ws.touched.size(); ++k) {
-        const std::uint32_t j = ws.touched[k];
-        if (m_mirrors) {
-            entries[k] = {j, static_cast<float>(ws.weight[j] * scale)};
-            ws.weight[j] = 0.0;
-        } else {
-            entries[k] = {j, static_cast<float>(ws.count[j] * scale)};
-            ws.count[j] = 0;
-        }
-    }
-    ws.touched.clear();
-    return entries;
 }
 
 template <bool Mirrors>
@@ -164,13 +132,11 @@ void HemisphereBackend::computeRow(PatchId i, Workspace& ws, RayCounts& counts) 
                 continue;
             }
             if constexpr (Mirrors) {
-                ws.touch(j, ws.weight[j] == 0.0);
-                ws.weight[j] += 1.0;
+                ws.row.addWeight(j, 1.0);
                 if (m_scene->patches[j].specular > 0.0)
                     traceMirrorChain(lifted, Vec3(d[0], d[1], d[2]), j, ws.distances[k], rowWeight, ws, counts);
             } else {
-                ws.touch(j, ws.count[j] == 0);
-                ++ws.count[j];
+                ws.row.addCount(j);
             }
         }
     }
@@ -205,8 +171,7 @@ void HemisphereBackend::traceMirrorChain(Vec3 origin, Vec3 dir, PatchId mirror, 
             counts.lostWeight += weight * rowWeight;
             return;
         }
-        ws.touch(hit.patch, ws.weight[hit.patch] == 0.0);
-        ws.weight[hit.patch] += weight;
+        ws.row.addWeight(hit.patch, weight);
         if (receiver.specular <= 0.0) return;
         mirror = hit.patch;
         t = hit.t;
