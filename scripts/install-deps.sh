@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   cmake g++ make pkg-config
   libembree-dev libeigen3-dev libglm-dev libtinyobjloader-dev doctest-dev libstb-dev
-  libglfw3-dev libepoxy-dev libegl-dev libegl-mesa0 libosmesa6-dev libimgui-dev
+  libglfw3-dev libepoxy-dev libegl-dev libegl-mesa0 libgl-dev libosmesa6-dev libimgui-dev
   xvfb python3-matplotlib
 )
 

@@ -86,6 +86,25 @@ const std::map<std::string, Flag>& flags() {
                     [](Options& o, const std::string& f, const std::string& v) {
                         o.backend.seed = static_cast<std::uint64_t>(parseInteger(f, v, 0, 0x7fffffffffffffffL));
                     }}},
+        {"--resolution", {kComputing, true,
+                          [](Options& o, const std::string& f, const std::string& v) {
+                              const long r = parseInteger(f, v, 2, 8192);
+                              if (r % 2) throw UsageError(f + " must be even (side faces are R x R/2), got " + v);
+                              o.backend.resolution = static_cast<std::uint32_t>(r);
+                          }}},
+        {"--reduce", {kComputing, true,
+                      [](Options& o, const std::string& f, const std::string& v) {
+                          if (v != "cpu" && v != "gpu") throw UsageError(f + " expects cpu or gpu, got '" + v + "'");
+                          o.backend.reduce = v;
+                      }}},
+        {"--gl", {kComputing, true,
+                  [](Options& o, const std::string& f, const std::string& v) {
+                      if (v != "auto" && v != "egl" && v != "osmesa")
+                          throw UsageError(f + " expects auto, egl or osmesa, got '" + v + "'");
+                      o.backend.gl = v;
+                  }}},
+        {"--no-parents", {kComputing, false,
+                          [](Options& o, const std::string&, const std::string&) { o.backend.parentPolygons = false; }}},
         {"--all-rows", {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.allRows = true; }}},
         {"--enforce-reciprocity",
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.enforceReciprocity = true; }}},
@@ -210,11 +229,15 @@ commands:
 scene:
   --subdivide L          subdivide patches (edges <= L scene units) before computing
 form factors (formfactors, solve, render):
-  --method NAME          hemisphere (default)
-  --samples N            Beckers directions per origin (default 3072)
-  --origins K            ray origins per patch, stratified over its area (default 1 = centroid)
-  --max-depth D          mirror bounces followed (default 8)
-  --seed S               seed for origin jitter and pattern rotation (default 1)
+  --method NAME          hemisphere (Embree rays, default) or hemicube (OpenGL)
+  --samples N            hemisphere: Beckers directions per origin (default 3072)
+  --origins K            hemisphere: ray origins per patch, stratified over its area (default 1 = centroid)
+  --max-depth D          hemisphere: mirror bounces followed (default 8)
+  --seed S               hemisphere: seed for origin jitter and pattern rotation (default 1)
+  --resolution R         hemicube: top face R x R pixels, sides R x R/2 (even, default 128)
+  --reduce cpu|gpu       hemicube: sum pixels into rows on the CPU (default) or in a compute shader
+  --gl auto|egl|osmesa   hemicube: headless OpenGL API (default auto: EGL, then OSMesa)
+  --no-parents           hemicube: draw every patch, not subdivided parents whole (reference path)
   --all-rows             also compute rows of black patches (rho = 0; skipped by default)
   --enforce-reciprocity  make A_i F_ij = A_j F_ji by averaging each pair
   --ff FILE              (solve, render) reuse F from FILE when its scene hash matches;
@@ -233,7 +256,7 @@ render:
   --spp N                samples per pixel (default 4)
   --flat                 flat patches instead of Gouraud shading
 general:
-  --threads T            worker threads (default: all cores)
+  --threads T            worker threads / GL contexts (default: all cores)
   --quiet                print errors and warnings only
 
 exit status: 0 success, 1 runtime error, 2 usage error

@@ -69,20 +69,33 @@ void Reporter::formFactorSummary(const FormFactorRun& run, const BackendOptions&
                                  const std::string& method) const {
     if (m_quiet) return;
     const RayCounts& c = run.counts;
+    const bool hemicube = method == "hemicube";
+    const char* unit = hemicube ? "pixels" : "rays";
     std::ostringstream out;
     out.setf(std::ios::fixed);
-    out << "form factors: " << method << ", " << options.samples << " directions x " << options.origins
-        << (options.origins == 1 ? " origin (centroid)" : " origins") << ", " << run.rowsComputed << " rows";
+    out << "form factors: " << method << ", ";
+    if (hemicube)
+        out << options.resolution << " x " << options.resolution << " top face (" << 3 * options.resolution * options.resolution
+            << " pixels), reduction on the " << options.reduce;
+    else
+        out << options.samples << " directions x " << options.origins
+            << (options.origins == 1 ? " origin (centroid)" : " origins");
+    out << ", " << run.rowsComputed << " rows";
     if (run.rowsSkipped) out << " (" << run.rowsSkipped << " skipped: black patches, B = E)";
-    out << "\n  rays " << std::setprecision(2) << c.rays / 1e6 << " M in " << formatSeconds(run.computeSeconds)
-        << " s = " << (run.computeSeconds > 0 ? c.rays / run.computeSeconds / 1e6 : 0.0) << " M rays/s";
+    out << "\n  " << unit << " " << std::setprecision(2) << c.rays / 1e6 << " M in " << formatSeconds(run.computeSeconds)
+        << " s = " << (run.computeSeconds > 0 ? c.rays / run.computeSeconds / 1e6 : 0.0) << " M " << unit << "/s";
     out << "; lost " << std::setprecision(4)
-        << (run.rowsComputed ? 100.0 * c.lostWeight / double(run.rowsComputed) : 0.0) << "% of the power ("
-        << c.misses << " misses, " << c.backfaces << " back faces)";
+        << (run.rowsComputed ? 100.0 * c.lostWeight / double(run.rowsComputed) : 0.0) << "% of the power (" << c.misses
+        << " misses, " << c.backfaces << " back faces)";
     if (c.bounces) {
         out << "\n  mirror bounces " << c.bounces << "; power cut off by --max-depth " << options.maxDepth
             << " / weight < " << options.minWeight << ": " << std::setprecision(5)
             << (run.rowsComputed ? 100.0 * c.cutoffWeight / double(run.rowsComputed) : 0.0) << "% of the emitted power";
+    }
+    if (!run.stageSeconds.empty() && run.rowsComputed) {
+        out << "\n  per row (thread time):" << std::setprecision(3);
+        for (const auto& [stage, seconds] : run.stageSeconds)
+            out << ' ' << stage << ' ' << 1e3 * seconds / double(run.rowsComputed) << " ms";
     }
     line(out.str());
     formFactorStats(run.stats, run.F.memoryBytes());

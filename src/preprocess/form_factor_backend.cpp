@@ -2,6 +2,7 @@
 #include "preprocess/form_factor_backend.hpp"
 
 #include "engine/error.hpp"
+#include "preprocess/hemicube/hemicube_backend.hpp"
 #include "preprocess/hemisphere/hemisphere_backend.hpp"
 
 namespace hemirad {
@@ -34,6 +35,16 @@ RayCounts FormFactorBuilder::counts() const {
     return m_counts;
 }
 
+void FormFactorBuilder::addStageSeconds(const std::string& stage, double seconds) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    m_stageSeconds[stage] += seconds;
+}
+
+std::map<std::string, double> FormFactorBuilder::stageSeconds() const {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    return m_stageSeconds;
+}
+
 FormFactors FormFactorBuilder::finish() { return FormFactors::fromRows(std::move(m_rows), std::move(m_computed)); }
 
 std::unique_ptr<FormFactorBackend> makeBackend(std::string_view name, const BackendOptions& options) {
@@ -41,9 +52,8 @@ std::unique_ptr<FormFactorBackend> makeBackend(std::string_view name, const Back
     if (options.origins < 1) throw Error("--origins must be at least 1");
     if (!(options.minWeight > 0.0 && options.minWeight < 1.0)) throw Error("minimum ray weight must be in (0, 1)");
     if (name == "hemisphere") return std::make_unique<HemisphereBackend>(options);
-    if (name == "hemicube")
-        throw Error("--method hemicube is not available in this build yet (issue 3); use --method hemisphere");
-    throw Error("unknown --method '" + std::string(name) + "' (hemisphere)");
+    if (name == "hemicube") return std::make_unique<HemicubeBackend>(options);
+    throw Error("unknown --method '" + std::string(name) + "' (hemisphere, hemicube)");
 }
 
 }  // namespace hemirad

@@ -21,6 +21,11 @@ struct BackendOptions {
     double minWeight = 1e-4;       ///< a mirror chain stops below this weight
     int threads = 0;               ///< worker threads; 0 = all cores
     std::uint64_t seed = 1;        ///< origin jitter and pattern rotation
+    // Hemicube back end.
+    std::uint32_t resolution = 128;  ///< top face R x R pixels, sides R x R/2 (R even)
+    std::string reduce = "cpu";      ///< where pixels are summed into rows: "cpu" or "gpu"
+    std::string gl = "auto";         ///< context API: "auto" (EGL, then OSMesa), "egl", "osmesa"
+    bool parentPolygons = true;      ///< draw subdivided parents whole, patch ids from their grids
 };
 
 /// Ray bookkeeping of a computation, summed over rows. Weights are in units of one row's power.
@@ -42,6 +47,9 @@ public:
     void setRow(PatchId row, std::vector<FormFactors::Entry>&& entries);
     void addCounts(const RayCounts& counts);
     RayCounts counts() const;
+    /// Thread-seconds spent in a named stage (e.g. "hemicube render"), summed over workers.
+    void addStageSeconds(const std::string& stage, double seconds);
+    std::map<std::string, double> stageSeconds() const;
     std::size_t rowsDone() const { return m_done.load(std::memory_order_relaxed); }
     /// A back end stops between rows once this is set (GUI Cancel, Ctrl-C).
     void cancel() { m_cancelled.store(true); }
@@ -55,6 +63,7 @@ private:
     std::atomic<bool> m_cancelled{false};
     mutable std::mutex m_mutex;
     RayCounts m_counts;
+    std::map<std::string, double> m_stageSeconds;
 };
 
 /// Computes rows of F: F(i,j) = fraction of power leaving patch i that arrives at patch j.
@@ -70,7 +79,7 @@ public:
     virtual std::map<std::string, std::string> parameters() const = 0;
 };
 
-/// "hemisphere" (Embree). Throws hemirad::Error for an unknown name or invalid options.
+/// "hemisphere" (Embree rays) or "hemicube" (OpenGL). Throws hemirad::Error for an unknown name or invalid options.
 std::unique_ptr<FormFactorBackend> makeBackend(std::string_view name, const BackendOptions& options);
 
 }  // namespace hemirad

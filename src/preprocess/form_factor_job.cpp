@@ -52,6 +52,7 @@ FormFactorRun computeFormFactors(const Scene& scene, const std::string& method, 
     if (progress) progress(rows.size(), rows.size(), run.computeSeconds);
 
     run.counts = builder.counts();
+    run.stageSeconds = builder.stageSeconds();
     run.F = builder.finish();
     run.F.sceneHash = scene.geometryHash();
     run.F.parameters = backend->parameters();

@@ -8,23 +8,29 @@
 
 namespace hemirad {
 
-/// Sums deposits on patches j for one emitting patch. Integer counts serve equal-weight rays
-/// (exact, no rounding); weights serve everything else. Memory: 12 bytes per patch.
+/// Sums deposits on patches j for one emitting patch, in one of two modes: integer counts for
+/// equal-weight rays (exact, no rounding) or double weights for everything else.
 class RowAccumulator {
 public:
-    explicit RowAccumulator(std::size_t patches) : m_count(patches, 0), m_weight(patches, 0.0) {}
+    enum class Mode { Counts, Weights };
+
+    RowAccumulator(std::size_t patches, Mode mode)
+        : m_mode(mode), m_count(mode == Mode::Counts ? patches : 0, 0),
+          m_weight(mode == Mode::Weights ? patches : 0, 0.0) {}
 
     void addCount(PatchId j) {
-        if (m_count[j]++ == 0 && m_weight[j] == 0.0) m_touched.push_back(j);
+        if (m_count[j]++ == 0) m_touched.push_back(j);
     }
     void addWeight(PatchId j, double w) {
-        if (m_weight[j] == 0.0 && m_count[j] == 0) m_touched.push_back(j);
-        m_weight[j] += w;
+        double& x = m_weight[j];
+        if (x == 0.0) m_touched.push_back(j);
+        x += w;
     }
-    /// Entries F_ij = count * countScale + weight * weightScale, sorted by j; clears the accumulator.
-    std::vector<FormFactors::Entry> take(double countScale, double weightScale);
+    /// Entries F_ij = count * scale (Counts) or weight * scale (Weights), sorted by j; clears the row.
+    std::vector<FormFactors::Entry> take(double scale);
 
 private:
+    Mode m_mode;
     std::vector<std::uint32_t> m_count;
     std::vector<double> m_weight;
     std::vector<std::uint32_t> m_touched;

@@ -17,7 +17,8 @@ namespace hemirad {
 
 /// Per-thread scratch: the row being accumulated and the rotated directions and their hits.
 struct HemisphereBackend::Workspace {
-    explicit Workspace(std::size_t patches) : row(patches) {}
+    Workspace(std::size_t patches, bool mirrors)
+        : row(patches, mirrors ? RowAccumulator::Mode::Weights : RowAccumulator::Mode::Counts) {}
     RowAccumulator row;
     std::vector<float> dirs;
     std::vector<PatchId> hits;
@@ -66,7 +67,7 @@ void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactor
     const auto count = static_cast<std::ptrdiff_t>(rows.size());
 #pragma omp parallel num_threads(threads)
     {
-        Workspace ws(m_scene->size());
+        Workspace ws(m_scene->size(), m_mirrors);
         ws.dirs.resize(m_directions.size());
         ws.hits.resize(m_options.samples);
         ws.distances.resize(m_options.samples);
@@ -79,7 +80,7 @@ void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactor
                 if (m_mirrors) computeRow<true>(i, ws, counts);
                 else computeRow<false>(i, ws, counts);
                 const double scale = 1.0 / (double(m_options.origins) * m_options.samples);
-                builder.setRow(i, ws.row.take(scale, scale));
+                builder.setRow(i, ws.row.take(scale));
             } catch (...) {
 #pragma omp critical(hemirad_failure)
                 if (!failure) failure = std::current_exception();

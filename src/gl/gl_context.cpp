@@ -1,0 +1,38 @@
+// Choosing a headless context API.
+#include "gl/gl_context.hpp"
+
+#include "engine/error.hpp"
+
+#include <cstdlib>
+
+namespace hemirad {
+
+GlApiKind parseGlApiKind(const std::string& name) {
+    if (name == "auto") return GlApiKind::Auto;
+    if (name == "egl") return GlApiKind::Egl;
+    if (name == "osmesa") return GlApiKind::OSMesa;
+    throw Error("unknown --gl '" + name + "' (auto, egl, osmesa)");
+}
+
+void preferSingleThreadedRasteriser() {
+    if (!std::getenv("LP_NUM_THREADS")) ::setenv("LP_NUM_THREADS", "0", 0);
+}
+
+std::unique_ptr<GlContext> createHeadlessContext(GlApiKind kind) {
+    if (kind == GlApiKind::Egl) return detail::createEglContext();
+    if (kind == GlApiKind::OSMesa) return detail::createOsmesaContext();
+    std::string eglFailure;
+    try {
+        return detail::createEglContext();
+    } catch (const Error& e) {
+        eglFailure = e.what();
+    }
+    try {
+        return detail::createOsmesaContext();
+    } catch (const Error& e) {
+        throw Error("no OpenGL 4.5 context: " + eglFailure + "; " + e.what() +
+                    " (install libegl-mesa0 or libosmesa6; see scripts/install-deps.sh)");
+    }
+}
+
+}  // namespace hemirad

@@ -1,0 +1,39 @@
+// Headless OpenGL 4.5 core contexts: EGL surfaceless (Mesa) first, OSMesa as the fallback.
+#pragma once
+
+#include <memory>
+#include <string>
+
+namespace hemirad {
+
+enum class GlApiKind { Auto, Egl, OSMesa };
+
+/// "auto", "egl" or "osmesa"; throws hemirad::Error otherwise.
+GlApiKind parseGlApiKind(const std::string& name);
+
+/// A GL context without a default framebuffer (render into FBOs). One thread at a time may have it
+/// current; contexts are independent (no sharing).
+class GlContext {
+public:
+    virtual ~GlContext() = default;
+    /// Makes the context current on the calling thread and loads the GL entry points.
+    virtual void makeCurrent() = 0;
+    /// Detaches the context from the calling thread.
+    virtual void release() = 0;
+    virtual const char* api() const = 0;
+};
+
+/// Creates a GL 4.5 core context. Auto tries EGL (EGL_PLATFORM_SURFACELESS_MESA), then OSMesa.
+/// Throws hemirad::Error saying why each API failed.
+std::unique_ptr<GlContext> createHeadlessContext(GlApiKind kind);
+
+/// Mesa's llvmpipe rasterises with its own thread pool by default; with one context per core that
+/// pool only competes. Sets LP_NUM_THREADS=0 (unless the user set it) before the first context.
+void preferSingleThreadedRasteriser();
+
+namespace detail {
+std::unique_ptr<GlContext> createEglContext();     // egl_context.cpp
+std::unique_ptr<GlContext> createOsmesaContext();  // osmesa_context.cpp
+}  // namespace detail
+
+}  // namespace hemirad

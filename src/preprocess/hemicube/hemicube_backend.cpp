@@ -1,0 +1,115 @@
+// Hemicube back end: worker threads, each with its own GL context and renderer.
+#include "preprocess/hemicube/hemicube_backend.hpp"
+
+#include "engine/error.hpp"
+#include "gl/gl_context.hpp"
+#include "preprocess/hemicube/hemicube_renderer.hpp"
+#include "preprocess/row_accumulator.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+namespace hemirad {
+
+HemicubeBackend::HemicubeBackend(const BackendOptions& options) : m_options(options) {
+    m_layout = std::make_unique<HemicubeLayout>(options.resolution);
+    if (options.reduce != "cpu" && options.reduce != "gpu")
+        throw Error("unknown --reduce '" + options.reduce + "' (cpu, gpu)");
+    parseGlApiKind(options.gl);
+}
+
+HemicubeBackend::~HemicubeBackend() = default;
+
+void HemicubeBackend::prepare(const Scene& scene) {
+    if (scene.hasMirrors())
+        throw Error("--method hemicube does not handle mirrors yet; use --method hemisphere for scenes with "
+                    "mirror materials (illum 3/5/7)");
+    m_scene = &scene;
+    m_geometry = HemicubeGeometry::build(scene, m_options.parentPolygons);
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    m_workers = m_options.threads > 0 ? m_options.threads : int(cores);
+    if (m_workers > 1) preferSingleThreadedRasteriser();
+    // Fail here, before any work, if no context can be made.
+    auto context = createHeadlessContext(parseGlApiKind(m_options.gl));
+    context->makeCurrent();
+    context->release();
+}
+
+std::map<std::string, std::string> HemicubeBackend::parameters() const {
+    return {{"method", "hemicube"},
+            {"resolution", std::to_string(m_options.resolution)},
+            {"reduce", m_options.reduce},
+            {"gl", m_options.gl},
+            {"parent_polygons", m_geometry.patchesInParents ? "yes" : "no"},
+            {"row_sum_bound", "1"},
+            {"delta_form_factors", "Cohen-Greenberg, normalised"}};
+}
+
+void HemicubeBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) {
+    if (!m_scene) throw Error("hemicube back end: prepare() was not called");
+    const Reduction reduction = m_options.reduce == "gpu" ? Reduction::Gpu : Reduction::Cpu;
+    const GlApiKind api = parseGlApiKind(m_options.gl);
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr failure;
+    std::mutex failureMutex;
+    HemicubeStats total;
+    std::mutex totalMutex;
+    auto worker = [&] {
+        try {
+            auto context = createHeadlessContext(api);
+            context->makeCurrent();
+            {
+                HemicubeRenderer renderer(*m_scene, m_geometry, *m_layout, reduction);
+                RowAccumulator row(m_scene->size(), RowAccumulator::Mode::Weights);
+                HemicubeStats stats;
+                for (;;) {
+                    const std::size_t k = next.fetch_add(1);
+                    if (k >= rows.size() || builder.cancelled()) break;
+                    {
+                        std::lock_guard<std::mutex> lock(failureMutex);
+                        if (failure) break;
+                    }
+                    renderer.computeRow(rows[k], row, stats);
+                    const auto t0 = std::chrono::steady_clock::now();
+                    builder.setRow(rows[k], row.take(1.0));
+                    stats.collect += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                }
+                std::lock_guard<std::mutex> lock(totalMutex);
+                total.render += stats.render;
+                total.readback += stats.readback;
+                total.reduce += stats.reduce;
+                total.collect += stats.collect;
+                total.hemicubes += stats.hemicubes;
+                total.pixels += stats.pixels;
+                total.missed += stats.missed;
+                total.backfaces += stats.backfaces;
+                total.lostWeight += stats.lostWeight;
+            }
+            context->release();
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(failureMutex);
+            if (!failure) failure = std::current_exception();
+        }
+    };
+    const int workers = std::max(1, std::min<int>(m_workers, int(rows.size())));
+    std::vector<std::thread> threads;
+    for (int w = 1; w < workers; ++w) threads.emplace_back(worker);
+    worker();
+    for (std::thread& t : threads) t.join();
+    if (failure) std::rethrow_exception(failure);
+    RayCounts counts;
+    counts.rays = total.pixels;
+    counts.misses = total.missed;
+    counts.backfaces = total.backfaces;
+    counts.lostWeight = total.lostWeight;
+    builder.addCounts(counts);
+    builder.addStageSeconds("hemicube render", total.render);
+    builder.addStageSeconds("hemicube readback", total.readback);
+    builder.addStageSeconds("hemicube reduce", total.reduce);
+    builder.addStageSeconds("row collect", total.collect);
+}
+
+}  // namespace hemirad

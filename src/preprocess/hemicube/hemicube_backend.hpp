@@ -1,0 +1,33 @@
+// Hemicube back end: OpenGL renders patch ids on the five faces of a hemicube around each patch.
+#pragma once
+
+#include "preprocess/form_factor_backend.hpp"
+#include "preprocess/hemicube/hemicube_geometry.hpp"
+#include "preprocess/hemicube/hemicube_layout.hpp"
+
+#include <memory>
+
+namespace hemirad {
+
+/// Cohen & Greenberg (1985): each pixel of the hemicube atlas carries its delta form factor;
+/// F_ij sums the pixels that see patch j's front. One GL context per worker thread (headless EGL
+/// on Mesa's llvmpipe here, any GPU driver elsewhere), each computing its own rows.
+class HemicubeBackend final : public FormFactorBackend {
+public:
+    explicit HemicubeBackend(const BackendOptions& options);
+    ~HemicubeBackend() override;
+
+    std::string_view name() const override { return "hemicube"; }
+    void prepare(const Scene& scene) override;
+    void computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) override;
+    std::map<std::string, std::string> parameters() const override;
+
+private:
+    BackendOptions m_options;
+    const Scene* m_scene = nullptr;
+    std::unique_ptr<HemicubeLayout> m_layout;
+    HemicubeGeometry m_geometry;
+    int m_workers = 1;
+};
+
+}  // namespace hemirad
