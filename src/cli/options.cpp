@@ -103,6 +103,11 @@ const std::map<std::string, Flag>& flags() {
                           throw UsageError(f + " expects auto, egl or osmesa, got '" + v + "'");
                       o.backend.gl = v;
                   }}},
+        {"--mirrors", {kComputing, true,
+                       [](Options& o, const std::string& f, const std::string& v) {
+                           if (v != "portals" && v != "rays") throw UsageError(f + " expects portals or rays, got '" + v + "'");
+                           o.backend.mirrors = v;
+                       }}},
         {"--no-parents", {kComputing, false,
                           [](Options& o, const std::string&, const std::string&) { o.backend.parentPolygons = false; }}},
         {"--all-rows", {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.allRows = true; }}},
@@ -232,11 +237,12 @@ form factors (formfactors, solve, render):
   --method NAME          hemisphere (Embree rays, default) or hemicube (OpenGL)
   --samples N            hemisphere: Beckers directions per origin (default 3072)
   --origins K            hemisphere: ray origins per patch, stratified over its area (default 1 = centroid)
-  --max-depth D          hemisphere: mirror bounces followed (default 8)
+  --max-depth D          mirror reflections followed (default 8)
   --seed S               hemisphere: seed for origin jitter and pattern rotation (default 1)
   --resolution R         hemicube: top face R x R pixels, sides R x R/2 (even, default 128)
   --reduce cpu|gpu       hemicube: sum pixels into rows on the CPU (default) or in a compute shader
   --gl auto|egl|osmesa   hemicube: headless OpenGL API (default auto: EGL, then OSMesa)
+  --mirrors portals|rays hemicube: mirrors by stencil portals (default) or Embree rays from mirror pixels
   --no-parents           hemicube: draw every patch, not subdivided parents whole (reference path)
   --all-rows             also compute rows of black patches (rho = 0; skipped by default)
   --enforce-reciprocity  make A_i F_ij = A_j F_ji by averaging each pair

@@ -2,6 +2,9 @@
 #include "preprocess/form_factor_backend.hpp"
 
 #include "engine/error.hpp"
+
+#include <algorithm>
+#include <cstdio>
 #include "preprocess/hemicube/hemicube_backend.hpp"
 #include "preprocess/hemisphere/hemisphere_backend.hpp"
 
@@ -46,6 +49,16 @@ std::map<std::string, double> FormFactorBuilder::stageSeconds() const {
 }
 
 FormFactors FormFactorBuilder::finish() { return FormFactors::fromRows(std::move(m_rows), std::move(m_computed)); }
+
+std::string rowSumBoundText(const Scene& scene, std::uint32_t maxDepth, double minWeight) {
+    double sMax = 0.0;
+    for (const Patch& p : scene.patches) sMax = std::max(sMax, p.specular);
+    double bound = 1.0, term = 1.0;
+    for (std::uint32_t d = 0; d < maxDepth && sMax > 0.0 && term >= minWeight; ++d) bound += term *= sMax;
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", bound);
+    return text;
+}
 
 std::unique_ptr<FormFactorBackend> makeBackend(std::string_view name, const BackendOptions& options) {
     if (options.samples < 1) throw Error("--samples must be at least 1");

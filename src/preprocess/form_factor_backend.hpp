@@ -26,6 +26,7 @@ struct BackendOptions {
     std::string reduce = "cpu";      ///< where pixels are summed into rows: "cpu" or "gpu"
     std::string gl = "auto";         ///< context API: "auto" (EGL, then OSMesa), "egl", "osmesa"
     bool parentPolygons = true;      ///< draw subdivided parents whole, patch ids from their grids
+    std::string mirrors = "portals"; ///< hemicube mirrors: "portals" (stencil, reflected views) or "rays" (Embree)
 };
 
 /// Ray bookkeeping of a computation, summed over rows. Weights are in units of one row's power.
@@ -78,6 +79,11 @@ public:
     /// Method and parameters recorded with F ("method", "samples", ...).
     virtual std::map<std::string, std::string> parameters() const = 0;
 };
+
+/// The largest row sum of an extended F (Sillion & Puech): a ray or pixel deposits its weight on
+/// every patch of its mirror chain, so a row reaches at most 1 + s + ... + s^maxDepth (s = the
+/// largest mirror reflectance, terms below minWeight dropped). "%.9g" text for F's parameters.
+std::string rowSumBoundText(const Scene& scene, std::uint32_t maxDepth, double minWeight);
 
 /// "hemisphere" (Embree rays) or "hemicube" (OpenGL). Throws hemirad::Error for an unknown name or invalid options.
 std::unique_ptr<FormFactorBackend> makeBackend(std::string_view name, const BackendOptions& options);

@@ -173,3 +173,49 @@ TEST_CASE("A failing GL context is a clear error, and auto falls back to OSMesa"
     CHECK(status("__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json", "auto") == 0);
     CHECK_THROWS_WITH_AS(parseGlApiKind("vulkan"), doctest::Contains("unknown --gl 'vulkan'"), Error);
 }
+
+TEST_CASE("Hemicube mirror portals give the image-method factor of physics.md") {
+    const Scene s = subdivide(bundled("mirror_pair.obj"), 0.125);  // P1, P2 and the mirror: 64 patches each
+    BackendOptions o;
+    o.resolution = 128;
+    const FormFactorRun r = computeFormFactors(s, "hemicube", o, neededRows(s, false));
+    double viaMirror = 0.0;
+    for (PatchId i = 0; i < 64; ++i)
+        for (PatchId j = 64; j < 128; ++j) viaMirror += r.F.at(i, j) / 64.0;
+    CHECK(viaMirror == doctest::Approx(0.9 * (c11(2, 1, 1) - c11(1, 1, 1))).epsilon(2e-3));
+    CHECK(r.counts.bounces > 0);  // portal passes ran
+    CHECK(r.F.parameters.at("mirrors") == "portals");
+}
+
+TEST_CASE("Facing mirrors: portals, ray-traced mirror pixels and the hemisphere agree, depth limit included") {
+    SceneBuilder b;
+    const std::uint32_t mirror = b.material("mirror", Rgb::Constant(0.05), Rgb::Zero(), 0.9);
+    b.rectangle(2, 0, -3, 3, -3, 3, true, mirror);
+    b.rectangle(2, 1, -3, 3, -3, 3, false, mirror);
+    b.rectangle(2, 0.5, -0.3, 0.3, -0.3, 0.3, false);
+    BackendOptions o;
+    o.resolution = 256;
+    o.maxDepth = 4;
+    const FormFactorRun portals = computeFormFactors(b.scene, "hemicube", o, neededRows(b.scene, true));
+    o.mirrors = "rays";
+    const FormFactorRun rays = computeFormFactors(b.scene, "hemicube", o, neededRows(b.scene, true));
+    BackendOptions h;
+    h.samples = 65536;
+    h.maxDepth = 4;
+    const FormFactorRun sphere = computeFormFactors(b.scene, "hemisphere", h, neededRows(b.scene, true));
+    for (PatchId i = 0; i < 3; ++i)
+        for (PatchId j = 0; j < 3; ++j) {
+            CAPTURE(i);
+            CAPTURE(j);
+            CHECK(portals.F.at(i, j) == doctest::Approx(rays.F.at(i, j)).epsilon(1e-5));
+            CHECK(portals.F.at(i, j) == doctest::Approx(sphere.F.at(i, j)).epsilon(0.02));
+        }
+    CHECK(portals.counts.cutoffWeight == doctest::Approx(sphere.counts.cutoffWeight).epsilon(0.02));
+    CHECK(portals.F.rowSum(0) > 1.0);  // deposits along the chain: extended rows exceed 1
+}
+
+TEST_CASE("Without a visible mirror no portal pass runs") {
+    const FormFactorRun r = hemicube(subdivide(unitCube(), 0.5), 32);
+    CHECK(r.counts.bounces == 0);
+    CHECK(r.counts.cutoffWeight == 0.0);
+}

@@ -19,16 +19,16 @@ HemicubeBackend::HemicubeBackend(const BackendOptions& options) : m_options(opti
     if (options.reduce != "cpu" && options.reduce != "gpu")
         throw Error("unknown --reduce '" + options.reduce + "' (cpu, gpu)");
     parseGlApiKind(options.gl);
+    if (options.mirrors != "portals" && options.mirrors != "rays")
+        throw Error("unknown --mirrors '" + options.mirrors + "' (portals, rays)");
 }
 
 HemicubeBackend::~HemicubeBackend() = default;
 
 void HemicubeBackend::prepare(const Scene& scene) {
-    if (scene.hasMirrors())
-        throw Error("--method hemicube does not handle mirrors yet; use --method hemisphere for scenes with "
-                    "mirror materials (illum 3/5/7)");
     m_scene = &scene;
     m_geometry = HemicubeGeometry::build(scene, m_options.parentPolygons);
+    if (scene.hasMirrors() && m_options.mirrors == "rays") m_rays = std::make_unique<RayScene>(scene, m_options.threads);
     const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
     m_workers = m_options.threads > 0 ? m_options.threads : int(cores);
     if (m_workers > 1) preferSingleThreadedRasteriser();
@@ -40,11 +40,14 @@ void HemicubeBackend::prepare(const Scene& scene) {
 
 std::map<std::string, std::string> HemicubeBackend::parameters() const {
     return {{"method", "hemicube"},
+            {"max_depth", std::to_string(m_options.maxDepth)},
+            {"mirrors", m_options.mirrors},
+            {"min_weight", std::to_string(m_options.minWeight)},
             {"resolution", std::to_string(m_options.resolution)},
             {"reduce", m_options.reduce},
             {"gl", m_options.gl},
             {"parent_polygons", m_geometry.patchesInParents ? "yes" : "no"},
-            {"row_sum_bound", "1"},
+            {"row_sum_bound", rowSumBoundText(*m_scene, m_options.maxDepth, m_options.minWeight)},
             {"delta_form_factors", "Cohen-Greenberg, normalised"}};
 }
 
@@ -62,7 +65,8 @@ void HemicubeBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBu
             auto context = createHeadlessContext(api);
             context->makeCurrent();
             {
-                HemicubeRenderer renderer(*m_scene, m_geometry, *m_layout, reduction);
+                const MirrorLimits limits{m_options.maxDepth, m_options.minWeight, m_rays.get()};
+                HemicubeRenderer renderer(*m_scene, m_geometry, *m_layout, reduction, limits);
                 RowAccumulator row(m_scene->size(), RowAccumulator::Mode::Weights);
                 HemicubeStats stats;
                 for (;;) {
@@ -82,6 +86,9 @@ void HemicubeBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBu
                 total.readback += stats.readback;
                 total.reduce += stats.reduce;
                 total.collect += stats.collect;
+                total.mirrors += stats.mirrors;
+                total.portals += stats.portals;
+                total.cutoffWeight += stats.cutoffWeight;
                 total.hemicubes += stats.hemicubes;
                 total.pixels += stats.pixels;
                 total.missed += stats.missed;
@@ -105,11 +112,15 @@ void HemicubeBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBu
     counts.misses = total.missed;
     counts.backfaces = total.backfaces;
     counts.lostWeight = total.lostWeight;
+    counts.cutoffWeight = total.cutoffWeight;
+    counts.bounces = total.portals;
     builder.addCounts(counts);
     builder.addStageSeconds("hemicube render", total.render);
     builder.addStageSeconds("hemicube readback", total.readback);
     builder.addStageSeconds("hemicube reduce", total.reduce);
     builder.addStageSeconds("row collect", total.collect);
+    if (m_scene->hasMirrors())
+        builder.addStageSeconds(m_options.mirrors == "rays" ? "mirror rays" : "mirror portals", total.mirrors);
 }
 
 }  // namespace hemirad

@@ -4,6 +4,7 @@
 #include "preprocess/form_factor_backend.hpp"
 #include "preprocess/hemicube/hemicube_geometry.hpp"
 #include "preprocess/hemicube/hemicube_layout.hpp"
+#include "preprocess/hemisphere/embree_scene.hpp"
 
 #include <memory>
 
@@ -27,6 +28,7 @@ private:
     const Scene* m_scene = nullptr;
     std::unique_ptr<HemicubeLayout> m_layout;
     HemicubeGeometry m_geometry;
+    std::unique_ptr<RayScene> m_rays;  ///< for --mirrors rays
     int m_workers = 1;
 };
 

@@ -3,9 +3,10 @@
 
 #include "engine/error.hpp"
 #include "gl/shader_library.hpp"
+#include "preprocess/mirror_chain.hpp"
 
-#include <array>
 #include <chrono>
+#include <map>
 
 namespace hemirad {
 namespace {
@@ -13,12 +14,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-using Mat4 = std::array<float, 16>;  // column-major
-
 /// World -> clip for a camera at `eye` looking along `forward` with `up`, frustum [l, r] x [b, t]
 /// at distance `near`, infinite far plane, reversed Z into [0, 1] (depth = near / distance).
-Mat4 faceMatrix(const Vec3& eye, const Vec3& forward, const Vec3& up, double l, double r, double b, double t,
-                double near) {
+Eigen::Matrix4d faceMatrix(const Vec3& eye, const Vec3& forward, const Vec3& up, double l, double r, double b,
+                           double t, double near) {
     const Vec3 right = forward.cross(up);
     Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
     view.block<1, 3>(0, 0) = right.transpose();
@@ -34,18 +33,41 @@ Mat4 faceMatrix(const Vec3& eye, const Vec3& forward, const Vec3& up, double l, 
     projection(1, 2) = (t + b) / (t - b);
     projection(2, 3) = near;
     projection(3, 2) = -1;
-    const Eigen::Matrix4d m = projection * view;
-    Mat4 out;
-    for (int c = 0; c < 4; ++c)
-        for (int row = 0; row < 4; ++row) out[std::size_t(c * 4 + row)] = float(m(row, c));
-    return out;
+    return projection * view;
+}
+
+/// Reflection about the plane n . x + d = 0 (n unit), as a 4 x 4 world transform.
+Eigen::Matrix4d reflection(const Vec3& n, double d) {
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    m.block<3, 3>(0, 0) -= 2.0 * n * n.transpose();
+    m.block<3, 1>(0, 3) = -2.0 * d * n;
+    return m;
 }
 
 }  // namespace
 
 HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& geometry, const HemicubeLayout& layout,
-                                   Reduction reduction)
-    : m_scene(scene), m_geometry(geometry), m_layout(layout), m_reduction(reduction) {
+                                   Reduction reduction, const MirrorLimits& mirrors)
+    : m_scene(scene), m_geometry(geometry), m_layout(layout), m_reduction(reduction), m_limits(mirrors),
+      m_mirrors(scene.hasMirrors()) {
+    if (m_limits.maxDepth > 254) throw Error("hemicube: --max-depth is limited to 254 (8-bit stencil)");
+    // Mirror groups: coplanar patches (plane within 1e-6 of the scene extent) of equal reflectance.
+    m_groupOfPatch.assign(scene.size(), 0);
+    const double tolerance = 1e-6 * geometry.extent;
+    for (PatchId i = 0; i < scene.size(); ++i) {
+        const Patch& p = scene.patches[i];
+        if (!(p.specular > 0.0)) continue;
+        for (std::size_t g = 0; g < m_groupPatch.size() && !m_groupOfPatch[i]; ++g) {
+            const Patch& q = scene.patches[m_groupPatch[g]];
+            if (q.specular == p.specular && q.normal.dot(p.normal) > 1.0 - 1e-9 &&
+                std::abs((p.centroid - q.centroid).dot(q.normal)) <= tolerance)
+                m_groupOfPatch[i] = std::uint32_t(g + 1);
+        }
+        if (!m_groupOfPatch[i]) {
+            m_groupPatch.push_back(i);
+            m_groupOfPatch[i] = std::uint32_t(m_groupPatch.size());
+        }
+    }
     for (int kind = 0; kind < 4; ++kind)
         if (geometry.rangeStart[kind + 1] > geometry.rangeStart[kind])
             m_draw[kind] = gl::buildProgram({"hemicube.vert", "hemicube.geom", "hemicube.frag"},
@@ -82,11 +104,13 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
     gl::TexStorage2D(GL_TEXTURE_2D, 1, GL_R32UI, W, H);
     m_depth = gl::makeRenderbuffer();
     gl::BindRenderbuffer(GL_RENDERBUFFER, m_depth.id());
-    gl::RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, W, H);
+    // The stencil marks mirror portals; scenes without mirrors skip it (less memory traffic).
+    gl::RenderbufferStorage(GL_RENDERBUFFER, m_mirrors ? GL_DEPTH32F_STENCIL8 : GL_DEPTH_COMPONENT32F, W, H);
     m_fbo = gl::makeFramebuffer();
     gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
     gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m_ids.id(), 0);
-    gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, m_depth.id());
+    gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, m_mirrors ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT,
+                                GL_RENDERBUFFER, m_depth.id());
     const GLenum buffers[] = {GL_COLOR_ATTACHMENT0};
     gl::DrawBuffers(1, buffers);
     gl::checkFramebuffer("the hemicube atlas");
@@ -101,6 +125,18 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
         gl::ScissorIndexed(GLuint(f), v.x, v.y, v.width, v.height);
     }
     m_pixels.resize(std::size_t(W) * std::size_t(H));
+    if (m_mirrors) {
+        m_portal = gl::buildProgram({"hemicube_portal.vert", "hemicube_portal.frag"});
+        m_groups = gl::makeBuffer();
+        gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_groups.id());
+        gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(m_groupOfPatch.size() * 4), m_groupOfPatch.data(),
+                       GL_STATIC_DRAW);
+        m_levelIds = gl::makeTexture();
+        gl::BindTexture(GL_TEXTURE_2D, m_levelIds.id());
+        gl::TexStorage2D(GL_TEXTURE_2D, 1, GL_R32UI, W, H);
+        gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
 
     if (reduction == Reduction::Gpu) {
         m_reduce = gl::buildProgram({"hemicube_reduce.comp"});
@@ -128,26 +164,43 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
 
 HemicubeRenderer::~HemicubeRenderer() = default;
 
-void HemicubeRenderer::render(PatchId i) {
+void HemicubeRenderer::beginRow(PatchId i) {
     const Patch& p = m_scene.patches[i];
-    const Vec3 eye = p.centroid - m_geometry.centre;
+    m_eye = p.centroid - m_geometry.centre;
+    m_normal = p.normal;
     Vec3 t, b;
     orthonormalBasis(p.normal, t, b);
     const Vec3& n = p.normal;
-    const double near = 1e-6 * m_geometry.extent;
+    const double near = m_near = 1e-6 * m_geometry.extent;
     // Top face: symmetric 90-degree frustum; sides: the upper half (elevation 0..45 degrees).
-    const Mat4 faces[5] = {faceMatrix(eye, n, b, -near, near, -near, near, near),
-                           faceMatrix(eye, t, n, -near, near, 0, near, near),
-                           faceMatrix(eye, -t, n, -near, near, 0, near, near),
-                           faceMatrix(eye, b, n, -near, near, 0, near, near),
-                           faceMatrix(eye, -b, n, -near, near, 0, near, near)};
+    const Vec3 forward[5] = {n, t, -t, b, -b};
+    for (int f = 0; f < 5; ++f) {
+        m_faceForward[f] = forward[f];
+        m_faceUp[f] = f == 0 ? b : n;
+        m_faceRight[f] = m_faceForward[f].cross(m_faceUp[f]);
+        m_faceVP[f] = faceMatrix(m_eye, m_faceForward[f], m_faceUp[f], -near, near, f == 0 ? -near : 0.0, near, near);
+    }
     gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
     const GLuint zero[4] = {0, 0, 0, 0};
     gl::Disable(GL_SCISSOR_TEST);
     gl::ClearBufferuiv(GL_COLOR, 0, zero);
-    const GLfloat farDepth = 0.0f;
-    gl::ClearBufferfv(GL_DEPTH, 0, &farDepth);
+    if (m_mirrors) {
+        gl::ClearBufferfi(GL_DEPTH_STENCIL, 0, 0.0f, 0);
+    } else {
+        const GLfloat farDepth = 0.0f;
+        gl::ClearBufferfv(GL_DEPTH, 0, &farDepth);
+    }
     gl::Enable(GL_SCISSOR_TEST);
+}
+
+void HemicubeRenderer::draw(const Pass& pass) {
+    float faces[5][16];
+    for (int f = 0; f < 5; ++f) {
+        const Eigen::Matrix4d m = m_faceVP[f] * pass.transform;
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r) faces[f][c * 4 + r] = float(m(r, c));
+    }
+    gl::FrontFace(pass.mirrored ? GL_CW : GL_CCW);
     gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m_parents.id());
     gl::BindVertexArray(m_vao.id());
     for (int kind = 0; kind < 4; ++kind) {
@@ -156,27 +209,169 @@ void HemicubeRenderer::render(PatchId i) {
         if (count == 0) continue;
         const gl::Program& program = m_draw[kind];
         program.use();
-        gl::UniformMatrix4fv(program.uniform("faceMatrix"), 5, GL_FALSE, faces[0].data());
-        gl::Uniform3f(program.uniform("eye"), float(eye.x()), float(eye.y()), float(eye.z()));
-        gl::Uniform3f(program.uniform("normal"), float(n.x()), float(n.y()), float(n.z()));
-        gl::Uniform1ui(program.uniform("skipCode"), m_geometry.codeOfPatch[i]);
-        gl::Uniform1f(program.uniform("planeEpsilon"), float(1e-6 * m_geometry.extent));
-        gl::Uniform1f(program.uniform("nearPlane"), float(near));
-        gl::Uniform4f(program.uniform("clipPlane"), 0, 0, 0, 1);
+        gl::UniformMatrix4fv(program.uniform("faceMatrix"), 5, GL_FALSE, faces[0]);
+        gl::Uniform3f(program.uniform("eye"), float(m_eye.x()), float(m_eye.y()), float(m_eye.z()));
+        gl::Uniform3f(program.uniform("normal"), float(m_normal.x()), float(m_normal.y()), float(m_normal.z()));
+        gl::Uniform1ui(program.uniform("skipCode"), pass.skipCode);
+        gl::Uniform1f(program.uniform("planeEpsilon"), pass.planeTest ? float(1e-6 * m_geometry.extent) : -3.0e38f);
+        gl::Uniform1f(program.uniform("nearPlane"), float(m_near));
+        gl::Uniform4f(program.uniform("clipPlane"), float(pass.clipPlane[0]), float(pass.clipPlane[1]),
+                      float(pass.clipPlane[2]), float(pass.clipPlane[3]));
         gl::DrawArrays(GL_TRIANGLES, first, count);
     }
 }
 
+void HemicubeRenderer::readPixels(std::vector<std::uint32_t>& ids, HemicubeStats& stats) {
+    const auto t0 = Clock::now();
+    ids.resize(m_pixels.size());
+    gl::ReadBuffer(GL_COLOR_ATTACHMENT0);
+    gl::PixelStorei(GL_PACK_ALIGNMENT, 4);
+    gl::ReadPixels(0, 0, GLsizei(m_layout.width()), GLsizei(m_layout.height()), GL_RED_INTEGER, GL_UNSIGNED_INT,
+                   ids.data());
+    stats.readback += since(t0);
+}
+
 void HemicubeRenderer::computeRow(PatchId i, RowAccumulator& row, HemicubeStats& stats) {
     auto t0 = Clock::now();
-    render(i);
+    beginRow(i);
+    Pass direct;
+    direct.skipCode = m_geometry.codeOfPatch[i];
+    draw(direct);
     gl::Finish();
     stats.render += since(t0);
     if (m_reduction == Reduction::Cpu) reduceOnCpu(row, stats);
     else reduceOnGpu(row, stats);
     ++stats.hemicubes;
     stats.pixels += m_pixels.size();
+    if (m_mirrors) {
+        // Portals only run for rows that see a mirror (Sillion & Puech extended form factors).
+        t0 = Clock::now();
+        if (m_reduction == Reduction::Gpu) readPixels(m_pixels, stats);
+        if (m_limits.rays) {
+            traceMirrorPixels(i, row, stats);
+        } else {
+            std::vector<std::uint32_t> everything(m_pixels.size());
+            for (std::size_t k = 0; k < everything.size(); ++k) everything[k] = static_cast<std::uint32_t>(k);
+            const std::vector<std::uint32_t> levelIds = m_pixels;
+            traversePortals(1, levelIds, everything, Eigen::Matrix4d::Identity(), 1.0, row, stats);
+        }
+        stats.mirrors += since(t0);
+    }
     gl::check("computing a hemicube");
+}
+
+void HemicubeRenderer::traceMirrorPixels(PatchId i, RowAccumulator& row, HemicubeStats& stats) {
+    const Patch& patch = m_scene.patches[i];
+    const Vec3 origin = patch.centroid + m_limits.rays->originOffset() * patch.normal;
+    const float* w = m_layout.weights().data();
+    const MirrorChainLimits limits{m_limits.maxDepth, m_limits.minWeight};
+    RayCounts counts;
+    for (int f = 0; f < 5; ++f) {
+        const auto& v = m_layout.viewport(f);
+        for (int py = 0; py < v.height; ++py)
+            for (int px = 0; px < v.width; ++px) {
+                const std::size_t k = std::size_t(v.y + py) * m_layout.width() + std::size_t(v.x + px);
+                const std::uint32_t id = m_pixels[k];
+                if (id - 1u >= 0xfffffffeu || !m_groupOfPatch[id - 1u]) continue;
+                // The pixel centre's direction: x in [-1, 1] across; top face y in [-1, 1], sides
+                // elevation z in [0, 1] (physics.md §3 conventions).
+                const double x = -1.0 + (px + 0.5) * 2.0 / v.width;
+                const double y = f == 0 ? -1.0 + (py + 0.5) * 2.0 / v.height : (py + 0.5) / v.height;
+                const Vec3 dir = (m_faceForward[f] + x * m_faceRight[f] + y * m_faceUp[f]).normalized();
+                const RayScene::Hit hit = m_limits.rays->intersect(origin, dir);
+                // Rasteriser and ray may disagree at a mirror's edge: then the pixel stays as drawn.
+                if (hit.patch == RayScene::kNoHit || !(m_scene.patches[hit.patch].specular > 0.0)) continue;
+                followMirrorChain(m_scene, *m_limits.rays, origin, dir, hit.patch, hit.t, w[k], 1.0, limits, row, counts);
+            }
+    }
+    stats.portals += counts.bounces;
+    stats.lostWeight += counts.lostWeight;
+    stats.cutoffWeight += counts.cutoffWeight;
+    stats.missed += counts.misses;
+    stats.backfaces += counts.backfaces;
+}
+
+void HemicubeRenderer::markPortal(std::uint32_t group, int depth, const std::vector<std::uint32_t>& levelIds) {
+    const auto W = GLsizei(m_layout.width()), H = GLsizei(m_layout.height());
+    gl::BindTexture(GL_TEXTURE_2D, m_levelIds.id());
+    gl::PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    gl::TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, W, H, GL_RED_INTEGER, GL_UNSIGNED_INT, levelIds.data());
+    gl::ActiveTexture(GL_TEXTURE0);
+    // Full-atlas pass on viewport 0: inside the parent region (stencil = depth - 1), the pixels that
+    // saw the mirror get stencil = depth, id 0 and far depth.
+    gl::ViewportIndexedf(0, 0, 0, float(W), float(H));
+    gl::ScissorIndexed(0, 0, 0, W, H);
+    gl::DepthFunc(GL_ALWAYS);
+    gl::Enable(GL_STENCIL_TEST);
+    gl::StencilMask(0xff);
+    gl::StencilFunc(GL_EQUAL, depth - 1, 0xff);
+    gl::StencilOp(GL_KEEP, GL_KEEP, GL_INCR);  // depth - 1 -> depth
+    m_portal.use();
+    gl::Uniform1ui(m_portal.uniform("group"), group);
+    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m_groups.id());
+    gl::BindTexture(GL_TEXTURE_2D, m_levelIds.id());
+    gl::DrawArrays(GL_TRIANGLES, 0, 3);
+    gl::Disable(GL_STENCIL_TEST);
+    gl::DepthFunc(GL_GREATER);
+    const auto& v = m_layout.viewport(0);
+    gl::ViewportIndexedf(0, float(v.x), float(v.y), float(v.width), float(v.height));
+    gl::ScissorIndexed(0, v.x, v.y, v.width, v.height);
+}
+
+void HemicubeRenderer::traversePortals(int depth, const std::vector<std::uint32_t>& levelIds,
+                                       const std::vector<std::uint32_t>& region, const Eigen::Matrix4d& transform,
+                                       double factor, RowAccumulator& row, HemicubeStats& stats) {
+    // Pixels of the region by the mirror plane they see.
+    std::map<std::uint32_t, std::vector<std::uint32_t>> portals;
+    for (const std::uint32_t p : region) {
+        const std::uint32_t id = levelIds[p];
+        if (id - 1u < 0xfffffffeu && m_groupOfPatch[id - 1u]) portals[m_groupOfPatch[id - 1u] - 1u].push_back(p);
+    }
+    const float* w = m_layout.weights().data();
+    for (const auto& [group, pixels] : portals) {
+        const Patch& m = m_scene.patches[m_groupPatch[group]];
+        const double f = factor * m.specular;
+        if (std::uint32_t(depth) > m_limits.maxDepth || f < m_limits.minWeight) {
+            double cut = 0.0;
+            for (const std::uint32_t p : pixels) cut += w[p];
+            stats.cutoffWeight += cut * f;
+            continue;
+        }
+        ++stats.portals;
+        markPortal(group, depth, levelIds);
+        // The portal's pixels show the world reflected in the mirror's plane (n . x + d = 0 in
+        // scene-centred coordinates); only what lies in front of the mirror may appear.
+        const Vec3 centre = m.centroid - m_geometry.centre;
+        const double d = -m.normal.dot(centre);
+        Pass pass;
+        pass.transform = transform * reflection(m.normal, d);
+        pass.clipPlane = Eigen::Vector4d(m.normal.x(), m.normal.y(), m.normal.z(), d);
+        pass.skipCode = m_geometry.codeOfPatch[m_groupPatch[group]];
+        pass.mirrored = depth % 2 == 1;
+        pass.planeTest = false;
+        gl::Enable(GL_STENCIL_TEST);
+        gl::Enable(GL_CLIP_DISTANCE0);
+        gl::StencilFunc(GL_EQUAL, depth, 0xff);
+        gl::StencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+        draw(pass);
+        gl::Disable(GL_CLIP_DISTANCE0);
+        gl::Disable(GL_STENCIL_TEST);
+        gl::FrontFace(GL_CCW);
+        std::vector<std::uint32_t> ids;
+        readPixels(ids, stats);
+        double lost = 0.0;
+        for (const std::uint32_t p : pixels) {
+            const std::uint32_t id = ids[p];
+            if (id - 1u < 0xfffffffeu) {
+                row.addWeight(id - 1u, w[p] * f);
+            } else {
+                lost += w[p] * f;
+                (id == 0 ? stats.missed : stats.backfaces) += 1;
+            }
+        }
+        stats.lostWeight += lost;
+        traversePortals(depth + 1, ids, pixels, pass.transform, f, row, stats);
+    }
 }
 
 std::vector<std::uint32_t> HemicubeRenderer::readIds() {
@@ -190,13 +385,8 @@ std::vector<std::uint32_t> HemicubeRenderer::readIds() {
 }
 
 void HemicubeRenderer::reduceOnCpu(RowAccumulator& row, HemicubeStats& stats) {
-    auto t0 = Clock::now();
-    gl::ReadBuffer(GL_COLOR_ATTACHMENT0);
-    gl::PixelStorei(GL_PACK_ALIGNMENT, 4);
-    gl::ReadPixels(0, 0, GLsizei(m_layout.width()), GLsizei(m_layout.height()), GL_RED_INTEGER, GL_UNSIGNED_INT,
-                   m_pixels.data());
-    stats.readback += since(t0);
-    t0 = Clock::now();
+    readPixels(m_pixels, stats);
+    const auto t0 = Clock::now();
     // Neighbouring pixels mostly see the same patch: sum runs in a register, touch memory per run.
     const float* w = m_layout.weights().data();
     const std::uint32_t* ids = m_pixels.data();

@@ -16,16 +16,28 @@ enum class Reduction { Cpu, Gpu };
 
 /// Per-stage seconds and pixel counts of the hemicubes a renderer drew.
 struct HemicubeStats {
-    double render = 0, readback = 0, reduce = 0, collect = 0;
-    std::uint64_t hemicubes = 0, pixels = 0, missed = 0, backfaces = 0;
-    double lostWeight = 0;  ///< sum over rows of the row fraction that saw nothing or a back face
+    double render = 0, readback = 0, reduce = 0, collect = 0, mirrors = 0;
+    std::uint64_t hemicubes = 0, pixels = 0, missed = 0, backfaces = 0, portals = 0;
+    double lostWeight = 0;    ///< sum over rows of the row fraction that saw nothing or a back face
+    double cutoffWeight = 0;  ///< sum over rows of the fraction still travelling at the depth/weight limit
+};
+
+class RayScene;
+
+/// Mirror handling: portals (stencil, reflected views) or, with `rays`, the reference system's
+/// hybrid: pixels that see a mirror continue as Embree rays. Chains stop after maxDepth
+/// reflections or below minWeight.
+struct MirrorLimits {
+    std::uint32_t maxDepth = 8;
+    double minWeight = 1e-4;
+    const RayScene* rays = nullptr;
 };
 
 /// Requires a current GL 4.5 context for its whole life (construction, use, destruction).
 class HemicubeRenderer {
 public:
     HemicubeRenderer(const Scene& scene, const HemicubeGeometry& geometry, const HemicubeLayout& layout,
-                     Reduction reduction);
+                     Reduction reduction, const MirrorLimits& mirrors = {});
     ~HemicubeRenderer();
 
     /// Draws patch i's hemicube and deposits each pixel's delta form factor on the patch it sees
@@ -36,23 +48,51 @@ public:
     std::vector<std::uint32_t> readIds();
 
 private:
-    void render(PatchId i);
+    /// One draw of the scene into the five faces. transform (world -> world) holds the product of
+    /// the reflections of a portal chain; clipPlane keeps what lies in front of the last mirror.
+    struct Pass {
+        Eigen::Matrix4d transform = Eigen::Matrix4d::Identity();
+        Eigen::Vector4d clipPlane = Eigen::Vector4d(0, 0, 0, 1);
+        std::uint32_t skipCode = 0;
+        bool mirrored = false;   ///< an odd number of reflections flips the winding
+        bool planeTest = true;   ///< drop triangles behind the patch plane (direct pass only)
+    };
+    void beginRow(PatchId i);
+    void draw(const Pass& pass);
+    void readPixels(std::vector<std::uint32_t>& ids, HemicubeStats& stats);
     void reduceOnCpu(RowAccumulator& row, HemicubeStats& stats);
     void reduceOnGpu(RowAccumulator& row, HemicubeStats& stats);
+    /// Portal rendering (stencil) for the mirrors seen in `region` of `levelIds`, recursively.
+    void traversePortals(int depth, const std::vector<std::uint32_t>& levelIds, const std::vector<std::uint32_t>& region,
+                         const Eigen::Matrix4d& transform, double factor, RowAccumulator& row, HemicubeStats& stats);
+    void markPortal(std::uint32_t group, int depth, const std::vector<std::uint32_t>& levelIds);
+    /// The hybrid variant: every pixel that sees a mirror is traced onwards with Embree.
+    void traceMirrorPixels(PatchId i, RowAccumulator& row, HemicubeStats& stats);
 
     const Scene& m_scene;
     const HemicubeGeometry& m_geometry;
     const HemicubeLayout& m_layout;
     Reduction m_reduction;
     gl::Program m_draw[4];  ///< one per HemicubeGeometry::Kind (empty when the scene has none)
-    gl::Program m_reduce, m_collect;
+    gl::Program m_reduce, m_collect, m_portal;
     gl::VertexArray m_vao;
     gl::Buffer m_vertices, m_parents, m_weights, m_accumulator, m_touched, m_values;
-    gl::Texture m_ids;
+    gl::Texture m_ids, m_levelIds;
     gl::Renderbuffer m_depth;
     gl::Framebuffer m_fbo;
     std::vector<std::uint32_t> m_pixels;
     double m_fixedScale = 0;
+    MirrorLimits m_limits;
+    bool m_mirrors = false;
+    /// Mirror patches grouped by plane and reflectance: one portal pass serves a whole group (a
+    /// subdivided mirror), with a representative patch for its plane.
+    std::vector<std::uint32_t> m_groupOfPatch;  ///< group + 1, 0 for non-mirrors
+    std::vector<PatchId> m_groupPatch;
+    gl::Buffer m_groups;
+    Eigen::Matrix4d m_faceVP[5];          ///< the current row's face cameras (world -> clip)
+    Vec3 m_faceForward[5], m_faceUp[5], m_faceRight[5];
+    Vec3 m_eye = Vec3::Zero(), m_normal = Vec3::Zero();
+    double m_near = 0;
 };
 
 }  // namespace hemirad

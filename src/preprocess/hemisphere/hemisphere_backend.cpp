@@ -4,6 +4,7 @@
 #include "engine/error.hpp"
 #include "preprocess/hemisphere/beckers.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
+#include "preprocess/mirror_chain.hpp"
 #include "preprocess/row_accumulator.hpp"
 
 #include <omp.h>
@@ -41,17 +42,8 @@ void HemisphereBackend::prepare(const Scene& scene) {
 }
 
 std::map<std::string, std::string> HemisphereBackend::parameters() const {
-    // With mirrors a ray deposits on every patch of its chain: rows reach at most sum_k s_max^k.
-    double bound = 1.0, term = 1.0;
-    if (m_mirrors) {
-        double sMax = 0.0;
-        for (const Patch& p : m_scene->patches) sMax = std::max(sMax, p.specular);
-        for (std::uint32_t d = 0; d < m_options.maxDepth && term >= m_options.minWeight; ++d) bound += term *= sMax;
-    }
-    char text[32];
-    std::snprintf(text, sizeof text, "%.9g", bound);
     return {{"method", "hemisphere"},
-            {"row_sum_bound", text},
+            {"row_sum_bound", rowSumBoundText(*m_scene, m_options.maxDepth, m_options.minWeight)},
             {"samples", std::to_string(m_options.samples)},
             {"origins", std::to_string(m_options.origins)},
             {"max_depth", std::to_string(m_options.maxDepth)},
@@ -135,7 +127,8 @@ void HemisphereBackend::computeRow(PatchId i, Workspace& ws, RayCounts& counts) 
             if constexpr (Mirrors) {
                 ws.row.addWeight(j, 1.0);
                 if (m_scene->patches[j].specular > 0.0)
-                    traceMirrorChain(lifted, Vec3(d[0], d[1], d[2]), j, ws.distances[k], rowWeight, ws, counts);
+                    followMirrorChain(*m_scene, *m_rays, lifted, Vec3(d[0], d[1], d[2]), j, ws.distances[k], 1.0,
+                                      rowWeight, {m_options.maxDepth, m_options.minWeight}, ws.row, counts);
             } else {
                 ws.row.addCount(j);
             }
@@ -143,40 +136,6 @@ void HemisphereBackend::computeRow(PatchId i, Workspace& ws, RayCounts& counts) 
     }
     counts.rays += std::uint64_t(N) * origins.size();
     counts.lostWeight += double(lost) * rowWeight;
-}
-
-void HemisphereBackend::traceMirrorChain(Vec3 origin, Vec3 dir, PatchId mirror, float t, double rowWeight,
-                                         Workspace& ws, RayCounts& counts) const {
-    // Weights here are relative to one ray (1 = the ray's full share); rowWeight converts to row units.
-    double weight = 1.0;
-    for (std::uint32_t depth = 1;; ++depth) {
-        const Patch& m = m_scene->patches[mirror];
-        weight *= m.specular;
-        if (depth > m_options.maxDepth || weight < m_options.minWeight) {
-            counts.cutoffWeight += weight * rowWeight;
-            return;
-        }
-        const Vec3 hitPoint = origin + double(t) * dir;
-        dir = (dir - 2.0 * dir.dot(m.normal) * m.normal).normalized();
-        origin = hitPoint + m_rays->originOffset() * m.normal;
-        const RayScene::Hit hit = m_rays->intersect(origin, dir);
-        ++counts.bounces;
-        if (hit.patch == RayScene::kNoHit) {
-            ++counts.misses;
-            counts.lostWeight += weight * rowWeight;
-            return;
-        }
-        const Patch& receiver = m_scene->patches[hit.patch];
-        if (dir.dot(receiver.normal) >= 0.0) {
-            ++counts.backfaces;
-            counts.lostWeight += weight * rowWeight;
-            return;
-        }
-        ws.row.addWeight(hit.patch, weight);
-        if (receiver.specular <= 0.0) return;
-        mirror = hit.patch;
-        t = hit.t;
-    }
 }
 
 }  // namespace hemirad

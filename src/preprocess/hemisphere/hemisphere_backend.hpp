@@ -27,8 +27,6 @@ public:
 private:
     struct Workspace;
     template <bool Mirrors> void computeRow(PatchId i, Workspace& ws, RayCounts& counts) const;
-    void traceMirrorChain(Vec3 origin, Vec3 dir, PatchId mirror, float t, double rowWeight,
-                          Workspace& ws, RayCounts& counts) const;
 
     BackendOptions m_options;
     const Scene* m_scene = nullptr;
