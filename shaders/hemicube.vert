@@ -1,21 +1,28 @@
 #version 450
-// Hemicube pass, vertex stage: passes world positions (scene-centred) and the primitive's code on.
-// code = patch id, or (parent index | 0x80000000) for a subdivided parent polygon drawn whole.
-// Parent polygons also carry their grid parameters (u, v) and grid (first patch, nu, nv, kind).
+// Hemicube pass, vertex stage: moves each vertex into the patch frame (x along t, y along b,
+// z along the normal, origin at the hemicube centre) once, so the geometry stage builds the five
+// faces' clip coordinates by swizzles instead of five matrix products per vertex.
+// code = patch id, or (parent index | 0x80000000) for a subdivided parent polygon drawn whole;
+// parent polygons also carry their grid parameter (u, v) and grid (first patch, nu, nv, kind).
 layout(location = 0) in vec3 position;
 layout(location = 1) in uint code;
 layout(location = 2) in vec2 parameter;
 layout(location = 3) in uvec4 grid;
 
+uniform mat4 frameFromWorld;  // world -> patch frame, including a portal's reflections
+uniform vec4 clipPlane;       // world half-space kept (mirror passes); (0, 0, 0, 1) keeps everything
+
 out VertexData {
-    vec3 position;
+    vec3 frame;
+    float clip;
     vec2 parameter;
     flat uint code;
     flat uvec4 grid;
 } vs;
 
 void main() {
-    vs.position = position;
+    vs.frame = (frameFromWorld * vec4(position, 1.0)).xyz;
+    vs.clip = dot(clipPlane, vec4(position, 1.0));
     vs.parameter = parameter;
     vs.code = code;
     vs.grid = grid;

@@ -14,28 +14,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-/// World -> clip for a camera at `eye` looking along `forward` with `up`, frustum [l, r] x [b, t]
-/// at distance `near`, infinite far plane, reversed Z into [0, 1] (depth = near / distance).
-Eigen::Matrix4d faceMatrix(const Vec3& eye, const Vec3& forward, const Vec3& up, double l, double r, double b,
-                           double t, double near) {
-    const Vec3 right = forward.cross(up);
-    Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
-    view.block<1, 3>(0, 0) = right.transpose();
-    view.block<1, 3>(1, 0) = up.transpose();
-    view.block<1, 3>(2, 0) = -forward.transpose();
-    view(0, 3) = -right.dot(eye);
-    view(1, 3) = -up.dot(eye);
-    view(2, 3) = forward.dot(eye);
-    Eigen::Matrix4d projection = Eigen::Matrix4d::Zero();
-    projection(0, 0) = 2 * near / (r - l);
-    projection(0, 2) = (r + l) / (r - l);
-    projection(1, 1) = 2 * near / (t - b);
-    projection(1, 2) = (t + b) / (t - b);
-    projection(2, 3) = near;
-    projection(3, 2) = -1;
-    return projection * view;
-}
-
 /// Reflection about the plane n . x + d = 0 (n unit), as a 4 x 4 world transform.
 Eigen::Matrix4d reflection(const Vec3& n, double d) {
     Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
@@ -171,14 +149,13 @@ void HemicubeRenderer::beginRow(PatchId i) {
     Vec3 t, b;
     orthonormalBasis(p.normal, t, b);
     const Vec3& n = p.normal;
-    const double near = m_near = 1e-6 * m_geometry.extent;
+    m_near = 1e-6 * m_geometry.extent;
     // Top face: symmetric 90-degree frustum; sides: the upper half (elevation 0..45 degrees).
     const Vec3 forward[5] = {n, t, -t, b, -b};
     for (int f = 0; f < 5; ++f) {
         m_faceForward[f] = forward[f];
         m_faceUp[f] = f == 0 ? b : n;
         m_faceRight[f] = m_faceForward[f].cross(m_faceUp[f]);
-        m_faceVP[f] = faceMatrix(m_eye, m_faceForward[f], m_faceUp[f], -near, near, f == 0 ? -near : 0.0, near, near);
     }
     gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
     const GLuint zero[4] = {0, 0, 0, 0};
@@ -194,12 +171,15 @@ void HemicubeRenderer::beginRow(PatchId i) {
 }
 
 void HemicubeRenderer::draw(const Pass& pass) {
-    float faces[5][16];
-    for (int f = 0; f < 5; ++f) {
-        const Eigen::Matrix4d m = m_faceVP[f] * pass.transform;
-        for (int c = 0; c < 4; ++c)
-            for (int r = 0; r < 4; ++r) faces[f][c * 4 + r] = float(m(r, c));
-    }
+    // World -> patch frame (rows t, b, n about the eye), after the portal chain's reflections.
+    Vec3 t, b;
+    orthonormalBasis(m_normal, t, b);
+    Eigen::Matrix4d frame = Eigen::Matrix4d::Identity();
+    frame.block<1, 3>(0, 0) = t.transpose();
+    frame.block<1, 3>(1, 0) = b.transpose();
+    frame.block<1, 3>(2, 0) = m_normal.transpose();
+    frame.block<3, 1>(0, 3) = -frame.block<3, 3>(0, 0) * m_eye;
+    const Eigen::Matrix4f frameFromWorld = (frame * pass.transform).cast<float>();
     gl::FrontFace(pass.mirrored ? GL_CW : GL_CCW);
     gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m_parents.id());
     gl::BindVertexArray(m_vao.id());
@@ -209,9 +189,7 @@ void HemicubeRenderer::draw(const Pass& pass) {
         if (count == 0) continue;
         const gl::Program& program = m_draw[kind];
         program.use();
-        gl::UniformMatrix4fv(program.uniform("faceMatrix"), 5, GL_FALSE, faces[0]);
-        gl::Uniform3f(program.uniform("eye"), float(m_eye.x()), float(m_eye.y()), float(m_eye.z()));
-        gl::Uniform3f(program.uniform("normal"), float(m_normal.x()), float(m_normal.y()), float(m_normal.z()));
+        gl::UniformMatrix4fv(program.uniform("frameFromWorld"), 1, GL_FALSE, frameFromWorld.data());
         gl::Uniform1ui(program.uniform("skipCode"), pass.skipCode);
         gl::Uniform1f(program.uniform("planeEpsilon"), pass.planeTest ? float(1e-6 * m_geometry.extent) : -3.0e38f);
         gl::Uniform1f(program.uniform("nearPlane"), float(m_near));

@@ -89,8 +89,7 @@ private:
     std::vector<std::uint32_t> m_groupOfPatch;  ///< group + 1, 0 for non-mirrors
     std::vector<PatchId> m_groupPatch;
     gl::Buffer m_groups;
-    Eigen::Matrix4d m_faceVP[5];          ///< the current row's face cameras (world -> clip)
-    Vec3 m_faceForward[5], m_faceUp[5], m_faceRight[5];
+    Vec3 m_faceForward[5], m_faceUp[5], m_faceRight[5];  ///< the current row's face cameras
     Vec3 m_eye = Vec3::Zero(), m_normal = Vec3::Zero();
     double m_near = 0;
 };
