@@ -12,9 +12,10 @@
 namespace hemirad {
 namespace {
 
-const std::set<std::string> kCommands = {"formfactors", "solve", "render", "info", "subdivide", "help"};
-const std::set<std::string> kComputing = {"formfactors", "solve", "render"};
-const std::set<std::string> kSolving = {"solve", "render"};
+const std::set<std::string> kCommands = {"formfactors", "solve", "render", "info", "subdivide", "bench", "bench-run", "help"};
+const std::set<std::string> kComputing = {"formfactors", "solve", "render", "bench", "bench-run"};
+const std::set<std::string> kSolving = {"solve", "render", "bench", "bench-run"};
+const std::set<std::string> kBench = {"bench"};
 
 double parseNumber(const std::string& flag, const std::string& text, double lo, double hi) {
     char* end = nullptr;
@@ -35,6 +36,25 @@ long parseInteger(const std::string& flag, const std::string& text, long lo, lon
     if (v < lo || v > hi)
         throw UsageError(flag + " " + text + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     return v;
+}
+
+std::vector<std::string> splitCommas(const std::string& text) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = text.find(',', start);
+        parts.push_back(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return parts;
+}
+
+std::vector<std::uint32_t> parseCounts(const std::string& flag, const std::string& text, long lo, long hi) {
+    std::vector<std::uint32_t> values;
+    for (const std::string& part : splitCommas(text))
+        values.push_back(static_cast<std::uint32_t>(parseInteger(flag, part, lo, hi)));
+    return values;
 }
 
 std::vector<double> parseList(const std::string& flag, const std::string& text, std::size_t count) {
@@ -60,7 +80,7 @@ struct Flag {
 
 const std::map<std::string, Flag>& flags() {
     static const std::map<std::string, Flag> table = {
-        {"-o", {{"formfactors", "solve", "render", "subdivide"}, true,
+        {"-o", {{"formfactors", "solve", "render", "subdivide", "bench"}, true,
                 [](Options& o, const std::string&, const std::string& v) { o.output = v; }}},
         {"--quiet", {{}, false, [](Options& o, const std::string&, const std::string&) { o.quiet = true; }}},
         {"--subdivide", {kComputing, true,
@@ -113,8 +133,8 @@ const std::map<std::string, Flag>& flags() {
         {"--all-rows", {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.allRows = true; }}},
         {"--enforce-reciprocity",
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.enforceReciprocity = true; }}},
-        {"--ff", {kSolving, true, [](Options& o, const std::string&, const std::string& v) { o.ffPath = v; }}},
-        {"--recompute-ff", {kSolving, false, [](Options& o, const std::string&, const std::string&) { o.recomputeFf = true; }}},
+        {"--ff", {{"solve", "render"}, true, [](Options& o, const std::string&, const std::string& v) { o.ffPath = v; }}},
+        {"--recompute-ff", {{"solve", "render"}, false, [](Options& o, const std::string&, const std::string&) { o.recomputeFf = true; }}},
         {"--solver", {kSolving, true,
                       [](Options& o, const std::string& f, const std::string& v) {
                           try {
@@ -133,7 +153,7 @@ const std::map<std::string, Flag>& flags() {
                               }}},
         {"--allow-unconverged",
          {kSolving, false, [](Options& o, const std::string&, const std::string&) { o.solver.allowUnconverged = true; }}},
-        {"--crease", {kSolving, true,
+        {"--crease", {{"solve", "render"}, true,
                       [](Options& o, const std::string& f, const std::string& v) { o.crease = parseNumber(f, v, 0, 180); }}},
         {"--size", {{"render"}, true,
                     [](Options& o, const std::string& f, const std::string& v) {
@@ -160,6 +180,41 @@ const std::map<std::string, Flag>& flags() {
         {"--exposure", {{"render", "solve"}, true,
                         [](Options& o, const std::string& f, const std::string& v) { o.exposure = parseNumber(f, v, 1e-30, 1e30); }}},
         {"--flat", {{"render"}, false, [](Options& o, const std::string&, const std::string&) { o.flat = true; }}},
+        {"--methods", {kBench, true,
+                       [](Options& o, const std::string& f, const std::string& v) {
+                           o.methods = splitCommas(v);
+                           for (const std::string& m : o.methods)
+                               if (m != "hemisphere" && m != "hemicube")
+                                   throw UsageError(f + ": unknown method '" + m + "' (hemisphere, hemicube)");
+                       }}},
+        {"--sweep-samples", {kBench, true,
+                             [](Options& o, const std::string& f, const std::string& v) {
+                                 o.sweepSamples = parseCounts(f, v, 1, 1 << 24);
+                             }}},
+        {"--sweep-origins", {kBench, true,
+                             [](Options& o, const std::string& f, const std::string& v) {
+                                 o.sweepOrigins = parseCounts(f, v, 1, 1 << 16);
+                             }}},
+        {"--sweep-resolutions", {kBench, true,
+                                 [](Options& o, const std::string& f, const std::string& v) {
+                                     o.sweepResolutions = parseCounts(f, v, 2, 8192);
+                                     for (std::uint32_t r : o.sweepResolutions)
+                                         if (r % 2) throw UsageError(f + ": resolutions must be even");
+                                 }}},
+        {"--reference-samples", {kBench, true,
+                                 [](Options& o, const std::string& f, const std::string& v) {
+                                     o.referenceSamples = static_cast<std::uint32_t>(parseInteger(f, v, 1, 1 << 24));
+                                 }}},
+        {"--reference-origins", {kBench, true,
+                                 [](Options& o, const std::string& f, const std::string& v) {
+                                     o.referenceOrigins = static_cast<std::uint32_t>(parseInteger(f, v, 1, 1 << 16));
+                                 }}},
+        {"--cache", {kBench, true, [](Options& o, const std::string&, const std::string& v) { o.cacheDir = v; }}},
+        {"--json", {kBench, true, [](Options& o, const std::string&, const std::string& v) { o.jsonPath = v; }}},
+        {"--label", {{"bench", "bench-run"}, true, [](Options& o, const std::string&, const std::string& v) { o.label = v; }}},
+        {"--reference", {{"bench-run"}, true, [](Options& o, const std::string&, const std::string& v) { o.referencePath = v; }}},
+        {"--reference-radiosity",
+         {{"bench-run"}, true, [](Options& o, const std::string&, const std::string& v) { o.referenceRadiosityPath = v; }}},
         {"--max-edge", {{"subdivide"}, true,
                         [](Options& o, const std::string& f, const std::string& v) { o.maxEdge = parseNumber(f, v, 1e-12, 1e300); }}},
     };
@@ -208,7 +263,7 @@ Options parseOptions(int argc, const char* const* argv) {
     if (o.command == "help") return o;
     if (o.inputs.size() != 1)
         throw UsageError("'" + o.command + "' takes exactly one input file, got " + std::to_string(o.inputs.size()));
-    const bool needsOutput = o.command == "formfactors" || o.command == "subdivide";
+    const bool needsOutput = o.command == "formfactors" || o.command == "subdivide" || o.command == "bench";
     if (needsOutput && o.output.empty()) throw UsageError("'" + o.command + "' needs -o OUTPUT");
     if (o.command == "render" && o.output.empty()) throw UsageError("'render' needs -o IMAGE.png");
     if (o.command == "solve" && o.output.empty() && o.ffPath.empty())
@@ -229,6 +284,7 @@ commands:
   render SCENE.obj -o IMAGE.png          compute, solve and render an image
   info F.hff|F.mtx                       check an F file and describe it
   subdivide SCENE.obj -o OUT.obj --max-edge L   split patches until no edge exceeds L
+  bench SCENE.obj -o RESULTS.csv         time against error over a sweep of methods and sample counts
   help                                   this text
 
 scene:
@@ -261,6 +317,15 @@ render:
   --camera ex,ey,ez,tx,ty,tz,fov   eye, target, vertical field of view in degrees
   --spp N                samples per pixel (default 4)
   --flat                 flat patches instead of Gouraud shading
+bench:
+  --methods LIST         hemisphere,hemicube (default hemisphere)
+  --sweep-samples LIST   hemisphere directions (default 96,384,768,1536,3072)
+  --sweep-origins LIST   hemisphere origins per patch (default 1)
+  --sweep-resolutions LIST  hemicube resolutions (default 64,128,256)
+  --reference-samples N, --reference-origins K   the reference F (default 3072 x 16, hemisphere)
+  --cache DIR            where reference F and B are kept (default bench/cache)
+  --json FILE            also write the results as JSON
+  --label NAME           scene name in the results (default: the file name)
 general:
   --threads T            worker threads / GL contexts (default: all cores)
   --quiet                print errors and warnings only

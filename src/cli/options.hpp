@@ -19,7 +19,7 @@ public:
 };
 
 struct Options {
-    std::string command;                 ///< formfactors, solve, render, info, subdivide, help
+    std::string command;                 ///< formfactors, solve, render, info, subdivide, bench, help
     std::vector<std::string> inputs;     ///< positional arguments
     std::string output;                  ///< -o
     bool quiet = false;
@@ -48,6 +48,18 @@ struct Options {
 
     // subdivide command.
     double maxEdge = 0.0;
+
+    // bench command: the sweep and its reference.
+    std::vector<std::string> methods = {"hemisphere"};
+    std::vector<std::uint32_t> sweepSamples = {96, 384, 768, 1536, 3072};
+    std::vector<std::uint32_t> sweepOrigins = {1};
+    std::vector<std::uint32_t> sweepResolutions = {64, 128, 256};
+    std::uint32_t referenceSamples = 3072, referenceOrigins = 16;
+    std::string cacheDir = "bench/cache";
+    std::string jsonPath;
+    std::string label;
+    // bench-run (one measurement, run by bench in a child process).
+    std::string referencePath, referenceRadiosityPath;
 };
 
 /// Parses argv; throws UsageError for unknown commands/flags, missing or malformed values.

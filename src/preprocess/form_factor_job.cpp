@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <exception>
+#include <future>
 #include <thread>
 
 namespace hemirad {
@@ -30,20 +31,20 @@ FormFactorRun computeFormFactors(const Scene& scene, const std::string& method, 
 
     FormFactorBuilder builder(scene.size());
     std::exception_ptr failure;
-    std::atomic<bool> finished{false};
+    std::promise<void> done;
+    std::future<void> finished = done.get_future();
     std::thread worker([&] {
         try {
             backend->computeRows(rows, builder);
         } catch (...) {
             failure = std::current_exception();
         }
-        finished.store(true);
+        done.set_value();
     });
-    while (!finished.load()) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    // Wake every 100 ms for progress and cancellation, and at once when the rows are done.
+    while (finished.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) {
         if (cancel && cancel->load()) builder.cancel();
-        if (progress && !finished.load())
-            progress(builder.rowsDone(), rows.size(), std::chrono::duration<double>(Clock::now() - t1).count());
+        if (progress) progress(builder.rowsDone(), rows.size(), std::chrono::duration<double>(Clock::now() - t1).count());
     }
     worker.join();
     if (failure) std::rethrow_exception(failure);

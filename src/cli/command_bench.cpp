@@ -1,0 +1,312 @@
+// `hemirad bench`: time against error over a sweep of methods and sample counts. Each measurement
+// runs in a child process (`hemirad bench-run`), so its peak memory is its own and runs cannot
+// disturb each other; the reference F (a high-resolution hemisphere run) and its radiosity are
+// computed once and cached by scene hash.
+#include "cli/bench_records.hpp"
+#include "cli/commands.hpp"
+#include "cli/pipeline.hpp"
+#include "engine/atomic_file.hpp"
+#include "engine/error_metrics.hpp"
+#include "engine/form_factor_file.hpp"
+#include "engine/hash.hpp"
+#include "engine/obj_loader.hpp"
+#include "engine/subdivide.hpp"
+
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+extern char** environ;
+
+namespace hemirad {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+double peakRssMiB() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_maxrss / 1024.0;  // kilobytes on Linux
+}
+
+// Reference radiosity cache: "HEMIRADB", N (uint64), then N x 3 doubles.
+void saveRadiosity(const std::vector<Rgb>& B, const std::string& path) {
+    AtomicFile file(path);
+    const std::uint64_t n = B.size();
+    file.stream().write("HEMIRADB", 8);
+    file.stream().write(reinterpret_cast<const char*>(&n), 8);
+    for (const Rgb& b : B) file.stream().write(reinterpret_cast<const char*>(b.data()), 3 * sizeof(double));
+    file.commit();
+}
+
+std::vector<Rgb> loadRadiosity(const std::string& path, std::size_t expected) {
+    std::ifstream in(path, std::ios::binary);
+    char magic[8];
+    std::uint64_t n = 0;
+    if (!in.read(magic, 8) || std::memcmp(magic, "HEMIRADB", 8) != 0 || !in.read(reinterpret_cast<char*>(&n), 8))
+        throw Error(path, 0, "not a Hemirad reference radiosity file");
+    if (n != expected) throw Error(path, 0, "holds " + std::to_string(n) + " patches, the scene has " + std::to_string(expected));
+    std::vector<Rgb> B(n);
+    for (Rgb& b : B)
+        if (!in.read(reinterpret_cast<char*>(b.data()), 3 * sizeof(double))) throw Error(path, 0, "truncated");
+    return B;
+}
+
+Scene loadBenchScene(const Options& o) {
+    Warnings warnings(nullptr);
+    Scene scene = loadObj(o.inputs.at(0), warnings);
+    if (o.subdivide > 0) scene = subdivide(scene, o.subdivide);
+    return scene;
+}
+
+struct ChildResult {
+    int status = -1;
+    std::string out, err;
+};
+
+/// Runs argv[0] with argv, capturing stdout and stderr.
+ChildResult runChild(const std::vector<std::string>& args) {
+    int outPipe[2], errPipe[2];
+    if (pipe(outPipe) != 0 || pipe(errPipe) != 0) throw Error("bench: cannot create pipes");
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, outPipe[1], STDOUT_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, errPipe[1], STDERR_FILENO);
+    posix_spawn_file_actions_addclose(&actions, outPipe[0]);
+    posix_spawn_file_actions_addclose(&actions, errPipe[0]);
+    std::vector<char*> argv;
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    close(outPipe[1]);
+    close(errPipe[1]);
+    if (rc != 0) {
+        close(outPipe[0]);
+        close(errPipe[0]);
+        throw Error(std::string("bench: cannot start ") + argv[0] + ": " + std::strerror(rc));
+    }
+    ChildResult result;
+    // Read both pipes to the end (stderr is small; read stdout first, then stderr).
+    char buffer[4096];
+    ssize_t got;
+    while ((got = read(outPipe[0], buffer, sizeof buffer)) > 0) result.out.append(buffer, std::size_t(got));
+    while ((got = read(errPipe[0], buffer, sizeof buffer)) > 0) result.err.append(buffer, std::size_t(got));
+    close(outPipe[0]);
+    close(errPipe[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    result.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return result;
+}
+
+std::string selfPath() {
+    std::error_code ec;
+    const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) throw Error("bench: cannot find the hemirad binary (/proc/self/exe)");
+    return p.string();
+}
+
+std::string shortNumber(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", v);
+    return text;
+}
+
+}  // namespace
+
+int runBenchRun(const Options& o) {
+    BenchRecord r;
+    r.set("scene", o.label.empty() ? fs::path(o.inputs.at(0)).stem().string() : o.label);
+    auto t0 = Clock::now();
+    const Scene scene = loadBenchScene(o);
+    r.set("t_load", since(t0));
+    r.set("patches", double(scene.size()));
+    r.set("method", o.method);
+    if (o.method == "hemisphere") {
+        r.set("samples", double(o.backend.samples));
+        r.set("origins", double(o.backend.origins));
+        r.set("rays_per_patch", double(o.backend.samples) * o.backend.origins);
+    } else {
+        r.set("resolution", double(o.backend.resolution));
+        r.set("reduce", o.backend.reduce);
+        r.set("rays_per_patch", 3.0 * o.backend.resolution * o.backend.resolution);
+    }
+    const FormFactorRun run = computeFormFactors(scene, o.method, o.backend, neededRows(scene, o.allRows));
+    r.set("t_bvh", run.prepareSeconds);
+    r.set("t_ff", run.computeSeconds);
+    r.set("t_stats", run.statsSeconds);
+    r.set("rows", double(run.rowsComputed));
+    r.set("rows_skipped", double(run.rowsSkipped));
+    r.set("rays", double(run.counts.rays));
+    r.set("rays_per_s", run.computeSeconds > 0 ? double(run.counts.rays) / run.computeSeconds : 0.0);
+    r.set("nnz", double(run.F.nonZeros()));
+    r.set("f_mib", run.F.memoryBytes() / 1048576.0);
+    r.set("row_sum_min", run.stats.rowSumMin);
+    r.set("row_sum_mean", run.stats.rowSumMean);
+    r.set("row_sum_max", run.stats.rowSumMax);
+    r.set("reciprocity_mean", run.stats.reciprocityMean);
+    r.set("lost_fraction", run.rowsComputed ? run.counts.lostWeight / double(run.rowsComputed) : 0.0);
+    for (const auto& [stage, seconds] : run.stageSeconds) {
+        std::string key = "ms_per_row_" + stage;
+        for (char& c : key)
+            if (c == ' ') c = '_';
+        r.set(key, run.rowsComputed ? 1e3 * seconds / double(run.rowsComputed) : 0.0);
+    }
+    t0 = Clock::now();
+    SolverOptions solver = o.solver;
+    if (solver.kind == SolverKind::Auto) solver.kind = chooseSolver(scene.size(), scene);
+    const Radiosity B = solveRadiosity(scene, run.F, solver);
+    r.set("t_solve", since(t0));
+    r.set("solver", solverName(solver.kind));
+    int iterations = 0;
+    for (const SolveReport& rep : B.reports) iterations = std::max(iterations, rep.iterations);
+    r.set("solve_iterations", double(iterations));
+    r.set("t_total", run.prepareSeconds + run.computeSeconds + since(t0));
+    r.set("peak_rss_mib", peakRssMiB());  // before the reference is loaded
+
+    if (!o.referencePath.empty()) {
+        const FormFactors reference = loadFormFactors(o.referencePath);
+        checkFormFactorsMatch(reference, scene.geometryHash(), scene.size(), o.referencePath);
+        const FormFactorError e = compareFormFactors(run.F, reference);
+        r.set("err_rows", double(e.rows));
+        r.set("err_mean", e.mean);
+        r.set("err_worst_mean", e.worstMean);
+        r.set("err_max", e.max);
+        r.set("err_worst_max", e.worstMax);
+        r.set("err_rms", e.rms);
+        r.set("err_worst_rms", e.worstRms);
+        r.set("err_row_l1", e.rowL1);
+        r.set("err_worst_row_l1", e.worstRowL1);
+    }
+    if (!o.referenceRadiosityPath.empty()) {
+        const RadiosityError e = compareRadiosity(B.B, loadRadiosity(o.referenceRadiosityPath, scene.size()));
+        r.set("b_err_mean", e.mean);
+        r.set("b_err_max", e.max);
+        r.set("b_err_rms", e.rms);
+        r.set("b_rel_mean", e.relativeMean);
+        r.set("b_rel_max", e.relativeMax);
+        r.set("b_rel_rms", e.relativeRms);
+    }
+    std::cout << r.json() << std::endl;
+    return 0;
+}
+
+int runBench(const Options& o) {
+    Reporter reporter(o.quiet);
+    const std::string scenePath = o.inputs.at(0);
+    const std::string label = o.label.empty() ? fs::path(scenePath).stem().string() : o.label;
+    const Scene scene = loadBenchScene(o);
+    reporter.line("bench: " + label + ", " + std::to_string(scene.size()) + " patches");
+
+    // The reference: a high-resolution hemisphere F over every row, and its radiosity.
+    fs::create_directories(o.cacheDir);
+    const std::string key = hexHash(scene.geometryHash()) + "-hemisphere-" + std::to_string(o.referenceSamples) + "x" +
+                            std::to_string(o.referenceOrigins);
+    const std::string referencePath = (fs::path(o.cacheDir) / (key + ".hff")).string();
+    if (!fs::exists(referencePath)) {
+        reporter.line("bench: computing the reference F (" + std::to_string(o.referenceSamples) + " directions x " +
+                      std::to_string(o.referenceOrigins) + " origins, every row) into " + referencePath);
+        BackendOptions b = o.backend;
+        b.samples = o.referenceSamples;
+        b.origins = o.referenceOrigins;
+        const FormFactorRun run = computeFormFactors(scene, "hemisphere", b, neededRows(scene, true),
+                                                     reporter.progress("reference", double(b.samples) * b.origins));
+        saveFormFactors(run.F, referencePath);
+        reporter.line("bench: reference computed in " + formatSeconds(run.computeSeconds) + " s");
+    } else {
+        reporter.line("bench: reference F from the cache: " + referencePath);
+    }
+    // Radiosity depends on the materials too: key it by the reference and the emission/reflectances.
+    Fnv1a materials;
+    for (const Patch& p : scene.patches) {
+        materials.add(p.rho.data(), 3 * sizeof(double));
+        materials.add(p.emission.data(), 3 * sizeof(double));
+    }
+    const std::string radiosityPath = (fs::path(o.cacheDir) / (key + "-" + hexHash(materials.value()) + ".radiosity")).string();
+    if (!fs::exists(radiosityPath)) {
+        const FormFactors reference = loadFormFactors(referencePath);
+        SolverOptions tight = o.solver;
+        tight.kind = chooseSolver(scene.size(), scene);
+        tight.tolerance = 1e-10;
+        saveRadiosity(solveRadiosity(scene, reference, tight).B, radiosityPath);
+    }
+
+    std::vector<std::vector<std::string>> runs;
+    const std::string self = selfPath();
+    for (const std::string& method : o.methods) {
+        auto base = [&] {
+            std::vector<std::string> a = {self, "bench-run", scenePath, "--method", method, "--label", label,
+                                          "--reference", referencePath, "--reference-radiosity", radiosityPath,
+                                          "--solver", solverName(o.solver.kind), "--tolerance", shortNumber(o.solver.tolerance)};
+            if (o.subdivide > 0) a.insert(a.end(), {"--subdivide", std::to_string(o.subdivide)});
+            if (o.backend.threads > 0) a.insert(a.end(), {"--threads", std::to_string(o.backend.threads)});
+            return a;
+        };
+        if (method == "hemisphere") {
+            for (std::uint32_t k : o.sweepOrigins)
+                for (std::uint32_t s : o.sweepSamples) {
+                    auto a = base();
+                    a.insert(a.end(), {"--samples", std::to_string(s), "--origins", std::to_string(k)});
+                    runs.push_back(a);
+                }
+        } else {
+            for (std::uint32_t r : o.sweepResolutions) {
+                auto a = base();
+                a.insert(a.end(), {"--resolution", std::to_string(r), "--reduce", o.backend.reduce});
+                runs.push_back(a);
+            }
+        }
+    }
+    std::vector<BenchRecord> records;
+    int failures = 0;
+    reporter.line("method       setting        F s    solve s   rays/s     row mean |dF|  row L1    B rel mean   peak MiB");
+    for (const auto& args : runs) {
+        const ChildResult child = runChild(args);
+        if (child.status != 0) {
+            ++failures;
+            std::cerr << "hemirad: bench run failed (" << child.status << "):";
+            for (std::size_t k = 1; k < args.size(); ++k) std::cerr << ' ' << args[k];
+            std::cerr << '\n' << child.err;
+            continue;
+        }
+        const std::size_t start = child.out.rfind('{');
+        BenchRecord record = BenchRecord::parse(start == std::string::npos ? child.out : child.out.substr(start));
+        std::map<std::string, std::string> f(record.fields().begin(), record.fields().end());
+        std::string setting = f["method"] == "\"hemisphere\"" ? f["samples"] + " x " + f["origins"] : "R " + f["resolution"];
+        char line[256];
+        std::snprintf(line, sizeof line, "%-12s %-12s %8.3f %8.3f %9.3g %14.4g %9.4g %12.4g %9.0f",
+                      f["method"].substr(1, f["method"].size() - 2).c_str(), setting.c_str(), std::stod(f["t_ff"]),
+                      std::stod(f["t_solve"]), std::stod(f["rays_per_s"]), std::stod(f["err_mean"]),
+                      std::stod(f["err_row_l1"]), std::stod(f["b_rel_mean"]), std::stod(f["peak_rss_mib"]));
+        reporter.line(line);
+        records.push_back(std::move(record));
+    }
+    {
+        AtomicFile csv(o.output, false);
+        csv.stream() << toCsv(records);
+        csv.commit();
+    }
+    if (!o.jsonPath.empty()) {
+        AtomicFile json(o.jsonPath, false);
+        json.stream() << toJsonArray(records);
+        json.commit();
+    }
+    reporter.line("bench: wrote " + o.output + (o.jsonPath.empty() ? "" : " and " + o.jsonPath));
+    if (failures) throw Error("bench: " + std::to_string(failures) + " run(s) failed");
+    return 0;
+}
+
+}  // namespace hemirad
