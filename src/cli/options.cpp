@@ -133,6 +133,8 @@ const std::map<std::string, Flag>& flags() {
         {"--all-rows", {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.allRows = true; }}},
         {"--enforce-reciprocity",
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.enforceReciprocity = true; }}},
+        {"--normalize-rows",
+         {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.normalizeRows = true; }}},
         {"--ff", {{"solve", "render"}, true, [](Options& o, const std::string&, const std::string& v) { o.ffPath = v; }}},
         {"--recompute-ff", {{"solve", "render"}, false, [](Options& o, const std::string&, const std::string&) { o.recomputeFf = true; }}},
         {"--solver", {kSolving, true,
@@ -302,6 +304,7 @@ form factors (formfactors, solve, render):
   --no-parents           hemicube: draw every patch, not subdivided parents whole (reference path)
   --all-rows             also compute rows of black patches (rho = 0; skipped by default)
   --enforce-reciprocity  make A_i F_ij = A_j F_ji by averaging each pair
+  --normalize-rows       rescale every row to sum 1 (closed scenes without mirrors; after reciprocity)
   --ff FILE              (solve, render) reuse F from FILE when its scene hash matches;
                          create FILE when it does not exist
   --recompute-ff         (solve, render) recompute F and overwrite FILE

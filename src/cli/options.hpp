@@ -32,6 +32,7 @@ struct Options {
     BackendOptions backend;
     bool allRows = false;
     bool enforceReciprocity = false;
+    bool normalizeRows = false;
     std::string ffPath;                  ///< --ff: stored F to reuse (or to create)
     bool recomputeFf = false;
 

@@ -85,6 +85,12 @@ FormFactors obtainFormFactors(const Scene& scene, const Options& options, Timing
                       " entries replaced by the pair's area-weighted mean (A_i F_ij + A_j F_ji) / 2");
         reporter.formFactorStats(computeStats(F, scene), F.memoryBytes());
     }
+    if (options.normalizeRows) {
+        if (scene.hasMirrors())
+            throw UsageError("--normalize-rows: rows of extended form factors (mirrors) need not sum to 1");
+        const double worst = normalizeRows(F);
+        reporter.line("form factors: rows normalised to sum 1 (largest correction " + std::to_string(worst) + ")");
+    }
     if (!options.ffPath.empty() && !reuse) {
         timings.start("write F");
         saveFormFactors(F, options.ffPath);

@@ -213,6 +213,20 @@ std::size_t enforceReciprocity(FormFactors& F, const Scene& scene) {
     return changed;
 }
 
+double normalizeRows(FormFactors& F) {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < F.size(); ++i) {
+        if (!F.rowComputed(i)) continue;
+        const double sum = F.rowSum(i);
+        if (!(sum > 0.0)) continue;
+        worst = std::max(worst, std::abs(sum - 1.0));
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k)
+            F.values()[k] = static_cast<float>(F.values()[k] / sum);
+    }
+    F.parameters["rows"] = "normalised to sum 1";
+    return worst;
+}
+
 double rowSumBound(const FormFactors& F) {
     double bound = 1.0;
     const auto it = F.parameters.find("row_sum_bound");

@@ -92,6 +92,11 @@ FormFactorStats computeStats(const FormFactors& F, const Scene& scene);
 /// Returns the number of pairs changed. Entries present in only one row get a partner.
 std::size_t enforceReciprocity(FormFactors& F, const Scene& scene);
 
+/// Rescales every computed row with a positive sum to sum exactly 1 (closed scenes without mirrors:
+/// removes the closure error that high albedo amplifies, physics.md). Returns the largest |sum - 1|
+/// corrected.
+double normalizeRows(FormFactors& F);
+
 /// Checks F before use: size, finite and >= 0 values, row sums <= maxRowSum. Without mirrors a row
 /// sums to at most 1; with mirrors a ray deposits its weight on every patch of its chain, so rows
 /// may reach 1 / (1 - s_max). Throws hemirad::Error naming `source`, the row and value.

@@ -125,16 +125,24 @@ Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverO
         channelOf[c] = same;
     }
 
-    for (const Channel& ch : channels)
-        if (ch.rho.maxCoeff() >= 1.0) {
-            const double lower = spectralLowerBound(F, ch.rho);
-            if (lower >= 1.0 - 1e-9) {
-                std::ostringstream msg;
-                msg << "solve: channel " << ch.names << " is singular: the spectral radius of R F is " << lower
-                    << " >= 1 (reflectance >= 1 in a closed part of the scene: no steady state exists)";
-                throw Error(msg.str());
-            }
+    // No steady state when the spectral radius of R F reaches 1: rho >= 1 in a closed part of the
+    // scene, or rows of F summing above 1 / rho (estimates made non-closed, e.g. by averaging).
+    // Cheap test first (row sums times rho below 1 bound the radius), power steps only if needed.
+    for (const Channel& ch : channels) {
+        double worstGain = 0.0;
+        for (std::size_t i = 0; i < n; ++i)
+            if (F.rowComputed(i)) worstGain = std::max(worstGain, ch.rho[Eigen::Index(i)] * F.rowSum(i));
+        if (worstGain < 1.0) continue;
+        const double lower = spectralLowerBound(F, ch.rho);
+        if (lower >= 1.0 - 1e-9) {
+            std::ostringstream msg;
+            msg << "solve: channel " << ch.names << " is singular: the spectral radius of R F is " << lower
+                << " >= 1 (largest rho x row sum " << worstGain << "): no steady state exists";
+            if (ch.rho.maxCoeff() >= 1.0) msg << "; reflectance >= 1 in a closed part of the scene";
+            else msg << "; rows of F sum above 1 / rho (try --normalize-rows for a closed scene)";
+            throw Error(msg.str());
         }
+    }
 
     std::optional<detail::Transposed> Ft;
     std::optional<detail::SymmetricForm> symmetric;
