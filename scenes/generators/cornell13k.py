@@ -76,8 +76,12 @@ class ObjWriter:
         self.material = None
         self.counts = [0, 0, 0]    # triangles, quads, other
 
+    def number(self, c):
+        text = self.FMT % c
+        return "0.0000" if text == "-0.0000" else text
+
     def vertex(self, p):
-        key = " ".join(self.FMT % c for c in p).replace("-0.0000", "0.0000")
+        key = " ".join(self.number(c) for c in p)
         idx = self.vertex_index.get(key)
         if idx is None:
             self.vertex_text.append(key)
