@@ -139,6 +139,7 @@ int runBenchRun(const Options& o) {
         r.set("samples", double(o.backend.samples));
         r.set("origins", double(o.backend.origins));
         r.set("rays_per_patch", double(o.backend.samples) * o.backend.origins);
+        r.set("directions", o.backend.fixedDirections ? "fixed" : "rotated");
     } else {
         r.set("resolution", double(o.backend.resolution));
         r.set("reduce", o.backend.reduce);
@@ -213,15 +214,19 @@ int runBench(const Options& o) {
 
     // The reference: a high-resolution hemisphere F over every row, and its radiosity.
     fs::create_directories(o.cacheDir);
-    const std::string key = hexHash(scene.geometryHash()) + "-hemisphere-" + std::to_string(o.referenceSamples) + "x" +
-                            std::to_string(o.referenceOrigins);
+    const std::string key = hexHash(scene.geometryHash()) + "-hemisphere-jittered-" + std::to_string(o.referenceSamples) +
+                            "x" + std::to_string(o.referenceOrigins);
     const std::string referencePath = (fs::path(o.cacheDir) / (key + ".hff")).string();
     if (!fs::exists(referencePath)) {
-        reporter.line("bench: computing the reference F (" + std::to_string(o.referenceSamples) + " directions x " +
+        reporter.line("bench: computing the reference F (" + std::to_string(o.referenceSamples) + " jittered directions x " +
                       std::to_string(o.referenceOrigins) + " origins, every row) into " + referencePath);
         BackendOptions b = o.backend;
         b.samples = o.referenceSamples;
         b.origins = o.referenceOrigins;
+        // Jittered directions and a seed of its own: the reference shares no discretisation with the runs.
+        b.jitter = true;
+        b.fixedDirections = false;
+        b.seed = 0x5eed;
         const FormFactorRun run = computeFormFactors(scene, "hemisphere", b, neededRows(scene, true),
                                                      reporter.progress("reference", double(b.samples) * b.origins));
         saveFormFactors(run.F, referencePath);
@@ -253,6 +258,7 @@ int runBench(const Options& o) {
                                           "--solver", solverName(o.solver.kind), "--tolerance", shortNumber(o.solver.tolerance)};
             if (o.subdivide > 0) a.insert(a.end(), {"--subdivide", std::to_string(o.subdivide)});
             if (o.backend.threads > 0) a.insert(a.end(), {"--threads", std::to_string(o.backend.threads)});
+            if (o.backend.fixedDirections) a.push_back("--fixed-directions");
             return a;
         };
         if (method == "hemisphere") {

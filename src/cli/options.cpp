@@ -130,6 +130,9 @@ const std::map<std::string, Flag>& flags() {
                        }}},
         {"--no-parents", {kComputing, false,
                           [](Options& o, const std::string&, const std::string&) { o.backend.parentPolygons = false; }}},
+        {"--fixed-directions",
+         {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.backend.fixedDirections = true; }}},
+        {"--jitter", {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.backend.jitter = true; }}},
         {"--all-rows", {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.allRows = true; }}},
         {"--enforce-reciprocity",
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.enforceReciprocity = true; }}},
@@ -297,6 +300,8 @@ form factors (formfactors, solve, render):
   --origins K            hemisphere: ray origins per patch, stratified over its area (default 1 = centroid)
   --max-depth D          mirror reflections followed (default 8)
   --seed S               hemisphere: seed for origin jitter and pattern rotation (default 1)
+  --fixed-directions     hemisphere: no random rotation of the pattern (the reference system's method)
+  --jitter               hemisphere: a random direction within each Beckers cell (unbiased, stratified)
   --resolution R         hemicube: top face R x R pixels, sides R x R/2 (even, default 128)
   --reduce cpu|gpu       hemicube: sum pixels into rows on the CPU (default) or in a compute shader
   --gl auto|egl|osmesa   hemicube: headless OpenGL API (default auto: EGL, then OSMesa)
@@ -325,7 +330,7 @@ bench:
   --sweep-samples LIST   hemisphere directions (default 96,384,768,1536,3072)
   --sweep-origins LIST   hemisphere origins per patch (default 1)
   --sweep-resolutions LIST  hemicube resolutions (default 64,128,256)
-  --reference-samples N, --reference-origins K   the reference F (default 3072 x 16, hemisphere)
+  --reference-samples N, --reference-origins K   the reference F (default 4096 x 16, hemisphere, jittered)
   --cache DIR            where reference F and B are kept (default bench/cache)
   --json FILE            also write the results as JSON
   --label NAME           scene name in the results (default: the file name)

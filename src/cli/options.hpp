@@ -55,7 +55,7 @@ struct Options {
     std::vector<std::uint32_t> sweepSamples = {96, 384, 768, 1536, 3072};
     std::vector<std::uint32_t> sweepOrigins = {1};
     std::vector<std::uint32_t> sweepResolutions = {64, 128, 256};
-    std::uint32_t referenceSamples = 3072, referenceOrigins = 16;
+    std::uint32_t referenceSamples = 4096, referenceOrigins = 16;
     std::string cacheDir = "bench/cache";
     std::string jsonPath;
     std::string label;

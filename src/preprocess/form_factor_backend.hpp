@@ -21,6 +21,8 @@ struct BackendOptions {
     double minWeight = 1e-4;       ///< a mirror chain stops below this weight
     int threads = 0;               ///< worker threads; 0 = all cores
     std::uint64_t seed = 1;        ///< origin jitter and pattern rotation
+    bool fixedDirections = false;  ///< one pattern orientation for every origin (the reference system's way)
+    bool jitter = false;           ///< a random direction inside each Beckers cell (unbiased; for references)
     // Hemicube back end.
     std::uint32_t resolution = 128;  ///< top face R x R pixels, sides R x R/2 (R even)
     std::string reduce = "cpu";      ///< where pixels are summed into rows: "cpu" or "gpu"

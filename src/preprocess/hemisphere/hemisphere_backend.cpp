@@ -21,6 +21,7 @@ struct HemisphereBackend::Workspace {
     Workspace(std::size_t patches, bool mirrors)
         : row(patches, mirrors ? RowAccumulator::Mode::Weights : RowAccumulator::Mode::Counts) {}
     RowAccumulator row;
+    std::vector<float> jittered;  // this origin's cell directions when jittering
     std::vector<float> dirs;
     std::vector<PatchId> hits;
     std::vector<float> distances;
@@ -28,6 +29,7 @@ struct HemisphereBackend::Workspace {
 
 HemisphereBackend::HemisphereBackend(const BackendOptions& options) : m_options(options) {
     m_directions = beckersDirections(options.samples);
+    m_rings = beckersDiskCounts(options.samples);
 }
 
 HemisphereBackend::~HemisphereBackend() = default;
@@ -49,7 +51,8 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
             {"max_depth", std::to_string(m_options.maxDepth)},
             {"min_weight", std::to_string(m_options.minWeight)},
             {"seed", std::to_string(m_options.seed)},
-            {"directions", "beckers-disk area-median"}};
+            {"directions", std::string(m_options.jitter ? "beckers-disk jittered in cells" : "beckers-disk area-median") +
+                               (m_options.fixedDirections ? ", fixed" : ", rotated per origin")}};
 }
 
 void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) {
@@ -95,14 +98,20 @@ void HemisphereBackend::computeRow(PatchId i, Workspace& ws, RayCounts& counts) 
     std::uint64_t lost = 0;
     for (const Vec3& point : origins) {
         // A random rotation of the pattern about the normal per origin breaks aliasing between origins.
-        const double angle = 2.0 * kPi * random.uniform();
+        const double angle = m_options.fixedDirections ? 0.0 : 2.0 * kPi * random.uniform();
         const Vec3 tr = std::cos(angle) * t + std::sin(angle) * b;
         const Vec3 br = patch.normal.cross(tr);
         const float T[3] = {float(tr.x()), float(tr.y()), float(tr.z())};
         const float Bv[3] = {float(br.x()), float(br.y()), float(br.z())};
         const float Nn[3] = {float(patch.normal.x()), float(patch.normal.y()), float(patch.normal.z())};
+        const float* base = m_directions.data();
+        if (m_options.jitter) {
+            ws.jittered.resize(m_directions.size());
+            beckersJitteredDirections(m_rings, [&] { return random.uniform(); }, ws.jittered.data());
+            base = ws.jittered.data();
+        }
         for (std::uint32_t k = 0; k < N; ++k) {
-            const float* d = &m_directions[3 * k];
+            const float* d = base + 3 * k;
             for (int c = 0; c < 3; ++c) ws.dirs[3 * k + c] = d[0] * T[c] + d[1] * Bv[c] + d[2] * Nn[c];
         }
         const Vec3 lifted = point + m_rays->originOffset() * patch.normal;

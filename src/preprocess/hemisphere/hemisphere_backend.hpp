@@ -32,6 +32,7 @@ private:
     const Scene* m_scene = nullptr;
     std::unique_ptr<RayScene> m_rays;
     std::vector<float> m_directions;  ///< Beckers directions in the patch frame
+    std::vector<std::uint32_t> m_rings;  ///< Beckers cumulative counts (for jittered directions)
     std::vector<float> m_normals;     ///< per patch, 3 floats
     bool m_mirrors = false;
 };
