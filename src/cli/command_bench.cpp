@@ -13,7 +13,6 @@
 #include "engine/subdivide.hpp"
 
 #include <spawn.h>
-#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -34,10 +33,20 @@ using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+/// This process's peak resident memory. VmHWM, not getrusage: ru_maxrss survives exec, so a child
+/// would report its parent's peak.
 double peakRssMiB() {
-    rusage usage{};
-    getrusage(RUSAGE_SELF, &usage);
-    return usage.ru_maxrss / 1024.0;  // kilobytes on Linux
+    std::ifstream status("/proc/self/status");
+    std::string key;
+    while (status >> key) {
+        if (key == "VmHWM:") {
+            double kib = 0;
+            status >> kib;
+            return kib / 1024.0;
+        }
+        std::getline(status, key);
+    }
+    return 0.0;
 }
 
 // Reference radiosity cache: "HEMIRADB", N (uint64), then N x 3 doubles.
@@ -145,7 +154,15 @@ int runBenchRun(const Options& o) {
         r.set("reduce", o.backend.reduce);
         r.set("rays_per_patch", 3.0 * o.backend.resolution * o.backend.resolution);
     }
-    const FormFactorRun run = computeFormFactors(scene, o.method, o.backend, neededRows(scene, o.allRows));
+    FormFactorRun run = computeFormFactors(scene, o.method, o.backend, neededRows(scene, o.allRows));
+    if (o.enforceReciprocity) {
+        const auto t = Clock::now();
+        enforceReciprocity(run.F, scene);
+        r.set("t_reciprocity", since(t));
+    }
+    if (o.normalizeRows) normalizeRows(run.F);
+    r.set("postprocess", std::string(o.enforceReciprocity ? "reciprocity" : "") +
+                             (o.normalizeRows ? (o.enforceReciprocity ? "+normalised" : "normalised") : ""));
     r.set("t_bvh", run.prepareSeconds);
     r.set("t_ff", run.computeSeconds);
     r.set("t_stats", run.statsSeconds);
@@ -259,6 +276,8 @@ int runBench(const Options& o) {
             if (o.subdivide > 0) a.insert(a.end(), {"--subdivide", std::to_string(o.subdivide)});
             if (o.backend.threads > 0) a.insert(a.end(), {"--threads", std::to_string(o.backend.threads)});
             if (o.backend.fixedDirections) a.push_back("--fixed-directions");
+            if (o.enforceReciprocity) a.push_back("--enforce-reciprocity");
+            if (o.normalizeRows) a.push_back("--normalize-rows");
             return a;
         };
         if (method == "hemisphere") {
