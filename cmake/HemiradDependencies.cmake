@@ -31,6 +31,13 @@ hemirad_require(HEMIRAD_GLCOREARB_INCLUDE "libgl-dev")
 find_path(HEMIRAD_GLM_INCLUDE glm/glm.hpp)
 hemirad_require(HEMIRAD_GLM_INCLUDE "libglm-dev")
 
+if(HEMIRAD_WITH_GUI)
+  pkg_check_modules(HEMIRAD_GLFW QUIET IMPORTED_TARGET glfw3)
+  hemirad_require(HEMIRAD_GLFW_FOUND "libglfw3-dev")
+  pkg_check_modules(HEMIRAD_IMGUI QUIET IMPORTED_TARGET imgui)
+  hemirad_require(HEMIRAD_IMGUI_FOUND "libimgui-dev")
+endif()
+
 if(HEMIRAD_WITH_TESTS)
   find_package(doctest QUIET)
   hemirad_require(doctest_FOUND doctest-dev)

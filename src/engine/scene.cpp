@@ -4,6 +4,7 @@
 #include "engine/hash.hpp"
 #include "engine/polygon.hpp"
 
+#include <cmath>
 #include <limits>
 
 namespace hemirad {
@@ -104,6 +105,31 @@ std::uint64_t Scene::geometryHash() const {
         h.addValue(p.specular);
     }
     return h.value();
+}
+
+}  // namespace hemirad
+
+namespace hemirad {
+
+MirrorGroups groupMirrors(const Scene& scene) {
+    MirrorGroups g;
+    g.groupOfPatch.assign(scene.size(), 0);
+    const double tolerance = 1e-6 * scene.extent();
+    for (PatchId i = 0; i < scene.size(); ++i) {
+        const Patch& p = scene.patches[i];
+        if (!(p.specular > 0.0)) continue;
+        for (std::size_t k = 0; k < g.representative.size() && !g.groupOfPatch[i]; ++k) {
+            const Patch& q = scene.patches[g.representative[k]];
+            if (q.specular == p.specular && q.normal.dot(p.normal) > 1.0 - 1e-9 &&
+                std::abs((p.centroid - q.centroid).dot(q.normal)) <= tolerance)
+                g.groupOfPatch[i] = std::uint32_t(k + 1);
+        }
+        if (!g.groupOfPatch[i]) {
+            g.representative.push_back(i);
+            g.groupOfPatch[i] = std::uint32_t(g.representative.size());
+        }
+    }
+    return g;
 }
 
 }  // namespace hemirad

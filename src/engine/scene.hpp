@@ -93,6 +93,16 @@ public:
     std::uint64_t geometryHash() const;
 };
 
+/// Mirror patches grouped by plane and reflectance, so a whole (subdivided) mirror is handled as one
+/// planar reflector: groupOfPatch[i] = group + 1 (0 for non-mirrors), representative[g] = a patch of
+/// group g (its plane and s stand for the group).
+struct MirrorGroups {
+    std::vector<std::uint32_t> groupOfPatch;
+    std::vector<PatchId> representative;
+};
+/// Coplanar within 1e-6 of the scene extent, normals within 1e-9, equal s.
+MirrorGroups groupMirrors(const Scene& scene);
+
 /// Index of cell (i, j) in a triangle grid of n rows: row j has 2 (n - j) - 1 cells, i = 0 .. 2 (n - j) - 2.
 inline std::uint32_t triangleCell(std::uint32_t n, std::uint32_t i, std::uint32_t j) {
     return j * (2 * n - j) + i;

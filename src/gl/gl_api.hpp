@@ -20,6 +20,8 @@ namespace hemirad::gl {
     X(BindTexture, PFNGLBINDTEXTUREPROC)                                                             \
     X(BindVertexArray, PFNGLBINDVERTEXARRAYPROC)                                                     \
     X(BlendFunc, PFNGLBLENDFUNCPROC)                                                                 \
+    X(BlendColor, PFNGLBLENDCOLORPROC)                                                          \
+    X(BlendFunci, PFNGLBLENDFUNCIPROC)                                                          \
     X(BlitFramebuffer, PFNGLBLITFRAMEBUFFERPROC)                                                     \
     X(BufferData, PFNGLBUFFERDATAPROC)                                                               \
     X(BufferSubData, PFNGLBUFFERSUBDATAPROC)                                                         \
@@ -34,6 +36,8 @@ namespace hemirad::gl {
     X(ClearStencil, PFNGLCLEARSTENCILPROC)                                                           \
     X(ClipControl, PFNGLCLIPCONTROLPROC)                                                             \
     X(ColorMask, PFNGLCOLORMASKPROC)                                                                 \
+    X(ColorMaski, PFNGLCOLORMASKIPROC)                                                          \
+    X(CopyImageSubData, PFNGLCOPYIMAGESUBDATAPROC)                                              \
     X(CompileShader, PFNGLCOMPILESHADERPROC)                                                         \
     X(CreateProgram, PFNGLCREATEPROGRAMPROC)                                                         \
     X(CreateShader, PFNGLCREATESHADERPROC)                                                           \
@@ -53,6 +57,8 @@ namespace hemirad::gl {
     X(DrawBuffers, PFNGLDRAWBUFFERSPROC)                                                             \
     X(DrawElements, PFNGLDRAWELEMENTSPROC)                                                           \
     X(Enable, PFNGLENABLEPROC)                                                                       \
+    X(Enablei, PFNGLENABLEIPROC)                                                                \
+    X(Disablei, PFNGLDISABLEIPROC)                                                              \
     X(EnableVertexAttribArray, PFNGLENABLEVERTEXATTRIBARRAYPROC)                                     \
     X(Finish, PFNGLFINISHPROC)                                                                       \
     X(Flush, PFNGLFLUSHPROC)                                                                         \

@@ -81,7 +81,7 @@ TEST_CASE("Runtime errors exit with status 1 and name the file") {
     CHECK(r.output.find("hemirad: error: /nonexistent/box.obj: cannot open") != std::string::npos);
 }
 
-TEST_CASE("solve writes the documented CSV; the unit cube's floor emits and everything is finite") {
+TEST_CASE("solve writes the documented CSV, the unit cube's floor emits and everything is finite") {
     const auto dir = tempDir("cli-solve");
     const std::string csv = (dir / "B.csv").string();
     const Result r = runHemirad("solve " + scene("unit_cube.obj") + " -o " + csv + " --samples 768 --origins 16 --quiet");

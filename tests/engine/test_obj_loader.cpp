@@ -119,7 +119,7 @@ TEST_CASE("OBJ: empty, binary, line-only and unknown-statement files are rejecte
     CHECK_THROWS_WITH_AS(loadObj(tempDir("dir").string(), w), doctest::Contains("is a directory"), Error);
 }
 
-TEST_CASE("OBJ: degenerate faces are skipped and counted; non-planar ones warned with the deviation") {
+TEST_CASE("OBJ: degenerate faces are skipped and counted, non-planar ones warned with the deviation") {
     std::vector<std::string> printed;
     Warnings w([&](const std::string& m) { printed.push_back(m); });
     const Scene s = loadText("d.obj",

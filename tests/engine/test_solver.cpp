@@ -89,7 +89,7 @@ TEST_CASE("Furnace: a closed box with uniform rho and E has B = E / (1 - rho) fo
     }
 }
 
-TEST_CASE("All solvers agree on one non-symmetric system; the symmetric form gives the LU answer") {
+TEST_CASE("All solvers agree on one non-symmetric system, and the symmetric form gives the LU answer") {
     // Coloured, uneven reflectances and emission on the exact (reciprocal) cube F.
     Scene s = unitCube();
     const double rhos[6][3] = {{.7, .2, .1}, {.5, .5, .5}, {.1, .8, .3}, {.9, .4, .2}, {.3, .3, .9}, {.6, .7, .05}};
@@ -109,7 +109,7 @@ TEST_CASE("All solvers agree on one non-symmetric system; the symmetric form giv
     }
 }
 
-TEST_CASE("Black patches (rho = 0) keep B = E; their rows need not be computed") {
+TEST_CASE("Black patches (rho = 0) keep B = E and their rows need not be computed") {
     Scene s = cubeWith(0.5);
     s.patches[0].rho = Rgb::Zero();
     s.patches[0].emission = Rgb::Constant(2.0);

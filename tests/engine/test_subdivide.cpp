@@ -74,7 +74,7 @@ TEST_CASE("Neighbouring quads with equal edge counts share the vertices of their
     CHECK(s.vertices.size() == 9 * 5);  // 5 rows of 9 points: the shared column is not duplicated
 }
 
-TEST_CASE("Polygons with more than four corners are fanned into triangle grids; small patches stay whole") {
+TEST_CASE("Polygons with more than four corners are fanned into triangle grids, small patches stay whole") {
     SceneBuilder b;
     b.disk(Vec3(0, 0, 0), 1.0, 6, true);
     b.rectangle(2, 5, 0, 0.1, 0, 0.1, true);

@@ -29,22 +29,10 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
     : m_scene(scene), m_geometry(geometry), m_layout(layout), m_reduction(reduction), m_limits(mirrors),
       m_mirrors(scene.hasMirrors()) {
     if (m_limits.maxDepth > 254) throw Error("hemicube: --max-depth is limited to 254 (8-bit stencil)");
-    // Mirror groups: coplanar patches (plane within 1e-6 of the scene extent) of equal reflectance.
-    m_groupOfPatch.assign(scene.size(), 0);
-    const double tolerance = 1e-6 * geometry.extent;
-    for (PatchId i = 0; i < scene.size(); ++i) {
-        const Patch& p = scene.patches[i];
-        if (!(p.specular > 0.0)) continue;
-        for (std::size_t g = 0; g < m_groupPatch.size() && !m_groupOfPatch[i]; ++g) {
-            const Patch& q = scene.patches[m_groupPatch[g]];
-            if (q.specular == p.specular && q.normal.dot(p.normal) > 1.0 - 1e-9 &&
-                std::abs((p.centroid - q.centroid).dot(q.normal)) <= tolerance)
-                m_groupOfPatch[i] = std::uint32_t(g + 1);
-        }
-        if (!m_groupOfPatch[i]) {
-            m_groupPatch.push_back(i);
-            m_groupOfPatch[i] = std::uint32_t(m_groupPatch.size());
-        }
+    {
+        MirrorGroups groups = groupMirrors(scene);
+        m_groupOfPatch = std::move(groups.groupOfPatch);
+        m_groupPatch = std::move(groups.representative);
     }
     for (int kind = 0; kind < 4; ++kind)
         if (geometry.rangeStart[kind + 1] > geometry.rangeStart[kind])

@@ -1,0 +1,52 @@
+#version 450
+// Viewer present pass: shows one layer of the offscreen target in the window, tone-mapped where it
+// holds radiance, with the selection and the hovered patch highlighted.
+in vec2 uv;
+layout(binding = 0) uniform usampler2D ids;
+layout(binding = 1) uniform sampler2D layerTexture;
+layout(std430, binding = 2) readonly buffer PatchFlags {
+    uint flags[];        // bit 0 selected
+};
+layout(std430, binding = 3) readonly buffer RowValues { float rowValue[]; };
+
+uniform int layer;        // 0 radiance, 1 patch id, 2 emission, 3 reflectance, 4 specular, 5 F row
+uniform float exposure;
+uniform uint hovered;     // patch id + 1, 0 = none
+uniform float rowMax;     // largest F_ij of the inspected row (log colour scale)
+
+out vec4 color;
+
+vec3 srgb(vec3 linear) {
+    const vec3 c = clamp(linear, 0.0, 1.0);
+    return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
+}
+
+vec3 hashColor(uint id) {
+    uint h = id * 2654435761u;
+    return vec3(float((h >> 16) & 255u), float((h >> 8) & 255u), float(h & 255u)) / 255.0 * 0.8 + 0.2;
+}
+
+// Perceptual ramp (dark blue -> yellow) for form factors on a log scale over 4 decades.
+vec3 ramp(float t) {
+    return clamp(vec3(-0.3 + 1.6 * t, 0.1 + 0.9 * t * (1.4 - t) + 0.3 * t, 0.6 - 0.5 * t + 0.3 * (1.0 - t)), 0.0, 1.0);
+}
+
+void main() {
+    const ivec2 p = ivec2(gl_FragCoord.xy);
+    const uint id = texelFetch(ids, p, 0).r;
+    vec3 c;
+    if (layer == 1) {
+        c = id == 0u ? vec3(0.0) : hashColor(id);
+    } else if (layer == 5) {
+        const float v = id == 0u ? 0.0 : rowValue[id - 1u];
+        c = v > 0.0 ? ramp(clamp(1.0 + log(v / rowMax) / log(10000.0), 0.0, 1.0)) : vec3(0.05);
+    } else {
+        const vec3 value = texelFetch(layerTexture, p, 0).rgb;
+        c = (layer == 0 || layer == 2) ? srgb(value * exposure) : value;
+    }
+    if (id != 0u) {
+        if ((flags[id - 1u] & 1u) != 0u) c = mix(c, vec3(1.0, 0.55, 0.1), 0.35);
+        if (id == hovered) c = mix(c, vec3(1.0), 0.25);
+    }
+    color = vec4(c, 1.0);
+}

@@ -1,0 +1,436 @@
+// hemirad-gui application state: loading, selection, undoable material edits, the worker job.
+#include "ui/app_state.hpp"
+
+#include "engine/error.hpp"
+#include "engine/form_factor_file.hpp"
+#include "engine/obj_loader.hpp"
+#include "engine/obj_writer.hpp"
+#include "engine/result_writer.hpp"
+#include "engine/tone_map.hpp"
+#include "engine/vertex_radiosity.hpp"
+#include "preprocess/form_factor_job.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+#include <sstream>
+
+namespace hemirad::ui {
+
+using Clock = std::chrono::steady_clock;
+
+/// One background computation: optional form factors (all missing rows), then the solve. It works on
+/// copies, so the user may keep editing; results are applied by poll() on the UI thread.
+struct AppState::Job {
+    std::thread thread;
+    std::atomic<bool> cancel{false};
+    std::atomic<bool> finished{false};
+    mutable std::mutex mutex;
+    JobStatus status;
+    Clock::time_point start = Clock::now();
+
+    // Inputs.
+    Scene scene;
+    std::shared_ptr<const FormFactors> F;
+    bool computeF = false;
+    PipelineSettings settings;
+    std::vector<Rgb> warmStart;
+    std::uint64_t materialsRevision = 0;
+
+    // Outputs.
+    std::shared_ptr<const FormFactors> newF;
+    std::optional<FormFactorStats> stats;
+    Radiosity result;
+    std::string error;
+    std::vector<std::string> messages;
+    std::vector<std::pair<std::string, double>> timings;
+
+    void setStage(const std::string& stage, double progress) {
+        std::lock_guard<std::mutex> lock(mutex);
+        status.stage = stage;
+        status.progress = progress;
+    }
+
+    void run() {
+        try {
+            std::shared_ptr<const FormFactors> F = this->F;
+            if (computeF) {
+                // Rows the materials need that F lacks (all of them when there is no usable F).
+                std::vector<PatchId> rows;
+                for (PatchId i : neededRows(scene, false))
+                    if (!F || !F->rowComputed(i)) rows.push_back(i);
+                setStage("form factors", 0.0);
+                auto progress = [this](std::size_t done, std::size_t total, double) {
+                    setStage("form factors", total ? double(done) / double(total) : 1.0);
+                };
+                FormFactorRun run = computeFormFactors(scene, settings.method, settings.backend, rows, progress, &cancel);
+                timings.emplace_back("acceleration structure", run.prepareSeconds);
+                timings.emplace_back("form factors", run.computeSeconds);
+                std::ostringstream msg;
+                msg << "form factors: " << settings.method << ", " << rows.size() << " rows in " << run.computeSeconds
+                    << " s; row sums " << run.stats.rowSumMin << ".." << run.stats.rowSumMax << ", reciprocity (mean) "
+                    << run.stats.reciprocityMean << ", lost "
+                    << (rows.empty() ? 0.0 : 100.0 * run.counts.lostWeight / double(rows.size())) << "%";
+                messages.push_back(msg.str());
+                if (F) {
+                    auto merged = std::make_shared<FormFactors>(*F);
+                    merged->replaceRows(run.F);
+                    F = merged;
+                } else {
+                    F = std::make_shared<FormFactors>(std::move(run.F));
+                }
+                stats = computeStats(*F, scene);
+                newF = F;
+            }
+            if (cancel) throw Error("cancelled");
+            setStage("solve", 0.0);
+            const auto t0 = Clock::now();
+            result = solveRadiosity(scene, *F, settings.solver, warmStart.size() == scene.size() ? &warmStart : nullptr);
+            const std::string solver = result.reports.empty() ? solverName(settings.solver.kind) : result.reports[0].solver;
+            timings.emplace_back("solve (" + solver + ")", std::chrono::duration<double>(Clock::now() - t0).count());
+        } catch (const std::exception& e) {
+            error = e.what();
+        }
+        finished = true;
+    }
+};
+
+AppState::AppState() : m_start(Clock::now()) {}
+
+AppState::~AppState() {
+    if (m_job) {
+        m_job->cancel = true;
+        if (m_job->thread.joinable()) m_job->thread.join();
+    }
+}
+
+void AppState::addLog(const std::string& text, bool isError) {
+    m_log.push_back({std::chrono::duration<double>(Clock::now() - m_start).count(), text, isError});
+    if (m_log.size() > 2000) m_log.erase(m_log.begin(), m_log.begin() + 500);
+}
+
+JobStatus AppState::job() const {
+    if (!m_job) return {};
+    std::lock_guard<std::mutex> lock(m_job->mutex);
+    JobStatus s = m_job->status;
+    s.running = !m_job->finished;
+    s.elapsed = std::chrono::duration<double>(Clock::now() - m_job->start).count();
+    return s;
+}
+
+bool AppState::isSelected(PatchId id) const {
+    return std::find(m_selection.begin(), m_selection.end(), id) != m_selection.end();
+}
+
+void AppState::setScene(Scene scene, const std::string& path) {
+    cancel();
+    wait();
+    poll();
+    m_scene = std::make_unique<Scene>(std::move(scene));
+    m_scenePath = path;
+    m_F.reset();
+    m_stats.reset();
+    m_B.assign(m_scene->size(), Rgb::Zero());
+    for (PatchId i = 0; i < m_scene->size(); ++i) m_B[i] = m_scene->patches[i].emission;
+    m_reports.clear();
+    m_timings.clear();
+    m_selection.clear();
+    m_undo.clear();
+    m_redo.clear();
+    m_fStale = false;
+    m_bStale = true;
+    m_dirty = false;
+    m_pendingResolve = false;
+    bump();
+}
+
+bool AppState::loadScene(const std::string& path) {
+    try {
+        std::vector<std::string> warnings;
+        Warnings sink([&](const std::string& m) { warnings.push_back(m); });
+        Scene scene = loadObj(path, sink);
+        setScene(std::move(scene), path);
+        for (const std::string& w : warnings) addLog("warning: " + w, false);
+        std::ostringstream msg;
+        msg << "loaded " << path << ": " << m_scene->size() << " patches" << (m_scene->hasMirrors() ? ", with mirrors" : "");
+        if (sink.count()) msg << "; " << sink.summary();
+        info(msg.str());
+        return true;
+    } catch (const std::exception& e) {
+        error(e.what());
+        return false;
+    }
+}
+
+bool AppState::saveScene(const std::string& path) {
+    if (!hasScene()) return false;
+    try {
+        saveObj(*m_scene, path);
+        m_scenePath = path;
+        m_dirty = false;
+        info("saved " + path + " (and its .mtl)");
+        return true;
+    } catch (const std::exception& e) {
+        error(e.what());
+        return false;
+    }
+}
+
+void AppState::select(PatchId id, bool additive) {
+    if (!hasScene() || id >= m_scene->size()) return;
+    if (!additive) m_selection.clear();
+    std::vector<PatchId> add{id};
+    if (selectionMode == SelectionMode::Object) {
+        add.clear();
+        const std::uint32_t object = m_scene->patches[id].object;
+        for (PatchId i = 0; i < m_scene->size(); ++i)
+            if (m_scene->patches[i].object == object) add.push_back(i);
+    }
+    for (PatchId i : add)
+        if (!isSelected(i)) m_selection.push_back(i);
+}
+
+void AppState::clearSelection() { m_selection.clear(); }
+
+AppState::Snapshot AppState::snapshot(const std::vector<PatchId>& ids) const {
+    Snapshot s;
+    for (PatchId i : ids) {
+        const Patch& p = m_scene->patches[i];
+        s.emission.push_back(p.emission);
+        s.rho.push_back(p.rho);
+        s.specular.push_back(p.specular);
+    }
+    return s;
+}
+
+void AppState::restore(const std::vector<PatchId>& ids, const Snapshot& s) {
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+        Patch& p = m_scene->patches[ids[k]];
+        p.emission = s.emission[k];
+        p.rho = s.rho[k];
+        p.specular = s.specular[k];
+    }
+}
+
+void AppState::materialsChanged(bool specularChanged) {
+    m_dirty = true;
+    ++m_materialsRevision;
+    bump();
+    // F depends on geometry and mirrors only (Scene::geometryHash); a diffuse or emission edit
+    // keeps it, and rows of patches that stop being black are added on the next run.
+    // Undoing a mirror edit makes F valid again.
+    if (m_F) m_fStale = m_scene->geometryHash() != m_fGeometryHash;
+    m_bStale = true;
+    if (specularChanged) info("mirror reflectance changed: form factors must be recomputed");
+    if (autoResolve && m_F && !m_fStale) {
+        bool rowsMissing = false;
+        for (PatchId i : neededRows(*m_scene, false)) rowsMissing |= !m_F->rowComputed(i);
+        if (m_job && !m_job->finished) m_pendingResolve = true;
+        else if (rowsMissing) runPipeline();
+        else resolve();
+    }
+}
+
+void AppState::editMaterial(const MaterialEdit& edit) {
+    if (!hasScene() || m_selection.empty()) return;
+    const auto check = [&](const Rgb& c, const char* what, bool unit) {
+        if (!c.allFinite() || (c < 0.0).any() || (unit && (c > 1.0).any()))
+            throw Error(std::string(what) + " must be finite and " + (unit ? "in [0, 1]" : ">= 0"));
+    };
+    try {
+        if (edit.emission) check(*edit.emission, "emission", false);
+        if (edit.rho) check(*edit.rho, "diffuse reflectance", true);
+        if (edit.specular && !(*edit.specular >= 0.0 && *edit.specular <= 1.0))
+            throw Error("mirror reflectance must be in [0, 1]");
+    } catch (const Error& e) {
+        error(e.what());
+        return;
+    }
+    UndoStep step;
+    step.ids = m_selection;
+    step.before = snapshot(step.ids);
+    bool specularChanged = false;
+    for (PatchId i : step.ids) {
+        Patch& p = m_scene->patches[i];
+        if (edit.emission) p.emission = *edit.emission;
+        if (edit.rho) p.rho = *edit.rho;
+        if (edit.specular && *edit.specular != p.specular) {
+            p.specular = *edit.specular;
+            specularChanged = true;
+        }
+        if ((p.rho + p.specular > 1.0 + 1e-9).any())
+            addLog("warning: patch " + std::to_string(i) + " reflects more than it receives (rho + s > 1)", false);
+    }
+    step.after = snapshot(step.ids);
+    m_undo.push_back(std::move(step));
+    m_redo.clear();
+    materialsChanged(specularChanged);
+}
+
+void AppState::undo() {
+    if (m_undo.empty()) return;
+    UndoStep step = std::move(m_undo.back());
+    m_undo.pop_back();
+    restore(step.ids, step.before);
+    const bool specular = step.before.specular != step.after.specular;
+    m_redo.push_back(std::move(step));
+    info("undo material edit");
+    materialsChanged(specular);
+}
+
+void AppState::redo() {
+    if (m_redo.empty()) return;
+    UndoStep step = std::move(m_redo.back());
+    m_redo.pop_back();
+    restore(step.ids, step.after);
+    const bool specular = step.before.specular != step.after.specular;
+    m_undo.push_back(std::move(step));
+    info("redo material edit");
+    materialsChanged(specular);
+}
+
+void AppState::startJob(bool computeF) {
+    if (!hasScene()) return;
+    if (m_job && !m_job->finished) {
+        error("a computation is running; cancel it first");
+        return;
+    }
+    if (m_job && m_job->thread.joinable()) m_job->thread.join();
+    m_job = std::make_unique<Job>();
+    m_job->scene = *m_scene;
+    m_job->F = (m_fStale ? nullptr : m_F);
+    m_job->computeF = computeF;
+    m_job->settings = settings;
+    m_job->warmStart = m_B;
+    m_job->materialsRevision = m_materialsRevision;
+    m_job->thread = std::thread([job = m_job.get()] { job->run(); });
+}
+
+void AppState::runPipeline() {
+    if (!hasScene()) return;
+    bool needF = !m_F || m_fStale;
+    if (!needF)
+        for (PatchId i : neededRows(*m_scene, false)) needF |= !m_F->rowComputed(i);
+    info(needF ? "running: form factors and solve" : "running: solve (form factors are current)");
+    startJob(needF);
+}
+
+void AppState::resolve() {
+    if (!hasScene()) return;
+    if (!m_F || m_fStale) {
+        error("no current form factors: run the pipeline first");
+        return;
+    }
+    startJob(false);
+}
+
+void AppState::cancel() {
+    if (m_job && !m_job->finished) {
+        m_job->cancel = true;
+        info("cancelling...");
+    }
+}
+
+void AppState::wait() {
+    if (m_job && m_job->thread.joinable()) m_job->thread.join();
+}
+
+bool AppState::poll() {
+    if (!m_job || !m_job->finished) return false;
+    if (m_job->thread.joinable()) m_job->thread.join();
+    std::unique_ptr<Job> job = std::move(m_job);
+    for (const std::string& m : job->messages) info(m);
+    if (!job->error.empty()) {
+        if (job->error.find("cancelled") != std::string::npos) info("cancelled");
+        else error(job->error);
+        return false;
+    }
+    if (job->newF) {
+        m_F = job->newF;
+        m_stats = job->stats;
+        m_fGeometryHash = job->scene.geometryHash();
+        m_fStale = m_fGeometryHash != m_scene->geometryHash();
+    }
+    if (job->scene.size() == m_scene->size()) m_B = job->result.B;
+    m_reports = job->result.reports;
+    m_timings = job->timings;
+    for (const SolveReport& r : m_reports) {
+        std::ostringstream msg;
+        msg << "solve: " << r.solver << " (" << r.channels << ") " << (r.converged ? "converged" : "NOT converged") << " in "
+            << r.iterations << " iterations, residual " << r.residual << ", " << r.seconds << " s";
+        info(msg.str());
+    }
+    m_bStale = job->materialsRevision != m_materialsRevision;
+    bump();
+    if ((m_bStale && autoResolve) || m_pendingResolve) {
+        m_pendingResolve = false;
+        if (m_F && !m_fStale) resolve();
+    }
+    return true;
+}
+
+bool AppState::importFormFactors(const std::string& path) {
+    if (!hasScene()) return false;
+    try {
+        auto F = std::make_shared<FormFactors>(loadFormFactors(path));
+        checkFormFactorsMatch(*F, m_scene->geometryHash(), m_scene->size(), path);
+        m_stats = computeStats(*F, *m_scene);
+        m_F = std::move(F);
+        m_fGeometryHash = m_scene->geometryHash();
+        m_fStale = false;
+        m_bStale = true;
+        bump();
+        info("imported form factors from " + path);
+        return true;
+    } catch (const std::exception& e) {
+        error(e.what());
+        return false;
+    }
+}
+
+bool AppState::exportFormFactors(const std::string& path) {
+    if (!m_F) {
+        error("no form factors to export yet: run the pipeline");
+        return false;
+    }
+    try {
+        saveFormFactors(*m_F, path);
+        info("exported form factors to " + path);
+        return true;
+    } catch (const std::exception& e) {
+        error(e.what());
+        return false;
+    }
+}
+
+bool AppState::exportPly(const std::string& path) {
+    if (!hasScene()) return false;
+    try {
+        std::vector<double> lum;
+        for (const Rgb& b : m_B) lum.push_back(luminance(b) / kPi);
+        const double scale = autoExposure ? hemirad::autoExposure(std::move(lum), 0.9, 0.85) : exposure;
+        writeRadiosityPly(path, *m_scene, cornerRadiosity(), scale);
+        info("exported " + path);
+        return true;
+    } catch (const std::exception& e) {
+        error(e.what());
+        return false;
+    }
+}
+
+std::vector<float> AppState::formFactorRow(PatchId i) const {
+    if (!m_F || !hasScene() || i >= m_F->size() || !m_F->rowComputed(i)) return {};
+    std::vector<float> row(m_scene->size(), 0.0f);
+    for (std::uint64_t k = m_F->rowBegin(i); k < m_F->rowEnd(i); ++k) row[m_F->columns()[k]] = m_F->values()[k];
+    return row;
+}
+
+const std::vector<Rgb>& AppState::cornerRadiosity() {
+    if (m_cornerRevision != m_revision || m_corner.size() != (hasScene() ? m_scene->corners.size() : 0)) {
+        m_corner = hasScene() ? hemirad::cornerRadiosity(*m_scene, m_B, creaseDegrees) : std::vector<Rgb>{};
+        m_cornerRevision = m_revision;
+    }
+    return m_corner;
+}
+
+}  // namespace hemirad::ui

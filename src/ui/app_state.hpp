@@ -1,0 +1,176 @@
+// hemirad-gui's application state and the actions that change it. No window, no GL: the event loop
+// turns input into these calls, ImGui panels only read the state and call actions, and the tests
+// drive it headless. Long work (form factors, solves) runs on a worker thread.
+#pragma once
+
+#include "engine/form_factors.hpp"
+#include "engine/scene.hpp"
+#include "engine/solver.hpp"
+#include "preprocess/form_factor_backend.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace hemirad::ui {
+
+enum class Layer { Radiosity, PatchId, Emission, Reflectance, Specular, FormFactorRow };
+enum class SelectionMode { Patch, Object };
+
+struct PipelineSettings {
+    std::string method = "hemisphere";
+    BackendOptions backend;
+    SolverOptions solver;
+};
+
+/// A material change for the selected patches; unset fields stay as they are.
+struct MaterialEdit {
+    std::optional<Rgb> emission;  ///< E, W/m^2
+    std::optional<Rgb> rho;       ///< diffuse reflectance 0..1
+    std::optional<double> specular;
+};
+
+struct LogEntry {
+    double seconds;  ///< since the application started
+    std::string text;
+    bool error;
+};
+
+/// What the worker thread is doing, for the progress bar.
+struct JobStatus {
+    bool running = false;
+    std::string stage;      ///< "form factors", "solve"
+    double progress = 0.0;  ///< 0..1 within the stage
+    double elapsed = 0.0;
+};
+
+class AppState {
+public:
+    AppState();
+    ~AppState();
+    AppState(const AppState&) = delete;
+    AppState& operator=(const AppState&) = delete;
+
+    // --- State (read by panels and the viewer) -------------------------------------------------
+    bool hasScene() const { return m_scene != nullptr; }
+    const Scene& scene() const { return *m_scene; }
+    const std::string& scenePath() const { return m_scenePath; }
+    /// Bumped whenever geometry, materials or results change: the viewer re-uploads.
+    std::uint64_t revision() const { return m_revision; }
+
+    /// The current F (null before the first run); shared with the worker, never modified in place.
+    const FormFactors* formFactors() const { return m_F.get(); }
+    const std::optional<FormFactorStats>& formFactorStats() const { return m_stats; }
+    /// F was computed for another geometry or mirror setup: recompute before solving.
+    bool formFactorsStale() const { return m_fStale; }
+    /// Radiosity does not reflect the current materials (re-solve pending).
+    bool radiosityStale() const { return m_bStale; }
+    const std::vector<Rgb>& radiosity() const { return m_B; }
+    const std::vector<SolveReport>& solveReports() const { return m_reports; }
+    /// (stage, seconds) of the last pipeline run.
+    const std::vector<std::pair<std::string, double>>& timings() const { return m_timings; }
+
+    const std::vector<PatchId>& selection() const { return m_selection; }
+    SelectionMode selectionMode = SelectionMode::Patch;
+    bool isSelected(PatchId id) const;
+
+    bool dirty() const { return m_dirty; }  ///< unsaved material edits
+    bool canUndo() const { return !m_undo.empty(); }
+    bool canRedo() const { return !m_redo.empty(); }
+
+    PipelineSettings settings;
+    /// Re-solve by itself after material edits (warm start, F kept).
+    bool autoResolve = true;
+
+    // View settings (used by the viewer; kept here so tests and panels share them).
+    Layer layer = Layer::Radiosity;
+    bool gouraud = true;
+    bool autoExposure = true;
+    double exposure = 1.0;
+    bool showReflections = true;
+    double creaseDegrees = 45.0;
+
+    const std::vector<LogEntry>& log() const { return m_log; }
+    void info(const std::string& text) { addLog(text, false); }
+    void error(const std::string& text) { addLog(text, true); }
+
+    JobStatus job() const;
+
+    // --- Actions -----------------------------------------------------------------------------
+    /// Loads an OBJ (+MTL); on error the current scene stays and the error is logged. Returns success.
+    bool loadScene(const std::string& path);
+    /// Replaces the scene (tests, generators); F and radiosity are dropped.
+    void setScene(Scene scene, const std::string& path);
+    bool saveScene(const std::string& path);
+
+    void select(PatchId id, bool additive);
+    void clearSelection();
+    /// Applies an edit to the selection (undoable). Specular changes invalidate F; emission and
+    /// diffuse changes only need a re-solve, started at once when autoResolve is on.
+    void editMaterial(const MaterialEdit& edit);
+    void undo();
+    void redo();
+
+    /// Computes F if it is missing, stale or lacks rows the materials now need, then solves.
+    void runPipeline();
+    /// Solves with the current F (warm start from the last radiosity).
+    void resolve();
+    void cancel();
+    /// Called once a frame: applies a finished job's results. Returns true if something changed.
+    bool poll();
+    /// Blocks until the worker is idle (tests, --exit).
+    void wait();
+
+    bool importFormFactors(const std::string& path);
+    bool exportFormFactors(const std::string& path);
+    bool exportPly(const std::string& path);
+
+    /// Per-patch value of row `i` of F (the inspector's layer); empty when F or the row is missing.
+    std::vector<float> formFactorRow(PatchId i) const;
+    /// Per-corner radiosity for Gouraud shading (cached per revision).
+    const std::vector<Rgb>& cornerRadiosity();
+
+private:
+    struct Job;
+    struct Snapshot {
+        std::vector<Rgb> emission, rho;
+        std::vector<double> specular;
+    };
+    void addLog(const std::string& text, bool isError);
+    void startJob(bool computeF);
+    Snapshot snapshot(const std::vector<PatchId>& ids) const;
+    void restore(const std::vector<PatchId>& ids, const Snapshot& s);
+    void materialsChanged(bool specularChanged);
+    void bump() { ++m_revision; }
+
+    std::unique_ptr<Scene> m_scene;
+    std::string m_scenePath;
+    std::uint64_t m_revision = 1;
+    std::shared_ptr<const FormFactors> m_F;
+    std::optional<FormFactorStats> m_stats;
+    std::uint64_t m_fGeometryHash = 0;
+    std::uint64_t m_materialsRevision = 0;  ///< bumped by every material edit
+    bool m_pendingResolve = false;          ///< an edit arrived while a job ran
+    bool m_fStale = false, m_bStale = false, m_dirty = false;
+    std::vector<Rgb> m_B;
+    std::vector<SolveReport> m_reports;
+    std::vector<std::pair<std::string, double>> m_timings;
+    std::vector<PatchId> m_selection;
+    struct UndoStep {
+        std::vector<PatchId> ids;
+        Snapshot before, after;
+    };
+    std::vector<UndoStep> m_undo, m_redo;
+    std::vector<LogEntry> m_log;
+    std::chrono::steady_clock::time_point m_start;
+    std::vector<Rgb> m_corner;
+    std::uint64_t m_cornerRevision = 0;
+    std::unique_ptr<Job> m_job;
+};
+
+}  // namespace hemirad::ui

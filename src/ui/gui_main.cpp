@@ -1,0 +1,298 @@
+// hemirad-gui: the event loop. GLFW events become camera moves, picks and actions on AppState;
+// ImGui panels present the state; the viewer draws the scene behind them.
+#include "engine/error.hpp"
+#include "engine/result_writer.hpp"
+#include "engine/subdivide.hpp"
+#include "gl/gl_api.hpp"
+#include "ui/app_state.hpp"
+#include "ui/inspector.hpp"
+#include "ui/orbit_camera.hpp"
+#include "ui/panels.hpp"
+#include "ui/viewer.hpp"
+
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <string>
+#include <vector>
+
+using namespace hemirad;
+using namespace hemirad::ui;
+
+namespace {
+
+struct GuiOptions {
+    std::string scene;
+    bool run = false;
+    bool exitAfter = false;
+    std::string screenshot;
+    double subdivide = 0.0;
+    int width = 1280, height = 800;
+    PipelineSettings settings;
+};
+
+const char* kUsage =
+    "usage: hemirad-gui [SCENE.obj] [--subdivide L] [--method hemisphere|hemicube] [--samples N]\n"
+    "                   [--origins K] [--resolution R] [--size WxH] [--run] [--screenshot OUT.png] [--exit]\n"
+    "  --run          compute form factors and solve after loading\n"
+    "  --screenshot   once the view shows the results, save the window (with the UI) as a PNG\n"
+    "  --exit         quit after the screenshot (or at once without one)\n"
+    "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
+    "       (ctrl/shift + click adds); keys: F frame, C scene camera, Esc select none, Ctrl+Z/Y undo/redo\n";
+
+GuiOptions parse(int argc, char** argv) {
+    GuiOptions o;
+    auto value = [&](int& k, const char* flag) -> std::string {
+        if (k + 1 >= argc) throw Error(std::string(flag) + " needs a value");
+        return argv[++k];
+    };
+    auto number = [](const std::string& text, const char* flag) {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end || !(v > 0)) throw Error(std::string(flag) + " expects a positive number, got '" + text + "'");
+        return v;
+    };
+    for (int k = 1; k < argc; ++k) {
+        const std::string a = argv[k];
+        if (a == "--help" || a == "-h") {
+            std::cout << kUsage;
+            std::exit(0);
+        } else if (a == "--run") o.run = true;
+        else if (a == "--exit") o.exitAfter = true;
+        else if (a == "--screenshot") o.screenshot = value(k, "--screenshot");
+        else if (a == "--subdivide") o.subdivide = number(value(k, "--subdivide"), "--subdivide");
+        else if (a == "--method") {
+            o.settings.method = value(k, "--method");
+            if (o.settings.method != "hemisphere" && o.settings.method != "hemicube")
+                throw Error("--method expects hemisphere or hemicube, got '" + o.settings.method + "'");
+        } else if (a == "--samples") o.settings.backend.samples = std::uint32_t(number(value(k, "--samples"), "--samples"));
+        else if (a == "--origins") o.settings.backend.origins = std::uint32_t(number(value(k, "--origins"), "--origins"));
+        else if (a == "--resolution") {
+            o.settings.backend.resolution = std::uint32_t(number(value(k, "--resolution"), "--resolution"));
+            if (o.settings.backend.resolution % 2) throw Error("--resolution must be even");
+        } else if (a == "--size") {
+            const std::string v = value(k, "--size");
+            if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 64 || o.height < 64)
+                throw Error("--size expects WxH (at least 64x64), got '" + v + "'");
+        } else if (!a.empty() && a[0] == '-') throw Error("unknown option '" + a + "'");
+        else if (o.scene.empty()) o.scene = a;
+        else throw Error("more than one scene given: '" + a + "'");
+    }
+    return o;
+}
+
+struct Input {
+    bool pointerSeen = false;  // the pointer moved over the window at least once (no hover before)
+    bool dragging = false, moved = false;
+    double lastX = 0, lastY = 0, pressX = 0, pressY = 0;
+    int button = -1;
+    std::vector<std::string> dropped;
+};
+
+void onDrop(GLFWwindow* window, int count, const char** paths) {
+    auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
+    for (int k = 0; k < count; ++k) input->dropped.emplace_back(paths[k]);
+}
+
+void onCursor(GLFWwindow* window, double, double) {
+    static_cast<Input*>(glfwGetWindowUserPointer(window))->pointerSeen = true;
+}
+
+void onGlfwError(int code, const char* text) { std::fprintf(stderr, "hemirad-gui: GLFW error %d: %s\n", code, text); }
+
+/// Reads the window's back buffer (UI included) into a PNG, rows flipped to top-down.
+void screenshot(const std::string& path, int width, int height, GLenum buffer) {
+    std::vector<std::uint8_t> rgb(std::size_t(width) * height * 3), flipped(rgb.size());
+    gl::BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    gl::ReadBuffer(buffer);
+    gl::PixelStorei(GL_PACK_ALIGNMENT, 1);
+    gl::ReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+    for (int y = 0; y < height; ++y)
+        std::memcpy(&flipped[std::size_t(y) * width * 3], &rgb[std::size_t(height - 1 - y) * width * 3], std::size_t(width) * 3);
+    writePng(path, width, height, flipped);
+}
+
+std::string recentFilesPath() {
+    const char* config = std::getenv("XDG_CONFIG_HOME");
+    const char* home = std::getenv("HOME");
+    if (config && *config) return std::string(config) + "/hemirad/recent-files";
+    if (home && *home) return std::string(home) + "/.config/hemirad/recent-files";
+    return {};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    GuiOptions options;
+    try {
+        options = parse(argc, argv);
+    } catch (const Error& e) {
+        std::fprintf(stderr, "hemirad-gui: error: %s\n%s", e.what(), kUsage);
+        return 2;
+    }
+    glfwSetErrorCallback(onGlfwError);
+    if (!glfwInit()) {
+        std::fprintf(stderr, "hemirad-gui: error: cannot open a window (no display? try xvfb-run hemirad-gui ...)\n");
+        return 1;
+    }
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    GLFWwindow* window = glfwCreateWindow(options.width, options.height, "Hemirad", nullptr, nullptr);
+    if (!window) {
+        std::fprintf(stderr, "hemirad-gui: error: cannot create an OpenGL 4.5 core window\n");
+        glfwTerminate();
+        return 1;
+    }
+    glfwMakeContextCurrent(window);
+    glfwSwapInterval(1);
+    int status = 0;
+    try {
+        gl::loadApi([](const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }, "GLFW");
+        IMGUI_CHECKVERSION();
+        ImGui::CreateContext();
+        ImGui::GetIO().IniFilename = nullptr;  // layouts are not persisted between runs
+        ImGui::StyleColorsDark();
+        ImGui_ImplGlfw_InitForOpenGL(window, true);
+        ImGui_ImplOpenGL3_Init("#version 450");
+
+        AppState app;
+        app.settings = options.settings;
+        OrbitCamera camera;
+        Panels panels(recentFilesPath());
+        Input input;
+        LoopRequests requests;
+        glfwSetWindowUserPointer(window, &input);
+        glfwSetDropCallback(window, onDrop);
+        glfwSetCursorPosCallback(window, onCursor);  // ImGui 1.86's GLFW back end polls the cursor itself
+        if (!options.scene.empty()) {
+            panels.open(app, camera, options.scene);
+            if (app.hasScene() && options.subdivide > 0) {
+                app.setScene(subdivide(app.scene(), options.subdivide), options.scene);
+                char text[96];
+                std::snprintf(text, sizeof text, "subdivided to %zu patches (edges <= %g)", app.scene().size(), options.subdivide);
+                app.info(text);
+            }
+        }
+        if (options.run && app.hasScene()) app.runPipeline();
+        {
+            Viewer viewer;
+            Inspector inspector;
+            std::optional<PatchId> hovered;
+            int framesSinceDone = 0;
+            while (!glfwWindowShouldClose(window) && !requests.quit) {
+                glfwPollEvents();
+                app.poll();
+                ImGui_ImplOpenGL3_NewFrame();
+                ImGui_ImplGlfw_NewFrame();
+                ImGui::NewFrame();
+                ImGuiIO& io = ImGui::GetIO();
+                int width = 0, height = 0;
+                glfwGetFramebufferSize(window, &width, &height);
+
+                for (const std::string& path : input.dropped) panels.open(app, camera, path);
+                input.dropped.clear();
+
+                // Mouse on the view (not on a panel): orbit, pan, zoom, pick.
+                double x = 0, y = 0;
+                glfwGetCursorPos(window, &x, &y);
+                if (!io.WantCaptureMouse) {
+                    // No hover highlight in a scripted screenshot (Xvfb parks the pointer mid-window).
+                    hovered = input.pointerSeen && options.screenshot.empty() ? viewer.pick(int(x), int(y)) : std::nullopt;
+                    for (int b = 0; b < 3; ++b)
+                        if (ImGui::IsMouseClicked(b)) {
+                            input.dragging = true;
+                            input.moved = false;
+                            input.button = b;
+                            input.pressX = input.lastX = x;
+                            input.pressY = input.lastY = y;
+                        }
+                    if (io.MouseWheel != 0.0f) camera.zoom(io.MouseWheel);
+                } else {
+                    hovered.reset();
+                }
+                if (input.dragging) {
+                    const double dx = x - input.lastX, dy = y - input.lastY;
+                    if (std::abs(x - input.pressX) + std::abs(y - input.pressY) > 3) input.moved = true;
+                    if (input.moved) {
+                        if (input.button == 0 && !io.KeyShift) camera.orbit(dx, dy);
+                        else camera.pan(dx, dy, height);
+                    }
+                    input.lastX = x;
+                    input.lastY = y;
+                    if (ImGui::IsMouseReleased(input.button)) {
+                        if (!input.moved && input.button == 0) {
+                            if (const auto id = viewer.pick(int(x), int(y))) app.select(*id, io.KeyCtrl || io.KeyShift);
+                            else app.clearSelection();
+                        }
+                        input.dragging = false;
+                    }
+                }
+                if (!io.WantCaptureKeyboard && app.hasScene()) {
+                    if (ImGui::IsKeyPressed(GLFW_KEY_F)) camera.frame(app.scene());
+                    if (ImGui::IsKeyPressed(GLFW_KEY_C)) camera.useSceneCamera(app.scene());
+                    if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) app.clearSelection();
+                    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Z)) app.undo();
+                    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Y)) app.redo();
+                    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Q)) panels.guarded(app, "quit", [&] { requests.quit = true; });
+                }
+                if (glfwWindowShouldClose(window) && app.dirty()) {
+                    glfwSetWindowShouldClose(window, GLFW_FALSE);
+                    panels.guarded(app, "quit", [&] { requests.quit = true; });
+                }
+
+                panels.draw(app, camera, inspector, viewer.exposure(), requests);
+                ImGui::Render();
+                gl::BindFramebuffer(GL_FRAMEBUFFER, 0);
+                gl::Viewport(0, 0, width, height);
+                gl::ClearColor(0.08f, 0.08f, 0.09f, 1.0f);
+                gl::Clear(GL_COLOR_BUFFER_BIT);
+                try {
+                    viewer.render(app, camera, width, height, hovered);
+                } catch (const Error& e) {
+                    app.error(e.what());
+                }
+                if (!requests.exportImage.empty()) {
+                    try {
+                        screenshot(requests.exportImage, width, height, GL_BACK);
+                        app.info("exported " + requests.exportImage + " (the view, exposure " + std::to_string(viewer.exposure()) + ")");
+                    } catch (const Error& e) {
+                        app.error(e.what());
+                    }
+                    requests.exportImage.clear();
+                }
+                ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+
+                // --run --screenshot: once the results are in and drawn, save the window with its UI.
+                const bool done = !app.job().running;
+                framesSinceDone = done ? framesSinceDone + 1 : 0;
+                if (framesSinceDone >= 3 && (!options.screenshot.empty() || options.exitAfter)) {
+                    if (!options.screenshot.empty()) {
+                        screenshot(options.screenshot, width, height, GL_BACK);
+                        std::printf("hemirad-gui: wrote %s (%dx%d)\n", options.screenshot.c_str(), width, height);
+                        options.screenshot.clear();
+                    }
+                    if (options.exitAfter) requests.quit = true;
+                }
+                glfwSwapBuffers(window);
+            }
+            for (const LogEntry& e : app.log())
+                if (e.error) std::fprintf(stderr, "hemirad-gui: error: %s\n", e.text.c_str());
+        }
+        ImGui_ImplOpenGL3_Shutdown();
+        ImGui_ImplGlfw_Shutdown();
+        ImGui::DestroyContext();
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "hemirad-gui: error: %s\n", e.what());
+        status = 1;
+    }
+    glfwDestroyWindow(window);
+    glfwTerminate();
+    return status;
+}

@@ -1,0 +1,347 @@
+// ImGui panels of hemirad-gui.
+#include "ui/panels.hpp"
+
+#include "engine/atomic_file.hpp"
+#include "engine/error.hpp"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace hemirad::ui {
+namespace {
+
+const char* kLayerNames[] = {"Radiosity", "Patch id", "Emission", "Diffuse reflectance", "Specular", "F row of selection"};
+const char* kSolvers[] = {"auto", "lu", "cholesky", "cg", "bicgstab", "jacobi", "gauss-seidel", "southwell"};
+
+std::string formatNumber(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4g", v);
+    return text;
+}
+
+}  // namespace
+
+Panels::Panels(std::string recentFilesPath) : m_recentPath(std::move(recentFilesPath)) {
+    std::ifstream in(m_recentPath);
+    std::string line;
+    while (std::getline(in, line))
+        if (!line.empty() && m_recent.size() < 10) m_recent.push_back(line);
+}
+
+void Panels::remember(const std::string& path) {
+    const std::string absolute = std::filesystem::absolute(path).string();
+    m_recent.erase(std::remove(m_recent.begin(), m_recent.end(), absolute), m_recent.end());
+    m_recent.push_front(absolute);
+    while (m_recent.size() > 10) m_recent.pop_back();
+    if (m_recentPath.empty()) return;
+    try {
+        std::filesystem::create_directories(std::filesystem::path(m_recentPath).parent_path());
+        AtomicFile file(m_recentPath, false);
+        for (const std::string& p : m_recent) file.stream() << p << '\n';
+        file.commit();
+    } catch (const std::exception&) {
+        // Recent files are a convenience: a read-only home must not stop the program.
+    }
+}
+
+void Panels::guarded(AppState& app, const std::string& what, std::function<void()> action) {
+    if (!app.dirty()) {
+        action();
+        return;
+    }
+    m_confirmWhat = what;
+    m_confirmAction = std::move(action);
+    m_openConfirm = true;
+}
+
+void Panels::open(AppState& app, OrbitCamera& camera, const std::string& path) {
+    guarded(app, "open " + path, [this, &app, &camera, path] {
+        if (app.loadScene(path)) {
+            remember(path);
+            camera.useSceneCamera(app.scene());
+        }
+    });
+}
+
+void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, double viewExposure, LoopRequests& requests) {
+    menuBar(app, camera, requests);
+    const float width = ImGui::GetIO().DisplaySize.x, height = ImGui::GetIO().DisplaySize.y;
+    ImGui::SetNextWindowPos(ImVec2(8, 28), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
+    if (ImGui::Begin("Scene")) {
+        scenePanel(app, camera);
+        materialPanel(app);
+    }
+    ImGui::End();
+    ImGui::SetNextWindowPos(ImVec2(width - 348, 28), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+    if (ImGui::Begin("Pipeline")) pipelinePanel(app);
+    ImGui::End();
+    if (!app.selection().empty()) {
+        ImGui::SetNextWindowPos(ImVec2(width - 348, height * 0.45f), ImGuiCond_FirstUseEver);
+        if (ImGui::Begin("Selection")) selectionPanel(app, inspector, viewExposure);
+        ImGui::End();
+    }
+    ImGui::SetNextWindowPos(ImVec2(8, height - 168), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(width * 0.55f, 160), ImGuiCond_FirstUseEver);
+    if (ImGui::Begin("Log")) logPanel(app);
+    ImGui::End();
+    modals(app, camera, requests);
+}
+
+void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests) {
+    if (!ImGui::BeginMainMenuBar()) return;
+    auto prompt = [this](const char* purpose, const std::string& initial) {
+        m_pathPurpose = purpose;
+        std::snprintf(m_pathBuffer, sizeof m_pathBuffer, "%s", initial.c_str());
+        m_openPathPrompt = true;
+    };
+    const std::string stem = app.hasScene() ? std::filesystem::path(app.scenePath()).replace_extension().string() : "scene";
+    if (ImGui::BeginMenu("File")) {
+        if (ImGui::MenuItem("Open OBJ...")) prompt("Open OBJ", app.scenePath());
+        if (ImGui::BeginMenu("Recent files", !m_recent.empty())) {
+            for (const std::string& path : std::deque<std::string>(m_recent))
+                if (ImGui::MenuItem(path.c_str())) open(app, camera, path);
+            ImGui::EndMenu();
+        }
+        ImGui::Separator();
+        if (ImGui::MenuItem("Save scene as OBJ + MTL...", nullptr, false, app.hasScene())) prompt("Save scene", stem + "_edited.obj");
+        if (ImGui::MenuItem("Import F (.hff, .mtx)...", nullptr, false, app.hasScene())) prompt("Import F", stem + ".hff");
+        if (ImGui::MenuItem("Export F (.hff, .mtx)...", nullptr, false, app.formFactors() != nullptr)) prompt("Export F", stem + ".hff");
+        if (ImGui::MenuItem("Export PNG...", nullptr, false, app.hasScene())) prompt("Export PNG", stem + ".png");
+        if (ImGui::MenuItem("Export PLY...", nullptr, false, app.hasScene())) prompt("Export PLY", stem + ".ply");
+        ImGui::Separator();
+        if (ImGui::MenuItem("Quit", "Ctrl+Q")) guarded(app, "quit", [&requests] { requests.quit = true; });
+        ImGui::EndMenu();
+    }
+    if (ImGui::BeginMenu("Edit")) {
+        if (ImGui::MenuItem("Undo material edit", "Ctrl+Z", false, app.canUndo())) app.undo();
+        if (ImGui::MenuItem("Redo material edit", "Ctrl+Y", false, app.canRedo())) app.redo();
+        if (ImGui::MenuItem("Select none", "Esc", false, !app.selection().empty())) app.clearSelection();
+        ImGui::EndMenu();
+    }
+    if (ImGui::BeginMenu("View")) {
+        for (int k = 0; k < 6; ++k)
+            if (ImGui::MenuItem(kLayerNames[k], nullptr, int(app.layer) == k)) app.layer = Layer(k);
+        ImGui::Separator();
+        ImGui::MenuItem("Gouraud shading", nullptr, &app.gouraud);
+        ImGui::MenuItem("Mirrors show reflections", nullptr, &app.showReflections);
+        ImGui::MenuItem("Automatic exposure", nullptr, &app.autoExposure);
+        ImGui::Separator();
+        if (ImGui::MenuItem("Frame scene", "F", false, app.hasScene())) camera.frame(app.scene());
+        if (ImGui::MenuItem("Scene camera", "C", false, app.hasScene())) camera.useSceneCamera(app.scene());
+        ImGui::EndMenu();
+    }
+    const JobStatus job = app.job();
+    if (job.running) ImGui::Text("   %s %.0f%%  (%.1f s)", job.stage.c_str(), 100.0 * job.progress, job.elapsed);
+    else if (app.formFactorsStale()) ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "   F is stale: press Run");
+    else if (app.radiosityStale() && app.formFactors()) ImGui::TextColored(ImVec4(1, 0.9f, 0.3f, 1), "   radiosity out of date");
+    ImGui::EndMainMenuBar();
+}
+
+void Panels::scenePanel(AppState& app, OrbitCamera& camera) {
+    if (!app.hasScene()) {
+        ImGui::TextWrapped("No scene. File > Open OBJ, or drop an .obj file on the window.");
+        return;
+    }
+    const Scene& s = app.scene();
+    ImGui::TextWrapped("%s%s", app.scenePath().c_str(), app.dirty() ? "  (edited)" : "");
+    ImGui::Text("%zu patches, %zu objects%s", s.size(), s.objects.size(), s.hasMirrors() ? ", mirrors" : "");
+    int mode = int(app.selectionMode);
+    ImGui::Text("Pick:");
+    ImGui::SameLine();
+    ImGui::RadioButton("patch", &mode, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("object", &mode, 1);
+    app.selectionMode = SelectionMode(mode);
+    int layer = int(app.layer);
+    ImGui::Combo("Layer", &layer, kLayerNames, 6);
+    app.layer = Layer(layer);
+    ImGui::Checkbox("Gouraud", &app.gouraud);
+    ImGui::SameLine();
+    ImGui::Checkbox("Reflections", &app.showReflections);
+    ImGui::Checkbox("Auto exposure", &app.autoExposure);
+    if (!app.autoExposure) {
+        float ev = float(std::log2(std::max(app.exposure, 1e-30)));
+        if (ImGui::SliderFloat("Exposure (EV)", &ev, -20.0f, 20.0f, "%.1f")) app.exposure = std::exp2(double(ev));
+    }
+    if (ImGui::Button("Frame scene")) camera.frame(s);
+    ImGui::SameLine();
+    if (ImGui::Button("Scene camera")) camera.useSceneCamera(s);
+}
+
+void Panels::materialPanel(AppState& app) {
+    if (!app.hasScene() || app.selection().empty()) return;
+    ImGui::Separator();
+    ImGui::Text("Material of %zu selected patch%s", app.selection().size(), app.selection().size() == 1 ? "" : "es");
+    const Scene& s = app.scene();
+    if (app.selection() != m_editorSelection) {
+        // Start from the first selected patch's values.
+        m_editorSelection = app.selection();
+        const Patch& p = s.patches[m_editorSelection.front()];
+        const double strength = std::max({p.emission[0], p.emission[1], p.emission[2]});
+        m_strength = float(strength);
+        for (int c = 0; c < 3; ++c) {
+            m_emission[c] = strength > 0 ? float(p.emission[c] / strength) : 1.0f;
+            m_rho[c] = float(p.rho[c]);
+        }
+        m_specular = float(p.specular);
+    }
+    MaterialEdit edit;
+    ImGui::ColorEdit3("Emission colour", m_emission);
+    if (ImGui::IsItemDeactivatedAfterEdit()) edit.emission = Rgb(m_emission[0], m_emission[1], m_emission[2]) * m_strength;
+    ImGui::DragFloat("Emission strength", &m_strength, 0.05f, 0.0f, 1e6f, "%.3g W/m^2");
+    if (ImGui::IsItemDeactivatedAfterEdit()) edit.emission = Rgb(m_emission[0], m_emission[1], m_emission[2]) * m_strength;
+    ImGui::ColorEdit3("Diffuse reflectance", m_rho);
+    if (ImGui::IsItemDeactivatedAfterEdit()) edit.rho = Rgb(m_rho[0], m_rho[1], m_rho[2]);
+    ImGui::SliderFloat("Mirror reflectance", &m_specular, 0.0f, 1.0f, "%.3f");
+    if (ImGui::IsItemDeactivatedAfterEdit()) edit.specular = double(m_specular);
+    if (edit.emission || edit.rho || edit.specular) app.editMaterial(edit);
+    ImGui::TextDisabled("emission/diffuse edits re-solve with the current F; mirror edits need a new F");
+}
+
+void Panels::selectionPanel(AppState& app, Inspector& inspector, double viewExposure) {
+    const Scene& s = app.scene();
+    const PatchId id = app.selection().front();
+    const Patch& p = s.patches[id];
+    ImGui::Text("patch %u, object '%s', line %d", id, p.object < s.objects.size() ? s.objects[p.object].c_str() : "?",
+                p.sourceLine);
+    ImGui::Text("area %s", formatNumber(p.area).c_str());
+    ImGui::Text("E   %s %s %s", formatNumber(p.emission[0]).c_str(), formatNumber(p.emission[1]).c_str(),
+                formatNumber(p.emission[2]).c_str());
+    ImGui::Text("rho %s %s %s   s %s", formatNumber(p.rho[0]).c_str(), formatNumber(p.rho[1]).c_str(),
+                formatNumber(p.rho[2]).c_str(), formatNumber(p.specular).c_str());
+    const Rgb& B = app.radiosity()[id];
+    ImGui::Text("B   %s %s %s", formatNumber(B[0]).c_str(), formatNumber(B[1]).c_str(), formatNumber(B[2]).c_str());
+    if (const FormFactors* F = app.formFactors(); F && F->rowComputed(id))
+        ImGui::Text("F row sum %s, %zu nonzeros", formatNumber(F->rowSum(id)).c_str(), std::size_t(F->rowEnd(id) - F->rowBegin(id)));
+    else
+        ImGui::TextDisabled("F row not computed (black patch, or no F yet)");
+    if (ImGui::Button("Colour by F of this patch")) app.layer = Layer::FormFactorRow;
+    ImGui::SameLine();
+    ImGui::Checkbox("Inspector", &m_showInspector);
+    if (m_showInspector) {
+        try {
+            inspector.update(app, id, viewExposure);
+            if (inspector.texture()) {
+                ImGui::TextDisabled("%s", inspector.caption().c_str());
+                const float scale = 300.0f / float(std::max(inspector.width(), 1));
+                ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(inspector.texture())),
+                             ImVec2(inspector.width() * scale, inspector.height() * scale));
+            }
+        } catch (const std::exception& e) {
+            app.error(e.what());
+            m_showInspector = false;
+        }
+    }
+}
+
+void Panels::pipelinePanel(AppState& app) {
+    PipelineSettings& st = app.settings;
+    int method = st.method == "hemicube" ? 1 : 0;
+    const char* methods[] = {"hemisphere (Embree)", "hemicube (OpenGL)"};
+    if (ImGui::Combo("Method", &method, methods, 2)) st.method = method == 1 ? "hemicube" : "hemisphere";
+    if (st.method == "hemisphere") {
+        int samples = int(st.backend.samples), origins = int(st.backend.origins);
+        if (ImGui::InputInt("Directions", &samples, 96, 768)) st.backend.samples = std::uint32_t(std::clamp(samples, 1, 1 << 20));
+        if (ImGui::InputInt("Origins", &origins, 1, 4)) st.backend.origins = std::uint32_t(std::clamp(origins, 1, 4096));
+    } else {
+        int resolution = int(st.backend.resolution);
+        if (ImGui::InputInt("Resolution", &resolution, 16, 64))
+            st.backend.resolution = std::uint32_t(std::clamp(resolution / 2 * 2, 2, 4096));
+    }
+    int depth = int(st.backend.maxDepth);
+    if (ImGui::InputInt("Mirror depth", &depth)) st.backend.maxDepth = std::uint32_t(std::clamp(depth, 0, 254));
+    int solver = 0;
+    for (int k = 0; k < 8; ++k)
+        if (solverName(st.solver.kind) == kSolvers[k]) solver = k;
+    if (ImGui::Combo("Solver", &solver, kSolvers, 8)) st.solver.kind = parseSolverKind(kSolvers[solver]);
+    float exponent = float(std::log10(st.solver.tolerance));
+    if (ImGui::SliderFloat("log10 tolerance", &exponent, -12.0f, -2.0f, "%.0f")) st.solver.tolerance = std::pow(10.0, double(exponent));
+    ImGui::Checkbox("Re-solve after edits", &app.autoResolve);
+
+    const JobStatus job = app.job();
+    if (job.running) {
+        ImGui::ProgressBar(float(job.progress), ImVec2(-1, 0), job.stage.c_str());
+        if (ImGui::Button("Cancel")) app.cancel();
+    } else {
+        if (ImGui::Button("Run", ImVec2(100, 0))) app.runPipeline();
+        ImGui::SameLine();
+        if (ImGui::Button("Re-solve", ImVec2(100, 0))) app.resolve();
+    }
+    ImGui::Separator();
+    if (!app.formFactors()) {
+        ImGui::TextDisabled("no form factors yet");
+    } else {
+        const FormFactors& F = *app.formFactors();
+        ImGui::Text("F: %zu of %zu rows, %zu nonzeros, %.1f MiB%s", F.computedRows(), F.size(), F.nonZeros(),
+                    F.memoryBytes() / 1048576.0, app.formFactorsStale() ? "  STALE" : "");
+        if (const auto& stats = app.formFactorStats()) {
+            ImGui::Text("row sums %.4f / %.4f / %.4f (min/mean/max)", stats->rowSumMin, stats->rowSumMean, stats->rowSumMax);
+            ImGui::Text("reciprocity: mean %.4f, max %.4f", stats->reciprocityMean, stats->reciprocityMax);
+        }
+    }
+    for (const auto& [stage, seconds] : app.timings()) ImGui::Text("%-26s %8.3f s", stage.c_str(), seconds);
+    for (const SolveReport& r : app.solveReports())
+        ImGui::Text("%s (%s): %s, %d it, residual %.2e", r.solver.c_str(), r.channels.c_str(),
+                    r.converged ? "converged" : "NOT converged", r.iterations, r.residual);
+}
+
+void Panels::logPanel(AppState& app) {
+    for (const LogEntry& e : app.log()) {
+        if (e.error) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.4f, 1.0f), "[%8.2f] %s", e.seconds, e.text.c_str());
+        else ImGui::TextWrapped("[%8.2f] %s", e.seconds, e.text.c_str());
+    }
+    if (ImGui::GetScrollY() >= ImGui::GetScrollMaxY() - 20) ImGui::SetScrollHereY(1.0f);
+}
+
+void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) {
+    if (m_openPathPrompt) {
+        ImGui::OpenPopup("Path");
+        m_openPathPrompt = false;
+    }
+    if (ImGui::BeginPopupModal("Path", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::Text("%s:", m_pathPurpose.c_str());
+        ImGui::SetNextItemWidth(520);
+        const bool enter = ImGui::InputText("##path", m_pathBuffer, sizeof m_pathBuffer, ImGuiInputTextFlags_EnterReturnsTrue);
+        if (ImGui::Button("OK", ImVec2(100, 0)) || enter) {
+            const std::string path = m_pathBuffer;
+            ImGui::CloseCurrentPopup();
+            if (m_pathPurpose == "Open OBJ") open(app, camera, path);
+            else if (m_pathPurpose == "Save scene") {
+                if (app.saveScene(path)) remember(path);
+            } else if (m_pathPurpose == "Import F") app.importFormFactors(path);
+            else if (m_pathPurpose == "Export F") app.exportFormFactors(path);
+            else if (m_pathPurpose == "Export PNG") requests.exportImage = path;
+            else if (m_pathPurpose == "Export PLY") app.exportPly(path);
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel", ImVec2(100, 0))) ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
+    if (m_openConfirm) {
+        ImGui::OpenPopup("Unsaved edits");
+        m_openConfirm = false;
+    }
+    if (ImGui::BeginPopupModal("Unsaved edits", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::Text("The scene has unsaved material edits. Discard them and %s?", m_confirmWhat.c_str());
+        if (ImGui::Button("Discard", ImVec2(120, 0))) {
+            ImGui::CloseCurrentPopup();
+            auto action = std::move(m_confirmAction);
+            m_confirmAction = nullptr;
+            if (action) action();
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Keep editing", ImVec2(120, 0))) {
+            m_confirmAction = nullptr;
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::EndPopup();
+    }
+}
+
+}  // namespace hemirad::ui

@@ -1,0 +1,60 @@
+// hemirad-gui's ImGui panels: they present AppState and emit actions, nothing else.
+#pragma once
+
+#include "ui/app_state.hpp"
+#include "ui/inspector.hpp"
+#include "ui/orbit_camera.hpp"
+
+#include <deque>
+#include <functional>
+#include <string>
+
+namespace hemirad::ui {
+
+/// Requests the event loop carries out (they need the window or happen between frames).
+struct LoopRequests {
+    bool quit = false;             ///< confirmed: leave the loop
+    std::string exportImage;       ///< write the view (without the UI) to this PNG after drawing
+};
+
+class Panels {
+public:
+    explicit Panels(std::string recentFilesPath);
+    /// Draws the menu bar and windows; `viewExposure` is the exposure the view is using.
+    void draw(AppState& app, OrbitCamera& camera, Inspector& inspector, double viewExposure, LoopRequests& requests);
+    /// Asks before an action that would drop unsaved edits (open, quit); runs it at once if none.
+    void guarded(AppState& app, const std::string& what, std::function<void()> action);
+    /// Opens a file (recent files updated); asks first when edits are unsaved.
+    void open(AppState& app, OrbitCamera& camera, const std::string& path);
+    const std::deque<std::string>& recentFiles() const { return m_recent; }
+
+private:
+    void menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests);
+    void scenePanel(AppState& app, OrbitCamera& camera);
+    void materialPanel(AppState& app);
+    void selectionPanel(AppState& app, Inspector& inspector, double viewExposure);
+    void pipelinePanel(AppState& app);
+    void logPanel(AppState& app);
+    void modals(AppState& app, OrbitCamera& camera, LoopRequests& requests);
+    void remember(const std::string& path);
+
+    std::string m_recentPath;
+    std::deque<std::string> m_recent;
+    // The path prompt (no native file dialogs): what it is for and the text being typed.
+    std::string m_pathPurpose;
+    char m_pathBuffer[1024] = {};
+    bool m_openPathPrompt = false;
+    // Confirmation of an action that drops unsaved edits.
+    std::string m_confirmWhat;
+    std::function<void()> m_confirmAction;
+    bool m_openConfirm = false;
+    // Material editor values (applied on release).
+    float m_emission[3] = {0, 0, 0};
+    float m_strength = 1.0f;
+    float m_rho[3] = {0.5f, 0.5f, 0.5f};
+    float m_specular = 0.0f;
+    std::vector<PatchId> m_editorSelection;
+    bool m_showInspector = true;
+};
+
+}  // namespace hemirad::ui

@@ -1,0 +1,288 @@
+// The viewer's GL passes: scene into five layers, mirror reflections through the stencil, present.
+#include "ui/viewer.hpp"
+
+#include "engine/error.hpp"
+#include "engine/tone_map.hpp"
+#include "gl/shader_library.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hemirad::ui {
+namespace {
+
+struct Vertex {
+    float x, y, z;
+    std::uint32_t patch;
+    float r, g, b;  // corner radiosity
+};
+
+struct PatchData {
+    float radiosity[4];
+    float emission[4];
+    float reflectance[4];  // rho, s
+};
+
+const GLenum kLayerFormats[5] = {GL_R32UI, GL_RGBA16F, GL_RGBA16F, GL_RGBA8, GL_RGBA8};
+
+Eigen::Matrix4d reflection(const Vec3& n, double d) {
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    m.block<3, 3>(0, 0) -= 2.0 * n * n.transpose();
+    m.block<3, 1>(0, 3) = -2.0 * d * n;
+    return m;
+}
+
+}  // namespace
+
+Viewer::Viewer() {
+    m_scene = gl::buildProgram({"viewer_scene.vert", "viewer_scene.frag"});
+    m_mark = gl::buildProgram({"viewer_present.vert", "viewer_mark.frag"});
+    m_present = gl::buildProgram({"viewer_present.vert", "viewer_present.frag"});
+    m_vao = gl::makeVertexArray();
+    m_emptyVao = gl::makeVertexArray();
+    m_vertices = gl::makeBuffer();
+    m_patchData = gl::makeBuffer();
+    m_flags = gl::makeBuffer();
+    m_row = gl::makeBuffer();
+    m_mirrorGroups = gl::makeBuffer();
+    gl::BindVertexArray(m_vao.id());
+    gl::BindBuffer(GL_ARRAY_BUFFER, m_vertices.id());
+    gl::EnableVertexAttribArray(0);
+    gl::VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), nullptr);
+    gl::EnableVertexAttribArray(1);
+    gl::VertexAttribIPointer(1, 1, GL_UNSIGNED_INT, sizeof(Vertex), reinterpret_cast<const void*>(offsetof(Vertex, patch)));
+    gl::EnableVertexAttribArray(2);
+    gl::VertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<const void*>(offsetof(Vertex, r)));
+    gl::BindVertexArray(0);
+    gl::check("creating the viewer");
+}
+
+Viewer::~Viewer() = default;
+
+void Viewer::resize(int width, int height) {
+    if (width == m_width && height == m_height) return;
+    m_width = width;
+    m_height = height;
+    m_fbo = gl::makeFramebuffer();
+    gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
+    GLenum buffers[5];
+    for (int k = 0; k < 5; ++k) {
+        m_layers[k] = gl::makeTexture();
+        gl::BindTexture(GL_TEXTURE_2D, m_layers[k].id());
+        gl::TexStorage2D(GL_TEXTURE_2D, 1, kLayerFormats[k], width, height);
+        gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        gl::FramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + k), GL_TEXTURE_2D, m_layers[k].id(), 0);
+        buffers[k] = GLenum(GL_COLOR_ATTACHMENT0 + k);
+    }
+    gl::DrawBuffers(5, buffers);
+    m_depth = gl::makeRenderbuffer();
+    gl::BindRenderbuffer(GL_RENDERBUFFER, m_depth.id());
+    gl::RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
+    gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m_depth.id());
+    gl::checkFramebuffer("the viewer's layers");
+    m_idCopy = gl::makeTexture();
+    gl::BindTexture(GL_TEXTURE_2D, m_idCopy.id());
+    gl::TexStorage2D(GL_TEXTURE_2D, 1, GL_R32UI, width, height);
+    // Integer textures sample only with NEAREST filters (the default mipmap filter leaves them incomplete).
+    gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl::BindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void Viewer::upload(AppState& app) {
+    if (!app.hasScene()) {
+        m_vertexCount = 0;
+        return;
+    }
+    const Scene& scene = app.scene();
+    if (m_revision != app.revision()) {
+        m_revision = app.revision();
+        Vec3 lo, hi;
+        scene.bounds(lo, hi);
+        m_centre = 0.5 * (lo + hi);
+        const std::vector<Rgb>& corner = app.cornerRadiosity();
+        std::vector<Vertex> vertices;
+        vertices.reserve(scene.corners.size() * 3);
+        for (PatchId i = 0; i < scene.size(); ++i) {
+            const Patch& p = scene.patches[i];
+            auto push = [&](std::uint32_t k) {
+                const Vec3 v = scene.corner(p, k) - m_centre;
+                const Rgb& c = corner[p.firstCorner + k];
+                vertices.push_back({float(v.x()), float(v.y()), float(v.z()), i, float(c[0]), float(c[1]), float(c[2])});
+            };
+            for (std::uint32_t k = 1; k + 1 < p.cornerCount; ++k) {
+                push(0);
+                push(k);
+                push(k + 1);
+            }
+        }
+        m_vertexCount = GLsizei(vertices.size());
+        gl::BindBuffer(GL_ARRAY_BUFFER, m_vertices.id());
+        gl::BufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(Vertex)), vertices.data(), GL_DYNAMIC_DRAW);
+        std::vector<PatchData> data(scene.size());
+        std::vector<double> luminances;
+        for (PatchId i = 0; i < scene.size(); ++i) {
+            const Patch& p = scene.patches[i];
+            const Rgb& B = app.radiosity()[i];
+            for (int c = 0; c < 3; ++c) {
+                data[i].radiosity[c] = float(B[c]);
+                data[i].emission[c] = float(p.emission[c]);
+                data[i].reflectance[c] = float(p.rho[c]);
+            }
+            data[i].reflectance[3] = float(p.specular);
+            if (!(p.emission > 0.0).any()) luminances.push_back(luminance(B) / kPi);
+        }
+        gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_patchData.id());
+        gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(std::max<std::size_t>(1, data.size()) * sizeof(PatchData)),
+                       data.data(), GL_DYNAMIC_DRAW);
+        m_autoExposure = autoExposure(std::move(luminances), 0.95, 0.8);
+        m_groups = groupMirrors(scene);
+        gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_mirrorGroups.id());
+        gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(std::max<std::size_t>(1, scene.size()) * 4),
+                       m_groups.groupOfPatch.data(), GL_DYNAMIC_DRAW);
+        m_lastFlags.clear();
+        m_lastRowPatch = -2;
+    }
+    // Selection flags and the inspected row change without a revision.
+    std::vector<std::uint32_t> flags(scene.size(), 0);
+    for (PatchId i : app.selection()) flags[i] |= 1u;
+    if (flags != m_lastFlags) {
+        gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_flags.id());
+        gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(std::max<std::size_t>(1, flags.size()) * 4), flags.data(),
+                       GL_DYNAMIC_DRAW);
+        m_lastFlags = std::move(flags);
+    }
+    const int rowPatch = app.selection().empty() ? -1 : int(app.selection().front());
+    if (rowPatch != m_lastRowPatch) {
+        m_lastRowPatch = rowPatch;
+        std::vector<float> row = rowPatch >= 0 ? app.formFactorRow(PatchId(rowPatch)) : std::vector<float>{};
+        row.resize(scene.size(), 0.0f);
+        m_rowMax = std::max(1e-12, double(*std::max_element(row.begin(), row.end())));
+        gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_row.id());
+        gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(std::max<std::size_t>(1, row.size()) * 4), row.data(),
+                       GL_DYNAMIC_DRAW);
+    }
+}
+
+void Viewer::drawScene(const Eigen::Matrix4f& viewProjection, const Eigen::Matrix4f& model, const Eigen::Vector4f& clip,
+                       bool gouraud) {
+    m_scene.use();
+    gl::UniformMatrix4fv(m_scene.uniform("viewProjection"), 1, GL_FALSE, viewProjection.data());
+    gl::UniformMatrix4fv(m_scene.uniform("model"), 1, GL_FALSE, model.data());
+    gl::Uniform4f(m_scene.uniform("clipPlane"), clip[0], clip[1], clip[2], clip[3]);
+    gl::Uniform1i(m_scene.uniform("gouraud"), gouraud ? 1 : 0);
+    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m_patchData.id());
+    gl::BindVertexArray(m_vao.id());
+    gl::DrawArrays(GL_TRIANGLES, 0, m_vertexCount);
+}
+
+void Viewer::render(AppState& app, const OrbitCamera& camera, int width, int height, std::optional<PatchId> hovered) {
+    if (width <= 0 || height <= 0) return;
+    resize(width, height);
+    upload(app);
+    m_exposure = app.autoExposure ? m_autoExposure : app.exposure;
+
+    gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
+    gl::Viewport(0, 0, width, height);
+    gl::Disable(GL_SCISSOR_TEST);
+    gl::Disable(GL_BLEND);
+    const GLuint zeroId[4] = {0, 0, 0, 0};
+    const GLfloat background[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    gl::ClearBufferuiv(GL_COLOR, 0, zeroId);
+    for (int k = 1; k < 5; ++k) gl::ClearBufferfv(GL_COLOR, k, background);
+    gl::ClearBufferfi(GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    if (m_vertexCount > 0) {
+        gl::Enable(GL_DEPTH_TEST);
+        gl::DepthFunc(GL_LESS);
+        gl::Enable(GL_CLIP_DISTANCE0);
+        // The camera works in scene-centred coordinates, like the vertex buffer.
+        OrbitCamera centred = camera;
+        centred.target -= m_centre;
+        const Eigen::Matrix4f viewProjection = (centred.projection(double(width) / height) * centred.view()).cast<float>();
+        const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
+        drawScene(viewProjection, identity, Eigen::Vector4f(0, 0, 0, 1), app.gouraud);
+
+        // Mirrors (one reflection in the viewer): mark each mirror plane's pixels in the stencil, reset
+        // their depth, and add s x the scene reflected in that plane to the radiance layer.
+        if (app.showReflections && !m_groups.representative.empty()) {
+            gl::CopyImageSubData(m_layers[0].id(), GL_TEXTURE_2D, 0, 0, 0, 0, m_idCopy.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                                 width, height, 1);
+            const Scene& scene = app.scene();
+            gl::Enable(GL_STENCIL_TEST);
+            for (std::size_t g = 0; g < m_groups.representative.size(); ++g) {
+                const Patch& mirror = scene.patches[m_groups.representative[g]];
+                const std::uint8_t stencil = std::uint8_t(1 + g % 254);
+                gl::StencilMask(0xff);
+                gl::StencilFunc(GL_ALWAYS, stencil, 0xff);
+                gl::StencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+                for (int k = 0; k < 5; ++k) gl::ColorMaski(GLuint(k), GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+                gl::DepthFunc(GL_ALWAYS);
+                m_mark.use();
+                gl::Uniform1ui(m_mark.uniform("group"), GLuint(g));
+                gl::ActiveTexture(GL_TEXTURE0);
+                gl::BindTexture(GL_TEXTURE_2D, m_idCopy.id());
+                gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m_mirrorGroups.id());
+                gl::BindVertexArray(m_emptyVao.id());
+                gl::DrawArrays(GL_TRIANGLES, 0, 3);
+
+                const Vec3 centre = mirror.centroid - m_centre;
+                const double d = -mirror.normal.dot(centre);
+                const Eigen::Matrix4f model = reflection(mirror.normal, d).cast<float>();
+                gl::StencilFunc(GL_EQUAL, stencil, 0xff);
+                gl::StencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+                gl::DepthFunc(GL_LESS);
+                gl::ColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
+                gl::Enablei(GL_BLEND, 1);
+                gl::BlendFunci(1, GL_CONSTANT_COLOR, GL_ONE);
+                const float s = float(mirror.specular);
+                gl::BlendColor(s, s, s, 1.0f);
+                gl::FrontFace(GL_CW);
+                drawScene(viewProjection, model,
+                          Eigen::Vector4f(float(mirror.normal.x()), float(mirror.normal.y()), float(mirror.normal.z()), float(d)),
+                          app.gouraud);
+                gl::FrontFace(GL_CCW);
+                gl::Disablei(GL_BLEND, 1);
+                for (int k = 0; k < 5; ++k) gl::ColorMaski(GLuint(k), GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+            }
+            gl::Disable(GL_STENCIL_TEST);
+        }
+        gl::Disable(GL_CLIP_DISTANCE0);
+        gl::Disable(GL_DEPTH_TEST);
+    }
+
+    // Present the chosen layer into the window.
+    gl::BindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl::Viewport(0, 0, width, height);
+    m_present.use();
+    const int layer = int(app.layer);
+    gl::Uniform1i(m_present.uniform("layer"), layer);
+    gl::Uniform1f(m_present.uniform("exposure"), float(m_exposure));
+    gl::Uniform1ui(m_present.uniform("hovered"), hovered ? *hovered + 1u : 0u);
+    gl::Uniform1f(m_present.uniform("rowMax"), float(m_rowMax));
+    gl::ActiveTexture(GL_TEXTURE0);
+    gl::BindTexture(GL_TEXTURE_2D, m_layers[0].id());
+    gl::ActiveTexture(GL_TEXTURE1);
+    const int source = layer == 1 || layer == 5 ? 1 : (layer == 0 ? 1 : layer);
+    gl::BindTexture(GL_TEXTURE_2D, m_layers[source].id());
+    gl::ActiveTexture(GL_TEXTURE0);
+    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m_flags.id());
+    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, m_row.id());
+    gl::BindVertexArray(m_emptyVao.id());
+    gl::DrawArrays(GL_TRIANGLES, 0, 3);
+    gl::BindVertexArray(0);
+    gl::check("drawing the view");
+}
+
+std::optional<PatchId> Viewer::pick(int x, int y) const {
+    if (!m_fbo.id() || x < 0 || y < 0 || x >= m_width || y >= m_height) return std::nullopt;
+    gl::BindFramebuffer(GL_READ_FRAMEBUFFER, m_fbo.id());
+    gl::ReadBuffer(GL_COLOR_ATTACHMENT0);
+    GLuint id = 0;
+    gl::ReadPixels(x, m_height - 1 - y, 1, 1, GL_RED_INTEGER, GL_UNSIGNED_INT, &id);
+    gl::BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    if (id == 0) return std::nullopt;
+    return PatchId(id - 1);
+}
+
+}  // namespace hemirad::ui

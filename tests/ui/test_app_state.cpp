@@ -1,0 +1,176 @@
+// hemirad-gui's application state, driven without a window: loading, selection, edits that re-solve
+// with the existing F, the stale-F rules, undo/redo, F import checks, cancellation.
+#include "support.hpp"
+
+#include "engine/form_factor_file.hpp"
+#include "engine/subdivide.hpp"
+#include "ui/app_state.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+using hemirad::ui::AppState;
+using hemirad::ui::MaterialEdit;
+using hemirad::ui::SelectionMode;
+
+namespace {
+
+bool logged(const AppState& app, const std::string& text) {
+    for (const auto& e : app.log())
+        if (e.text.find(text) != std::string::npos) return true;
+    return false;
+}
+
+void runToEnd(AppState& app) {
+    app.wait();
+    app.poll();
+    app.wait();  // a re-solve the results may have queued
+    app.poll();
+}
+
+/// The unit cube with a small F (fast), solved.
+void solvedCube(AppState& app) {
+    REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
+    app.settings.backend.samples = 384;
+    app.settings.backend.origins = 4;
+    app.runPipeline();
+    runToEnd(app);
+    REQUIRE(app.formFactors() != nullptr);
+}
+
+}  // namespace
+
+TEST_CASE("GUI state: a bad file keeps the loaded scene and logs the error with its location") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/cornell_box.obj")));
+    CHECK(app.scene().size() == 20);
+    const auto dir = tempDir("gui-bad");
+    CHECK_FALSE(app.loadScene(writeFile(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 nan\nf 1 2 3\n")));
+    CHECK(app.scene().size() == 20);
+    CHECK(logged(app, "bad.obj:3: vertex z 'nan' is not a finite number"));
+    CHECK(app.log().back().error);
+}
+
+TEST_CASE("GUI state: picking in object mode selects the whole object") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/cornell_box.obj")));
+    app.setScene(subdivide(app.scene(), 200.0), "cornell");
+    const PatchId first = 0;
+    const std::uint32_t object = app.scene().patches[first].object;
+    std::size_t inObject = 0;
+    for (const Patch& p : app.scene().patches) inObject += p.object == object;
+    app.selectionMode = SelectionMode::Object;
+    app.select(first, false);
+    CHECK(app.selection().size() == inObject);
+    app.selectionMode = SelectionMode::Patch;
+    app.select(first, false);
+    CHECK(app.selection().size() == 1);
+    app.select(1, true);
+    CHECK(app.selection().size() == 2);
+    app.clearSelection();
+    CHECK(app.selection().empty());
+}
+
+TEST_CASE("GUI state: an emission edit re-solves with the same F (no new rays)") {
+    AppState app;
+    solvedCube(app);
+    const FormFactors* before = app.formFactors();
+    const double floorB = app.radiosity()[0][0];
+    app.select(0, false);
+    MaterialEdit edit;
+    edit.emission = Rgb::Constant(2.0);  // the floor emitted 1
+    app.editMaterial(edit);
+    CHECK(app.dirty());
+    CHECK(app.radiosityStale());
+    runToEnd(app);
+    CHECK(app.formFactors() == before);  // the very same F object: no recomputation
+    CHECK_FALSE(app.radiosityStale());
+    CHECK(app.radiosity()[0][0] == doctest::Approx(2.0 * floorB).epsilon(1e-6));  // linear in E
+    CHECK(logged(app, "solve: "));
+}
+
+TEST_CASE("GUI state: a mirror edit makes F stale, undo makes it valid again, redo re-applies") {
+    AppState app;
+    solvedCube(app);
+    app.select(2, false);
+    MaterialEdit edit;
+    edit.specular = 0.3;
+    edit.rho = Rgb::Constant(0.4);
+    app.editMaterial(edit);
+    CHECK(app.formFactorsStale());
+    CHECK(app.scene().patches[2].specular == 0.3);
+    CHECK(app.canUndo());
+    app.undo();
+    CHECK_FALSE(app.formFactorsStale());
+    CHECK(app.scene().patches[2].specular == 0.0);
+    CHECK(app.scene().patches[2].rho[0] == doctest::Approx(0.5));
+    app.redo();
+    CHECK(app.formFactorsStale());
+    CHECK(app.scene().patches[2].rho[0] == doctest::Approx(0.4));
+    runToEnd(app);
+    app.runPipeline();  // recomputes F for the mirror
+    runToEnd(app);
+    CHECK_FALSE(app.formFactorsStale());
+    CHECK(app.formFactors()->parameters.at("method") == "hemisphere");
+}
+
+TEST_CASE("GUI state: invalid material values are refused with a message") {
+    AppState app;
+    solvedCube(app);
+    app.select(1, false);
+    MaterialEdit edit;
+    edit.rho = Rgb(0.5, 1.5, 0.5);
+    app.editMaterial(edit);
+    CHECK(app.scene().patches[1].rho[1] == doctest::Approx(0.5));
+    CHECK(logged(app, "diffuse reflectance must be finite and in [0, 1]"));
+    CHECK_FALSE(app.canUndo());
+}
+
+TEST_CASE("GUI state: a black patch made reflective gets its row computed, the others are kept") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
+    app.select(0, false);
+    MaterialEdit black;
+    black.rho = Rgb::Zero();
+    app.editMaterial(black);
+    app.settings.backend.samples = 384;
+    app.runPipeline();
+    runToEnd(app);
+    REQUIRE(app.formFactors() != nullptr);
+    CHECK_FALSE(app.formFactors()->rowComputed(0));
+    const float kept = app.formFactors()->values()[app.formFactors()->rowBegin(1)];
+    MaterialEdit grey;
+    grey.rho = Rgb::Constant(0.5);
+    app.editMaterial(grey);  // re-solve needs row 0: the pipeline adds just that row
+    runToEnd(app);
+    REQUIRE(app.formFactors()->rowComputed(0));
+    CHECK(app.formFactors()->values()[app.formFactors()->rowBegin(1)] == kept);
+    CHECK(logged(app, "1 rows"));
+}
+
+TEST_CASE("GUI state: importing F checks that it belongs to the scene") {
+    AppState app;
+    solvedCube(app);
+    const auto dir = tempDir("gui-ff");
+    REQUIRE(app.exportFormFactors((dir / "cube.hff").string()));
+    CHECK(app.importFormFactors((dir / "cube.hff").string()));
+    REQUIRE(app.loadScene(sourcePath("scenes/parallel_plates.obj")));
+    CHECK_FALSE(app.importFormFactors((dir / "cube.hff").string()));
+    CHECK(logged(app, "F has 6 patches but the scene has 2"));
+}
+
+TEST_CASE("GUI state: cancel stops a long form-factor computation and keeps the state") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
+    app.setScene(subdivide(app.scene(), 0.05), "fine cube");  // 2,400 patches
+    app.settings.backend.samples = 3072;
+    app.settings.backend.origins = 64;
+    app.runPipeline();
+    CHECK(app.job().running);
+    app.cancel();
+    runToEnd(app);
+    CHECK_FALSE(app.job().running);
+    CHECK(app.formFactors() == nullptr);
+    CHECK(logged(app, "cancelled"));
+}
