@@ -35,11 +35,13 @@ struct GuiOptions {
     double subdivide = 0.0;
     int width = 1280, height = 800;
     PipelineSettings settings;
+    long select = -1;  ///< patch to select after loading (scripted screenshots)
 };
 
 const char* kUsage =
     "usage: hemirad-gui [SCENE.obj] [--subdivide L] [--method hemisphere|hemicube] [--samples N]\n"
-    "                   [--origins K] [--resolution R] [--size WxH] [--run] [--screenshot OUT.png] [--exit]\n"
+    "                   [--origins K] [--resolution R] [--size WxH] [--select PATCH] [--run]\n"
+    "                   [--screenshot OUT.png] [--exit]\n"
     "  --run          compute form factors and solve after loading\n"
     "  --screenshot   once the view shows the results, save the window (with the UI) as a PNG\n"
     "  --exit         quit after the screenshot (or at once without one)\n"
@@ -76,6 +78,11 @@ GuiOptions parse(int argc, char** argv) {
         else if (a == "--resolution") {
             o.settings.backend.resolution = std::uint32_t(number(value(k, "--resolution"), "--resolution"));
             if (o.settings.backend.resolution % 2) throw Error("--resolution must be even");
+        } else if (a == "--select") {
+            const std::string v = value(k, "--select");
+            char* end = nullptr;
+            o.select = std::strtol(v.c_str(), &end, 10);
+            if (v.empty() || *end || o.select < 0) throw Error("--select expects a patch id, got '" + v + "'");
         } else if (a == "--size") {
             const std::string v = value(k, "--size");
             if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 64 || o.height < 64)
@@ -179,6 +186,12 @@ int main(int argc, char** argv) {
                 std::snprintf(text, sizeof text, "subdivided to %zu patches (edges <= %g)", app.scene().size(), options.subdivide);
                 app.info(text);
             }
+        }
+        if (options.select >= 0 && app.hasScene()) {
+            if (std::size_t(options.select) >= app.scene().size())
+                throw Error("--select " + std::to_string(options.select) + ": the scene has " +
+                            std::to_string(app.scene().size()) + " patches");
+            app.select(PatchId(options.select), false);
         }
         if (options.run && app.hasScene()) app.runPipeline();
         {
