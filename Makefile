@@ -3,7 +3,12 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: all deps build demo test bench clean
+FUZZ_SECONDS ?= 600
+SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
+	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers.supp:print_suppressions=0 \
+	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+
+.PHONY: all deps build demo test bench test-sanitize fuzz clean
 
 all: build
 
@@ -25,5 +30,20 @@ test: build
 bench: build
 	@bash bench/run.sh $(BUILD)
 
+# The whole suite under AddressSanitizer + UndefinedBehaviorSanitizer (gcc), in build-sanitize/.
+test-sanitize: deps
+	@cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHEMIRAD_WITH_SANITIZERS=ON \
+	    -DHEMIRAD_WITH_BENCH=OFF > build-sanitize.configure.log 2>&1 || { cat build-sanitize.configure.log; exit 1; }
+	@cmake --build build-sanitize -j $(JOBS)
+	@cd build-sanitize && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS)
+
+# libFuzzer on the OBJ/MTL and F readers (clang), FUZZ_SECONDS per harness; corpus in build-fuzz/.
+fuzz:
+	@bash scripts/install-deps.sh fuzz
+	@CC=clang CXX=clang++ cmake -S . -B build-fuzz -DHEMIRAD_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	    > build-fuzz.configure.log 2>&1 || { cat build-fuzz.configure.log; exit 1; }
+	@cmake --build build-fuzz -j $(JOBS)
+	@bash tests/fuzz/run.sh build-fuzz $(FUZZ_SECONDS)
+
 clean:
-	rm -rf $(BUILD) $(BUILD).configure.log out
+	rm -rf $(BUILD) $(BUILD).configure.log build-sanitize build-sanitize.configure.log build-fuzz build-fuzz.configure.log out

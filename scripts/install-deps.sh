@@ -9,6 +9,9 @@ packages=(
   xvfb python3-matplotlib
 )
 
+# `install-deps.sh fuzz` adds clang and its fuzzer/sanitizer runtime for `make fuzz`.
+if [ "${1:-}" = "fuzz" ]; then packages+=(clang libclang-rt-14-dev libomp-dev); fi
+
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

@@ -136,6 +136,8 @@ const std::map<std::string, Flag>& flags() {
         {"--all-rows", {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.allRows = true; }}},
         {"--enforce-reciprocity",
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.enforceReciprocity = true; }}},
+        {"--no-memory-check",
+         {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.memoryCheck = false; }}},
         {"--normalize-rows",
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.normalizeRows = true; }}},
         {"--ff", {{"solve", "render"}, true, [](Options& o, const std::string&, const std::string& v) { o.ffPath = v; }}},
@@ -310,6 +312,7 @@ form factors (formfactors, solve, render):
   --all-rows             also compute rows of black patches (rho = 0; skipped by default)
   --enforce-reciprocity  make A_i F_ij = A_j F_ji by averaging each pair
   --normalize-rows       rescale every row to sum 1 (closed scenes without mirrors; after reciprocity)
+  --no-memory-check      compute F even when its estimated size exceeds the available memory
   --ff FILE              (solve, render) reuse F from FILE when its scene hash matches;
                          create FILE when it does not exist
   --recompute-ff         (solve, render) recompute F and overwrite FILE

@@ -33,6 +33,7 @@ struct Options {
     bool allRows = false;
     bool enforceReciprocity = false;
     bool normalizeRows = false;
+    bool memoryCheck = true;             ///< --no-memory-check turns the F memory estimate off
     std::string ffPath;                  ///< --ff: stored F to reuse (or to create)
     bool recomputeFf = false;
 

@@ -31,6 +31,7 @@ namespace {
 
 FormFactorRun compute(const Scene& scene, const Options& options, const std::vector<PatchId>& rows, Timings& timings,
                       const Reporter& reporter) {
+    if (options.memoryCheck) checkFormFactorMemory(scene, options.method, options.backend, rows);
     const double raysPerRow = double(options.backend.samples) * options.backend.origins;
     FormFactorRun run = computeFormFactors(scene, options.method, options.backend, rows,
                                            reporter.progress("form factors", raysPerRow));

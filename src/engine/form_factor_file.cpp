@@ -36,6 +36,7 @@ constexpr char kMagic[8] = {'H', 'E', 'M', 'I', 'R', 'A', 'D', 'F'};
 constexpr std::uint32_t kVersion = 1;
 constexpr std::size_t kHeaderBytes = 40;
 constexpr std::uint32_t kMaxParameterBytes = 1u << 20;
+constexpr long kMaxPatches = 1L << 28;  // 268 M patches: far beyond memory for any F
 
 /// FNV-1a over 64-bit words (bytes of a partial tail word are buffered), about 8x faster than bytewise.
 class Checksum {
@@ -132,15 +133,8 @@ void saveHff(const FormFactors& F, const std::string& path) {
 /// Reads an .hff file section by section, checking sizes before allocating and the checksum at the end.
 class HffReader {
 public:
-    explicit HffReader(const std::string& path) : m_path(path) {
-        std::error_code ec;
-        if (std::filesystem::is_directory(path, ec)) throw Error(path, 0, "is a directory, not an F file");
-        m_in.open(path, std::ios::binary);
-        if (!m_in) throw Error(path, 0, std::string("cannot open: ") + std::strerror(errno));
-        m_in.seekg(0, std::ios::end);
-        m_fileBytes = static_cast<std::uint64_t>(m_in.tellg());
-        m_in.seekg(0);
-    }
+    /// Reads from `in`, which holds `bytes` bytes; `path` names it in messages.
+    HffReader(std::istream& in, std::uint64_t bytes, const std::string& path) : m_path(path), m_in(in), m_fileBytes(bytes) {}
 
     FormFactorFileInfo header() {
         if (m_fileBytes < kHeaderBytes + 8)
@@ -160,7 +154,7 @@ public:
         read(&info.nonZeros, 8);
         read(&info.sceneHash, 8);
         if (paramBytes > kMaxParameterBytes) fail("corrupt header: parameter text of " + std::to_string(paramBytes) + " bytes");
-        if (info.size > 0x7fffffffULL) fail("corrupt header: N = " + std::to_string(info.size));
+        if (info.size > std::uint64_t(kMaxPatches)) fail("corrupt header: N = " + std::to_string(info.size));
         if (info.size > 0 && info.nonZeros / info.size > info.size)
             fail("corrupt header: nnz = " + std::to_string(info.nonZeros) + " exceeds N^2 for N = " + std::to_string(info.size));
         const std::uint64_t expected =
@@ -219,13 +213,27 @@ private:
     }
 
     std::string m_path;
-    std::ifstream m_in;
+    std::istream& m_in;
     std::uint64_t m_fileBytes = 0;
     Checksum m_sum;
 };
 
-FormFactors loadHff(const std::string& path) {
-    HffReader r(path);
+/// An .hff file opened for HffReader, with its size.
+struct HffFile {
+    std::ifstream stream;
+    std::uint64_t bytes = 0;
+    explicit HffFile(const std::string& path) {
+        std::error_code ec;
+        if (std::filesystem::is_directory(path, ec)) throw Error(path, 0, "is a directory, not an F file");
+        stream.open(path, std::ios::binary);
+        if (!stream) throw Error(path, 0, std::string("cannot open: ") + std::strerror(errno));
+        stream.seekg(0, std::ios::end);
+        bytes = static_cast<std::uint64_t>(stream.tellg());
+        stream.seekg(0);
+    }
+};
+
+FormFactors readHff(HffReader& r, const std::string& path) {
     const FormFactorFileInfo info = r.header();
     const std::uint64_t n = info.size, nnz = info.nonZeros;
     auto computed = r.array<std::uint8_t>(n);
@@ -298,8 +306,7 @@ void saveMtx(const FormFactors& F, const std::string& path) {
     file.commit();
 }
 
-FormFactors loadMtx(const std::string& path) {
-    const std::string text = readTextFile(path);
+FormFactors parseMtx(const std::string& path, std::string_view text) {
     TextReader r(path, text);
     if (!r.next() || r.tokens().size() < 5 || r.tokens()[0] != "%%MatrixMarket")
         throw Error(path, 1, "not a Matrix Market file (expected '%%MatrixMarket matrix coordinate real general')");
@@ -340,20 +347,37 @@ FormFactors loadMtx(const std::string& path) {
         if (t.size() != 3) r.fail("size line needs 'rows columns entries'");
         const long rows = r.integer(0, "row count"), cols = r.integer(1, "column count"), entries = r.integer(2, "entry count");
         if (rows <= 0 || rows != cols) r.fail("F must be square with N > 0; found " + std::to_string(rows) + " x " + std::to_string(cols));
-        if (entries < 0 || static_cast<double>(entries) > static_cast<double>(rows) * rows)
-            r.fail("entry count " + std::to_string(entries) + " is impossible for N = " + std::to_string(rows));
+        if (rows > kMaxPatches) r.fail("N = " + std::to_string(rows) + " is more patches than Hemirad handles (" + std::to_string(kMaxPatches) + ")");
+        // Every entry takes at least 6 characters ("1 1 0\n"): a count the text cannot hold is corrupt.
+        if (entries < 0 || static_cast<double>(entries) > static_cast<double>(rows) * rows ||
+            static_cast<double>(entries) * 6.0 > static_cast<double>(text.size()))
+            r.fail("entry count " + std::to_string(entries) + " is impossible for N = " + std::to_string(rows) + " in " +
+                   std::to_string(text.size()) + " bytes");
         n = static_cast<std::uint64_t>(rows);
         nnz = static_cast<std::uint64_t>(entries);
         break;
     }
     if (n == 0) throw Error(path, r.line(), "no size line");
-    std::vector<std::uint8_t> computed(n, 1);
+    // Skipped ranges through a difference array: linear however many ranges overlap.
+    std::vector<std::int32_t> marks(n + 1, 0);
     for (const auto& [a, b] : skipped) {
         if (b >= n) throw Error(path, 0, "skipped row " + std::to_string(b) + " is out of range (N = " + std::to_string(n) + ")");
-        for (std::uint64_t i = a; i <= b; ++i) computed[i] = 0;
+        ++marks[a];
+        --marks[b + 1];
     }
-    std::vector<std::vector<FormFactors::Entry>> rows(n);
-    std::uint64_t count = 0;
+    std::vector<std::uint8_t> computed(n, 1);
+    std::int32_t depth = 0;
+    for (std::uint64_t i = 0; i < n; ++i) {
+        depth += marks[i];
+        computed[i] = depth > 0 ? 0 : 1;
+    }
+    std::vector<std::int32_t>().swap(marks);
+    struct Triplet {
+        std::uint32_t row, column;
+        float value;
+    };
+    std::vector<Triplet> triplets;
+    triplets.reserve(nnz);
     while (r.next()) {
         const auto& t = r.tokens();
         if (t.empty() || t[0][0] == '%') continue;
@@ -362,20 +386,28 @@ FormFactors loadMtx(const std::string& path) {
         const double v = r.number(2, "value");
         if (i < 1 || i > static_cast<long>(n) || j < 1 || j > static_cast<long>(n))
             r.fail("entry (" + std::to_string(i) + ", " + std::to_string(j) + ") is outside 1.." + std::to_string(n));
-        if (v < 0.0) r.fail("F value " + quote(t[2]) + " is negative");
+        if (v < 0.0 || v > 3.4e38) r.fail("F value " + quote(t[2]) + " is " + (v < 0.0 ? "negative" : "out of range"));
         if (!computed[i - 1]) r.fail("row " + std::to_string(i) + " has entries but is listed as skipped");
-        if (++count > nnz) r.fail("more entries than the " + std::to_string(nnz) + " announced");
-        rows[i - 1].push_back({static_cast<std::uint32_t>(j - 1), static_cast<float>(v)});
+        if (triplets.size() >= nnz) r.fail("more entries than the " + std::to_string(nnz) + " announced");
+        triplets.push_back({static_cast<std::uint32_t>(i - 1), static_cast<std::uint32_t>(j - 1), static_cast<float>(v)});
     }
-    if (count < nnz) throw Error(path, r.line(), "truncated: " + std::to_string(count) + " of " + std::to_string(nnz) + " entries");
-    for (std::size_t i = 0; i < n; ++i) {
-        auto& row = rows[i];
-        std::sort(row.begin(), row.end(), [](const auto& a, const auto& b) { return a.column < b.column; });
-        for (std::size_t k = 1; k < row.size(); ++k)
-            if (row[k].column == row[k - 1].column)
-                throw Error(path, 0, "duplicate entry (" + std::to_string(i + 1) + ", " + std::to_string(row[k].column + 1) + ")");
+    if (triplets.size() < nnz)
+        throw Error(path, r.line(), "truncated: " + std::to_string(triplets.size()) + " of " + std::to_string(nnz) + " entries");
+    std::sort(triplets.begin(), triplets.end(),
+              [](const Triplet& a, const Triplet& b) { return a.row != b.row ? a.row < b.row : a.column < b.column; });
+    std::vector<std::uint64_t> rowStart(n + 1, 0);
+    std::vector<std::uint32_t> columns(triplets.size());
+    std::vector<float> values(triplets.size());
+    for (std::size_t k = 0; k < triplets.size(); ++k) {
+        if (k > 0 && triplets[k].row == triplets[k - 1].row && triplets[k].column == triplets[k - 1].column)
+            throw Error(path, 0, "duplicate entry (" + std::to_string(triplets[k].row + 1) + ", " +
+                                     std::to_string(triplets[k].column + 1) + ")");
+        ++rowStart[triplets[k].row + 1];
+        columns[k] = triplets[k].column;
+        values[k] = triplets[k].value;
     }
-    FormFactors F = FormFactors::fromRows(std::move(rows), std::move(computed));
+    for (std::uint64_t i = 0; i < n; ++i) rowStart[i + 1] += rowStart[i];
+    FormFactors F = FormFactors::fromCsr(std::move(rowStart), std::move(columns), std::move(values), std::move(computed));
     F.sceneHash = header.sceneHash;
     F.parameters = header.parameters;
     if (!haveHash) F.parameters["scene_hash"] = "unknown";
@@ -400,14 +432,29 @@ void saveFormFactors(const FormFactors& F, const std::string& path) {
 
 FormFactors loadFormFactors(const std::string& path) {
     const std::string ext = extension(path);
-    if (ext == ".hff") return loadHff(path);
-    if (ext == ".mtx") return loadMtx(path);
+    if (ext == ".hff") {
+        HffFile file(path);
+        HffReader r(file.stream, file.bytes, path);
+        return readHff(r, path);
+    }
+    if (ext == ".mtx") return parseMtx(path, readTextFile(path));
     throw Error(path, 0, "unknown F file type " + quote(ext) + " (use .hff or .mtx)");
+}
+
+FormFactors parseFormFactors(const std::string& name, const std::string& bytes) {
+    const std::string ext = extension(name);
+    if (ext == ".hff") {
+        std::istringstream in(bytes);
+        HffReader r(in, bytes.size(), name);
+        return readHff(r, name);
+    }
+    if (ext == ".mtx") return parseMtx(name, bytes);
+    throw Error(name, 0, "unknown F file type " + quote(ext) + " (use .hff or .mtx)");
 }
 
 FormFactorFileInfo readFormFactorInfo(const std::string& path) {
     if (extension(path) == ".mtx") {
-        const FormFactors F = loadMtx(path);
+        const FormFactors F = parseMtx(path, readTextFile(path));
         FormFactorFileInfo info;
         info.size = F.size();
         info.nonZeros = F.nonZeros();
@@ -417,7 +464,8 @@ FormFactorFileInfo readFormFactorInfo(const std::string& path) {
         info.fileBytes = std::filesystem::file_size(path);
         return info;
     }
-    HffReader r(path);
+    HffFile file(path);
+    HffReader r(file.stream, file.bytes, path);
     FormFactorFileInfo info = r.header();
     r.skipArrays(info, info.computedRows);
     return info;

@@ -12,6 +12,10 @@ void saveFormFactors(const FormFactors& F, const std::string& path);
 /// Reads F, checking structure, checksum (.hff) and values. Throws hemirad::Error naming the file.
 FormFactors loadFormFactors(const std::string& path);
 
+/// Reads F from bytes in memory (tests, fuzzing); `name` names it in messages and its extension
+/// (.hff or .mtx) picks the format. Same checks as loadFormFactors.
+FormFactors parseFormFactors(const std::string& name, const std::string& bytes);
+
 /// Header of an .hff file without its arrays (for `hemirad info`), after checking size and checksum.
 struct FormFactorFileInfo {
     std::uint32_t version = 0;

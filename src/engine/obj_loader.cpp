@@ -33,7 +33,7 @@ std::string readTextFile(const std::string& path) {
 namespace {
 
 /// Rejects binary input early with the line of the first NUL byte.
-void rejectBinary(const std::string& path, const std::string& text) {
+void rejectBinary(const std::string& path, std::string_view text) {
     const std::size_t nul = text.find('\0');
     if (nul == std::string::npos) return;
     const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + nul, '\n'));
@@ -54,9 +54,11 @@ Rgb readColor(const TextReader& r, const char* what) {
 /// Finishes a material: s = mean(Ks) for mirror illumination models, with the energy check.
 void finishMaterial(Material& m, const std::string& file, int line, Warnings& warnings) {
     m.specular = (m.illum == 3 || m.illum == 5 || m.illum == 7) ? m.ks.mean() : 0.0;
-    if (m.specular > 1.0)
-        throw Error(file, line, "material '" + m.name + "': mirror reflectance mean(Ks) = " +
-                                    std::to_string(m.specular) + " exceeds 1");
+    if (m.specular > 1.0) {
+        std::ostringstream msg;
+        msg << "material '" << m.name << "': mirror reflectance mean(Ks) = " << m.specular << " exceeds 1";
+        throw Error(file, line, msg.str());
+    }
     if ((m.rho > 1.0).any())
         warnings.add("materials with rho > 1", Error::locate(file, line) + "material '" + m.name +
                                                    "' has diffuse reflectance Kd > 1: it creates energy");
@@ -68,7 +70,10 @@ void finishMaterial(Material& m, const std::string& file, int line, Warnings& wa
 }  // namespace
 
 void loadMtl(const std::string& path, std::vector<Material>& out, Warnings& warnings) {
-    const std::string text = readTextFile(path);
+    parseMtl(path, readTextFile(path), out, warnings);
+}
+
+void parseMtl(const std::string& path, std::string_view text, std::vector<Material>& out, Warnings& warnings) {
     rejectBinary(path, text);
     TextReader r(path, text);
     static const std::set<std::string_view> ignored = {
@@ -179,8 +184,33 @@ void readCamera(const TextReader& r, Scene& scene) {
 
 }  // namespace
 
+namespace {
+
+/// Libraries beside the OBJ file.
+class FileMaterials final : public MaterialSource {
+public:
+    explicit FileMaterials(const std::string& objPath) : m_dir(fs::path(objPath).parent_path()) {}
+    bool find(const std::string& name, std::string& text, std::string& file) override {
+        const fs::path path = m_dir / name;
+        std::error_code ec;
+        if (!fs::exists(path, ec)) return false;
+        file = path.string();
+        text = readTextFile(file);  // a directory or an unreadable file is an error naming it
+        return true;
+    }
+
+private:
+    fs::path m_dir;
+};
+
+}  // namespace
+
 Scene loadObj(const std::string& path, Warnings& warnings) {
-    const std::string text = readTextFile(path);
+    FileMaterials libraries(path);
+    return parseObj(path, readTextFile(path), libraries, warnings);
+}
+
+Scene parseObj(const std::string& path, std::string_view text, MaterialSource& libraries, Warnings& warnings) {
     rejectBinary(path, text);
     Scene scene;
     scene.path = path;
@@ -209,6 +239,9 @@ Scene loadObj(const std::string& path, Warnings& warnings) {
             if (t.size() != 4 && t.size() != 5 && t.size() != 7)
                 r.fail("vertex needs x y z (optionally w, or r g b), found " + std::to_string(t.size() - 1) + " values");
             Vec3 v(r.number(1, "vertex x"), r.number(2, "vertex y"), r.number(3, "vertex z"));
+            // Areas square the coordinates and rays run in float: keep far from overflow.
+            if (v.cwiseAbs().maxCoeff() > 1e15)
+                r.fail("vertex " + quote(r.rest(1)) + " is too far out: coordinates must stay within +-1e15");
             for (std::size_t k = 4; k < t.size(); ++k) r.number(k, "vertex value");
             scene.vertices.push_back(v);
         } else if (key == "vt") {
@@ -250,19 +283,29 @@ Scene loadObj(const std::string& path, Warnings& warnings) {
             materialLine = r.line();
         } else if (key == "mtllib") {
             if (t.size() < 2) r.fail("mtllib without a file name");
-            // File names may contain spaces; try the whole rest first, then each token.
-            std::vector<std::string> names;
-            const fs::path whole = fs::path(path).parent_path() / r.rest(1);
-            if (t.size() > 2 && fs::exists(whole)) names.push_back(r.rest(1));
-            else
-                for (std::size_t k = 1; k < t.size(); ++k) names.emplace_back(t[k]);
-            for (const std::string& name : names) {
-                const fs::path mtl = fs::path(path).parent_path() / name;
-                std::error_code ec;
-                if (!fs::is_regular_file(mtl, ec))
-                    r.fail("material library " + quote(name) + " not found (looked for " + mtl.string() + ")");
+            // File names may contain spaces: the whole rest if such a library exists, else each token.
+            std::string libraryText, libraryFile;
+            std::vector<std::pair<std::string, std::string>> found;  // (file, text)
+            if (t.size() > 2 && libraries.find(r.rest(1), libraryText, libraryFile)) {
+                found.emplace_back(libraryFile, std::move(libraryText));
+            } else {
+                for (std::size_t k = 1; k < t.size(); ++k) {
+                    const std::string name(t[k]);
+                    bool exists = false;
+                    try {
+                        exists = libraries.find(name, libraryText, libraryFile);
+                    } catch (const Error& e) {
+                        r.fail("material library " + quote(name) + ": " + e.what());
+                    }
+                    if (!exists)
+                        r.fail("material library " + quote(name) + " not found (looked for " +
+                               (fs::path(path).parent_path() / name).string() + ")");
+                    found.emplace_back(libraryFile, std::move(libraryText));
+                }
+            }
+            for (const auto& [file, library] : found) {
                 const std::size_t before = scene.materials.size();
-                loadMtl(mtl.string(), scene.materials, warnings);
+                parseMtl(file, library, scene.materials, warnings);
                 for (std::size_t m = before; m < scene.materials.size(); ++m)
                     materialIds[scene.materials[m].name] = static_cast<std::uint32_t>(m);
             }

@@ -15,6 +15,18 @@ Scene loadObj(const std::string& path, Warnings& warnings);
 /// Loads an MTL library's materials into `out` (appending). Same error rules as loadObj.
 void loadMtl(const std::string& path, std::vector<Material>& out, Warnings& warnings);
 
+/// Where `mtllib` names are found: beside the OBJ file (loadObj), or in memory (tests, fuzzing).
+class MaterialSource {
+public:
+    virtual ~MaterialSource() = default;
+    /// The library's text and its name for messages; false when there is no such library.
+    virtual bool find(const std::string& name, std::string& text, std::string& file) = 0;
+};
+
+/// The parsers behind loadObj / loadMtl, on text in memory; `file` names it in messages.
+Scene parseObj(const std::string& file, std::string_view text, MaterialSource& libraries, Warnings& warnings);
+void parseMtl(const std::string& file, std::string_view text, std::vector<Material>& out, Warnings& warnings);
+
 /// Reads a whole text file; throws hemirad::Error naming the path when it cannot.
 std::string readTextFile(const std::string& path);
 

@@ -2,6 +2,10 @@
 #include "preprocess/form_factor_job.hpp"
 
 #include "engine/error.hpp"
+#include "engine/solver.hpp"
+
+#include <algorithm>
+#include <cstdio>
 
 #include <chrono>
 #include <exception>
@@ -16,6 +20,46 @@ std::vector<PatchId> neededRows(const Scene& scene, bool allRows) {
     for (PatchId i = 0; i < scene.size(); ++i)
         if (allRows || (scene.patches[i].rho > 0.0).any()) rows.push_back(i);
     return rows;
+}
+
+namespace {
+
+std::string gib(double bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f GiB", bytes / double(1ull << 30));
+    return text;
+}
+
+}  // namespace
+
+std::size_t checkFormFactorMemory(const Scene& scene, const std::string& method, const BackendOptions& options,
+                                  const std::vector<PatchId>& rows, std::size_t available) {
+    if (!available) available = availableMemory();
+    if (!available) return 0;  // unknown: nothing to compare with
+    const double budget = 0.8 * double(available);
+    // While rows are built, each exists twice (row lists, then CSR): 2 x 8 bytes per nonzero.
+    const double perNonzero = 16.0, fixed = 9.0 * double(scene.size());
+    const double raysPerRow = method == "hemicube" ? 3.0 * options.resolution * options.resolution
+                                                   : double(options.samples) * options.origins;
+    const double chain = scene.hasMirrors() ? double(options.maxDepth) + 1.0 : 1.0;
+    const double bound = fixed + perNonzero * double(rows.size()) * std::min(double(scene.size()), raysPerRow * chain);
+    if (bound <= budget) return std::size_t(bound);
+    // The bound is loose (rays hit the same patches): measure 64 rows spread over the list.
+    std::vector<PatchId> sample;
+    const std::size_t step = std::max<std::size_t>(1, rows.size() / 64);
+    for (std::size_t k = 0; k < rows.size() && sample.size() < 64; k += step) sample.push_back(rows[k]);
+    const FormFactorRun probe = computeFormFactors(scene, method, options, sample);
+    const double perRow = sample.empty() ? 0.0 : double(probe.F.nonZeros()) / double(sample.size());
+    const double estimate = fixed + 1.1 * perNonzero * perRow * double(rows.size());
+    if (estimate > budget) {
+        char perRowText[32];
+        std::snprintf(perRowText, sizeof perRowText, "%.0f", perRow);
+        throw Error("form factors: F for " + std::to_string(rows.size()) + " rows needs about " + gib(estimate) +
+                    " while it is built (" + perRowText + " nonzeros per row, measured on " +
+                    std::to_string(sample.size()) + " rows), more than the " + gib(budget) +
+                    " available; lower --samples/--origins/--resolution, subdivide less, or pass --no-memory-check");
+    }
+    return std::size_t(estimate);
 }
 
 FormFactorRun computeFormFactors(const Scene& scene, const std::string& method, const BackendOptions& options,

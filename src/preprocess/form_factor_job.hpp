@@ -25,6 +25,13 @@ using ProgressCallback = std::function<void(std::size_t, std::size_t, double)>;
 /// Rows a solve needs: patches with rho > 0 in some channel (B = E for the others); every row with allRows.
 std::vector<PatchId> neededRows(const Scene& scene, bool allRows);
 
+/// Refuses (hemirad::Error with the estimate and how to proceed) when F for `rows` may not fit in
+/// `available` bytes (0 = the machine's available memory). A cheap upper bound first (rays per
+/// row, or N, per row); only if that exceeds the budget, 64 sample rows are computed and their
+/// nonzeros extrapolated. Returns the estimate in bytes.
+std::size_t checkFormFactorMemory(const Scene& scene, const std::string& method, const BackendOptions& options,
+                                  const std::vector<PatchId>& rows, std::size_t available = 0);
+
 /// Computes `rows` of F for `scene` with the named back end; F carries the scene hash and
 /// parameters. `cancel` (optional) aborts between rows: then hemirad::Error("cancelled") is thrown.
 FormFactorRun computeFormFactors(const Scene& scene, const std::string& method, const BackendOptions& options,

@@ -17,8 +17,8 @@ struct Result {
     std::string output;  // stdout and stderr
 };
 
-Result runHemirad(const std::string& arguments) {
-    const std::string command = std::string(HEMIRAD_BINARY) + " " + arguments + " 2>&1";
+/// Runs a shell command, capturing stdout (and stderr where the command redirects it).
+Result runCommand(const std::string& command) {
     FILE* pipe = ::popen(command.c_str(), "r");
     REQUIRE(pipe != nullptr);
     std::string output;
@@ -28,6 +28,8 @@ Result runHemirad(const std::string& arguments) {
     const int status = ::pclose(pipe);
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
+
+Result runHemirad(const std::string& arguments) { return runCommand(std::string(HEMIRAD_BINARY) + " " + arguments + " 2>&1"); }
 
 std::string scene(const char* name) { return sourcePath(std::string("scenes/") + name); }
 
@@ -153,4 +155,23 @@ TEST_CASE("render writes a PNG of the Cornell box and prints a timing table") {
     const unsigned height = head[20] << 24 | head[21] << 16 | head[22] << 8 | head[23];
     CHECK(width == 64);
     CHECK(height == 48);
+}
+
+TEST_CASE("Ctrl-C leaves the previous output intact and no temporary files") {
+    const auto dir = tempDir("cli-interrupt");
+    const std::string ff = (dir / "F.hff").string();
+    REQUIRE(runHemirad("formfactors " + scene("unit_cube.obj") + " -o " + ff + " --samples 96 --quiet").status == 0);
+    std::ifstream before(ff, std::ios::binary);
+    const std::string original((std::istreambuf_iterator<char>(before)), {});
+    // A computation of several seconds, interrupted after one.
+    const Result r = runCommand("(" + std::string(HEMIRAD_BINARY) + " formfactors " + scene("unit_cube.obj") + " -o " + ff +
+                                " --subdivide 0.02 --samples 3072 --origins 16 --quiet 2>&1 & pid=$!; sleep 1; "
+                                "kill -INT $pid; wait $pid)");
+    CHECK(r.status == 130);
+    CHECK(r.output.find("interrupted; no partial output was written") != std::string::npos);
+    std::ifstream after(ff, std::ios::binary);
+    CHECK(std::string((std::istreambuf_iterator<char>(after)), {}) == original);
+    int files = 0;
+    for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir)) ++files;
+    CHECK(files == 1);
 }

@@ -186,3 +186,17 @@ TEST_CASE("Hemisphere F of the closed Cornell box conserves energy and is nearly
     CHECK(finer.stats.reciprocityMean < 0.65 * r.stats.reciprocityMean);
     CHECK(finer.stats.reciprocityMean > 0.35 * r.stats.reciprocityMean);
 }
+
+TEST_CASE("F that cannot fit the memory budget is refused before the work, with the estimate") {
+    const Scene s = subdivide(unitCube(), 0.1);  // 600 patches
+    BackendOptions o;
+    o.samples = 3072;
+    const auto rows = neededRows(s, true);
+    // Fits: the cheap bound is enough.
+    CHECK(checkFormFactorMemory(s, "hemisphere", o, rows, std::size_t(1) << 34) > 0);
+    // A 1 MiB budget: the 64-row probe measures ~500 nonzeros per row, F needs ~5 MiB.
+    CHECK_THROWS_WITH_AS(checkFormFactorMemory(s, "hemisphere", o, rows, std::size_t(1) << 20),
+                         doctest::Contains("nonzeros per row, measured on 64 rows"), Error);
+    CHECK_THROWS_WITH_AS(checkFormFactorMemory(s, "hemisphere", o, rows, std::size_t(1) << 20),
+                         doctest::Contains("--no-memory-check"), Error);
+}

@@ -1,0 +1,92 @@
+// The committed corpus of malformed scenes (tests/data/malformed): each file gives a clear error
+// naming file:line and the value, or a counted warning where loading can go on, and never a crash.
+#include "support.hpp"
+
+#include "engine/error.hpp"
+#include "engine/obj_loader.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+namespace {
+
+std::string corpus(const std::string& name) { return sourcePath("tests/data/malformed/" + name); }
+
+void expectError(const std::string& file, const std::string& message) {
+    Warnings w = quietWarnings();
+    CHECK_THROWS_WITH_AS(loadObj(corpus(file), w), doctest::Contains(message.c_str()), Error);
+}
+
+void expectWarning(const std::string& file, const std::string& kind, const std::string& message, std::size_t patches) {
+    std::vector<std::string> printed;
+    Warnings w([&](const std::string& m) { printed.push_back(m); });
+    const Scene s = loadObj(corpus(file), w);
+    CHECK(s.size() == patches);
+    CHECK(w.count(kind) == 1);
+    bool found = false;
+    for (const std::string& m : printed) found |= m.find(message) != std::string::npos;
+    CHECK_MESSAGE(found, "expected a warning containing '" << message << "'");
+}
+
+}  // namespace
+
+#define MALFORMED_ERROR(file, message) \
+    TEST_CASE("Malformed corpus: " file " is refused with its location") { expectError(file, message); }
+#define MALFORMED_WARNING(file, kind, message, patches) \
+    TEST_CASE("Malformed corpus: " file " loads with a counted warning") { expectWarning(file, kind, message, patches); }
+
+MALFORMED_ERROR("empty.obj", "empty.obj: no faces: nothing to compute")
+MALFORMED_ERROR("binary.obj", "binary.obj:7: contains a NUL byte")
+MALFORMED_ERROR("nan_vertex.obj", "nan_vertex.obj:5: vertex z 'nan' is not a finite number")
+MALFORMED_ERROR("inf_vertex.obj", "inf_vertex.obj:4: vertex x 'inf' is not a finite number")
+MALFORMED_ERROR("huge_vertex.obj", "huge_vertex.obj:4: vertex '1e300 0 0' is too far out")
+MALFORMED_ERROR("index_out_of_range.obj", "index_out_of_range.obj:6: vertex index 7 is out of range (the file has 3 vertices)")
+MALFORMED_ERROR("index_zero.obj", "index_zero.obj:6: face vertex '0': index 0 is invalid")
+MALFORMED_ERROR("index_negative_past_start.obj", "index_negative_past_start.obj:6: relative vertex index -5 reaches before the first vertex")
+MALFORMED_ERROR("face_two_vertices.obj", "face_two_vertices.obj:6: face has 2 vertices; a patch needs at least 3")
+MALFORMED_ERROR("face_garbage_index.obj", "face_garbage_index.obj:6: face vertex '3x' is not an index")
+MALFORMED_ERROR("texcoord_out_of_range.obj", "texcoord_out_of_range.obj:6: texture coordinate index 9 in '1/9' is out of range")
+MALFORMED_ERROR("vertex_two_values.obj", "vertex_two_values.obj:3: vertex needs x y z")
+MALFORMED_ERROR("lines_points_only.obj", "lines_points_only.obj: no faces: only lines, points or curves")
+MALFORMED_ERROR("missing_mtl.obj", "missing_mtl.obj:1: material library 'nowhere.mtl' not found")
+MALFORMED_ERROR("unreadable_mtl.obj", "unreadable_mtl.obj:1: material library 'directory.mtl': ")
+MALFORMED_ERROR("unknown_usemtl.obj", "unknown_usemtl.obj:3: usemtl 'gold': no such material")
+MALFORMED_ERROR("negative_kd.obj", "negative_kd.mtl:2: Kd '0.5 -0.2 0.5' has a negative value")
+MALFORMED_ERROR("nan_ke.obj", "nan_ke.mtl:3: Ke 'nan' is not a finite number")
+MALFORMED_ERROR("specular_above_one.obj", "specular_above_one.mtl:1: material 'over': mirror reflectance mean(Ks) = 2 exceeds 1")
+MALFORMED_ERROR("concave.obj", "concave.obj:8: face with 5 vertices is not convex")
+MALFORMED_ERROR("unknown_statement.obj", "unknown_statement.obj:5: unknown OBJ statement 'foo'")
+MALFORMED_ERROR("camera_degenerate.obj", "camera_degenerate.obj:3: camera eye and target coincide")
+
+MALFORMED_WARNING("duplicate_faces.obj", "duplicate patches", "duplicate_faces.obj:8: 1 face(s) repeat the vertices", 3)
+MALFORMED_WARNING("zero_area.obj", "degenerate patches skipped", "zero_area.obj:7: 1 zero-area face(s) skipped", 1)
+MALFORMED_WARNING("non_planar.obj", "non-planar patches", "non_planar.obj:7: 1 non-planar patch(es); worst deviation", 1)
+MALFORMED_WARNING("kd_above_one.obj", "materials with rho > 1", "kd_above_one.mtl:1: material 'bright' has diffuse reflectance Kd > 1", 1)
+MALFORMED_WARNING("rho_plus_s.obj", "materials with rho + s > 1", "rho_plus_s.mtl:1: material 'shiny' reflects more than it receives", 1)
+
+TEST_CASE("Malformed corpus: CRLF, tabs, odd whitespace and a trailing continuation load cleanly") {
+    for (const char* file : {"crlf_whitespace.obj", "continuation_at_end.obj"}) {
+        CAPTURE(file);
+        Warnings w = quietWarnings();
+        const Scene s = loadObj(corpus(file), w);
+        CHECK(s.size() == 1);
+        CHECK(w.count() == 0);
+        CHECK(s.patches[0].area == doctest::Approx(0.5));
+    }
+}
+
+TEST_CASE("Malformed corpus: a missing path and a directory are refused by name") {
+    Warnings w = quietWarnings();
+    CHECK_THROWS_WITH_AS(loadObj(corpus("no_such_scene.obj"), w), doctest::Contains("no_such_scene.obj: cannot open: No such file"), Error);
+    CHECK_THROWS_WITH_AS(loadObj(sourcePath("tests/data/malformed"), w), doctest::Contains("malformed: is a directory"), Error);
+}
+
+TEST_CASE("Malformed corpus: every file of the corpus is covered by a test above") {
+    // A new corpus file needs its expected message here too.
+    std::size_t files = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(sourcePath("tests/data/malformed")))
+        files += entry.path().extension() == ".obj";
+    CHECK(files == 29);
+}
