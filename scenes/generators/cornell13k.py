@@ -24,117 +24,15 @@ LIGHT_BANDS = 24          # latitude bands (the 2 pole bands are triangle fans)
 LIGHT_RADIUS = 60.0
 
 MATERIALS = [
-    ("white", (0.73, 0.73, 0.73), (0, 0, 0)),
-    ("red", (0.65, 0.05, 0.05), (0, 0, 0)),
-    ("green", (0.12, 0.45, 0.15), (0, 0, 0)),
-    ("light", (0.78, 0.78, 0.78), (17, 12, 4)),
+    ("white", (0.73, 0.73, 0.73), (0, 0, 0), 0.0),
+    ("red", (0.65, 0.05, 0.05), (0, 0, 0), 0.0),
+    ("green", (0.12, 0.45, 0.15), (0, 0, 0), 0.0),
+    ("light", (0.78, 0.78, 0.78), (17, 12, 4), 0.0),
 ]
 
 
-# ----------------------------------------------------------------------------- small vector helpers
-def add(a, b):
-    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
-
-
-def sub(a, b):
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
-
-
-def mul(a, s):
-    return (a[0] * s, a[1] * s, a[2] * s)
-
-
-def dot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def cross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-def newell(pts):
-    n = [0.0, 0.0, 0.0]
-    for k, a in enumerate(pts):
-        b = pts[(k + 1) % len(pts)]
-        n[0] += (a[1] - b[1]) * (a[2] + b[2])
-        n[1] += (a[2] - b[2]) * (a[0] + b[0])
-        n[2] += (a[0] - b[0]) * (a[1] + b[1])
-    return tuple(n)
-
-
-# ----------------------------------------------------------------------------- OBJ writer
-class ObjWriter:
-    """Collects faces; writes each distinct vertex (by its formatted text) once."""
-
-    FMT = "%.4f"
-
-    def __init__(self):
-        self.vertex_text = []
-        self.vertex_index = {}
-        self.records = []          # (object, material, [indices])
-        self.object = "default"
-        self.material = None
-        self.counts = [0, 0, 0]    # triangles, quads, other
-
-    def number(self, c):
-        text = self.FMT % c
-        return "0.0000" if text == "-0.0000" else text
-
-    def vertex(self, p):
-        key = " ".join(self.number(c) for c in p)
-        idx = self.vertex_index.get(key)
-        if idx is None:
-            self.vertex_text.append(key)
-            idx = len(self.vertex_text)
-            self.vertex_index[key] = idx
-        return idx
-
-    def face(self, pts, want=None):
-        """Add a polygon. If `want` is given, the polygon is reversed when its right-hand-rule
-        normal points away from `want` (a direction, or a callable centroid -> direction)."""
-        if want is not None:
-            c = mul(pts[0], 0.0)
-            for p in pts:
-                c = add(c, p)
-            c = mul(c, 1.0 / len(pts))
-            w = want(c) if callable(want) else want
-            if dot(newell(pts), w) < 0.0:
-                pts = list(reversed(pts))
-        idx = [self.vertex(p) for p in pts]
-        assert len(set(idx)) == len(idx), "face with repeated vertex"
-        self.records.append((self.object, self.material, idx))
-        n = len(idx)
-        self.counts[0 if n == 3 else 1 if n == 4 else 2] += 1
-
-    def write(self, obj_path, header, mtl_name, extra_header=()):
-        with open(obj_path, "w") as f:
-            f.write("# " + header + "\n")
-            f.write("mtllib %s\n" % mtl_name)
-            for line in extra_header:
-                f.write(line + "\n")
-            for v in self.vertex_text:
-                f.write("v " + v + "\n")
-            obj = mat = None
-            for o, m, idx in self.records:
-                if o != obj:
-                    f.write("o %s\n" % o)
-                    obj = o
-                    mat = None
-                if m != mat:
-                    f.write("usemtl %s\n" % m)
-                    mat = m
-                f.write("f " + " ".join(str(i) for i in idx) + "\n")
-
-
-def write_mtl(path, header, materials):
-    with open(path, "w") as f:
-        f.write("# " + header + "\n")
-        for name, kd, ke in materials:
-            f.write("\nnewmtl %s\n" % name)
-            f.write("Kd %.6g %.6g %.6g\n" % kd)
-            f.write("Ks 0 0 0\n")
-            f.write("Ke %.6g %.6g %.6g\n" % ke)
-            f.write("illum 1\n")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from objwriter import ObjWriter, add, cross, dot, mul, newell, sub, write_mtl  # noqa: E402,F401
 
 
 # ----------------------------------------------------------------------------- geometry builders

@@ -273,7 +273,12 @@ int runBench(const Options& o) {
             std::vector<std::string> a = {self, "bench-run", scenePath, "--method", method, "--label", label,
                                           "--reference", referencePath, "--reference-radiosity", radiosityPath,
                                           "--solver", solverName(o.solver.kind), "--tolerance", shortNumber(o.solver.tolerance)};
-            if (o.subdivide > 0) a.insert(a.end(), {"--subdivide", std::to_string(o.subdivide)});
+            if (o.subdivide > 0) {
+                // Full precision: a rounded edge length can subdivide into another scene.
+                char length[32];
+                std::snprintf(length, sizeof length, "%.17g", o.subdivide);
+                a.insert(a.end(), {"--subdivide", length});
+            }
             if (o.backend.threads > 0) a.insert(a.end(), {"--threads", std::to_string(o.backend.threads)});
             if (o.backend.fixedDirections) a.push_back("--fixed-directions");
             if (o.enforceReciprocity) a.push_back("--enforce-reciprocity");

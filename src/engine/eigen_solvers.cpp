@@ -87,17 +87,9 @@ const RowMatrix& SymmetricForm::matrixFor(const Vector& rho) {
         m_self.assign(n, 0.0);
         // Row i merges row i of F (A_i F_ij) with column i (A_j F_ji), both sorted: O(nnz).
         auto merge = [&](std::size_t i, auto&& visit) {
-            std::uint64_t a = m_F.rowBegin(i), b = m_Ft.start[i];
-            const std::uint64_t aEnd = m_F.rowEnd(i), bEnd = m_Ft.start[i + 1];
-            while (a < aEnd || b < bEnd) {
-                const std::uint32_t ja = a < aEnd ? m_F.columns()[a] : UINT32_MAX;
-                const std::uint32_t jb = b < bEnd ? m_Ft.rows[b] : UINT32_MAX;
-                const std::uint32_t j = std::min(ja, jb);
-                double g = 0.0;  // (A_i F_ij + A_j F_ji) / 2
-                if (ja == j) g += 0.5 * area[i] * m_F.values()[a++];
-                if (jb == j) g += 0.5 * area[j] * m_Ft.values[b++];
-                visit(j, g);
-            }
+            mergeRowAndColumn(m_F, m_Ft, i, [&](std::uint32_t j, double fij, double fji) {
+                visit(j, 0.5 * (area[i] * fij + area[j] * fji));  // (A_i F_ij + A_j F_ji) / 2
+            });
         };
         auto count = [&](std::size_t i) -> std::uint64_t {
             std::uint64_t c = 1;  // the diagonal

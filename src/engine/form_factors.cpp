@@ -123,25 +123,6 @@ TransposedFormFactors transpose(const FormFactors& F) {
     return out;
 }
 
-namespace {
-
-/// Visits, for row i, every column j of row i or of column i (ascending) with F_ij and F_ji (0 if absent).
-template <class Visit>
-void mergeRowAndColumn(const FormFactors& F, const TransposedFormFactors& Ft, std::size_t i, Visit visit) {
-    std::uint64_t a = F.rowBegin(i), b = Ft.start[i];
-    const std::uint64_t aEnd = F.rowEnd(i), bEnd = Ft.start[i + 1];
-    while (a < aEnd || b < bEnd) {
-        const std::uint32_t ja = a < aEnd ? F.columns()[a] : UINT32_MAX;
-        const std::uint32_t jb = b < bEnd ? Ft.rows[b] : UINT32_MAX;
-        const std::uint32_t j = std::min(ja, jb);
-        const double fij = ja == j ? F.values()[a++] : 0.0;
-        const double fji = jb == j ? Ft.values[b++] : 0.0;
-        visit(j, fij, fji);
-    }
-}
-
-}  // namespace
-
 FormFactorStats computeStats(const FormFactors& F, const Scene& scene) {
     FormFactorStats s;
     s.rows = F.size();

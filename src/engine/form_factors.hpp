@@ -75,6 +75,22 @@ struct TransposedFormFactors {
 /// Builds F^T (parallel counting sort, O(nnz); 8 bytes per nonzero).
 TransposedFormFactors transpose(const FormFactors& F);
 
+/// Visits, for row i, every column j of row i or of column i (ascending, each once) with F_ij and
+/// F_ji (0 where absent): the O(nnz) walk behind reciprocity statistics and the symmetric form.
+template <class Visit>
+void mergeRowAndColumn(const FormFactors& F, const TransposedFormFactors& Ft, std::size_t i, Visit&& visit) {
+    std::uint64_t a = F.rowBegin(i), b = Ft.start[i];
+    const std::uint64_t aEnd = F.rowEnd(i), bEnd = Ft.start[i + 1];
+    while (a < aEnd || b < bEnd) {
+        const std::uint32_t ja = a < aEnd ? F.columns()[a] : UINT32_MAX;
+        const std::uint32_t jb = b < bEnd ? Ft.rows[b] : UINT32_MAX;
+        const std::uint32_t j = ja < jb ? ja : jb;
+        const double fij = ja == j ? F.values()[a++] : 0.0;
+        const double fji = jb == j ? Ft.values[b++] : 0.0;
+        visit(j, fij, fji);
+    }
+}
+
 /// Diagnostics of an F against its scene (computed rows only).
 struct FormFactorStats {
     std::size_t rows = 0, computedRows = 0, nonZeros = 0;

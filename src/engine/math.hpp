@@ -22,4 +22,12 @@ inline void orthonormalBasis(const Vec3& n, Vec3& t, Vec3& b) {
     b = Vec3(c, sign + n.y() * n.y() * a, -n.y());
 }
 
+/// Reflection about the plane n . x + d = 0 (n unit) as a 4 x 4 transform of points.
+inline Eigen::Matrix4d reflectionMatrix(const Vec3& n, double d) {
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    m.block<3, 3>(0, 0) -= 2.0 * n * n.transpose();
+    m.block<3, 1>(0, 3) = -2.0 * d * n;
+    return m;
+}
+
 }  // namespace hemirad

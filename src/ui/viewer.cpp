@@ -25,13 +25,6 @@ struct PatchData {
 
 const GLenum kLayerFormats[5] = {GL_R32UI, GL_RGBA16F, GL_RGBA16F, GL_RGBA8, GL_RGBA8};
 
-Eigen::Matrix4d reflection(const Vec3& n, double d) {
-    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-    m.block<3, 3>(0, 0) -= 2.0 * n * n.transpose();
-    m.block<3, 1>(0, 3) = -2.0 * d * n;
-    return m;
-}
-
 }  // namespace
 
 Viewer::Viewer() {
@@ -228,7 +221,7 @@ void Viewer::render(AppState& app, const OrbitCamera& camera, int width, int hei
 
                 const Vec3 centre = mirror.centroid - m_centre;
                 const double d = -mirror.normal.dot(centre);
-                const Eigen::Matrix4f model = reflection(mirror.normal, d).cast<float>();
+                const Eigen::Matrix4f model = reflectionMatrix(mirror.normal, d).cast<float>();
                 gl::StencilFunc(GL_EQUAL, stencil, 0xff);
                 gl::StencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
                 gl::DepthFunc(GL_LESS);

@@ -82,18 +82,7 @@ void HemicubeBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBu
                     stats.collect += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
                 }
                 std::lock_guard<std::mutex> lock(totalMutex);
-                total.render += stats.render;
-                total.readback += stats.readback;
-                total.reduce += stats.reduce;
-                total.collect += stats.collect;
-                total.mirrors += stats.mirrors;
-                total.portals += stats.portals;
-                total.cutoffWeight += stats.cutoffWeight;
-                total.hemicubes += stats.hemicubes;
-                total.pixels += stats.pixels;
-                total.missed += stats.missed;
-                total.backfaces += stats.backfaces;
-                total.lostWeight += stats.lostWeight;
+                total += stats;
             }
             context->release();
         } catch (...) {

@@ -14,14 +14,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-/// Reflection about the plane n . x + d = 0 (n unit), as a 4 x 4 world transform.
-Eigen::Matrix4d reflection(const Vec3& n, double d) {
-    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-    m.block<3, 3>(0, 0) -= 2.0 * n * n.transpose();
-    m.block<3, 1>(0, 3) = -2.0 * d * n;
-    return m;
-}
-
 }  // namespace
 
 HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& geometry, const HemicubeLayout& layout,
@@ -310,7 +302,7 @@ void HemicubeRenderer::traversePortals(int depth, const std::vector<std::uint32_
         const Vec3 centre = m.centroid - m_geometry.centre;
         const double d = -m.normal.dot(centre);
         Pass pass;
-        pass.transform = transform * reflection(m.normal, d);
+        pass.transform = transform * reflectionMatrix(m.normal, d);
         pass.clipPlane = Eigen::Vector4d(m.normal.x(), m.normal.y(), m.normal.z(), d);
         pass.skipCode = m_geometry.codeOfPatch[m_groupPatch[group]];
         pass.mirrored = depth % 2 == 1;

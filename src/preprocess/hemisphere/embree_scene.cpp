@@ -137,19 +137,6 @@ RayScene::Hit RayScene::intersect(const Vec3& origin, const Vec3& dir, float tfa
     return hit;
 }
 
-void RayScene::intersectFan(const float origin[3], const float* dirs, std::size_t count, PatchId* patches) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    const PatchId* table = m_impl->patchOfTriangle.data();
-    for (std::size_t k = 0; k < count; ++k) {
-        RTCRayHit rh;
-        initRay(rh, origin, dirs + 3 * k, std::numeric_limits<float>::infinity());
-        rtcIntersect1(m_impl->scene, &context, &rh);
-        patches[k] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? table[rh.hit.primID] : kNoHit;
-    }
-}
-
 void RayScene::intersectFan(const float origin[3], const float* dirs, std::size_t count, PatchId* patches,
                             float* distances) const {
     RTCIntersectContext context;
@@ -160,9 +147,8 @@ void RayScene::intersectFan(const float origin[3], const float* dirs, std::size_
         RTCRayHit rh;
         initRay(rh, origin, dirs + 3 * k, std::numeric_limits<float>::infinity());
         rtcIntersect1(m_impl->scene, &context, &rh);
-        const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-        patches[k] = hit ? table[rh.hit.primID] : kNoHit;
-        distances[k] = rh.ray.tfar;
+        patches[k] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? table[rh.hit.primID] : kNoHit;
+        if (distances) distances[k] = rh.ray.tfar;
     }
 }
 

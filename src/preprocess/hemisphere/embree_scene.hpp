@@ -31,12 +31,10 @@ public:
     Hit intersect(const Vec3& origin, const Vec3& dir, float tfar = 3.0e38f) const;
 
     /// Casts `count` rays from one origin (local float coordinates from toLocal()) along unit
-    /// directions dirs[3 k .. 3 k + 2]; writes the patch hit (or kNoHit) to patches[k]. The fast path
-    /// of the hemisphere back end.
-    void intersectFan(const float origin[3], const float* dirs, std::size_t count, PatchId* patches) const;
-    /// Same as intersectFan but also returns hit distances (for mirror bounces).
+    /// directions dirs[3 k .. 3 k + 2]; writes the patch hit (or kNoHit) to patches[k] and, if
+    /// `distances` is given, the hit distance (for mirror bounces). The hemisphere back end's fast path.
     void intersectFan(const float origin[3], const float* dirs, std::size_t count, PatchId* patches,
-                      float* distances) const;
+                      float* distances = nullptr) const;
 
     /// Scene coordinates -> the float frame used by the BVH (centre subtracted).
     void toLocal(const Vec3& p, float out[3]) const;
