@@ -55,6 +55,23 @@ step "street64k at 3072 directions: time and peak memory"
 "$hemirad" bench-run "$scenes/street64k.obj" --label street64k --method hemisphere --samples 3072 \
     | tee "$results/street64k.jsonl"
 
+step "what skipping saves: black rows, the mirror pass, F reuse after a material-only edit"
+"$hemirad" bench-run "$scenes/street64k.obj" --label street64k_all_rows --method hemisphere --samples 3072 \
+    --all-rows | tee "$results/skip_black_rows.jsonl"
+sed -e 's/^illum 3/illum 1/' -e 's/^Ks 0.8 0.8 0.8/Ks 0 0 0/' "$scenes/street64k.mtl" > "$scenes/street64k_no_mirrors.mtl"
+sed 's/^mtllib street64k.mtl/mtllib street64k_no_mirrors.mtl/' "$scenes/street64k.obj" > "$scenes/street64k_no_mirrors.obj"
+"$hemirad" bench-run "$scenes/street64k_no_mirrors.obj" --label street64k_no_mirrors --method hemisphere \
+    --samples 3072 | tee "$results/skip_mirrors.jsonl"
+cp "$scenes/cornell13k.obj" "$scenes/cornell13k_edit.obj"
+sed 's/^mtllib cornell13k.mtl/mtllib cornell13k_edit.mtl/' "$scenes/cornell13k.obj" > "$scenes/cornell13k_edit.obj"
+cp "$scenes/cornell13k.mtl" "$scenes/cornell13k_edit.mtl"
+rm -f "$cache/cornell13k_edit.hff"
+"$hemirad" solve "$scenes/cornell13k_edit.obj" --ff "$cache/cornell13k_edit.hff" -o "$cache/B_before.csv" \
+    | tee "$results/reuse_first.txt"
+sed -i 's/^Ke 17 12 4/Ke 8.5 6 2/' "$scenes/cornell13k_edit.mtl"   # a material-only edit: the light at half power
+"$hemirad" solve "$scenes/cornell13k_edit.obj" --ff "$cache/cornell13k_edit.hff" -o "$cache/B_after.csv" \
+    | tee "$results/reuse_second.txt"
+
 step "numerical stress"
 "./$build/bench_stress" | tee "$results/stress.md"
 
