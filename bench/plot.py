@@ -41,7 +41,8 @@ def series_key(row):
     if row["method"] == "hemicube":
         return "hemicube (R sweep)"
     fixed = ", fixed directions" if row.get("directions") == "fixed" else ""
-    return "hemisphere, %s origin%s%s" % (row["origins"], "" if row["origins"] == "1" else "s", fixed)
+    post = ", " + row["postprocess"] if row.get("postprocess") else ""
+    return "hemisphere, %s origin%s%s%s" % (row["origins"], "" if row["origins"] == "1" else "s", fixed, post)
 
 
 def error_vs_time(rows, out):

@@ -44,6 +44,11 @@ def fmt(value, digits=3):
     return "%.*g" % (digits, v)
 
 
+def count(value):
+    v = num(value)
+    return "" if math.isnan(v) else "{:,}".format(int(round(v)))
+
+
 def setting(r):
     if r["method"] == "hemicube":
         return "R %s" % r["resolution"]
@@ -151,7 +156,7 @@ def main():
                "| scene | patches | R | render ms | readback ms | reduce ms | collect ms | full F [s] |", "|---|---|---|---|---|---|---|---|"]
         for r in box + timings:
             md.append("| %s | %s | %s | %s | %s | %s | %s | %s |" % (
-                r.get("scene"), fmt(r.get("patches")), fmt(r.get("resolution")), fmt(r.get("ms_per_row_hemicube_render")),
+                r.get("scene"), count(r.get("patches")), count(r.get("resolution")), fmt(r.get("ms_per_row_hemicube_render")),
                 fmt(r.get("ms_per_row_hemicube_readback")), fmt(r.get("ms_per_row_hemicube_reduce")),
                 fmt(r.get("ms_per_row_row_collect")), fmt(num(r.get("t_bvh")) + num(r.get("t_ff")))))
         md.append("")
@@ -163,8 +168,8 @@ def main():
                "64,230 patches (2,407 black sky cells skipped), 3072 directions, mirror windows (s = 0.8). Goal: F in "
                "<= 60 s and <= 4 GB peak RSS (the reference system: 7511 s on 12 threads).", "",
                "| F [s] | rays/s | nonzeros | F MiB | peak RSS MiB | rows | solve [s] |", "|---|---|---|---|---|---|---|",
-               "| %s | %s | %s | %s | %s | %s | %s |" % (fmt(num(s["t_bvh"]) + num(s["t_ff"])), fmt(s["rays_per_s"]), fmt(s["nnz"]),
-                                                   fmt(s["f_mib"]), fmt(s["peak_rss_mib"]), fmt(s["rows"]), fmt(s["t_solve"])), ""]
+               "| %s | %s | %s | %s | %s | %s | %s |" % (fmt(num(s["t_bvh"]) + num(s["t_ff"])), fmt(s["rays_per_s"]), count(s["nnz"]),
+                                                   fmt(s["f_mib"]), fmt(s["peak_rss_mib"]), count(s["rows"]), fmt(s["t_solve"])), ""]
 
     def total_seconds(path):
         try:
@@ -183,10 +188,10 @@ def main():
         md += ["## What skipping saves", "",
                "| what is skipped | with the skip | without | saved |", "|---|---|---|---|"]
         if allrows:
-            a = allrows[-1]
+            al = allrows[-1]
             md.append("| rows of black patches (street64k: %s sky rows, B = E) | F %s s, %s MiB | F %s s, %s MiB (--all-rows) | %.0f%% time |" % (
-                fmt(s["rows_skipped"]), fmt(num(s["t_ff"])), fmt(s["f_mib"]), fmt(num(a["t_ff"])), fmt(a["f_mib"]),
-                100 * (1 - num(s["t_ff"]) / num(a["t_ff"]))))
+                count(s["rows_skipped"]), fmt(num(s["t_ff"])), fmt(s["f_mib"]), fmt(num(al["t_ff"])), fmt(al["f_mib"]),
+                100 * (1 - num(s["t_ff"]) / num(al["t_ff"]))))
         if nomirror:
             m = nomirror[-1]
             md.append("| the mirror pass (street64k without its 469 mirror windows: no bounce code runs) | F %s s | F %s s with mirrors | %.0f%% time |" % (
