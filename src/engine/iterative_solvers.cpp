@@ -109,7 +109,7 @@ private:
 };
 
 template <int M>
-void jacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options) {
+void jacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options, const SweepHook& hook) {
     Block b(channels);
     ConvergenceCheck converged(options.tolerance);
     std::vector<double> next(b.B.size());
@@ -125,6 +125,10 @@ void jacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverO
         for (Channel* ch : channels) ch->report.iterations = it;
         if (!std::isfinite(worst)) break;
         if (converged(worst, F, channels, b)) return;
+        if (hook) {
+            b.store(channels);
+            hook(it);
+        }
     }
     converged.check(0.0, F, channels, b);
 }
@@ -132,7 +136,8 @@ void jacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverO
 /// Sequential: measured here, two threads splitting the rows (Jacobi between the halves) needed 50%
 /// more sweeps and ran slower than one thread on a memory-bound 2-core machine.
 template <int M>
-void gaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options) {
+void gaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options,
+                 const SweepHook& hook) {
     Block b(channels);
     ConvergenceCheck converged(options.tolerance);
     for (int it = 1; it <= options.maxIterations; ++it) {
@@ -143,25 +148,31 @@ void gaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, const So
         for (Channel* ch : channels) ch->report.iterations = it;
         if (!std::isfinite(worst)) break;
         if (converged(worst, F, channels, b)) return;
+        if (hook) {
+            b.store(channels);
+            hook(it);
+        }
     }
     converged.check(0.0, F, channels, b);
 }
 
 }  // namespace
 
-void solveJacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options) {
+void solveJacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options,
+                 const SweepHook& afterSweep) {
     switch (channels.size()) {
-    case 1: jacobi<1>(F, channels, options); break;
-    case 2: jacobi<2>(F, channels, options); break;
-    default: jacobi<3>(F, channels, options); break;
+    case 1: jacobi<1>(F, channels, options, afterSweep); break;
+    case 2: jacobi<2>(F, channels, options, afterSweep); break;
+    default: jacobi<3>(F, channels, options, afterSweep); break;
     }
 }
 
-void solveGaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options) {
+void solveGaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options,
+                      const SweepHook& afterSweep) {
     switch (channels.size()) {
-    case 1: gaussSeidel<1>(F, channels, options); break;
-    case 2: gaussSeidel<2>(F, channels, options); break;
-    default: gaussSeidel<3>(F, channels, options); break;
+    case 1: gaussSeidel<1>(F, channels, options, afterSweep); break;
+    case 2: gaussSeidel<2>(F, channels, options, afterSweep); break;
+    default: gaussSeidel<3>(F, channels, options, afterSweep); break;
     }
 }
 

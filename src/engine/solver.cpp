@@ -165,8 +165,16 @@ Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverO
         const auto start = Clock::now();
         if (kind == SolverKind::Jacobi || kind == SolverKind::GaussSeidel) {
             // One pass over F per sweep serves every channel.
-            if (kind == SolverKind::Jacobi) detail::solveJacobi(F, active, options);
-            else detail::solveGaussSeidel(F, active, options);
+            detail::SweepHook hook;
+            if (options.progress)
+                hook = [&](int sweep) {
+                    std::vector<Rgb> B(n);
+                    for (int c = 0; c < 3; ++c)
+                        for (std::size_t i = 0; i < n; ++i) B[i][c] = channels[channelOf[c]].B[i];
+                    options.progress(sweep, B);
+                };
+            if (kind == SolverKind::Jacobi) detail::solveJacobi(F, active, options, hook);
+            else detail::solveGaussSeidel(F, active, options, hook);
             const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
             for (Channel* ch : active) {
                 ch->report.seconds = seconds;

@@ -4,6 +4,7 @@
 #include "engine/form_factors.hpp"
 #include "engine/scene.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,9 @@ struct SolverOptions {
     int maxIterations = 100000;       ///< sweeps / iterations (Southwell: sweeps of N shots)
     bool allowUnconverged = false;    ///< else an unconverged solve throws hemirad::Error
     std::size_t memoryLimit = 0;      ///< bytes a direct solver may use; 0 = 80% of available memory
+    /// Called by Jacobi and Gauss-Seidel after each sweep with the current B (RGB per patch), on the
+    /// solving thread: for progressive display. Empty = not called.
+    std::function<void(int sweep, const std::vector<Rgb>& B)> progress;
 };
 
 struct SolveReport {

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,10 +31,15 @@ double relativeResidual(const FormFactors& F, const Vector& rho, const Vector& E
 
 using Transposed = TransposedFormFactors;
 
+/// Called after each sweep with the channels' B already stored back (progressive display).
+using SweepHook = std::function<void(int sweep)>;
+
 /// Jacobi B <- E + R F B, all channels in one pass over F per sweep.
-void solveJacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options);
+void solveJacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options,
+                 const SweepHook& afterSweep = {});
 /// Gauss-Seidel sweeps in place, all channels in one pass over F.
-void solveGaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options);
+void solveGaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options,
+                      const SweepHook& afterSweep = {});
 /// Southwell iteration (progressive refinement shooting) for one channel.
 void solveSouthwell(const Scene& scene, const FormFactors& F, const Transposed& Ft, Channel& channel,
                     const SolverOptions& options);

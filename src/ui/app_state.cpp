@@ -42,6 +42,10 @@ struct AppState::Job {
     std::optional<FormFactorStats> stats;
     Radiosity result;
     std::string error;
+    // Intermediate radiosity of a running solve (progressive display), newest only.
+    std::vector<Rgb> intermediate;
+    bool hasIntermediate = false;
+    Clock::time_point lastIntermediate;
     std::vector<std::string> messages;
     std::vector<std::pair<std::string, double>> timings;
 
@@ -85,9 +89,20 @@ struct AppState::Job {
             if (cancel) throw Error("cancelled");
             setStage("solve", 0.0);
             const auto t0 = Clock::now();
-            result = solveRadiosity(scene, *F, settings.solver, warmStart.size() == scene.size() ? &warmStart : nullptr);
-            const std::string solver = result.reports.empty() ? solverName(settings.solver.kind) : result.reports[0].solver;
-            timings.emplace_back("solve (" + solver + ")", std::chrono::duration<double>(Clock::now() - t0).count());
+            SolverOptions solver = settings.solver;
+            solver.progress = [this](int sweep, const std::vector<Rgb>& B) {
+                // At most ten updates a second reach the view.
+                const auto now = Clock::now();
+                if (now - lastIntermediate < std::chrono::milliseconds(100)) return;
+                lastIntermediate = now;
+                std::lock_guard<std::mutex> lock(mutex);
+                intermediate = B;
+                hasIntermediate = true;
+                status.stage = "solve (sweep " + std::to_string(sweep) + ")";
+            };
+            result = solveRadiosity(scene, *F, solver, warmStart.size() == scene.size() ? &warmStart : nullptr);
+            const std::string used = result.reports.empty() ? solverName(settings.solver.kind) : result.reports[0].solver;
+            timings.emplace_back("solve (" + used + ")", std::chrono::duration<double>(Clock::now() - t0).count());
         } catch (const std::exception& e) {
             error = e.what();
         }
@@ -336,7 +351,16 @@ void AppState::wait() {
 }
 
 bool AppState::poll() {
-    if (!m_job || !m_job->finished) return false;
+    if (m_job && !m_job->finished) {
+        // Progressive display: show the solve's newest intermediate radiosity.
+        std::lock_guard<std::mutex> lock(m_job->mutex);
+        if (!m_job->hasIntermediate || m_job->intermediate.size() != m_B.size()) return false;
+        m_B.swap(m_job->intermediate);
+        m_job->hasIntermediate = false;
+        bump();
+        return true;
+    }
+    if (!m_job) return false;
     if (m_job->thread.joinable()) m_job->thread.join();
     std::unique_ptr<Job> job = std::move(m_job);
     for (const std::string& m : job->messages) info(m);

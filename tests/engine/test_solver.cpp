@@ -176,3 +176,25 @@ TEST_CASE("Solver names parse and print") {
     CHECK(parseSolverKind("auto") == SolverKind::Auto);
     CHECK_THROWS_WITH_AS(parseSolverKind("magic"), doctest::Contains("unknown solver 'magic'"), Error);
 }
+
+TEST_CASE("Jacobi and Gauss-Seidel hand each sweep's radiosity to a progress callback") {
+    const Scene s = cubeWith(0.9);
+    const Radiosity exact = solveWith(s, exactCubeF(), SolverKind::LU);
+    for (SolverKind kind : {SolverKind::Jacobi, SolverKind::GaussSeidel}) {
+        CAPTURE(solverName(kind));
+        SolverOptions o;
+        o.kind = kind;
+        o.tolerance = 1e-9;
+        std::vector<int> sweeps;
+        std::vector<double> errors;
+        o.progress = [&](int sweep, const std::vector<Rgb>& B) {
+            sweeps.push_back(sweep);
+            errors.push_back(std::abs(B[1][0] - exact.B[1][0]));
+        };
+        const Radiosity r = solveRadiosity(s, exactCubeF(), o);
+        REQUIRE(sweeps.size() >= 10);
+        for (std::size_t k = 1; k < sweeps.size(); ++k) CHECK(sweeps[k] == sweeps[k - 1] + 1);
+        CHECK(errors.back() < 0.1 * errors.front());  // the view converges toward the answer
+        CHECK(r.B[1][0] == doctest::Approx(exact.B[1][0]).epsilon(1e-6));
+    }
+}
