@@ -108,20 +108,14 @@ private:
     double m_tolerance, m_threshold;
 };
 
-template <int M>
-void jacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options, const SweepHook& hook) {
-    Block b(channels);
+/// The sweep loop of Jacobi and Gauss-Seidel: `sweep` advances `b` by one sweep and returns the
+/// worst channel's step ||B' - B|| / ||E||.
+template <class Sweep>
+void iterate(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options,
+             const SweepHook& hook, Block& b, Sweep&& sweep) {
     ConvergenceCheck converged(options.tolerance);
-    std::vector<double> next(b.B.size());
     for (int it = 1; it <= options.maxIterations; ++it) {
-        jacobiSweep<M>(F, b, next);
-        double worst = 0.0;  // ||B' - B|| / ||E|| is exactly the residual of B
-        for (int c = 0; c < M; ++c) {
-            double step = 0.0;
-            for (std::size_t i = c; i < next.size(); i += M) step += (next[i] - b.B[i]) * (next[i] - b.B[i]);
-            worst = std::max(worst, std::sqrt(step) / b.normE[c]);
-        }
-        b.B.swap(next);
+        const double worst = sweep();
         for (Channel* ch : channels) ch->report.iterations = it;
         if (!std::isfinite(worst)) break;
         if (converged(worst, F, channels, b)) return;
@@ -133,27 +127,36 @@ void jacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverO
     converged.check(0.0, F, channels, b);
 }
 
+template <int M>
+void jacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options, const SweepHook& hook) {
+    Block b(channels);
+    std::vector<double> next(b.B.size());
+    iterate(F, channels, options, hook, b, [&] {
+        jacobiSweep<M>(F, b, next);
+        double worst = 0.0;  // ||B' - B|| / ||E|| is exactly the residual of B
+        for (int c = 0; c < M; ++c) {
+            double step = 0.0;
+            for (std::size_t i = c; i < next.size(); i += M) step += (next[i] - b.B[i]) * (next[i] - b.B[i]);
+            worst = std::max(worst, std::sqrt(step) / b.normE[c]);
+        }
+        b.B.swap(next);
+        return worst;
+    });
+}
+
 /// Sequential: measured here, two threads splitting the rows (Jacobi between the halves) needed 50%
 /// more sweeps and ran slower than one thread on a memory-bound 2-core machine.
 template <int M>
 void gaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options,
                  const SweepHook& hook) {
     Block b(channels);
-    ConvergenceCheck converged(options.tolerance);
-    for (int it = 1; it <= options.maxIterations; ++it) {
+    iterate(F, channels, options, hook, b, [&] {
         double change[M] = {};
         gaussSeidelSweep<M>(F, b, change);
         double worst = 0.0;
         for (int c = 0; c < M; ++c) worst = std::max(worst, std::sqrt(change[c]) / b.normE[c]);
-        for (Channel* ch : channels) ch->report.iterations = it;
-        if (!std::isfinite(worst)) break;
-        if (converged(worst, F, channels, b)) return;
-        if (hook) {
-            b.store(channels);
-            hook(it);
-        }
-    }
-    converged.check(0.0, F, channels, b);
+        return worst;
+    });
 }
 
 }  // namespace
