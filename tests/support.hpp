@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 #include <unistd.h>
@@ -127,6 +128,12 @@ inline std::filesystem::path tempDir(const std::string& name) {
 inline std::string writeFile(const std::filesystem::path& path, const std::string& text) {
     std::ofstream(path, std::ios::binary) << text;
     return path.string();
+}
+
+/// A whole file's bytes ("" if it cannot be read).
+inline std::string readText(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
 /// Warnings that are collected silently for assertions.

@@ -3,8 +3,11 @@
 
 #include "engine/error.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <mutex>
+#include <string>
+#include <vector>
 
 namespace hemirad::gl {
 
@@ -14,21 +17,31 @@ HEMIRAD_GL_FUNCTIONS(HEMIRAD_GL_DEFINE)
 
 namespace {
 std::mutex g_loadMutex;
-std::string g_loadedApi;
+std::vector<std::string> g_loadedApis;  // the first loaded the table; the rest matched it
 }  // namespace
 
 void loadApi(ProcLoader loader, const char* apiName) {
     std::lock_guard<std::mutex> lock(g_loadMutex);
-    if (g_loadedApi == apiName) return;
-    if (!g_loadedApi.empty())
-        throw Error(std::string("OpenGL: cannot mix ") + apiName + " contexts with the " + g_loadedApi +
-                    " contexts already used by this process");
+    if (std::find(g_loadedApis.begin(), g_loadedApis.end(), apiName) != g_loadedApis.end()) return;
+    if (!g_loadedApis.empty()) {
+        // A second window-system API may share the table only if it resolves to the very same
+        // entry points: true for EGL next to GLFW under glvnd (both hand out libGLdispatch's
+        // context-independent stubs), false for OSMesa next to either.
+#define HEMIRAD_GL_COMPARE(name, type)                                                                  \
+    if (reinterpret_cast<type>(loader("gl" #name)) != name)                                             \
+        throw Error(std::string("OpenGL: cannot mix ") + apiName + " contexts with the " + g_loadedApis[0] + \
+                    " contexts already used by this process (gl" #name " resolves differently)");
+        HEMIRAD_GL_FUNCTIONS(HEMIRAD_GL_COMPARE)
+#undef HEMIRAD_GL_COMPARE
+        g_loadedApis.emplace_back(apiName);
+        return;
+    }
 #define HEMIRAD_GL_LOAD(name, type)                                                                     \
     name = reinterpret_cast<type>(loader("gl" #name));                                                  \
     if (!name) throw Error(std::string("OpenGL (") + apiName + "): the driver lacks gl" #name " (GL 4.5 core needed)");
     HEMIRAD_GL_FUNCTIONS(HEMIRAD_GL_LOAD)
 #undef HEMIRAD_GL_LOAD
-    g_loadedApi = apiName;
+    g_loadedApis.emplace_back(apiName);
 }
 
 void check(const char* what) {

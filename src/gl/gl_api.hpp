@@ -121,8 +121,9 @@ HEMIRAD_GL_FUNCTIONS(HEMIRAD_GL_DECLARE)
 using ProcLoader = void* (*)(const char* name);
 
 /// Resolves every entry point through `loader` (eglGetProcAddress, OSMesaGetProcAddress,
-/// glfwGetProcAddress). All contexts of a process must come from one API. Throws hemirad::Error
-/// naming the first missing function.
+/// glfwGetProcAddress). A later API joins only if it resolves every function to the same pointer
+/// (EGL and GLFW under glvnd do; OSMesa does not). Throws hemirad::Error naming the first missing
+/// or mismatching function.
 void loadApi(ProcLoader loader, const char* apiName);
 
 /// Throws hemirad::Error("<what>: GL error 0x...") if the context recorded an error.

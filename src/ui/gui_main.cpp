@@ -44,7 +44,8 @@ const char* kUsage =
     "                   [--screenshot OUT.png] [--exit]\n"
     "  --run          compute form factors and solve after loading\n"
     "  --screenshot   once the view shows the results, save the window (with the UI) as a PNG\n"
-    "  --exit         quit after the screenshot (or at once without one)\n"
+    "  --exit         quit after the screenshot (or at once without one), print the log,\n"
+    "                 exit 1 if it holds an error\n"
     "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
     "       (ctrl/shift + click adds); keys: F frame, C scene camera, Esc select none, Ctrl+Z/Y undo/redo\n";
 
@@ -295,8 +296,15 @@ int main(int argc, char** argv) {
                 }
                 glfwSwapBuffers(window);
             }
-            for (const LogEntry& e : app.log())
-                if (e.error) std::fprintf(stderr, "hemirad-gui: error: %s\n", e.text.c_str());
+            // Scripted runs (--exit) print the whole log and fail if anything went wrong.
+            for (const LogEntry& e : app.log()) {
+                if (e.error) {
+                    std::fprintf(stderr, "hemirad-gui: error: %s\n", e.text.c_str());
+                    if (options.exitAfter) status = 1;
+                } else if (options.exitAfter) {
+                    std::printf("hemirad-gui: %s\n", e.text.c_str());
+                }
+            }
         }
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();

@@ -30,19 +30,22 @@ struct Image {
     }
 };
 
-}  // namespace
-
-TEST_CASE("hemirad-gui renders the Cornell box under Xvfb: walls in their halves, the UI drawn") {
+/// Runs hemirad-gui on the subdivided Cornell box with `methodFlags`, then checks the screenshot:
+/// not blank, the red wall left and the green one right, ImGui's menu bar drawn. Returns the log.
+std::string runGuiAndCheckPicture(const std::string& name, const std::string& methodFlags) {
     REQUIRE_MESSAGE(std::system("command -v xvfb-run > /dev/null") == 0, "xvfb-run is missing (scripts/install-deps.sh)");
-    const auto dir = tempDir("gui");
+    const auto dir = tempDir(name);
     const std::string png = (dir / "gui.png").string();
+    const std::string log = (dir / "log.txt").string();
     // Under `make test-sanitize` the GUI process runs without LeakSanitizer: Mesa's driver is unloaded
     // at exit and its allocations can no longer be attributed (or suppressed) by module name.
     const std::string command = "ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 "
                                 "xvfb-run -a -s '-screen 0 1400x900x24' " + std::string(HEMIRAD_GUI_BINARY) + " " +
-                                sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 768 --run --screenshot " +
-                                png + " --exit > " + (dir / "log.txt").string() + " 2>&1";
+                                sourcePath("scenes/cornell_box.obj") + " --subdivide 60 " + methodFlags +
+                                " --run --screenshot " + png + " --exit > " + log + " 2>&1";
     const int status = std::system(command.c_str());
+    const std::string output = readText(log);
+    INFO(output);
     REQUIRE(WIFEXITED(status));
     REQUIRE(WEXITSTATUS(status) == 0);
     Image image;
@@ -66,4 +69,18 @@ TEST_CASE("hemirad-gui renders the Cornell box under Xvfb: walls in their halves
     // The UI is drawn: ImGui's menu bar (grey 36) runs along the top of the window.
     const auto menu = image.mean(200, 2, image.width - 200, 16);
     for (int c = 0; c < 3; ++c) CHECK(menu[c] == doctest::Approx(36.0).epsilon(0.3));
+    return output;
+}
+
+}  // namespace
+
+TEST_CASE("hemirad-gui renders the Cornell box under Xvfb: walls in their halves, the UI drawn") {
+    const std::string log = runGuiAndCheckPicture("gui", "--samples 768");
+    CHECK(log.find("form factors: hemisphere") != std::string::npos);
+}
+
+TEST_CASE("hemirad-gui computes hemicube form factors in its EGL context next to the GLFW window") {
+    // The GUI's GLFW context and the hemicube workers' EGL contexts share one GL entry-point table.
+    const std::string log = runGuiAndCheckPicture("gui-hemicube", "--method hemicube --resolution 32");
+    CHECK(log.find("form factors: hemicube") != std::string::npos);
 }
