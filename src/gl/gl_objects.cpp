@@ -14,31 +14,20 @@ void deleteRenderbuffer(GLuint id) { DeleteRenderbuffers(1, &id); }
 void deleteVertexArray(GLuint id) { DeleteVertexArrays(1, &id); }
 void deleteProgram(GLuint id) { DeleteProgram(id); }
 
-Buffer makeBuffer() {
+namespace {
+/// One fresh name from a glGen* function (they all share this signature).
+GLuint generate(PFNGLGENBUFFERSPROC gen) {
     GLuint id = 0;
-    GenBuffers(1, &id);
-    return Buffer(id);
+    gen(1, &id);
+    return id;
 }
-Texture makeTexture() {
-    GLuint id = 0;
-    GenTextures(1, &id);
-    return Texture(id);
-}
-Framebuffer makeFramebuffer() {
-    GLuint id = 0;
-    GenFramebuffers(1, &id);
-    return Framebuffer(id);
-}
-Renderbuffer makeRenderbuffer() {
-    GLuint id = 0;
-    GenRenderbuffers(1, &id);
-    return Renderbuffer(id);
-}
-VertexArray makeVertexArray() {
-    GLuint id = 0;
-    GenVertexArrays(1, &id);
-    return VertexArray(id);
-}
+}  // namespace
+
+Buffer makeBuffer() { return Buffer(generate(GenBuffers)); }
+Texture makeTexture() { return Texture(generate(GenTextures)); }
+Framebuffer makeFramebuffer() { return Framebuffer(generate(GenFramebuffers)); }
+Renderbuffer makeRenderbuffer() { return Renderbuffer(generate(GenRenderbuffers)); }
+VertexArray makeVertexArray() { return VertexArray(generate(GenVertexArrays)); }
 
 Program::Program(const std::vector<Stage>& stages) : m_program(CreateProgram()) {
     std::vector<GLuint> shaders;
