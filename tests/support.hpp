@@ -1,6 +1,7 @@
 // Test support: closed-form view factors (Howell's catalogue), scene builders, temporary files.
 #pragma once
 
+#include "engine/obj_loader.hpp"
 #include "engine/scene.hpp"
 #include "engine/warnings.hpp"
 
@@ -116,6 +117,12 @@ inline Scene unitCube() {
 }
 
 inline std::string sourcePath(const std::string& relative) { return std::string(HEMIRAD_SOURCE_DIR) + "/" + relative; }
+
+/// A scene bundled in scenes/, loaded with its warnings kept quiet.
+inline Scene bundledScene(const std::string& name) {
+    Warnings w(nullptr);
+    return loadObj(sourcePath("scenes/" + name), w);
+}
 
 /// A fresh directory under the build tree for one test's files.
 inline std::filesystem::path tempDir(const std::string& name) {

@@ -30,11 +30,6 @@ FormFactorRun hemicube(const Scene& s, std::uint32_t resolution, const std::stri
     return computeFormFactors(s, "hemicube", o, neededRows(s, true));
 }
 
-Scene bundled(const char* name) {
-    Warnings w = quietWarnings();
-    return loadObj(sourcePath(std::string("scenes/") + name), w);
-}
-
 /// Mean over rows of sum_j |A_ij - B_ij|.
 double meanRowL1(const FormFactors& A, const FormFactors& B) {
     double total = 0.0;
@@ -80,7 +75,7 @@ TEST_CASE("Parallel plates from the centroid: the point-to-area factor 4 B3(1/2,
     // The hemicube sits at the centroid: it measures the factor of that point (physics.md §1 note).
     const double A = 0.5, B = 0.5, a = A / std::sqrt(1 + A * A), b = B / std::sqrt(1 + B * B);
     const double point = 4.0 / (2 * kPi) * (a * std::atan(B / std::sqrt(1 + A * A)) + b * std::atan(A / std::sqrt(1 + B * B)));
-    const FormFactorRun r = hemicube(bundled("parallel_plates.obj"), 256);
+    const FormFactorRun r = hemicube(bundledScene("parallel_plates.obj"), 256);
     CHECK(r.F.at(0, 1) == doctest::Approx(point).epsilon(2e-3));
     CHECK(r.F.at(1, 0) == doctest::Approx(point).epsilon(2e-3));
 }
@@ -105,7 +100,7 @@ TEST_CASE("Subdivided closed cube: rows sum to 1 and face-to-face factors match 
 }
 
 TEST_CASE("Hemicube and hemisphere converge to the same F on the Cornell box") {
-    const Scene s = subdivide(bundled("cornell_box.obj"), 100.0);
+    const Scene s = subdivide(bundledScene("cornell_box.obj"), 100.0);
     const FormFactorRun cube = hemicube(s, 128);
     BackendOptions o;
     o.samples = 3072;
@@ -122,7 +117,7 @@ TEST_CASE("Hemicube and hemisphere converge to the same F on the Cornell box") {
 }
 
 TEST_CASE("Drawing subdivided parents whole gives the F of drawing every patch") {
-    const Scene s = subdivide(bundled("cornell_box.obj"), 60.0);
+    const Scene s = subdivide(bundledScene("cornell_box.obj"), 60.0);
     const FormFactorRun whole = hemicube(s, 128, "cpu", true);
     const FormFactorRun each = hemicube(s, 128, "cpu", false);
     // Only pixels whose centres lie exactly on an edge may differ: between sibling patches (which
@@ -146,7 +141,7 @@ TEST_CASE("Triangle and general-quad parents find their patches too") {
 }
 
 TEST_CASE("CPU and GPU reduction give the same F") {
-    const Scene s = subdivide(bundled("cornell_box.obj"), 100.0);
+    const Scene s = subdivide(bundledScene("cornell_box.obj"), 100.0);
     const FormFactorRun cpu = hemicube(s, 64, "cpu");
     const FormFactorRun gpu = hemicube(s, 64, "gpu");
     // The GPU sums in 2^-31 fixed point: a row differs by at most one unit per pixel.
@@ -175,7 +170,7 @@ TEST_CASE("A failing GL context is a clear error, and auto falls back to OSMesa"
 }
 
 TEST_CASE("Hemicube mirror portals give the image-method factor of physics.md") {
-    const Scene s = subdivide(bundled("mirror_pair.obj"), 0.125);  // P1, P2 and the mirror: 64 patches each
+    const Scene s = subdivide(bundledScene("mirror_pair.obj"), 0.125);  // P1, P2 and the mirror: 64 patches each
     BackendOptions o;
     o.resolution = 128;
     const FormFactorRun r = computeFormFactors(s, "hemicube", o, neededRows(s, false));

@@ -24,15 +24,10 @@ FormFactorRun run(const Scene& s, std::uint32_t samples, std::uint32_t origins, 
     return computeFormFactors(s, "hemisphere", o, neededRows(s, allRows));
 }
 
-Scene loadScene(const char* name) {
-    Warnings w = quietWarnings();
-    return loadObj(sourcePath(std::string("scenes/") + name), w);
-}
-
 }  // namespace
 
 TEST_CASE("C-11: parallel unit squares at distance 1 (F = 0.199825)") {
-    const Scene s = loadScene("parallel_plates.obj");
+    const Scene s = bundledScene("parallel_plates.obj");
     const FormFactorRun r = run(s, 3072, 64);
     CHECK(r.F.at(0, 1) == doctest::Approx(c11(1, 1, 1)).epsilon(5e-3));
     CHECK(r.F.at(1, 0) == doctest::Approx(c11(1, 1, 1)).epsilon(5e-3));
@@ -41,7 +36,7 @@ TEST_CASE("C-11: parallel unit squares at distance 1 (F = 0.199825)") {
 }
 
 TEST_CASE("C-14: perpendicular plates with a common edge, both directions (0.232853 and 0.116426)") {
-    const Scene s = loadScene("perpendicular_plates.obj");
+    const Scene s = bundledScene("perpendicular_plates.obj");
     CHECK(c14(1, 2, 1) == doctest::Approx(0.232853).epsilon(1e-5));
     CHECK(c14(2, 1, 1) == doctest::Approx(0.116426).epsilon(1e-5));
     const FormFactorRun r = run(s, 3072, 256);
@@ -94,7 +89,7 @@ TEST_CASE("A subdivided closed box far from the origin (offset 1e5, scale 1000) 
 }
 
 TEST_CASE("Image-method mirror factor of physics.md (Sillion & Puech extended form factors)") {
-    const Scene s = loadScene("mirror_pair.obj");
+    const Scene s = bundledScene("mirror_pair.obj");
     REQUIRE(s.hasMirrors());
     const FormFactorRun r = run(s, 3072, 256);
     // P1 -> P2 only through the mirror: s (C11(2,1,1) - C11(1,1,1)) = 0.0774454.
@@ -147,7 +142,7 @@ TEST_CASE("Rows of black patches are skipped unless all rows are asked for") {
 }
 
 TEST_CASE("Form factors are reproducible for a seed and change with it") {
-    const Scene s = loadScene("perpendicular_plates.obj");
+    const Scene s = bundledScene("perpendicular_plates.obj");
     BackendOptions o;
     o.samples = 384;
     o.origins = 4;
@@ -171,7 +166,7 @@ TEST_CASE("Unknown methods and invalid options are errors") {
 TEST_CASE("Hemisphere F of the closed Cornell box conserves energy and is nearly reciprocal") {
     // The published floor runs under the blocks, whose bottoms are open: origins there see the
     // blocks' insides (back faces, lost). Every other row is closed.
-    const Scene s = subdivide(loadScene("cornell_closed.obj"), 100.0);
+    const Scene s = subdivide(bundledScene("cornell_closed.obj"), 100.0);
     const FormFactorRun r = run(s, 768, 4);
     std::size_t closed = 0;
     for (PatchId i = 0; i < s.size(); ++i)
