@@ -1,0 +1,126 @@
+// Lambert's contour integral, half-space clipping and area-uniform points on polygons.
+#include "preprocess/hemisphere/point_polygon.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hemirad {
+
+double pointToPolygonFactor(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t count) {
+    double sum = 0.0;
+    Vec3 a = p[count - 1] - x;
+    for (std::size_t k = 0; k < count; ++k) {
+        const Vec3 b = p[k] - x;
+        const Vec3 c = a.cross(b);
+        const double s = c.norm();
+        // atan2 keeps the angle accurate for nearly parallel edges where acos loses digits.
+        if (s > 0.0) sum += std::atan2(s, a.dot(b)) * n.dot(c) / s;
+        a = b;
+    }
+    return std::abs(sum) / (2.0 * kPi);
+}
+
+void clipAbovePlane(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t count, std::vector<Vec3>& out) {
+    out.clear();
+    Vec3 a = p[count - 1];
+    double ha = n.dot(a - x);
+    for (std::size_t k = 0; k < count; ++k) {
+        const Vec3& b = p[k];
+        const double hb = n.dot(b - x);
+        if ((ha >= 0.0) != (hb >= 0.0)) out.push_back(a + (ha / (ha - hb)) * (b - a));
+        if (hb >= 0.0) out.push_back(b);
+        a = b;
+        ha = hb;
+    }
+    if (out.size() < 3) out.clear();
+}
+
+Vec3 pointOnPolygon(const Vec3* p, std::size_t count, double u, double v) {
+    if (count == 4 && (p[0] + p[2] - p[1] - p[3]).norm() <= 1e-9 * (p[2] - p[0]).norm())
+        return p[0] + u * (p[1] - p[0]) + v * (p[3] - p[0]);
+    double total = 0.0;
+    for (std::size_t k = 1; k + 1 < count; ++k) total += (p[k] - p[0]).cross(p[k + 1] - p[0]).norm();
+    // u picks the fan triangle (0, t, t + 1) by area and is rescaled to [0, 1) within it.
+    double low = 0.0;
+    std::size_t t = 1;
+    for (; t + 2 < count; ++t) {
+        const double high = low + (p[t] - p[0]).cross(p[t + 1] - p[0]).norm() / total;
+        if (u < high) break;
+        low = high;
+    }
+    const double width = (p[t] - p[0]).cross(p[t + 1] - p[0]).norm() / total;
+    u = width > 0.0 ? std::min((u - low) / width, 1.0) : 0.0;
+    if (u + v > 1.0) {  // fold the unit square onto the triangle
+        u = 1.0 - u;
+        v = 1.0 - v;
+    }
+    return p[0] + u * (p[t] - p[0]) + v * (p[t + 1] - p[0]);
+}
+
+void splitPolygon(const Vec3* p, std::size_t count, std::vector<Vec3>& out) {
+    Vec3 centre = Vec3::Zero();
+    for (std::size_t k = 0; k < count; ++k) centre += p[k];
+    centre /= double(count);
+    for (std::size_t k = 0; k < count; ++k) {
+        const Vec3& previous = p[(k + count - 1) % count];
+        const Vec3& next = p[(k + 1) % count];
+        out.push_back(p[k]);
+        out.push_back(0.5 * (p[k] + next));
+        out.push_back(centre);
+        out.push_back(0.5 * (previous + p[k]));
+    }
+}
+
+void polygonQuadrature(const Vec3* p, std::size_t count, const std::vector<double>& nodes,
+                       const std::vector<double>& weights, std::vector<Vec3>& points, std::vector<double>& pointWeights) {
+    const std::size_t first = pointWeights.size();
+    double total = 0.0;
+    if (count == 4) {
+        for (std::size_t a = 0; a < nodes.size(); ++a)
+            for (std::size_t b = 0; b < nodes.size(); ++b) {
+                const double u = nodes[a], v = nodes[b];
+                const Vec3 du = (1 - v) * (p[1] - p[0]) + v * (p[2] - p[3]);
+                const Vec3 dv = (1 - u) * (p[3] - p[0]) + u * (p[2] - p[1]);
+                points.push_back((1 - u) * (1 - v) * p[0] + u * (1 - v) * p[1] + u * v * p[2] + (1 - u) * v * p[3]);
+                pointWeights.push_back(weights[a] * weights[b] * du.cross(dv).norm());
+                total += pointWeights.back();
+            }
+    } else {
+        for (std::size_t t = 1; t + 1 < count; ++t) {
+            const double area = (p[t] - p[0]).cross(p[t + 1] - p[0]).norm();
+            for (std::size_t a = 0; a < nodes.size(); ++a)
+                for (std::size_t b = 0; b < nodes.size(); ++b) {
+                    const double u = nodes[a], v = nodes[b];
+                    points.push_back(p[0] + u * (p[t] - p[0]) + u * v * (p[t + 1] - p[t]));
+                    pointWeights.push_back(weights[a] * weights[b] * u * area);
+                    total += pointWeights.back();
+                }
+        }
+    }
+    for (std::size_t k = first; k < pointWeights.size(); ++k) pointWeights[k] /= total;
+}
+
+void gaussLegendre(int n, std::vector<double>& nodes, std::vector<double>& weights) {
+    nodes.assign(n, 0.0);
+    weights.assign(n, 0.0);
+    for (int k = 0; k < n; ++k) {
+        double x = std::cos(kPi * (k + 0.75) / (n + 0.5)), dp = 1.0;  // Tricomi's initial guess
+        for (int iteration = 0; iteration < 100; ++iteration) {
+            double p0 = 1.0, p1 = x;  // P_n(x) by the three-term recurrence
+            for (int m = 2; m <= n; ++m) {
+                const double p2 = ((2 * m - 1) * x * p1 - (m - 1) * p0) / m;
+                p0 = p1;
+                p1 = p2;
+            }
+            if (n == 1) p0 = 1.0;
+            dp = n * (x * p1 - p0) / (x * x - 1.0);
+            const double step = p1 / dp;
+            x -= step;
+            if (std::abs(step) < 1e-15) break;
+        }
+        nodes[k] = 0.5 * (1.0 - x);
+        weights[k] = 1.0 / ((1.0 - x * x) * dp * dp);  // 2 / ((1 - x^2) P'^2), halved for [0, 1]
+    }
+}
+
+}  // namespace hemirad

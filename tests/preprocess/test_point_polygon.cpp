@@ -1,0 +1,98 @@
+// Lambert's point-to-polygon factor, half-space clipping and area-uniform polygon points.
+#include "preprocess/hemisphere/point_polygon.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <vector>
+
+using namespace hemirad;
+
+namespace {
+
+/// Howell B-3: element parallel to an a x b rectangle at distance c, normal through a corner.
+double b3(double a, double b, double c) {
+    const double A = a / c, B = b / c;
+    return (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
+            B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B))) /
+           (2 * kPi);
+}
+
+/// Brute-force cos cos / (pi r^2) over the part of rectangle x = X, y in [y0, y1], z in [z0, z1]
+/// above the element at the origin with normal +z (midpoint rule), the independent check of clipping.
+double perpendicularByQuadrature(double X, double y0, double y1, double z0, double z1) {
+    const int n = 1200;
+    double sum = 0.0;
+    const double dy = (y1 - y0) / n, dz = (z1 - z0) / n;
+    for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b) {
+            const double y = y0 + (a + 0.5) * dy, z = z0 + (b + 0.5) * dz;
+            if (z <= 0) continue;
+            const double r2 = X * X + y * y + z * z;
+            sum += (z / std::sqrt(r2)) * (X / std::sqrt(r2)) / (kPi * r2) * dy * dz;
+        }
+    return sum;
+}
+
+}  // namespace
+
+TEST_CASE("Point to rectangle: Howell B-3 with the normal through a corner, both windings") {
+    const Vec3 x(0, 0, 0), n(0, 0, 1);
+    const std::vector<Vec3> ccw = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    const std::vector<Vec3> cw(ccw.rbegin(), ccw.rend());
+    CHECK(b3(1, 1, 1) == doctest::Approx(0.138532).epsilon(1e-5));
+    CHECK(pointToPolygonFactor(x, n, ccw.data(), 4) == doctest::Approx(b3(1, 1, 1)).epsilon(1e-12));
+    CHECK(pointToPolygonFactor(x, n, cw.data(), 4) == doctest::Approx(b3(1, 1, 1)).epsilon(1e-12));
+    const std::vector<Vec3> wide = {{0, 0, 0.5}, {3, 0, 0.5}, {3, 2, 0.5}, {0, 2, 0.5}};
+    CHECK(pointToPolygonFactor(x, n, wide.data(), 4) == doctest::Approx(b3(3, 2, 0.5)).epsilon(1e-12));
+}
+
+TEST_CASE("Point to a regular polygon on the axis approaches the disk's R^2 / (R^2 + H^2)") {
+    const double R = 0.7, H = 1.3;
+    std::vector<Vec3> disk;
+    for (int k = 0; k < 4096; ++k)
+        disk.emplace_back(R * std::cos(2 * kPi * k / 4096), R * std::sin(2 * kPi * k / 4096), H);
+    CHECK(pointToPolygonFactor(Vec3::Zero(), Vec3(0, 0, 1), disk.data(), disk.size()) ==
+          doctest::Approx(R * R / (R * R + H * H)).epsilon(1e-6));
+}
+
+TEST_CASE("A polygon straddling the tangent plane counts only its part above it") {
+    const Vec3 x(0, 0, 0), n(0, 0, 1);
+    const std::vector<Vec3> wall = {{1, -1, -0.5}, {1, 1, -0.5}, {1, 1, 1}, {1, -1, 1}};
+    std::vector<Vec3> clipped;
+    clipAbovePlane(x, n, wall.data(), wall.size(), clipped);
+    REQUIRE(clipped.size() == 4);
+    for (const Vec3& p : clipped) CHECK(p.z() >= 0.0);
+    CHECK(pointToPolygonFactor(x, n, clipped.data(), clipped.size()) ==
+          doctest::Approx(perpendicularByQuadrature(1, -1, 1, -0.5, 1)).epsilon(1e-5));
+    // Entirely below: nothing; a triangle with one corner above keeps a triangle.
+    const std::vector<Vec3> below = {{1, 0, -1}, {1, 1, -1}, {1, 1, -0.1}};
+    clipAbovePlane(x, n, below.data(), below.size(), clipped);
+    CHECK(clipped.empty());
+    const std::vector<Vec3> tip = {{1, 0, -1}, {1, 1, -1}, {1, 0.5, 1}};
+    clipAbovePlane(x, n, tip.data(), tip.size(), clipped);
+    CHECK(clipped.size() == 3);
+}
+
+TEST_CASE("Points on polygons are area-uniform: the mean of a grid of (u, v) is the centroid") {
+    const std::vector<Vec3> parallelogram = {{0, 0, 0}, {2, 0, 0}, {3, 1, 0}, {1, 1, 0}};
+    const std::vector<Vec3> pentagon = {{0, 0, 0}, {4, 0, 0}, {5, 2, 0}, {2, 4, 0}, {-1, 2, 0}};
+    for (const auto* polygon : {&parallelogram, &pentagon}) {
+        // Area centroid by the fan triangles.
+        Vec3 centroid = Vec3::Zero();
+        double area = 0.0;
+        const auto& p = *polygon;
+        for (std::size_t k = 1; k + 1 < p.size(); ++k) {
+            const double a = 0.5 * (p[k] - p[0]).cross(p[k + 1] - p[0]).norm();
+            centroid += a * (p[0] + p[k] + p[k + 1]) / 3.0;
+            area += a;
+        }
+        centroid /= area;
+        Vec3 mean = Vec3::Zero();
+        const int n = 400;
+        for (int a = 0; a < n; ++a)
+            for (int b = 0; b < n; ++b) mean += pointOnPolygon(p.data(), p.size(), (a + 0.5) / n, (b + 0.5) / n);
+        mean /= double(n) * n;
+        CHECK((mean - centroid).norm() < 1e-2);
+    }
+}
