@@ -111,6 +111,7 @@ int main(int argc, char** argv) {
     double subdivideLength = 0.0;
     int repeat = 1;
     BackendOptions options;
+    options.estimator = "rays";  // the comparison is ray for ray with the bare loop
     Rgb rho = Rgb::Constant(-1.0);  // keep the scene's reflectances unless --rho is given
     for (int k = 2; k + 1 < argc; k += 2) {
         const std::string flag = argv[k];

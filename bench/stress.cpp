@@ -40,6 +40,7 @@ double furnaceError(const Radiosity& r, double rho) {
 
 FormFactors hemisphereF(const Scene& s, std::uint32_t samples, std::uint32_t origins = 1) {
     BackendOptions o;
+    o.estimator = "rays";  // the ray estimator: closed rows sum to 1 exactly
     o.samples = samples;
     o.origins = origins;
     return computeFormFactors(s, "hemisphere", o, neededRows(s, true)).F;
@@ -136,6 +137,7 @@ void mirrors() {
     quad(0.5, 0.3, false, 0);
     for (std::uint32_t depth : {1u, 2u, 4u, 8u, 16u, 64u, 256u, 1000u}) {
         BackendOptions o;
+        o.estimator = "rays";
         o.samples = 4096;
         o.maxDepth = depth;
         o.minWeight = 1e-6;
@@ -189,6 +191,7 @@ void scales() {
         for (Vec3& v : s.vertices) v = 1000.0 * v + Vec3(1e5, 1e5, 1e5);
         s.updateMeasures();
         BackendOptions o;
+        o.estimator = "rays";
         o.samples = 768;
         const FormFactorRun r = computeFormFactors(s, "hemisphere", o, neededRows(s, true));
         std::printf("| cube offset 1e5, scale 1e3 | lost fraction | %.2e | 0 |\n", r.counts.lostWeight / double(s.size()));

@@ -154,6 +154,7 @@ int runBenchRun(const Options& o) {
         r.set("reduce", o.backend.reduce);
         r.set("rays_per_patch", 3.0 * o.backend.resolution * o.backend.resolution);
     }
+    if (o.method == "hemisphere") r.set("estimator", usesAnalyticEstimator(o.backend, scene.size()) ? "analytic" : "rays");
     FormFactorRun run = computeFormFactors(scene, o.method, o.backend, neededRows(scene, o.allRows));
     if (o.enforceReciprocity) {
         const auto t = Clock::now();
@@ -231,13 +232,17 @@ int runBench(const Options& o) {
 
     // The reference: a high-resolution hemisphere F over every row, and its radiosity.
     fs::create_directories(o.cacheDir);
-    const std::string key = hexHash(scene.geometryHash()) + "-hemisphere-jittered-" + std::to_string(o.referenceSamples) +
-                            "x" + std::to_string(o.referenceOrigins);
+    const bool analyticReference = o.referenceEstimator == "analytic";
+    const std::string key = hexHash(scene.geometryHash()) + (analyticReference ? "-analytic-jittered-" : "-hemisphere-jittered-") +
+                            std::to_string(o.referenceSamples) + "x" + std::to_string(o.referenceOrigins);
     const std::string referencePath = (fs::path(o.cacheDir) / (key + ".hff")).string();
     if (!fs::exists(referencePath)) {
-        reporter.line("bench: computing the reference F (" + std::to_string(o.referenceSamples) + " jittered directions x " +
+        reporter.line("bench: computing the reference F (" +
+                      (analyticReference ? "Lambert factors, shadow rays to random points, "
+                                         : std::to_string(o.referenceSamples) + " jittered directions x ") +
                       std::to_string(o.referenceOrigins) + " origins, every row) into " + referencePath);
         BackendOptions b = o.backend;
+        b.estimator = o.referenceEstimator;
         b.samples = o.referenceSamples;
         b.origins = o.referenceOrigins;
         // Jittered directions and a seed of its own: the reference shares no discretisation with the runs.
@@ -281,13 +286,17 @@ int runBench(const Options& o) {
             }
             if (o.backend.threads > 0) a.insert(a.end(), {"--threads", std::to_string(o.backend.threads)});
             if (o.backend.fixedDirections) a.push_back("--fixed-directions");
+            a.insert(a.end(), {"--estimator", o.backend.estimator});
             if (o.enforceReciprocity) a.push_back("--enforce-reciprocity");
             if (o.normalizeRows) a.push_back("--normalize-rows");
             return a;
         };
         if (method == "hemisphere") {
+            // Without mirrors the analytic estimator casts no directions: one run per origin count.
+            const bool directionsMatter = o.backend.estimator != "analytic" || scene.hasMirrors();
             for (std::uint32_t k : o.sweepOrigins)
                 for (std::uint32_t s : o.sweepSamples) {
+                    if (!directionsMatter && s != o.sweepSamples.front()) continue;
                     auto a = base();
                     a.insert(a.end(), {"--samples", std::to_string(s), "--origins", std::to_string(k)});
                     runs.push_back(a);
@@ -316,6 +325,7 @@ int runBench(const Options& o) {
         BenchRecord record = BenchRecord::parse(start == std::string::npos ? child.out : child.out.substr(start));
         std::map<std::string, std::string> f(record.fields().begin(), record.fields().end());
         std::string setting = f["method"] == "\"hemisphere\"" ? f["samples"] + " x " + f["origins"] : "R " + f["resolution"];
+        if (f["estimator"] == "\"analytic\"") setting = "analytic x " + f["origins"];
         char line[256];
         std::snprintf(line, sizeof line, "%-12s %-12s %8.3f %8.3f %9.3g %14.4g %9.4g %12.4g %9.0f",
                       f["method"].substr(1, f["method"].size() - 2).c_str(), setting.c_str(), std::stod(f["t_ff"]),

@@ -132,6 +132,12 @@ const std::map<std::string, Flag>& flags() {
                           [](Options& o, const std::string&, const std::string&) { o.backend.parentPolygons = false; }}},
         {"--fixed-directions",
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.backend.fixedDirections = true; }}},
+        {"--estimator", {kComputing, true,
+                         [](Options& o, const std::string& f, const std::string& v) {
+                             if (v != "auto" && v != "rays" && v != "analytic")
+                                 throw UsageError(f + " expects auto, rays or analytic, got '" + v + "'");
+                             o.backend.estimator = v;
+                         }}},
         {"--jitter", {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.backend.jitter = true; }}},
         {"--all-rows", {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.allRows = true; }}},
         {"--enforce-reciprocity",
@@ -216,6 +222,12 @@ const std::map<std::string, Flag>& flags() {
                                  [](Options& o, const std::string& f, const std::string& v) {
                                      o.referenceOrigins = static_cast<std::uint32_t>(parseInteger(f, v, 1, 1 << 16));
                                  }}},
+        {"--reference-estimator", {kBench, true,
+                                   [](Options& o, const std::string& f, const std::string& v) {
+                                       if (v != "rays" && v != "analytic")
+                                           throw UsageError(f + " expects rays or analytic, got '" + v + "'");
+                                       o.referenceEstimator = v;
+                                   }}},
         {"--cache", {kBench, true, [](Options& o, const std::string&, const std::string& v) { o.cacheDir = v; }}},
         {"--json", {kBench, true, [](Options& o, const std::string&, const std::string& v) { o.jsonPath = v; }}},
         {"--label", {{"bench", "bench-run"}, true, [](Options& o, const std::string&, const std::string& v) { o.label = v; }}},
@@ -303,7 +315,12 @@ form factors (formfactors, solve, render):
   --max-depth D          mirror reflections followed (default 8)
   --seed S               hemisphere: seed for origin jitter and pattern rotation (default 1)
   --fixed-directions     hemisphere: no random rotation of the pattern (the reference system's method)
-  --jitter               hemisphere: a random direction within each Beckers cell (unbiased, stratified)
+  --jitter               hemisphere: a random direction within each Beckers cell (unbiased, stratified);
+                         with --estimator analytic, shadow rays to random points instead of centres
+  --estimator auto|rays|analytic
+                         hemisphere: direct factors from ray counts, or Lambert's exact point-to-
+                         polygon factor for each patch a shadow ray finds visible; auto (default):
+                         analytic when patches <= 5 x samples, else rays
   --resolution R         hemicube: top face R x R pixels, sides R x R/2 (even, default 128)
   --reduce cpu|gpu       hemicube: sum pixels into rows on the CPU (default) or in a compute shader
   --gl auto|egl|osmesa   hemicube: headless OpenGL API (default auto: EGL, then OSMesa)
@@ -333,7 +350,10 @@ bench:
   --sweep-samples LIST   hemisphere directions (default 96,384,768,1536,3072)
   --sweep-origins LIST   hemisphere origins per patch (default 1)
   --sweep-resolutions LIST  hemicube resolutions (default 64,128,256)
-  --reference-samples N, --reference-origins K   the reference F (default 4096 x 16, hemisphere, jittered)
+  --reference-estimator analytic|rays   the reference F: Lambert factors from a Gauss-Legendre rule
+                         of K origins over each emitter, shadow rays to random points (default), or rays
+  --reference-samples N, --reference-origins K   its directions (rays; mirror chains) and origins
+                         (default 4096 x 16, jittered)
   --cache DIR            where reference F and B are kept (default bench/cache)
   --json FILE            also write the results as JSON
   --label NAME           scene name in the results (default: the file name)

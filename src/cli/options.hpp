@@ -57,6 +57,7 @@ struct Options {
     std::vector<std::uint32_t> sweepOrigins = {1};
     std::vector<std::uint32_t> sweepResolutions = {64, 128, 256};
     std::uint32_t referenceSamples = 4096, referenceOrigins = 16;
+    std::string referenceEstimator = "analytic";  ///< "analytic" (Lambert, jittered visibility) or "rays" (jittered)
     std::string cacheDir = "bench/cache";
     std::string jsonPath;
     std::string label;

@@ -71,12 +71,17 @@ void Reporter::formFactorSummary(const FormFactorRun& run, const BackendOptions&
     const RayCounts& c = run.counts;
     const bool hemicube = method == "hemicube";
     const char* unit = hemicube ? "pixels" : "rays";
+    const bool hasMirrors = c.bounces > 0 || c.cutoffWeight > 0;
     std::ostringstream out;
     out.setf(std::ios::fixed);
     out << "form factors: " << method << ", ";
     if (hemicube)
         out << options.resolution << " x " << options.resolution << " top face (" << 3 * options.resolution * options.resolution
             << " pixels), reduction on the " << options.reduce;
+    else if (const auto e = run.F.parameters.find("estimator"); e != run.F.parameters.end() && e->second != "rays")
+        out << "analytic estimator (Lambert factors, one shadow ray per pair" << (hasMirrors ? "; " : "")
+            << (hasMirrors ? std::to_string(options.samples) + " directions carry the mirror chains" : std::string()) << "), "
+            << (options.origins == 1 ? "centroid" : std::to_string(options.origins) + " origins");
     else
         out << options.samples << " directions x " << options.origins
             << (options.origins == 1 ? " origin (centroid)" : " origins");
@@ -87,6 +92,9 @@ void Reporter::formFactorSummary(const FormFactorRun& run, const BackendOptions&
     out << "; lost " << std::setprecision(4)
         << (run.rowsComputed ? 100.0 * c.lostWeight / double(run.rowsComputed) : 0.0) << "% of the power (" << c.misses
         << " misses, " << c.backfaces << " back faces)";
+    if (c.rescaledRows)
+        out << "\n  analytic rows whose direct factors summed above 1 (largest " << std::setprecision(4) << c.largestDirectSum
+            << "), scaled to 1: " << c.rescaledRows;
     if (c.bounces) {
         out << "\n  mirror bounces " << c.bounces << "; power cut off by --max-depth " << options.maxDepth
             << " / weight < " << options.minWeight << ": " << std::setprecision(5)

@@ -17,6 +17,8 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
     backfaces += o.backfaces;
     lostWeight += o.lostWeight;
     cutoffWeight += o.cutoffWeight;
+    rescaledRows += o.rescaledRows;
+    largestDirectSum = std::max(largestDirectSum, o.largestDirectSum);
     return *this;
 }
 
@@ -60,10 +62,19 @@ std::string rowSumBoundText(const Scene& scene, std::uint32_t maxDepth, double m
     return text;
 }
 
+bool usesAnalyticEstimator(const BackendOptions& options, std::size_t patches) {
+    if (options.estimator == "analytic") return true;
+    return options.estimator == "auto" && double(patches) <= kAnalyticRaysFactor * double(options.samples);
+}
+
 std::unique_ptr<FormFactorBackend> makeBackend(std::string_view name, const BackendOptions& options) {
     if (options.samples < 1) throw Error("--samples must be at least 1");
     if (options.origins < 1) throw Error("--origins must be at least 1");
     if (!(options.minWeight > 0.0 && options.minWeight < 1.0)) throw Error("minimum ray weight must be in (0, 1)");
+    if (options.estimator != "rays" && options.estimator != "analytic" && options.estimator != "auto")
+        throw Error("unknown estimator '" + options.estimator + "' (auto, rays, analytic)");
+    if (options.estimator == "analytic" && name != "hemisphere")
+        throw Error("--estimator analytic needs --method hemisphere");
     if (name == "hemisphere") return std::make_unique<HemisphereBackend>(options);
     if (name == "hemicube") return std::make_unique<HemicubeBackend>(options);
     throw Error("unknown --method '" + std::string(name) + "' (hemisphere, hemicube)");

@@ -26,6 +26,10 @@ public:
         if (x == 0.0) m_touched.push_back(j);
         x += w;
     }
+    /// Multiplies every weight deposited so far by `factor` (Weights mode).
+    void scaleWeights(double factor) {
+        for (const std::uint32_t j : m_touched) m_weight[j] *= factor;
+    }
     /// Entries F_ij = count * scale (Counts) or weight * scale (Weights), sorted by j; clears the row.
     std::vector<FormFactors::Entry> take(double scale);
 

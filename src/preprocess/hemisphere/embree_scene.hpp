@@ -36,6 +36,10 @@ public:
     void intersectFan(const float origin[3], const float* dirs, std::size_t count, PatchId* patches,
                       float* distances = nullptr) const;
 
+    /// Shadow rays: blocked[k] = 1 when something lies on the segment from `origin` to target k
+    /// (both in local float coordinates, both already lifted off their surfaces), else 0.
+    void occludedSegments(const float origin[3], const float* targets, std::size_t count, std::uint8_t* blocked) const;
+
     /// Scene coordinates -> the float frame used by the BVH (centre subtracted).
     void toLocal(const Vec3& p, float out[3]) const;
     /// Offset that lifts ray origins off a surface, relative to the scene scale and float precision.

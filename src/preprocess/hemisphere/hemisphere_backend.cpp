@@ -4,6 +4,7 @@
 #include "engine/error.hpp"
 #include "preprocess/hemisphere/beckers.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
+#include "preprocess/hemisphere/point_polygon.hpp"
 #include "preprocess/mirror_chain.hpp"
 #include "preprocess/row_accumulator.hpp"
 
@@ -13,14 +14,41 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <unordered_map>
 
 namespace hemirad {
+namespace {
+
+/// Analytic estimator: a patch j whose nearest possible point lies within kNearDistance times the
+/// emitter's radius sees F(x -> j) vary strongly over the emitter, so it is integrated over the
+/// emitter with a Gauss-Legendre product rule (order nearOrder(origins)) instead of the row's origins.
+constexpr double kNearDistance = 3.0;
+
+/// 6 x 6 points for one to four origins, more for the many-origin runs that serve as references.
+int nearOrder(std::uint32_t origins) {
+    return std::min(16, std::max(6, 3 * int(std::ceil(std::sqrt(double(origins))))));
+}
+
+}  // namespace
 
 /// Per-thread scratch: the row being accumulated and the rotated directions and their hits.
 struct HemisphereBackend::Workspace {
-    Workspace(std::size_t patches, bool mirrors)
-        : row(patches, mirrors ? RowAccumulator::Mode::Weights : RowAccumulator::Mode::Counts) {}
+    Workspace(std::size_t patches, bool weights)
+        : row(patches, weights ? RowAccumulator::Mode::Weights : RowAccumulator::Mode::Counts) {}
     RowAccumulator row;
+    // Analytic estimator: near patches, and the visible-candidate batch of one origin.
+    std::vector<PatchId> near;
+    std::vector<Vec3> quadPoints;  // a quadrature rule over the emitter
+    std::vector<double> quadWeights;
+    std::vector<std::uint8_t> isNear;
+    std::vector<PatchId> candidates;
+    std::vector<double> factors;
+    std::vector<float> targets;
+    std::vector<std::uint8_t> blocked;
+    std::vector<Vec3> clipped;
+    std::vector<std::uint8_t> status;  // per patch for one origin: 0 not aimed at, 1 visible, 2 blocked
+    std::vector<PatchId> split;        // silhouette patches of one origin
+    std::vector<Vec3> pieces, finer;   // their pieces, 4 corners each
     std::vector<float> jittered;  // this origin's cell directions when jittering
     std::vector<float> dirs;
     std::vector<PatchId> hits;
@@ -41,6 +69,27 @@ void HemisphereBackend::prepare(const Scene& scene) {
     for (PatchId i = 0; i < scene.size(); ++i)
         for (int k = 0; k < 3; ++k) m_normals[3 * i + k] = static_cast<float>(scene.patches[i].normal[k]);
     m_mirrors = scene.hasMirrors();
+    m_analytic = usesAnalyticEstimator(m_options, scene.size());
+    if (!m_analytic) return;
+    gaussLegendre(nearOrder(m_options.origins), m_gaussNodes, m_gaussWeights);
+    // K > 1 origins: the Gauss-Legendre product rule of order ceil(sqrt(K)) (smooth far-field integrands).
+    m_originNodes.clear();
+    m_originWeights.clear();
+    if (m_options.origins > 1)
+        gaussLegendre(int(std::ceil(std::sqrt(double(m_options.origins)) - 1e-9)), m_originNodes, m_originWeights);
+    m_splitLevels = m_options.jitter ? 2 : 1;
+    m_targets.resize(scene.size());
+    m_corners.resize(scene.corners.size());
+    for (PatchId j = 0; j < scene.size(); ++j) {
+        const Patch& p = scene.patches[j];
+        Target& t = m_targets[j];
+        t = {p.centroid, p.normal, 0.0, p.firstCorner, p.cornerCount};
+        for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
+            m_corners[p.firstCorner + k] = scene.vertices[scene.corners[p.firstCorner + k]];
+            t.radius = std::max(t.radius, (m_corners[p.firstCorner + k] - p.centroid).norm());
+        }
+    }
+    buildNeighbours(scene);
 }
 
 std::map<std::string, std::string> HemisphereBackend::parameters() const {
@@ -51,6 +100,15 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
             {"max_depth", std::to_string(m_options.maxDepth)},
             {"min_weight", std::to_string(m_options.minWeight)},
             {"seed", std::to_string(m_options.seed)},
+            {"estimator", m_analytic ? std::string("analytic: Lambert point-to-polygon factors from ") +
+                                           (m_originNodes.empty() ? std::string("the centroid")
+                                                                  : "Gauss-Legendre " + std::to_string(m_originNodes.size()) + "^2 points") +
+                                           ", shadow rays to " +
+                                           (m_options.jitter ? "random points" : "centres") + ", " +
+                                           "Gauss-Legendre " + std::to_string(nearOrder(m_options.origins)) +
+                                           "^2 points for near patches, silhouette patches split in " +
+                                           std::to_string(m_splitLevels) + (m_splitLevels == 1 ? " level" : " levels")
+                                     : std::string("rays")},
             {"directions", std::string(m_options.jitter ? "beckers-disk jittered in cells" : "beckers-disk area-median") +
                                (m_options.fixedDirections ? ", fixed" : ", rotated per origin")}};
 }
@@ -62,7 +120,11 @@ void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactor
     const auto count = static_cast<std::ptrdiff_t>(rows.size());
 #pragma omp parallel num_threads(threads)
     {
-        Workspace ws(m_scene->size(), m_mirrors);
+        Workspace ws(m_scene->size(), m_mirrors || m_analytic);
+        if (m_analytic) {
+            ws.isNear.assign(m_scene->size(), 0);
+            ws.status.assign(m_scene->size(), 0);
+        }
         ws.dirs.resize(m_directions.size());
         ws.hits.resize(m_options.samples);
         ws.distances.resize(m_options.samples);
@@ -72,8 +134,22 @@ void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactor
             if (builder.cancelled() || failure) continue;
             try {
                 const PatchId i = rows[r];
-                if (m_mirrors) computeRow<true>(i, ws, counts);
-                else computeRow<false>(i, ws, counts);
+                if (m_analytic) {
+                    const double direct = addAnalyticRow(i, ws, counts);
+                    counts.lostWeight += std::max(0.0, 1.0 - direct);
+                    counts.largestDirectSum = std::max(counts.largestDirectSum, direct);
+                    // Visibility from a few shadow rays can count a partly hidden patch whole; no
+                    // row may send out more than it emits.
+                    if (direct > 1.0 + 1e-6) {
+                        ws.row.scaleWeights(1.0 / direct);
+                        ++counts.rescaledRows;
+                    }
+                    if (m_mirrors) castRays<true, false>(i, ws, counts);
+                } else if (m_mirrors) {
+                    castRays<true, true>(i, ws, counts);
+                } else {
+                    castRays<false, true>(i, ws, counts);
+                }
                 const double scale = 1.0 / (double(m_options.origins) * m_options.samples);
                 builder.setRow(i, ws.row.take(scale));
             } catch (...) {
@@ -86,8 +162,8 @@ void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactor
     if (failure) std::rethrow_exception(failure);
 }
 
-template <bool Mirrors>
-void HemisphereBackend::computeRow(PatchId i, Workspace& ws, RayCounts& counts) const {
+template <bool Mirrors, bool Direct>
+void HemisphereBackend::castRays(PatchId i, Workspace& ws, RayCounts& counts) const {
     const Patch& patch = m_scene->patches[i];
     const std::uint32_t N = m_options.samples;
     Random random(m_options.seed * 0x9e3779b97f4a7c15ULL ^ (std::uint64_t(i) << 20));
@@ -121,6 +197,9 @@ void HemisphereBackend::computeRow(PatchId i, Workspace& ws, RayCounts& counts) 
         else m_rays->intersectFan(o, ws.dirs.data(), N, ws.hits.data());
         for (std::uint32_t k = 0; k < N; ++k) {
             const PatchId j = ws.hits[k];
+            if constexpr (!Direct) {  // only mirror chains: the analytic estimator has the rest
+                if (j == RayScene::kNoHit || m_scene->patches[j].specular <= 0.0) continue;
+            }
             if (j == RayScene::kNoHit) {
                 ++counts.misses;
                 ++lost;
@@ -129,12 +208,13 @@ void HemisphereBackend::computeRow(PatchId i, Workspace& ws, RayCounts& counts) 
             const float* d = &ws.dirs[3 * k];
             const float* n = &m_normals[3 * j];
             if (d[0] * n[0] + d[1] * n[1] + d[2] * n[2] >= 0.0f) {
+                if constexpr (!Direct) continue;
                 ++counts.backfaces;
                 ++lost;
                 continue;
             }
             if constexpr (Mirrors) {
-                ws.row.addWeight(j, 1.0);
+                if constexpr (Direct) ws.row.addWeight(j, 1.0);
                 if (m_scene->patches[j].specular > 0.0)
                     followMirrorChain(*m_scene, *m_rays, lifted, Vec3(d[0], d[1], d[2]), j, ws.distances[k], 1.0,
                                       rowWeight, {m_options.maxDepth, m_options.minWeight}, ws.row, counts);
@@ -145,6 +225,181 @@ void HemisphereBackend::computeRow(PatchId i, Workspace& ws, RayCounts& counts) 
     }
     counts.rays += std::uint64_t(N) * origins.size();
     counts.lostWeight += double(lost) * rowWeight;
+}
+
+void HemisphereBackend::buildNeighbours(const Scene& scene) {
+    // Patches sharing a corner position (not only a vertex index: generators often repeat vertices).
+    struct Key {
+        double x, y, z;
+        bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+    };
+    struct Hash {
+        std::size_t operator()(const Key& k) const {
+            const std::hash<double> h;
+            return h(k.x) ^ (h(k.y) * 0x9e3779b97f4a7c15ULL) ^ (h(k.z) * 0xc2b2ae3d27d4eb4fULL);
+        }
+    };
+    std::unordered_map<Key, std::vector<PatchId>, Hash> byPosition;
+    for (PatchId j = 0; j < scene.size(); ++j)
+        for (std::uint32_t k = 0; k < m_targets[j].count; ++k) {
+            const Vec3& p = m_corners[m_targets[j].first + k];
+            byPosition[{p.x(), p.y(), p.z()}].push_back(j);
+        }
+    std::vector<std::vector<PatchId>> lists(scene.size());
+    for (const auto& entry : byPosition)
+        for (const PatchId a : entry.second)
+            for (const PatchId b : entry.second)
+                if (a != b) lists[a].push_back(b);
+    m_neighbourStart.assign(1, 0);
+    m_neighbours.clear();
+    for (std::vector<PatchId>& list : lists) {
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+        m_neighbours.insert(m_neighbours.end(), list.begin(), list.end());
+        m_neighbourStart.push_back(static_cast<std::uint32_t>(m_neighbours.size()));
+    }
+}
+
+double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& counts) const {
+    const Target& emitter = m_targets[i];
+    ws.near.clear();
+    for (PatchId j = 0; j < m_targets.size(); ++j) {
+        const Target& t = m_targets[j];
+        if (j != i && (t.centroid - emitter.centroid).norm() - t.radius < kNearDistance * emitter.radius) {
+            ws.near.push_back(j);
+            ws.isNear[j] = 1;
+        }
+    }
+    // The accumulator holds ray units (take() scales by 1 / (origins samples)): F = value / unit.
+    const double unit = double(m_options.origins) * m_options.samples;
+    Random random(m_options.seed * 0x9e3779b97f4a7c15ULL ^ (std::uint64_t(i) << 20));
+    double direct = 0.0;
+    const Target& t = m_targets[i];
+    if (m_originNodes.empty()) {
+        direct += addAnalyticFrom(i, t.centroid, nullptr, unit, random, ws, counts);
+    } else {
+        ws.quadPoints.clear();
+        ws.quadWeights.clear();
+        polygonQuadrature(&m_corners[t.first], t.count, m_originNodes, m_originWeights, ws.quadPoints, ws.quadWeights);
+        for (std::size_t q = 0; q < ws.quadPoints.size(); ++q)
+            direct += addAnalyticFrom(i, ws.quadPoints[q], nullptr, unit * ws.quadWeights[q], random, ws, counts);
+    }
+    if (!ws.near.empty()) {
+        ws.quadPoints.clear();
+        ws.quadWeights.clear();
+        polygonQuadrature(&m_corners[t.first], t.count, m_gaussNodes, m_gaussWeights, ws.quadPoints, ws.quadWeights);
+        for (std::size_t q = 0; q < ws.quadPoints.size(); ++q)
+            direct += addAnalyticFrom(i, ws.quadPoints[q], &ws.near, unit * ws.quadWeights[q], random, ws, counts);
+        for (const PatchId j : ws.near) ws.isNear[j] = 0;
+    }
+    return direct / unit;
+}
+
+std::size_t HemisphereBackend::polygonAbove(PatchId j, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer,
+                                            const Vec3*& polygon) const {
+    const Target& t = m_targets[j];
+    polygon = &m_corners[t.first];
+    const double height = n.dot(t.centroid - x);
+    if (height <= -t.radius) return 0;
+    bool below = false;
+    if (height < t.radius)
+        for (std::uint32_t k = 0; k < t.count && !below; ++k) below = n.dot(polygon[k] - x) < 0.0;
+    if (!below) return t.count;
+    clipAbovePlane(x, n, polygon, t.count, buffer);
+    polygon = buffer.data();
+    return buffer.size();
+}
+
+Vec3 HemisphereBackend::shadowTarget(const Vec3* polygon, std::size_t corners, Random& random) const {
+    if (m_options.jitter) {
+        const double u = random.uniform(), v = random.uniform();
+        return pointOnPolygon(polygon, corners, u, v);
+    }
+    Vec3 centre = Vec3::Zero();
+    for (std::size_t k = 0; k < corners; ++k) centre += polygon[k];
+    return centre / double(corners);
+}
+
+double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, const std::vector<PatchId>* candidates,
+                                          double weight, Random& random, Workspace& ws, RayCounts& counts) const {
+    const Vec3& n = m_targets[i].normal;
+    const double offset = m_rays->originOffset();
+    auto aim = [&](const Vec3& target, PatchId j, double f) {
+        float local[3];
+        m_rays->toLocal(target + offset * m_targets[j].normal, local);  // lifted off j towards x
+        ws.targets.insert(ws.targets.end(), local, local + 3);
+        ws.candidates.push_back(j);
+        ws.factors.push_back(f);
+    };
+    float origin[3];
+    m_rays->toLocal(x + offset * n, origin);
+    auto shoot = [&] {
+        ws.blocked.resize(ws.candidates.size());
+        m_rays->occludedSegments(origin, ws.targets.data(), ws.candidates.size(), ws.blocked.data());
+        counts.rays += ws.candidates.size();
+    };
+    ws.candidates.clear();
+    ws.factors.clear();
+    ws.targets.clear();
+    const std::size_t count = candidates ? candidates->size() : m_targets.size();
+    for (std::size_t c = 0; c < count; ++c) {
+        const PatchId j = candidates ? (*candidates)[c] : PatchId(c);
+        if (j == i || (!candidates && ws.isNear[j])) continue;
+        const Target& t = m_targets[j];
+        if (t.normal.dot(x - t.centroid) <= 1e-9 * t.radius) continue;  // x must lie in front of j
+        const Vec3* polygon;
+        const std::size_t corners = polygonAbove(j, x, n, ws.clipped, polygon);
+        if (corners == 0) continue;
+        const double f = pointToPolygonFactor(x, n, polygon, corners);
+        if (f > 0.0) aim(shadowTarget(polygon, corners, random), j, f);
+    }
+    shoot();
+    // Visibility of each patch from its shadow ray; a patch whose mesh neighbours disagree with it
+    // sits on a silhouette and is split into pieces, each with its own factor and shadow ray.
+    for (std::size_t k = 0; k < ws.candidates.size(); ++k) ws.status[ws.candidates[k]] = ws.blocked[k] ? 2 : 1;
+    double sum = 0.0;
+    ws.split.clear();
+    for (std::size_t k = 0; k < ws.candidates.size(); ++k) {
+        const PatchId j = ws.candidates[k];
+        bool mixed = false;
+        for (std::uint32_t e = m_neighbourStart[j]; e < m_neighbourStart[j + 1] && !mixed; ++e) {
+            const std::uint8_t other = ws.status[m_neighbours[e]];
+            mixed = other != 0 && other != ws.status[j];
+        }
+        if (mixed) {
+            ws.split.push_back(j);
+        } else if (!ws.blocked[k]) {
+            ws.row.addWeight(j, ws.factors[k] * weight);
+            sum += ws.factors[k] * weight;
+        }
+    }
+    for (const PatchId j : ws.candidates) ws.status[j] = 0;
+    if (ws.split.empty()) return sum;
+    ws.candidates.clear();
+    ws.factors.clear();
+    ws.targets.clear();
+    for (const PatchId j : ws.split) {
+        const Vec3* polygon;
+        const std::size_t corners = polygonAbove(j, x, n, ws.clipped, polygon);
+        ws.pieces.clear();
+        splitPolygon(polygon, corners, ws.pieces);
+        for (int level = 1; level < m_splitLevels; ++level) {
+            ws.finer.clear();
+            for (std::size_t q = 0; q < ws.pieces.size(); q += 4) splitPolygon(&ws.pieces[q], 4, ws.finer);
+            ws.pieces.swap(ws.finer);
+        }
+        for (std::size_t q = 0; q < ws.pieces.size(); q += 4) {
+            const double f = pointToPolygonFactor(x, n, &ws.pieces[q], 4);
+            if (f > 0.0) aim(shadowTarget(&ws.pieces[q], 4, random), j, f);
+        }
+    }
+    shoot();
+    for (std::size_t k = 0; k < ws.candidates.size(); ++k) {
+        if (ws.blocked[k]) continue;
+        ws.row.addWeight(ws.candidates[k], ws.factors[k] * weight);
+        sum += ws.factors[k] * weight;
+    }
+    return sum;
 }
 
 }  // namespace hemirad

@@ -3,6 +3,7 @@
 
 #include "preprocess/form_factor_backend.hpp"
 #include "preprocess/hemisphere/embree_scene.hpp"
+#include "preprocess/hemisphere/patch_sampler.hpp"
 
 #include <memory>
 
@@ -12,6 +13,12 @@ namespace hemirad {
 /// power. A ray that hits the front of patch j deposits its weight on F_ij; if s_j > 0 it
 /// reflects with weight x s_j (Sillion & Puech 1989 extended form factors) up to maxDepth
 /// bounces or until its weight falls below minWeight. Misses and back faces are lost and counted.
+///
+/// The "analytic" estimator replaces the rays' direct deposits by Lambert's exact factor from each
+/// origin to every patch in front of it whose centre (or a random point on it, with jitter) a
+/// shadow ray reaches; patches close to the emitter are integrated over a Gauss-Legendre rule on it,
+/// and patches on a silhouette (mesh neighbours disagreeing about visibility) are split into pieces.
+/// Rays then only carry the mirror chains (none are cast in a scene without mirrors).
 class HemisphereBackend final : public FormFactorBackend {
 public:
     explicit HemisphereBackend(const BackendOptions& options);
@@ -26,7 +33,28 @@ public:
 
 private:
     struct Workspace;
-    template <bool Mirrors> void computeRow(PatchId i, Workspace& ws, RayCounts& counts) const;
+    /// Rays from the row's origins; Direct = false leaves direct factors to the analytic estimator.
+    template <bool Mirrors, bool Direct> void castRays(PatchId i, Workspace& ws, RayCounts& counts) const;
+    /// Analytic direct factors of row i added to ws.row in ray units; returns their sum (row fraction).
+    double addAnalyticRow(PatchId i, Workspace& ws, RayCounts& counts) const;
+    /// Factors from point x on patch i to the `candidates` (all patches when null), scaled by `weight`.
+    double addAnalyticFrom(PatchId i, const Vec3& x, const std::vector<PatchId>* candidates, double weight,
+                           Random& random, Workspace& ws, RayCounts& counts) const;
+
+    /// Patch j's polygon, clipped to the half-space above (x, n) into `buffer` when it straddles
+    /// the plane; returns the corner count (0 when nothing lies above).
+    std::size_t polygonAbove(PatchId j, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer,
+                             const Vec3*& polygon) const;
+    /// Where a shadow ray to a polygon aims: its centre, or a random point with jitter.
+    Vec3 shadowTarget(const Vec3* polygon, std::size_t corners, Random& random) const;
+    void buildNeighbours(const Scene& scene);
+
+    /// Patch geometry packed for the analytic estimator's scans over every patch.
+    struct Target {
+        Vec3 centroid, normal;
+        double radius;  ///< largest centroid-to-corner distance
+        std::uint32_t first, count;  ///< corners in m_corners
+    };
 
     BackendOptions m_options;
     const Scene* m_scene = nullptr;
@@ -35,6 +63,14 @@ private:
     std::vector<std::uint32_t> m_rings;  ///< Beckers cumulative counts (for jittered directions)
     std::vector<float> m_normals;     ///< per patch, 3 floats
     bool m_mirrors = false;
+    bool m_analytic = false;
+    std::vector<Target> m_targets;    ///< analytic estimator only
+    std::vector<Vec3> m_corners;      ///< analytic estimator only, corner positions in patch order
+    std::vector<double> m_gaussNodes, m_gaussWeights;  ///< the near-field rule on [0, 1]
+    std::vector<double> m_originNodes, m_originWeights;  ///< the far-field rule (empty: the centroid)
+    std::vector<std::uint32_t> m_neighbourStart;  ///< CSR: patches sharing a corner position with patch j
+    std::vector<PatchId> m_neighbours;
+    int m_splitLevels = 1;  ///< silhouette patches: 1 = split once (4 pieces of a quad), 2 = twice
 };
 
 }  // namespace hemirad
