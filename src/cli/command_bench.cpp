@@ -250,7 +250,7 @@ int runBench(const Options& o) {
         b.fixedDirections = false;
         b.seed = 0x5eed;
         const FormFactorRun run = computeFormFactors(scene, "hemisphere", b, neededRows(scene, true),
-                                                     reporter.progress("reference", double(b.samples) * b.origins));
+                                                     reporter.progress("reference", expectedRaysPerRow(scene, "hemisphere", b)));
         saveFormFactors(run.F, referencePath);
         reporter.line("bench: reference computed in " + formatSeconds(run.computeSeconds) + " s");
     } else {
@@ -286,21 +286,28 @@ int runBench(const Options& o) {
             }
             if (o.backend.threads > 0) a.insert(a.end(), {"--threads", std::to_string(o.backend.threads)});
             if (o.backend.fixedDirections) a.push_back("--fixed-directions");
-            a.insert(a.end(), {"--estimator", o.backend.estimator});
+            if (method == "hemisphere") a.insert(a.end(), {"--estimator", o.backend.estimator});
             if (o.enforceReciprocity) a.push_back("--enforce-reciprocity");
             if (o.normalizeRows) a.push_back("--normalize-rows");
             return a;
         };
         if (method == "hemisphere") {
-            // Without mirrors the analytic estimator casts no directions: one run per origin count.
-            const bool directionsMatter = o.backend.estimator != "analytic" || scene.hasMirrors();
-            for (std::uint32_t k : o.sweepOrigins)
+            // Without mirrors the analytic estimator casts no directions: one run per origin count
+            // (under auto, the sample counts that pick it share that run).
+            for (std::uint32_t k : o.sweepOrigins) {
+                bool analyticDone = false;
                 for (std::uint32_t s : o.sweepSamples) {
-                    if (!directionsMatter && s != o.sweepSamples.front()) continue;
+                    BackendOptions b = o.backend;
+                    b.samples = s;
+                    if (usesAnalyticEstimator(b, scene.size()) && !scene.hasMirrors()) {
+                        if (analyticDone) continue;
+                        analyticDone = true;
+                    }
                     auto a = base();
                     a.insert(a.end(), {"--samples", std::to_string(s), "--origins", std::to_string(k)});
                     runs.push_back(a);
                 }
+            }
         } else {
             for (std::uint32_t r : o.sweepResolutions) {
                 auto a = base();

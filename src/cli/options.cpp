@@ -289,6 +289,8 @@ Options parseOptions(int argc, const char* const* argv) {
         throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F)");
     if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
     if (o.recomputeFf && o.ffPath.empty()) throw UsageError("--recompute-ff needs --ff FILE");
+    if (o.backend.estimator == "analytic" && o.method == "hemicube")
+        throw UsageError("--estimator analytic needs --method hemisphere (the hemicube has no estimator choice)");
     return o;
 }
 

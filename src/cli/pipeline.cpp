@@ -32,7 +32,7 @@ namespace {
 FormFactorRun compute(const Scene& scene, const Options& options, const std::vector<PatchId>& rows, Timings& timings,
                       const Reporter& reporter) {
     if (options.memoryCheck) checkFormFactorMemory(scene, options.method, options.backend, rows);
-    const double raysPerRow = double(options.backend.samples) * options.backend.origins;
+    const double raysPerRow = expectedRaysPerRow(scene, options.method, options.backend);
     FormFactorRun run = computeFormFactors(scene, options.method, options.backend, rows,
                                            reporter.progress("form factors", raysPerRow));
     timings.add("acceleration structure", run.prepareSeconds);

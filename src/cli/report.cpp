@@ -71,17 +71,25 @@ void Reporter::formFactorSummary(const FormFactorRun& run, const BackendOptions&
     const RayCounts& c = run.counts;
     const bool hemicube = method == "hemicube";
     const char* unit = hemicube ? "pixels" : "rays";
-    const bool hasMirrors = c.bounces > 0 || c.cutoffWeight > 0;
+    // F records the largest row sum mirrors allow: above 1 exactly when mirror chains are followed.
+    const auto bound = run.F.parameters.find("row_sum_bound");
+    const bool hasMirrors = bound != run.F.parameters.end() && bound->second != "1";
+    const auto estimator = run.F.parameters.find("estimator");
+    const bool analytic = !hemicube && estimator != run.F.parameters.end() && estimator->second != "rays";
     std::ostringstream out;
     out.setf(std::ios::fixed);
     out << "form factors: " << method << ", ";
     if (hemicube)
         out << options.resolution << " x " << options.resolution << " top face (" << 3 * options.resolution * options.resolution
             << " pixels), reduction on the " << options.reduce;
-    else if (const auto e = run.F.parameters.find("estimator"); e != run.F.parameters.end() && e->second != "rays")
-        out << "analytic estimator (Lambert factors, one shadow ray per pair" << (hasMirrors ? "; " : "")
-            << (hasMirrors ? std::to_string(options.samples) + " directions carry the mirror chains" : std::string()) << "), "
-            << (options.origins == 1 ? "centroid" : std::to_string(options.origins) + " origins");
+    else if (analytic)
+        out << "analytic estimator (Lambert factors, one shadow ray per pair"
+            << (hasMirrors ? "; " + std::to_string(options.samples) + " directions carry the mirror chains"
+                           : std::string("; no directions cast: --samples only chose the estimator"))
+            << "), "
+            << (options.origins == 1 ? std::string("centroid")
+                                     : std::to_string(analyticOriginPoints(options.origins)) +
+                                           " Gauss-Legendre origins per quad (--origins " + std::to_string(options.origins) + ")");
     else
         out << options.samples << " directions x " << options.origins
             << (options.origins == 1 ? " origin (centroid)" : " origins");
@@ -89,9 +97,13 @@ void Reporter::formFactorSummary(const FormFactorRun& run, const BackendOptions&
     if (run.rowsSkipped) out << " (" << run.rowsSkipped << " skipped: black patches, B = E)";
     out << "\n  " << unit << " " << std::setprecision(2) << c.rays / 1e6 << " M in " << formatSeconds(run.computeSeconds)
         << " s = " << (run.computeSeconds > 0 ? c.rays / run.computeSeconds / 1e6 : 0.0) << " M " << unit << "/s";
-    out << "; lost " << std::setprecision(4)
-        << (run.rowsComputed ? 100.0 * c.lostWeight / double(run.rowsComputed) : 0.0) << "% of the power (" << c.misses
-        << " misses, " << c.backfaces << " back faces)";
+    const double lostPercent = run.rowsComputed ? 100.0 * c.lostWeight / double(run.rowsComputed) : 0.0;
+    if (analytic)  // no ray tells misses from hidden patches: 1 - row sum is what reached no patch
+        out << "; " << std::setprecision(4) << lostPercent
+            << "% of the power reached no patch (escaped, or behind back faces and shadow-ray misses)";
+    else
+        out << "; lost " << std::setprecision(4) << lostPercent << "% of the power (" << c.misses << " misses, "
+            << c.backfaces << " back faces)";
     if (c.rescaledRows)
         out << "\n  analytic rows whose direct factors summed above 1 (largest " << std::setprecision(4) << c.largestDirectSum
             << "), scaled to 1: " << c.rescaledRows;

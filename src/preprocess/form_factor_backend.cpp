@@ -4,6 +4,7 @@
 #include "engine/error.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include "preprocess/hemicube/hemicube_backend.hpp"
 #include "preprocess/hemisphere/hemisphere_backend.hpp"
@@ -65,6 +66,19 @@ std::string rowSumBoundText(const Scene& scene, std::uint32_t maxDepth, double m
 bool usesAnalyticEstimator(const BackendOptions& options, std::size_t patches) {
     if (options.estimator == "analytic") return true;
     return options.estimator == "auto" && double(patches) <= kAnalyticRaysFactor * double(options.samples);
+}
+
+std::uint32_t analyticOriginPoints(std::uint32_t origins) {
+    if (origins <= 1) return 1;
+    const auto m = static_cast<std::uint32_t>(std::ceil(std::sqrt(double(origins)) - 1e-9));
+    return m * m;
+}
+
+double expectedRaysPerRow(const Scene& scene, std::string_view method, const BackendOptions& options) {
+    if (method == "hemicube") return 3.0 * options.resolution * options.resolution;
+    const double rays = double(options.samples) * options.origins;
+    if (!usesAnalyticEstimator(options, scene.size())) return rays;
+    return double(scene.size()) * analyticOriginPoints(options.origins) + (scene.hasMirrors() ? rays : 0.0);
 }
 
 std::unique_ptr<FormFactorBackend> makeBackend(std::string_view name, const BackendOptions& options) {

@@ -45,6 +45,14 @@ constexpr double kAnalyticRaysFactor = 5.0;
 /// Whether the hemisphere back end uses the analytic estimator for a scene of `patches` patches.
 bool usesAnalyticEstimator(const BackendOptions& options, std::size_t patches);
 
+/// Origins per patch the analytic estimator really uses: 1 (the centroid) or the m x m points of
+/// its Gauss-Legendre rule, m = ceil(sqrt(origins)), per quad (per fan triangle otherwise).
+std::uint32_t analyticOriginPoints(std::uint32_t origins);
+
+/// Rays (or hemicube pixels) one row costs: samples x origins, one shadow ray per patch and origin
+/// point for the analytic estimator (plus the directions when mirrors need them), 3 R^2 pixels.
+double expectedRaysPerRow(const Scene& scene, std::string_view method, const BackendOptions& options);
+
 /// Ray bookkeeping of a computation, summed over rows. Weights are in units of one row's power.
 struct RayCounts {
     std::uint64_t rays = 0;          ///< rays cast from patches (not counting bounces)

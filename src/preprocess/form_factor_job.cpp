@@ -39,8 +39,7 @@ std::size_t checkFormFactorMemory(const Scene& scene, const std::string& method,
     const double budget = 0.8 * double(available);
     // While rows are built, each exists twice (row lists, then CSR): 2 x 8 bytes per nonzero.
     const double perNonzero = 16.0, fixed = 9.0 * double(scene.size());
-    const double raysPerRow = method == "hemicube" ? 3.0 * options.resolution * options.resolution
-                                                   : double(options.samples) * options.origins;
+    const double raysPerRow = expectedRaysPerRow(scene, method, options);
     const double chain = scene.hasMirrors() ? double(options.maxDepth) + 1.0 : 1.0;
     const double bound = fixed + perNonzero * double(rows.size()) * std::min(double(scene.size()), raysPerRow * chain);
     if (bound <= budget) return std::size_t(bound);

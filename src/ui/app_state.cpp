@@ -71,7 +71,12 @@ struct AppState::Job {
                 timings.emplace_back("acceleration structure", run.prepareSeconds);
                 timings.emplace_back("form factors", run.computeSeconds);
                 std::ostringstream msg;
-                msg << "form factors: " << settings.method << ", " << rows.size() << " rows in " << run.computeSeconds
+                const auto estimator = run.F.parameters.find("estimator");
+                msg << "form factors: " << settings.method
+                    << (estimator == run.F.parameters.end() ? ""
+                        : estimator->second == "rays"     ? " (ray estimator)"
+                                                          : " (analytic estimator)")
+                    << ", " << rows.size() << " rows in " << run.computeSeconds
                     << " s; row sums " << run.stats.rowSumMin << ".." << run.stats.rowSumMax << ", reciprocity (mean) "
                     << run.stats.reciprocityMean << ", lost "
                     << (rows.empty() ? 0.0 : 100.0 * run.counts.lostWeight / double(rows.size())) << "%";

@@ -165,7 +165,7 @@ TEST_CASE("Ctrl-C leaves the previous output intact and no temporary files") {
     const std::string original((std::istreambuf_iterator<char>(before)), {});
     // A computation of several seconds, interrupted after one.
     const Result r = runCommand("(" + std::string(HEMIRAD_BINARY) + " formfactors " + scene("unit_cube.obj") + " -o " + ff +
-                                " --subdivide 0.02 --samples 3072 --origins 16 --quiet 2>&1 & pid=$!; sleep 1; "
+                                " --subdivide 0.02 --samples 3072 --origins 16 --estimator rays --quiet 2>&1 & pid=$!; sleep 1; "
                                 "kill -INT $pid; wait $pid)");
     CHECK(r.status == 130);
     CHECK(r.output.find("interrupted; no partial output was written") != std::string::npos);

@@ -96,3 +96,71 @@ TEST_CASE("Points on polygons are area-uniform: the mean of a grid of (u, v) is 
         CHECK((mean - centroid).norm() < 1e-2);
     }
 }
+
+TEST_CASE("Gauss-Legendre of order n integrates degree 2n - 1 exactly on [0, 1]") {
+    for (int n : {1, 2, 6, 12}) {
+        std::vector<double> nodes, weights;
+        gaussLegendre(n, nodes, weights);
+        for (int degree = 0; degree <= 2 * n - 1; ++degree) {
+            double sum = 0.0;
+            for (int k = 0; k < n; ++k) sum += weights[k] * std::pow(nodes[k], degree);
+            CHECK(sum == doctest::Approx(1.0 / (degree + 1)).epsilon(1e-12));
+        }
+    }
+}
+
+TEST_CASE("Polygon quadrature reproduces area moments on a skewed quad, a triangle and a pentagon") {
+    std::vector<double> nodes, weights;
+    gaussLegendre(4, nodes, weights);
+    const std::vector<Vec3> quad = {{0, 0, 0}, {3, 0.2, 0}, {2.5, 2, 0}, {-0.3, 1.4, 0}};
+    const std::vector<Vec3> triangle = {{0, 0, 0}, {2, 0, 0}, {0.5, 1.5, 0}};
+    const std::vector<Vec3> pentagon = {{0, 0, 0}, {4, 0, 0}, {5, 2, 0}, {2, 4, 0}, {-1, 2, 0}};
+    for (const auto* polygon : {&quad, &triangle, &pentagon}) {
+        const auto& p = *polygon;
+        // Exact moments by fan triangles: centroid and the mean of x^2 (degree 2, within the rule's reach).
+        double area = 0.0, meanX = 0.0, meanX2 = 0.0;
+        for (std::size_t k = 1; k + 1 < p.size(); ++k) {
+            const Vec3 &a = p[0], &b = p[k], &c = p[k + 1];
+            const double t = 0.5 * (b - a).cross(c - a).norm();
+            area += t;
+            meanX += t * (a.x() + b.x() + c.x()) / 3.0;
+            meanX2 += t * (a.x() * a.x() + b.x() * b.x() + c.x() * c.x() + a.x() * b.x() + b.x() * c.x() + a.x() * c.x()) / 6.0;
+        }
+        std::vector<Vec3> points;
+        std::vector<double> w;
+        polygonQuadrature(p.data(), p.size(), nodes, weights, points, w);
+        double sum = 0.0, x = 0.0, x2 = 0.0;
+        for (std::size_t q = 0; q < points.size(); ++q) {
+            sum += w[q];
+            x += w[q] * points[q].x();
+            x2 += w[q] * points[q].x() * points[q].x();
+        }
+        CHECK(sum == doctest::Approx(1.0).epsilon(1e-12));
+        CHECK(x == doctest::Approx(meanX / area).epsilon(1e-12));
+        CHECK(x2 == doctest::Approx(meanX2 / area).epsilon(1e-12));
+    }
+    // A degenerate polygon falls back to its vertex centroid instead of dividing by zero.
+    const std::vector<Vec3> line = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+    std::vector<Vec3> points;
+    std::vector<double> w;
+    polygonQuadrature(line.data(), line.size(), nodes, weights, points, w);
+    REQUIRE(points.size() == 1);
+    CHECK(w[0] == 1.0);
+    CHECK(points[0].x() == doctest::Approx(1.0));
+}
+
+TEST_CASE("Split pieces' factors add up to the polygon's, once and twice split") {
+    const Vec3 x(0.1, -0.2, 0), n(0, 0, 1);
+    // A tilted planar pentagon, z = 1 + 0.25 x + 0.1 y.
+    const std::vector<Vec3> pentagon = {{0, 0, 1}, {2, 0, 1.5}, {2.5, 1, 1.725}, {1, 2, 1.45}, {-0.5, 1, 0.975}};
+    const double whole = pointToPolygonFactor(x, n, pentagon.data(), pentagon.size());
+    std::vector<Vec3> once, twice;
+    splitPolygon(pentagon.data(), pentagon.size(), once);
+    REQUIRE(once.size() == 4 * pentagon.size());
+    for (std::size_t q = 0; q < once.size(); q += 4) splitPolygon(&once[q], 4, twice);
+    for (const auto* pieces : {&once, &twice}) {
+        double sum = 0.0;
+        for (std::size_t q = 0; q < pieces->size(); q += 4) sum += pointToPolygonFactor(x, n, &(*pieces)[q], 4);
+        CHECK(sum == doctest::Approx(whole).epsilon(1e-12));
+    }
+}

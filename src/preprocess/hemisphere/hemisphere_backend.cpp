@@ -1,4 +1,7 @@
-// Hemisphere back end. Rows run in parallel (OpenMP); each thread accumulates a dense row.
+// Hemisphere back end: Beckers rays (the "rays" estimator) or Lambert's point-to-polygon factors
+// with shadow rays (the "analytic" estimator; Wallace, Elmquist & Haines 1989 cast rays for
+// visibility of analytic point-to-area factors, Baum, Rushmeier & Winget 1989 give the exact
+// polygon form). Rows run in parallel (OpenMP); each thread accumulates a dense row.
 #include "preprocess/hemisphere/hemisphere_backend.hpp"
 
 #include "engine/error.hpp"
@@ -14,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <array>
 #include <unordered_map>
 
 namespace hemirad {
@@ -78,11 +82,11 @@ void HemisphereBackend::prepare(const Scene& scene) {
     if (m_options.origins > 1)
         gaussLegendre(int(std::ceil(std::sqrt(double(m_options.origins)) - 1e-9)), m_originNodes, m_originWeights);
     m_splitLevels = m_options.jitter ? 2 : 1;
-    m_targets.resize(scene.size());
+    m_shapes.resize(scene.size());
     m_corners.resize(scene.corners.size());
     for (PatchId j = 0; j < scene.size(); ++j) {
         const Patch& p = scene.patches[j];
-        Target& t = m_targets[j];
+        PatchShape& t = m_shapes[j];
         t = {p.centroid, p.normal, 0.0, p.firstCorner, p.cornerCount};
         for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
             m_corners[p.firstCorner + k] = scene.vertices[scene.corners[p.firstCorner + k]];
@@ -228,28 +232,41 @@ void HemisphereBackend::castRays(PatchId i, Workspace& ws, RayCounts& counts) co
 }
 
 void HemisphereBackend::buildNeighbours(const Scene& scene) {
-    // Patches sharing a corner position (not only a vertex index: generators often repeat vertices).
-    struct Key {
-        double x, y, z;
-        bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+    // Patches sharing a corner position, within a tolerance of the scene's scale: generators repeat
+    // vertices and compute shared corners by different float expressions (0.1 * 3 != 0.3).
+    Vec3 lo, hi;
+    scene.bounds(lo, hi);
+    const double tolerance = std::max(1e-9 * (hi - lo).norm(), 1e-300);
+    auto cell = [&](const Vec3& p) {
+        return std::array<std::int64_t, 3>{std::llround(p.x() / tolerance / 4), std::llround(p.y() / tolerance / 4),
+                                           std::llround(p.z() / tolerance / 4)};
     };
     struct Hash {
-        std::size_t operator()(const Key& k) const {
-            const std::hash<double> h;
-            return h(k.x) ^ (h(k.y) * 0x9e3779b97f4a7c15ULL) ^ (h(k.z) * 0xc2b2ae3d27d4eb4fULL);
+        std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
+            return std::size_t(k[0]) * 0x9e3779b97f4a7c15ULL ^ std::size_t(k[1]) * 0xc2b2ae3d27d4eb4fULL ^ std::size_t(k[2]);
         }
     };
-    std::unordered_map<Key, std::vector<PatchId>, Hash> byPosition;
+    // Cells 4 tolerances wide: two corners within the tolerance lie in the same or adjacent cells.
+    std::unordered_map<std::array<std::int64_t, 3>, std::vector<std::pair<PatchId, Vec3>>, Hash> grid;
     for (PatchId j = 0; j < scene.size(); ++j)
-        for (std::uint32_t k = 0; k < m_targets[j].count; ++k) {
-            const Vec3& p = m_corners[m_targets[j].first + k];
-            byPosition[{p.x(), p.y(), p.z()}].push_back(j);
+        for (std::uint32_t k = 0; k < m_shapes[j].count; ++k) {
+            const Vec3& p = m_corners[m_shapes[j].first + k];
+            grid[cell(p)].emplace_back(j, p);
         }
     std::vector<std::vector<PatchId>> lists(scene.size());
-    for (const auto& entry : byPosition)
-        for (const PatchId a : entry.second)
-            for (const PatchId b : entry.second)
-                if (a != b) lists[a].push_back(b);
+    for (PatchId j = 0; j < scene.size(); ++j)
+        for (std::uint32_t k = 0; k < m_shapes[j].count; ++k) {
+            const Vec3& p = m_corners[m_shapes[j].first + k];
+            const auto c = cell(p);
+            for (std::int64_t dx = -1; dx <= 1; ++dx)
+                for (std::int64_t dy = -1; dy <= 1; ++dy)
+                    for (std::int64_t dz = -1; dz <= 1; ++dz) {
+                        const auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
+                        if (it == grid.end()) continue;
+                        for (const auto& [other, q] : it->second)
+                            if (other != j && (q - p).norm() <= tolerance) lists[j].push_back(other);
+                    }
+        }
     m_neighbourStart.assign(1, 0);
     m_neighbours.clear();
     for (std::vector<PatchId>& list : lists) {
@@ -261,33 +278,33 @@ void HemisphereBackend::buildNeighbours(const Scene& scene) {
 }
 
 double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& counts) const {
-    const Target& emitter = m_targets[i];
+    const PatchShape& emitter = m_shapes[i];
     ws.near.clear();
-    for (PatchId j = 0; j < m_targets.size(); ++j) {
-        const Target& t = m_targets[j];
-        if (j != i && (t.centroid - emitter.centroid).norm() - t.radius < kNearDistance * emitter.radius) {
+    for (PatchId j = 0; j < m_shapes.size(); ++j) {
+        const PatchShape& receiver = m_shapes[j];
+        if (j != i && (receiver.centroid - emitter.centroid).norm() - receiver.radius < kNearDistance * emitter.radius) {
             ws.near.push_back(j);
             ws.isNear[j] = 1;
         }
     }
     // The accumulator holds ray units (take() scales by 1 / (origins samples)): F = value / unit.
     const double unit = double(m_options.origins) * m_options.samples;
-    Random random(m_options.seed * 0x9e3779b97f4a7c15ULL ^ (std::uint64_t(i) << 20));
+    // A stream of its own (not the one castRays draws origin shifts from) for jittered shadow rays.
+    Random random((m_options.seed * 0x9e3779b97f4a7c15ULL ^ (std::uint64_t(i) << 20)) ^ 0xa5a5a5a5deadbeefULL);
     double direct = 0.0;
-    const Target& t = m_targets[i];
     if (m_originNodes.empty()) {
-        direct += addAnalyticFrom(i, t.centroid, nullptr, unit, random, ws, counts);
+        direct += addAnalyticFrom(i, emitter.centroid, nullptr, unit, random, ws, counts);
     } else {
         ws.quadPoints.clear();
         ws.quadWeights.clear();
-        polygonQuadrature(&m_corners[t.first], t.count, m_originNodes, m_originWeights, ws.quadPoints, ws.quadWeights);
+        polygonQuadrature(&m_corners[emitter.first], emitter.count, m_originNodes, m_originWeights, ws.quadPoints, ws.quadWeights);
         for (std::size_t q = 0; q < ws.quadPoints.size(); ++q)
             direct += addAnalyticFrom(i, ws.quadPoints[q], nullptr, unit * ws.quadWeights[q], random, ws, counts);
     }
     if (!ws.near.empty()) {
         ws.quadPoints.clear();
         ws.quadWeights.clear();
-        polygonQuadrature(&m_corners[t.first], t.count, m_gaussNodes, m_gaussWeights, ws.quadPoints, ws.quadWeights);
+        polygonQuadrature(&m_corners[emitter.first], emitter.count, m_gaussNodes, m_gaussWeights, ws.quadPoints, ws.quadWeights);
         for (std::size_t q = 0; q < ws.quadPoints.size(); ++q)
             direct += addAnalyticFrom(i, ws.quadPoints[q], &ws.near, unit * ws.quadWeights[q], random, ws, counts);
         for (const PatchId j : ws.near) ws.isNear[j] = 0;
@@ -297,7 +314,7 @@ double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& co
 
 std::size_t HemisphereBackend::polygonAbove(PatchId j, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer,
                                             const Vec3*& polygon) const {
-    const Target& t = m_targets[j];
+    const PatchShape& t = m_shapes[j];
     polygon = &m_corners[t.first];
     const double height = n.dot(t.centroid - x);
     if (height <= -t.radius) return 0;
@@ -310,7 +327,7 @@ std::size_t HemisphereBackend::polygonAbove(PatchId j, const Vec3& x, const Vec3
     return buffer.size();
 }
 
-Vec3 HemisphereBackend::shadowTarget(const Vec3* polygon, std::size_t corners, Random& random) const {
+Vec3 HemisphereBackend::aimPoint(const Vec3* polygon, std::size_t corners, Random& random) const {
     if (m_options.jitter) {
         const double u = random.uniform(), v = random.uniform();
         return pointOnPolygon(polygon, corners, u, v);
@@ -322,11 +339,11 @@ Vec3 HemisphereBackend::shadowTarget(const Vec3* polygon, std::size_t corners, R
 
 double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, const std::vector<PatchId>* candidates,
                                           double weight, Random& random, Workspace& ws, RayCounts& counts) const {
-    const Vec3& n = m_targets[i].normal;
+    const Vec3& n = m_shapes[i].normal;
     const double offset = m_rays->originOffset();
     auto aim = [&](const Vec3& target, PatchId j, double f) {
         float local[3];
-        m_rays->toLocal(target + offset * m_targets[j].normal, local);  // lifted off j towards x
+        m_rays->toLocal(target + offset * m_shapes[j].normal, local);  // lifted off j towards x
         ws.targets.insert(ws.targets.end(), local, local + 3);
         ws.candidates.push_back(j);
         ws.factors.push_back(f);
@@ -341,17 +358,17 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, const std::v
     ws.candidates.clear();
     ws.factors.clear();
     ws.targets.clear();
-    const std::size_t count = candidates ? candidates->size() : m_targets.size();
+    const std::size_t count = candidates ? candidates->size() : m_shapes.size();
     for (std::size_t c = 0; c < count; ++c) {
         const PatchId j = candidates ? (*candidates)[c] : PatchId(c);
         if (j == i || (!candidates && ws.isNear[j])) continue;
-        const Target& t = m_targets[j];
+        const PatchShape& t = m_shapes[j];
         if (t.normal.dot(x - t.centroid) <= 1e-9 * t.radius) continue;  // x must lie in front of j
         const Vec3* polygon;
         const std::size_t corners = polygonAbove(j, x, n, ws.clipped, polygon);
         if (corners == 0) continue;
         const double f = pointToPolygonFactor(x, n, polygon, corners);
-        if (f > 0.0) aim(shadowTarget(polygon, corners, random), j, f);
+        if (f > 0.0) aim(aimPoint(polygon, corners, random), j, f);
     }
     shoot();
     // Visibility of each patch from its shadow ray; a patch whose mesh neighbours disagree with it
@@ -390,7 +407,7 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, const std::v
         }
         for (std::size_t q = 0; q < ws.pieces.size(); q += 4) {
             const double f = pointToPolygonFactor(x, n, &ws.pieces[q], 4);
-            if (f > 0.0) aim(shadowTarget(&ws.pieces[q], 4, random), j, f);
+            if (f > 0.0) aim(aimPoint(&ws.pieces[q], 4, random), j, f);
         }
     }
     shoot();

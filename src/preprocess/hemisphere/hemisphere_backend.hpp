@@ -46,11 +46,11 @@ private:
     std::size_t polygonAbove(PatchId j, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer,
                              const Vec3*& polygon) const;
     /// Where a shadow ray to a polygon aims: its centre, or a random point with jitter.
-    Vec3 shadowTarget(const Vec3* polygon, std::size_t corners, Random& random) const;
+    Vec3 aimPoint(const Vec3* polygon, std::size_t corners, Random& random) const;
     void buildNeighbours(const Scene& scene);
 
     /// Patch geometry packed for the analytic estimator's scans over every patch.
-    struct Target {
+    struct PatchShape {
         Vec3 centroid, normal;
         double radius;  ///< largest centroid-to-corner distance
         std::uint32_t first, count;  ///< corners in m_corners
@@ -64,7 +64,7 @@ private:
     std::vector<float> m_normals;     ///< per patch, 3 floats
     bool m_mirrors = false;
     bool m_analytic = false;
-    std::vector<Target> m_targets;    ///< analytic estimator only
+    std::vector<PatchShape> m_shapes;    ///< analytic estimator only
     std::vector<Vec3> m_corners;      ///< analytic estimator only, corner positions in patch order
     std::vector<double> m_gaussNodes, m_gaussWeights;  ///< the near-field rule on [0, 1]
     std::vector<double> m_originNodes, m_originWeights;  ///< the far-field rule (empty: the centroid)

@@ -27,7 +27,8 @@ void clipAbovePlane(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t cou
     for (std::size_t k = 0; k < count; ++k) {
         const Vec3& b = p[k];
         const double hb = n.dot(b - x);
-        if ((ha >= 0.0) != (hb >= 0.0)) out.push_back(a + (ha / (ha - hb)) * (b - a));
+        // Only a strict sign change crosses the plane: a corner on it is kept once, not twice.
+        if ((ha > 0.0 && hb < 0.0) || (ha < 0.0 && hb > 0.0)) out.push_back(a + (ha / (ha - hb)) * (b - a));
         if (hb >= 0.0) out.push_back(b);
         a = b;
         ha = hb;
@@ -96,6 +97,15 @@ void polygonQuadrature(const Vec3* p, std::size_t count, const std::vector<doubl
                     total += pointWeights.back();
                 }
         }
+    }
+    if (!(total > 0.0)) {  // a degenerate polygon: its vertex centroid carries everything
+        points.resize(first);
+        pointWeights.resize(first);
+        Vec3 centre = Vec3::Zero();
+        for (std::size_t k = 0; k < count; ++k) centre += p[k];
+        points.push_back(centre / double(count));
+        pointWeights.push_back(1.0);
+        return;
     }
     for (std::size_t k = first; k < pointWeights.size(); ++k) pointWeights[k] /= total;
 }

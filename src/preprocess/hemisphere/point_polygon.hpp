@@ -12,7 +12,8 @@ namespace hemirad {
 /// Differential area at x with unit normal n to the planar polygon p[0..count) lying on or above
 /// the plane through x (clip it first otherwise): Lambert's formula
 ///     F = 1/(2 pi) | sum_k gamma_k n . (R_k x R_k+1) / |R_k x R_k+1| |,  R_k = p_k - x,
-/// gamma_k the angle between R_k and R_k+1. Exact for any convex or non-convex simple polygon.
+/// gamma_k the angle between R_k and R_k+1 (Baum, Rushmeier & Winget 1989, after Lambert).
+/// Exact for any planar simple polygon, convex or not.
 double pointToPolygonFactor(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t count);
 
 /// The part of polygon p[0..count) with n . (y - x) >= 0 (Sutherland-Hodgman), written to `out`
@@ -31,7 +32,8 @@ void splitPolygon(const Vec3* p, std::size_t count, std::vector<Vec3>& out);
 /// A product rule over the convex polygon p[0..count) built from a rule on [0, 1] (nodes,
 /// weights): quads through their bilinear map weighted by its Jacobian, other polygons per fan
 /// triangle through the collapsed square (Duffy) map. Points and weights (summing to 1) are
-/// appended to `points` and `pointWeights`. Smooth maps keep Gauss-Legendre's high order.
+/// appended to `points` and `pointWeights`. Smooth maps keep Gauss-Legendre's high order. A
+/// zero-area polygon gets its vertex centroid with weight 1.
 void polygonQuadrature(const Vec3* p, std::size_t count, const std::vector<double>& nodes,
                        const std::vector<double>& weights, std::vector<Vec3>& points, std::vector<double>& pointWeights);
 
