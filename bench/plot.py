@@ -42,6 +42,8 @@ def series_key(row):
         return "hemicube (R sweep)"
     fixed = ", fixed directions" if row.get("directions") == "fixed" else ""
     post = ", " + row["postprocess"] if row.get("postprocess") else ""
+    if row.get("estimator") == "analytic":
+        return "hemisphere, analytic estimator (origins sweep)" + post
     return "hemisphere, %s origin%s%s%s" % (row["origins"], "" if row["origins"] == "1" else "s", fixed, post)
 
 
@@ -60,6 +62,8 @@ def error_vs_time(rows, out):
             ax.loglog(t, e, "o-", label=key)
             for r, x, y in zip(group, t, e):
                 tag = r["resolution"] if r["method"] == "hemicube" else r["samples"]
+                if r.get("estimator") == "analytic":
+                    tag = "%s origin%s" % (r["origins"], "" if r["origins"] == "1" else "s")
                 ax.annotate(tag, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
         patches = group[0]["patches"] if groups else "?"
         ax.set_title("%s (%s patches)" % (scene, patches))
@@ -101,12 +105,14 @@ def time_vs_samples(rows, out):
                   label="reference system, " + label + " [their i7-8700K + GTX 1070 Ti]")
     groups = {}
     for r in rows:
-        if r["method"] == "hemisphere" and r["origins"] == "1":
-            groups.setdefault(r["scene"], []).append(r)
-    for scene, group in sorted(groups.items()):
+        if (r["method"] == "hemisphere" and r["origins"] == "1" and r.get("estimator", "rays") == "rays"
+                and not r.get("postprocess")):
+            groups.setdefault((r["scene"], r.get("directions") == "fixed"), []).append(r)
+    for (scene, fixed), group in sorted(groups.items()):
         group.sort(key=lambda r: number(r, "samples"))
         ax.loglog([number(r, "samples") for r in group], [number(r, "t_total") for r in group], "o-", linewidth=2,
-                  label="Hemirad hemisphere, %s (%s patches) [this 2-core VM]" % (scene, group[0]["patches"]))
+                  label="Hemirad hemisphere, %s%s (%s patches) [this 2-core VM]" % (
+                      scene, ", fixed directions" if fixed else "", group[0]["patches"]))
     ax.set_xlabel("directions per patch (samples)")
     ax.set_ylabel("form factors + solve [s]")
     ax.grid(True, which="both", alpha=0.3)
