@@ -44,6 +44,15 @@ inline double c41(double r1, double r2, double h) {
     return 0.5 * (X - std::sqrt(X * X - 4 * (R2 / R1) * (R2 / R1)));
 }
 
+/// Howell B-3: differential element parallel to an a x b rectangle at distance c, its normal
+/// through a corner of the rectangle.
+inline double b3(double a, double b, double c) {
+    const double A = a / c, B = b / c;
+    return (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
+            B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B))) /
+           (2 * kPi);
+}
+
 constexpr double kCubeOpposite = 0.1998248957;
 constexpr double kCubeAdjacent = 0.2000437761;
 

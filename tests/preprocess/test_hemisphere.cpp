@@ -220,10 +220,7 @@ TEST_CASE("Analytic estimator: C-14 both ways, and a far small emitter gets the 
     SceneBuilder b;
     b.rectangle(2, 0, -0.005, 0.005, -0.005, 0.005, true);
     b.rectangle(2, 1, -0.5, 0.5, -0.5, 0.5, false);
-    const double A = 0.5, B = 0.5;
-    const double b3 = (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
-                       B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B))) / (2 * kPi);
-    CHECK(analytic(b.scene, 1).F.at(0, 1) == doctest::Approx(4 * b3).epsilon(1e-5));
+    CHECK(analytic(b.scene, 1).F.at(0, 1) == doctest::Approx(4 * b3(0.5, 0.5, 1)).epsilon(1e-5));
 }
 
 TEST_CASE("Analytic estimator: an occluder hides what its shadow rays cannot reach; silhouettes are split") {
@@ -246,16 +243,12 @@ TEST_CASE("Analytic estimator: an occluder hides what its shadow rays cannot rea
     }
     // From the emitter's centre, a rectangle [x0, x1] x [-0.5, 0.5] at height 1 (x0 >= 0) has the
     // factor 2 (B-3(x1, 0.5, 1) - B-3(x0, 0.5, 1)).
-    auto b3 = [](double a, double c) {
-        return (a / std::sqrt(1 + a * a) * std::atan(c / std::sqrt(1 + a * a)) +
-                c / std::sqrt(1 + c * c) * std::atan(a / std::sqrt(1 + c * c))) / (2 * kPi);
-    };
     CHECK(hidden == 0.0);
-    CHECK(seen == doctest::Approx(2 * (b3(0.5, 0.5) - b3(0.1, 0.5))).epsilon(1e-6));
+    CHECK(seen == doctest::Approx(2 * (b3(0.5, 0.5, 1) - b3(0.1, 0.5, 1))).epsilon(1e-6));
     // The column the shadow edge crosses: its centre (x = 0.05) is lit, so unsplit it would count
     // whole; split once, its left pieces (centres x = 0.025) are hidden and its right ones lit.
-    CHECK(split == doctest::Approx(2 * (b3(0.1, 0.5) - b3(0.05, 0.5))).epsilon(1e-6));
-    CHECK(split < 0.6 * 2 * b3(0.1, 0.5));
+    CHECK(split == doctest::Approx(2 * (b3(0.1, 0.5, 1) - b3(0.05, 0.5, 1))).epsilon(1e-6));
+    CHECK(split < 0.6 * 2 * b3(0.1, 0.5, 1));
     // The first pass aims one shadow ray at each of the 101 patches; the split pieces add more.
     CHECK(r.counts.rays > 101);
     CHECK(r.F.rowSum(0) <= 1.0);

@@ -1,5 +1,6 @@
 // Lambert's point-to-polygon factor, half-space clipping and area-uniform polygon points.
 #include "preprocess/hemisphere/point_polygon.hpp"
+#include "support.hpp"
 
 #include <doctest/doctest.h>
 
@@ -7,16 +8,9 @@
 #include <vector>
 
 using namespace hemirad;
+using namespace hemirad::test;
 
 namespace {
-
-/// Howell B-3: element parallel to an a x b rectangle at distance c, normal through a corner.
-double b3(double a, double b, double c) {
-    const double A = a / c, B = b / c;
-    return (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
-            B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B))) /
-           (2 * kPi);
-}
 
 /// Brute-force cos cos / (pi r^2) over the part of rectangle x = X, y in [y0, y1], z in [z0, z1]
 /// above the element at the origin with normal +z (midpoint rule), the independent check of clipping.
