@@ -291,22 +291,21 @@ double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& co
     const double unit = double(m_options.origins) * m_options.samples;
     // A stream of its own (not the one castRays draws origin shifts from) for jittered shadow rays.
     Random random((m_options.seed * 0x9e3779b97f4a7c15ULL ^ (std::uint64_t(i) << 20)) ^ 0xa5a5a5a5deadbeefULL);
-    double direct = 0.0;
-    if (m_originNodes.empty()) {
-        direct += addAnalyticFrom(i, emitter.centroid, nullptr, unit, random, ws, counts);
-    } else {
+    // Factors from every point of a Gauss-Legendre rule over the emitter to `candidates`.
+    auto integrate = [&](const std::vector<double>& nodes, const std::vector<double>& weights,
+                         const std::vector<PatchId>* candidates) {
         ws.quadPoints.clear();
         ws.quadWeights.clear();
-        polygonQuadrature(&m_corners[emitter.first], emitter.count, m_originNodes, m_originWeights, ws.quadPoints, ws.quadWeights);
+        polygonQuadrature(&m_corners[emitter.first], emitter.count, nodes, weights, ws.quadPoints, ws.quadWeights);
+        double sum = 0.0;
         for (std::size_t q = 0; q < ws.quadPoints.size(); ++q)
-            direct += addAnalyticFrom(i, ws.quadPoints[q], nullptr, unit * ws.quadWeights[q], random, ws, counts);
-    }
+            sum += addAnalyticFrom(i, ws.quadPoints[q], candidates, unit * ws.quadWeights[q], random, ws, counts);
+        return sum;
+    };
+    double direct = m_originNodes.empty() ? addAnalyticFrom(i, emitter.centroid, nullptr, unit, random, ws, counts)
+                                          : integrate(m_originNodes, m_originWeights, nullptr);
     if (!ws.near.empty()) {
-        ws.quadPoints.clear();
-        ws.quadWeights.clear();
-        polygonQuadrature(&m_corners[emitter.first], emitter.count, m_gaussNodes, m_gaussWeights, ws.quadPoints, ws.quadWeights);
-        for (std::size_t q = 0; q < ws.quadPoints.size(); ++q)
-            direct += addAnalyticFrom(i, ws.quadPoints[q], &ws.near, unit * ws.quadWeights[q], random, ws, counts);
+        direct += integrate(m_gaussNodes, m_gaussWeights, &ws.near);
         for (const PatchId j : ws.near) ws.isNear[j] = 0;
     }
     return direct / unit;
