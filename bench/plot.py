@@ -47,16 +47,34 @@ def series_key(row):
     return "hemisphere, %s origin%s%s%s" % (row["origins"], "" if row["origins"] == "1" else "s", fixed, post)
 
 
-def error_vs_time(rows, out):
+def scene_panels(rows, metric):
+    """One axis per scene, each with that scene's series of rows that have `metric`, sorted by F time."""
     scenes = sorted({r["scene"] for r in rows})
     fig, axes = plt.subplots(1, len(scenes), figsize=(6 * len(scenes), 4.6), squeeze=False)
+    panels = []
     for ax, scene in zip(axes[0], scenes):
         groups = {}
         for r in rows:
-            if r["scene"] == scene and number(r, "err_mean") is not None:
+            if r["scene"] == scene and number(r, metric) is not None:
                 groups.setdefault(series_key(r), []).append(r)
-        for key, group in sorted(groups.items()):
+        for group in groups.values():
             group.sort(key=lambda r: number(r, "t_ff"))
+        panels.append((ax, scene, sorted(groups.items())))
+    return fig, panels
+
+
+def finish_panel(ax, title, xlabel, ylabel):
+    ax.set_title(title)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+
+
+def error_vs_time(rows, out):
+    fig, panels = scene_panels(rows, "err_mean")
+    for ax, scene, series in panels:
+        for key, group in series:
             t = [number(r, "t_bvh") + number(r, "t_ff") for r in group]
             e = [number(r, "err_mean") for r in group]
             ax.loglog(t, e, "o-", label=key)
@@ -65,33 +83,20 @@ def error_vs_time(rows, out):
                 if r.get("estimator") == "analytic":
                     tag = "%s origin%s" % (r["origins"], "" if r["origins"] == "1" else "s")
                 ax.annotate(tag, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
-        patches = group[0]["patches"] if groups else "?"
-        ax.set_title("%s (%s patches)" % (scene, patches))
-        ax.set_xlabel("form-factor time [s] (this machine, 2 cores)")
-        ax.set_ylabel("mean per-row |F - F_ref|")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
+        patches = series[-1][1][0]["patches"] if series else "?"
+        finish_panel(ax, "%s (%s patches)" % (scene, patches), "form-factor time [s] (this machine, 2 cores)",
+                     "mean per-row |F - F_ref|")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "error_vs_time.png"), dpi=110)
 
 
 def radiosity_vs_time(rows, out):
-    scenes = sorted({r["scene"] for r in rows})
-    fig, axes = plt.subplots(1, len(scenes), figsize=(6 * len(scenes), 4.6), squeeze=False)
-    for ax, scene in zip(axes[0], scenes):
-        groups = {}
-        for r in rows:
-            if r["scene"] == scene and number(r, "b_rel_mean") is not None:
-                groups.setdefault(series_key(r), []).append(r)
-        for key, group in sorted(groups.items()):
-            group.sort(key=lambda r: number(r, "t_ff"))
+    fig, panels = scene_panels(rows, "b_rel_mean")
+    for ax, scene, series in panels:
+        for key, group in series:
             t = [number(r, "t_bvh") + number(r, "t_ff") + number(r, "t_solve") for r in group]
             ax.loglog(t, [number(r, "b_rel_mean") for r in group], "o-", label=key)
-        ax.set_title(scene)
-        ax.set_xlabel("form factors + solve [s]")
-        ax.set_ylabel("mean |B - B_ref| / mean B_ref")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
+        finish_panel(ax, scene, "form factors + solve [s]", "mean |B - B_ref| / mean B_ref")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "radiosity_error_vs_time.png"), dpi=110)
 
