@@ -1,8 +1,7 @@
 // hemirad: command-line entry point; the only place (with the GUI) that catches hemirad::Error.
 #include "cli/commands.hpp"
 #include "engine/atomic_file.hpp"
-
-#include <omp.h>
+#include "engine/threads.hpp"
 
 #include <csignal>
 #include <cstring>
@@ -28,7 +27,7 @@ int main(int argc, char** argv) {
     std::signal(SIGTERM, onInterrupt);
     try {
         const Options options = parseOptions(argc, argv);
-        if (options.backend.threads > 0) omp_set_num_threads(options.backend.threads);
+        configureProcessThreads(options.backend.threads);
         if (options.command == "help") {
             std::cout << usageText();
             return 0;

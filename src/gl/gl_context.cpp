@@ -3,8 +3,6 @@
 
 #include "engine/error.hpp"
 
-#include <cstdlib>
-
 namespace hemirad {
 
 GlApiKind parseGlApiKind(const std::string& name) {
@@ -12,10 +10,6 @@ GlApiKind parseGlApiKind(const std::string& name) {
     if (name == "egl") return GlApiKind::Egl;
     if (name == "osmesa") return GlApiKind::OSMesa;
     throw Error("unknown --gl '" + name + "' (auto, egl, osmesa)");
-}
-
-void preferSingleThreadedRasteriser() {
-    if (!std::getenv("LP_NUM_THREADS")) ::setenv("LP_NUM_THREADS", "0", 0);
 }
 
 std::unique_ptr<GlContext> createHeadlessContext(GlApiKind kind) {

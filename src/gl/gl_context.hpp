@@ -27,10 +27,6 @@ public:
 /// Throws hemirad::Error saying why each API failed.
 std::unique_ptr<GlContext> createHeadlessContext(GlApiKind kind);
 
-/// Mesa's llvmpipe rasterises with its own thread pool by default; with one context per core that
-/// pool only competes. Sets LP_NUM_THREADS=0 (unless the user set it) before the first context.
-void preferSingleThreadedRasteriser();
-
 namespace detail {
 std::unique_ptr<GlContext> createEglContext();     // egl_context.cpp
 std::unique_ptr<GlContext> createOsmesaContext();  // osmesa_context.cpp

@@ -3,6 +3,7 @@
 #include "engine/error.hpp"
 #include "engine/result_writer.hpp"
 #include "engine/subdivide.hpp"
+#include "engine/threads.hpp"
 #include "gl/gl_api.hpp"
 #include "ui/app_state.hpp"
 #include "ui/inspector.hpp"
@@ -144,6 +145,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "hemirad-gui: error: %s\n%s", e.what(), kUsage);
         return 2;
     }
+    // Before any thread or GL context: the worker-thread default and llvmpipe's rasteriser threads.
+    configureProcessThreads(options.settings.backend.threads);
     glfwSetErrorCallback(onGlfwError);
     if (!glfwInit()) {
         std::fprintf(stderr, "hemirad-gui: error: cannot open a window (no display? try xvfb-run hemirad-gui ...)\n");

@@ -223,7 +223,7 @@ TEST_CASE("Analytic estimator: C-14 both ways, and a far small emitter gets the 
     CHECK(analytic(b.scene, 1).F.at(0, 1) == doctest::Approx(4 * b3(0.5, 0.5, 1)).epsilon(1e-5));
 }
 
-TEST_CASE("Analytic estimator: an occluder hides what its shadow rays cannot reach; silhouettes are split") {
+TEST_CASE("Analytic estimator: an occluder hides what its shadow rays cannot reach, and silhouettes are split") {
     // A 0.01 emitter at the origin under a 10 x 10 grid of 0.1 quads at z = 1; a blocker at z = 0.5
     // covers x < 0.02, so its shadow on the grid ends at x = 0.04, inside the column [0, 0.1]. The
     // grid's corners are computed as -0.5 + 0.1 u, which differ in the last bit between neighbours
@@ -254,7 +254,7 @@ TEST_CASE("Analytic estimator: an occluder hides what its shadow rays cannot rea
     CHECK(r.F.rowSum(0) <= 1.0);
 }
 
-TEST_CASE("Analytic estimator with mirrors: rays carry only the chains; the image-method factor holds") {
+TEST_CASE("Analytic estimator with mirrors: rays carry only the chains and the image-method factor holds") {
     const Scene s = bundledScene("mirror_pair.obj");
     const FormFactorRun r = analytic(s, 16, false, 3072);
     const double expected = 0.9 * (c11(2, 1, 1) - c11(1, 1, 1));
@@ -270,7 +270,7 @@ TEST_CASE("Analytic estimator with mirrors: rays carry only the chains; the imag
     CHECK(r.F.at(0, 2) == doctest::Approx(direct.F.at(0, 2)).epsilon(1e-6));
 }
 
-TEST_CASE("Analytic and ray estimators agree on the closed Cornell box; analytic rows stay <= 1") {
+TEST_CASE("Analytic and ray estimators agree on the closed Cornell box, and analytic rows stay <= 1") {
     const Scene s = subdivide(bundledScene("cornell_closed.obj"), 100.0);
     const FormFactorRun rays = run(s, 3072, 16);
     const FormFactorRun exact = analytic(s, 16, true);

@@ -2,6 +2,7 @@
 #include "preprocess/hemicube/hemicube_backend.hpp"
 
 #include "engine/error.hpp"
+#include "engine/threads.hpp"
 #include "gl/gl_context.hpp"
 #include "preprocess/hemicube/hemicube_renderer.hpp"
 #include "preprocess/row_accumulator.hpp"
@@ -29,9 +30,7 @@ void HemicubeBackend::prepare(const Scene& scene) {
     m_scene = &scene;
     m_geometry = HemicubeGeometry::build(scene, m_options.parentPolygons);
     if (scene.hasMirrors() && m_options.mirrors == "rays") m_rays = std::make_unique<RayScene>(scene, m_options.threads);
-    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-    m_workers = m_options.threads > 0 ? m_options.threads : int(cores);
-    if (m_workers > 1) preferSingleThreadedRasteriser();
+    m_workers = resolveThreads(m_options.threads);
     // Fail here, before any work, if no context can be made.
     auto context = createHeadlessContext(parseGlApiKind(m_options.gl));
     context->makeCurrent();
