@@ -28,8 +28,6 @@ pkg_check_modules(HEMIRAD_OSMESA QUIET IMPORTED_TARGET osmesa)
 hemirad_require(HEMIRAD_OSMESA_FOUND "libosmesa6-dev")
 find_path(HEMIRAD_GLCOREARB_INCLUDE GL/glcorearb.h)
 hemirad_require(HEMIRAD_GLCOREARB_INCLUDE "libgl-dev")
-find_path(HEMIRAD_GLM_INCLUDE glm/glm.hpp)
-hemirad_require(HEMIRAD_GLM_INCLUDE "libglm-dev")
 
 if(HEMIRAD_WITH_GUI)
   pkg_check_modules(HEMIRAD_GLFW QUIET IMPORTED_TARGET glfw3)

@@ -8,6 +8,8 @@ layout(std430, binding = 3) readonly buffer Touched {
     uint missed;
     uint backfaces;
     uint lost;
+    uint rounded;
+    uint roundedLost;
     uint list[];
 };
 layout(std430, binding = 4) writeonly buffer Values { uint values[]; };

@@ -12,24 +12,35 @@ layout(std430, binding = 3) buffer Touched {
     uint missed;      // pixels that saw nothing
     uint backfaces;   // pixels that saw the back of a patch
     uint lost;        // fixed-point weight of those pixels
+    uint rounded;     // pixels whose weight rounds to 0 units (kept as lost, not dropped)
+    uint roundedLost; // their weight in units of 1 / (fixedScale * roundedScale)
     uint list[];
 };
 
 uniform uvec2 size;
 uniform float fixedScale;  // fixed-point units per unit of form factor
 uniform float factor;      // weight multiplier (1, or the mirror chain's product of s)
+uniform float roundedScale;  // finer units for sub-unit weights (< 0.5 unit each, so no overflow)
 
 void main() {
     const uvec2 p = gl_GlobalInvocationID.xy;
     if (p.x >= size.x || p.y >= size.y) return;
     const uint id = imageLoad(ids, ivec2(p)).r;
-    const uint value = uint(weight[p.y * size.x + p.x] * factor * fixedScale + 0.5);
+    const float exact = weight[p.y * size.x + p.x] * factor * fixedScale;
+    const uint value = uint(exact + 0.5);
     if (id == 0u || id == 0xffffffffu) {
         if (id == 0u) atomicAdd(missed, 1u);
         else atomicAdd(backfaces, 1u);
         atomicAdd(lost, value);
         return;
     }
-    if (value == 0u) return;
+    if (value == 0u) {
+        // Too small for the fixed point: counted as lost power instead of vanishing.
+        if (exact > 0.0) {
+            atomicAdd(rounded, 1u);
+            atomicAdd(roundedLost, uint(exact * roundedScale + 0.5));
+        }
+        return;
+    }
     if (atomicAdd(accumulator[id - 1u], value) == 0u) list[atomicAdd(count, 1u)] = id - 1u;
 }

@@ -172,7 +172,7 @@ struct EigenSystem::Impl {
 
 EigenSystem::EigenSystem(const Scene& scene, const FormFactors& F, SymmetricForm* symmetric, const Vector& rho,
                          SolverKind kind, const SolverOptions& options)
-    : m_impl(new Impl(scene, F, rho, kind, options)) {
+    : m_impl(std::make_unique<Impl>(scene, F, rho, kind, options)) {
     const double n = static_cast<double>(F.size());
     if (kind == SolverKind::LU || kind == SolverKind::Cholesky) {
         // Radiosity matrices are nearly dense once factored: budget for full fill-in.
@@ -184,13 +184,12 @@ EigenSystem::EigenSystem(const Scene& scene, const FormFactors& F, SymmetricForm
             limit = available ? available / 10 * 8 : std::size_t(8) << 30;
         }
         if (estimate > static_cast<double>(limit)) {
-            delete m_impl;
             throw Error("solver " + solverName(kind) + ": the factorisation of " + std::to_string(F.size()) +
                         " patches may need " + gib(estimate) + ", more than the " + gib(double(limit)) +
                         " available; use --solver cg, bicgstab or gauss-seidel");
         }
     }
-    try {
+    {
         if (kind == SolverKind::LU) {
             m_impl->lu.compute(ColMatrix(systemMatrix(F, rho)));
             if (m_impl->lu.info() != Eigen::Success)
@@ -209,13 +208,10 @@ EigenSystem::EigenSystem(const Scene& scene, const FormFactors& F, SymmetricForm
         } else {
             throw Error("internal: " + solverName(kind) + " is not an Eigen solver");
         }
-    } catch (...) {
-        delete m_impl;
-        throw;
     }
 }
 
-EigenSystem::~EigenSystem() { delete m_impl; }
+EigenSystem::~EigenSystem() = default;
 
 void EigenSystem::solve(Channel& ch) {
     Impl& s = *m_impl;

@@ -51,20 +51,26 @@ Rgb readColor(const TextReader& r, const char* what) {
     return c;
 }
 
-/// Finishes a material: s = mean(Ks) for mirror illumination models, with the energy check.
-void finishMaterial(Material& m, const std::string& file, int line, Warnings& warnings) {
+/// Finishes a material: s = mean(Ks) for mirror illumination models; a mirror without Kd has no
+/// diffuse part (rho = 0, not the default 0.5); rho_c + s > 1 creates energy and is an error.
+void finishMaterial(Material& m, bool hasKd, const std::string& file, int line) {
     m.specular = (m.illum == 3 || m.illum == 5 || m.illum == 7) ? m.ks.mean() : 0.0;
     if (m.specular > 1.0) {
         std::ostringstream msg;
         msg << "material '" << m.name << "': mirror reflectance mean(Ks) = " << m.specular << " exceeds 1";
         throw Error(file, line, msg.str());
     }
-    if ((m.rho > 1.0).any())
-        warnings.add("materials with rho > 1", Error::locate(file, line) + "material '" + m.name +
-                                                   "' has diffuse reflectance Kd > 1: it creates energy");
-    else if ((m.rho + m.specular > 1.0 + 1e-9).any())
-        warnings.add("materials with rho + s > 1", Error::locate(file, line) + "material '" + m.name +
-                                                       "' reflects more than it receives (Kd + mean(Ks) > 1)");
+    if (m.specular > 0.0 && !hasKd) m.rho = Rgb::Zero();
+    const Rgb total = m.rho + m.specular;
+    if ((total > 1.0 + 1e-9).any()) {
+        std::ostringstream msg;
+        msg << "material '" << m.name << "' reflects more than it receives: ";
+        if (m.specular > 0.0) msg << "Kd + mean(Ks) = " << total.maxCoeff() << " (Kd " << m.rho.maxCoeff() << ", s "
+                                  << m.specular << ")";
+        else msg << "Kd = " << m.rho.maxCoeff();
+        msg << " exceeds 1 in a channel (physical materials have rho + s <= 1)";
+        throw Error(file, line, msg.str());
+    }
 }
 
 }  // namespace
@@ -81,10 +87,11 @@ void parseMtl(const std::string& path, std::string_view text, std::vector<Materi
         "bump", "disp", "decal", "refl", "norm"};
     Material* current = nullptr;
     int currentLine = 0;
+    bool hasKd = false;
     std::set<std::string> seen;
     const std::size_t first = out.size();
     auto finish = [&] {
-        if (current) finishMaterial(*current, path, currentLine, warnings);
+        if (current) finishMaterial(*current, hasKd, path, currentLine);
     };
     while (r.next()) {
         const auto& t = r.tokens();
@@ -101,12 +108,14 @@ void parseMtl(const std::string& path, std::string_view text, std::vector<Materi
             out.push_back(m);
             current = &out.back();
             currentLine = r.line();
+            hasKd = false;
             continue;
         }
         if (ignored.count(key) || key.substr(0, 4) == "map_") continue;
         if (!current) r.fail(quote(key) + " before any newmtl");
         if (key == "Kd") {
             current->rho = readColor(r, "Kd");
+            hasKd = true;
         } else if (key == "Ke") {
             current->emission = readColor(r, "Ke");
         } else if (key == "Ks") {

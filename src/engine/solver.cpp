@@ -5,6 +5,7 @@
 #include "engine/error.hpp"
 #include "engine/solver_detail.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -21,6 +22,12 @@ using detail::Vector;
 using Clock = std::chrono::steady_clock;
 
 const char* kChannelNames[3] = {"r", "g", "b"};
+
+/// A symmetrised solve (Cholesky, CG) counts as converged only while the residual on the original
+/// I - R F stays within this factor of the tolerance, or within the float precision of F's values
+/// (a reciprocal F stored in float is symmetric only to ~1e-7 relative).
+constexpr double kSymmetricGateFactor = 10.0;
+constexpr double kFloatResidualFloor = 1e-6;
 
 /// Collatz-Wielandt bound from below on the spectral radius of R F (non-negative) after power steps.
 double spectralLowerBound(const FormFactors& F, const Vector& rho) {
@@ -211,6 +218,18 @@ Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverO
     for (Channel& ch : channels) {
         SolveReport& r = ch.report;
         r.residualOriginal = ch.E.norm() > 0 ? detail::relativeResidual(F, ch.rho, ch.E, ch.B) : 0.0;
+        // Cholesky and CG solve the symmetrised K: their own residual says nothing about I - R F when
+        // F is not reciprocal. Converged means converged on the system the user posed.
+        const double originalLimit = std::max(kSymmetricGateFactor * options.tolerance, kFloatResidualFloor);
+        if (symmetric && r.converged && !(r.residualOriginal <= originalLimit)) {
+            std::ostringstream note;
+            note << "the symmetrised system converged (residual " << r.residual << ") but the residual on I - R F is "
+                 << r.residualOriginal << " > " << originalLimit
+                 << ": F is not reciprocal enough for the symmetric form; use lu, bicgstab or gauss-seidel, or "
+                    "--enforce-reciprocity";
+            r.converged = false;
+            r.note = note.str();
+        }
         if (!ch.B.allFinite()) {
             r.converged = false;
             r.note = "the solution is not finite";

@@ -9,6 +9,7 @@
 #include <Eigen/SparseCore>
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -77,7 +78,7 @@ public:
 
 private:
     struct Impl;
-    Impl* m_impl;
+    std::unique_ptr<Impl> m_impl;
 };
 
 }  // namespace hemirad::detail

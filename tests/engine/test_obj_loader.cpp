@@ -147,16 +147,35 @@ TEST_CASE("MTL: Kd, Ke and mirror reflectance s = mean(Ks) only for illum 3, 5, 
     Warnings w = quietWarnings();
     std::vector<Material> m;
     const auto dir = tempDir("mtl");
-    loadMtl(writeFile(dir / "a.mtl", "newmtl a\nKd .2 .3 .4\nKe 1 2 3\nKs .6 .6 .9\nillum 3\n"
+    loadMtl(writeFile(dir / "a.mtl", "newmtl a\nKd .2 .3 .3\nKe 1 2 3\nKs .6 .6 .9\nillum 3\n"
                                      "newmtl b\nKd 0.5\nKs 1 1 1\nillum 2\nNs 10\nmap_Kd tex.png\n"),
             m, w);
     REQUIRE(m.size() == 2);
-    CHECK((m[0].rho == Rgb(.2, .3, .4)).all());
+    CHECK((m[0].rho == Rgb(.2, .3, .3)).all());
     CHECK((m[0].emission == Rgb(1, 2, 3)).all());
     CHECK(m[0].specular == doctest::Approx(0.7));
     CHECK(m[1].specular == 0.0);
     CHECK((m[1].rho == Rgb::Constant(0.5)).all());
-    CHECK(w.count("materials with rho + s > 1") == 1);  // a: .4 + .7 > 1
+    CHECK(w.count() == 0);
+}
+
+TEST_CASE("MTL: a mirror without Kd has no diffuse part, and rho + s > 1 is an error naming file and line") {
+    Warnings w = quietWarnings();
+    std::vector<Material> m;
+    const auto dir = tempDir("mtl-energy");
+    // Ks 0.9 / illum 3 alone once took the default rho 0.5: rho + s = 1.4 created energy.
+    loadMtl(writeFile(dir / "mirror.mtl", "newmtl glass\nKs 0.9 0.9 0.9\nillum 3\nnewmtl plain\n"), m, w);
+    REQUIRE(m.size() == 2);
+    CHECK(m[0].specular == doctest::Approx(0.9));
+    CHECK((m[0].rho == Rgb::Zero()).all());
+    CHECK((m[1].rho == Rgb::Constant(0.5)).all());  // not a mirror: the default diffuse material
+    CHECK_THROWS_WITH_AS(loadMtl(writeFile(dir / "over.mtl", "# c\nnewmtl shiny\nKd .5 .2 .2\nKs .8 .8 .8\nillum 3\n"), m, w),
+                         doctest::Contains("over.mtl:2: material 'shiny' reflects more than it receives: Kd + mean(Ks) = 1.3"),
+                         Error);
+    CHECK_THROWS_WITH_AS(loadMtl(writeFile(dir / "bright.mtl", "newmtl bright\nKd 1.5 .5 .5\n"), m, w),
+                         doctest::Contains("bright.mtl:1: material 'bright' reflects more than it receives: Kd = 1.5"), Error);
+    // s = 1 with no Kd is a perfect mirror, allowed.
+    CHECK_NOTHROW(loadMtl(writeFile(dir / "perfect.mtl", "newmtl perfect\nKs 1 1 1\nillum 3\n"), m, w));
 }
 
 TEST_CASE("MTL: negative or non-numeric values are errors with file:line") {

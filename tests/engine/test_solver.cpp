@@ -109,6 +109,36 @@ TEST_CASE("All solvers agree on one non-symmetric system, and the symmetric form
     }
 }
 
+TEST_CASE("Cholesky and CG on a non-reciprocal F are not converged: the gate is the residual on I - R F") {
+    // The exact cube F with one row scaled: A_0 F_0j != A_j F_j0. The symmetrised K still converges,
+    // but its B does not solve (I - R F) B = E.
+    std::vector<std::vector<FormFactors::Entry>> rows(6);
+    for (std::uint32_t i = 0; i < 6; ++i)
+        for (std::uint32_t j = 0; j < 6; ++j)
+            if (i != j) rows[i].push_back({j, float(((i ^ 1) == j ? kCubeOpposite : kCubeAdjacent) * (i == 0 ? 0.8 : 1.0))});
+    const FormFactors F = FormFactors::fromRows(std::move(rows), std::vector<std::uint8_t>(6, 1));
+    const Scene s = cubeWith(0.9);
+    for (SolverKind kind : {SolverKind::Cholesky, SolverKind::CG}) {
+        CAPTURE(solverName(kind));
+        SolverOptions o;
+        o.kind = kind;
+        o.tolerance = 1e-8;
+        CHECK_THROWS_WITH_AS(solveRadiosity(s, F, o), doctest::Contains("the residual on I - R F is"), Error);
+        o.allowUnconverged = true;
+        const Radiosity r = solveRadiosity(s, F, o);
+        REQUIRE(r.reports.size() == 1);
+        CHECK_FALSE(r.reports[0].converged);
+        CHECK(r.reports[0].residual < 1e-7);           // K itself converged
+        CHECK(r.reports[0].residualOriginal > 1e-3);   // I - R F did not
+    }
+    // The unsymmetric solvers solve the posed system.
+    for (SolverKind kind : {SolverKind::LU, SolverKind::BiCGSTAB, SolverKind::GaussSeidel}) {
+        const Radiosity r = solveWith(s, F, kind, 1e-8);
+        CHECK(r.reports[0].converged);
+        CHECK(r.reports[0].residualOriginal < 1e-7);
+    }
+}
+
 TEST_CASE("Black patches (rho = 0) keep B = E and their rows need not be computed") {
     Scene s = cubeWith(0.5);
     s.patches[0].rho = Rgb::Zero();

@@ -14,6 +14,13 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+/// The GPU row's header, before the touched list (hemicube_reduce.comp):
+///   | count | missed | backfaces | lost | rounded | roundedLost | list[count] ... |
+constexpr std::size_t kTouchedHeader = 6;
+/// roundedLost counts in units of 1 / (fixedScale x this): a rounded pixel adds at most 32 of them,
+/// so even all 3 x 4096^2 pixels of the largest common atlas stay below 2^32.
+constexpr double kRoundedScale = 64.0;
+
 }  // namespace
 
 HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& geometry, const HemicubeLayout& layout,
@@ -104,13 +111,13 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
         gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(layout.weights().size() * sizeof(float)),
                        layout.weights().data(), GL_STATIC_DRAW);
         const GLsizeiptr patches = GLsizeiptr(std::max<std::size_t>(1, scene.size()));
-        std::vector<std::uint32_t> zeros(std::size_t(patches) + 4, 0);
+        std::vector<std::uint32_t> zeros(std::size_t(patches) + kTouchedHeader, 0);
         m_accumulator = gl::makeBuffer();
         gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_accumulator.id());
         gl::BufferData(GL_SHADER_STORAGE_BUFFER, patches * 4, zeros.data(), GL_DYNAMIC_COPY);
         m_touched = gl::makeBuffer();
         gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_touched.id());
-        gl::BufferData(GL_SHADER_STORAGE_BUFFER, (patches + 4) * 4, zeros.data(), GL_DYNAMIC_COPY);
+        gl::BufferData(GL_SHADER_STORAGE_BUFFER, (patches + kTouchedHeader) * 4, zeros.data(), GL_DYNAMIC_COPY);
         m_values = gl::makeBuffer();
         gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_values.id());
         gl::BufferData(GL_SHADER_STORAGE_BUFFER, patches * 4, nullptr, GL_DYNAMIC_COPY);
@@ -380,9 +387,10 @@ void HemicubeRenderer::reduceOnGpu(RowAccumulator& row, HemicubeStats& stats) {
     gl::Uniform2ui(m_reduce.uniform("size"), W, H);
     gl::Uniform1f(m_reduce.uniform("fixedScale"), float(m_fixedScale));
     gl::Uniform1f(m_reduce.uniform("factor"), 1.0f);
+    gl::Uniform1f(m_reduce.uniform("roundedScale"), float(kRoundedScale));
     gl::DispatchCompute((W + 15) / 16, (H + 15) / 16, 1);
     gl::MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::uint32_t header[4] = {};
+    std::uint32_t header[kTouchedHeader] = {};
     gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_touched.id());
     gl::GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof header, header);
     const std::uint32_t count = header[0];
@@ -395,18 +403,19 @@ void HemicubeRenderer::reduceOnGpu(RowAccumulator& row, HemicubeStats& stats) {
     t0 = Clock::now();
     std::vector<std::uint32_t> list(count), values(count);
     if (count > 0) {
-        gl::GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 16, GLsizeiptr(count) * 4, list.data());
+        gl::GetBufferSubData(GL_SHADER_STORAGE_BUFFER, sizeof header, GLsizeiptr(count) * 4, list.data());
         gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_values.id());
         gl::GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(count) * 4, values.data());
     }
-    const std::uint32_t zeros[4] = {0, 0, 0, 0};
+    const std::uint32_t zeros[kTouchedHeader] = {};
     gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_touched.id());
     gl::BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zeros, zeros);
     stats.readback += since(t0);
     for (std::uint32_t k = 0; k < count; ++k) row.addWeight(list[k], values[k] / m_fixedScale);
     stats.missed += header[1];
     stats.backfaces += header[2];
-    stats.lostWeight += header[3] / m_fixedScale;
+    stats.lostWeight += header[3] / m_fixedScale + header[5] / (m_fixedScale * kRoundedScale);
+    stats.roundedPixels += header[4];
 }
 
 }  // namespace hemirad

@@ -5,6 +5,7 @@
 #include "preprocess/hemisphere/hemisphere_backend.hpp"
 
 #include "engine/error.hpp"
+#include "engine/threads.hpp"
 #include "preprocess/hemisphere/beckers.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
 #include "preprocess/hemisphere/point_polygon.hpp"
@@ -18,6 +19,7 @@
 #include <cstdio>
 #include <exception>
 #include <array>
+#include <atomic>
 #include <unordered_map>
 
 namespace hemirad {
@@ -119,8 +121,11 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
 
 void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) {
     if (!m_scene) throw Error("hemisphere back end: prepare() was not called");
-    const int threads = m_options.threads > 0 ? m_options.threads : omp_get_max_threads();
+    const int threads = resolveThreads(m_options.threads);
+    // The first failure is kept under a critical section; other threads see only the atomic flag
+    // (reading the exception_ptr while another thread writes it was a data race).
     std::exception_ptr failure;
+    std::atomic<bool> failed{false};
     const auto count = static_cast<std::ptrdiff_t>(rows.size());
 #pragma omp parallel num_threads(threads)
     {
@@ -135,7 +140,7 @@ void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactor
         RayCounts counts;
 #pragma omp for schedule(dynamic, 4)
         for (std::ptrdiff_t r = 0; r < count; ++r) {
-            if (builder.cancelled() || failure) continue;
+            if (builder.cancelled() || failed.load(std::memory_order_relaxed)) continue;
             try {
                 const PatchId i = rows[r];
                 if (m_analytic) {
@@ -159,6 +164,7 @@ void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactor
             } catch (...) {
 #pragma omp critical(hemirad_failure)
                 if (!failure) failure = std::current_exception();
+                failed.store(true, std::memory_order_relaxed);
             }
         }
         builder.addCounts(counts);
