@@ -4,6 +4,7 @@
 #include "engine/solver.hpp"
 #include "engine/subdivide.hpp"
 #include "preprocess/form_factor_job.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
 #include "preprocess/hemisphere/beckers.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
 
@@ -25,7 +26,7 @@ namespace {
 double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
 /// The bare loop: per patch, per origin, per direction one rtcIntersect1; only a hit count survives.
-double bareLoop(const Scene& scene, const BackendOptions& options, double offset, std::uint64_t& hits, double& buildSeconds) {
+double bareLoop(const Scene& scene, const HemisphereOptions& options, double offset, std::uint64_t& hits, double& buildSeconds) {
     const auto t0 = Clock::now();
     RTCDevice device = rtcNewDevice(nullptr);
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -110,8 +111,8 @@ int main(int argc, char** argv) {
     std::string path = argv[1];
     double subdivideLength = 0.0;
     int repeat = 1;
-    BackendOptions options;
-    options.estimator = "rays";  // the comparison is ray for ray with the bare loop
+    HemisphereOptions options;
+    options.estimator = Estimator::Rays;  // the comparison is ray for ray with the bare loop
     Rgb rho = Rgb::Constant(-1.0);  // keep the scene's reflectances unless --rho is given
     for (int k = 2; k + 1 < argc; k += 2) {
         const std::string flag = argv[k];
@@ -149,7 +150,7 @@ int main(int argc, char** argv) {
             scene.bounds(lo, hi);
             const double offset = std::max(1e-6 * (hi - lo).norm(), 64.0 * 1.1920929e-7 * 0.5 * (hi - lo).maxCoeff());
             const double bare = bareLoop(scene, options, offset, hits, bareBuild);
-            const FormFactorRun run = computeFormFactors(scene, "hemisphere", options, rows);
+            const FormFactorRun run = computeFormFactors(scene, MethodSettings::of(options), rows);
             bestBare = std::min(bestBare, bare);
             bestHemirad = std::min(bestHemirad, run.computeSeconds);
             std::printf("run %d: bare rtcIntersect1 loop %.3f s (%.2f M rays/s, BVH %.3f s, %.4f%% hit)\n", r + 1, bare,

@@ -6,6 +6,7 @@
 #include "engine/solver.hpp"
 #include "engine/subdivide.hpp"
 #include "preprocess/form_factor_job.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -39,11 +40,11 @@ double furnaceError(const Radiosity& r, double rho) {
 }
 
 FormFactors hemisphereF(const Scene& s, std::uint32_t samples, std::uint32_t origins = 1) {
-    BackendOptions o;
-    o.estimator = "rays";  // the ray estimator: closed rows sum to 1 exactly
+    HemisphereOptions o;
+    o.estimator = Estimator::Rays;  // the ray estimator: closed rows sum to 1 exactly
     o.samples = samples;
     o.origins = origins;
-    return computeFormFactors(s, "hemisphere", o, neededRows(s, true)).F;
+    return computeFormFactors(s, MethodSettings::of(o), neededRows(s, true)).F;
 }
 
 void solvers() {
@@ -136,13 +137,14 @@ void mirrors() {
     quad(1.0, 3.0, false, 1);
     quad(0.5, 0.3, false, 0);
     for (std::uint32_t depth : {1u, 2u, 4u, 8u, 16u, 64u, 256u, 1000u}) {
-        BackendOptions o;
-        o.estimator = "rays";
+        HemisphereOptions o;
+        o.estimator = Estimator::Rays;
         o.samples = 4096;
-        o.maxDepth = depth;
-        o.minWeight = 1e-6;
+        CommonOptions chain;
+        chain.maxDepth = depth;
+        chain.minWeight = 1e-6;
         const auto t0 = Clock::now();
-        const FormFactorRun r = computeFormFactors(s, "hemisphere", o, {2});
+        const FormFactorRun r = computeFormFactors(s, MethodSettings::of(o, chain), {2});
         std::printf("| %u | %.5f | %.5f | %.4f | %llu | %.3f |\n", depth, r.F.at(2, 2), r.F.at(2, 0),
                     100.0 * r.counts.cutoffWeight, static_cast<unsigned long long>(r.counts.bounces), since(t0));
     }
@@ -190,10 +192,10 @@ void scales() {
         Scene s = box(0.25);
         for (Vec3& v : s.vertices) v = 1000.0 * v + Vec3(1e5, 1e5, 1e5);
         s.updateMeasures();
-        BackendOptions o;
-        o.estimator = "rays";
+        HemisphereOptions o;
+        o.estimator = Estimator::Rays;
         o.samples = 768;
-        const FormFactorRun r = computeFormFactors(s, "hemisphere", o, neededRows(s, true));
+        const FormFactorRun r = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
         std::printf("| cube offset 1e5, scale 1e3 | lost fraction | %.2e | 0 |\n", r.counts.lostWeight / double(s.size()));
         std::printf("| cube offset 1e5, scale 1e3 | min row sum | %.6f | 1 |\n", r.stats.rowSumMin);
     }

@@ -17,10 +17,12 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 extern char** environ;
@@ -143,19 +145,14 @@ int runBenchRun(const Options& o) {
     const Scene scene = loadBenchScene(o);
     r.set("t_load", since(t0));
     r.set("patches", double(scene.size()));
-    r.set("method", o.method);
-    if (o.method == "hemisphere") {
-        r.set("samples", double(o.backend.samples));
-        r.set("origins", double(o.backend.origins));
-        r.set("rays_per_patch", double(o.backend.samples) * o.backend.origins);
-        r.set("directions", o.backend.fixedDirections ? "fixed" : "rotated");
-    } else {
-        r.set("resolution", double(o.backend.resolution));
-        r.set("reduce", o.backend.reduce);
-        r.set("rays_per_patch", 3.0 * o.backend.resolution * o.backend.resolution);
+    r.set("method", o.formFactors.method);
+    for (const auto& [key, value] : findBackend(o.formFactors.method).describe(scene, o.formFactors).record) {
+        char* end = nullptr;
+        const double number = std::strtod(value.c_str(), &end);
+        if (!value.empty() && *end == '\0') r.set(key, number);
+        else r.set(key, value);
     }
-    if (o.method == "hemisphere") r.set("estimator", usesAnalyticEstimator(o.backend, scene.size()) ? "analytic" : "rays");
-    FormFactorRun run = computeFormFactors(scene, o.method, o.backend, neededRows(scene, o.allRows));
+    FormFactorRun run = computeFormFactors(scene, o.formFactors, neededRows(scene, o.allRows));
     if (o.enforceReciprocity) {
         const auto t = Clock::now();
         enforceReciprocity(run.F, scene);
@@ -241,16 +238,18 @@ int runBench(const Options& o) {
                       (analyticReference ? "Lambert factors, shadow rays to random points, "
                                          : std::to_string(o.referenceSamples) + " jittered directions x ") +
                       std::to_string(o.referenceOrigins) + " origins, every row) into " + referencePath);
-        BackendOptions b = o.backend;
-        b.estimator = o.referenceEstimator;
-        b.samples = o.referenceSamples;
-        b.origins = o.referenceOrigins;
-        // Jittered directions and a seed of its own: the reference shares no discretisation with the runs.
-        b.jitter = true;
-        b.fixedDirections = false;
-        b.seed = 0x5eed;
-        const FormFactorRun run = computeFormFactors(scene, "hemisphere", b, neededRows(scene, true),
-                                                     reporter.progress("reference", expectedRaysPerRow(scene, "hemisphere", b)));
+        // The reference is the hemisphere's estimator with jittered directions and a seed of its own:
+        // it shares no discretisation with the runs.
+        MethodSettings b = defaultSettings("hemisphere");
+        b.common = o.formFactors.common;
+        const BackendDescriptor& reference = findBackend(b.method);
+        reference.option("--estimator")->set(b, o.referenceEstimator);
+        reference.option("--samples")->set(b, std::to_string(o.referenceSamples));
+        reference.option("--origins")->set(b, std::to_string(o.referenceOrigins));
+        reference.option("--jitter")->set(b, "yes");
+        reference.option("--seed")->set(b, std::to_string(0x5eed));
+        const FormFactorRun run = computeFormFactors(scene, b, neededRows(scene, true),
+                                                     reporter.progress("reference", expectedWorkPerRow(scene, b)));
         saveFormFactors(run.F, referencePath);
         reporter.line("bench: reference computed in " + formatSeconds(run.computeSeconds) + " s");
     } else {
@@ -273,9 +272,11 @@ int runBench(const Options& o) {
 
     std::vector<std::vector<std::string>> runs;
     const std::string self = selfPath();
-    for (const std::string& method : o.methods) {
-        auto base = [&] {
-            std::vector<std::string> a = {self, "bench-run", scenePath, "--method", method, "--label", label,
+    for (const MethodSettings& settings : o.benchMethods) {
+        const BackendDescriptor& backend = findBackend(settings.method);
+        const MethodSettings defaults = defaultSettings(settings.method);
+        auto args = [&](const MethodSettings& run) {
+            std::vector<std::string> a = {self, "bench-run", scenePath, "--method", run.method, "--label", label,
                                           "--reference", referencePath, "--reference-radiosity", radiosityPath,
                                           "--solver", solverName(o.solver.kind), "--tolerance", shortNumber(o.solver.tolerance)};
             if (o.subdivide > 0) {
@@ -284,36 +285,43 @@ int runBench(const Options& o) {
                 std::snprintf(length, sizeof length, "%.17g", o.subdivide);
                 a.insert(a.end(), {"--subdivide", length});
             }
-            if (o.backend.threads > 0) a.insert(a.end(), {"--threads", std::to_string(o.backend.threads)});
-            if (o.backend.fixedDirections) a.push_back("--fixed-directions");
-            if (method == "hemisphere") a.insert(a.end(), {"--estimator", o.backend.estimator});
+            if (run.common.threads > 0) a.insert(a.end(), {"--threads", std::to_string(run.common.threads)});
+            // The back end's options where they differ from its defaults.
+            for (const BackendOption& option : backend.options) {
+                const std::string value = option.get(run);
+                if (value == option.get(defaults)) continue;
+                if (option.kind == OptionKind::Switch) a.push_back(option.flag);
+                else a.insert(a.end(), {option.flag, value});
+            }
             if (o.enforceReciprocity) a.push_back("--enforce-reciprocity");
             if (o.normalizeRows) a.push_back("--normalize-rows");
             return a;
         };
-        if (method == "hemisphere") {
-            // Without mirrors the analytic estimator casts no directions: one run per origin count
-            // (under auto, the sample counts that pick it share that run).
-            for (std::uint32_t k : o.sweepOrigins) {
-                bool analyticDone = false;
-                for (std::uint32_t s : o.sweepSamples) {
-                    BackendOptions b = o.backend;
-                    b.samples = s;
-                    if (usesAnalyticEstimator(b, scene.size()) && !scene.hasMirrors()) {
-                        if (analyticDone) continue;
-                        analyticDone = true;
-                    }
-                    auto a = base();
-                    a.insert(a.end(), {"--samples", std::to_string(s), "--origins", std::to_string(k)});
-                    runs.push_back(a);
+        // The sweeps over the options this back end takes; runs the back end describes alike are
+        // the same run (e.g. directions the analytic estimator never casts) and run once.
+        std::vector<MethodSettings> sweep = {settings};
+        auto sweepOver = [&](const char* flag, const std::vector<std::uint32_t>& values) {
+            const BackendOption* option = backend.option(flag);
+            if (!option) return;
+            std::vector<MethodSettings> next;
+            for (const MethodSettings& base : sweep)
+                for (std::uint32_t v : values) {
+                    MethodSettings m = base;
+                    option->set(m, std::to_string(v));
+                    next.push_back(m);
                 }
-            }
-        } else {
-            for (std::uint32_t r : o.sweepResolutions) {
-                auto a = base();
-                a.insert(a.end(), {"--resolution", std::to_string(r), "--reduce", o.backend.reduce});
-                runs.push_back(a);
-            }
+            sweep = std::move(next);
+        };
+        sweepOver("--origins", o.sweepOrigins);
+        sweepOver("--samples", o.sweepSamples);
+        sweepOver("--resolution", o.sweepResolutions);
+        std::set<std::string> described;
+        for (const MethodSettings& m : sweep) {
+            std::string key;
+            for (const BackendOption& option : backend.options)
+                if (option.flag != "--samples" && option.flag != "--resolution") key += option.get(m) + ";";
+            if (!described.insert(key + backend.describe(scene, m).settings).second) continue;
+            runs.push_back(args(m));
         }
     }
     std::vector<BenchRecord> records;
@@ -331,7 +339,7 @@ int runBench(const Options& o) {
         const std::size_t start = child.out.rfind('{');
         BenchRecord record = BenchRecord::parse(start == std::string::npos ? child.out : child.out.substr(start));
         std::map<std::string, std::string> f(record.fields().begin(), record.fields().end());
-        std::string setting = f["method"] == "\"hemisphere\"" ? f["samples"] + " x " + f["origins"] : "R " + f["resolution"];
+        std::string setting = f.count("resolution") ? "R " + f["resolution"] : f["samples"] + " x " + f["origins"];
         if (f["estimator"] == "\"analytic\"") setting = "analytic x " + f["origins"];
         char line[256];
         std::snprintf(line, sizeof line, "%-12s %-12s %8.3f %8.3f %9.3g %14.4g %9.4g %12.4g %9.0f",

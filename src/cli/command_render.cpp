@@ -29,9 +29,9 @@ int runRender(const Options& options) {
     render.camera = options.camera ? *options.camera : defaultCamera(scene);
     render.samplesPerPixel = options.samplesPerPixel;
     render.flat = options.flat;
-    render.maxMirrorDepth = static_cast<int>(options.backend.maxDepth);
+    render.maxMirrorDepth = static_cast<int>(options.formFactors.common.maxDepth);
     timings.start("render " + std::to_string(render.width) + "x" + std::to_string(render.height));
-    const RayScene rays(scene, options.backend.threads);
+    const RayScene rays(scene, options.formFactors.common.threads);
     const RadianceImage image = renderRadiance(scene, rays, result.B, corner, render);
     timings.start("write PNG");
     double scale = 0.0;

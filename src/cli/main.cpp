@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
     std::signal(SIGTERM, onInterrupt);
     try {
         const Options options = parseOptions(argc, argv);
-        configureProcessThreads(options.backend.threads);
+        configureProcessThreads(options.formFactors.common.threads);
         if (options.command == "help") {
             std::cout << usageText();
             return 0;

@@ -85,60 +85,14 @@ const std::map<std::string, Flag>& flags() {
         {"--quiet", {{}, false, [](Options& o, const std::string&, const std::string&) { o.quiet = true; }}},
         {"--subdivide", {kComputing, true,
                          [](Options& o, const std::string& f, const std::string& v) { o.subdivide = parseNumber(f, v, 1e-12, 1e300); }}},
-        {"--method", {kComputing, true, [](Options& o, const std::string&, const std::string& v) { o.method = v; }}},
-        {"--samples", {kComputing, true,
-                       [](Options& o, const std::string& f, const std::string& v) {
-                           o.backend.samples = static_cast<std::uint32_t>(parseInteger(f, v, 1, 1 << 24));
-                       }}},
-        {"--origins", {kComputing, true,
-                       [](Options& o, const std::string& f, const std::string& v) {
-                           o.backend.origins = static_cast<std::uint32_t>(parseInteger(f, v, 1, 1 << 16));
-                       }}},
         {"--max-depth", {kComputing, true,
                          [](Options& o, const std::string& f, const std::string& v) {
-                             o.backend.maxDepth = static_cast<std::uint32_t>(parseInteger(f, v, 0, 1000));
+                             o.formFactors.common.maxDepth = static_cast<std::uint32_t>(parseInteger(f, v, 0, 1000));
                          }}},
         {"--threads", {{}, true,
                        [](Options& o, const std::string& f, const std::string& v) {
-                           o.backend.threads = static_cast<int>(parseInteger(f, v, 0, 4096));
+                           o.formFactors.common.threads = static_cast<int>(parseInteger(f, v, 0, 4096));
                        }}},
-        {"--seed", {kComputing, true,
-                    [](Options& o, const std::string& f, const std::string& v) {
-                        o.backend.seed = static_cast<std::uint64_t>(parseInteger(f, v, 0, 0x7fffffffffffffffL));
-                    }}},
-        {"--resolution", {kComputing, true,
-                          [](Options& o, const std::string& f, const std::string& v) {
-                              const long r = parseInteger(f, v, 2, 8192);
-                              if (r % 2) throw UsageError(f + " must be even (side faces are R x R/2), got " + v);
-                              o.backend.resolution = static_cast<std::uint32_t>(r);
-                          }}},
-        {"--reduce", {kComputing, true,
-                      [](Options& o, const std::string& f, const std::string& v) {
-                          if (v != "cpu" && v != "gpu") throw UsageError(f + " expects cpu or gpu, got '" + v + "'");
-                          o.backend.reduce = v;
-                      }}},
-        {"--gl", {kComputing, true,
-                  [](Options& o, const std::string& f, const std::string& v) {
-                      if (v != "auto" && v != "egl" && v != "osmesa")
-                          throw UsageError(f + " expects auto, egl or osmesa, got '" + v + "'");
-                      o.backend.gl = v;
-                  }}},
-        {"--mirrors", {kComputing, true,
-                       [](Options& o, const std::string& f, const std::string& v) {
-                           if (v != "portals" && v != "rays") throw UsageError(f + " expects portals or rays, got '" + v + "'");
-                           o.backend.mirrors = v;
-                       }}},
-        {"--no-parents", {kComputing, false,
-                          [](Options& o, const std::string&, const std::string&) { o.backend.parentPolygons = false; }}},
-        {"--fixed-directions",
-         {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.backend.fixedDirections = true; }}},
-        {"--estimator", {kComputing, true,
-                         [](Options& o, const std::string& f, const std::string& v) {
-                             if (v != "auto" && v != "rays" && v != "analytic")
-                                 throw UsageError(f + " expects auto, rays or analytic, got '" + v + "'");
-                             o.backend.estimator = v;
-                         }}},
-        {"--jitter", {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.backend.jitter = true; }}},
         {"--all-rows", {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.allRows = true; }}},
         {"--enforce-reciprocity",
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.enforceReciprocity = true; }}},
@@ -193,13 +147,6 @@ const std::map<std::string, Flag>& flags() {
         {"--exposure", {{"render", "solve"}, true,
                         [](Options& o, const std::string& f, const std::string& v) { o.exposure = parseNumber(f, v, 1e-30, 1e30); }}},
         {"--flat", {{"render"}, false, [](Options& o, const std::string&, const std::string&) { o.flat = true; }}},
-        {"--methods", {kBench, true,
-                       [](Options& o, const std::string& f, const std::string& v) {
-                           o.methods = splitCommas(v);
-                           for (const std::string& m : o.methods)
-                               if (m != "hemisphere" && m != "hemicube")
-                                   throw UsageError(f + ": unknown method '" + m + "' (hemisphere, hemicube)");
-                       }}},
         {"--sweep-samples", {kBench, true,
                              [](Options& o, const std::string& f, const std::string& v) {
                                  o.sweepSamples = parseCounts(f, v, 1, 1 << 24);
@@ -242,19 +189,47 @@ const std::map<std::string, Flag>& flags() {
 
 }  // namespace
 
+namespace {
+
+void setOption(MethodSettings& settings, const std::string& flag, const std::string& value) {
+    try {
+        setBackendOption(settings, flag, value);
+    } catch (const Error& e) {
+        throw UsageError(e.what());
+    }
+}
+
+MethodSettings methodSettings(const std::string& flag, const std::string& name) {
+    try {
+        return defaultSettings(name);
+    } catch (const Error& e) {
+        throw UsageError(flag + ": " + e.what());
+    }
+}
+
+struct ParsedFlag {
+    std::string flag, value;
+};
+
+}  // namespace
+
 Options parseOptions(int argc, const char* const* argv) {
     Options o;
     if (argc < 2) throw UsageError("no command given");
     o.command = argv[1];
     if (o.command == "--help" || o.command == "-h") o.command = "help";
     if (!kCommands.count(o.command)) throw UsageError("unknown command '" + o.command + "'");
+
+    // Pass 1: split flags from inputs. Back-end flags are looked up in the registry; the chosen
+    // --method (or bench's --methods) decides in pass 2 whether they apply.
+    std::vector<ParsedFlag> parsed;
     for (int k = 2; k < argc; ++k) {
         std::string arg = argv[k];
         if (arg == "--help" || arg == "-h") {
             o.command = "help";
             return o;
         }
-        if (arg.size() > 1 && arg[0] == '-' && !(arg.size() > 1 && (std::isdigit(static_cast<unsigned char>(arg[1])) || arg[1] == '.'))) {
+        if (arg.size() > 1 && arg[0] == '-' && !(std::isdigit(static_cast<unsigned char>(arg[1])) || arg[1] == '.')) {
             std::string value;
             bool inlineValue = false;
             const std::size_t eq = arg.find('=');
@@ -263,22 +238,70 @@ Options parseOptions(int argc, const char* const* argv) {
                 arg = arg.substr(0, eq);
                 inlineValue = true;
             }
-            const auto it = flags().find(arg);
-            if (it == flags().end()) throw UsageError("unknown option '" + arg + "'");
-            const Flag& flag = it->second;
-            if (!flag.commands.empty() && !flag.commands.count(o.command))
-                throw UsageError("option '" + arg + "' does not apply to '" + o.command + "'");
-            if (flag.takesValue && !inlineValue) {
+            bool takesValue;
+            if (const auto it = flags().find(arg); it != flags().end()) takesValue = it->second.takesValue;
+            else if (arg == "--method" || arg == "--methods") takesValue = true;
+            else if (const BackendOption* b = findBackendOption(arg)) takesValue = b->kind != OptionKind::Switch;
+            else throw UsageError("unknown option '" + arg + "'");
+            if (takesValue && !inlineValue) {
                 if (k + 1 >= argc) throw UsageError("option '" + arg + "' needs a value");
                 value = argv[++k];
-            } else if (!flag.takesValue && inlineValue) {
+            } else if (!takesValue && inlineValue) {
                 throw UsageError("option '" + arg + "' takes no value");
+            } else if (!takesValue) {
+                value = "yes";
             }
-            flag.apply(o, arg, value);
+            parsed.push_back({arg, value});
             continue;
         }
         o.inputs.push_back(arg);
     }
+
+    // The back ends: --method for the commands that compute F, --methods for bench.
+    const bool computing = kComputing.count(o.command) > 0;
+    const bool bench = o.command == "bench";
+    std::string method = formFactorBackends().front()->name;
+    std::vector<std::string> benchNames = {method};
+    for (const ParsedFlag& p : parsed) {
+        if (p.flag == "--method") {
+            if (!computing || bench)
+                throw UsageError("option '--method' does not apply to '" + o.command + "'" + (bench ? " (use --methods)" : ""));
+            method = p.value;
+        } else if (p.flag == "--methods") {
+            if (!bench) throw UsageError("option '--methods' does not apply to '" + o.command + "'");
+            benchNames = splitCommas(p.value);
+        }
+    }
+    o.formFactors = methodSettings("--method", method);
+    if (bench)
+        for (const std::string& name : benchNames) o.benchMethods.push_back(methodSettings("--methods", name));
+
+    // Pass 2: every flag in command-line order.
+    for (const ParsedFlag& p : parsed) {
+        if (p.flag == "--method" || p.flag == "--methods") continue;
+        if (const auto it = flags().find(p.flag); it != flags().end()) {
+            const Flag& flag = it->second;
+            if (!flag.commands.empty() && !flag.commands.count(o.command))
+                throw UsageError("option '" + p.flag + "' does not apply to '" + o.command + "'");
+            flag.apply(o, p.flag, p.value);
+            continue;
+        }
+        // A back end's own flag.
+        if (!computing) throw UsageError("option '" + p.flag + "' does not apply to '" + o.command + "'");
+        if (bench) {
+            bool taken = false;
+            for (MethodSettings& m : o.benchMethods)
+                if (findBackend(m.method).option(p.flag)) {
+                    setOption(m, p.flag, p.value);
+                    taken = true;
+                }
+            if (!taken) throw UsageError("option '" + p.flag + "' does not apply to any of the --methods");
+            continue;
+        }
+        setOption(o.formFactors, p.flag, p.value);
+    }
+    for (MethodSettings& m : o.benchMethods) m.common = o.formFactors.common;
+
     if (o.command == "help") return o;
     if (o.inputs.size() != 1)
         throw UsageError("'" + o.command + "' takes exactly one input file, got " + std::to_string(o.inputs.size()));
@@ -289,12 +312,20 @@ Options parseOptions(int argc, const char* const* argv) {
         throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F)");
     if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
     if (o.recomputeFf && o.ffPath.empty()) throw UsageError("--recompute-ff needs --ff FILE");
-    if (o.backend.estimator == "analytic" && o.method == "hemicube")
-        throw UsageError("--estimator analytic needs --method hemisphere (the hemicube has no estimator choice)");
     return o;
 }
 
 std::string usageText() {
+    std::string methodNames, backendSections;
+    for (const BackendDescriptor* d : formFactorBackends()) {
+        methodNames += (methodNames.empty() ? d->name + " (default)" : ", " + d->name);
+        backendSections += d->name + " (--method " + d->name + "): " + d->summary + "\n";
+        for (const BackendOption& o : d->options) {
+            std::string left = "  " + o.flag + (o.placeholder.empty() ? "" : " " + o.placeholder);
+            left += left.size() < 25 ? std::string(25 - left.size(), ' ') : "\n" + std::string(25, ' ');
+            backendSections += left + o.help + "\n";
+        }
+    }
     return R"(hemirad: radiosity with hemisphere (Embree) form factors and sparse solvers
 
 usage: hemirad COMMAND INPUT [options]
@@ -311,23 +342,8 @@ commands:
 scene:
   --subdivide L          subdivide patches (edges <= L scene units) before computing
 form factors (formfactors, solve, render):
-  --method NAME          hemisphere (Embree rays, default) or hemicube (OpenGL)
-  --samples N            hemisphere: Beckers directions per origin (default 3072)
-  --origins K            hemisphere: ray origins per patch, stratified over its area (default 1 = centroid)
+  --method NAME          the form-factor back end: )" + methodNames + R"( (options of each below)
   --max-depth D          mirror reflections followed (default 8)
-  --seed S               hemisphere: seed for origin jitter and pattern rotation (default 1)
-  --fixed-directions     hemisphere: no random rotation of the pattern (the reference system's method)
-  --jitter               hemisphere: a random direction within each Beckers cell (unbiased, stratified);
-                         with --estimator analytic, shadow rays to random points instead of centres
-  --estimator auto|rays|analytic
-                         hemisphere: direct factors from ray counts, or Lambert's exact point-to-
-                         polygon factor for each patch a shadow ray finds visible; auto (default):
-                         analytic when patches <= 5 x samples, else rays
-  --resolution R         hemicube: top face R x R pixels, sides R x R/2 (even, default 128)
-  --reduce cpu|gpu       hemicube: sum pixels into rows on the CPU (default) or in a compute shader
-  --gl auto|egl|osmesa   hemicube: headless OpenGL API (default auto: EGL, then OSMesa)
-  --mirrors portals|rays hemicube: mirrors by stencil portals (default) or Embree rays from mirror pixels
-  --no-parents           hemicube: draw every patch, not subdivided parents whole (reference path)
   --all-rows             also compute rows of black patches (rho = 0; skipped by default)
   --enforce-reciprocity  make A_i F_ij = A_j F_ji by averaging each pair
   --normalize-rows       rescale every row to sum 1 (closed scenes without mirrors; after reciprocity)
@@ -335,7 +351,7 @@ form factors (formfactors, solve, render):
   --ff FILE              (solve, render) reuse F from FILE when its scene hash matches;
                          create FILE when it does not exist
   --recompute-ff         (solve, render) recompute F and overwrite FILE
-solve (solve, render):
+)" + backendSections + R"(solve (solve, render):
   --solver NAME          auto, lu, cholesky, cg, bicgstab, jacobi, gauss-seidel, southwell
   --tolerance T          relative residual to reach (default 1e-6)
   --max-iterations N     iteration limit (default 100000)
@@ -348,10 +364,11 @@ render:
   --spp N                samples per pixel (default 4)
   --flat                 flat patches instead of Gouraud shading
 bench:
-  --methods LIST         hemisphere,hemicube (default hemisphere)
-  --sweep-samples LIST   hemisphere directions (default 96,384,768,1536,3072)
-  --sweep-origins LIST   hemisphere origins per patch (default 1)
-  --sweep-resolutions LIST  hemicube resolutions (default 64,128,256)
+  --methods LIST         back ends to compare, e.g. )" + methodNames + R"(; a back-end option
+                         applies to every listed back end that takes it
+  --sweep-samples LIST   --samples values, for back ends that take it (default 96,384,768,1536,3072)
+  --sweep-origins LIST   --origins values, for back ends that take it (default 1)
+  --sweep-resolutions LIST  --resolution values, for back ends that take it (default 64,128,256)
   --reference-estimator analytic|rays   the reference F: Lambert factors from a Gauss-Legendre rule
                          of K origins over each emitter, shadow rays to random points (default), or rays
   --reference-samples N, --reference-origins K   its directions (rays; mirror chains) and origins

@@ -4,7 +4,7 @@
 #include "engine/error.hpp"
 #include "engine/scene.hpp"
 #include "engine/solver.hpp"
-#include "preprocess/form_factor_backend.hpp"
+#include "preprocess/backend_registry.hpp"
 
 #include <optional>
 #include <string>
@@ -27,9 +27,8 @@ struct Options {
     // Scene.
     double subdivide = 0.0;              ///< --subdivide L: max edge length, 0 = off
 
-    // Form factors.
-    std::string method = "hemisphere";
-    BackendOptions backend;
+    // Form factors: --method and its back end's options (flags from the back-end registry).
+    MethodSettings formFactors;
     bool allRows = false;
     bool enforceReciprocity = false;
     bool normalizeRows = false;
@@ -52,7 +51,8 @@ struct Options {
     double maxEdge = 0.0;
 
     // bench command: the sweep and its reference.
-    std::vector<std::string> methods = {"hemisphere"};
+    /// bench: one settings per --methods entry; back-end flags go to every method that takes them.
+    std::vector<MethodSettings> benchMethods;
     std::vector<std::uint32_t> sweepSamples = {96, 384, 768, 1536, 3072};
     std::vector<std::uint32_t> sweepOrigins = {1};
     std::vector<std::uint32_t> sweepResolutions = {64, 128, 256};

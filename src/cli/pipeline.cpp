@@ -31,14 +31,14 @@ namespace {
 
 FormFactorRun compute(const Scene& scene, const Options& options, const std::vector<PatchId>& rows, Timings& timings,
                       const Reporter& reporter) {
-    if (options.memoryCheck) checkFormFactorMemory(scene, options.method, options.backend, rows);
-    const double raysPerRow = expectedRaysPerRow(scene, options.method, options.backend);
-    FormFactorRun run = computeFormFactors(scene, options.method, options.backend, rows,
-                                           reporter.progress("form factors", raysPerRow));
+    if (options.memoryCheck) checkFormFactorMemory(scene, options.formFactors, rows);
+    const double raysPerRow = expectedWorkPerRow(scene, options.formFactors);
+    FormFactorRun run = computeFormFactors(scene, options.formFactors, rows,
+                                           reporter.progress("form factors", raysPerRow, findBackend(options.formFactors.method).workUnit));
     timings.add("acceleration structure", run.prepareSeconds);
     timings.add("form factors", run.computeSeconds);
     timings.add("F diagnostics", run.statsSeconds);
-    reporter.formFactorSummary(run, options.backend, options.method);
+    reporter.formFactorSummary(run, scene, options.formFactors);
     return run;
 }
 

@@ -49,56 +49,38 @@ void Reporter::line(const std::string& text) const {
     if (!m_quiet) std::cout << text << std::endl;
 }
 
-ProgressCallback Reporter::progress(const std::string& label, double raysPerRow) const {
+ProgressCallback Reporter::progress(const std::string& label, double raysPerRow, const std::string& unit) const {
     if (m_quiet || !m_terminal) return {};
-    return [label, raysPerRow](std::size_t done, std::size_t total, double seconds) {
+    return [label, raysPerRow, unit](std::size_t done, std::size_t total, double seconds) {
         const double fraction = total ? double(done) / total : 1.0;
         const int width = 30;
         const int filled = static_cast<int>(fraction * width);
         const double rate = seconds > 0 ? done * raysPerRow / seconds : 0.0;
         const double eta = done > 0 ? seconds * (double(total) / done - 1.0) : 0.0;
-        std::fprintf(stderr, "\r%s [%s%s] %zu/%zu rows  %.2f Mrays/s  ETA %s s   ", label.c_str(),
+        std::fprintf(stderr, "\r%s [%s%s] %zu/%zu rows  %.2f M%s/s  ETA %s s   ", label.c_str(),
                      std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), done, total, rate / 1e6,
+                     unit.c_str(),
                      done > 0 ? formatSeconds(eta).c_str() : "?");
         if (done == total) std::fprintf(stderr, "\r%*s\r", 100, "");
         std::fflush(stderr);
     };
 }
 
-void Reporter::formFactorSummary(const FormFactorRun& run, const BackendOptions& options,
-                                 const std::string& method) const {
+void Reporter::formFactorSummary(const FormFactorRun& run, const Scene& scene, const MethodSettings& settings) const {
     if (m_quiet) return;
     const RayCounts& c = run.counts;
-    const bool hemicube = method == "hemicube";
-    const char* unit = hemicube ? "pixels" : "rays";
-    // F records the largest row sum mirrors allow: above 1 exactly when mirror chains are followed.
-    const auto bound = run.F.parameters.find("row_sum_bound");
-    const bool hasMirrors = bound != run.F.parameters.end() && bound->second != "1";
-    const auto estimator = run.F.parameters.find("estimator");
-    const bool analytic = !hemicube && estimator != run.F.parameters.end() && estimator->second != "rays";
+    const BackendDescriptor& backend = findBackend(settings.method);
+    const RunDescription description = backend.describe(scene, settings);
+    const char* unit = backend.workUnit.c_str();
     std::ostringstream out;
     out.setf(std::ios::fixed);
-    out << "form factors: " << method << ", ";
-    if (hemicube)
-        out << options.resolution << " x " << options.resolution << " top face (" << 3 * options.resolution * options.resolution
-            << " pixels), reduction on the " << options.reduce;
-    else if (analytic)
-        out << "analytic estimator (Lambert factors, one shadow ray per pair"
-            << (hasMirrors ? "; " + std::to_string(options.samples) + " directions carry the mirror chains"
-                           : std::string("; no directions cast: --samples only chose the estimator"))
-            << "), "
-            << (options.origins == 1 ? std::string("centroid")
-                                     : std::to_string(analyticOriginPoints(options.origins)) +
-                                           " Gauss-Legendre origins per quad (--origins " + std::to_string(options.origins) + ")");
-    else
-        out << options.samples << " directions x " << options.origins
-            << (options.origins == 1 ? " origin (centroid)" : " origins");
+    out << "form factors: " << backend.name << ", " << description.settings;
     out << ", " << run.rowsComputed << " rows";
     if (run.rowsSkipped) out << " (" << run.rowsSkipped << " skipped: black patches, B = E)";
     out << "\n  " << unit << " " << std::setprecision(2) << c.rays / 1e6 << " M in " << formatSeconds(run.computeSeconds)
         << " s = " << (run.computeSeconds > 0 ? c.rays / run.computeSeconds / 1e6 : 0.0) << " M " << unit << "/s";
     const double lostPercent = run.rowsComputed ? 100.0 * c.lostWeight / double(run.rowsComputed) : 0.0;
-    if (analytic)  // no ray tells misses from hidden patches: 1 - row sum is what reached no patch
+    if (!description.lossFromRays)  // no ray tells misses from hidden patches: 1 - row sum reached no patch
         out << "; " << std::setprecision(4) << lostPercent
             << "% of the power reached no patch (escaped, or behind back faces and shadow-ray misses)";
     else
@@ -108,8 +90,8 @@ void Reporter::formFactorSummary(const FormFactorRun& run, const BackendOptions&
         out << "\n  analytic rows whose direct factors summed above 1 (largest " << std::setprecision(4) << c.largestDirectSum
             << "), scaled to 1: " << c.rescaledRows;
     if (c.bounces) {
-        out << "\n  mirror bounces " << c.bounces << "; power cut off by --max-depth " << options.maxDepth
-            << " / weight < " << options.minWeight << ": " << std::setprecision(5)
+        out << "\n  mirror bounces " << c.bounces << "; power cut off by --max-depth " << settings.common.maxDepth
+            << " / weight < " << settings.common.minWeight << ": " << std::setprecision(5)
             << (run.rowsComputed ? 100.0 * c.cutoffWeight / double(run.rowsComputed) : 0.0) << "% of the emitted power";
     }
     if (!run.stageSeconds.empty() && run.rowsComputed) {

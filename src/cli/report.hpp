@@ -2,6 +2,7 @@
 #pragma once
 
 #include "engine/solver.hpp"
+#include "preprocess/backend_registry.hpp"
 #include "preprocess/form_factor_job.hpp"
 
 #include <chrono>
@@ -32,9 +33,10 @@ public:
     explicit Reporter(bool quiet);
     bool quiet() const { return m_quiet; }
     void line(const std::string& text) const;
-    /// Progress callback for computeFormFactors (rays per row for the rays/s figure).
-    ProgressCallback progress(const std::string& label, double raysPerRow) const;
-    void formFactorSummary(const FormFactorRun& run, const BackendOptions& options, const std::string& method) const;
+    /// Progress callback for computeFormFactors (work per row, in `unit`, for the rate figure).
+    ProgressCallback progress(const std::string& label, double raysPerRow, const std::string& unit = "rays") const;
+    /// The run's method (as its back end describes it), ray or pixel counts, losses and F statistics.
+    void formFactorSummary(const FormFactorRun& run, const Scene& scene, const MethodSettings& settings) const;
     void formFactorStats(const FormFactorStats& stats, std::size_t memoryBytes) const;
     void solveSummary(const Radiosity& result) const;
 

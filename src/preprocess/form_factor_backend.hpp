@@ -1,9 +1,11 @@
-// The form-factor back-end interface (hemisphere rays, later the hemicube), its options and row builder.
+// The form-factor back-end interface, the options every back end takes, and the thread-safe row builder.
 #pragma once
 
+#include "engine/error.hpp"
 #include "engine/form_factors.hpp"
 #include "engine/scene.hpp"
 
+#include <any>
 #include <atomic>
 #include <map>
 #include <memory>
@@ -14,44 +16,36 @@
 
 namespace hemirad {
 
-struct BackendOptions {
-    std::uint32_t samples = 3072;  ///< directions per origin (Beckers cells), >= 1
-    std::uint32_t origins = 1;     ///< ray origins per patch, stratified over its area, >= 1
-    std::uint32_t maxDepth = 8;    ///< mirror bounces followed per ray
+/// Options every back end takes: mirror chains and worker threads.
+struct CommonOptions {
+    std::uint32_t maxDepth = 8;    ///< mirror bounces followed per ray or pixel
     double minWeight = 1e-4;       ///< a mirror chain stops below this weight
-    int threads = 0;               ///< worker threads; 0 = all cores
-    std::uint64_t seed = 1;        ///< origin jitter and pattern rotation
-    bool fixedDirections = false;  ///< one pattern orientation for every origin (the reference system's way)
-    bool jitter = false;           ///< a random direction inside each Beckers cell (unbiased; for references)
-    /// Hemisphere direct factors: "rays" (each ray deposits 1/N on the patch it hits), "analytic"
-    /// (Lambert's exact point-to-polygon factor for every patch a shadow ray finds visible) or
-    /// "auto": analytic when the scene has at most kAnalyticRaysFactor x samples patches.
-    std::string estimator = "auto";
-    // Hemicube back end.
-    std::uint32_t resolution = 128;  ///< top face R x R pixels, sides R x R/2 (R even)
-    std::string reduce = "cpu";      ///< where pixels are summed into rows: "cpu" or "gpu"
-    std::string gl = "auto";         ///< context API: "auto" (EGL, then OSMesa), "egl", "osmesa"
-    bool parentPolygons = true;      ///< draw subdivided parents whole, patch ids from their grids
-    std::string mirrors = "portals"; ///< hemicube mirrors: "portals" (stencil, reflected views) or "rays" (Embree)
+    int threads = 0;               ///< worker threads (GL contexts); 0 = all cores
 };
 
-/// "auto" picks the analytic estimator while the patch count is at most this many times the
-/// samples. Per origin it casts about one shadow ray per patch where the rays cast `samples`, so its
-/// cost stays within ~5x the rays' (3.9x measured on cornell13k: 12,922 patches, 3072 samples),
-/// and there the rays give fewer than one ray to an average patch, so the analytic per-entry error
-/// is 1-2 orders of magnitude lower at equal time. Larger scenes (street64k) keep the rays.
-constexpr double kAnalyticRaysFactor = 5.0;
+/// A form-factor method: the back end's name, the options every back end takes, and the back end's
+/// own typed options struct (e.g. HemisphereOptions), held without this header naming it. Each
+/// options struct names its back end in `kMethod`; backend_registry.hpp reads and edits them by flag.
+struct MethodSettings {
+    std::string method;
+    CommonOptions common;
+    std::any own;
 
-/// Whether the hemisphere back end uses the analytic estimator for a scene of `patches` patches.
-bool usesAnalyticEstimator(const BackendOptions& options, std::size_t patches);
-
-/// Origins per patch the analytic estimator really uses: 1 (the centroid) or the m x m points of
-/// its Gauss-Legendre rule, m = ceil(sqrt(origins)), per quad (per fan triangle otherwise).
-std::uint32_t analyticOriginPoints(std::uint32_t origins);
-
-/// Rays (or hemicube pixels) one row costs: samples x origins, one shadow ray per patch and origin
-/// point for the analytic estimator (plus the directions when mirrors need them), 3 R^2 pixels.
-double expectedRaysPerRow(const Scene& scene, std::string_view method, const BackendOptions& options);
+    template <class T>
+    static MethodSettings of(const T& own, const CommonOptions& common = {}) {
+        return {std::string(T::kMethod), common, own};
+    }
+    /// The back end's options as its type; throws hemirad::Error when they belong to another back end.
+    template <class T>
+    const T& as() const {
+        if (const T* p = std::any_cast<T>(&own)) return *p;
+        throw Error("internal: the options of --method " + method + " are not those of " + std::string(T::kMethod));
+    }
+    template <class T>
+    T& as() {
+        return const_cast<T&>(static_cast<const MethodSettings&>(*this).as<T>());
+    }
+};
 
 /// Ray bookkeeping of a computation, summed over rows. Weights are in units of one row's power.
 struct RayCounts {
@@ -110,8 +104,5 @@ public:
 /// every patch of its mirror chain, so a row reaches at most 1 + s + ... + s^maxDepth (s = the
 /// largest mirror reflectance, terms below minWeight dropped). "%.9g" text for F's parameters.
 std::string rowSumBoundText(const Scene& scene, std::uint32_t maxDepth, double minWeight);
-
-/// "hemisphere" (Embree rays) or "hemicube" (OpenGL). Throws hemirad::Error for an unknown name or invalid options.
-std::unique_ptr<FormFactorBackend> makeBackend(std::string_view name, const BackendOptions& options);
 
 }  // namespace hemirad

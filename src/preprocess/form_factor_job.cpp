@@ -3,6 +3,7 @@
 
 #include "engine/error.hpp"
 #include "engine/solver.hpp"
+#include "preprocess/backend_registry.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -32,22 +33,26 @@ std::string gib(double bytes) {
 
 }  // namespace
 
-std::size_t checkFormFactorMemory(const Scene& scene, const std::string& method, const BackendOptions& options,
-                                  const std::vector<PatchId>& rows, std::size_t available) {
+double expectedWorkPerRow(const Scene& scene, const MethodSettings& settings) {
+    return findBackend(settings.method).workPerRow(scene, settings);
+}
+
+std::size_t checkFormFactorMemory(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
+                                  std::size_t available) {
     if (!available) available = availableMemory();
     if (!available) return 0;  // unknown: nothing to compare with
     const double budget = 0.8 * double(available);
     // While rows are built, each exists twice (row lists, then CSR): 2 x 8 bytes per nonzero.
     const double perNonzero = 16.0, fixed = 9.0 * double(scene.size());
-    const double raysPerRow = expectedRaysPerRow(scene, method, options);
-    const double chain = scene.hasMirrors() ? double(options.maxDepth) + 1.0 : 1.0;
+    const double raysPerRow = expectedWorkPerRow(scene, settings);
+    const double chain = scene.hasMirrors() ? double(settings.common.maxDepth) + 1.0 : 1.0;
     const double bound = fixed + perNonzero * double(rows.size()) * std::min(double(scene.size()), raysPerRow * chain);
     if (bound <= budget) return std::size_t(bound);
     // The bound is loose (rays hit the same patches): measure 64 rows spread over the list.
     std::vector<PatchId> sample;
     const std::size_t step = std::max<std::size_t>(1, rows.size() / 64);
     for (std::size_t k = 0; k < rows.size() && sample.size() < 64; k += step) sample.push_back(rows[k]);
-    const FormFactorRun probe = computeFormFactors(scene, method, options, sample);
+    const FormFactorRun probe = computeFormFactors(scene, settings, sample);
     const double perRow = sample.empty() ? 0.0 : double(probe.F.nonZeros()) / double(sample.size());
     const double estimate = fixed + 1.1 * perNonzero * perRow * double(rows.size());
     if (estimate > budget) {
@@ -61,12 +66,11 @@ std::size_t checkFormFactorMemory(const Scene& scene, const std::string& method,
     return std::size_t(estimate);
 }
 
-FormFactorRun computeFormFactors(const Scene& scene, const std::string& method, const BackendOptions& options,
-                                 const std::vector<PatchId>& rows, const ProgressCallback& progress,
-                                 const std::atomic<bool>* cancel) {
+FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
+                                 const ProgressCallback& progress, const std::atomic<bool>* cancel) {
     using Clock = std::chrono::steady_clock;
     FormFactorRun run;
-    auto backend = makeBackend(method, options);
+    auto backend = makeBackend(settings);
     const auto t0 = Clock::now();
     backend->prepare(scene);
     const auto t1 = Clock::now();

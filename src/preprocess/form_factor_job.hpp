@@ -29,13 +29,15 @@ std::vector<PatchId> neededRows(const Scene& scene, bool allRows);
 /// `available` bytes (0 = the machine's available memory). A cheap upper bound first (rays per
 /// row, or N, per row); only if that exceeds the budget, 64 sample rows are computed and their
 /// nonzeros extrapolated. Returns the estimate in bytes.
-std::size_t checkFormFactorMemory(const Scene& scene, const std::string& method, const BackendOptions& options,
-                                  const std::vector<PatchId>& rows, std::size_t available = 0);
+std::size_t checkFormFactorMemory(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
+                                  std::size_t available = 0);
 
 /// Computes `rows` of F for `scene` with the named back end; F carries the scene hash and
 /// parameters. `cancel` (optional) aborts between rows: then hemirad::Error("cancelled") is thrown.
-FormFactorRun computeFormFactors(const Scene& scene, const std::string& method, const BackendOptions& options,
-                                 const std::vector<PatchId>& rows, const ProgressCallback& progress = {},
-                                 const std::atomic<bool>* cancel = nullptr);
+FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
+                                 const ProgressCallback& progress = {}, const std::atomic<bool>* cancel = nullptr);
+
+/// Rays (or pixels) one row of `settings` costs on `scene` (the back end's estimate).
+double expectedWorkPerRow(const Scene& scene, const MethodSettings& settings);
 
 }  // namespace hemirad

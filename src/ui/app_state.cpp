@@ -67,16 +67,13 @@ struct AppState::Job {
                 auto progress = [this](std::size_t done, std::size_t total, double) {
                     setStage("form factors", total ? double(done) / double(total) : 1.0);
                 };
-                FormFactorRun run = computeFormFactors(scene, settings.method, settings.backend, rows, progress, &cancel);
+                FormFactorRun run = computeFormFactors(scene, settings.formFactors, rows, progress, &cancel);
                 timings.emplace_back("acceleration structure", run.prepareSeconds);
                 timings.emplace_back("form factors", run.computeSeconds);
                 std::ostringstream msg;
-                const auto estimator = run.F.parameters.find("estimator");
-                msg << "form factors: " << settings.method
-                    << (estimator == run.F.parameters.end() ? ""
-                        : estimator->second == "rays"     ? " (ray estimator)"
-                                                          : " (analytic estimator)")
-                    << ", " << rows.size() << " rows in " << run.computeSeconds
+                msg << "form factors: " << settings.formFactors.method << ", "
+                    << findBackend(settings.formFactors.method).describe(scene, settings.formFactors).settings << ", "
+                    << rows.size() << " rows in " << run.computeSeconds
                     << " s; row sums " << run.stats.rowSumMin << ".." << run.stats.rowSumMax << ", reciprocity (mean) "
                     << run.stats.reciprocityMean << ", lost "
                     << (rows.empty() ? 0.0 : 100.0 * run.counts.lostWeight / double(rows.size())) << "%";

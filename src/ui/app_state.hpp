@@ -6,7 +6,7 @@
 #include "engine/form_factors.hpp"
 #include "engine/scene.hpp"
 #include "engine/solver.hpp"
-#include "preprocess/form_factor_backend.hpp"
+#include "preprocess/backend_registry.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -23,8 +23,8 @@ enum class Layer { Radiosity, PatchId, Emission, Reflectance, Specular, FormFact
 enum class SelectionMode { Patch, Object };
 
 struct PipelineSettings {
-    std::string method = "hemisphere";
-    BackendOptions backend;
+    /// The form-factor back end and its options (the registry's default back end first).
+    MethodSettings formFactors = defaultSettings(formFactorBackends().front()->name);
     SolverOptions solver;
 };
 

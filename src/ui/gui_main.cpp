@@ -40,9 +40,8 @@ struct GuiOptions {
 };
 
 const char* kUsage =
-    "usage: hemirad-gui [SCENE.obj] [--subdivide L] [--method hemisphere|hemicube] [--samples N]\n"
-    "                   [--origins K] [--resolution R] [--size WxH] [--select PATCH] [--run]\n"
-    "                   [--screenshot OUT.png] [--exit]\n"
+    "usage: hemirad-gui [SCENE.obj] [--subdivide L] [--method NAME] [back-end options, see 'hemirad help']\n"
+    "                   [--size WxH] [--select PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
     "  --run          compute form factors and solve after loading\n"
     "  --screenshot   once the view shows the results, save the window (with the UI) as a PNG\n"
     "  --exit         quit after the screenshot (or at once without one), print the log,\n"
@@ -52,6 +51,8 @@ const char* kUsage =
 
 GuiOptions parse(int argc, char** argv) {
     GuiOptions o;
+    std::string method = o.settings.formFactors.method;
+    std::vector<std::pair<std::string, std::string>> backendFlags;  // applied once --method is known
     auto value = [&](int& k, const char* flag) -> std::string {
         if (k + 1 >= argc) throw Error(std::string(flag) + " needs a value");
         return argv[++k];
@@ -71,15 +72,9 @@ GuiOptions parse(int argc, char** argv) {
         else if (a == "--exit") o.exitAfter = true;
         else if (a == "--screenshot") o.screenshot = value(k, "--screenshot");
         else if (a == "--subdivide") o.subdivide = number(value(k, "--subdivide"), "--subdivide");
-        else if (a == "--method") {
-            o.settings.method = value(k, "--method");
-            if (o.settings.method != "hemisphere" && o.settings.method != "hemicube")
-                throw Error("--method expects hemisphere or hemicube, got '" + o.settings.method + "'");
-        } else if (a == "--samples") o.settings.backend.samples = std::uint32_t(number(value(k, "--samples"), "--samples"));
-        else if (a == "--origins") o.settings.backend.origins = std::uint32_t(number(value(k, "--origins"), "--origins"));
-        else if (a == "--resolution") {
-            o.settings.backend.resolution = std::uint32_t(number(value(k, "--resolution"), "--resolution"));
-            if (o.settings.backend.resolution % 2) throw Error("--resolution must be even");
+        else if (a == "--method") method = value(k, "--method");
+        else if (const BackendOption* option = findBackendOption(a)) {
+            backendFlags.emplace_back(a, option->kind == OptionKind::Switch ? "yes" : value(k, a.c_str()));
         } else if (a == "--select") {
             const std::string v = value(k, "--select");
             char* end = nullptr;
@@ -93,6 +88,8 @@ GuiOptions parse(int argc, char** argv) {
         else if (o.scene.empty()) o.scene = a;
         else throw Error("more than one scene given: '" + a + "'");
     }
+    o.settings.formFactors = defaultSettings(method);
+    for (const auto& [flag, text] : backendFlags) setBackendOption(o.settings.formFactors, flag, text);
     return o;
 }
 
@@ -146,7 +143,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     // Before any thread or GL context: the worker-thread default and llvmpipe's rasteriser threads.
-    configureProcessThreads(options.settings.backend.threads);
+    configureProcessThreads(options.settings.formFactors.common.threads);
     glfwSetErrorCallback(onGlfwError);
     if (!glfwInit()) {
         std::fprintf(stderr, "hemirad-gui: error: cannot open a window (no display? try xvfb-run hemirad-gui ...)\n");

@@ -2,6 +2,7 @@
 #include "ui/inspector.hpp"
 
 #include "engine/tone_map.hpp"
+#include "preprocess/backend_registry.hpp"
 #include "preprocess/hemicube/hemicube_layout.hpp"
 #include "preprocess/hemisphere/embree_scene.hpp"
 
@@ -15,7 +16,7 @@ Inspector::~Inspector() = default;
 void Inspector::update(AppState& app, PatchId id, double exposure) {
     if (!app.hasScene() || id >= app.scene().size()) return;
     const Scene& scene = app.scene();
-    const std::string method = app.settings.method;
+    const std::string method = app.settings.formFactors.method;
     if (id == m_patch && method == m_method && app.revision() == m_revision) return;
     m_patch = id;
     m_method = method;
@@ -38,22 +39,20 @@ void Inspector::update(AppState& app, PatchId id, double exposure) {
         return toSrgb8(B[hit.patch] / kPi, exposure);
     };
     std::vector<std::uint8_t> rgba;
-    if (method == "hemicube") {
+    if (findBackend(method).projection == Projection::HemicubeAtlas) {
         // The atlas as the hemicube back end lays it out (HemicubeLayout), 64 pixels across a face.
         const HemicubeLayout layout(64);
         m_width = int(layout.width());
         m_height = int(layout.height());
         rgba.assign(std::size_t(m_width) * m_height * 4, 255);
-        const Vec3 forward[5] = {p.normal, t, -t, b, -b};
+        const auto faces = hemicubeFaces(p.normal, t, b);
         for (int f = 0; f < 5; ++f) {
             const auto& v = layout.viewport(f);
-            const Vec3 up = f == 0 ? b : p.normal;
-            const Vec3 right = forward[f].cross(up);
             for (int py = 0; py < v.height; ++py)
                 for (int px = 0; px < v.width; ++px) {
                     const double x = -1.0 + (px + 0.5) * 2.0 / v.width;
                     const double y = f == 0 ? -1.0 + (py + 0.5) * 2.0 / v.height : (py + 0.5) / v.height;
-                    const auto c = shade((forward[f] + x * right + y * up).normalized());
+                    const auto c = shade((faces[f].forward + x * faces[f].right + y * faces[f].up).normalized());
                     // Atlas rows are bottom-up; the picture is top-down.
                     const std::size_t k = (std::size_t(m_height - 1 - (v.y + py)) * m_width + std::size_t(v.x + px)) * 4;
                     rgba[k] = c[0], rgba[k + 1] = c[1], rgba[k + 2] = c[2];

@@ -3,6 +3,7 @@
 
 #include "engine/atomic_file.hpp"
 #include "engine/error.hpp"
+#include "preprocess/backend_registry.hpp"
 
 #include <imgui.h>
 
@@ -242,20 +243,49 @@ void Panels::selectionPanel(AppState& app, Inspector& inspector, double viewExpo
 
 void Panels::pipelinePanel(AppState& app) {
     PipelineSettings& st = app.settings;
-    int method = st.method == "hemicube" ? 1 : 0;
-    const char* methods[] = {"hemisphere (Embree)", "hemicube (OpenGL)"};
-    if (ImGui::Combo("Method", &method, methods, 2)) st.method = method == 1 ? "hemicube" : "hemisphere";
-    if (st.method == "hemisphere") {
-        int samples = int(st.backend.samples), origins = int(st.backend.origins);
-        if (ImGui::InputInt("Directions", &samples, 96, 768)) st.backend.samples = std::uint32_t(std::clamp(samples, 1, 1 << 20));
-        if (ImGui::InputInt("Origins", &origins, 1, 4)) st.backend.origins = std::uint32_t(std::clamp(origins, 1, 4096));
-    } else {
-        int resolution = int(st.backend.resolution);
-        if (ImGui::InputInt("Resolution", &resolution, 16, 64))
-            st.backend.resolution = std::uint32_t(std::clamp(resolution / 2 * 2, 2, 4096));
+    // The back ends and their options come from the registry: a widget per option kind.
+    const auto& backends = formFactorBackends();
+    if (ImGui::BeginCombo("Method", st.formFactors.method.c_str())) {
+        for (const BackendDescriptor* d : backends)
+            if (ImGui::Selectable(d->name.c_str(), d->name == st.formFactors.method)) {
+                const CommonOptions common = st.formFactors.common;
+                st.formFactors = defaultSettings(d->name);
+                st.formFactors.common = common;
+            }
+        ImGui::EndCombo();
     }
-    int depth = int(st.backend.maxDepth);
-    if (ImGui::InputInt("Mirror depth", &depth)) st.backend.maxDepth = std::uint32_t(std::clamp(depth, 0, 254));
+    const BackendDescriptor& backend = findBackend(st.formFactors.method);
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextDisabled("%s", backend.summary.c_str());
+    ImGui::PopTextWrapPos();
+    for (const BackendOption& option : backend.options) {
+        const std::string current = option.get(st.formFactors);
+        try {
+            if (option.kind == OptionKind::Switch) {
+                bool on = current == "yes";
+                if (ImGui::Checkbox(option.label.c_str(), &on)) option.set(st.formFactors, on ? "yes" : "no");
+            } else if (option.kind == OptionKind::Choice) {
+                if (ImGui::BeginCombo(option.label.c_str(), current.c_str())) {
+                    for (const std::string& choice : option.choices)
+                        if (ImGui::Selectable(choice.c_str(), choice == current)) option.set(st.formFactors, choice);
+                    ImGui::EndCombo();
+                }
+            } else {
+                int v = std::stoi(current);
+                const int step = option.even ? 2 : 1;
+                if (ImGui::InputInt(option.label.c_str(), &v, step, 16 * step)) {
+                    long clamped = std::clamp<long>(v, option.min, std::min<long>(option.max, 1 << 30));
+                    if (option.even) clamped = clamped / 2 * 2;
+                    option.set(st.formFactors, std::to_string(clamped));
+                }
+            }
+        } catch (const std::exception& e) {
+            app.error(e.what());
+        }
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s: %s", option.flag.c_str(), option.help.c_str());
+    }
+    int depth = int(st.formFactors.common.maxDepth);
+    if (ImGui::InputInt("Mirror depth", &depth)) st.formFactors.common.maxDepth = std::uint32_t(std::clamp(depth, 0, 254));
     int solver = 0;
     for (int k = 0; k < 8; ++k)
         if (solverName(st.solver.kind) == kSolvers[k]) solver = k;

@@ -1,6 +1,8 @@
 // The `hemirad` command end to end: exit statuses, messages, files, and F reuse across material edits.
 #include "support.hpp"
 
+#include "preprocess/backend_registry.hpp"
+
 #include <doctest/doctest.h>
 
 #include <array>
@@ -8,6 +10,7 @@
 #include <fstream>
 #include <sys/wait.h>
 
+using namespace hemirad;
 using namespace hemirad::test;
 
 namespace {
@@ -75,6 +78,55 @@ TEST_CASE("Usage errors exit with status 2 and say what is wrong") {
     CHECK(r.status == 2);
     CHECK(r.output.find("unknown solver 'magic'") != std::string::npos);
     CHECK(runHemirad("help").status == 0);
+}
+
+TEST_CASE("Every back-end flag is a usage error with a back end that does not take it, before any work") {
+    // Each option of each back end, given to every other back end: exit 2, naming the flag and the
+    // method (pbrt-v4 and Mitsuba treat unused parameters so), before the scene is even read.
+    const std::string missing = "/nonexistent/scene.obj";
+    int pairs = 0;
+    for (const BackendDescriptor* owner : formFactorBackends())
+        for (const BackendOption& option : owner->options)
+            for (const BackendDescriptor* other : formFactorBackends()) {
+                if (other->option(option.flag)) continue;
+                CAPTURE(option.flag);
+                CAPTURE(other->name);
+                const std::string value = option.kind == OptionKind::Switch ? "" : " " + option.get(defaultSettings(owner->name));
+                const Result r = runHemirad("formfactors " + missing + " -o F.hff --method " + other->name + " " + option.flag + value);
+                CHECK(r.status == 2);
+                CHECK(r.output.find("option '" + option.flag + "' does not apply to --method " + other->name) !=
+                      std::string::npos);
+                ++pairs;
+            }
+    CHECK(pairs >= 11);  // hemisphere: 6 flags, hemicube: 5
+    // --method is checked while parsing, also before the scene is read.
+    Result r = runHemirad("formfactors " + missing + " -o F.hff --method raytrace");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("unknown --method 'raytrace' (hemisphere, hemicube)") != std::string::npos);
+    // Flags given before --method count for the chosen back end too.
+    r = runHemirad("formfactors " + missing + " -o F.hff --origins 16 --method hemicube");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("option '--origins' does not apply to --method hemicube") != std::string::npos);
+    // bench compares --methods; --method is not its flag, and a flag no listed back end takes is an error.
+    r = runHemirad("bench " + missing + " -o b.csv --method hemicube");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("'--method' does not apply to 'bench' (use --methods)") != std::string::npos);
+    r = runHemirad("bench " + missing + " -o b.csv --methods hemisphere --resolution 64");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("'--resolution' does not apply to any of the --methods") != std::string::npos);
+    // Back-end flags do not apply to commands that compute no F.
+    r = runHemirad("info F.hff --samples 96");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("'--samples' does not apply to 'info'") != std::string::npos);
+}
+
+TEST_CASE("The usage text lists every back end and its flags from the registry") {
+    const Result r = runHemirad("help");
+    REQUIRE(r.status == 0);
+    for (const BackendDescriptor* d : formFactorBackends()) {
+        CHECK(r.output.find(d->name + " (--method " + d->name + "): " + d->summary) != std::string::npos);
+        for (const BackendOption& option : d->options) CHECK(r.output.find("  " + option.flag) != std::string::npos);
+    }
 }
 
 TEST_CASE("Runtime errors exit with status 1 and name the file") {

@@ -10,6 +10,8 @@
 #include "gl/gl_context.hpp"
 #include "preprocess/form_factor_job.hpp"
 #include "preprocess/hemicube/hemicube_layout.hpp"
+#include "preprocess/hemicube/hemicube_options.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
 
 #include <doctest/doctest.h>
 
@@ -21,13 +23,13 @@ using namespace hemirad::test;
 
 namespace {
 
-FormFactorRun hemicube(const Scene& s, std::uint32_t resolution, const std::string& reduce = "cpu",
+FormFactorRun hemicube(const Scene& s, std::uint32_t resolution, Reduction reduce = Reduction::Cpu,
                        bool parents = true) {
-    BackendOptions o;
+    HemicubeOptions o;
     o.resolution = resolution;
     o.reduce = reduce;
     o.parentPolygons = parents;
-    return computeFormFactors(s, "hemicube", o, neededRows(s, true));
+    return computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
 }
 
 /// Mean over rows of sum_j |A_ij - B_ij|.
@@ -103,12 +105,12 @@ TEST_CASE("Subdivided closed cube: rows sum to 1 and face-to-face factors match 
 TEST_CASE("Hemicube and hemisphere converge to the same F on the Cornell box") {
     const Scene s = subdivide(bundledScene("cornell_box.obj"), 100.0);
     const FormFactorRun cube = hemicube(s, 128);
-    BackendOptions o;
-    o.estimator = "rays";  // centroid estimates like the hemicube's (analytic integrates near pairs over the emitter)
+    HemisphereOptions o;
+    o.estimator = Estimator::Rays;  // centroid estimates like the hemicube's (analytic integrates near pairs over the emitter)
     o.samples = 3072;
-    const FormFactorRun coarse = computeFormFactors(s, "hemisphere", o, neededRows(s, true));
+    const FormFactorRun coarse = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
     o.samples = 49152;  // about the hemicube's pixel count
-    const FormFactorRun fine = computeFormFactors(s, "hemisphere", o, neededRows(s, true));
+    const FormFactorRun fine = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
     const double coarseL1 = meanRowL1(cube.F, coarse.F), fineL1 = meanRowL1(cube.F, fine.F);
     MESSAGE("mean per-row sum |F_hemicube - F_hemisphere|: 3072 rays ", coarseL1, ", 49152 rays ", fineL1);
     // Both estimate the centroid-to-patch factors; the gap is the hemisphere's sampling noise
@@ -120,8 +122,8 @@ TEST_CASE("Hemicube and hemisphere converge to the same F on the Cornell box") {
 
 TEST_CASE("Drawing subdivided parents whole gives the F of drawing every patch") {
     const Scene s = subdivide(bundledScene("cornell_box.obj"), 60.0);
-    const FormFactorRun whole = hemicube(s, 128, "cpu", true);
-    const FormFactorRun each = hemicube(s, 128, "cpu", false);
+    const FormFactorRun whole = hemicube(s, 128, Reduction::Cpu, true);
+    const FormFactorRun each = hemicube(s, 128, Reduction::Cpu, false);
     // Only pixels whose centres lie exactly on an edge may differ: between sibling patches (which
     // one gets it), and on outer edges (a big triangle's edge and a row of small ones rasterise the
     // same line, but ties on it can fall either way).
@@ -137,15 +139,15 @@ TEST_CASE("Triangle and general-quad parents find their patches too") {
     b.polygon({Vec3(0, 0, 1), Vec3(0, 2, 1), Vec3(2, 0, 1)});                   // triangle ceiling, facing down
     b.polygon({Vec3(2.5, 0, 0), Vec3(2.5, 0, 1), Vec3(2.5, 3, 1.5), Vec3(2.5, 2, 0)});  // trapezoid wall facing -x
     const Scene s = subdivide(b.scene, 0.3);
-    const FormFactorRun whole = hemicube(s, 128, "cpu", true);
-    const FormFactorRun each = hemicube(s, 128, "cpu", false);
+    const FormFactorRun whole = hemicube(s, 128, Reduction::Cpu, true);
+    const FormFactorRun each = hemicube(s, 128, Reduction::Cpu, false);
     CHECK(meanRowL1(whole.F, each.F) < 2e-3);
 }
 
 TEST_CASE("CPU and GPU reduction give the same F") {
     const Scene s = subdivide(bundledScene("cornell_box.obj"), 100.0);
-    const FormFactorRun cpu = hemicube(s, 64, "cpu");
-    const FormFactorRun gpu = hemicube(s, 64, "gpu");
+    const FormFactorRun cpu = hemicube(s, 64, Reduction::Cpu);
+    const FormFactorRun gpu = hemicube(s, 64, Reduction::Gpu);
     // The GPU sums in 2^-31 fixed point: a row differs by at most one unit per pixel.
     CHECK(meanRowL1(cpu.F, gpu.F) < 1e-5);
     CHECK(gpu.counts.misses == cpu.counts.misses);
@@ -161,11 +163,12 @@ TEST_CASE("GPU reduction counts pixels below one fixed-point unit as lost power 
     for (float w : layout.weights())
         if (double(w) * 2147483648.0 < 0.5) below += w;
     REQUIRE(below > 1e-6);
-    BackendOptions o;
+    HemicubeOptions o;
     o.resolution = R;
-    o.reduce = "gpu";
-    o.threads = 1;
-    const FormFactorRun r = computeFormFactors(unitCube(), "hemicube", o, {0});
+    o.reduce = Reduction::Gpu;
+    CommonOptions one;
+    one.threads = 1;
+    const FormFactorRun r = computeFormFactors(unitCube(), MethodSettings::of(o, one), {0});
     CHECK(r.counts.misses == 0);
     CHECK(r.counts.backfaces == 0);
     CHECK(r.counts.lostWeight == doctest::Approx(below).epsilon(1e-3));
@@ -195,9 +198,9 @@ TEST_CASE("A failing GL context is a clear error, and auto falls back to OSMesa"
 
 TEST_CASE("Hemicube mirror portals give the image-method factor of physics.md") {
     const Scene s = subdivide(bundledScene("mirror_pair.obj"), 0.125);  // P1, P2 and the mirror: 64 patches each
-    BackendOptions o;
+    HemicubeOptions o;
     o.resolution = 128;
-    const FormFactorRun r = computeFormFactors(s, "hemicube", o, neededRows(s, false));
+    const FormFactorRun r = computeFormFactors(s, MethodSettings::of(o), neededRows(s, false));
     double viaMirror = 0.0;
     for (PatchId i = 0; i < 64; ++i)
         for (PatchId j = 64; j < 128; ++j) viaMirror += r.F.at(i, j) / 64.0;
@@ -212,17 +215,17 @@ TEST_CASE("Facing mirrors: portals, ray-traced mirror pixels and the hemisphere 
     b.rectangle(2, 0, -3, 3, -3, 3, true, mirror);
     b.rectangle(2, 1, -3, 3, -3, 3, false, mirror);
     b.rectangle(2, 0.5, -0.3, 0.3, -0.3, 0.3, false);
-    BackendOptions o;
+    HemicubeOptions o;
     o.resolution = 256;
-    o.maxDepth = 4;
-    const FormFactorRun portals = computeFormFactors(b.scene, "hemicube", o, neededRows(b.scene, true));
-    o.mirrors = "rays";
-    const FormFactorRun rays = computeFormFactors(b.scene, "hemicube", o, neededRows(b.scene, true));
-    BackendOptions h;
-    h.estimator = "rays";
+    CommonOptions depth4;
+    depth4.maxDepth = 4;
+    const FormFactorRun portals = computeFormFactors(b.scene, MethodSettings::of(o, depth4), neededRows(b.scene, true));
+    o.mirrors = HemicubeMirrors::Rays;
+    const FormFactorRun rays = computeFormFactors(b.scene, MethodSettings::of(o, depth4), neededRows(b.scene, true));
+    HemisphereOptions h;
+    h.estimator = Estimator::Rays;
     h.samples = 65536;
-    h.maxDepth = 4;
-    const FormFactorRun sphere = computeFormFactors(b.scene, "hemisphere", h, neededRows(b.scene, true));
+    const FormFactorRun sphere = computeFormFactors(b.scene, MethodSettings::of(h, depth4), neededRows(b.scene, true));
     for (PatchId i = 0; i < 3; ++i)
         for (PatchId j = 0; j < 3; ++j) {
             CAPTURE(i);

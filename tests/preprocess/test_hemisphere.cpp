@@ -5,7 +5,9 @@
 #include "engine/obj_loader.hpp"
 #include "engine/subdivide.hpp"
 #include "engine/form_factors.hpp"
+#include "preprocess/backend_registry.hpp"
 #include "preprocess/form_factor_job.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
 #include "preprocess/hemisphere/beckers.hpp"
 
 #include <doctest/doctest.h>
@@ -17,21 +19,22 @@ namespace {
 
 FormFactorRun run(const Scene& s, std::uint32_t samples, std::uint32_t origins, bool allRows = true,
                   std::uint32_t maxDepth = 8) {
-    BackendOptions o;
-    o.estimator = "rays";  // these tests are about the rays; the analytic estimator has its own below
+    HemisphereOptions o;
+    o.estimator = Estimator::Rays;  // these tests are about the rays; the analytic estimator has its own below
     o.samples = samples;
     o.origins = origins;
-    o.maxDepth = maxDepth;
-    return computeFormFactors(s, "hemisphere", o, neededRows(s, allRows));
+    CommonOptions common;
+    common.maxDepth = maxDepth;
+    return computeFormFactors(s, MethodSettings::of(o, common), neededRows(s, allRows));
 }
 
 FormFactorRun analytic(const Scene& s, std::uint32_t origins, bool jitter = false, std::uint32_t samples = 3072) {
-    BackendOptions o;
-    o.estimator = "analytic";
+    HemisphereOptions o;
+    o.estimator = Estimator::Analytic;
     o.origins = origins;
     o.jitter = jitter;
     o.samples = samples;
-    return computeFormFactors(s, "hemisphere", o, neededRows(s, true));
+    return computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
 }
 
 }  // namespace
@@ -153,14 +156,14 @@ TEST_CASE("Rows of black patches are skipped unless all rows are asked for") {
 
 TEST_CASE("Form factors are reproducible for a seed and change with it") {
     const Scene s = bundledScene("perpendicular_plates.obj");
-    BackendOptions o;
-    o.estimator = "rays";
+    HemisphereOptions o;
+    o.estimator = Estimator::Rays;
     o.samples = 384;
     o.origins = 4;
-    const FormFactorRun a = computeFormFactors(s, "hemisphere", o, neededRows(s, true));
-    const FormFactorRun b = computeFormFactors(s, "hemisphere", o, neededRows(s, true));
+    const FormFactorRun a = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
+    const FormFactorRun b = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
     o.seed = 7;
-    const FormFactorRun c = computeFormFactors(s, "hemisphere", o, neededRows(s, true));
+    const FormFactorRun c = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
     CHECK(a.F.at(0, 1) == b.F.at(0, 1));
     CHECK(a.F.at(0, 1) != c.F.at(0, 1));
     CHECK(a.F.parameters.at("samples") == "384");
@@ -168,10 +171,18 @@ TEST_CASE("Form factors are reproducible for a seed and change with it") {
 }
 
 TEST_CASE("Unknown methods and invalid options are errors") {
-    BackendOptions o;
-    CHECK_THROWS_WITH_AS(makeBackend("raster", o), doctest::Contains("unknown --method 'raster'"), Error);
+    CHECK_THROWS_WITH_AS(defaultSettings("raster"), doctest::Contains("unknown --method 'raster' (hemisphere, hemicube)"),
+                         Error);
+    HemisphereOptions o;
     o.origins = 0;
-    CHECK_THROWS_WITH_AS(makeBackend("hemisphere", o), doctest::Contains("--origins must be at least 1"), Error);
+    CHECK_THROWS_WITH_AS(makeBackend(MethodSettings::of(o)), doctest::Contains("--origins must be at least 1"), Error);
+    MethodSettings s = defaultSettings("hemisphere");
+    CHECK_THROWS_WITH_AS(setBackendOption(s, "--origins", "0"), doctest::Contains("--origins 0 is out of range [1, 65536]"),
+                         Error);
+    CHECK_THROWS_WITH_AS(setBackendOption(s, "--samples", "12x"), doctest::Contains("--samples expects an integer, got '12x'"),
+                         Error);
+    setBackendOption(s, "--origins", "16");
+    CHECK(s.as<HemisphereOptions>().origins == 16);
 }
 
 TEST_CASE("Hemisphere F of the closed Cornell box conserves energy and is nearly reciprocal") {
@@ -285,24 +296,33 @@ TEST_CASE("Analytic and ray estimators agree on the closed Cornell box, and anal
     CHECK(exact.stats.reciprocityMean < 0.5 * rays.stats.reciprocityMean);
 }
 
-TEST_CASE("--estimator analytic is refused for the hemicube and unknown estimators are errors") {
-    BackendOptions o;
-    o.estimator = "analytic";
-    CHECK_THROWS_WITH_AS(makeBackend("hemicube", o), doctest::Contains("needs --method hemisphere"), Error);
-    o.estimator = "exact";
-    CHECK_THROWS_WITH_AS(makeBackend("hemisphere", o), doctest::Contains("unknown estimator 'exact'"), Error);
+TEST_CASE("Each back end takes only its own options: --estimator is refused for the hemicube, unknown values are errors") {
+    MethodSettings cube = defaultSettings("hemicube");
+    CHECK_THROWS_WITH_AS(setBackendOption(cube, "--estimator", "analytic"),
+                         doctest::Contains("option '--estimator' does not apply to --method hemicube (it takes --resolution"),
+                         Error);
+    MethodSettings sphere = defaultSettings("hemisphere");
+    CHECK_THROWS_WITH_AS(setBackendOption(sphere, "--estimator", "exact"),
+                         doctest::Contains("--estimator expects auto, rays or analytic, got 'exact'"), Error);
+    CHECK_THROWS_WITH_AS(setBackendOption(sphere, "--resolution", "64"),
+                         doctest::Contains("option '--resolution' does not apply to --method hemisphere"), Error);
+    CHECK_THROWS_WITH_AS(setBackendOption(sphere, "--frobnicate", "1"), doctest::Contains("unknown option '--frobnicate'"),
+                         Error);
+    // The typed options behind the flags: the wrong type is an internal error, never a silent default.
+    CHECK_THROWS_AS(cube.as<HemisphereOptions>(), Error);
 }
 
 TEST_CASE("F that cannot fit the memory budget is refused before the work, with the estimate") {
     const Scene s = subdivide(unitCube(), 0.1);  // 600 patches
-    BackendOptions o;
-    o.samples = 3072;
+    HemisphereOptions h;
+    h.samples = 3072;
+    const MethodSettings o = MethodSettings::of(h);
     const auto rows = neededRows(s, true);
     // Fits: the cheap bound is enough.
-    CHECK(checkFormFactorMemory(s, "hemisphere", o, rows, std::size_t(1) << 34) > 0);
+    CHECK(checkFormFactorMemory(s, o, rows, std::size_t(1) << 34) > 0);
     // A 1 MiB budget: the 64-row probe measures ~500 nonzeros per row, F needs ~5 MiB.
-    CHECK_THROWS_WITH_AS(checkFormFactorMemory(s, "hemisphere", o, rows, std::size_t(1) << 20),
+    CHECK_THROWS_WITH_AS(checkFormFactorMemory(s, o, rows, std::size_t(1) << 20),
                          doctest::Contains("nonzeros per row, measured on 64 rows"), Error);
-    CHECK_THROWS_WITH_AS(checkFormFactorMemory(s, "hemisphere", o, rows, std::size_t(1) << 20),
+    CHECK_THROWS_WITH_AS(checkFormFactorMemory(s, o, rows, std::size_t(1) << 20),
                          doctest::Contains("--no-memory-check"), Error);
 }

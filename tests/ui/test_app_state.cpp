@@ -4,6 +4,7 @@
 
 #include "engine/form_factor_file.hpp"
 #include "engine/subdivide.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
 #include "ui/app_state.hpp"
 
 #include <doctest/doctest.h>
@@ -32,8 +33,8 @@ void runToEnd(AppState& app) {
 /// The unit cube with a small F (fast), solved.
 void solvedCube(AppState& app) {
     REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
-    app.settings.backend.samples = 384;
-    app.settings.backend.origins = 4;
+    app.settings.formFactors.as<HemisphereOptions>().samples = 384;
+    app.settings.formFactors.as<HemisphereOptions>().origins = 4;
     app.runPipeline();
     runToEnd(app);
     REQUIRE(app.formFactors() != nullptr);
@@ -134,7 +135,7 @@ TEST_CASE("GUI state: a black patch made reflective gets its row computed, the o
     MaterialEdit black;
     black.rho = Rgb::Zero();
     app.editMaterial(black);
-    app.settings.backend.samples = 384;
+    app.settings.formFactors.as<HemisphereOptions>().samples = 384;
     app.runPipeline();
     runToEnd(app);
     REQUIRE(app.formFactors() != nullptr);
@@ -164,8 +165,8 @@ TEST_CASE("GUI state: cancel stops a long form-factor computation and keeps the 
     AppState app;
     REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
     app.setScene(subdivide(app.scene(), 0.05), "fine cube");  // 2,400 patches
-    app.settings.backend.samples = 3072;
-    app.settings.backend.origins = 64;
+    app.settings.formFactors.as<HemisphereOptions>().samples = 3072;
+    app.settings.formFactors.as<HemisphereOptions>().origins = 64;
     app.runPipeline();
     CHECK(app.job().running);
     app.cancel();

@@ -84,3 +84,19 @@ TEST_CASE("hemirad-gui computes hemicube form factors in its EGL context next to
     const std::string log = runGuiAndCheckPicture("gui-hemicube", "--method hemicube --resolution 32");
     CHECK(log.find("form factors: hemicube") != std::string::npos);
 }
+
+TEST_CASE("hemirad-gui takes the back ends' flags from the registry and refuses those its back end ignores") {
+    // Parsing happens before any window opens: no display is needed.
+    const auto dir = tempDir("gui-flags");
+    const std::string log = (dir / "out.txt").string();
+    auto run = [&](const std::string& flags) {
+        const int s = std::system((std::string(HEMIRAD_GUI_BINARY) + " " + flags + " > " + log + " 2>&1").c_str());
+        return WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+    };
+    CHECK(run("--origins 16 --method hemicube") == 2);
+    CHECK(readText(log).find("option '--origins' does not apply to --method hemicube") != std::string::npos);
+    CHECK(run("--method hemisphere --resolution 64") == 2);
+    CHECK(readText(log).find("option '--resolution' does not apply to --method hemisphere") != std::string::npos);
+    CHECK(run("--method cube") == 2);
+    CHECK(readText(log).find("unknown --method 'cube' (hemisphere, hemicube)") != std::string::npos);
+}

@@ -3,6 +3,7 @@
 
 #include "engine/error.hpp"
 #include "engine/threads.hpp"
+#include "preprocess/backend_registry.hpp"
 #include "gl/gl_context.hpp"
 #include "preprocess/hemicube/hemicube_renderer.hpp"
 #include "preprocess/row_accumulator.hpp"
@@ -15,13 +16,9 @@
 
 namespace hemirad {
 
-HemicubeBackend::HemicubeBackend(const BackendOptions& options) : m_options(options) {
+HemicubeBackend::HemicubeBackend(const HemicubeOptions& options, const CommonOptions& common)
+    : m_options(options), m_common(common) {
     m_layout = std::make_unique<HemicubeLayout>(options.resolution);
-    if (options.reduce != "cpu" && options.reduce != "gpu")
-        throw Error("unknown --reduce '" + options.reduce + "' (cpu, gpu)");
-    parseGlApiKind(options.gl);
-    if (options.mirrors != "portals" && options.mirrors != "rays")
-        throw Error("unknown --mirrors '" + options.mirrors + "' (portals, rays)");
 }
 
 HemicubeBackend::~HemicubeBackend() = default;
@@ -29,31 +26,33 @@ HemicubeBackend::~HemicubeBackend() = default;
 void HemicubeBackend::prepare(const Scene& scene) {
     m_scene = &scene;
     m_geometry = HemicubeGeometry::build(scene, m_options.parentPolygons);
-    if (scene.hasMirrors() && m_options.mirrors == "rays") m_rays = std::make_unique<RayScene>(scene, m_options.threads);
-    m_workers = resolveThreads(m_options.threads);
+    if (scene.hasMirrors() && m_options.mirrors == HemicubeMirrors::Rays) m_rays = std::make_unique<RayScene>(scene, m_common.threads);
+    m_workers = resolveThreads(m_common.threads);
     // Fail here, before any work, if no context can be made.
-    auto context = createHeadlessContext(parseGlApiKind(m_options.gl));
+    auto context = createHeadlessContext(m_options.gl);
     context->makeCurrent();
     context->release();
 }
 
 std::map<std::string, std::string> HemicubeBackend::parameters() const {
+    const MethodSettings settings = MethodSettings::of(m_options, m_common);
+    auto text = [&](const char* flag) { return hemicubeDescriptor().option(flag)->get(settings); };
     return {{"method", "hemicube"},
-            {"max_depth", std::to_string(m_options.maxDepth)},
-            {"mirrors", m_options.mirrors},
-            {"min_weight", std::to_string(m_options.minWeight)},
+            {"max_depth", std::to_string(m_common.maxDepth)},
+            {"mirrors", text("--mirrors")},
+            {"min_weight", std::to_string(m_common.minWeight)},
             {"resolution", std::to_string(m_options.resolution)},
-            {"reduce", m_options.reduce},
-            {"gl", m_options.gl},
+            {"reduce", text("--reduce")},
+            {"gl", text("--gl")},
             {"parent_polygons", m_geometry.patchesInParents ? "yes" : "no"},
-            {"row_sum_bound", rowSumBoundText(*m_scene, m_options.maxDepth, m_options.minWeight)},
+            {"row_sum_bound", rowSumBoundText(*m_scene, m_common.maxDepth, m_common.minWeight)},
             {"delta_form_factors", "Cohen-Greenberg, normalised"}};
 }
 
 void HemicubeBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) {
     if (!m_scene) throw Error("hemicube back end: prepare() was not called");
-    const Reduction reduction = m_options.reduce == "gpu" ? Reduction::Gpu : Reduction::Cpu;
-    const GlApiKind api = parseGlApiKind(m_options.gl);
+    const Reduction reduction = m_options.reduce;
+    const GlApiKind api = m_options.gl;
     std::atomic<std::size_t> next{0};
     std::exception_ptr failure;
     std::mutex failureMutex;
@@ -64,7 +63,7 @@ void HemicubeBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBu
             auto context = createHeadlessContext(api);
             context->makeCurrent();
             {
-                const MirrorLimits limits{m_options.maxDepth, m_options.minWeight, m_rays.get()};
+                const MirrorLimits limits{m_common.maxDepth, m_common.minWeight, m_rays.get()};
                 HemicubeRenderer renderer(*m_scene, m_geometry, *m_layout, reduction, limits);
                 RowAccumulator row(m_scene->size(), RowAccumulator::Mode::Weights);
                 HemicubeStats stats;
@@ -108,7 +107,7 @@ void HemicubeBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBu
     builder.addStageSeconds("hemicube reduce", total.reduce);
     builder.addStageSeconds("row collect", total.collect);
     if (m_scene->hasMirrors())
-        builder.addStageSeconds(m_options.mirrors == "rays" ? "mirror rays" : "mirror portals", total.mirrors);
+        builder.addStageSeconds(m_options.mirrors == HemicubeMirrors::Rays ? "mirror rays" : "mirror portals", total.mirrors);
 }
 
 }  // namespace hemirad

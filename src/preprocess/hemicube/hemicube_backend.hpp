@@ -4,6 +4,7 @@
 #include "preprocess/form_factor_backend.hpp"
 #include "preprocess/hemicube/hemicube_geometry.hpp"
 #include "preprocess/hemicube/hemicube_layout.hpp"
+#include "preprocess/hemicube/hemicube_options.hpp"
 #include "preprocess/hemisphere/embree_scene.hpp"
 
 #include <memory>
@@ -15,7 +16,7 @@ namespace hemirad {
 /// on Mesa's llvmpipe here, any GPU driver elsewhere), each computing its own rows.
 class HemicubeBackend final : public FormFactorBackend {
 public:
-    explicit HemicubeBackend(const BackendOptions& options);
+    HemicubeBackend(const HemicubeOptions& options, const CommonOptions& common);
     ~HemicubeBackend() override;
 
     std::string_view name() const override { return "hemicube"; }
@@ -24,12 +25,17 @@ public:
     std::map<std::string, std::string> parameters() const override;
 
 private:
-    BackendOptions m_options;
+    HemicubeOptions m_options;
+    CommonOptions m_common;
     const Scene* m_scene = nullptr;
     std::unique_ptr<HemicubeLayout> m_layout;
     HemicubeGeometry m_geometry;
     std::unique_ptr<RayScene> m_rays;  ///< for --mirrors rays
     int m_workers = 1;
 };
+
+struct BackendDescriptor;
+/// The registry entry (hemicube_descriptor.cpp).
+const BackendDescriptor& hemicubeDescriptor();
 
 }  // namespace hemirad

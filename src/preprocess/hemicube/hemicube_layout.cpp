@@ -48,4 +48,15 @@ double HemicubeLayout::faceShare(int face) const {
     return sum;
 }
 
+std::array<HemicubeFace, 5> hemicubeFaces(const Vec3& n, const Vec3& t, const Vec3& b) {
+    const Vec3 forward[5] = {n, t, -t, b, -b};
+    std::array<HemicubeFace, 5> faces;
+    for (int f = 0; f < 5; ++f) {
+        faces[f].forward = forward[f];
+        faces[f].up = f == 0 ? b : n;
+        faces[f].right = faces[f].forward.cross(faces[f].up);
+    }
+    return faces;
+}
+
 }  // namespace hemirad

@@ -1,10 +1,23 @@
 // The hemicube atlas and its delta form factors (Cohen & Greenberg 1985).
 #pragma once
 
+#include "engine/math.hpp"
+
+#include <array>
 #include <cstdint>
 #include <vector>
 
 namespace hemirad {
+
+/// One face camera of a hemicube: a pixel at face coordinates (x, y) looks along
+/// forward + x right + y up (top face: x, y in [-1, 1]; sides: x in [-1, 1], y = elevation in [0, 1]).
+struct HemicubeFace {
+    Vec3 forward, up, right;
+};
+
+/// The five face cameras around a patch with normal n and tangents t, b (atlas order of
+/// HemicubeLayout): the top looks along n with b up; the sides look along +t, -t, +b, -b with n up.
+std::array<HemicubeFace, 5> hemicubeFaces(const Vec3& n, const Vec3& t, const Vec3& b);
 
 /// Five faces of the hemicube of half-width 1 packed in a 3R x R atlas (pixel rows bottom-up):
 ///

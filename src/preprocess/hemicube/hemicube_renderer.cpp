@@ -135,15 +135,9 @@ void HemicubeRenderer::beginRow(PatchId i) {
     m_normal = p.normal;
     Vec3 t, b;
     orthonormalBasis(p.normal, t, b);
-    const Vec3& n = p.normal;
     m_near = 1e-6 * m_geometry.extent;
     // Top face: symmetric 90-degree frustum; sides: the upper half (elevation 0..45 degrees).
-    const Vec3 forward[5] = {n, t, -t, b, -b};
-    for (int f = 0; f < 5; ++f) {
-        m_faceForward[f] = forward[f];
-        m_faceUp[f] = f == 0 ? b : n;
-        m_faceRight[f] = m_faceForward[f].cross(m_faceUp[f]);
-    }
+    m_faces = hemicubeFaces(p.normal, t, b);
     gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
     const GLuint zero[4] = {0, 0, 0, 0};
     gl::Disable(GL_SCISSOR_TEST);
@@ -242,7 +236,7 @@ void HemicubeRenderer::traceMirrorPixels(PatchId i, RowAccumulator& row, Hemicub
                 // elevation z in [0, 1] (physics.md §3 conventions).
                 const double x = -1.0 + (px + 0.5) * 2.0 / v.width;
                 const double y = f == 0 ? -1.0 + (py + 0.5) * 2.0 / v.height : (py + 0.5) / v.height;
-                const Vec3 dir = (m_faceForward[f] + x * m_faceRight[f] + y * m_faceUp[f]).normalized();
+                const Vec3 dir = (m_faces[f].forward + x * m_faces[f].right + y * m_faces[f].up).normalized();
                 const RayScene::Hit hit = m_limits.rays->intersect(origin, dir);
                 // Rasteriser and ray may disagree at a mirror's edge: then the pixel stays as drawn.
                 if (hit.patch == RayScene::kNoHit || !(m_scene.patches[hit.patch].specular > 0.0)) continue;

@@ -5,14 +5,13 @@
 #include "gl/gl_objects.hpp"
 #include "preprocess/hemicube/hemicube_geometry.hpp"
 #include "preprocess/hemicube/hemicube_layout.hpp"
+#include "preprocess/hemicube/hemicube_options.hpp"
 #include "preprocess/row_accumulator.hpp"
 
 #include <cstdint>
 #include <vector>
 
 namespace hemirad {
-
-enum class Reduction { Cpu, Gpu };
 
 /// Per-stage seconds and pixel counts of the hemicubes a renderer drew.
 struct HemicubeStats {
@@ -97,7 +96,7 @@ private:
     std::vector<std::uint32_t> m_groupOfPatch;  ///< group + 1, 0 for non-mirrors
     std::vector<PatchId> m_groupPatch;
     gl::Buffer m_groups;
-    Vec3 m_faceForward[5], m_faceUp[5], m_faceRight[5];  ///< the current row's face cameras
+    std::array<HemicubeFace, 5> m_faces;  ///< the current row's face cameras
     Vec3 m_eye = Vec3::Zero(), m_normal = Vec3::Zero();
     double m_near = 0;
 };

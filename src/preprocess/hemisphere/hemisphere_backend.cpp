@@ -61,7 +61,8 @@ struct HemisphereBackend::Workspace {
     std::vector<float> distances;
 };
 
-HemisphereBackend::HemisphereBackend(const BackendOptions& options) : m_options(options) {
+HemisphereBackend::HemisphereBackend(const HemisphereOptions& options, const CommonOptions& common)
+    : m_options(options), m_common(common) {
     m_directions = beckersDirections(options.samples);
     m_rings = beckersDiskCounts(options.samples);
 }
@@ -70,7 +71,7 @@ HemisphereBackend::~HemisphereBackend() = default;
 
 void HemisphereBackend::prepare(const Scene& scene) {
     m_scene = &scene;
-    m_rays = std::make_unique<RayScene>(scene, m_options.threads);
+    m_rays = std::make_unique<RayScene>(scene, m_common.threads);
     m_normals.resize(3 * scene.size());
     for (PatchId i = 0; i < scene.size(); ++i)
         for (int k = 0; k < 3; ++k) m_normals[3 * i + k] = static_cast<float>(scene.patches[i].normal[k]);
@@ -100,11 +101,11 @@ void HemisphereBackend::prepare(const Scene& scene) {
 
 std::map<std::string, std::string> HemisphereBackend::parameters() const {
     return {{"method", "hemisphere"},
-            {"row_sum_bound", rowSumBoundText(*m_scene, m_options.maxDepth, m_options.minWeight)},
+            {"row_sum_bound", rowSumBoundText(*m_scene, m_common.maxDepth, m_common.minWeight)},
             {"samples", std::to_string(m_options.samples)},
             {"origins", std::to_string(m_options.origins)},
-            {"max_depth", std::to_string(m_options.maxDepth)},
-            {"min_weight", std::to_string(m_options.minWeight)},
+            {"max_depth", std::to_string(m_common.maxDepth)},
+            {"min_weight", std::to_string(m_common.minWeight)},
             {"seed", std::to_string(m_options.seed)},
             {"estimator", m_analytic ? std::string("analytic: Lambert point-to-polygon factors from ") +
                                            (m_originNodes.empty() ? std::string("the centroid")
@@ -121,7 +122,7 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
 
 void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) {
     if (!m_scene) throw Error("hemisphere back end: prepare() was not called");
-    const int threads = resolveThreads(m_options.threads);
+    const int threads = resolveThreads(m_common.threads);
     // The first failure is kept under a critical section; other threads see only the atomic flag
     // (reading the exception_ptr while another thread writes it was a data race).
     std::exception_ptr failure;
@@ -227,7 +228,7 @@ void HemisphereBackend::castRays(PatchId i, Workspace& ws, RayCounts& counts) co
                 if constexpr (Direct) ws.row.addWeight(j, 1.0);
                 if (m_scene->patches[j].specular > 0.0)
                     followMirrorChain(*m_scene, *m_rays, lifted, Vec3(d[0], d[1], d[2]), j, ws.distances[k], 1.0,
-                                      rowWeight, {m_options.maxDepth, m_options.minWeight}, ws.row, counts);
+                                      rowWeight, {m_common.maxDepth, m_common.minWeight}, ws.row, counts);
             } else {
                 ws.row.addCount(j);
             }

@@ -3,6 +3,7 @@
 
 #include "preprocess/form_factor_backend.hpp"
 #include "preprocess/hemisphere/embree_scene.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
 
 #include <memory>
@@ -21,7 +22,7 @@ namespace hemirad {
 /// Rays then only carry the mirror chains (none are cast in a scene without mirrors).
 class HemisphereBackend final : public FormFactorBackend {
 public:
-    explicit HemisphereBackend(const BackendOptions& options);
+    HemisphereBackend(const HemisphereOptions& options, const CommonOptions& common);
     ~HemisphereBackend() override;
 
     std::string_view name() const override { return "hemisphere"; }
@@ -56,7 +57,8 @@ private:
         std::uint32_t first, count;  ///< corners in m_corners
     };
 
-    BackendOptions m_options;
+    HemisphereOptions m_options;
+    CommonOptions m_common;
     const Scene* m_scene = nullptr;
     std::unique_ptr<RayScene> m_rays;
     std::vector<float> m_directions;  ///< Beckers directions in the patch frame
@@ -72,5 +74,9 @@ private:
     std::vector<PatchId> m_neighbours;
     int m_splitLevels = 1;  ///< silhouette patches: 1 = split once (4 pieces of a quad), 2 = twice
 };
+
+struct BackendDescriptor;
+/// The registry entry (hemisphere_descriptor.cpp).
+const BackendDescriptor& hemisphereDescriptor();
 
 }  // namespace hemirad

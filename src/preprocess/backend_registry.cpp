@@ -1,0 +1,64 @@
+// The registry of form-factor back ends: one line per back end.
+#include "preprocess/backend_registry.hpp"
+
+#include "preprocess/hemicube/hemicube_backend.hpp"
+#include "preprocess/hemisphere/hemisphere_backend.hpp"
+
+namespace hemirad {
+
+const std::vector<const BackendDescriptor*>& formFactorBackends() {
+    static const std::vector<const BackendDescriptor*> backends = {
+        &hemisphereDescriptor(),
+        &hemicubeDescriptor(),
+    };
+    return backends;
+}
+
+const BackendOption* BackendDescriptor::option(std::string_view flag) const {
+    for (const BackendOption& o : options)
+        if (o.flag == flag) return &o;
+    return nullptr;
+}
+
+const BackendDescriptor& findBackend(std::string_view name) {
+    std::string known;
+    for (const BackendDescriptor* d : formFactorBackends()) {
+        if (d->name == name) return *d;
+        known += (known.empty() ? "" : ", ") + d->name;
+    }
+    throw Error("unknown --method '" + std::string(name) + "' (" + known + ")");
+}
+
+MethodSettings defaultSettings(std::string_view method) {
+    const BackendDescriptor& d = findBackend(method);
+    return {d.name, CommonOptions{}, d.defaults()};
+}
+
+std::unique_ptr<FormFactorBackend> makeBackend(const MethodSettings& settings) {
+    const BackendDescriptor& d = findBackend(settings.method);
+    if (!(settings.common.minWeight > 0.0 && settings.common.minWeight < 1.0))
+        throw Error("minimum ray weight must be in (0, 1)");
+    if (d.validate) d.validate(settings);
+    return d.create(settings);
+}
+
+const BackendOption* findBackendOption(std::string_view flag) {
+    for (const BackendDescriptor* d : formFactorBackends())
+        if (const BackendOption* o = d->option(flag)) return o;
+    return nullptr;
+}
+
+void setBackendOption(MethodSettings& settings, const std::string& flag, const std::string& value) {
+    const BackendDescriptor& d = findBackend(settings.method);
+    if (const BackendOption* o = d.option(flag)) {
+        o->set(settings, value);
+        return;
+    }
+    std::string list;
+    for (const BackendOption& o : d.options) list += (list.empty() ? "" : ", ") + o.flag;
+    if (!findBackendOption(flag)) throw Error("unknown option '" + flag + "'");
+    throw Error("option '" + flag + "' does not apply to --method " + d.name + " (it takes " +
+                (list.empty() ? std::string("no options of its own") : list) + ")");
+}
+
+}  // namespace hemirad

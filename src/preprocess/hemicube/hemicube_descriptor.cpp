@@ -1,0 +1,64 @@
+// The hemicube back end's registry entry: its flags, work estimate and run description.
+#include "preprocess/backend_registry.hpp"
+#include "preprocess/hemicube/hemicube_backend.hpp"
+
+namespace hemirad {
+namespace {
+
+using C = HemicubeOptions;
+
+RunDescription describe(const Scene&, const MethodSettings& s) {
+    const C& o = s.as<C>();
+    const std::string reduce = findBackend(C::kMethod).option("--reduce")->get(s);
+    RunDescription d;
+    d.settings = std::to_string(o.resolution) + " x " + std::to_string(o.resolution) + " top face (" +
+                 std::to_string(3 * o.resolution * o.resolution) + " pixels), reduction on the " + reduce;
+    d.record = {{"resolution", std::to_string(o.resolution)},
+                {"reduce", reduce},
+                {"rays_per_patch", std::to_string(3.0 * o.resolution * o.resolution)}};
+    return d;
+}
+
+BackendDescriptor make() {
+    BackendDescriptor d;
+    d.name = C::kMethod;
+    d.summary = "OpenGL renders patch ids on the five faces of a hemicube (Cohen & Greenberg)";
+    d.workUnit = "pixels";
+    d.projection = Projection::HemicubeAtlas;
+    d.options = {
+        integerOption<C>("--resolution", "Resolution", "R", "top face R x R pixels, sides R x R/2 (even, default 128)",
+                         &C::resolution, 2, 8192, true),
+        choiceOption<C, Reduction>("--reduce", "Reduction", "sum pixels into rows on the CPU (default) or in a compute shader",
+                                   &C::reduce, {{"cpu", Reduction::Cpu}, {"gpu", Reduction::Gpu}}),
+        choiceOption<C, GlApiKind>("--gl", "OpenGL", "headless OpenGL API (default auto: EGL, then OSMesa)", &C::gl,
+                                   {{"auto", GlApiKind::Auto}, {"egl", GlApiKind::Egl}, {"osmesa", GlApiKind::OSMesa}}),
+        choiceOption<C, HemicubeMirrors>("--mirrors", "Mirrors",
+                                         "mirrors by stencil portals (default) or Embree rays from mirror pixels",
+                                         &C::mirrors, {{"portals", HemicubeMirrors::Portals}, {"rays", HemicubeMirrors::Rays}}),
+        switchOption<C>("--no-parents", "Draw every patch",
+                        "draw every patch, not subdivided parents whole (reference path)", &C::parentPolygons, false),
+    };
+    d.defaults = [] { return std::any(C{}); };
+    d.validate = [](const MethodSettings& s) {
+        const C& o = s.as<C>();
+        if (o.resolution < 2 || o.resolution % 2) throw Error("--resolution must be an even number >= 2");
+    };
+    d.create = [](const MethodSettings& s) -> std::unique_ptr<FormFactorBackend> {
+        return std::make_unique<HemicubeBackend>(s.as<C>(), s.common);
+    };
+    d.workPerRow = [](const Scene&, const MethodSettings& s) {
+        const C& o = s.as<C>();
+        return 3.0 * o.resolution * o.resolution;
+    };
+    d.describe = describe;
+    return d;
+}
+
+}  // namespace
+
+const BackendDescriptor& hemicubeDescriptor() {
+    static const BackendDescriptor descriptor = make();
+    return descriptor;
+}
+
+}  // namespace hemirad

@@ -1,0 +1,104 @@
+// The hemisphere back end's registry entry: its flags, work estimate and run description.
+#include "preprocess/backend_registry.hpp"
+#include "preprocess/hemisphere/hemisphere_backend.hpp"
+
+#include <cmath>
+
+namespace hemirad {
+
+bool usesAnalyticEstimator(const HemisphereOptions& options, std::size_t patches) {
+    if (options.estimator == Estimator::Analytic) return true;
+    return options.estimator == Estimator::Auto && double(patches) <= kAnalyticRaysFactor * double(options.samples);
+}
+
+std::uint32_t analyticOriginPoints(std::uint32_t origins) {
+    if (origins <= 1) return 1;
+    const auto m = static_cast<std::uint32_t>(std::ceil(std::sqrt(double(origins)) - 1e-9));
+    return m * m;
+}
+
+namespace {
+
+using H = HemisphereOptions;
+
+/// Rays one row costs: samples x origins, or one shadow ray per patch and origin point for the
+/// analytic estimator (plus the directions when mirrors need them).
+double workPerRow(const Scene& scene, const MethodSettings& s) {
+    const H& o = s.as<H>();
+    const double rays = double(o.samples) * o.origins;
+    if (!usesAnalyticEstimator(o, scene.size())) return rays;
+    return double(scene.size()) * analyticOriginPoints(o.origins) + (scene.hasMirrors() ? rays : 0.0);
+}
+
+RunDescription describe(const Scene& scene, const MethodSettings& s) {
+    const H& o = s.as<H>();
+    RunDescription d;
+    const bool analytic = usesAnalyticEstimator(o, scene.size());
+    if (analytic) {
+        d.settings = std::string("analytic estimator (Lambert factors, one shadow ray per pair") +
+                     (scene.hasMirrors() ? "; " + std::to_string(o.samples) + " directions carry the mirror chains"
+                                         : std::string("; no directions cast: --samples only chose the estimator")) +
+                     "), " +
+                     (o.origins == 1 ? std::string("centroid")
+                                     : std::to_string(analyticOriginPoints(o.origins)) +
+                                           " Gauss-Legendre origins per quad (--origins " + std::to_string(o.origins) + ")");
+        d.lossFromRays = false;  // no ray tells misses from hidden patches: 1 - row sum reached no patch
+    } else {
+        d.settings = std::to_string(o.samples) + " directions x " + std::to_string(o.origins) +
+                     (o.origins == 1 ? " origin (centroid)" : " origins");
+    }
+    if (o.jitter) d.settings += ", jittered";
+    d.record = {{"samples", std::to_string(o.samples)},
+                {"origins", std::to_string(o.origins)},
+                {"rays_per_patch", std::to_string(double(o.samples) * o.origins)},
+                {"directions", o.fixedDirections ? "fixed" : "rotated"},
+                {"estimator", analytic ? "analytic" : "rays"}};
+    return d;
+}
+
+BackendDescriptor make() {
+    BackendDescriptor d;
+    d.name = H::kMethod;
+    d.summary = "Embree rays along Beckers directions, or Lambert's exact factors with shadow rays";
+    d.workUnit = "rays";
+    d.options = {
+        integerOption<H>("--samples", "Directions", "N", "Beckers directions per origin (default 3072)", &H::samples, 1,
+                         1 << 24),
+        integerOption<H>("--origins", "Origins", "K", "ray origins per patch, stratified over its area (default 1 = centroid)",
+                         &H::origins, 1, 1 << 16),
+        integerOption<H>("--seed", "Seed", "S", "seed for origin jitter and pattern rotation (default 1)", &H::seed, 0,
+                         0x7fffffffffffffffL),
+        switchOption<H>("--fixed-directions", "Fixed directions",
+                        "no random rotation of the pattern (the reference system's method)", &H::fixedDirections, true),
+        switchOption<H>("--jitter", "Jitter",
+                        "a random direction within each Beckers cell (unbiased, stratified); with the analytic "
+                        "estimator, shadow rays to random points instead of centres",
+                        &H::jitter, true),
+        choiceOption<H, Estimator>("--estimator", "Estimator",
+                                   "direct factors from ray counts, or Lambert's exact point-to-polygon factor for each "
+                                   "patch a shadow ray finds visible; auto (default): analytic when patches <= 5 x samples",
+                                   &H::estimator,
+                                   {{"auto", Estimator::Auto}, {"rays", Estimator::Rays}, {"analytic", Estimator::Analytic}}),
+    };
+    d.defaults = [] { return std::any(H{}); };
+    d.validate = [](const MethodSettings& s) {
+        const H& o = s.as<H>();
+        if (o.samples < 1) throw Error("--samples must be at least 1");
+        if (o.origins < 1) throw Error("--origins must be at least 1");
+    };
+    d.create = [](const MethodSettings& s) -> std::unique_ptr<FormFactorBackend> {
+        return std::make_unique<HemisphereBackend>(s.as<H>(), s.common);
+    };
+    d.workPerRow = workPerRow;
+    d.describe = describe;
+    return d;
+}
+
+}  // namespace
+
+const BackendDescriptor& hemisphereDescriptor() {
+    static const BackendDescriptor descriptor = make();
+    return descriptor;
+}
+
+}  // namespace hemirad
