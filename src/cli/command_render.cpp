@@ -3,7 +3,7 @@
 #include "cli/pipeline.hpp"
 #include "engine/result_writer.hpp"
 #include "engine/vertex_radiosity.hpp"
-#include "preprocess/hemisphere/embree_scene.hpp"
+#include "rays/ray_scene.hpp"
 #include "render/raytracer.hpp"
 
 #include <filesystem>

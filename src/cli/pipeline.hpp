@@ -1,18 +1,23 @@
-// The stages shared by the CLI commands: load (+ subdivide), obtain F (compute or reuse), solve.
+// The CLI's side of the library pipeline: Options -> RadiosityPipeline, its events -> the Reporter.
 #pragma once
 
 #include "cli/options.hpp"
 #include "cli/report.hpp"
 #include "engine/warnings.hpp"
+#include "pipeline/radiosity_pipeline.hpp"
 
 namespace hemirad {
+
+/// The pipeline for these options, reporting through `reporter` and timing into `timings`.
+RadiosityPipeline makePipeline(const Options& options, Timings& timings, const Reporter& reporter);
 
 /// Loads the scene named by options.inputs[0] and subdivides it when --subdivide is given.
 Scene loadScene(const Options& options, Timings& timings, const Reporter& reporter, Warnings& warnings);
 
 /// Computes F for the rows a solve needs (all rows with --all-rows), or reuses --ff FILE when its
 /// scene hash matches (computing only rows it lacks); creates FILE when absent. Applies
-/// --enforce-reciprocity. Throws hemirad::Error when FILE belongs to another scene.
+/// --enforce-reciprocity and --normalize-rows. Throws hemirad::Error when FILE belongs to another
+/// scene, UsageError for a policy the scene cannot take (checked before any row is computed).
 FormFactors obtainFormFactors(const Scene& scene, const Options& options, Timings& timings,
                               const Reporter& reporter, Warnings& warnings);
 

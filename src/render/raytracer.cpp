@@ -3,7 +3,7 @@
 
 #include "engine/error.hpp"
 #include "engine/tone_map.hpp"
-#include "preprocess/hemisphere/embree_scene.hpp"
+#include "rays/ray_scene.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -8,6 +8,7 @@
 #include "engine/result_writer.hpp"
 #include "engine/tone_map.hpp"
 #include "engine/vertex_radiosity.hpp"
+#include "pipeline/radiosity_pipeline.hpp"
 #include "preprocess/form_factor_job.hpp"
 
 #include <algorithm>
@@ -55,42 +56,44 @@ struct AppState::Job {
         status.progress = progress;
     }
 
+    /// The library pipeline with this job's settings; its events land in the job's status and log.
+    RadiosityPipeline pipeline() {
+        FormFactorPolicy policy;
+        policy.backend = settings.formFactors;
+        PipelineEvents events;
+        events.cancel = &cancel;
+        events.timing = [this](const std::string& stage, double seconds) { timings.emplace_back(stage, seconds); };
+        events.message = [this](const std::string& text) { messages.push_back(text); };
+        events.progress = [this](const std::string& label, double, const std::string&) -> ProgressCallback {
+            setStage(label, 0.0);
+            return [this, label](std::size_t done, std::size_t total, double) {
+                setStage(label, total ? double(done) / double(total) : 1.0);
+            };
+        };
+        events.formFactorsComputed = [this](const FormFactorRun& run, const Scene& s, const MethodSettings& method) {
+            std::ostringstream msg;
+            msg << "form factors: " << method.method << ", " << findBackend(method.method).describe(s, method).settings
+                << ", " << run.rowsComputed << " rows in " << run.computeSeconds << " s; row sums " << run.stats.rowSumMin
+                << ".." << run.stats.rowSumMax << ", reciprocity (mean) " << run.stats.reciprocityMean << ", lost "
+                << (run.rowsComputed ? 100.0 * run.counts.lostWeight / double(run.rowsComputed) : 0.0) << "%";
+            messages.push_back(msg.str());
+        };
+        return RadiosityPipeline(std::move(policy), std::move(events));
+    }
+
     void run() {
         try {
+            const RadiosityPipeline radiosity = pipeline();
             std::shared_ptr<const FormFactors> F = this->F;
             if (computeF) {
                 // Rows the materials need that F lacks (all of them when there is no usable F).
-                std::vector<PatchId> rows;
-                for (PatchId i : neededRows(scene, false))
-                    if (!F || !F->rowComputed(i)) rows.push_back(i);
-                setStage("form factors", 0.0);
-                auto progress = [this](std::size_t done, std::size_t total, double) {
-                    setStage("form factors", total ? double(done) / double(total) : 1.0);
-                };
-                FormFactorRun run = computeFormFactors(scene, settings.formFactors, rows, progress, &cancel);
-                timings.emplace_back("acceleration structure", run.prepareSeconds);
-                timings.emplace_back("form factors", run.computeSeconds);
-                std::ostringstream msg;
-                msg << "form factors: " << settings.formFactors.method << ", "
-                    << findBackend(settings.formFactors.method).describe(scene, settings.formFactors).settings << ", "
-                    << rows.size() << " rows in " << run.computeSeconds
-                    << " s; row sums " << run.stats.rowSumMin << ".." << run.stats.rowSumMax << ", reciprocity (mean) "
-                    << run.stats.reciprocityMean << ", lost "
-                    << (rows.empty() ? 0.0 : 100.0 * run.counts.lostWeight / double(rows.size())) << "%";
-                messages.push_back(msg.str());
-                if (F) {
-                    auto merged = std::make_shared<FormFactors>(*F);
-                    merged->replaceRows(run.F);
-                    F = merged;
-                } else {
-                    F = std::make_shared<FormFactors>(std::move(run.F));
-                }
-                stats = computeStats(*F, scene);
+                FormFactorUpdate update = radiosity.updateFormFactors(scene, F ? FormFactors(*F) : FormFactors());
+                stats = update.stats;
+                F = std::make_shared<FormFactors>(std::move(update.F));
                 newF = F;
             }
             if (cancel) throw Error("cancelled");
             setStage("solve", 0.0);
-            const auto t0 = Clock::now();
             SolverOptions solver = settings.solver;
             solver.progress = [this](int sweep, const std::vector<Rgb>& B) {
                 // At most ten updates a second reach the view.
@@ -102,9 +105,7 @@ struct AppState::Job {
                 hasIntermediate = true;
                 status.stage = "solve (sweep " + std::to_string(sweep) + ")";
             };
-            result = solveRadiosity(scene, *F, solver, warmStart.size() == scene.size() ? &warmStart : nullptr);
-            const std::string used = result.reports.empty() ? solverName(settings.solver.kind) : result.reports[0].solver;
-            timings.emplace_back("solve (" + used + ")", std::chrono::duration<double>(Clock::now() - t0).count());
+            result = radiosity.solve(scene, *F, solver, &warmStart);
         } catch (const std::exception& e) {
             error = e.what();
         }
@@ -325,9 +326,9 @@ void AppState::startJob(bool computeF) {
 
 void AppState::runPipeline() {
     if (!hasScene()) return;
-    bool needF = !m_F || m_fStale;
-    if (!needF)
-        for (PatchId i : neededRows(*m_scene, false)) needF |= !m_F->rowComputed(i);
+    FormFactorPolicy policy;
+    policy.backend = settings.formFactors;
+    const bool needF = !m_F || m_fStale || !RadiosityPipeline(policy, {}).missingRows(*m_scene, m_F.get()).empty();
     info(needF ? "running: form factors and solve" : "running: solve (form factors are current)");
     startJob(needF);
 }

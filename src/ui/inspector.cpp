@@ -4,7 +4,7 @@
 #include "engine/tone_map.hpp"
 #include "preprocess/backend_registry.hpp"
 #include "preprocess/hemicube/hemicube_layout.hpp"
-#include "preprocess/hemisphere/embree_scene.hpp"
+#include "rays/ray_scene.hpp"
 
 #include <cmath>
 

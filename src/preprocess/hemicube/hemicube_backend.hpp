@@ -5,7 +5,7 @@
 #include "preprocess/hemicube/hemicube_geometry.hpp"
 #include "preprocess/hemicube/hemicube_layout.hpp"
 #include "preprocess/hemicube/hemicube_options.hpp"
-#include "preprocess/hemisphere/embree_scene.hpp"
+#include "rays/ray_scene.hpp"
 
 #include <memory>
 

@@ -3,7 +3,8 @@
 
 #include "engine/error.hpp"
 #include "gl/shader_library.hpp"
-#include "preprocess/mirror_chain.hpp"
+#include "preprocess/form_factor_backend.hpp"
+#include "rays/mirror_chain.hpp"
 
 #include <chrono>
 #include <map>
@@ -240,7 +241,8 @@ void HemicubeRenderer::traceMirrorPixels(PatchId i, RowAccumulator& row, Hemicub
                 const RayScene::Hit hit = m_limits.rays->intersect(origin, dir);
                 // Rasteriser and ray may disagree at a mirror's edge: then the pixel stays as drawn.
                 if (hit.patch == RayScene::kNoHit || !(m_scene.patches[hit.patch].specular > 0.0)) continue;
-                followMirrorChain(m_scene, *m_limits.rays, origin, dir, hit.patch, hit.t, w[k], 1.0, limits, row, counts);
+                followMirrorChain(m_scene, *m_limits.rays, origin, dir, hit.patch, hit.t, w[k], 1.0, limits,
+                                  [&row](PatchId p, double weight) { row.addWeight(p, weight); }, counts);
             }
     }
     stats.portals += counts.bounces;

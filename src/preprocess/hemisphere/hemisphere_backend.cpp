@@ -9,7 +9,7 @@
 #include "preprocess/hemisphere/beckers.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
 #include "preprocess/hemisphere/point_polygon.hpp"
-#include "preprocess/mirror_chain.hpp"
+#include "rays/mirror_chain.hpp"
 #include "preprocess/row_accumulator.hpp"
 
 #include <omp.h>
@@ -228,7 +228,8 @@ void HemisphereBackend::castRays(PatchId i, Workspace& ws, RayCounts& counts) co
                 if constexpr (Direct) ws.row.addWeight(j, 1.0);
                 if (m_scene->patches[j].specular > 0.0)
                     followMirrorChain(*m_scene, *m_rays, lifted, Vec3(d[0], d[1], d[2]), j, ws.distances[k], 1.0,
-                                      rowWeight, {m_common.maxDepth, m_common.minWeight}, ws.row, counts);
+                                      rowWeight, {m_common.maxDepth, m_common.minWeight},
+                                      [&ws](PatchId p, double w) { ws.row.addWeight(p, w); }, counts);
             } else {
                 ws.row.addCount(j);
             }

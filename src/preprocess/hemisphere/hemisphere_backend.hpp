@@ -2,7 +2,7 @@
 #pragma once
 
 #include "preprocess/form_factor_backend.hpp"
-#include "preprocess/hemisphere/embree_scene.hpp"
+#include "rays/ray_scene.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
 

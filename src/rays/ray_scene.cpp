@@ -1,5 +1,5 @@
 // Embree 3 scene adapter: device with an error callback, one triangle geometry, closest-hit queries.
-#include "preprocess/hemisphere/embree_scene.hpp"
+#include "rays/ray_scene.hpp"
 
 #include "engine/error.hpp"
 

@@ -1,11 +1,27 @@
-// Mirror chains.
-#include "preprocess/mirror_chain.hpp"
+// Following a ray through its chain of mirror reflections (Sillion & Puech 1989), shared by the
+// hemisphere back end and the hemicube's ray-traced mirror variant.
+#pragma once
+
+#include "engine/scene.hpp"
+#include "rays/ray_scene.hpp"
+
+#include <cstdint>
 
 namespace hemirad {
 
+struct MirrorChainLimits {
+    std::uint32_t maxDepth = 8;
+    double minWeight = 1e-4;  ///< relative to the weight the chain started with
+};
+
+/// The ray origin + t dir has hit mirror patch `mirror` (its full weight already deposited there).
+/// Reflects it again and again: each patch reached gets deposit(patch, weight x the product of the
+/// s met); the chain ends on a diffuse patch, a miss or back face (lost), or at the limits (cut off).
+/// `weight` is in the deposit's units; `toRow` converts them to fractions of the row for `counts`,
+/// any struct with bounces, misses, backfaces, lostWeight and cutoffWeight (e.g. RayCounts).
+template <class Deposit, class Counts>
 void followMirrorChain(const Scene& scene, const RayScene& rays, Vec3 origin, Vec3 dir, PatchId mirror, float t,
-                       double weight, double toRow, const MirrorChainLimits& limits, RowAccumulator& row,
-                       RayCounts& counts) {
+                       double weight, double toRow, const MirrorChainLimits& limits, Deposit&& deposit, Counts& counts) {
     const double start = weight;
     for (std::uint32_t depth = 1;; ++depth) {
         const Patch& m = scene.patches[mirror];
@@ -30,7 +46,7 @@ void followMirrorChain(const Scene& scene, const RayScene& rays, Vec3 origin, Ve
             counts.lostWeight += weight * toRow;
             return;
         }
-        row.addWeight(hit.patch, weight);
+        deposit(hit.patch, weight);
         if (receiver.specular <= 0.0) return;
         mirror = hit.patch;
         t = hit.t;

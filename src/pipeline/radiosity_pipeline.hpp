@@ -1,0 +1,95 @@
+// The radiosity pipeline shared by every front end (hemirad, hemirad-gui, and later Python and the
+// MPI driver): load -> subdivide -> needed rows -> F (reuse, merge, memory check, reciprocity and
+// normalisation policy) -> solve -> vertex values. Front ends choose how to show its events.
+#pragma once
+
+#include "engine/form_factors.hpp"
+#include "engine/scene.hpp"
+#include "engine/solver.hpp"
+#include "engine/warnings.hpp"
+#include "preprocess/backend_registry.hpp"
+#include "preprocess/form_factor_job.hpp"
+
+#include <atomic>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hemirad {
+
+/// How F is made and post-processed.
+struct FormFactorPolicy {
+    MethodSettings backend = defaultSettings(formFactorBackends().front()->name);  ///< the back end and its options
+    bool allRows = false;             ///< also rows of black patches (skipped by default: B = E there)
+    bool enforceReciprocity = false;  ///< A_i F_ij = A_j F_ji by the pair's area-weighted mean
+    bool normalizeRows = false;       ///< every row to sum 1 (closed scenes without mirrors)
+    bool memoryCheck = true;          ///< refuse an F that would not fit the available memory
+};
+
+/// What a front end hears from the pipeline; every member may be empty. Called on the thread that
+/// runs the pipeline (progress about 10 times a second).
+struct PipelineEvents {
+    std::function<void(const std::string&)> message;                 ///< one line for the console or log
+    std::function<void(const std::string& stage, double seconds)> timing;
+    /// Progress of a form-factor computation: (label, work per row, its unit) -> callback.
+    std::function<ProgressCallback(const std::string&, double, const std::string&)> progress;
+    /// After rows were computed (before merging), with the run's counts and statistics.
+    std::function<void(const FormFactorRun&, const Scene&, const MethodSettings&)> formFactorsComputed;
+    /// After a post-process changed F (reciprocity): the new statistics.
+    std::function<void(const FormFactorStats&, std::size_t memoryBytes)> formFactorsChanged;
+    const std::atomic<bool>* cancel = nullptr;  ///< set to stop between rows ("form factors: cancelled")
+};
+
+/// The result of bringing F up to date.
+struct FormFactorUpdate {
+    FormFactors F;
+    std::size_t rowsComputed = 0;  ///< rows the back end computed (0: F was current)
+    bool changed = false;          ///< rows added or post-processing applied (a stored F is out of date)
+    FormFactorStats stats;         ///< of the returned F
+};
+
+class RadiosityPipeline {
+public:
+    RadiosityPipeline(FormFactorPolicy policy, PipelineEvents events);
+
+    const FormFactorPolicy& policy() const { return m_policy; }
+
+    /// Loads an OBJ (+MTL) and subdivides it to edges <= `subdivide` (0 = not at all). Throws hemirad::Error.
+    Scene load(const std::string& path, double subdivide, Warnings& warnings) const;
+
+    /// Rows the solve of `scene` needs (all with allRows) that `current` lacks (all without it).
+    std::vector<PatchId> missingRows(const Scene& scene, const FormFactors* current) const;
+
+    /// Checks what can be checked before any row is computed: the policy against the scene (row
+    /// normalisation with mirrors), the back end's options. Throws hemirad::Error.
+    void checkBeforeComputing(const Scene& scene) const;
+
+    /// Brings F up to date for `scene`: computes the missing rows (memory check first), merges them
+    /// into `current` (taken over; empty = none), then applies reciprocity and normalisation.
+    /// `current` must belong to `scene` (checkFormFactorsMatch). Throws hemirad::Error.
+    FormFactorUpdate updateFormFactors(const Scene& scene, FormFactors current = {}) const;
+
+    /// updateFormFactors with a stored F: reuses `path` when it exists and belongs to the scene
+    /// (unless `recompute`), stores the result there when it changed or did not exist. Files without
+    /// a Hemirad scene hash (foreign .mtx) are checked by size only and counted in `warnings`.
+    FormFactorUpdate formFactorsWithFile(const Scene& scene, const std::string& path, bool recompute,
+                                         Warnings& warnings) const;
+
+    /// Solves (I - R F) B = E per channel; `initial` warm-starts iterative solvers. "auto" picks the
+    /// solver for the scene (chooseSolver). Throws hemirad::Error unless solver.allowUnconverged.
+    Radiosity solve(const Scene& scene, const FormFactors& F, SolverOptions solver,
+                    const std::vector<Rgb>* initial = nullptr) const;
+
+private:
+    /// The missing rows merged into `current` (no post-processing).
+    FormFactorUpdate computeMissingRows(const Scene& scene, FormFactors current) const;
+    /// Reciprocity and normalisation as the policy asks.
+    void postProcess(const Scene& scene, FormFactorUpdate& update) const;
+    void message(const std::string& text) const;
+    void timing(const std::string& stage, double seconds) const;
+
+    FormFactorPolicy m_policy;
+    PipelineEvents m_events;
+};
+
+}  // namespace hemirad
