@@ -1,7 +1,7 @@
 // Issue #2 benchmark: hemirad's hemisphere F against a bare rtcIntersect1 loop casting the same rays
 // (same BVH build, origins, directions and rotations) that stores nothing; then every iterative solver.
 #include "engine/obj_loader.hpp"
-#include "engine/solver.hpp"
+#include "solve/solver.hpp"
 #include "engine/subdivide.hpp"
 #include "preprocess/form_factor_job.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
@@ -164,10 +164,9 @@ int main(int argc, char** argv) {
             if (r + 1 < repeat) continue;
             std::printf("best of %d (runs interleaved): bare %.3f s, hemirad %.3f s -> ratio %.3f\n", repeat, bestBare,
                         bestHemirad, bestHemirad / bestBare);
-            for (SolverKind kind : {SolverKind::Jacobi, SolverKind::GaussSeidel, SolverKind::Southwell, SolverKind::CG,
-                                    SolverKind::BiCGSTAB}) {
+            for (const std::string kind : {"jacobi", "gauss-seidel", "southwell", "cg", "bicgstab"}) {
                 SolverOptions so;
-                so.kind = kind;
+                so.solver = kind;
                 so.tolerance = 1e-6;
                 so.allowUnconverged = true;
                 const auto t0 = Clock::now();
@@ -182,7 +181,7 @@ int main(int argc, char** argv) {
                     residual = std::max(residual, rep.residualOriginal);
                 }
                 std::printf("solve %-13s %.3f s total (%zu distinct channel solves, %d iterations, residual on I-RF %.2e%s)\n",
-                            solverName(kind).c_str(), s, result.reports.size(), iterations, residual,
+                            kind.c_str(), s, result.reports.size(), iterations, residual,
                             converged ? "" : ", NOT converged");
             }
         }

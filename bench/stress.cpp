@@ -3,7 +3,8 @@
 // against the depth limit, extreme scales, and float against double accumulation.
 #include "engine/error.hpp"
 #include "engine/obj_loader.hpp"
-#include "engine/solver.hpp"
+#include "solve/solver.hpp"
+#include "solve/solver_registry.hpp"
 #include "engine/subdivide.hpp"
 #include "preprocess/form_factor_job.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
@@ -56,16 +57,16 @@ void solvers() {
     const FormFactors F = hemisphereF(s, 768);
     for (double rho : {0.9, 0.99, 0.999}) {
         furnace(s, rho);
-        for (SolverKind kind : {SolverKind::LU, SolverKind::Cholesky, SolverKind::CG, SolverKind::BiCGSTAB,
-                                SolverKind::Jacobi, SolverKind::GaussSeidel, SolverKind::Southwell}) {
+        for (const SolverDescriptor* solver : solverRegistry()) {
+            const std::string& kind = solver->name;
             SolverOptions o;
-            o.kind = kind;
+            o.solver = kind;
             o.tolerance = 1e-9;
             o.allowUnconverged = true;
             o.maxIterations = 200000;
             const auto t0 = Clock::now();
             const Radiosity r = solveRadiosity(s, F, o);
-            std::printf("| %.3f | %s | %s | %d | %.3f | %.2e |\n", rho, solverName(kind).c_str(),
+            std::printf("| %.3f | %s | %s | %d | %.3f | %.2e |\n", rho, kind.c_str(),
                         r.reports[0].converged ? "yes" : "NO", r.reports[0].iterations, since(t0), furnaceError(r, rho));
         }
     }
@@ -95,7 +96,7 @@ void closure() {
             double delta = 0.0;
             for (std::size_t i = 0; i < v.F->size(); ++i) delta = std::max(delta, std::abs(v.F->rowSum(i) - 1.0));
             SolverOptions o;
-            o.kind = SolverKind::GaussSeidel;
+            o.solver = "gauss-seidel";
             o.tolerance = 1e-10;
             o.maxIterations = 200000;
             try {

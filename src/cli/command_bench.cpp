@@ -183,10 +183,10 @@ int runBenchRun(const Options& o) {
     }
     t0 = Clock::now();
     SolverOptions solver = o.solver;
-    if (solver.kind == SolverKind::Auto) solver.kind = chooseSolver(scene.size(), scene);
+    if (solver.solver == "auto") solver.solver = chooseSolver(scene.size(), scene);
     const Radiosity B = solveRadiosity(scene, run.F, solver);
     r.set("t_solve", since(t0));
-    r.set("solver", solverName(solver.kind));
+    r.set("solver", solver.solver);
     int iterations = 0;
     for (const SolveReport& rep : B.reports) iterations = std::max(iterations, rep.iterations);
     r.set("solve_iterations", double(iterations));
@@ -265,7 +265,7 @@ int runBench(const Options& o) {
     if (!fs::exists(radiosityPath)) {
         const FormFactors reference = loadFormFactors(referencePath);
         SolverOptions tight = o.solver;
-        tight.kind = chooseSolver(scene.size(), scene);
+        tight.solver = chooseSolver(scene.size(), scene);
         tight.tolerance = 1e-10;
         saveRadiosity(solveRadiosity(scene, reference, tight).B, radiosityPath);
     }
@@ -278,7 +278,7 @@ int runBench(const Options& o) {
         auto args = [&](const MethodSettings& run) {
             std::vector<std::string> a = {self, "bench-run", scenePath, "--method", run.method, "--label", label,
                                           "--reference", referencePath, "--reference-radiosity", radiosityPath,
-                                          "--solver", solverName(o.solver.kind), "--tolerance", shortNumber(o.solver.tolerance)};
+                                          "--solver", o.solver.solver, "--tolerance", shortNumber(o.solver.tolerance)};
             if (o.subdivide > 0) {
                 // Full precision: a rounded edge length can subdivide into another scene.
                 char length[32];

@@ -1,6 +1,8 @@
 // Strict option parsing: each flag lists the commands that accept it; values are range-checked.
 #include "cli/options.hpp"
 
+#include "solve/solver_registry.hpp"
+
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -105,7 +107,8 @@ const std::map<std::string, Flag>& flags() {
         {"--solver", {kSolving, true,
                       [](Options& o, const std::string& f, const std::string& v) {
                           try {
-                              o.solver.kind = parseSolverKind(v);
+                              checkSolverName(v);
+                              o.solver.solver = v;
                           } catch (const Error& e) {
                               throw UsageError(f + ": " + e.what());
                           }
@@ -352,7 +355,7 @@ form factors (formfactors, solve, render):
                          create FILE when it does not exist
   --recompute-ff         (solve, render) recompute F and overwrite FILE
 )" + backendSections + R"(solve (solve, render):
-  --solver NAME          auto, lu, cholesky, cg, bicgstab, jacobi, gauss-seidel, southwell
+  --solver NAME          )" + solverNames() + R"( (auto: lu up to 2000 patches, else gauss-seidel)
   --tolerance T          relative residual to reach (default 1e-6)
   --max-iterations N     iteration limit (default 100000)
   --allow-unconverged    report an unconverged solve instead of failing

@@ -3,7 +3,7 @@
 
 #include "engine/error.hpp"
 #include "engine/scene.hpp"
-#include "engine/solver.hpp"
+#include "solve/solver.hpp"
 #include "preprocess/backend_registry.hpp"
 
 #include <optional>

@@ -1,7 +1,7 @@
 // Console output of the CLI: stage timings, a progress bar on a terminal, F and solver summaries.
 #pragma once
 
-#include "engine/solver.hpp"
+#include "solve/solver.hpp"
 #include "preprocess/backend_registry.hpp"
 #include "preprocess/form_factor_job.hpp"
 

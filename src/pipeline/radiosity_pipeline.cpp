@@ -161,10 +161,10 @@ FormFactorUpdate RadiosityPipeline::formFactorsWithFile(const Scene& scene, cons
 
 Radiosity RadiosityPipeline::solve(const Scene& scene, const FormFactors& F, SolverOptions solver,
                                    const std::vector<Rgb>* initial) const {
-    if (solver.kind == SolverKind::Auto) solver.kind = chooseSolver(scene.size(), scene);
+    if (solver.solver == "auto") solver.solver = chooseSolver(scene.size(), scene);
     const auto t0 = Clock::now();
     Radiosity result = solveRadiosity(scene, F, solver, initial && initial->size() == scene.size() ? initial : nullptr);
-    timing("solve (" + solverName(solver.kind) + ")", since(t0));
+    timing("solve (" + solver.solver + ")", since(t0));
     return result;
 }
 

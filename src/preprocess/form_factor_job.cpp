@@ -2,7 +2,7 @@
 #include "preprocess/form_factor_job.hpp"
 
 #include "engine/error.hpp"
-#include "engine/solver.hpp"
+#include "engine/memory.hpp"
 #include "preprocess/backend_registry.hpp"
 
 #include <algorithm>

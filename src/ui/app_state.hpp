@@ -5,7 +5,7 @@
 
 #include "engine/form_factors.hpp"
 #include "engine/scene.hpp"
-#include "engine/solver.hpp"
+#include "solve/solver.hpp"
 #include "preprocess/backend_registry.hpp"
 
 #include <atomic>

@@ -4,6 +4,7 @@
 #include "engine/atomic_file.hpp"
 #include "engine/error.hpp"
 #include "preprocess/backend_registry.hpp"
+#include "solve/solver_registry.hpp"
 
 #include <imgui.h>
 
@@ -16,7 +17,6 @@ namespace hemirad::ui {
 namespace {
 
 const char* kLayerNames[] = {"Radiosity", "Patch id", "Emission", "Diffuse reflectance", "Specular", "F row of selection"};
-const char* kSolvers[] = {"auto", "lu", "cholesky", "cg", "bicgstab", "jacobi", "gauss-seidel", "southwell"};
 
 std::string formatNumber(double v) {
     char text[32];
@@ -286,10 +286,14 @@ void Panels::pipelinePanel(AppState& app) {
     }
     int depth = int(st.formFactors.common.maxDepth);
     if (ImGui::InputInt("Mirror depth", &depth)) st.formFactors.common.maxDepth = std::uint32_t(std::clamp(depth, 0, 254));
-    int solver = 0;
-    for (int k = 0; k < 8; ++k)
-        if (solverName(st.solver.kind) == kSolvers[k]) solver = k;
-    if (ImGui::Combo("Solver", &solver, kSolvers, 8)) st.solver.kind = parseSolverKind(kSolvers[solver]);
+    if (ImGui::BeginCombo("Solver", st.solver.solver.c_str())) {
+        if (ImGui::Selectable("auto", st.solver.solver == "auto")) st.solver.solver = "auto";
+        for (const SolverDescriptor* d : solverRegistry()) {
+            if (ImGui::Selectable(d->name.c_str(), st.solver.solver == d->name)) st.solver.solver = d->name;
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", d->summary.c_str());
+        }
+        ImGui::EndCombo();
+    }
     float exponent = float(std::log10(st.solver.tolerance));
     if (ImGui::SliderFloat("log10 tolerance", &exponent, -12.0f, -2.0f, "%.0f")) st.solver.tolerance = std::pow(10.0, double(exponent));
     ImGui::Checkbox("Re-solve after edits", &app.autoResolve);

@@ -2,7 +2,8 @@
 #include "support.hpp"
 
 #include "engine/error.hpp"
-#include "engine/solver.hpp"
+#include "solve/solver.hpp"
+#include "solve/solver_registry.hpp"
 
 #include <doctest/doctest.h>
 
@@ -33,12 +34,17 @@ Scene cubeWith(double rho) {
     return s;
 }
 
-const SolverKind kAll[] = {SolverKind::LU,     SolverKind::Cholesky,    SolverKind::CG,       SolverKind::BiCGSTAB,
-                           SolverKind::Jacobi, SolverKind::GaussSeidel, SolverKind::Southwell};
+/// Every registered solver, by name.
+std::vector<std::string> allSolvers() {
+    std::vector<std::string> names;
+    for (const SolverDescriptor* d : solverRegistry()) names.push_back(d->name);
+    return names;
+}
+const std::vector<std::string> kAll = allSolvers();
 
-Radiosity solveWith(const Scene& s, const FormFactors& F, SolverKind kind, double tolerance = 1e-10) {
+Radiosity solveWith(const Scene& s, const FormFactors& F, const std::string& kind, double tolerance = 1e-10) {
     SolverOptions o;
-    o.kind = kind;
+    o.solver = kind;
     o.tolerance = tolerance;
     return solveRadiosity(s, F, o);
 }
@@ -55,9 +61,9 @@ TEST_CASE("Every solver reproduces the unit-cube table of physics.md") {
                          {0.99, 17.3622704726, 16.5274251277, 16.5275760999}};
     const FormFactors F = exactCubeF();
     for (const Row& row : table)
-        for (SolverKind kind : kAll) {
+        for (const std::string& kind : kAll) {
             CAPTURE(row.rho);
-            CAPTURE(solverName(kind));
+            CAPTURE(kind);
             const Radiosity r = solveWith(cubeWith(row.rho), F, kind);
             const double tol = 1e-6 / (1 - row.rho);
             CHECK(r.B[0][0] == doctest::Approx(row.floor).epsilon(tol));
@@ -76,8 +82,8 @@ TEST_CASE("Furnace: a closed box with uniform rho and E has B = E / (1 - rho) fo
         p.emission = Rgb(1, 2, 3);
     }
     const FormFactors F = exactCubeF();
-    for (SolverKind kind : kAll) {
-        CAPTURE(solverName(kind));
+    for (const std::string& kind : kAll) {
+        CAPTURE(kind);
         const Radiosity r = solveWith(s, F, kind);
         for (const Rgb& b : r.B) {
             // Float F rows sum to 1 within 1e-7: B is exact to that relative error / (1 - rho).
@@ -100,9 +106,9 @@ TEST_CASE("All solvers agree on one non-symmetric system, and the symmetric form
     s.patches[1].emission = Rgb(10, 8, 6);
     s.patches[4].emission = Rgb(0, 1, 2);
     const FormFactors F = exactCubeF();
-    const Radiosity lu = solveWith(s, F, SolverKind::LU, 1e-12);
-    for (SolverKind kind : kAll) {
-        CAPTURE(solverName(kind));
+    const Radiosity lu = solveWith(s, F, "lu", 1e-12);
+    for (const std::string& kind : kAll) {
+        CAPTURE(kind);
         const Radiosity r = solveWith(s, F, kind, 1e-11);
         for (int i = 0; i < 6; ++i)
             for (int c = 0; c < 3; ++c) CHECK(r.B[i][c] == doctest::Approx(lu.B[i][c]).epsilon(1e-8));
@@ -118,10 +124,10 @@ TEST_CASE("Cholesky and CG on a non-reciprocal F are not converged: the gate is 
             if (i != j) rows[i].push_back({j, float(((i ^ 1) == j ? kCubeOpposite : kCubeAdjacent) * (i == 0 ? 0.8 : 1.0))});
     const FormFactors F = FormFactors::fromRows(std::move(rows), std::vector<std::uint8_t>(6, 1));
     const Scene s = cubeWith(0.9);
-    for (SolverKind kind : {SolverKind::Cholesky, SolverKind::CG}) {
-        CAPTURE(solverName(kind));
+    for (const char* kind : {"cholesky", "cg"}) {
+        CAPTURE(kind);
         SolverOptions o;
-        o.kind = kind;
+        o.solver = kind;
         o.tolerance = 1e-8;
         CHECK_THROWS_WITH_AS(solveRadiosity(s, F, o), doctest::Contains("the residual on I - R F is"), Error);
         o.allowUnconverged = true;
@@ -132,7 +138,7 @@ TEST_CASE("Cholesky and CG on a non-reciprocal F are not converged: the gate is 
         CHECK(r.reports[0].residualOriginal > 1e-3);   // I - R F did not
     }
     // The unsymmetric solvers solve the posed system.
-    for (SolverKind kind : {SolverKind::LU, SolverKind::BiCGSTAB, SolverKind::GaussSeidel}) {
+    for (const char* kind : {"lu", "bicgstab", "gauss-seidel"}) {
         const Radiosity r = solveWith(s, F, kind, 1e-8);
         CHECK(r.reports[0].converged);
         CHECK(r.reports[0].residualOriginal < 1e-7);
@@ -148,22 +154,22 @@ TEST_CASE("Black patches (rho = 0) keep B = E and their rows need not be compute
     for (std::size_t i = 1; i < 6; ++i)
         for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) rows[i].push_back({F.columns()[k], F.values()[k]});
     const FormFactors skipped = FormFactors::fromRows(std::move(rows), {0, 1, 1, 1, 1, 1});
-    for (SolverKind kind : kAll) {
-        CAPTURE(solverName(kind));
+    for (const std::string& kind : kAll) {
+        CAPTURE(kind);
         const Radiosity full = solveWith(s, F, kind);
         const Radiosity partial = solveWith(s, skipped, kind);
         CHECK(partial.B[0][0] == doctest::Approx(2.0));
         for (int i = 0; i < 6; ++i) CHECK(partial.B[i][1] == doctest::Approx(full.B[i][1]).epsilon(1e-8));
     }
     s.patches[0].rho = Rgb(0.2, 0, 0);
-    CHECK_THROWS_WITH_AS(solveWith(s, skipped, SolverKind::GaussSeidel),
+    CHECK_THROWS_WITH_AS(solveWith(s, skipped, "gauss-seidel"),
                          doctest::Contains("row 0 of F was not computed"), Error);
 }
 
 TEST_CASE("rho = 1 in a closed scene is reported as singular, not solved") {
     const Scene s = cubeWith(1.0);
-    for (SolverKind kind : kAll) {
-        CAPTURE(solverName(kind));
+    for (const std::string& kind : kAll) {
+        CAPTURE(kind);
         CHECK_THROWS_WITH_AS(solveWith(s, exactCubeF(), kind), doctest::Contains("is singular"), Error);
     }
 }
@@ -171,7 +177,7 @@ TEST_CASE("rho = 1 in a closed scene is reported as singular, not solved") {
 TEST_CASE("An unconverged solve is an error unless allowed, and says so") {
     const Scene s = cubeWith(0.99);
     SolverOptions o;
-    o.kind = SolverKind::Jacobi;
+    o.solver = "jacobi";
     o.maxIterations = 5;
     CHECK_THROWS_WITH_AS(solveRadiosity(s, exactCubeF(), o), doctest::Contains("jacobi did not converge"), Error);
     o.allowUnconverged = true;
@@ -184,16 +190,16 @@ TEST_CASE("An unconverged solve is an error unless allowed, and says so") {
 
 TEST_CASE("Direct solvers refuse when the factorisation may exceed memory") {
     SolverOptions o;
-    o.kind = SolverKind::LU;
+    o.solver = "lu";
     o.memoryLimit = 100;  // bytes
     CHECK_THROWS_WITH_AS(solveRadiosity(cubeWith(0.5), exactCubeF(), o), doctest::Contains("use --solver cg"), Error);
 }
 
 TEST_CASE("A warm start from the solution converges at once") {
     const Scene s = cubeWith(0.9);
-    const Radiosity exact = solveWith(s, exactCubeF(), SolverKind::LU);
+    const Radiosity exact = solveWith(s, exactCubeF(), "lu");
     SolverOptions o;
-    o.kind = SolverKind::GaussSeidel;
+    o.solver = "gauss-seidel";
     o.tolerance = 1e-8;
     const Radiosity warm = solveRadiosity(s, exactCubeF(), o, &exact.B);
     CHECK(warm.reports[0].iterations <= 1);
@@ -201,19 +207,31 @@ TEST_CASE("A warm start from the solution converges at once") {
     CHECK(cold.reports[0].iterations > 20);
 }
 
-TEST_CASE("Solver names parse and print") {
-    for (SolverKind kind : kAll) CHECK(parseSolverKind(solverName(kind)) == kind);
-    CHECK(parseSolverKind("auto") == SolverKind::Auto);
-    CHECK_THROWS_WITH_AS(parseSolverKind("magic"), doctest::Contains("unknown solver 'magic'"), Error);
+TEST_CASE("The solver registry names every family's solvers, and unknown names are errors that list them") {
+    CHECK(kAll == std::vector<std::string>{"lu", "cholesky", "cg", "bicgstab", "jacobi", "gauss-seidel", "southwell"});
+    for (const std::string& kind : kAll) {
+        CHECK(findSolver(kind).name == kind);
+        CHECK_FALSE(findSolver(kind).summary.empty());
+        CHECK_NOTHROW(checkSolverName(kind));
+    }
+    CHECK(findSolver("cg").symmetricForm);
+    CHECK_FALSE(findSolver("bicgstab").symmetricForm);
+    CHECK_NOTHROW(checkSolverName("auto"));
+    CHECK_THROWS_WITH_AS(checkSolverName("magic"),
+                         doctest::Contains("unknown solver 'magic' (auto, lu, cholesky, cg, bicgstab, jacobi, gauss-seidel, southwell)"),
+                         Error);
+    SolverOptions o;
+    o.solver = "magic";
+    CHECK_THROWS_WITH_AS(solveRadiosity(cubeWith(0.5), exactCubeF(), o), doctest::Contains("unknown solver 'magic'"), Error);
 }
 
 TEST_CASE("Jacobi and Gauss-Seidel hand each sweep's radiosity to a progress callback") {
     const Scene s = cubeWith(0.9);
-    const Radiosity exact = solveWith(s, exactCubeF(), SolverKind::LU);
-    for (SolverKind kind : {SolverKind::Jacobi, SolverKind::GaussSeidel}) {
-        CAPTURE(solverName(kind));
+    const Radiosity exact = solveWith(s, exactCubeF(), "lu");
+    for (const char* kind : {"jacobi", "gauss-seidel"}) {
+        CAPTURE(kind);
         SolverOptions o;
-        o.kind = kind;
+        o.solver = kind;
         o.tolerance = 1e-9;
         std::vector<int> sweeps;
         std::vector<double> errors;

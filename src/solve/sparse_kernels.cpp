@@ -1,5 +1,5 @@
 // Kernels on the float CSR F: products, residuals and the transpose.
-#include "engine/solver_detail.hpp"
+#include "solve/solver_detail.hpp"
 
 namespace hemirad::detail {
 

@@ -1,9 +1,9 @@
-// Internals shared by the solver files: channels, sparse kernels on the float CSR F, the solver families.
+// Internals shared by the solver files: channels, sparse kernels on the float CSR F, the symmetric form.
 #pragma once
 
 #include "engine/form_factors.hpp"
 #include "engine/scene.hpp"
-#include "engine/solver.hpp"
+#include "solve/solver.hpp"
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -35,16 +35,6 @@ using Transposed = TransposedFormFactors;
 /// Called after each sweep with the channels' B already stored back (progressive display).
 using SweepHook = std::function<void(int sweep)>;
 
-/// Jacobi B <- E + R F B, all channels in one pass over F per sweep.
-void solveJacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options,
-                 const SweepHook& afterSweep = {});
-/// Gauss-Seidel sweeps in place, all channels in one pass over F.
-void solveGaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options,
-                      const SweepHook& afterSweep = {});
-/// Southwell iteration (progressive refinement shooting) for one channel.
-void solveSouthwell(const Scene& scene, const FormFactors& F, const Transposed& Ft, Channel& channel,
-                    const SolverOptions& options);
-
 using RowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 
 /// K = diag(A / rho) - sym(diag(A) F) on patches with rho > 0 (identity rows for black ones). The
@@ -64,21 +54,6 @@ private:
     std::vector<std::uint8_t> m_active;
     std::vector<int> m_diagonalAt;   ///< index of K_ii in the value array
     std::vector<double> m_self;      ///< A_i F_ii
-};
-
-/// The Eigen solvers for one reflectance vector: LU and BiCGSTAB on I - R F; Cholesky and CG on
-/// K = diag(A / rho) - sym(diag(A) F) with black patches moved to the right-hand side.
-class EigenSystem {
-public:
-    /// `symmetric` is needed for Cholesky and CG (else may be null) and must outlive this system.
-    EigenSystem(const Scene& scene, const FormFactors& F, SymmetricForm* symmetric, const Vector& rho,
-                SolverKind kind, const SolverOptions& options);
-    ~EigenSystem();
-    void solve(Channel& channel);
-
-private:
-    struct Impl;
-    std::unique_ptr<Impl> m_impl;
 };
 
 }  // namespace hemirad::detail

@@ -1,7 +1,8 @@
-// Radiosity solvers per RGB channel: (I - R F) B = E, direct (Eigen LU/Cholesky) or iterative.
+// Radiosity solve per RGB channel: (I - R F) B = E, by a solver from the registry (solver_registry.hpp).
 #pragma once
 
 #include "engine/form_factors.hpp"
+#include "engine/memory.hpp"
 #include "engine/scene.hpp"
 
 #include <functional>
@@ -10,14 +11,10 @@
 
 namespace hemirad {
 
-enum class SolverKind { Auto, LU, Cholesky, CG, BiCGSTAB, Jacobi, GaussSeidel, Southwell };
-
-/// "auto", "lu", "cholesky", "cg", "bicgstab", "jacobi", "gauss-seidel", "southwell".
-SolverKind parseSolverKind(const std::string& name);
-std::string solverName(SolverKind kind);
-
 struct SolverOptions {
-    SolverKind kind = SolverKind::Auto;
+    /// "auto" (chooseSolver) or the name of a registered solver (solverRegistry(): lu, cholesky, cg,
+    /// bicgstab, jacobi, gauss-seidel, southwell, ...).
+    std::string solver = "auto";
     double tolerance = 1e-6;          ///< relative residual ||E - (I - R F) B|| / ||E|| to reach
     int maxIterations = 100000;       ///< sweeps / iterations (Southwell: sweeps of N shots)
     bool allowUnconverged = false;    ///< else an unconverged solve throws hemirad::Error
@@ -51,9 +48,6 @@ Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverO
                          const std::vector<Rgb>* initial = nullptr);
 
 /// The solver "auto" picks for N patches and the given materials.
-SolverKind chooseSolver(std::size_t patches, const Scene& scene);
-
-/// Bytes of memory available to this process (MemAvailable), 0 if unknown.
-std::size_t availableMemory();
+std::string chooseSolver(std::size_t patches, const Scene& scene);
 
 }  // namespace hemirad

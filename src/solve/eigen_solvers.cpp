@@ -1,19 +1,34 @@
 // Eigen's solvers on Hemirad's systems: SparseLU and BiCGSTAB on I - R F; SimplicialLLT and
 // ConjugateGradient on the symmetric positive-definite K = diag(A / rho) - sym(diag(A) F).
 #include "engine/error.hpp"
-#include "engine/solver_detail.hpp"
+#include "solve/solver_detail.hpp"
+#include "solve/solver_registry.hpp"
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 
+#include <chrono>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 namespace hemirad::detail {
 namespace {
 
 using ColMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+enum class EigenKind { LU, Cholesky, CG, BiCGSTAB };
+
+const char* eigenName(EigenKind kind) {
+    switch (kind) {
+    case EigenKind::LU: return "lu";
+    case EigenKind::Cholesky: return "cholesky";
+    case EigenKind::CG: return "cg";
+    case EigenKind::BiCGSTAB: return "bicgstab";
+    }
+    return "?";
+}
 
 constexpr const char* kSymmetrisedNote = "F symmetrised for the SPD form: A_i F_ij -> (A_i F_ij + A_j F_ji) / 2";
 
@@ -136,18 +151,37 @@ const RowMatrix& SymmetricForm::matrixFor(const Vector& rho) {
     return m_K;
 }
 
+namespace {
+
+/// The Eigen solvers for one reflectance vector: LU and BiCGSTAB on I - R F; Cholesky and CG on
+/// K = diag(A / rho) - sym(diag(A) F) with black patches moved to the right-hand side.
+class EigenSystem {
+public:
+    /// `symmetric` is needed for Cholesky and CG (else may be null) and must outlive this system.
+    EigenSystem(const Scene& scene, const FormFactors& F, SymmetricForm* symmetric, const Vector& rho, EigenKind kind,
+                const SolverOptions& options);
+    ~EigenSystem();
+    void solve(Channel& channel);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace
+
 struct EigenSystem::Impl {
     const Scene& scene;
     const FormFactors& F;
     Vector rho;
-    SolverKind kind;
+    EigenKind kind;
     const SolverOptions& options;
     Eigen::SparseLU<ColMatrix> lu;
     Eigen::SimplicialLLT<ColMatrix> llt;
     RowMatrix system;               // I - R F for BiCGSTAB
     const RowMatrix* K = nullptr;   // the symmetric form for Cholesky residuals and CG
 
-    Impl(const Scene& s, const FormFactors& f, const Vector& r, SolverKind k, const SolverOptions& o)
+    Impl(const Scene& s, const FormFactors& f, const Vector& r, EigenKind k, const SolverOptions& o)
         : scene(s), F(f), rho(r), kind(k), options(o) {}
 
     /// b_i = A_i E_i / rho_i + A_i sum over black j of F_ij E_j (black patches: B = E, moved right).
@@ -171,12 +205,12 @@ struct EigenSystem::Impl {
 };
 
 EigenSystem::EigenSystem(const Scene& scene, const FormFactors& F, SymmetricForm* symmetric, const Vector& rho,
-                         SolverKind kind, const SolverOptions& options)
+                         EigenKind kind, const SolverOptions& options)
     : m_impl(std::make_unique<Impl>(scene, F, rho, kind, options)) {
     const double n = static_cast<double>(F.size());
-    if (kind == SolverKind::LU || kind == SolverKind::Cholesky) {
+    if (kind == EigenKind::LU || kind == EigenKind::Cholesky) {
         // Radiosity matrices are nearly dense once factored: budget for full fill-in.
-        const double factor = kind == SolverKind::LU ? 1.0 : 0.5;
+        const double factor = kind == EigenKind::LU ? 1.0 : 0.5;
         const double estimate = n * n * 8.0 * factor + 24.0 * static_cast<double>(F.nonZeros());
         std::size_t limit = options.memoryLimit;
         if (!limit) {
@@ -184,29 +218,29 @@ EigenSystem::EigenSystem(const Scene& scene, const FormFactors& F, SymmetricForm
             limit = available ? available / 10 * 8 : std::size_t(8) << 30;
         }
         if (estimate > static_cast<double>(limit)) {
-            throw Error("solver " + solverName(kind) + ": the factorisation of " + std::to_string(F.size()) +
+            throw Error(std::string("solver ") + eigenName(kind) + ": the factorisation of " + std::to_string(F.size()) +
                         " patches may need " + gib(estimate) + ", more than the " + gib(double(limit)) +
                         " available; use --solver cg, bicgstab or gauss-seidel");
         }
     }
     {
-        if (kind == SolverKind::LU) {
+        if (kind == EigenKind::LU) {
             m_impl->lu.compute(ColMatrix(systemMatrix(F, rho)));
             if (m_impl->lu.info() != Eigen::Success)
                 throw Error("solver lu: factorisation failed (" + m_impl->lu.lastErrorMessage() + "): I - R F is singular");
-        } else if (kind == SolverKind::Cholesky || kind == SolverKind::CG) {
+        } else if (kind == EigenKind::Cholesky || kind == EigenKind::CG) {
             if (!symmetric) throw Error("internal: the symmetric form is missing");
             m_impl->K = &symmetric->matrixFor(rho);
-            if (kind == SolverKind::Cholesky) {
+            if (kind == EigenKind::Cholesky) {
                 m_impl->llt.compute(ColMatrix(*m_impl->K));
                 if (m_impl->llt.info() != Eigen::Success)
                     throw Error("solver cholesky: K = diag(A/rho) - sym(A F) is not positive definite "
                                 "(rho >= 1, or F far from reciprocal); use --solver lu or bicgstab");
             }
-        } else if (kind == SolverKind::BiCGSTAB) {
+        } else if (kind == EigenKind::BiCGSTAB) {
             m_impl->system = systemMatrix(F, rho);
         } else {
-            throw Error("internal: " + solverName(kind) + " is not an Eigen solver");
+            throw Error(std::string("internal: ") + eigenName(kind) + " is not an Eigen solver");
         }
     }
 }
@@ -217,13 +251,13 @@ void EigenSystem::solve(Channel& ch) {
     Impl& s = *m_impl;
     SolveReport& report = ch.report;
     switch (s.kind) {
-    case SolverKind::LU:
+    case EigenKind::LU:
         ch.B = s.lu.solve(ch.E);
         report.converged = s.lu.info() == Eigen::Success;
         report.residual = relativeResidual(s.F, s.rho, ch.E, ch.B);
         report.converged = report.converged && std::isfinite(report.residual);
         break;
-    case SolverKind::Cholesky: {
+    case EigenKind::Cholesky: {
         const Vector b = s.symmetricRhs(ch.E);
         ch.B = s.llt.solve(b);
         report.converged = s.llt.info() == Eigen::Success;
@@ -231,7 +265,7 @@ void EigenSystem::solve(Channel& ch) {
         report.note = kSymmetrisedNote;
         break;
     }
-    case SolverKind::CG: {
+    case EigenKind::CG: {
         Eigen::ConjugateGradient<RowMatrix, Eigen::Lower | Eigen::Upper, Eigen::DiagonalPreconditioner<double>> cg;
         cg.setTolerance(s.options.tolerance);
         cg.setMaxIterations(s.options.maxIterations);
@@ -243,7 +277,7 @@ void EigenSystem::solve(Channel& ch) {
         report.note = kSymmetrisedNote;
         break;
     }
-    case SolverKind::BiCGSTAB: {
+    case EigenKind::BiCGSTAB: {
         Eigen::BiCGSTAB<RowMatrix, Eigen::DiagonalPreconditioner<double>> solver;
         solver.setTolerance(s.options.tolerance);
         solver.setMaxIterations(s.options.maxIterations);
@@ -258,4 +292,50 @@ void EigenSystem::solve(Channel& ch) {
     }
 }
 
+namespace {
+
+/// Direct factorisations (and the Krylov setups) are shared by channels with the same reflectance.
+void solveEigen(EigenKind kind, const SolveProblem& p, std::vector<Channel*>& active) {
+    using Clock = std::chrono::steady_clock;
+    for (std::size_t a = 0; a < active.size(); ++a) {
+        const auto t0 = Clock::now();
+        bool done = false;
+        for (std::size_t q = 0; q < a; ++q) done |= active[q]->rho == active[a]->rho;
+        if (done) continue;
+        EigenSystem system(p.scene, p.F, p.symmetric, active[a]->rho, kind, p.options);
+        for (std::size_t b = a; b < active.size(); ++b) {
+            if (active[b]->rho != active[a]->rho) continue;
+            system.solve(*active[b]);
+            active[b]->report.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        }
+    }
+}
+
+SolverDescriptor eigenSolver(EigenKind kind, std::string summary, bool symmetric) {
+    SolverDescriptor d;
+    d.name = eigenName(kind);
+    d.summary = std::move(summary);
+    d.symmetricForm = symmetric;
+    d.needsTranspose = symmetric;
+    d.solve = [kind](const SolveProblem& p, std::vector<Channel*>& active) { solveEigen(kind, p, active); };
+    return d;
+}
+
+}  // namespace
+
 }  // namespace hemirad::detail
+
+namespace hemirad {
+
+const std::vector<SolverDescriptor>& eigenSolvers() {
+    using detail::EigenKind;
+    static const std::vector<SolverDescriptor> family = {
+        detail::eigenSolver(EigenKind::LU, "Eigen SparseLU on I - R F (exact; the default up to 2000 patches)", false),
+        detail::eigenSolver(EigenKind::Cholesky, "Eigen SimplicialLLT on the symmetric form (needs a reciprocal F)", true),
+        detail::eigenSolver(EigenKind::CG, "conjugate gradients on the symmetric form (needs a reciprocal F)", true),
+        detail::eigenSolver(EigenKind::BiCGSTAB, "Eigen BiCGSTAB on I - R F, Jacobi preconditioner", false),
+    };
+    return family;
+}
+
+}  // namespace hemirad

@@ -1,8 +1,10 @@
 // Jacobi and Gauss-Seidel on all distinct channels at once (one pass over F serves up to three
 // right-hand sides), and Southwell progressive refinement (Cohen, Chen, Wallace & Greenberg 1988).
-#include "engine/solver_detail.hpp"
+#include "solve/solver_detail.hpp"
+#include "solve/solver_registry.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 namespace hemirad::detail {
@@ -159,8 +161,6 @@ void gaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, const So
     });
 }
 
-}  // namespace
-
 void solveJacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options,
                  const SweepHook& afterSweep) {
     switch (channels.size()) {
@@ -237,4 +237,49 @@ void solveSouthwell(const Scene& scene, const FormFactors& F, const Transposed& 
     ch.report.note = "iterations count sweeps of N shots";
 }
 
+/// Jacobi and Gauss-Seidel solve all channels in one pass over F a sweep.
+void solveTogether(void (*sweeps)(const FormFactors&, std::vector<Channel*>&, const SolverOptions&, const SweepHook&),
+                   const SolveProblem& p, std::vector<Channel*>& active) {
+    const auto start = std::chrono::steady_clock::now();
+    sweeps(p.F, active, p.options, p.afterSweep);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    for (Channel* ch : active) {
+        ch->report.seconds = seconds;
+        if (active.size() > 1) ch->report.note = "channels " + std::to_string(active.size()) + " solved together";
+    }
+}
+
+}  // namespace
+
 }  // namespace hemirad::detail
+
+namespace hemirad {
+
+const std::vector<SolverDescriptor>& stationarySolvers() {
+    using namespace detail;
+    static const std::vector<SolverDescriptor> family = [] {
+        std::vector<SolverDescriptor> solvers(3);
+        solvers[0].name = "jacobi";
+        solvers[0].summary = "Jacobi sweeps B <- E + R F B, all channels in one pass over F";
+        solvers[0].solve = [](const SolveProblem& p, std::vector<Channel*>& active) { solveTogether(solveJacobi, p, active); };
+        solvers[1].name = "gauss-seidel";
+        solvers[1].summary = "Gauss-Seidel sweeps in place, all channels in one pass over F (the default above 2000 patches)";
+        solvers[1].solve = [](const SolveProblem& p, std::vector<Channel*>& active) {
+            solveTogether(solveGaussSeidel, p, active);
+        };
+        solvers[2].name = "southwell";
+        solvers[2].summary = "Southwell iteration: progressive refinement, shooting the largest unshot power";
+        solvers[2].needsTranspose = true;
+        solvers[2].solve = [](const SolveProblem& p, std::vector<Channel*>& active) {
+            for (Channel* ch : active) {
+                const auto t0 = std::chrono::steady_clock::now();
+                solveSouthwell(p.scene, p.F, *p.Ft, *ch, p.options);
+                ch->report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            }
+        };
+        return solvers;
+    }();
+    return family;
+}
+
+}  // namespace hemirad

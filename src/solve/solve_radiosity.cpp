@@ -1,14 +1,14 @@
-// Radiosity solve: distinct channels, the singularity check, and dispatch to the solver families
-// (Eigen direct/Krylov in eigen_solvers.cpp, Jacobi/Gauss-Seidel/Southwell in iterative_solvers.cpp).
-#include "engine/solver.hpp"
+// Radiosity solve: distinct channels, the singularity check, dispatch to the registered solver
+// (solver_registry.hpp), and the convergence verdict on the system the user posed.
+#include "solve/solver.hpp"
 
 #include "engine/error.hpp"
-#include "engine/solver_detail.hpp"
+#include "solve/solver_detail.hpp"
+#include "solve/solver_registry.hpp"
 
 #include <algorithm>
-#include <chrono>
+
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -19,7 +19,6 @@ namespace {
 
 using detail::Channel;
 using detail::Vector;
-using Clock = std::chrono::steady_clock;
 
 const char* kChannelNames[3] = {"r", "g", "b"};
 
@@ -53,43 +52,10 @@ double spectralLowerBound(const FormFactors& F, const Vector& rho) {
 
 }  // namespace
 
-SolverKind parseSolverKind(const std::string& name) {
-    static const std::pair<const char*, SolverKind> names[] = {
-        {"auto", SolverKind::Auto},     {"lu", SolverKind::LU},           {"cholesky", SolverKind::Cholesky},
-        {"cg", SolverKind::CG},         {"bicgstab", SolverKind::BiCGSTAB}, {"jacobi", SolverKind::Jacobi},
-        {"gauss-seidel", SolverKind::GaussSeidel}, {"southwell", SolverKind::Southwell}};
-    for (const auto& [text, kind] : names)
-        if (name == text) return kind;
-    throw Error("unknown solver '" + name + "' (auto, lu, cholesky, cg, bicgstab, jacobi, gauss-seidel, southwell)");
-}
-
-std::string solverName(SolverKind kind) {
-    switch (kind) {
-    case SolverKind::Auto: return "auto";
-    case SolverKind::LU: return "lu";
-    case SolverKind::Cholesky: return "cholesky";
-    case SolverKind::CG: return "cg";
-    case SolverKind::BiCGSTAB: return "bicgstab";
-    case SolverKind::Jacobi: return "jacobi";
-    case SolverKind::GaussSeidel: return "gauss-seidel";
-    case SolverKind::Southwell: return "southwell";
-    }
-    return "?";
-}
-
-SolverKind chooseSolver(std::size_t patches, const Scene&) {
+std::string chooseSolver(std::size_t patches, const Scene&) {
     // Small systems: exact LU. Large ones: Gauss-Seidel on the unsymmetrised F, which converges for
     // any rho < 1 with row sums <= 1 (diagonally dominant I - R F) and serves RGB in one pass.
-    return patches <= 2000 ? SolverKind::LU : SolverKind::GaussSeidel;
-}
-
-std::size_t availableMemory() {
-    std::ifstream in("/proc/meminfo");
-    std::string key, unit;
-    std::size_t value = 0;
-    while (in >> key >> value >> unit)
-        if (key == "MemAvailable:") return value * 1024;
-    return 0;
+    return patches <= 2000 ? "lu" : "gauss-seidel";
 }
 
 Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverOptions& options,
@@ -104,7 +70,8 @@ Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverO
             throw Error("solve: row " + std::to_string(i) + " of F was not computed (the patch was black then) "
                         "but its reflectance is now > 0; recompute F or its missing rows");
     if (initial && initial->size() != n) throw Error("solve: warm start has the wrong size");
-    const SolverKind kind = options.kind == SolverKind::Auto ? chooseSolver(n, scene) : options.kind;
+    const std::string name = options.solver == "auto" ? chooseSolver(n, scene) : options.solver;
+    const SolverDescriptor& solver = findSolver(name);
 
     // Distinct channels: identical (rho, E) columns are solved once.
     std::vector<Channel> channels;
@@ -153,12 +120,12 @@ Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverO
 
     std::optional<detail::Transposed> Ft;
     std::optional<detail::SymmetricForm> symmetric;
-    if (kind == SolverKind::Cholesky || kind == SolverKind::CG || kind == SolverKind::Southwell) Ft = transpose(F);
-    if (kind == SolverKind::Cholesky || kind == SolverKind::CG) symmetric.emplace(scene, F, *Ft);
+    if (solver.needsTranspose || solver.symmetricForm) Ft = transpose(F);
+    if (solver.symmetricForm) symmetric.emplace(scene, F, *Ft);
 
     std::vector<Channel*> active;  // channels with emission; the others are B = 0
     for (Channel& ch : channels) {
-        ch.report.solver = solverName(kind);
+        ch.report.solver = solver.name;
         ch.report.channels = ch.names;
         if (ch.E.norm() == 0.0) {
             ch.B.setZero();
@@ -169,44 +136,15 @@ Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverO
         }
     }
     if (!active.empty()) {
-        const auto start = Clock::now();
-        if (kind == SolverKind::Jacobi || kind == SolverKind::GaussSeidel) {
-            // One pass over F per sweep serves every channel.
-            detail::SweepHook hook;
-            if (options.progress)
-                hook = [&](int sweep) {
-                    std::vector<Rgb> B(n);
-                    for (int c = 0; c < 3; ++c)
-                        for (std::size_t i = 0; i < n; ++i) B[i][c] = channels[channelOf[c]].B[i];
-                    options.progress(sweep, B);
-                };
-            if (kind == SolverKind::Jacobi) detail::solveJacobi(F, active, options, hook);
-            else detail::solveGaussSeidel(F, active, options, hook);
-            const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-            for (Channel* ch : active) {
-                ch->report.seconds = seconds;
-                if (active.size() > 1) ch->report.note = "channels " + std::to_string(active.size()) + " solved together";
-            }
-        } else {
-            // Direct factorisations are shared by channels with the same reflectance.
-            for (std::size_t a = 0; a < active.size(); ++a) {
-                const auto t0 = Clock::now();
-                if (kind == SolverKind::Southwell) {
-                    detail::solveSouthwell(scene, F, *Ft, *active[a], options);
-                    active[a]->report.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-                    continue;
-                }
-                bool done = false;
-                for (std::size_t p = 0; p < a; ++p) done |= active[p]->rho == active[a]->rho;
-                if (done) continue;
-                detail::EigenSystem system(scene, F, symmetric ? &*symmetric : nullptr, active[a]->rho, kind, options);
-                for (std::size_t b = a; b < active.size(); ++b) {
-                    if (active[b]->rho != active[a]->rho) continue;
-                    system.solve(*active[b]);
-                    active[b]->report.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-                }
-            }
-        }
+        SolveProblem problem{scene, F, options, Ft ? &*Ft : nullptr, symmetric ? &*symmetric : nullptr, {}};
+        if (options.progress)
+            problem.afterSweep = [&](int sweep) {
+                std::vector<Rgb> B(n);
+                for (int c = 0; c < 3; ++c)
+                    for (std::size_t i = 0; i < n; ++i) B[i][c] = channels[channelOf[c]].B[i];
+                options.progress(sweep, B);
+            };
+        solver.solve(problem, active);
     }
 
     Radiosity result;
@@ -221,7 +159,7 @@ Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverO
         // Cholesky and CG solve the symmetrised K: their own residual says nothing about I - R F when
         // F is not reciprocal. Converged means converged on the system the user posed.
         const double originalLimit = std::max(kSymmetricGateFactor * options.tolerance, kFloatResidualFloor);
-        if (symmetric && r.converged && !(r.residualOriginal <= originalLimit)) {
+        if (solver.symmetricForm && r.converged && !(r.residualOriginal <= originalLimit)) {
             std::ostringstream note;
             note << "the symmetrised system converged (residual " << r.residual << ") but the residual on I - R F is "
                  << r.residualOriginal << " > " << originalLimit
