@@ -1,0 +1,158 @@
+// The library pipeline every front end calls: checks before work, missing rows only, the
+// reciprocity and normalisation policy on a non-reciprocal F, and a mirror scene's radiosity
+// against its closed-form two-patch solution.
+#include "support.hpp"
+
+#include "engine/error.hpp"
+#include "engine/subdivide.hpp"
+#include "pipeline/radiosity_pipeline.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+namespace {
+
+/// A pipeline that records what it did.
+struct Recorder {
+    std::vector<std::string> messages;
+    int computations = 0;
+    std::size_t rowsComputed = 0;
+    PipelineEvents events() {
+        PipelineEvents e;
+        e.message = [this](const std::string& m) { messages.push_back(m); };
+        e.formFactorsComputed = [this](const FormFactorRun& run, const Scene&, const MethodSettings&) {
+            ++computations;
+            rowsComputed += run.rowsComputed;
+        };
+        return e;
+    }
+};
+
+/// The unit cube with a non-reciprocal F: row 0 scaled by 0.8 (every row computed).
+FormFactors skewedCubeF() {
+    std::vector<std::vector<FormFactors::Entry>> rows(6);
+    for (std::uint32_t i = 0; i < 6; ++i)
+        for (std::uint32_t j = 0; j < 6; ++j)
+            if (i != j) rows[i].push_back({j, float(((i ^ 1) == j ? kCubeOpposite : kCubeAdjacent) * (i == 0 ? 0.8 : 1.0))});
+    return FormFactors::fromRows(std::move(rows), std::vector<std::uint8_t>(6, 1));
+}
+
+}  // namespace
+
+TEST_CASE("The pipeline refuses --normalize-rows with mirrors before any row is computed") {
+    Recorder recorder;
+    FormFactorPolicy policy;
+    policy.normalizeRows = true;
+    const RadiosityPipeline pipeline(policy, recorder.events());
+    const Scene mirrors = bundledScene("mirror_pair.obj");
+    CHECK_THROWS_WITH_AS(pipeline.updateFormFactors(mirrors), doctest::Contains("the scene has mirrors"), Error);
+    CHECK(recorder.computations == 0);
+    CHECK_NOTHROW(pipeline.checkBeforeComputing(unitCube()));
+}
+
+TEST_CASE("The pipeline computes only the rows F lacks and keeps the others as they were") {
+    Scene s = subdivide(unitCube(), 0.5);  // 24 patches
+    for (PatchId i = 0; i < 4; ++i) s.patches[i].rho = Rgb::Zero();  // black: rows skipped
+    Recorder recorder;
+    HemisphereOptions h;
+    h.estimator = Estimator::Rays;
+    h.samples = 256;
+    FormFactorPolicy policy;
+    policy.backend = MethodSettings::of(h);
+    const RadiosityPipeline pipeline(policy, recorder.events());
+    FormFactorUpdate first = pipeline.updateFormFactors(s);
+    CHECK(first.rowsComputed == 20);
+    CHECK(first.F.computedRows() == 20);
+    CHECK(pipeline.missingRows(s, &first.F).empty());
+    const FormFactors before = first.F;
+
+    s.patches[2].rho = Rgb::Constant(0.5);  // a black patch becomes reflective: its row is needed
+    REQUIRE(pipeline.missingRows(s, &first.F) == std::vector<PatchId>{2});
+    const FormFactorUpdate second = pipeline.updateFormFactors(s, std::move(first.F));
+    CHECK(second.rowsComputed == 1);
+    CHECK(recorder.computations == 2);
+    CHECK(second.F.rowComputed(2));
+    CHECK_FALSE(second.F.rowComputed(0));
+    for (PatchId i = 4; i < s.size(); ++i)
+        for (PatchId j = 0; j < s.size(); ++j) CHECK(second.F.at(i, j) == before.at(i, j));
+    CHECK(second.F.parameters.at("rows_added").find("1 with hemisphere") == 0);
+    // Nothing missing: nothing computed, F returned as it was.
+    const FormFactorUpdate third = pipeline.updateFormFactors(s, second.F);
+    CHECK(third.rowsComputed == 0);
+    CHECK_FALSE(third.changed);
+}
+
+TEST_CASE("--enforce-reciprocity and --normalize-rows on a non-reciprocal F: A_i F_ij = A_j F_ji, then rows sum to 1") {
+    const Scene s = unitCube();  // equal areas: reciprocity is symmetry
+    const FormFactors skewed = skewedCubeF();
+    REQUIRE(skewed.at(0, 2) != skewed.at(2, 0));
+
+    FormFactorPolicy reciprocal;
+    reciprocal.enforceReciprocity = true;
+    const FormFactorUpdate r = RadiosityPipeline(reciprocal, {}).updateFormFactors(s, skewed);
+    CHECK(r.rowsComputed == 0);
+    CHECK(r.changed);
+    for (PatchId i = 0; i < 6; ++i)
+        for (PatchId j = 0; j < 6; ++j) CHECK(r.F.at(i, j) == doctest::Approx(r.F.at(j, i)).epsilon(1e-7));
+    // Each pair becomes the mean: F_02 = (0.8 a + a) / 2.
+    CHECK(r.F.at(0, 2) == doctest::Approx(0.9 * kCubeAdjacent).epsilon(1e-6));
+    CHECK(r.stats.reciprocityMax < 1e-6);
+    CHECK(r.F.parameters.at("reciprocity") == "enforced");
+    // Averaging broke closure: row 0 sums to 0.9, the others to 1 - 0.1 a or 1 - 0.1 o.
+    CHECK(r.F.rowSum(0) == doctest::Approx(0.9).epsilon(1e-6));
+
+    FormFactorPolicy both = reciprocal;
+    both.normalizeRows = true;
+    const FormFactorUpdate n = RadiosityPipeline(both, {}).updateFormFactors(s, skewed);
+    for (PatchId i = 0; i < 6; ++i) CHECK(n.F.rowSum(i) == doctest::Approx(1.0).epsilon(1e-6));
+    CHECK(n.F.parameters.at("rows") == "normalised to sum 1");
+    // Normalisation alone restores closure on the skewed row and keeps the reciprocity gap.
+    FormFactorPolicy normalise;
+    normalise.normalizeRows = true;
+    const FormFactorUpdate only = RadiosityPipeline(normalise, {}).updateFormFactors(s, skewed);
+    CHECK(only.F.rowSum(0) == doctest::Approx(1.0).epsilon(1e-6));
+    CHECK(only.F.at(0, 2) == doctest::Approx(kCubeAdjacent).epsilon(1e-6));
+}
+
+TEST_CASE("Two patches under a mirror: radiosity matches the closed-form 2 x 2 solution of the image method") {
+    // P1 = [0,1]^2 and P2 = [1,2]x[0,1] on z = 0 facing +z, a mirror [0,2]x[0,1] at z = 0.5 facing -z
+    // covering every path between them (s = 0.9, no diffuse part). Through the mirror each patch sees
+    // its own image and its neighbour's (Sillion & Puech; docs/physics.md): F11 = F22 = s C11(1,1,1),
+    // F12 = F21 = s (C11(2,1,1) - C11(1,1,1)); no direct exchange.
+    const double sMirror = 0.9;
+    SceneBuilder b;
+    const std::uint32_t emitter = b.material("emitter", Rgb::Constant(0.6), Rgb(10, 5, 1));
+    const std::uint32_t plain = b.material("plain", Rgb::Constant(0.4));
+    const std::uint32_t mirror = b.material("mirror", Rgb::Zero(), Rgb::Zero(), sMirror);
+    b.rectangle(2, 0, 0, 1, 0, 1, true, emitter);
+    b.rectangle(2, 0, 1, 2, 0, 1, true, plain);
+    b.rectangle(2, 0.5, 0, 2, 0, 1, false, mirror);
+    const double self = sMirror * c11(1, 1, 1), cross = sMirror * (c11(2, 1, 1) - c11(1, 1, 1));
+    // (1 - rho1 F11) B1 - rho1 F12 B2 = E1;  -rho2 F21 B1 + (1 - rho2 F22) B2 = E2 (E2 = 0).
+    const double a11 = 1 - 0.6 * self, a12 = -0.6 * cross, a21 = -0.4 * cross, a22 = 1 - 0.4 * self;
+    const double det = a11 * a22 - a12 * a21;
+
+    HemisphereOptions h;
+    h.estimator = Estimator::Rays;  // the mirror terms ride the rays
+    h.samples = 16384;
+    h.origins = 64;
+    FormFactorPolicy policy;
+    policy.backend = MethodSettings::of(h);
+    const RadiosityPipeline pipeline(policy, {});
+    const FormFactorUpdate F = pipeline.updateFormFactors(b.scene);
+    CHECK(F.F.at(0, 1) == doctest::Approx(cross).epsilon(3e-3));
+    CHECK(F.F.at(0, 0) == doctest::Approx(self).epsilon(3e-3));
+    SolverOptions lu;
+    lu.solver = "lu";
+    const Radiosity B = pipeline.solve(b.scene, F.F, lu);
+    for (int c = 0; c < 3; ++c) {
+        const double E1 = b.scene.patches[0].emission[c];
+        CAPTURE(c);
+        CHECK(B.B[0][c] == doctest::Approx(E1 * a22 / det).epsilon(1e-3));
+        CHECK(B.B[1][c] == doctest::Approx(-E1 * a21 / det).epsilon(3e-3));
+        CHECK(B.B[2][c] == 0.0);  // the mirror has no diffuse part: B = E = 0
+    }
+}
