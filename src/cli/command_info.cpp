@@ -30,10 +30,15 @@ int runInfo(const Options& options) {
               << F.size() - F.computedRows() << ")\n  nonzeros " << F.nonZeros() << " ("
               << (rows ? double(F.nonZeros()) / rows : 0.0) << " per computed row), in memory "
               << F.memoryBytes() / 1048576.0 << " MiB, file " << info.fileBytes / 1048576.0 << " MiB\n"
-              << "  scene hash " << hexHash(F.sceneHash) << '\n';
+              << "  scene hash " << (F.provenance.sceneHashKnown ? hexHash(F.sceneHash) : std::string("unknown (a foreign file: only the size is checked)")) << '\n';
+    const FormFactorProvenance& p = F.provenance;
+    std::cout << "  method " << (p.method.empty() ? "unknown" : p.method);
+    if (!p.estimator.empty()) std::cout << ", estimator " << p.estimator;
+    std::cout << "; row sums bounded by " << p.rowSumBound << (p.rowSumBound > 1.0 ? " (mirror chains)" : "") << '\n';
     if (rows) std::cout << "  row sums min " << lo << " mean " << sum / rows << " max " << hi << '\n';
     if (diagonal) std::cout << "  " << diagonal << " rows with F_ii > 0 (patches that see their mirror image)\n";
-    for (const auto& [key, value] : F.parameters) std::cout << "  " << key << " = " << value << '\n';
+    for (const auto& [key, value] : withProvenance(F.provenance, F.parameters))
+        std::cout << "  " << key << " = " << value << '\n';
     return 0;
 }
 

@@ -83,7 +83,7 @@ private:
 
 std::string parameterText(const FormFactors& F) {
     std::string text;
-    for (const auto& [key, value] : F.parameters) text += key + "=" + value + "\n";
+    for (const auto& [key, value] : withProvenance(F.provenance, F.parameters)) text += key + "=" + value + "\n";
     return text;
 }
 
@@ -259,6 +259,7 @@ FormFactors readHff(HffReader& r, const std::string& path) {
     FormFactors F = FormFactors::fromCsr(std::move(rowStart), std::move(columns), std::move(values), std::move(computed));
     F.sceneHash = info.sceneHash;
     F.parameters = info.parameters;
+    F.provenance = takeProvenance(F.parameters, path);
     validateFormFactors(F, n, path, rowSumBound(F));
     return F;
 }
@@ -287,7 +288,8 @@ void saveMtx(const FormFactors& F, const std::string& path) {
     out << "%%MatrixMarket matrix coordinate real general\n"
         << "% Hemirad form factors: row i = emitting patch, column j = receiving patch, value F_ij (1-based)\n"
         << "% hemirad scene_hash " << hexHash(F.sceneHash) << '\n';
-    for (const auto& [key, value] : F.parameters) out << "% hemirad param " << key << ' ' << value << '\n';
+    for (const auto& [key, value] : withProvenance(F.provenance, F.parameters))
+        out << "% hemirad param " << key << ' ' << value << '\n';
     appendRanges(out, F);
     out << F.size() << ' ' << F.size() << ' ' << F.nonZeros() << '\n';
     // Each line fits in 60 characters (two 20-digit integers, a shortest-round-trip float).
@@ -410,7 +412,8 @@ FormFactors parseMtx(const std::string& path, std::string_view text) {
     FormFactors F = FormFactors::fromCsr(std::move(rowStart), std::move(columns), std::move(values), std::move(computed));
     F.sceneHash = header.sceneHash;
     F.parameters = header.parameters;
-    if (!haveHash) F.parameters["scene_hash"] = "unknown";
+    F.provenance = takeProvenance(F.parameters, path);
+    if (!haveHash) F.provenance.sceneHashKnown = false;  // a foreign .mtx: only its size can be checked
     validateFormFactors(F, n, path, rowSumBound(F));
     return F;
 }
@@ -476,8 +479,7 @@ void checkFormFactorsMatch(const FormFactors& F, std::uint64_t sceneHash, std::s
     if (F.size() != patchCount)
         throw Error(path, 0, "F has " + std::to_string(F.size()) + " patches but the scene has " +
                                  std::to_string(patchCount) + ": it was computed for another scene");
-    auto unknown = F.parameters.find("scene_hash");
-    if (unknown != F.parameters.end() && unknown->second == "unknown") return;  // foreign .mtx: size checked only
+    if (!F.provenance.sceneHashKnown) return;  // foreign .mtx: size checked only
     if (F.sceneHash != sceneHash)
         throw Error(path, 0, "F was computed for another scene (scene hash " + hexHash(F.sceneHash) + ", this scene " +
                                  hexHash(sceneHash) + "): geometry or mirror reflectance changed; recompute it");

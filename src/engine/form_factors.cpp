@@ -79,8 +79,10 @@ void FormFactors::replaceRows(const FormFactors& other) {
     }
     const std::uint64_t hash = sceneHash;
     auto params = parameters;
+    const FormFactorProvenance kept = provenance;
     *this = fromRows(std::move(rows), std::move(computed));
     sceneHash = hash;
+    provenance = kept;
     parameters = std::move(params);
 }
 
@@ -187,8 +189,10 @@ std::size_t enforceReciprocity(FormFactors& F, const Scene& scene) {
     }
     const std::uint64_t hash = F.sceneHash;
     auto params = F.parameters;
+    const FormFactorProvenance provenance = F.provenance;
     F = FormFactors::fromRows(std::move(rows), F.computedFlags());
     F.sceneHash = hash;
+    F.provenance = provenance;
     F.parameters = std::move(params);
     F.parameters["reciprocity"] = "enforced";
     return changed;
@@ -208,17 +212,54 @@ double normalizeRows(FormFactors& F) {
     return worst;
 }
 
-double rowSumBound(const FormFactors& F) {
-    double bound = 1.0;
-    const auto it = F.parameters.find("row_sum_bound");
-    if (it != F.parameters.end()) {
+double rowSumBound(const FormFactors& F) { return F.provenance.rowSumBound + 1e-3; }
+
+namespace {
+
+/// The estimator's kind: the value's first word ("analytic: Lambert ..." -> "analytic").
+std::string estimatorKind(const std::string& text) { return text.substr(0, text.find_first_of(": ")); }
+
+}  // namespace
+
+FormFactorProvenance takeProvenance(std::map<std::string, std::string>& parameters, const std::string& source) {
+    FormFactorProvenance p;
+    if (auto it = parameters.find("method"); it != parameters.end()) {
+        p.method = it->second;
+        parameters.erase(it);
+    }
+    if (auto it = parameters.find("estimator"); it != parameters.end()) {
+        p.estimator = estimatorKind(it->second);
+        if (it->second == p.estimator) parameters.erase(it);  // no description beyond the kind
+    }
+    if (auto it = parameters.find("row_sum_bound"); it != parameters.end()) {
         char* end = nullptr;
         const double value = std::strtod(it->second.c_str(), &end);
-        if (*end != '\0' || !(value >= 1.0) || !std::isfinite(value))
-            throw Error("form factors: bad parameter row_sum_bound '" + it->second + "'");
-        bound = value;
+        if (it->second.empty() || *end != '\0' || !std::isfinite(value) || value < 1.0)
+            throw Error(source, 0, "bad parameter row_sum_bound '" + it->second + "' (a number >= 1)");
+        p.rowSumBound = value;
+        parameters.erase(it);
     }
-    return bound + 1e-3;
+    if (auto it = parameters.find("scene_hash"); it != parameters.end()) {
+        if (it->second != "unknown") throw Error(source, 0, "bad parameter scene_hash '" + it->second + "' (only 'unknown')");
+        p.sceneHashKnown = false;
+        parameters.erase(it);
+    }
+    return p;
+}
+
+std::map<std::string, std::string> withProvenance(const FormFactorProvenance& provenance,
+                                                  std::map<std::string, std::string> parameters) {
+    if (!provenance.method.empty()) parameters["method"] = provenance.method;
+    if (!provenance.estimator.empty()) {
+        auto it = parameters.find("estimator");
+        if (it == parameters.end() || estimatorKind(it->second) != provenance.estimator)
+            parameters["estimator"] = provenance.estimator;
+    }
+    char bound[32];
+    std::snprintf(bound, sizeof bound, "%.9g", provenance.rowSumBound);
+    parameters["row_sum_bound"] = bound;
+    if (!provenance.sceneHashKnown) parameters["scene_hash"] = "unknown";
+    return parameters;
 }
 
 void validateFormFactors(const FormFactors& F, std::size_t patchCount, const std::string& source,

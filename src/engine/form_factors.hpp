@@ -12,6 +12,32 @@ namespace hemirad {
 
 class Scene;
 
+/// How an F was computed, typed. F files keep it under parameter keys that people read too:
+/// method, estimator (its first word; the rest describes the estimator), row_sum_bound, and
+/// scene_hash=unknown for a file without a Hemirad scene hash.
+struct FormFactorProvenance {
+    std::string method;          ///< the back end; "" when the file does not say (foreign .mtx)
+    std::string estimator;       ///< "rays", "analytic", ...; "" when the method has no estimator choice
+    /// The largest row sum the method allows: 1, or more with mirror chains (a ray deposits its weight
+    /// on every patch of its chain: up to 1 + s + ... + s^depth, Sillion & Puech 1989).
+    double rowSumBound = 1.0;
+    bool sceneHashKnown = true;  ///< false: only the patch count can be checked against a scene
+
+    bool operator==(const FormFactorProvenance& o) const {
+        return method == o.method && estimator == o.estimator && rowSumBound == o.rowSumBound &&
+               sceneHashKnown == o.sceneHashKnown;
+    }
+};
+
+/// The provenance stored in `parameters`, which loses those keys (the text that describes the
+/// estimator stays). Missing keys give the defaults (old files still load). Throws hemirad::Error
+/// naming `source` for a value that does not parse (a row_sum_bound that is not a number >= 1).
+FormFactorProvenance takeProvenance(std::map<std::string, std::string>& parameters, const std::string& source);
+
+/// `parameters` with the provenance written into its keys, as F files store them.
+std::map<std::string, std::string> withProvenance(const FormFactorProvenance& provenance,
+                                                  std::map<std::string, std::string> parameters);
+
 /// F(i, j) = fraction of the power leaving patch i diffusely that arrives at patch j (directly or,
 /// with mirrors, through chains of specular reflections; Sillion & Puech 1989).
 /// Memory: 8 bytes per nonzero + 9 bytes per row.
@@ -41,9 +67,11 @@ public:
     /// F(i, j) by binary search in row i (columns are sorted); 0 when absent.
     double at(std::size_t i, std::size_t j) const;
 
-    /// Scene hash (geometry + specular) this F belongs to, and how it was computed.
+    /// Scene hash (geometry + specular) this F belongs to, and how it was computed: typed, and the
+    /// back end's parameters as text for people ("samples", "origins", "estimator", ...).
     std::uint64_t sceneHash = 0;
-    std::map<std::string, std::string> parameters;  ///< "method", "samples", ... (text, stored in files)
+    FormFactorProvenance provenance;
+    std::map<std::string, std::string> parameters;
 
     /// Builds from per-row entry lists (columns sorted, unique); rows with computed[i] == 0 must be empty.
     static FormFactors fromRows(std::vector<std::vector<Entry>>&& rows, std::vector<std::uint8_t> computed);
@@ -119,8 +147,7 @@ double normalizeRows(FormFactors& F);
 void validateFormFactors(const FormFactors& F, std::size_t patchCount, const std::string& source,
                          double maxRowSum);
 
-/// The largest row sum F may have: parameters["row_sum_bound"] (written by the back ends), else 1;
-/// plus a tolerance of 1e-3 for float accumulation.
+/// The largest row sum F may have: its provenance's bound plus a tolerance of 1e-3 for float accumulation.
 double rowSumBound(const FormFactors& F);
 
 }  // namespace hemirad

@@ -82,7 +82,7 @@ FormFactorUpdate RadiosityPipeline::computeMissingRows(const Scene& scene, FormF
         update.changed = true;
         if (haveCurrent) {
             current.replaceRows(run.F);
-            current.parameters["rows_added"] = std::to_string(rows.size()) + " with " + run.F.parameters["method"] +
+            current.parameters["rows_added"] = std::to_string(rows.size()) + " with " + run.F.provenance.method +
                                                " samples=" + run.F.parameters["samples"] + " origins=" +
                                                run.F.parameters["origins"];
             update.F = std::move(current);
@@ -134,7 +134,7 @@ FormFactorUpdate RadiosityPipeline::formFactorsWithFile(const Scene& scene, cons
         current = loadFormFactors(path);
         timing("load F", since(t0));
         checkFormFactorsMatch(current, scene.geometryHash(), scene.size(), path);
-        if (current.parameters.count("scene_hash"))
+        if (!current.provenance.sceneHashKnown)
             warnings.add("unverified F files", path + ": has no Hemirad scene hash; only its size (" +
                                                    std::to_string(current.size()) + " patches) could be checked");
         message("form factors: reused " + path + " (" + std::to_string(current.computedRows()) +

@@ -51,14 +51,12 @@ std::map<std::string, double> FormFactorBuilder::stageSeconds() const {
 
 FormFactors FormFactorBuilder::finish() { return FormFactors::fromRows(std::move(m_rows), std::move(m_computed)); }
 
-std::string rowSumBoundText(const Scene& scene, std::uint32_t maxDepth, double minWeight) {
+double extendedRowSumBound(const Scene& scene, std::uint32_t maxDepth, double minWeight) {
     double sMax = 0.0;
     for (const Patch& p : scene.patches) sMax = std::max(sMax, p.specular);
     double bound = 1.0, term = 1.0;
     for (std::uint32_t d = 0; d < maxDepth && sMax > 0.0 && term >= minWeight; ++d) bound += term *= sMax;
-    char text[32];
-    std::snprintf(text, sizeof text, "%.9g", bound);
-    return text;
+    return bound;
 }
 
 }  // namespace hemirad

@@ -96,13 +96,15 @@ public:
     virtual void prepare(const Scene& scene) = 0;
     /// Fills the listed rows (parallel inside). Throws hemirad::Error.
     virtual void computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) = 0;
-    /// Method and parameters recorded with F ("method", "samples", ...).
+    /// How F was computed, typed (method, estimator, row-sum bound); valid after prepare().
+    virtual FormFactorProvenance provenance() const = 0;
+    /// The back end's parameters recorded with F for people ("samples", "resolution", ...).
     virtual std::map<std::string, std::string> parameters() const = 0;
 };
 
 /// The largest row sum of an extended F (Sillion & Puech): a ray or pixel deposits its weight on
 /// every patch of its mirror chain, so a row reaches at most 1 + s + ... + s^maxDepth (s = the
-/// largest mirror reflectance, terms below minWeight dropped). "%.9g" text for F's parameters.
-std::string rowSumBoundText(const Scene& scene, std::uint32_t maxDepth, double minWeight);
+/// largest mirror reflectance, terms below minWeight dropped).
+double extendedRowSumBound(const Scene& scene, std::uint32_t maxDepth, double minWeight);
 
 }  // namespace hemirad

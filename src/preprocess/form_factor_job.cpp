@@ -103,6 +103,7 @@ FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& setti
     run.stageSeconds = builder.stageSeconds();
     run.F = builder.finish();
     run.F.sceneHash = scene.geometryHash();
+    run.F.provenance = backend->provenance();
     run.F.parameters = backend->parameters();
     run.rowsComputed = rows.size();
     run.rowsSkipped = scene.size() - rows.size();

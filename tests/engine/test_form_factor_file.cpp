@@ -23,7 +23,10 @@ FormFactors sampleF() {
     rows[3] = {{0, 0.125f}, {2, 0.875f}};
     FormFactors F = FormFactors::fromRows(std::move(rows), {1, 1, 0, 1});
     F.sceneHash = 0x0123456789abcdefULL;
-    F.parameters = {{"method", "hemisphere"}, {"samples", "96"}};
+    F.provenance.method = "hemisphere";
+    F.provenance.estimator = "analytic";
+    F.provenance.rowSumBound = 1.9;
+    F.parameters = {{"samples", "96"}, {"estimator", "analytic: Lambert factors, described for people"}};
     return F;
 }
 
@@ -56,13 +59,47 @@ TEST_CASE("F file round-trip keeps every entry (.hff and .mtx)") {
         saveFormFactors(F, path);
         const FormFactors G = loadFormFactors(path);
         requireSame(F, G);
-        CHECK(G.parameters.at("method") == "hemisphere");
-        CHECK(G.parameters.at("samples") == "96");
+        CHECK(G.provenance == F.provenance);
+        CHECK(G.parameters == F.parameters);
     }
     const FormFactorFileInfo info = readFormFactorInfo((dir / "F.hff").string());
     CHECK(info.size == 4);
     CHECK(info.nonZeros == 7);
     CHECK(info.computedRows == 3);
+}
+
+TEST_CASE("F's provenance is typed in memory and stored under readable keys, and old and foreign files load") {
+    const auto dir = tempDir("ff-provenance");
+    // The keys an F file holds for people and for the typed provenance (as written before it was typed).
+    const FormFactors F = sampleF();
+    saveFormFactors(F, (dir / "F.mtx").string());
+    const std::string text = readAll((dir / "F.mtx").string());
+    CHECK(text.find("% hemirad param method hemisphere\n") != std::string::npos);
+    CHECK(text.find("% hemirad param row_sum_bound 1.9\n") != std::string::npos);
+    CHECK(text.find("% hemirad param estimator analytic: Lambert factors, described for people\n") != std::string::npos);
+    // A file written before provenance was typed, with the rays estimator's bare kind.
+    const std::string old = "%%MatrixMarket matrix coordinate real general\n% hemirad scene_hash 0123456789abcdef\n"
+                            "% hemirad param estimator rays\n% hemirad param method hemisphere\n"
+                            "% hemirad param row_sum_bound 1\n% hemirad param samples 96\n2 2 1\n1 2 0.5\n";
+    const FormFactors O = parseFormFactors("old.mtx", old);
+    CHECK(O.provenance.method == "hemisphere");
+    CHECK(O.provenance.estimator == "rays");
+    CHECK(O.provenance.rowSumBound == 1.0);
+    CHECK(O.provenance.sceneHashKnown);
+    CHECK(O.parameters == std::map<std::string, std::string>{{"samples", "96"}});
+    // A foreign .mtx (scipy, another code): no hash, no method; only its size can be checked.
+    const FormFactors foreign = parseFormFactors("foreign.mtx", "%%MatrixMarket matrix coordinate real general\n2 2 1\n1 2 0.5\n");
+    CHECK_FALSE(foreign.provenance.sceneHashKnown);
+    CHECK(foreign.provenance.method.empty());
+    CHECK_NOTHROW(checkFormFactorsMatch(foreign, 0xfeed, 2, "foreign.mtx"));
+    CHECK_THROWS_WITH_AS(checkFormFactorsMatch(foreign, 0xfeed, 3, "foreign.mtx"), doctest::Contains("F has 2 patches"), Error);
+    // Stored again, it stays unverifiable (scene_hash unknown), not "known with hash 0".
+    saveFormFactors(foreign, (dir / "again.hff").string());
+    CHECK_FALSE(loadFormFactors((dir / "again.hff").string()).provenance.sceneHashKnown);
+    // A bound that is not a number >= 1 is an error naming the file.
+    const std::string bad = "%%MatrixMarket matrix coordinate real general\n% hemirad param row_sum_bound lots\n2 2 1\n1 2 0.5\n";
+    CHECK_THROWS_WITH_AS(parseFormFactors("bad.mtx", bad), doctest::Contains("bad.mtx: bad parameter row_sum_bound 'lots'"),
+                         Error);
 }
 
 TEST_CASE("F memory is about 8 bytes per nonzero") {

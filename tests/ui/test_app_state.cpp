@@ -113,7 +113,7 @@ TEST_CASE("GUI state: a mirror edit makes F stale, undo makes it valid again, re
     app.runPipeline();  // recomputes F for the mirror
     runToEnd(app);
     CHECK_FALSE(app.formFactorsStale());
-    CHECK(app.formFactors()->parameters.at("method") == "hemisphere");
+    CHECK(app.formFactors()->provenance.method == "hemisphere");
 }
 
 TEST_CASE("GUI state: invalid material values are refused with a message") {

@@ -34,18 +34,23 @@ void HemicubeBackend::prepare(const Scene& scene) {
     context->release();
 }
 
+FormFactorProvenance HemicubeBackend::provenance() const {
+    FormFactorProvenance p;
+    p.method = HemicubeOptions::kMethod;
+    p.rowSumBound = extendedRowSumBound(*m_scene, m_common.maxDepth, m_common.minWeight);
+    return p;
+}
+
 std::map<std::string, std::string> HemicubeBackend::parameters() const {
     const MethodSettings settings = MethodSettings::of(m_options, m_common);
     auto text = [&](const char* flag) { return hemicubeDescriptor().option(flag)->get(settings); };
-    return {{"method", "hemicube"},
-            {"max_depth", std::to_string(m_common.maxDepth)},
+    return {{"max_depth", std::to_string(m_common.maxDepth)},
             {"mirrors", text("--mirrors")},
             {"min_weight", std::to_string(m_common.minWeight)},
             {"resolution", std::to_string(m_options.resolution)},
             {"reduce", text("--reduce")},
             {"gl", text("--gl")},
             {"parent_polygons", m_geometry.patchesInParents ? "yes" : "no"},
-            {"row_sum_bound", rowSumBoundText(*m_scene, m_common.maxDepth, m_common.minWeight)},
             {"delta_form_factors", "Cohen-Greenberg, normalised"}};
 }
 

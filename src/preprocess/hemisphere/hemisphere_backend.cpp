@@ -99,25 +99,32 @@ void HemisphereBackend::prepare(const Scene& scene) {
     buildNeighbours(scene);
 }
 
+FormFactorProvenance HemisphereBackend::provenance() const {
+    FormFactorProvenance p;
+    p.method = HemisphereOptions::kMethod;
+    p.estimator = m_analytic ? "analytic" : "rays";
+    p.rowSumBound = extendedRowSumBound(*m_scene, m_common.maxDepth, m_common.minWeight);
+    return p;
+}
+
 std::map<std::string, std::string> HemisphereBackend::parameters() const {
-    return {{"method", "hemisphere"},
-            {"row_sum_bound", rowSumBoundText(*m_scene, m_common.maxDepth, m_common.minWeight)},
-            {"samples", std::to_string(m_options.samples)},
-            {"origins", std::to_string(m_options.origins)},
-            {"max_depth", std::to_string(m_common.maxDepth)},
-            {"min_weight", std::to_string(m_common.minWeight)},
-            {"seed", std::to_string(m_options.seed)},
-            {"estimator", m_analytic ? std::string("analytic: Lambert point-to-polygon factors from ") +
-                                           (m_originNodes.empty() ? std::string("the centroid")
-                                                                  : "Gauss-Legendre " + std::to_string(m_originNodes.size()) + "^2 points") +
-                                           ", shadow rays to " +
-                                           (m_options.jitter ? "random points" : "centres") + ", " +
-                                           "Gauss-Legendre " + std::to_string(nearOrder(m_options.origins)) +
-                                           "^2 points for near patches, silhouette patches split in " +
-                                           std::to_string(m_splitLevels) + (m_splitLevels == 1 ? " level" : " levels")
-                                     : std::string("rays")},
-            {"directions", std::string(m_options.jitter ? "beckers-disk jittered in cells" : "beckers-disk area-median") +
-                               (m_options.fixedDirections ? ", fixed" : ", rotated per origin")}};
+    std::map<std::string, std::string> p = {
+        {"samples", std::to_string(m_options.samples)},
+        {"origins", std::to_string(m_options.origins)},
+        {"max_depth", std::to_string(m_common.maxDepth)},
+        {"min_weight", std::to_string(m_common.minWeight)},
+        {"seed", std::to_string(m_options.seed)},
+        {"directions", std::string(m_options.jitter ? "beckers-disk jittered in cells" : "beckers-disk area-median") +
+                           (m_options.fixedDirections ? ", fixed" : ", rotated per origin")}};
+    // The analytic estimator described for people (the provenance holds its kind).
+    if (m_analytic)
+        p["estimator"] = std::string("analytic: Lambert point-to-polygon factors from ") +
+                         (m_originNodes.empty() ? std::string("the centroid")
+                                                : "Gauss-Legendre " + std::to_string(m_originNodes.size()) + "^2 points") +
+                         ", shadow rays to " + (m_options.jitter ? "random points" : "centres") + ", " + "Gauss-Legendre " +
+                         std::to_string(nearOrder(m_options.origins)) + "^2 points for near patches, silhouette patches split in " +
+                         std::to_string(m_splitLevels) + (m_splitLevels == 1 ? " level" : " levels");
+    return p;
 }
 
 void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) {

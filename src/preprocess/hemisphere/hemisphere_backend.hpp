@@ -28,6 +28,7 @@ public:
     std::string_view name() const override { return "hemisphere"; }
     void prepare(const Scene& scene) override;
     void computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) override;
+    FormFactorProvenance provenance() const override;
     std::map<std::string, std::string> parameters() const override;
 
     const RayScene& rayScene() const { return *m_rays; }
