@@ -86,6 +86,9 @@ void Reporter::formFactorSummary(const FormFactorRun& run, const Scene& scene, c
     else
         out << "; lost " << std::setprecision(4) << lostPercent << "% of the power (" << c.misses << " misses, "
             << c.backfaces << " back faces)";
+    if (lostPercent > 1.0 && c.misses > 0)  // what a newcomer asks first about the open Cornell box
+        out << "\n  (lost power left the scene through its openings, e.g. a box without a front wall, or met the "
+               "back of a patch: it is gone, not an error; a closed scene loses almost nothing)";
     if (c.rescaledRows)
         out << "\n  analytic rows whose direct factors summed above 1 (largest " << std::setprecision(4) << c.largestDirectSum
             << "), scaled to 1: " << c.rescaledRows;
@@ -111,6 +114,9 @@ void Reporter::formFactorStats(const FormFactorStats& s, std::size_t memoryBytes
         << "; reciprocity |A_i F_ij - A_j F_ji| / max: max " << s.reciprocityMax << ", area-weighted mean "
         << s.reciprocityMean;
     if (s.selfFactors) out << "; " << s.selfFactors << " rows with F_ii > 0";
+    if (s.reciprocityMax > 0.5)
+        out << "\n  (the reciprocity max compares single pairs, where a few rays or pixels decide; judge the "
+               "area-weighted mean, which falls with more directions, origins or resolution)";
     out << "\n  F: " << s.nonZeros << " nonzeros (" << std::setprecision(1)
         << (s.computedRows ? double(s.nonZeros) / s.computedRows : 0.0) << " per row), " << std::setprecision(1)
         << memoryBytes / 1048576.0 << " MiB";
