@@ -6,12 +6,26 @@
 
 namespace hemirad {
 
-const std::vector<const BackendDescriptor*>& formFactorBackends() {
-    static const std::vector<const BackendDescriptor*> backends = {
+namespace {
+
+std::vector<const BackendDescriptor*>& registry() {
+    static std::vector<const BackendDescriptor*> backends = {
         &hemisphereDescriptor(),
         &hemicubeDescriptor(),
     };
     return backends;
+}
+
+}  // namespace
+
+const std::vector<const BackendDescriptor*>& formFactorBackends() { return registry(); }
+
+void registerFormFactorBackend(const BackendDescriptor& descriptor) {
+    for (const BackendDescriptor* d : registry())
+        if (d->name == descriptor.name) throw Error("a form-factor back end named '" + descriptor.name + "' is registered already");
+    if (!descriptor.defaults || !descriptor.create || !descriptor.workPerRow || !descriptor.describe)
+        throw Error("form-factor back end '" + descriptor.name + "': defaults, create, workPerRow and describe are required");
+    registry().push_back(&descriptor);
 }
 
 const BackendOption* BackendDescriptor::option(std::string_view flag) const {

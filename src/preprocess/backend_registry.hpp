@@ -69,6 +69,11 @@ struct BackendDescriptor {
 /// Every back end of this build, the default (hemisphere) first.
 const std::vector<const BackendDescriptor*>& formFactorBackends();
 
+/// Adds a back end defined outside this library (a plug-in, a test). `descriptor` must outlive its
+/// use. Call before any thread reads the registry (from main() or a test's setup). Throws
+/// hemirad::Error for a name in use or a descriptor without defaults, create, workPerRow or describe.
+void registerFormFactorBackend(const BackendDescriptor& descriptor);
+
 /// The named back end; throws hemirad::Error listing the known names.
 const BackendDescriptor& findBackend(std::string_view name);
 
