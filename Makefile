@@ -8,7 +8,7 @@ SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks
 	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers.supp:print_suppressions=0 \
 	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
-.PHONY: all deps build demo test bench test-sanitize fuzz clean
+.PHONY: all deps build demo test bench test-sanitize test-without-opengl fuzz clean
 
 all: build
 
@@ -37,6 +37,14 @@ test-sanitize: deps
 	@cmake --build build-sanitize -j $(JOBS)
 	@cd build-sanitize && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS)
 
+# The build without OpenGL (CMake feature option): no hemicube, no GUI; the suite runs, and
+# --method hemicube says how to get it.
+test-without-opengl: deps
+	@cmake -S . -B build-noopengl -DCMAKE_BUILD_TYPE=Release -DHEMIRAD_WITH_OPENGL=OFF -DHEMIRAD_WITH_BENCH=OFF \
+	    > build-noopengl.configure.log 2>&1 || { cat build-noopengl.configure.log; exit 1; }
+	@cmake --build build-noopengl -j $(JOBS)
+	@cd build-noopengl && ctest --output-on-failure -j $(JOBS)
+
 # libFuzzer on the OBJ/MTL and F readers (clang), FUZZ_SECONDS per harness; corpus in build-fuzz/.
 fuzz:
 	@bash scripts/install-deps.sh fuzz
@@ -46,4 +54,5 @@ fuzz:
 	@bash tests/fuzz/run.sh build-fuzz $(FUZZ_SECONDS)
 
 clean:
-	rm -rf $(BUILD) $(BUILD).configure.log build-sanitize build-sanitize.configure.log build-fuzz build-fuzz.configure.log out
+	rm -rf $(BUILD) $(BUILD).configure.log build-sanitize build-sanitize.configure.log build-fuzz build-fuzz.configure.log \
+	    build-noopengl build-noopengl.configure.log out

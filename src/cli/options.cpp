@@ -202,11 +202,11 @@ void setOption(MethodSettings& settings, const std::string& flag, const std::str
     }
 }
 
-MethodSettings methodSettings(const std::string& flag, const std::string& name) {
+MethodSettings methodSettings(const std::string& name) {
     try {
         return defaultSettings(name);
     } catch (const Error& e) {
-        throw UsageError(flag + ": " + e.what());
+        throw UsageError(e.what());
     }
 }
 
@@ -275,9 +275,9 @@ Options parseOptions(int argc, const char* const* argv) {
             benchNames = splitCommas(p.value);
         }
     }
-    o.formFactors = methodSettings("--method", method);
+    o.formFactors = methodSettings(method);
     if (bench)
-        for (const std::string& name : benchNames) o.benchMethods.push_back(methodSettings("--methods", name));
+        for (const std::string& name : benchNames) o.benchMethods.push_back(methodSettings(name));
 
     // Pass 2: every flag in command-line order.
     for (const ParsedFlag& p : parsed) {
@@ -322,7 +322,8 @@ std::string usageText() {
     std::string methodNames, backendSections;
     for (const BackendDescriptor* d : formFactorBackends()) {
         methodNames += (methodNames.empty() ? d->name + " (default)" : ", " + d->name);
-        backendSections += d->name + " (--method " + d->name + "): " + d->summary + "\n";
+        backendSections += d->name + " (--method " + d->name + "): " + d->summary +
+                           (d->notBuilt.empty() ? "" : " -- " + d->notBuilt) + "\n";
         for (const BackendOption& o : d->options) {
             std::string left = "  " + o.flag + (o.placeholder.empty() ? "" : " " + o.placeholder);
             left += left.size() < 25 ? std::string(25 - left.size(), ' ') : "\n" + std::string(25, ' ');

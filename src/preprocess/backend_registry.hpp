@@ -52,6 +52,9 @@ struct BackendDescriptor {
     std::string name;       ///< the --method value
     std::string summary;    ///< one line for usage texts and the GUI
     std::string workUnit;   ///< what workPerRow counts: "rays" or "pixels"
+    /// Empty when the back end is in this build; else why not and how to get it ("configure with
+    /// -DHEMIRAD_WITH_OPENGL=ON ..."): it is listed, and choosing it is an error saying so.
+    std::string notBuilt;
     Projection projection = Projection::NusseltDisk;
     std::vector<BackendOption> options;
     std::function<std::any()> defaults;
@@ -77,7 +80,7 @@ void registerFormFactorBackend(const BackendDescriptor& descriptor);
 /// The named back end; throws hemirad::Error listing the known names.
 const BackendDescriptor& findBackend(std::string_view name);
 
-/// The back end's default settings.
+/// The back end's default settings. Throws hemirad::Error for an unknown back end or one not built.
 MethodSettings defaultSettings(std::string_view method);
 
 /// Validates and creates the back end of `settings`. Throws hemirad::Error.

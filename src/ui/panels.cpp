@@ -247,7 +247,7 @@ void Panels::pipelinePanel(AppState& app) {
     const auto& backends = formFactorBackends();
     if (ImGui::BeginCombo("Method", st.formFactors.method.c_str())) {
         for (const BackendDescriptor* d : backends)
-            if (ImGui::Selectable(d->name.c_str(), d->name == st.formFactors.method)) {
+            if (d->notBuilt.empty() && ImGui::Selectable(d->name.c_str(), d->name == st.formFactors.method)) {
                 const CommonOptions common = st.formFactors.common;
                 st.formFactors = defaultSettings(d->name);
                 st.formFactors.common = common;

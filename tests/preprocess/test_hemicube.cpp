@@ -8,6 +8,7 @@
 #include "engine/subdivide.hpp"
 #include "gl/gl_api.hpp"
 #include "gl/gl_context.hpp"
+#include "preprocess/backend_registry.hpp"
 #include "preprocess/form_factor_job.hpp"
 #include "preprocess/hemicube/hemicube_layout.hpp"
 #include "preprocess/hemicube/hemicube_options.hpp"
@@ -241,4 +242,20 @@ TEST_CASE("Without a visible mirror no portal pass runs") {
     const FormFactorRun r = hemicube(subdivide(unitCube(), 0.5), 32);
     CHECK(r.counts.bounces == 0);
     CHECK(r.counts.cutoffWeight == 0.0);
+}
+
+TEST_CASE("Each back end takes only its own options: --estimator is refused for the hemicube, unknown values are errors") {
+    MethodSettings cube = defaultSettings("hemicube");
+    CHECK_THROWS_WITH_AS(setBackendOption(cube, "--estimator", "analytic"),
+                         doctest::Contains("option '--estimator' does not apply to --method hemicube (it takes --resolution"),
+                         Error);
+    MethodSettings sphere = defaultSettings("hemisphere");
+    CHECK_THROWS_WITH_AS(setBackendOption(sphere, "--estimator", "exact"),
+                         doctest::Contains("--estimator expects auto, rays or analytic, got 'exact'"), Error);
+    CHECK_THROWS_WITH_AS(setBackendOption(sphere, "--resolution", "64"),
+                         doctest::Contains("option '--resolution' does not apply to --method hemisphere"), Error);
+    CHECK_THROWS_WITH_AS(setBackendOption(sphere, "--frobnicate", "1"), doctest::Contains("unknown option '--frobnicate'"),
+                         Error);
+    // The typed options behind the flags: the wrong type is an internal error, never a silent default.
+    CHECK_THROWS_AS(cube.as<HemisphereOptions>(), Error);
 }

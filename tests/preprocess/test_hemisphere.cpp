@@ -296,22 +296,6 @@ TEST_CASE("Analytic and ray estimators agree on the closed Cornell box, and anal
     CHECK(exact.stats.reciprocityMean < 0.5 * rays.stats.reciprocityMean);
 }
 
-TEST_CASE("Each back end takes only its own options: --estimator is refused for the hemicube, unknown values are errors") {
-    MethodSettings cube = defaultSettings("hemicube");
-    CHECK_THROWS_WITH_AS(setBackendOption(cube, "--estimator", "analytic"),
-                         doctest::Contains("option '--estimator' does not apply to --method hemicube (it takes --resolution"),
-                         Error);
-    MethodSettings sphere = defaultSettings("hemisphere");
-    CHECK_THROWS_WITH_AS(setBackendOption(sphere, "--estimator", "exact"),
-                         doctest::Contains("--estimator expects auto, rays or analytic, got 'exact'"), Error);
-    CHECK_THROWS_WITH_AS(setBackendOption(sphere, "--resolution", "64"),
-                         doctest::Contains("option '--resolution' does not apply to --method hemisphere"), Error);
-    CHECK_THROWS_WITH_AS(setBackendOption(sphere, "--frobnicate", "1"), doctest::Contains("unknown option '--frobnicate'"),
-                         Error);
-    // The typed options behind the flags: the wrong type is an internal error, never a silent default.
-    CHECK_THROWS_AS(cube.as<HemisphereOptions>(), Error);
-}
-
 TEST_CASE("F that cannot fit the memory budget is refused before the work, with the estimate") {
     const Scene s = subdivide(unitCube(), 0.1);  // 600 patches
     HemisphereOptions h;
