@@ -31,13 +31,11 @@ double parseNumber(const std::string& flag, const std::string& text, double lo, 
 }
 
 long parseInteger(const std::string& flag, const std::string& text, long lo, long hi) {
-    char* end = nullptr;
-    errno = 0;
-    const long v = std::strtol(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || errno == ERANGE) throw UsageError(flag + " expects an integer, got '" + text + "'");
-    if (v < lo || v > hi)
-        throw UsageError(flag + " " + text + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    return v;
+    try {
+        return parseFlagInteger(flag, text, lo, hi);
+    } catch (const Error& e) {
+        throw UsageError(e.what());
+    }
 }
 
 std::vector<std::string> splitCommas(const std::string& text) {

@@ -2,6 +2,9 @@
 #include "preprocess/backend_registry.hpp"
 
 #include "preprocess/hemisphere/hemisphere_backend.hpp"
+
+#include <cerrno>
+#include <cstdlib>
 #if HEMIRAD_WITH_OPENGL
 #include "preprocess/hemicube/hemicube_backend.hpp"
 #endif
@@ -44,6 +47,16 @@ void registerFormFactorBackend(const BackendDescriptor& descriptor) {
     if (!descriptor.defaults || !descriptor.create || !descriptor.workPerRow || !descriptor.describe)
         throw Error("form-factor back end '" + descriptor.name + "': defaults, create, workPerRow and describe are required");
     registry().push_back(&descriptor);
+}
+
+long parseFlagInteger(const std::string& flag, const std::string& text, long lo, long hi) {
+    char* end = nullptr;
+    errno = 0;
+    const long v = std::strtol(text.c_str(), &end, 10);
+    if (text.empty() || *end != '\0' || errno == ERANGE) throw Error(flag + " expects an integer, got '" + text + "'");
+    if (v < lo || v > hi)
+        throw Error(flag + " " + text + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return v;
 }
 
 const BackendOption* BackendDescriptor::option(std::string_view flag) const {

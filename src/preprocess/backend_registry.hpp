@@ -5,8 +5,6 @@
 
 #include "preprocess/form_factor_backend.hpp"
 
-#include <cerrno>
-#include <cstdlib>
 #include <functional>
 #include <memory>
 #include <string>
@@ -94,18 +92,17 @@ const BackendOption* findBackendOption(std::string_view flag);
 /// takes ...)": options that would be silently ignored are errors).
 void setBackendOption(MethodSettings& settings, const std::string& flag, const std::string& value);
 
+/// `text` as an integer in [lo, hi]; throws hemirad::Error "FLAG expects an integer, got 'x'" or
+/// "FLAG x is out of range [lo, hi]". Shared by the back ends' flags and hemirad's own.
+long parseFlagInteger(const std::string& flag, const std::string& text, long lo, long hi);
+
 /// Field-bound option builders for descriptors (T: the back end's options struct).
 template <class T, class M>
 BackendOption integerOption(std::string flag, std::string label, std::string placeholder, std::string help,
                             M T::*field, long min, long max, bool even = false) {
     BackendOption o{flag, std::move(label), std::move(placeholder), std::move(help), OptionKind::Integer, {}, min, max, even};
     o.set = [=](MethodSettings& s, const std::string& text) {
-        char* end = nullptr;
-        errno = 0;
-        const long v = std::strtol(text.c_str(), &end, 10);
-        if (text.empty() || *end != '\0' || errno == ERANGE) throw Error(flag + " expects an integer, got '" + text + "'");
-        if (v < min || v > max)
-            throw Error(flag + " " + text + " is out of range [" + std::to_string(min) + ", " + std::to_string(max) + "]");
+        const long v = parseFlagInteger(flag, text, min, max);
         if (even && v % 2) throw Error(flag + " must be even, got " + text);
         s.as<T>().*field = static_cast<M>(v);
     };
