@@ -3,6 +3,7 @@
 
 #include "solve/solver_registry.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -302,6 +303,15 @@ Options parseOptions(int argc, const char* const* argv) {
         setOption(o.formFactors, p.flag, p.value);
     }
     for (MethodSettings& m : o.benchMethods) m.common = o.formFactors.common;
+    // Solve flags the chosen solver takes (auto may pick either kind, so it takes them all).
+    if (o.solver.solver != "auto") {
+        const SolverDescriptor& solver = findSolver(o.solver.solver);
+        for (const ParsedFlag& p : parsed)
+            if ((p.flag == "--tolerance" || p.flag == "--max-iterations") &&
+                std::find(solver.flags.begin(), solver.flags.end(), p.flag) == solver.flags.end())
+                throw UsageError("option '" + p.flag + "' does not apply to --solver " + solver.name +
+                                 " (a factorisation: it does not iterate)");
+    }
 
     if (o.command == "help") return o;
     if (o.inputs.size() != 1)

@@ -317,6 +317,7 @@ SolverDescriptor eigenSolver(EigenKind kind, std::string summary, bool symmetric
     d.summary = std::move(summary);
     d.symmetricForm = symmetric;
     d.needsTranspose = symmetric;
+    if (kind == EigenKind::CG || kind == EigenKind::BiCGSTAB) d.flags = {"--tolerance", "--max-iterations"};
     d.solve = [kind](const SolveProblem& p, std::vector<Channel*>& active) { solveEigen(kind, p, active); };
     return d;
 }

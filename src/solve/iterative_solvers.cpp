@@ -259,6 +259,7 @@ const std::vector<SolverDescriptor>& stationarySolvers() {
     using namespace detail;
     static const std::vector<SolverDescriptor> family = [] {
         std::vector<SolverDescriptor> solvers(3);
+        for (SolverDescriptor& d : solvers) d.flags = {"--tolerance", "--max-iterations"};
         solvers[0].name = "jacobi";
         solvers[0].summary = "Jacobi sweeps B <- E + R F B, all channels in one pass over F";
         solvers[0].solve = [](const SolveProblem& p, std::vector<Channel*>& active) { solveTogether(solveJacobi, p, active); };

@@ -30,6 +30,9 @@ struct SolverDescriptor {
     /// convergence is judged on the residual of I - R F.
     bool symmetricForm = false;
     bool needsTranspose = false;  ///< reads F^T (column access)
+    /// The solve options it takes beyond the common ones: "--tolerance" and "--max-iterations" for
+    /// iterative solvers; none for a factorisation (giving them to it is a usage error).
+    std::vector<std::string> flags;
     /// Solves every channel in `active` (B holds the start on entry, the solution on exit) and fills
     /// their reports (converged, iterations, residual of the system it worked on, seconds, note).
     /// Throws hemirad::Error for a system it cannot take (singular, too large).

@@ -294,8 +294,12 @@ void Panels::pipelinePanel(AppState& app) {
         }
         ImGui::EndCombo();
     }
+    // A factorisation does not iterate: its tolerance control is shown disabled.
+    const bool iterates = st.solver.solver == "auto" || !findSolver(st.solver.solver).flags.empty();
+    ImGui::BeginDisabled(!iterates);
     float exponent = float(std::log10(st.solver.tolerance));
     if (ImGui::SliderFloat("log10 tolerance", &exponent, -12.0f, -2.0f, "%.0f")) st.solver.tolerance = std::pow(10.0, double(exponent));
+    ImGui::EndDisabled();
     ImGui::Checkbox("Re-solve after edits", &app.autoResolve);
 
     const JobStatus job = app.job();

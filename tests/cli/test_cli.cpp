@@ -2,9 +2,11 @@
 #include "support.hpp"
 
 #include "preprocess/backend_registry.hpp"
+#include "solve/solver_registry.hpp"
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <fstream>
@@ -129,6 +131,26 @@ TEST_CASE("Every back-end flag is a usage error with a back end that does not ta
     r = runHemirad("bench " + missing + " -o b.csv --methods hemisphere --resolution 64");
     CHECK(r.status == 2);
     CHECK(r.output.find("'--resolution' does not apply to any of the --methods") != std::string::npos);
+}
+
+TEST_CASE("Iteration flags are usage errors for a solver that does not iterate") {
+    const std::string missing = "/nonexistent/scene.obj";
+    for (const SolverDescriptor* solver : solverRegistry())
+        for (const char* flag : {"--tolerance 1e-8", "--max-iterations 50"}) {
+            CAPTURE(solver->name);
+            CAPTURE(flag);
+            const Result r = runHemirad("solve " + missing + " -o B.csv --solver " + solver->name + " " + flag);
+            const std::string name = std::string(flag).substr(0, std::string(flag).find(' '));
+            if (std::find(solver->flags.begin(), solver->flags.end(), name) == solver->flags.end()) {
+                CHECK(r.status == 2);
+                CHECK(r.output.find("option '" + name + "' does not apply to --solver " + solver->name) != std::string::npos);
+            } else {
+                CHECK(r.status == 1);  // accepted: the missing scene is what fails
+                CHECK(r.output.find("scene.obj: cannot open") != std::string::npos);
+            }
+        }
+    CHECK(findSolver("lu").flags.empty());
+    CHECK(findSolver("gauss-seidel").flags.size() == 2);
 }
 
 TEST_CASE("The usage text lists every back end and its flags from the registry") {
