@@ -11,6 +11,7 @@
 #include "engine/hash.hpp"
 #include "engine/obj_loader.hpp"
 #include "engine/subdivide.hpp"
+#include "solve/solver_registry.hpp"
 
 #include <spawn.h>
 #include <sys/wait.h>
@@ -278,7 +279,9 @@ int runBench(const Options& o) {
         auto args = [&](const MethodSettings& run) {
             std::vector<std::string> a = {self, "bench-run", scenePath, "--method", run.method, "--label", label,
                                           "--reference", referencePath, "--reference-radiosity", radiosityPath,
-                                          "--solver", o.solver.solver, "--tolerance", shortNumber(o.solver.tolerance)};
+                                          "--solver", o.solver.solver};
+            if (o.solver.solver == "auto" || !findSolver(o.solver.solver).flags.empty())
+                a.insert(a.end(), {"--tolerance", shortNumber(o.solver.tolerance)});
             if (o.subdivide > 0) {
                 // Full precision: a rounded edge length can subdivide into another scene.
                 char length[32];

@@ -6,6 +6,7 @@
 #include "engine/obj_loader.hpp"
 #include "engine/subdivide.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <sstream>
@@ -81,21 +82,30 @@ FormFactorUpdate RadiosityPipeline::computeMissingRows(const Scene& scene, FormF
         update.rowsComputed = rows.size();
         update.changed = true;
         if (haveCurrent) {
+            // The merged F allows the larger row sum of the two computations (e.g. a deeper mirror chain).
+            const FormFactorProvenance added = run.F.provenance;
             current.replaceRows(run.F);
-            current.parameters["rows_added"] = std::to_string(rows.size()) + " with " + run.F.provenance.method +
-                                               " samples=" + run.F.parameters["samples"] + " origins=" +
-                                               run.F.parameters["origins"];
+            current.provenance.rowSumBound = std::max(current.provenance.rowSumBound, added.rowSumBound);
+            current.parameters["rows_added"] = std::to_string(rows.size()) + " with " + added.method + ", " +
+                                               backend.describe(scene, method).settings;
             update.F = std::move(current);
-            update.stats = computeStats(update.F, scene);
+            refreshStats(scene, update);
         } else {
             update.F = std::move(run.F);
             update.stats = run.stats;
         }
     } else {
         update.F = std::move(current);
-        update.stats = computeStats(update.F, scene);
+        refreshStats(scene, update);
     }
     return update;
+}
+
+void RadiosityPipeline::refreshStats(const Scene& scene, FormFactorUpdate& update, bool needed) const {
+    if (!m_policy.statistics && !needed) return;
+    const auto t0 = Clock::now();
+    update.stats = computeStats(update.F, scene);
+    timing("F diagnostics", since(t0));
 }
 
 void RadiosityPipeline::postProcess(const Scene& scene, FormFactorUpdate& update) const {
@@ -105,14 +115,14 @@ void RadiosityPipeline::postProcess(const Scene& scene, FormFactorUpdate& update
         timing("enforce reciprocity", since(t0));
         message("form factors: reciprocity enforced: " + std::to_string(changed) +
                 " entries replaced by the pair's area-weighted mean (A_i F_ij + A_j F_ji) / 2");
-        update.stats = computeStats(update.F, scene);
-        if (m_events.formFactorsChanged) m_events.formFactorsChanged(update.stats, update.F.memoryBytes());
+        refreshStats(scene, update, bool(m_events.formFactorsChanged));
+        if (m_events.formFactorsChanged) m_events.formFactorsChanged(*update.stats, update.F.memoryBytes());
         update.changed = true;
     }
     if (m_policy.normalizeRows) {
         const double worst = normalizeRows(update.F);
         message("form factors: rows normalised to sum 1 (largest correction " + std::to_string(worst) + ")");
-        update.stats = computeStats(update.F, scene);
+        refreshStats(scene, update);
         update.changed = true;
     }
 }

@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,9 @@ struct FormFactorPolicy {
     bool enforceReciprocity = false;  ///< A_i F_ij = A_j F_ji by the pair's area-weighted mean
     bool normalizeRows = false;       ///< every row to sum 1 (closed scenes without mirrors)
     bool memoryCheck = true;          ///< refuse an F that would not fit the available memory
+    /// Keep FormFactorUpdate::stats current after merging and post-processing (a pass over F and its
+    /// transpose: the GUI shows them; the CLI reports only what it computed).
+    bool statistics = false;
 };
 
 /// What a front end hears from the pipeline; every member may be empty. Called on the thread that
@@ -45,7 +49,8 @@ struct FormFactorUpdate {
     FormFactors F;
     std::size_t rowsComputed = 0;  ///< rows the back end computed (0: F was current)
     bool changed = false;          ///< rows added or post-processing applied (a stored F is out of date)
-    FormFactorStats stats;         ///< of the returned F
+    /// Of the returned F: always after a fresh computation, else with FormFactorPolicy::statistics.
+    std::optional<FormFactorStats> stats;
 };
 
 class RadiosityPipeline {
@@ -85,6 +90,8 @@ private:
     FormFactorUpdate computeMissingRows(const Scene& scene, FormFactors current) const;
     /// Reciprocity and normalisation as the policy asks.
     void postProcess(const Scene& scene, FormFactorUpdate& update) const;
+    /// Recomputes update.stats (timed as "F diagnostics") when the policy keeps statistics or `needed`.
+    void refreshStats(const Scene& scene, FormFactorUpdate& update, bool needed = false) const;
     void message(const std::string& text) const;
     void timing(const std::string& stage, double seconds) const;
 

@@ -49,6 +49,16 @@ void registerFormFactorBackend(const BackendDescriptor& descriptor) {
     registry().push_back(&descriptor);
 }
 
+void unregisterFormFactorBackend(std::string_view name) {
+    auto& list = registry();
+    for (auto it = list.begin(); it != list.end(); ++it)
+        if ((*it)->name == name) {
+            if (it == list.begin()) throw Error("the default form-factor back end cannot be removed");
+            list.erase(it);
+            return;
+        }
+}
+
 long parseFlagInteger(const std::string& flag, const std::string& text, long lo, long hi) {
     char* end = nullptr;
     errno = 0;

@@ -75,6 +75,10 @@ const std::vector<const BackendDescriptor*>& formFactorBackends();
 /// hemirad::Error for a name in use or a descriptor without defaults, create, workPerRow or describe.
 void registerFormFactorBackend(const BackendDescriptor& descriptor);
 
+/// Removes a back end added by registerFormFactorBackend() (a plug-in unloaded, a test done); the
+/// built-in back ends stay. Same threading rule as registering.
+void unregisterFormFactorBackend(std::string_view name);
+
 /// The named back end; throws hemirad::Error listing the known names.
 const BackendDescriptor& findBackend(std::string_view name);
 

@@ -60,6 +60,7 @@ struct AppState::Job {
     RadiosityPipeline pipeline() {
         FormFactorPolicy policy;
         policy.backend = settings.formFactors;
+        policy.statistics = true;  // the pipeline panel shows them
         PipelineEvents events;
         events.cancel = &cancel;
         events.timing = [this](const std::string& stage, double seconds) { timings.emplace_back(stage, seconds); };
@@ -260,6 +261,15 @@ void AppState::editMaterial(const MaterialEdit& edit) {
         if (edit.rho) check(*edit.rho, "diffuse reflectance", true);
         if (edit.specular && !(*edit.specular >= 0.0 && *edit.specular <= 1.0))
             throw Error("mirror reflectance must be in [0, 1]");
+        // As the MTL loader: a patch may not reflect more than it receives (rho_c + s <= 1).
+        for (PatchId i : m_selection) {
+            const Patch& p = m_scene->patches[i];
+            const Rgb rho = edit.rho ? *edit.rho : p.rho;
+            const double s = edit.specular ? *edit.specular : p.specular;
+            if ((rho + s > 1.0 + 1e-9).any())
+                throw Error("patch " + std::to_string(i) + " would reflect more than it receives: rho + s = " +
+                            std::to_string((rho + s).maxCoeff()) + " > 1; lower the diffuse or the mirror reflectance");
+        }
     } catch (const Error& e) {
         error(e.what());
         return;
@@ -276,8 +286,6 @@ void AppState::editMaterial(const MaterialEdit& edit) {
             p.specular = *edit.specular;
             specularChanged = true;
         }
-        if ((p.rho + p.specular > 1.0 + 1e-9).any())
-            addLog("warning: patch " + std::to_string(i) + " reflects more than it receives (rho + s > 1)", false);
     }
     step.after = snapshot(step.ids);
     m_undo.push_back(std::move(step));

@@ -247,7 +247,8 @@ void Panels::pipelinePanel(AppState& app) {
     const auto& backends = formFactorBackends();
     if (ImGui::BeginCombo("Method", st.formFactors.method.c_str())) {
         for (const BackendDescriptor* d : backends)
-            if (d->notBuilt.empty() && ImGui::Selectable(d->name.c_str(), d->name == st.formFactors.method)) {
+            if (d->notBuilt.empty() && ImGui::Selectable(d->name.c_str(), d->name == st.formFactors.method) &&
+                d->name != st.formFactors.method) {
                 const CommonOptions common = st.formFactors.common;
                 st.formFactors = defaultSettings(d->name);
                 st.formFactors.common = common;
@@ -271,10 +272,10 @@ void Panels::pipelinePanel(AppState& app) {
                     ImGui::EndCombo();
                 }
             } else {
-                int v = std::stoi(current);
-                const int step = option.even ? 2 : 1;
-                if (ImGui::InputInt(option.label.c_str(), &v, step, 16 * step)) {
-                    long clamped = std::clamp<long>(v, option.min, std::min<long>(option.max, 1 << 30));
+                long long v = std::stoll(current);
+                const long long step = option.even ? 2 : 1, fast = 16 * step;
+                if (ImGui::InputScalar(option.label.c_str(), ImGuiDataType_S64, &v, &step, &fast)) {
+                    long long clamped = std::clamp<long long>(v, option.min, option.max);
                     if (option.even) clamped = clamped / 2 * 2;
                     option.set(st.formFactors, std::to_string(clamped));
                 }

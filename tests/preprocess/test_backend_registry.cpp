@@ -76,19 +76,17 @@ const BackendDescriptor& closedCubeDescriptor() {
     return d;
 }
 
-/// Registers the test back end once per process (test cases run in any order, one per process under ctest).
-void registerOnce() {
-    static const bool done = [] {
-        registerFormFactorBackend(closedCubeDescriptor());
-        return true;
-    }();
-    (void)done;
-}
+/// The test back end is registered for one test case only: other cases in the same process (a
+/// direct run of hemirad_tests) see the built-in registry.
+struct ScopedRegistration {
+    ScopedRegistration() { registerFormFactorBackend(closedCubeDescriptor()); }
+    ~ScopedRegistration() { unregisterFormFactorBackend(ClosedCubeOptions::kMethod); }
+};
 
 }  // namespace
 
 TEST_CASE("A back end registered from outside the library works through hemirad's options, the pipeline and the solve") {
-    registerOnce();
+    const ScopedRegistration registered;
     // The CLI parses its flags, refuses other back ends' flags for it and its flag for others.
     const char* argv[] = {"hemirad", "solve", "cube.obj", "-o", "B.csv", "--method", "closed-cube", "--percent", "100"};
     const Options o = parseOptions(9, argv);
@@ -123,4 +121,14 @@ TEST_CASE("A back end registered from outside the library works through hemirad'
 
     // Its name is taken now; a second registration is an error.
     CHECK_THROWS_WITH_AS(registerFormFactorBackend(closedCubeDescriptor()), doctest::Contains("registered already"), Error);
+}
+
+TEST_CASE("An unregistered back end is gone from the registry, and the built-in default stays") {
+    {
+        const ScopedRegistration registered;
+        CHECK(formFactorBackends().size() == 3);
+    }
+    CHECK(formFactorBackends().size() == 2);
+    CHECK_THROWS_WITH_AS(defaultSettings("closed-cube"), doctest::Contains("unknown --method 'closed-cube'"), Error);
+    CHECK_THROWS_WITH_AS(unregisterFormFactorBackend("hemisphere"), doctest::Contains("cannot be removed"), Error);
 }

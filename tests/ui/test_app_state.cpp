@@ -128,6 +128,24 @@ TEST_CASE("GUI state: invalid material values are refused with a message") {
     CHECK_FALSE(app.canUndo());
 }
 
+TEST_CASE("GUI state: an edit that would make rho + s > 1 is refused, as the MTL loader refuses it") {
+    AppState app;
+    solvedCube(app);  // rho 0.5 everywhere
+    app.select(1, false);
+    MaterialEdit mirror;
+    mirror.specular = 0.8;  // 0.5 + 0.8 > 1: saving it would write an MTL the loader rejects
+    app.editMaterial(mirror);
+    CHECK(app.scene().patches[1].specular == 0.0);
+    CHECK(logged(app, "patch 1 would reflect more than it receives: rho + s = 1.3"));
+    CHECK_FALSE(app.canUndo());
+    MaterialEdit both;  // the same mirror with a darker diffuse part is physical
+    both.rho = Rgb::Constant(0.1);
+    both.specular = 0.8;
+    app.editMaterial(both);
+    CHECK(app.scene().patches[1].specular == doctest::Approx(0.8));
+    CHECK(app.canUndo());
+}
+
 TEST_CASE("GUI state: a black patch made reflective gets its row computed, the others are kept") {
     AppState app;
     REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
