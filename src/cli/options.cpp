@@ -389,7 +389,7 @@ bench:
   --json FILE            also write the results as JSON
   --label NAME           scene name in the results (default: the file name)
 general:
-  --threads T            worker threads / GL contexts (default: all cores)
+  --threads T            worker threads / GL contexts (default: OMP_NUM_THREADS, else all cores)
   --quiet                print errors and warnings only
 
 exit status: 0 success, 1 runtime error, 2 usage error
