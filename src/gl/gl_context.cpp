@@ -5,13 +5,6 @@
 
 namespace hemirad {
 
-GlApiKind parseGlApiKind(const std::string& name) {
-    if (name == "auto") return GlApiKind::Auto;
-    if (name == "egl") return GlApiKind::Egl;
-    if (name == "osmesa") return GlApiKind::OSMesa;
-    throw Error("unknown --gl '" + name + "' (auto, egl, osmesa)");
-}
-
 std::unique_ptr<GlContext> createHeadlessContext(GlApiKind kind) {
     if (kind == GlApiKind::Egl) return detail::createEglContext();
     if (kind == GlApiKind::OSMesa) return detail::createOsmesaContext();

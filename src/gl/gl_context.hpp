@@ -8,8 +8,6 @@ namespace hemirad {
 
 enum class GlApiKind { Auto, Egl, OSMesa };
 
-/// "auto", "egl" or "osmesa"; throws hemirad::Error otherwise.
-GlApiKind parseGlApiKind(const std::string& name);
 
 /// A GL context without a default framebuffer (render into FBOs). One thread at a time may have it
 /// current; contexts are independent (no sharing).

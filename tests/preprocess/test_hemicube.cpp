@@ -194,7 +194,9 @@ TEST_CASE("A failing GL context is a clear error, and auto falls back to OSMesa"
     CHECK(status("MESA_GL_VERSION_OVERRIDE=3.3", "egl") == 1);
     CHECK(output().find("cannot create an OpenGL 4.5 core context") != std::string::npos);
     CHECK(status("__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json", "auto") == 0);
-    CHECK_THROWS_WITH_AS(parseGlApiKind("vulkan"), doctest::Contains("unknown --gl 'vulkan'"), Error);
+    MethodSettings cube = defaultSettings("hemicube");
+    CHECK_THROWS_WITH_AS(setBackendOption(cube, "--gl", "vulkan"), doctest::Contains("--gl expects auto, egl or osmesa, got 'vulkan'"),
+                         Error);
 }
 
 TEST_CASE("Hemicube mirror portals give the image-method factor of physics.md") {
