@@ -8,7 +8,6 @@ layout(std430, binding = 3) readonly buffer Touched {
     uint missed;
     uint backfaces;
     uint lost;
-    uint rounded;
     uint roundedLost;
     uint list[];
 };

@@ -12,8 +12,8 @@ layout(std430, binding = 3) buffer Touched {
     uint missed;      // pixels that saw nothing
     uint backfaces;   // pixels that saw the back of a patch
     uint lost;        // fixed-point weight of those pixels
-    uint rounded;     // pixels whose weight rounds to 0 units (kept as lost, not dropped)
-    uint roundedLost; // their weight in units of 1 / (fixedScale * roundedScale)
+    uint roundedLost; // weight of pixels that round to 0 units (lost, not dropped), in units of
+                      // 1 / (fixedScale * roundedScale)
     uint list[];
 };
 
@@ -36,10 +36,7 @@ void main() {
     }
     if (value == 0u) {
         // Too small for the fixed point: counted as lost power instead of vanishing.
-        if (exact > 0.0) {
-            atomicAdd(rounded, 1u);
-            atomicAdd(roundedLost, uint(exact * roundedScale + 0.5));
-        }
+        if (exact > 0.0) atomicAdd(roundedLost, uint(exact * roundedScale + 0.5));
         return;
     }
     if (atomicAdd(accumulator[id - 1u], value) == 0u) list[atomicAdd(count, 1u)] = id - 1u;

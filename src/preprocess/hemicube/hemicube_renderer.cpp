@@ -16,8 +16,8 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 /// The GPU row's header, before the touched list (hemicube_reduce.comp):
-///   | count | missed | backfaces | lost | rounded | roundedLost | list[count] ... |
-constexpr std::size_t kTouchedHeader = 6;
+///   | count | missed | backfaces | lost | roundedLost | list[count] ... |
+constexpr std::size_t kTouchedHeader = 5;
 /// roundedLost counts in units of 1 / (fixedScale x this): a rounded pixel adds at most 32 of them,
 /// so even all 3 x 4096^2 pixels of the largest common atlas stay below 2^32.
 constexpr double kRoundedScale = 64.0;
@@ -410,8 +410,7 @@ void HemicubeRenderer::reduceOnGpu(RowAccumulator& row, HemicubeStats& stats) {
     for (std::uint32_t k = 0; k < count; ++k) row.addWeight(list[k], values[k] / m_fixedScale);
     stats.missed += header[1];
     stats.backfaces += header[2];
-    stats.lostWeight += header[3] / m_fixedScale + header[5] / (m_fixedScale * kRoundedScale);
-    stats.roundedPixels += header[4];
+    stats.lostWeight += header[3] / m_fixedScale + header[4] / (m_fixedScale * kRoundedScale);
 }
 
 }  // namespace hemirad

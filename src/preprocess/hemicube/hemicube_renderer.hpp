@@ -17,13 +17,11 @@ namespace hemirad {
 struct HemicubeStats {
     double render = 0, readback = 0, reduce = 0, collect = 0, mirrors = 0;
     std::uint64_t hemicubes = 0, pixels = 0, missed = 0, backfaces = 0, portals = 0;
-    std::uint64_t roundedPixels = 0;  ///< GPU reduction: pixels below half a fixed-point unit (their weight is lost)
     double lostWeight = 0;    ///< sum over rows of the row fraction that saw nothing or a back face
     double cutoffWeight = 0;  ///< sum over rows of the fraction still travelling at the depth/weight limit
     HemicubeStats& operator+=(const HemicubeStats& o) {
         render += o.render, readback += o.readback, reduce += o.reduce, collect += o.collect, mirrors += o.mirrors;
         hemicubes += o.hemicubes, pixels += o.pixels, missed += o.missed, backfaces += o.backfaces, portals += o.portals;
-        roundedPixels += o.roundedPixels;
         lostWeight += o.lostWeight, cutoffWeight += o.cutoffWeight;
         return *this;
     }
