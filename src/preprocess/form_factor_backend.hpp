@@ -87,6 +87,35 @@ private:
     std::map<std::string, double> m_stageSeconds;
 };
 
+/// Hands rows to a back end's workers, one at a time, from any thread. A back end pulls rows until
+/// next() says none is left, so one run (one BVH, one GL context per worker) serves rows that arrive
+/// while it works: a fixed list here, blocks handed out by an MPI work queue (src/mpi).
+class RowSource {
+public:
+    virtual ~RowSource() = default;
+    /// The next row to compute; false when no row is left (it may block until one arrives).
+    virtual bool next(PatchId& row) = 0;
+    /// Rows this source will hand out at most (sizes per-worker scratch; may over-estimate).
+    virtual std::size_t sizeHint() const = 0;
+};
+
+/// A fixed list of rows, handed out in order.
+class RowList final : public RowSource {
+public:
+    explicit RowList(const std::vector<PatchId>& rows) : m_rows(rows) {}
+    bool next(PatchId& row) override {
+        const std::size_t k = m_next.fetch_add(1, std::memory_order_relaxed);
+        if (k >= m_rows.size()) return false;
+        row = m_rows[k];
+        return true;
+    }
+    std::size_t sizeHint() const override { return m_rows.size(); }
+
+private:
+    const std::vector<PatchId>& m_rows;
+    std::atomic<std::size_t> m_next{0};
+};
+
 /// Computes rows of F: F(i,j) = fraction of power leaving patch i that arrives at patch j.
 class FormFactorBackend {
 public:
@@ -94,8 +123,17 @@ public:
     virtual std::string_view name() const = 0;
     /// Builds acceleration structures for `scene`, which must outlive the back end's use of it.
     virtual void prepare(const Scene& scene) = 0;
-    /// Fills the listed rows (parallel inside). Throws hemirad::Error.
-    virtual void computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) = 0;
+    /// Fills every row `rows` hands out (parallel inside), until it has none left or the builder is
+    /// cancelled. Throws hemirad::Error.
+    virtual void computeRows(RowSource& rows, FormFactorBuilder& builder) = 0;
+    /// Fills the listed rows.
+    void computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) {
+        RowList list(rows);
+        computeRows(list, builder);
+    }
+    /// Relative cost of row i against the back end's average row (1): what a scheduler that spreads
+    /// rows over processes weighs them by. Valid after prepare().
+    virtual double rowCost(PatchId) const { return 1.0; }
     /// How F was computed, typed (method, estimator, row-sum bound); valid after prepare().
     virtual FormFactorProvenance provenance() const = 0;
     /// The back end's parameters recorded with F for people ("samples", "resolution", ...).

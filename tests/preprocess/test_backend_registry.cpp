@@ -30,9 +30,9 @@ public:
     void prepare(const Scene& scene) override {
         if (scene.size() != 6) throw Error("closed-cube: the scene must be the 6-patch unit cube");
     }
-    void computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) override {
+    void computeRows(RowSource& rows, FormFactorBuilder& builder) override {
         const double scale = m_options.percent / 100.0;
-        for (PatchId i : rows) {
+        for (PatchId i = 0; rows.next(i);) {
             std::vector<FormFactors::Entry> row;
             for (std::uint32_t j = 0; j < 6; ++j)
                 if (j != i) row.push_back({j, float(scale * ((i ^ 1) == j ? kCubeOpposite : kCubeAdjacent))});

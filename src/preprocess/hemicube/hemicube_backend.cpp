@@ -54,11 +54,10 @@ std::map<std::string, std::string> HemicubeBackend::parameters() const {
             {"delta_form_factors", "Cohen-Greenberg, normalised"}};
 }
 
-void HemicubeBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) {
+void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
     if (!m_scene) throw Error("hemicube back end: prepare() was not called");
     const Reduction reduction = m_options.reduce;
     const GlApiKind api = m_options.gl;
-    std::atomic<std::size_t> next{0};
     std::exception_ptr failure;
     std::mutex failureMutex;
     HemicubeStats total;
@@ -72,16 +71,16 @@ void HemicubeBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBu
                 HemicubeRenderer renderer(*m_scene, m_geometry, *m_layout, reduction, limits);
                 RowAccumulator row(m_scene->size(), RowAccumulator::Mode::Weights);
                 HemicubeStats stats;
+                PatchId i = 0;
                 for (;;) {
-                    const std::size_t k = next.fetch_add(1);
-                    if (k >= rows.size() || builder.cancelled()) break;
                     {
                         std::lock_guard<std::mutex> lock(failureMutex);
                         if (failure) break;
                     }
-                    renderer.computeRow(rows[k], row, stats);
+                    if (builder.cancelled() || !rows.next(i)) break;
+                    renderer.computeRow(i, row, stats);
                     const auto t0 = std::chrono::steady_clock::now();
-                    builder.setRow(rows[k], row.take(1.0));
+                    builder.setRow(i, row.take(1.0));
                     stats.collect += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
                 }
                 std::lock_guard<std::mutex> lock(totalMutex);
@@ -93,7 +92,7 @@ void HemicubeBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBu
             if (!failure) failure = std::current_exception();
         }
     };
-    const int workers = std::max(1, std::min<int>(m_workers, int(rows.size())));
+    const int workers = std::max(1, std::min<int>(m_workers, int(std::min<std::size_t>(rows.sizeHint(), 1u << 20))));
     std::vector<std::thread> threads;
     for (int w = 1; w < workers; ++w) threads.emplace_back(worker);
     worker();

@@ -127,14 +127,13 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
     return p;
 }
 
-void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) {
+void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
     if (!m_scene) throw Error("hemisphere back end: prepare() was not called");
     const int threads = resolveThreads(m_common.threads);
     // The first failure is kept under a critical section; other threads see only the atomic flag
     // (reading the exception_ptr while another thread writes it was a data race).
     std::exception_ptr failure;
     std::atomic<bool> failed{false};
-    const auto count = static_cast<std::ptrdiff_t>(rows.size());
 #pragma omp parallel num_threads(threads)
     {
         Workspace ws(m_scene->size(), m_mirrors || m_analytic);
@@ -146,11 +145,9 @@ void HemisphereBackend::computeRows(const std::vector<PatchId>& rows, FormFactor
         ws.hits.resize(m_options.samples);
         ws.distances.resize(m_options.samples);
         RayCounts counts;
-#pragma omp for schedule(dynamic, 4)
-        for (std::ptrdiff_t r = 0; r < count; ++r) {
-            if (builder.cancelled() || failed.load(std::memory_order_relaxed)) continue;
+        PatchId i = 0;
+        while (!builder.cancelled() && !failed.load(std::memory_order_relaxed) && rows.next(i)) {
             try {
-                const PatchId i = rows[r];
                 if (m_analytic) {
                     const double direct = addAnalyticRow(i, ws, counts);
                     counts.lostWeight += std::max(0.0, 1.0 - direct);

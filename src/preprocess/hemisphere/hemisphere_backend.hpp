@@ -27,7 +27,8 @@ public:
 
     std::string_view name() const override { return "hemisphere"; }
     void prepare(const Scene& scene) override;
-    void computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) override;
+    using FormFactorBackend::computeRows;
+    void computeRows(RowSource& rows, FormFactorBuilder& builder) override;
     FormFactorProvenance provenance() const override;
     std::map<std::string, std::string> parameters() const override;
 
