@@ -30,17 +30,19 @@ test: build
 bench: build
 	@bash bench/run.sh $(BUILD)
 
-# The whole suite under AddressSanitizer + UndefinedBehaviorSanitizer (gcc), in build-sanitize/.
+# The whole suite under AddressSanitizer + UndefinedBehaviorSanitizer (gcc), in build-sanitize/; without
+# MPI (Open MPI's own allocations at exit would read as leaks in every rank).
 test-sanitize: deps
-	@cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHEMIRAD_WITH_SANITIZERS=ON \
+	@cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHEMIRAD_WITH_SANITIZERS=ON -DHEMIRAD_WITH_MPI=OFF \
 	    -DHEMIRAD_WITH_BENCH=OFF > build-sanitize.configure.log 2>&1 || { cat build-sanitize.configure.log; exit 1; }
 	@cmake --build build-sanitize -j $(JOBS)
 	@cd build-sanitize && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS)
 
-# The build without OpenGL (CMake feature option): no hemicube, no GUI; the suite runs, and
-# --method hemicube says how to get it.
+# The build without the optional components (CMake feature options): no OpenGL (no hemicube, no GUI)
+# and no MPI/PETSc; the suite runs, --method hemicube says how to get it, and hemirad under mpirun
+# runs one independent process per rank.
 test-without-opengl: deps
-	@cmake -S . -B build-noopengl -DCMAKE_BUILD_TYPE=Release -DHEMIRAD_WITH_OPENGL=OFF -DHEMIRAD_WITH_BENCH=OFF \
+	@cmake -S . -B build-noopengl -DCMAKE_BUILD_TYPE=Release -DHEMIRAD_WITH_OPENGL=OFF -DHEMIRAD_WITH_MPI=OFF -DHEMIRAD_WITH_BENCH=OFF \
 	    > build-noopengl.configure.log 2>&1 || { cat build-noopengl.configure.log; exit 1; }
 	@cmake --build build-noopengl -j $(JOBS)
 	@cd build-noopengl && ctest --output-on-failure -j $(JOBS)

@@ -60,6 +60,9 @@ step "street64k at 3072 directions: time and peak memory"
 "$hemirad" bench-run "$scenes/street64k.obj" --label street64k --method hemisphere --samples 3072 \
     | tee "$results/street64k.jsonl"
 
+step "street64k across MPI ranks: F on 1 vs 2 ranks, the PETSc solve"
+bash bench/mpi_scaling.sh "$build"
+
 step "what skipping saves: black rows, the mirror pass, F reuse after a material-only edit"
 "$hemirad" bench-run "$scenes/street64k.obj" --label street64k_all_rows --method hemisphere --samples 3072 \
     --all-rows | tee "$results/skip_black_rows.jsonl"

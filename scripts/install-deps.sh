@@ -9,6 +9,7 @@ packages=(
   libembree-dev libeigen3-dev doctest-dev libstb-dev
   libglfw3-dev libegl-dev libegl-mesa0 libgl-dev libosmesa6-dev libimgui-dev
   xvfb python3-matplotlib
+  libopenmpi-dev openmpi-bin petsc-dev time
 )
 
 # `install-deps.sh fuzz` adds clang and its fuzzer/sanitizer runtime for `make fuzz`.

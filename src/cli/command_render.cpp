@@ -11,16 +11,13 @@
 
 namespace hemirad {
 
-int runRender(const Options& options) {
-    Reporter reporter(options.quiet);
-    Warnings warnings;
-    Timings timings;
+void checkRenderOutput(const Options& options) {
     if (std::filesystem::path(options.output).extension() != ".png")
         throw UsageError("render -o: the image must be a .png file, got '" + options.output + "'");
-    const Scene scene = loadScene(options, timings, reporter, warnings);
-    const FormFactors F = obtainFormFactors(scene, options, timings, reporter, warnings);
-    const Radiosity result = solveScene(scene, F, options, timings, reporter);
+}
 
+void writeRenderOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings,
+                       const Reporter& reporter) {
     timings.start("vertex radiosity");
     const std::vector<Rgb> corner = cornerRadiosity(scene, result.B, options.crease);
     RenderOptions render;
@@ -40,6 +37,18 @@ int runRender(const Options& options) {
     timings.stop();
     reporter.line("wrote " + options.output + " (" + std::to_string(image.width) + "x" + std::to_string(image.height) +
                   ", exposure " + std::to_string(scale) + (options.exposure > 0 ? "" : ", automatic") + ")");
+}
+
+int runRender(const Options& options) {
+    Reporter reporter(options.quiet);
+    Warnings warnings;
+    Timings timings;
+    checkRenderOutput(options);
+    const Scene scene = loadScene(options, timings, reporter, warnings);
+    const FormFactors F = obtainFormFactors(scene, options, timings, reporter, warnings);
+    const Radiosity result = solveScene(scene, F, options, timings, reporter);
+
+    writeRenderOutput(options, scene, result, timings, reporter);
     reporter.line(timings.table());
     if (warnings.count()) std::cerr << "hemirad: " << warnings.summary() << '\n';
     return 0;

@@ -10,19 +10,15 @@
 
 namespace hemirad {
 
-int runSolve(const Options& options) {
-    Reporter reporter(options.quiet);
-    Warnings warnings;
-    Timings timings;
-    std::string format;
-    if (!options.output.empty()) {
-        format = std::filesystem::path(options.output).extension().string();
-        if (format != ".csv" && format != ".ply")
-            throw UsageError("solve -o: unknown output type '" + format + "' (use .csv or .ply)");
-    }
-    const Scene scene = loadScene(options, timings, reporter, warnings);
-    const FormFactors F = obtainFormFactors(scene, options, timings, reporter, warnings);
-    const Radiosity result = solveScene(scene, F, options, timings, reporter);
+void checkSolveOutput(const Options& options) {
+    if (options.output.empty()) return;
+    const std::string format = std::filesystem::path(options.output).extension().string();
+    if (format != ".csv" && format != ".ply")
+        throw UsageError("solve -o: unknown output type '" + format + "' (use .csv or .ply)");
+}
+
+void writeSolveOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings) {
+    const std::string format = options.output.empty() ? "" : std::filesystem::path(options.output).extension().string();
     if (format == ".csv") {
         timings.start("write CSV");
         writeRadiosityCsv(options.output, scene, result.B);
@@ -41,6 +37,17 @@ int runSolve(const Options& options) {
         writeRadiosityPly(options.output, scene, corner, exposure);
         timings.stop();
     }
+}
+
+int runSolve(const Options& options) {
+    Reporter reporter(options.quiet);
+    Warnings warnings;
+    Timings timings;
+    checkSolveOutput(options);
+    const Scene scene = loadScene(options, timings, reporter, warnings);
+    const FormFactors F = obtainFormFactors(scene, options, timings, reporter, warnings);
+    const Radiosity result = solveScene(scene, F, options, timings, reporter);
+    writeSolveOutput(options, scene, result, timings);
     if (!options.output.empty()) reporter.line("wrote " + options.output);
     reporter.line(timings.table());
     if (warnings.count()) std::cerr << "hemirad: " << warnings.summary() << '\n';

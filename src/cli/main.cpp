@@ -2,6 +2,10 @@
 #include "cli/commands.hpp"
 #include "engine/atomic_file.hpp"
 #include "engine/threads.hpp"
+#ifdef HEMIRAD_WITH_MPI
+#include "mpi/mpi_context.hpp"
+#include "mpi/mpi_driver.hpp"
+#endif
 
 #include <csignal>
 #include <cstring>
@@ -25,6 +29,10 @@ int main(int argc, char** argv) {
     using namespace hemirad;
     std::signal(SIGINT, onInterrupt);
     std::signal(SIGTERM, onInterrupt);
+#ifdef HEMIRAD_WITH_MPI
+    // Started by mpirun: the command runs as one rank of the job (src/mpi); otherwise MPI stays out.
+    if (mpi::launchedByMpiLauncher()) return mpi::runUnderMpi(argc, argv);
+#endif
     try {
         const Options options = parseOptions(argc, argv);
         configureProcessThreads(options.formFactors.common.threads);

@@ -25,4 +25,14 @@ FormFactors obtainFormFactors(const Scene& scene, const Options& options, Timing
 Radiosity solveScene(const Scene& scene, const FormFactors& F, const Options& options, Timings& timings,
                      const Reporter& reporter);
 
+/// solve -o: a usage error unless the output is .csv or .ply (or none).
+void checkSolveOutput(const Options& options);
+/// Writes B as solve -o asks (CSV per patch, or PLY with vertex radiosity); nothing without -o.
+void writeSolveOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings);
+/// render -o: a usage error unless the image is a .png.
+void checkRenderOutput(const Options& options);
+/// Vertex radiosity, the camera-ray image and its PNG, as render -o asks.
+void writeRenderOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings,
+                       const Reporter& reporter);
+
 }  // namespace hemirad

@@ -1,0 +1,398 @@
+// The distributed form-factor job: rank 0's guided work queue, the ranks' worker threads, gathering.
+//
+// Messages of the queue (rank r > 0 and rank 0; every ask gets exactly one reply except "finished",
+// so no message is left unreceived):
+//
+//   r -> 0  kTagAsk    {kind, rows done, failed}   kind 0: progress only, 1: wants rows, 2: finished
+//   0 -> r  kTagReply  {begin, end, state}         rows[begin, end) (may be empty); state 0 go on,
+//                                                  1 no rows left, 2 abort (a rank failed)
+#include "mpi/distributed_form_factors.hpp"
+
+#include "engine/threads.hpp"
+#include "preprocess/backend_registry.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <future>
+#include <mutex>
+#include <thread>
+
+namespace hemirad::mpi {
+namespace {
+
+constexpr int kTagAsk = 101, kTagReply = 102, kTagColumns = 103, kTagValues = 104;
+enum : std::uint64_t { kProgress = 0, kWantRows = 1, kFinished = 2 };
+enum : std::uint64_t { kGoOn = 0, kNoRowsLeft = 1, kAbort = 2 };
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// The rows a rank's back end pulls: blocks pushed by the main thread; next() waits for one.
+class QueueSource final : public RowSource {
+public:
+    explicit QueueSource(std::size_t hint) : m_hint(hint) {}
+    bool next(PatchId& row) override {
+        std::unique_lock<std::mutex> lock(m_mutex);
+        m_ready.wait(lock, [&] { return !m_rows.empty() || m_closed; });
+        if (m_rows.empty()) return false;
+        row = m_rows.front();
+        m_rows.pop_front();
+        return true;
+    }
+    std::size_t sizeHint() const override { return m_hint; }
+    void push(const PatchId* begin, const PatchId* end) {
+        {
+            std::lock_guard<std::mutex> lock(m_mutex);
+            m_rows.insert(m_rows.end(), begin, end);
+        }
+        m_ready.notify_all();
+    }
+    void close() {
+        {
+            std::lock_guard<std::mutex> lock(m_mutex);
+            m_closed = true;
+        }
+        m_ready.notify_all();
+    }
+    std::size_t pending() const {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        return m_rows.size();
+    }
+
+private:
+    std::size_t m_hint;
+    mutable std::mutex m_mutex;
+    std::condition_variable m_ready;
+    std::deque<PatchId> m_rows;
+    bool m_closed = false;
+};
+
+/// Guided self-scheduling over the row list, weighed by row cost: a block holds about 1/(2K) of the
+/// cost left (at most 1/(8K) of the whole, so that an abort or the tail waits for no huge block), and
+/// at least `minRows` rows so that every worker thread of a rank has rows.
+class Schedule {
+public:
+    Schedule(std::vector<double> cost, int ranks, std::size_t minRows)
+        : m_cost(std::move(cost)), m_ranks(ranks), m_minRows(std::max<std::size_t>(1, minRows)) {
+        for (double c : m_cost) m_left += c;
+        m_cap = m_left / (8.0 * ranks);
+    }
+    /// [begin, end) of the next block; begin == end when none is left.
+    std::pair<std::size_t, std::size_t> next() {
+        const std::size_t begin = m_next;
+        const double target = std::min(m_cap, m_left / (2.0 * m_ranks));
+        double taken = 0;
+        while (m_next < m_cost.size() && (m_next - begin < m_minRows || taken < target)) taken += m_cost[m_next++];
+        m_left -= taken;
+        return {begin, m_next};
+    }
+
+private:
+    std::vector<double> m_cost;
+    int m_ranks;
+    std::size_t m_minRows, m_next = 0;
+    double m_left = 0, m_cap = 0;
+};
+
+/// The back end on a worker thread, pulling from a queue; the main thread keeps MPI.
+struct Worker {
+    Worker(FormFactorBackend& backend, QueueSource& queue, FormFactorBuilder& builder) {
+        thread = std::thread([this, &backend, &queue, &builder] {
+            const auto t0 = Clock::now();
+            try {
+                backend.computeRows(queue, builder);
+            } catch (...) {
+                failure = std::current_exception();
+            }
+            busySeconds = since(t0);
+            done.store(true);
+        });
+    }
+    ~Worker() {
+        if (thread.joinable()) thread.join();
+    }
+    std::thread thread;
+    std::atomic<bool> done{false};
+    std::exception_ptr failure;
+    double busySeconds = 0;
+};
+
+std::string messageOf(const std::exception_ptr& failure) {
+    try {
+        std::rethrow_exception(failure);
+    } catch (const std::bad_alloc&) {
+        return "out of memory";
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "unknown failure";
+}
+
+void pause() { std::this_thread::sleep_for(std::chrono::microseconds(500)); }
+
+}  // namespace
+
+DistributedFormFactors computeDistributed(const Context& context, const Scene& scene, const MethodSettings& settings,
+                                          const std::vector<PatchId>& rows, const ProgressCallback& progress) {
+    const int K = context.size();
+    std::unique_ptr<FormFactorBackend> backend;
+    auto t0 = Clock::now();
+    context.collectively([&] {
+        backend = makeBackend(settings);
+        backend->prepare(scene);
+    });
+    double prepareSeconds = since(t0);
+
+    FormFactorBuilder builder(scene.size());
+    QueueSource queue(rows.size());
+    const std::size_t threads = std::size_t(resolveThreads(settings.common.threads));
+    const std::size_t minRows = 4 * threads, lowWater = 2 * threads;
+    std::vector<std::int32_t> owner(scene.size(), -1);
+    const auto start = Clock::now();
+    bool aborted = false;
+    std::unique_ptr<Worker> worker;
+    if (context.root()) {
+        std::vector<double> cost(rows.size());
+        for (std::size_t k = 0; k < rows.size(); ++k) cost[k] = std::max(1e-3, backend->rowCost(rows[k]));
+        Schedule schedule(std::move(cost), K, minRows);
+        auto grant = [&](int rank) {
+            const auto block = schedule.next();
+            for (std::size_t k = block.first; k < block.second; ++k) owner[rows[k]] = rank;
+            return block;
+        };
+        worker = std::make_unique<Worker>(*backend, queue, builder);
+        std::vector<std::uint64_t> done(std::size_t(K), 0);
+        int finished = 0;
+        bool exhausted = false, failed = false;
+        auto lastProgress = Clock::now();
+        while (finished < K - 1 || !worker->done.load()) {
+            int flag = 0;
+            MPI_Status status;
+            while (MPI_Iprobe(MPI_ANY_SOURCE, kTagAsk, MPI_COMM_WORLD, &flag, &status) == MPI_SUCCESS && flag) {
+                std::uint64_t ask[3];
+                const int source = status.MPI_SOURCE;
+                MPI_Recv(ask, 3, MPI_UINT64_T, source, kTagAsk, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+                done[std::size_t(source)] = ask[1];
+                failed = failed || ask[2];
+                if (ask[0] == kFinished) {
+                    ++finished;
+                    continue;
+                }
+                std::uint64_t reply[3] = {0, 0, failed ? kAbort : kGoOn};
+                if (!failed && ask[0] == kWantRows) {
+                    const auto block = grant(source);
+                    reply[0] = block.first, reply[1] = block.second;
+                    if (block.first == block.second) reply[2] = kNoRowsLeft;
+                }
+                MPI_Send(reply, 3, MPI_UINT64_T, source, kTagReply, MPI_COMM_WORLD);
+            }
+            if (worker->done.load() && worker->failure) failed = true;
+            if (failed && !aborted) {
+                builder.cancel();
+                queue.close();
+                aborted = true;
+            }
+            if (!exhausted && !aborted && queue.pending() < lowWater) {
+                const auto block = grant(0);
+                if (block.first == block.second) {
+                    queue.close();
+                    exhausted = true;
+                } else {
+                    queue.push(rows.data() + block.first, rows.data() + block.second);
+                }
+            }
+            if (progress && since(lastProgress) > 0.1) {
+                std::uint64_t total = builder.rowsDone();
+                for (int r = 1; r < K; ++r) total += done[std::size_t(r)];
+                progress(std::min<std::size_t>(total, rows.size()), rows.size(), since(start));
+                lastProgress = Clock::now();
+            }
+            pause();
+        }
+    } else {
+        worker = std::make_unique<Worker>(*backend, queue, builder);
+        bool outstanding = false, exhausted = false;
+        std::uint64_t reply[3] = {0, 0, 0};
+        MPI_Request request = MPI_REQUEST_NULL;
+        auto lastAsk = Clock::now();
+        auto ask = [&](std::uint64_t kind) {
+            const bool failed = worker->done.load() && worker->failure;
+            const std::uint64_t message[3] = {kind, builder.rowsDone(), failed ? 1u : 0u};
+            MPI_Send(message, 3, MPI_UINT64_T, 0, kTagAsk, MPI_COMM_WORLD);
+            lastAsk = Clock::now();
+        };
+        for (;;) {
+            if (outstanding) {
+                int flag = 0;
+                MPI_Test(&request, &flag, MPI_STATUS_IGNORE);
+                if (flag) {
+                    outstanding = false;
+                    if (reply[2] == kAbort && !aborted) {
+                        builder.cancel();
+                        queue.close();
+                        aborted = exhausted = true;
+                    } else if (reply[2] == kNoRowsLeft) {
+                        queue.close();
+                        exhausted = true;
+                    } else if (reply[0] < reply[1]) {
+                        for (std::size_t k = reply[0]; k < reply[1]; ++k) owner[rows[k]] = context.rank();
+                        queue.push(rows.data() + reply[0], rows.data() + reply[1]);
+                    }
+                }
+            }
+            if (!outstanding) {
+                const bool workerDone = worker->done.load();
+                if (workerDone && (exhausted || worker->failure)) {
+                    ask(kFinished);
+                    break;
+                }
+                const bool wantRows = !exhausted && queue.pending() < lowWater;
+                if (wantRows || since(lastAsk) > 0.5) {
+                    ask(wantRows ? kWantRows : kProgress);
+                    MPI_Irecv(reply, 3, MPI_UINT64_T, 0, kTagReply, MPI_COMM_WORLD, &request);
+                    outstanding = true;
+                }
+            }
+            pause();
+        }
+    }
+    worker->thread.join();
+    const double computeSeconds = since(start);
+    // A worker's error, if any: the first failing rank's message ends every rank.
+    context.agree(worker->failure ? 1 : 0, worker->failure ? messageOf(worker->failure) : std::string());
+
+    DistributedFormFactors result;
+    // Rank 0 knows every block's rank; the other ranks learn it (the solve and the gather need it).
+    MPI_Bcast(owner.data(), int(owner.size()), MPI_INT32_T, 0, MPI_COMM_WORLD);
+    result.owner = std::move(owner);
+    result.local = builder.finish();
+    result.local.sceneHash = scene.geometryHash();
+    result.local.provenance = backend->provenance();
+    result.local.parameters = backend->parameters();
+
+    // Bookkeeping to rank 0: counts summed (the largest direct sum taken), stage times, per-rank load.
+    const RayCounts mine = builder.counts();
+    std::uint64_t integers[5] = {mine.rays, mine.bounces, mine.misses, mine.backfaces, mine.rescaledRows}, integerSums[5];
+    double reals[2] = {mine.lostWeight, mine.cutoffWeight}, realSums[2];
+    MPI_Reduce(integers, integerSums, 5, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    MPI_Reduce(reals, realSums, 2, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+    double largest = 0;
+    MPI_Reduce(&mine.largestDirectSum, &largest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+    MPI_Reduce(&prepareSeconds, &result.prepareSeconds, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+    std::uint64_t rowsHere = builder.rowsDone();
+    result.rowsPerRank.resize(context.root() ? std::size_t(K) : 0);
+    result.busySeconds.resize(result.rowsPerRank.size());
+    MPI_Gather(&rowsHere, 1, MPI_UINT64_T, result.rowsPerRank.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+    MPI_Gather(&worker->busySeconds, 1, MPI_DOUBLE, result.busySeconds.data(), 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    std::string stages;
+    for (const auto& [stage, seconds] : builder.stageSeconds()) stages += stage + '\t' + std::to_string(seconds) + '\n';
+    for (const std::string& text : context.gatherText(stages)) {
+        std::size_t at = 0;
+        while (at < text.size()) {
+            const std::size_t tab = text.find('\t', at), end = text.find('\n', tab);
+            result.stageSeconds[text.substr(at, tab - at)] += std::stod(text.substr(tab + 1, end - tab - 1));
+            at = end + 1;
+        }
+    }
+    if (context.root()) {
+        RayCounts& c = result.counts;
+        c.rays = integerSums[0], c.bounces = integerSums[1], c.misses = integerSums[2], c.backfaces = integerSums[3];
+        c.rescaledRows = integerSums[4];
+        c.lostWeight = realSums[0], c.cutoffWeight = realSums[1];
+        c.largestDirectSum = largest;
+    }
+    result.computeSeconds = computeSeconds;
+    result.rowsComputed = rows.size();
+    return result;
+}
+
+FormFactors gatherFormFactors(const Context& context, const DistributedFormFactors& F) {
+    const std::size_t n = F.owner.size();
+    std::vector<std::uint64_t> lengths(n, 0), total(context.root() ? n : 0);
+    for (std::size_t i = 0; i < n; ++i)
+        if (F.owner[i] == context.rank()) lengths[i] = F.local.rowEnd(i) - F.local.rowBegin(i);
+    MPI_Reduce(lengths.data(), total.data(), int(n), MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    if (!context.root()) {
+        sendVector(F.local.columnVector(), 0, kTagColumns);
+        sendVector(F.local.valueVector(), 0, kTagValues);
+        return {};
+    }
+    std::vector<std::uint64_t> start(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) start[i + 1] = start[i] + total[i];
+    std::vector<std::uint32_t> columns(start[n]);
+    std::vector<float> values(start[n]);
+    std::vector<std::uint8_t> computed(n, 0);
+    for (int r = 0; r < context.size(); ++r) {
+        std::vector<std::uint32_t> theirColumns;
+        std::vector<float> theirValues;
+        if (r > 0) {
+            theirColumns = receiveVector<std::uint32_t>(r, kTagColumns);
+            theirValues = receiveVector<float>(r, kTagValues);
+        }
+        const std::uint32_t* c = r ? theirColumns.data() : F.local.columns();
+        const float* v = r ? theirValues.data() : F.local.values();
+        std::uint64_t at = 0;  // rows arrive in ascending order, as the rank's CSR holds them
+        for (std::size_t i = 0; i < n; ++i) {
+            if (F.owner[i] != r) continue;
+            computed[i] = 1;
+            std::copy(c + at, c + at + total[i], columns.begin() + std::ptrdiff_t(start[i]));
+            std::copy(v + at, v + at + total[i], values.begin() + std::ptrdiff_t(start[i]));
+            at += total[i];
+        }
+    }
+    FormFactors all = FormFactors::fromCsr(std::move(start), std::move(columns), std::move(values), std::move(computed));
+    all.sceneHash = F.local.sceneHash;
+    all.provenance = F.local.provenance;
+    all.parameters = F.local.parameters;
+    return all;
+}
+
+DistributedFormFactors keepOwnRows(const Context& context, FormFactors&& F, std::vector<std::int32_t> owner) {
+    const std::size_t n = F.size();
+    std::vector<std::vector<FormFactors::Entry>> rows(n);
+    std::vector<std::uint8_t> computed(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (owner[i] != context.rank()) continue;
+        computed[i] = 1;
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) rows[i].push_back({F.columns()[k], F.values()[k]});
+    }
+    DistributedFormFactors result;
+    result.local = FormFactors::fromRows(std::move(rows), std::move(computed));
+    result.local.sceneHash = F.sceneHash;
+    result.local.provenance = F.provenance;
+    result.local.parameters = F.parameters;
+    result.owner = std::move(owner);
+    F = FormFactors();
+    return result;
+}
+
+FormFactorStats distributedRowStats(const Context& context, const DistributedFormFactors& F) {
+    double sumMin = INFINITY, sumMax = 0, sum = 0;
+    std::uint64_t counts[3] = {0, F.local.nonZeros(), 0};  // computed rows, nonzeros, rows with F_ii > 0
+    for (std::size_t i = 0; i < F.owner.size(); ++i) {
+        if (F.owner[i] != context.rank()) continue;
+        const double s = F.local.rowSum(i);
+        sumMin = std::min(sumMin, s), sumMax = std::max(sumMax, s), sum += s;
+        ++counts[0];
+        if (F.local.at(i, i) > 0) ++counts[2];
+    }
+    FormFactorStats stats;
+    std::uint64_t totals[3];
+    MPI_Reduce(counts, totals, 3, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    MPI_Reduce(&sumMin, &stats.rowSumMin, 1, MPI_DOUBLE, MPI_MIN, 0, MPI_COMM_WORLD);
+    MPI_Reduce(&sumMax, &stats.rowSumMax, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+    MPI_Reduce(&sum, &stats.rowSumMean, 1, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+    stats.rows = F.owner.size();
+    stats.computedRows = totals[0], stats.nonZeros = totals[1], stats.selfFactors = totals[2];
+    if (stats.computedRows) stats.rowSumMean /= double(stats.computedRows);
+    else stats.rowSumMin = 0;
+    return stats;
+}
+
+}  // namespace hemirad::mpi

@@ -1,0 +1,131 @@
+// MPI context: launcher detection, MPI and PETSc start-up, the failure agreement, chunked transfers.
+#include "mpi/mpi_context.hpp"
+
+#include "cli/options.hpp"
+
+#include <mpi.h>
+#include <petscsys.h>
+
+#include <algorithm>
+#include <climits>
+#include <cstdio>
+#include <cstdlib>
+
+namespace hemirad::mpi {
+namespace {
+
+/// Pieces of at most 256 MiB: far below the int count limit, large enough to stream at full speed.
+constexpr std::size_t kPieceBytes = std::size_t(1) << 28;
+
+void check(int code, const char* what) {
+    if (code == MPI_SUCCESS) return;
+    char text[MPI_MAX_ERROR_STRING];
+    int length = 0;
+    MPI_Error_string(code, text, &length);
+    throw Error(std::string("MPI: ") + what + ": " + std::string(text, std::size_t(length)));
+}
+
+}  // namespace
+
+bool launchedByMpiLauncher() {
+    for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE", "MPI_LOCALNRANKS"})
+        if (std::getenv(name)) return true;
+    return false;
+}
+
+Context::Context() {
+    int provided = 0;
+    check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided), "MPI_Init_thread");
+    MPI_Comm_rank(MPI_COMM_WORLD, &m_rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &m_size);
+    // Errors come back as codes (turned into hemirad::Error), never as MPI's abort.
+    MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+    MPI_Comm node;
+    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, m_rank, MPI_INFO_NULL, &node);
+    MPI_Comm_size(node, &m_ranksOnNode);
+    MPI_Comm_free(&node);
+    if (provided < MPI_THREAD_FUNNELED) {
+        // Only the main thread calls MPI, but worker threads exist: a library without that level may not cope.
+        agree(1, "MPI: the library does not support MPI_THREAD_FUNNELED (got level " + std::to_string(provided) + ")");
+    }
+    // PETSc on the same communicator; hemirad's own flags are not PETSc options, and Ctrl-C stays ours.
+    PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
+    if (PetscInitializeNoArguments() != 0) agree(1, "PETSc: initialisation failed");
+    // PETSc errors come back as codes that hemirad turns into its own messages (no traceback).
+    PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+}
+
+Context::~Context() {
+    PetscFinalize();
+    MPI_Finalize();
+}
+
+int Context::statusOf(const Error& e) { return dynamic_cast<const UsageError*>(&e) ? 2 : 1; }
+
+void Context::agree(int status, const std::string& message) const {
+    // (failed?, first failing rank) in one reduction: MINLOC over (0 fine / -1 failed, rank)
+    struct {
+        int value;
+        int rank;
+    } mine{status ? -1 : 0, m_rank}, first{0, 0};
+    check(MPI_Allreduce(&mine, &first, 1, MPI_2INT, MPI_MINLOC, MPI_COMM_WORLD), "agreement");
+    if (first.value == 0) return;
+    int failures = 0, failed = status ? 1 : 0;
+    MPI_Allreduce(&failed, &failures, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+    // The first failing rank's status and message go to everybody.
+    int agreedStatus = status;
+    MPI_Bcast(&agreedStatus, 1, MPI_INT, first.rank, MPI_COMM_WORLD);
+    unsigned long length = message.size();
+    MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG, first.rank, MPI_COMM_WORLD);
+    std::string text = m_rank == first.rank ? message : std::string(length, '\0');
+    MPI_Bcast(text.data(), int(std::min<unsigned long>(length, INT_MAX)), MPI_CHAR, first.rank, MPI_COMM_WORLD);
+    // Every rank failing with the same message (a malformed scene) reads as in one process.
+    int same = !status || message == text ? 1 : 0, allSame = 0;
+    MPI_Allreduce(&same, &allSame, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD);
+    if (!(failures == m_size && allSame)) {
+        std::string where = "rank " + std::to_string(first.rank) + " of " + std::to_string(m_size);
+        if (failures > 1) where += " (and " + std::to_string(failures - 1) + " more)";
+        text = where + ": " + text;
+    }
+    throw AgreedFailure(agreedStatus, text);
+}
+
+std::vector<std::string> Context::gatherText(const std::string& text) const {
+    int length = int(text.size());
+    std::vector<int> lengths(m_rank == 0 ? m_size : 0), offsets(lengths.size());
+    MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    std::string all;
+    if (m_rank == 0) {
+        int total = 0;
+        for (int r = 0; r < m_size; ++r) offsets[r] = total, total += lengths[r];
+        all.resize(std::size_t(total));
+    }
+    MPI_Gatherv(text.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
+    std::vector<std::string> texts;
+    for (int r = 0; m_rank == 0 && r < m_size; ++r) texts.push_back(all.substr(std::size_t(offsets[r]), std::size_t(lengths[r])));
+    return texts;
+}
+
+void Context::abort(const std::string& message) const {
+    std::fprintf(stderr, "hemirad: error: rank %d of %d: %s\n", m_rank, m_size, message.c_str());
+    std::fflush(stderr);
+    MPI_Abort(MPI_COMM_WORLD, 1);
+    std::_Exit(1);
+}
+
+void sendBytes(const void* data, std::size_t bytes, int destination, int tag) {
+    const auto* p = static_cast<const char*>(data);
+    for (std::size_t done = 0; done < bytes; done += kPieceBytes)
+        check(MPI_Send(p + done, int(std::min(kPieceBytes, bytes - done)), MPI_BYTE, destination, tag, MPI_COMM_WORLD),
+              "send");
+}
+
+void receiveBytes(void* data, std::size_t bytes, int source, int tag) {
+    auto* p = static_cast<char*>(data);
+    for (std::size_t done = 0; done < bytes; done += kPieceBytes)
+        check(MPI_Recv(p + done, int(std::min(kPieceBytes, bytes - done)), MPI_BYTE, source, tag, MPI_COMM_WORLD,
+                       MPI_STATUS_IGNORE),
+              "receive");
+}
+
+}  // namespace hemirad::mpi

@@ -1,0 +1,269 @@
+// The MPI driver: the CLI's commands with F spread over ranks (distributed_form_factors) and solved
+// there (petsc_solve). Rank 0 reports and writes; every step runs inside Context::collectively.
+#include "mpi/mpi_driver.hpp"
+
+#include "cli/commands.hpp"
+#include "cli/pipeline.hpp"
+#include "engine/form_factor_file.hpp"
+#include "engine/memory.hpp"
+#include "engine/threads.hpp"
+#include "mpi/distributed_form_factors.hpp"
+#include "mpi/petsc_solve.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace hemirad::mpi {
+namespace {
+
+/// One command's state on one rank.
+struct Job {
+    const Context& context;
+    const Options& options;
+    Reporter reporter;
+    Timings timings;
+    Warnings warnings;
+    Scene scene;
+    DistributedFormFactors F;
+    bool computed = false;  ///< rows were computed in this run (a stored F is out of date)
+};
+
+void reportBalance(Job& job, const DistributedFormFactors& F) {
+    if (!job.context.root()) return;
+    std::ostringstream out;
+    out.setf(std::ios::fixed);
+    out << std::setprecision(2) << "  ranks " << job.context.size() << ": rows";
+    for (std::uint64_t rows : F.rowsPerRank) out << ' ' << rows;
+    out << "; busy";
+    for (double s : F.busySeconds) out << ' ' << s;
+    out << " s of " << F.computeSeconds << " s";
+    job.reporter.line(out.str());
+}
+
+/// Loads the scene on every rank and checks what can be checked before any row is computed.
+void loadScene(Job& job, const RadiosityPipeline& pipeline) {
+    job.context.collectively([&] {
+        job.scene = pipeline.load(job.options.inputs.at(0), job.options.subdivide, job.warnings);
+        try {
+            pipeline.checkBeforeComputing(job.scene);
+        } catch (const Error& e) {
+            throw UsageError(e.what());
+        }
+        if (job.options.enforceReciprocity)
+            throw UsageError("--enforce-reciprocity averages pairs of rows that different ranks hold; it does not run "
+                             "across MPI ranks yet: store F with --ff and apply it in one process");
+    });
+}
+
+/// F's rows spread over the ranks: reused from --ff (each rank keeps a contiguous share of the rows
+/// it reads) and completed by the work queue.
+void obtainFormFactors(Job& job, const RadiosityPipeline& pipeline, const std::string& reusePath) {
+    const Context& context = job.context;
+    const Options& options = job.options;
+    const std::size_t n = job.scene.size();
+    FormFactors current;
+    context.collectively([&] {
+        if (reusePath.empty()) return;
+        const auto t0 = std::chrono::steady_clock::now();
+        current = loadFormFactors(reusePath);
+        job.timings.add("load F", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        checkFormFactorsMatch(current, job.scene.geometryHash(), n, reusePath);
+        job.reporter.line("form factors: reused " + reusePath + " (" + std::to_string(current.computedRows()) + " rows)");
+    });
+    std::vector<std::int32_t> owner(n, -1);
+    if (current.size() == n) {
+        for (std::size_t i = 0; i < n; ++i)
+            if (current.rowComputed(i)) owner[i] = std::int32_t(i * std::size_t(context.size()) / n);
+        job.F = keepOwnRows(context, std::move(current), owner);
+    } else {
+        job.F.owner = owner;
+        job.F.local = FormFactors(n);
+    }
+    std::vector<PatchId> rows;
+    for (PatchId i : neededRows(job.scene, options.allRows))
+        if (job.F.owner[i] < 0) rows.push_back(i);
+    if (rows.empty()) return;
+    const MethodSettings& method = options.formFactors;
+    context.collectively([&] {
+        if (!options.memoryCheck) return;
+        // This rank's share of the rows against its share of the node's memory.
+        std::vector<PatchId> share;
+        for (std::size_t k = std::size_t(context.rank()); k < rows.size(); k += std::size_t(context.size()))
+            share.push_back(rows[k]);
+        checkFormFactorMemory(job.scene, method, share, availableMemory() / std::size_t(context.ranksOnNode()));
+    });
+    const BackendDescriptor& backend = findBackend(method.method);
+    const ProgressCallback progress =
+        job.reporter.progress("form factors", backend.workPerRow(job.scene, method), backend.workUnit);
+    DistributedFormFactors added = computeDistributed(context, job.scene, method, rows, progress);
+    job.timings.add("acceleration structure", added.prepareSeconds);
+    job.timings.add("form factors", added.computeSeconds);
+    if (context.root()) {
+        FormFactorRun run;
+        run.counts = added.counts;
+        run.computeSeconds = added.computeSeconds;
+        run.prepareSeconds = added.prepareSeconds;
+        run.rowsComputed = rows.size();
+        run.rowsSkipped = n - rows.size();
+        run.stageSeconds = added.stageSeconds;
+        job.reporter.line("form factors: " + std::to_string(rows.size()) + " rows on " + std::to_string(context.size()) +
+                          " MPI ranks");
+        // The one-process summary, less the statistics (they follow, from every rank's rows).
+        Reporter(true).formFactorSummary(run, job.scene, method);
+        std::ostringstream out;
+        out.setf(std::ios::fixed);
+        const RunDescription description = backend.describe(job.scene, method);
+        out << "  " << backend.name << ", " << description.settings << "; " << backend.workUnit << ' '
+            << std::setprecision(2) << run.counts.rays / 1e6 << " M in " << formatSeconds(run.computeSeconds) << " s = "
+            << (run.computeSeconds > 0 ? run.counts.rays / run.computeSeconds / 1e6 : 0.0) << " M " << backend.workUnit
+            << "/s";
+        job.reporter.line(out.str());
+    }
+    reportBalance(job, added);
+    if (job.F.local.nonZeros() || job.F.local.computedRows()) {
+        job.F.local.replaceRows(added.local);
+        job.F.local.parameters["rows_added"] = std::to_string(rows.size()) + " with " + method.method + ", " +
+                                               backend.describe(job.scene, method).settings;
+    } else {
+        job.F.local = std::move(added.local);
+    }
+    for (std::size_t i = 0; i < n; ++i)
+        if (added.owner[i] >= 0) job.F.owner[i] = added.owner[i];
+    job.computed = true;
+}
+
+/// --normalize-rows on each rank's rows (row-local), the largest correction reported.
+void normalise(Job& job) {
+    if (!job.options.normalizeRows) return;
+    double worst = normalizeRows(job.F.local), largest = 0;
+    MPI_Reduce(&worst, &largest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+    job.reporter.line("form factors: rows normalised to sum 1 (largest correction " + std::to_string(largest) + ")");
+    job.computed = true;
+}
+
+void reportStatistics(Job& job) {
+    const FormFactorStats stats = distributedRowStats(job.context, job.F);
+    if (!job.context.root()) return;
+    std::ostringstream out;
+    out.setf(std::ios::fixed);
+    out << std::setprecision(4) << "  row sums min " << stats.rowSumMin << " mean " << stats.rowSumMean << " max "
+        << stats.rowSumMax << "; F: " << stats.nonZeros << " nonzeros (" << std::setprecision(1)
+        << (stats.computedRows ? double(stats.nonZeros) / double(stats.computedRows) : 0.0)
+        << " per row) over the ranks; reciprocity pairs rows of different ranks: `hemirad info` on the stored F";
+    job.reporter.line(out.str());
+}
+
+/// One F file on rank 0, streamed from the ranks (the same bytes as one process writes).
+void storeFormFactors(Job& job, const std::string& path) {
+    const auto t0 = std::chrono::steady_clock::now();
+    FormFactors all = gatherFormFactors(job.context, job.F);
+    job.context.collectively([&] {
+        if (!job.context.root()) return;
+        saveFormFactors(all, path);
+        job.timings.add("write F", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        job.reporter.line("wrote " + path + " (scene hash " + hexHash(all.sceneHash) + ")");
+    });
+}
+
+void finish(Job& job) {
+    job.reporter.line(job.timings.table());
+    if (job.context.root() && job.warnings.count()) std::cerr << "hemirad: " << job.warnings.summary() << '\n';
+}
+
+void runFormFactors(Job& job) {
+    const RadiosityPipeline pipeline = makePipeline(job.options, job.timings, job.reporter);
+    loadScene(job, pipeline);
+    obtainFormFactors(job, pipeline, "");
+    normalise(job);
+    reportStatistics(job);
+    storeFormFactors(job, job.options.output);
+    finish(job);
+}
+
+void runSolveOrRender(Job& job, bool render) {
+    const Options& options = job.options;
+    job.context.collectively([&] {
+        if (render) checkRenderOutput(options);
+        else checkSolveOutput(options);
+        checkDistributedSolver(options.solver.solver);
+    });
+    const RadiosityPipeline pipeline = makePipeline(options, job.timings, job.reporter);
+    loadScene(job, pipeline);
+    const bool reuse = !options.ffPath.empty() && !options.recomputeFf && std::filesystem::exists(options.ffPath);
+    obtainFormFactors(job, pipeline, reuse ? options.ffPath : "");
+    // A reused file gains the rows it lacked and stays as computed; a new file stores F as normalised.
+    if (!options.ffPath.empty() && reuse && job.computed) storeFormFactors(job, options.ffPath);
+    normalise(job);
+    if (!options.ffPath.empty() && !reuse) storeFormFactors(job, options.ffPath);
+    reportStatistics(job);
+    Radiosity result;
+    job.context.collectively([&] {
+        const auto t0 = std::chrono::steady_clock::now();
+        result = solveDistributed(job.context, job.scene, job.F, options.solver);
+        job.timings.add("solve (" + (options.solver.solver == "auto" ? std::string("bicgstab") : options.solver.solver) +
+                            ", PETSc)",
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        job.reporter.solveSummary(result);
+    });
+    job.context.collectively([&] {
+        if (!job.context.root()) return;
+        if (render) {
+            writeRenderOutput(options, job.scene, result, job.timings, job.reporter);
+        } else {
+            writeSolveOutput(options, job.scene, result, job.timings);
+            if (!options.output.empty()) job.reporter.line("wrote " + options.output);
+        }
+    });
+    finish(job);
+}
+
+}  // namespace
+
+int runUnderMpi(int argc, char** argv) {
+    Context context;
+    try {
+        Options options;
+        context.collectively([&] {
+            options = parseOptions(argc, argv);
+            configureProcessThreads(options.formFactors.common.threads);
+        });
+        const std::string& command = options.command;
+        if (command == "formfactors" || command == "solve" || command == "render") {
+            Job job{context, options, Reporter(options.quiet || !context.root()), {}, {}, {}, {}, false};
+            if (command == "formfactors") runFormFactors(job);
+            else runSolveOrRender(job, command == "render");
+        } else {
+            // help, info, subdivide: one process's work, done by rank 0.
+            int status = 0;
+            context.collectively([&] {
+                if (command == "bench" || command == "bench-run")
+                    throw UsageError("'" + command + "' measures one process; run it without mpirun");
+                if (!context.root()) return;
+                if (command == "help") std::cout << usageText();
+                else if (command == "info") status = runInfo(options);
+                else if (command == "subdivide") status = runSubdivide(options);
+                else throw UsageError("unknown command '" + command + "'");
+            });
+            MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
+            return status;
+        }
+        context.agree();
+        return 0;
+    } catch (const AgreedFailure& e) {
+        if (context.root()) {
+            std::cerr << "hemirad: error: " << e.what() << '\n';
+            if (e.status() == 2) std::cerr << "(run 'hemirad help' for usage)\n";
+        }
+        return e.status();
+    } catch (const std::exception& e) {
+        // Outside an agreement point (inside a collective): nothing can be agreed any more.
+        context.abort(e.what());
+    }
+}
+
+}  // namespace hemirad::mpi

@@ -1,0 +1,257 @@
+// Distributed solve with PETSc. PETSc's parallel matrices own contiguous row ranges, while the work
+// queue leaves each rank an arbitrary set of rows; patches are therefore renumbered so that each
+// rank's rows come first-to-last in its range (rows nobody computed, B = E, go round-robin):
+//
+//   old patch i --perm--> new index p;  rank r owns new [offset_r, offset_r + count_r)
+//
+// and the system P (I - R F) P^T (P B) = P E is solved: the same system, the same residuals.
+#include "mpi/petsc_solve.hpp"
+
+#include "cli/options.hpp"
+
+#include <petscksp.h>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace hemirad::mpi {
+namespace {
+
+void check(PetscErrorCode code, const char* what) {
+    if (!code) return;
+    const char* text = nullptr;
+    PetscErrorMessage(code, &text, nullptr);
+    throw Error(std::string("PETSc: ") + what + ": " + (text ? text : "error " + std::to_string(int(code))));
+}
+
+/// The renumbering: new index per patch, and this rank's rows (old indices, in new order).
+struct Layout {
+    std::vector<PetscInt> perm;
+    std::vector<PatchId> mine;
+    PetscInt begin = 0, end = 0;
+};
+
+Layout layoutOf(const Context& context, const std::vector<std::int32_t>& owner) {
+    const int K = context.size();
+    std::vector<std::vector<PatchId>> byRank(static_cast<std::size_t>(K));
+    for (std::size_t i = 0; i < owner.size(); ++i)
+        byRank[std::size_t(owner[i] >= 0 ? owner[i] : int(i % std::size_t(K)))].push_back(PatchId(i));
+    Layout layout;
+    layout.perm.resize(owner.size());
+    PetscInt next = 0;
+    for (int r = 0; r < K; ++r) {
+        if (r == context.rank()) layout.begin = next;
+        for (PatchId i : byRank[std::size_t(r)]) layout.perm[i] = next++;
+        if (r == context.rank()) layout.end = next;
+    }
+    layout.mine = std::move(byRank[std::size_t(context.rank())]);
+    return layout;
+}
+
+struct Channel {
+    std::vector<double> rho, E;  // this rank's rows, in new order
+    std::string names;
+    SolveReport report;
+    std::vector<double> B;       // all patches, on rank 0
+};
+
+}  // namespace
+
+const std::vector<std::string>& distributedSolverNames() {
+    static const std::vector<std::string> names = {"bicgstab", "jacobi"};
+    return names;
+}
+
+void checkDistributedSolver(const std::string& name) {
+    if (name == "auto") return;
+    for (const std::string& s : distributedSolverNames())
+        if (s == name) return;
+    throw UsageError("--solver " + name + " does not run across MPI ranks; the distributed solve takes auto, bicgstab "
+                     "or jacobi (PETSc)");
+}
+
+Radiosity solveDistributed(const Context& context, const Scene& scene, const DistributedFormFactors& F,
+                           const SolverOptions& options) {
+    const std::size_t n = scene.size();
+    const std::string name = options.solver == "auto" ? "bicgstab" : options.solver;
+    checkDistributedSolver(name);
+    if (!(options.tolerance > 0.0) || options.tolerance >= 1.0)
+        throw Error("solve: tolerance must be in (0, 1), got " + std::to_string(options.tolerance));
+    for (std::size_t i = 0; i < n; ++i)
+        if ((scene.patches[i].rho > 0.0).any() && F.owner[i] < 0)
+            throw Error("solve: row " + std::to_string(i) + " of F was not computed (the patch was black then) "
+                        "but its reflectance is now > 0; recompute F or its missing rows");
+    const Layout layout = layoutOf(context, F.owner);
+    const PetscInt m = layout.end - layout.begin;
+
+    // Distinct channels (identical rho and E over all patches are solved once), as in one process.
+    static const char* kNames[3] = {"r", "g", "b"};
+    std::vector<Channel> channels;
+    std::array<int, 3> channelOf{};
+    for (int c = 0; c < 3; ++c) {
+        int same = -1;
+        // Channel d was made from the colour its name starts with.
+        for (std::size_t d = 0; d < channels.size() && same < 0; ++d) {
+            const int first = channels[d].names[0] == 'r' ? 0 : channels[d].names[0] == 'g' ? 1 : 2;
+            bool equal = true;
+            for (std::size_t i = 0; i < n && equal; ++i)
+                equal = scene.patches[i].rho[c] == scene.patches[i].rho[first] &&
+                        scene.patches[i].emission[c] == scene.patches[i].emission[first];
+            if (equal) same = int(d);
+        }
+        if (same >= 0) {
+            channels[std::size_t(same)].names += kNames[c];
+        } else {
+            Channel ch;
+            ch.names = kNames[c];
+            for (PatchId i : layout.mine) {
+                ch.rho.push_back(scene.patches[i].rho[c]);
+                ch.E.push_back(scene.patches[i].emission[c]);
+            }
+            channels.push_back(std::move(ch));
+            same = int(channels.size() - 1);
+        }
+        channelOf[c] = same;
+    }
+
+    // Preallocation: per local row, entries inside this rank's column range and outside it.
+    std::vector<PetscInt> diagonalCount(std::size_t(m), 1), offCount(std::size_t(m), 0);
+    for (PetscInt k = 0; k < m; ++k) {
+        const PatchId i = layout.mine[std::size_t(k)];
+        if (F.owner[i] < 0) continue;
+        for (std::uint64_t e = F.local.rowBegin(i); e < F.local.rowEnd(i); ++e) {
+            const PetscInt p = layout.perm[F.local.columns()[e]];
+            if (p == layout.begin + k) continue;  // the diagonal is counted already
+            ++(p >= layout.begin && p < layout.end ? diagonalCount : offCount)[std::size_t(k)];
+        }
+    }
+
+    for (Channel& ch : channels) {
+        const auto t0 = std::chrono::steady_clock::now();
+        ch.report.solver = name + " (PETSc, " + std::to_string(context.size()) + " ranks)";
+        ch.report.channels = ch.names;
+        double normE = 0, localE = 0;
+        for (double e : ch.E) localE += e * e;
+        MPI_Allreduce(&localE, &normE, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+        normE = std::sqrt(normE);
+        std::vector<double> B(n, 0.0);
+        if (normE == 0.0) {
+            ch.report.converged = true;
+            ch.report.note = "no emission in this channel";
+        } else {
+            Mat A;
+            Vec b, x, r;
+            KSP ksp;
+            PC pc;
+            check(MatCreateAIJ(PETSC_COMM_WORLD, m, m, PetscInt(n), PetscInt(n), 0, diagonalCount.data(), 0,
+                               offCount.data(), &A),
+                  "MatCreateAIJ");
+            std::vector<PetscInt> columns;
+            std::vector<PetscScalar> values;
+            for (PetscInt k = 0; k < m; ++k) {
+                const PatchId i = layout.mine[std::size_t(k)];
+                const PetscInt row = layout.begin + k;
+                const double rho = ch.rho[std::size_t(k)];
+                columns.assign(1, row);
+                values.assign(1, 1.0);
+                if (F.owner[i] >= 0 && rho > 0.0)
+                    for (std::uint64_t e = F.local.rowBegin(i); e < F.local.rowEnd(i); ++e) {
+                        const PetscInt p = layout.perm[F.local.columns()[e]];
+                        const double a = -rho * double(F.local.values()[e]);
+                        if (p == row) values[0] += a;
+                        else columns.push_back(p), values.push_back(a);
+                    }
+                check(MatSetValues(A, 1, &row, PetscInt(columns.size()), columns.data(), values.data(), INSERT_VALUES),
+                      "MatSetValues");
+            }
+            check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+            check(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+            check(MatCreateVecs(A, &x, &b), "MatCreateVecs");
+            check(VecDuplicate(b, &r), "VecDuplicate");
+            for (PetscInt k = 0; k < m; ++k) {
+                check(VecSetValue(b, layout.begin + k, ch.E[std::size_t(k)], INSERT_VALUES), "VecSetValue");
+                check(VecSetValue(x, layout.begin + k, ch.E[std::size_t(k)], INSERT_VALUES), "VecSetValue");
+            }
+            for (Vec v : {b, x}) {
+                check(VecAssemblyBegin(v), "VecAssemblyBegin");
+                check(VecAssemblyEnd(v), "VecAssemblyEnd");
+            }
+            check(KSPCreate(PETSC_COMM_WORLD, &ksp), "KSPCreate");
+            check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+            check(KSPGetPC(ksp, &pc), "KSPGetPC");
+            check(PCSetType(pc, PCJACOBI), "PCSetType");
+            if (name == "bicgstab") {
+                check(KSPSetType(ksp, KSPBCGS), "KSPSetType");
+                check(KSPSetPCSide(ksp, PC_RIGHT), "KSPSetPCSide");  // the norm watched is the true residual's
+            } else {
+                check(KSPSetType(ksp, KSPRICHARDSON), "KSPSetType");
+            }
+            check(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+            // rtol against ||b|| = ||E|| (PETSc's default test), starting from B = E.
+            check(KSPSetTolerances(ksp, options.tolerance, 0.0, PETSC_DEFAULT, options.maxIterations), "KSPSetTolerances");
+            check(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
+            check(KSPSolve(ksp, b, x), "KSPSolve");
+            KSPConvergedReason reason;
+            PetscInt iterations = 0;
+            check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
+            check(KSPGetIterationNumber(ksp, &iterations), "KSPGetIterationNumber");
+            // The residual of the system the user posed, measured, not the solver's running estimate.
+            PetscReal residual = 0;
+            check(MatMult(A, x, r), "MatMult");
+            check(VecAYPX(r, -1.0, b), "VecAYPX");
+            check(VecNorm(r, NORM_2, &residual), "VecNorm");
+            ch.report.iterations = int(iterations);
+            ch.report.residual = ch.report.residualOriginal = double(residual) / normE;
+            ch.report.converged = reason > 0 && ch.report.residual <= std::max(10.0 * options.tolerance, 1e-12);
+            if (reason <= 0) {
+                const char* why = nullptr;
+                KSPGetConvergedReasonString(ksp, &why);
+                ch.report.note = std::string("PETSc: ") + (why ? why : "not converged");
+            }
+            // B to rank 0, back in patch order.
+            VecScatter toZero;
+            Vec all;
+            check(VecScatterCreateToZero(x, &toZero, &all), "VecScatterCreateToZero");
+            check(VecScatterBegin(toZero, x, all, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
+            check(VecScatterEnd(toZero, x, all, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
+            if (context.root()) {
+                const PetscScalar* values0 = nullptr;
+                check(VecGetArrayRead(all, &values0), "VecGetArrayRead");
+                for (std::size_t i = 0; i < n; ++i) B[i] = values0[layout.perm[i]];
+                check(VecRestoreArrayRead(all, &values0), "VecRestoreArrayRead");
+            }
+            VecScatterDestroy(&toZero);
+            VecDestroy(&all);
+            KSPDestroy(&ksp);
+            VecDestroy(&r);
+            VecDestroy(&x);
+            VecDestroy(&b);
+            MatDestroy(&A);
+        }
+        ch.B = std::move(B);
+        ch.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+
+    Radiosity result;
+    for (Channel& ch : channels) {
+        const SolveReport& r = ch.report;
+        if (!r.converged && !options.allowUnconverged) {
+            std::ostringstream msg;
+            msg << "solve: " << r.solver << " did not converge on channel(s) " << r.channels << " after " << r.iterations
+                << " iterations (relative residual " << r.residual << ", tolerance " << options.tolerance << ")";
+            if (!r.note.empty()) msg << "; " << r.note;
+            msg << "; raise --max-iterations, try another --solver, or pass --allow-unconverged";
+            throw Error(msg.str());
+        }
+        result.reports.push_back(r);
+    }
+    if (context.root()) {
+        result.B.assign(n, Rgb::Zero());
+        for (int c = 0; c < 3; ++c)
+            for (std::size_t i = 0; i < n; ++i) result.B[i][c] = channels[std::size_t(channelOf[c])].B[i];
+    }
+    return result;
+}
+
+}  // namespace hemirad::mpi

@@ -1,0 +1,26 @@
+// The distributed radiosity solve: PETSc's Krylov and Richardson solvers on a MATMPIAIJ built from
+// the rows each rank computed (no gather of F); B comes back to rank 0.
+#pragma once
+
+#include "mpi/distributed_form_factors.hpp"
+#include "solve/solver.hpp"
+
+#include <string>
+
+namespace hemirad::mpi {
+
+/// The --solver values the distributed solve takes ("auto" picks bicgstab).
+const std::vector<std::string>& distributedSolverNames();
+
+/// Throws UsageError for a solver that does not run distributed (lu, gauss-seidel, ...).
+void checkDistributedSolver(const std::string& name);
+
+/// Solves (I - R F) B = E per distinct channel (identical rho and E columns once) with PETSc:
+/// bicgstab = KSPBCGS with a right Jacobi preconditioner, jacobi = KSPRICHARDSON with PCJACOBI.
+/// Both stop at the relative residual ||E - (I - R F) B|| / ||E|| <= options.tolerance, as the
+/// one-process solvers do, starting from B = E. Collective; B on rank 0 (empty elsewhere).
+/// Throws hemirad::Error as solveRadiosity does (a needed row missing, unconverged).
+Radiosity solveDistributed(const Context& context, const Scene& scene, const DistributedFormFactors& F,
+                           const SolverOptions& options);
+
+}  // namespace hemirad::mpi
