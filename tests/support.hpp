@@ -6,7 +6,10 @@
 #include "engine/warnings.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <stdexcept>
+#include <sys/wait.h>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -150,6 +153,24 @@ inline std::string writeFile(const std::filesystem::path& path, const std::strin
 inline std::string readText(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+/// What a shell command printed (stdout, and stderr where the command redirects it) and its exit status.
+struct CommandResult {
+    int status;
+    std::string output;
+};
+
+/// Runs a shell command to its end, capturing its output.
+inline CommandResult runCommand(const std::string& command) {
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (!pipe) throw std::runtime_error("popen failed: " + command);
+    std::string output;
+    char buffer[4096];
+    std::size_t n;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
+    const int status = ::pclose(pipe);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
 /// Warnings that are collected silently for assertions.

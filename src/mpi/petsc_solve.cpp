@@ -236,14 +236,7 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
     Radiosity result;
     for (Channel& ch : channels) {
         const SolveReport& r = ch.report;
-        if (!r.converged && !options.allowUnconverged) {
-            std::ostringstream msg;
-            msg << "solve: " << r.solver << " did not converge on channel(s) " << r.channels << " after " << r.iterations
-                << " iterations (relative residual " << r.residual << ", tolerance " << options.tolerance << ")";
-            if (!r.note.empty()) msg << "; " << r.note;
-            msg << "; raise --max-iterations, try another --solver, or pass --allow-unconverged";
-            throw Error(msg.str());
-        }
+        checkConverged(r, options);
         result.reports.push_back(r);
     }
     if (context.root()) {

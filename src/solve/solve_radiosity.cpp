@@ -52,6 +52,16 @@ double spectralLowerBound(const FormFactors& F, const Vector& rho) {
 
 }  // namespace
 
+void checkConverged(const SolveReport& r, const SolverOptions& options) {
+    if (r.converged || options.allowUnconverged) return;
+    std::ostringstream msg;
+    msg << "solve: " << r.solver << " did not converge on channel(s) " << r.channels << " after " << r.iterations
+        << " iterations (relative residual " << r.residual << ", tolerance " << options.tolerance << ")";
+    if (!r.note.empty()) msg << "; " << r.note;
+    msg << "; raise --max-iterations, try another --solver, or pass --allow-unconverged";
+    throw Error(msg.str());
+}
+
 std::string chooseSolver(std::size_t patches, const Scene&) {
     // Small systems: exact LU. Large ones: Gauss-Seidel on the unsymmetrised F, which converges for
     // any rho < 1 with row sums <= 1 (diagonally dominant I - R F) and serves RGB in one pass.
@@ -172,14 +182,7 @@ Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverO
             r.converged = false;
             r.note = "the solution is not finite";
         }
-        if (!r.converged && !options.allowUnconverged) {
-            std::ostringstream msg;
-            msg << "solve: " << r.solver << " did not converge on channel(s) " << r.channels << " after " << r.iterations
-                << " iterations (relative residual " << r.residual << ", tolerance " << options.tolerance << ")";
-            if (!r.note.empty()) msg << "; " << r.note;
-            msg << "; raise --max-iterations, try another --solver, or pass --allow-unconverged";
-            throw Error(msg.str());
-        }
+        checkConverged(r, options);
         result.reports.push_back(r);
     }
     return result;

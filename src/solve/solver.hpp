@@ -47,6 +47,10 @@ struct Radiosity {
 Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverOptions& options,
                          const std::vector<Rgb>* initial = nullptr);
 
+/// Throws hemirad::Error (the channel, iterations, residual, note and what to try) for an unconverged
+/// report unless options.allowUnconverged: one verdict for every solve, distributed ones included.
+void checkConverged(const SolveReport& report, const SolverOptions& options);
+
 /// The solver "auto" picks for N patches and the given materials.
 std::string chooseSolver(std::size_t patches, const Scene& scene);
 

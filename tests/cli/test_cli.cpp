@@ -17,22 +17,7 @@ using namespace hemirad::test;
 
 namespace {
 
-struct Result {
-    int status;
-    std::string output;  // stdout and stderr
-};
-
-/// Runs a shell command, capturing stdout (and stderr where the command redirects it).
-Result runCommand(const std::string& command) {
-    FILE* pipe = ::popen(command.c_str(), "r");
-    REQUIRE(pipe != nullptr);
-    std::string output;
-    std::array<char, 4096> buffer;
-    std::size_t n;
-    while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) output.append(buffer.data(), n);
-    const int status = ::pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+using Result = CommandResult;
 
 Result runHemirad(const std::string& arguments) { return runCommand(std::string(HEMIRAD_BINARY) + " " + arguments + " 2>&1"); }
 

@@ -15,10 +15,7 @@ using namespace hemirad::test;
 
 namespace {
 
-struct Run {
-    int status;
-    std::string output;  // stdout and stderr
-};
+using Run = CommandResult;
 
 /// Runs hemirad in `dir`, under `mpirun -np ranks` when ranks > 0; a hang fails after 120 s (status 124).
 Run runHemirad(const std::filesystem::path& dir, int ranks, const std::string& arguments) {
@@ -26,14 +23,7 @@ Run runHemirad(const std::filesystem::path& dir, int ranks, const std::string& a
     if (ranks > 0)
         command += std::string(HEMIRAD_MPIEXEC) + " --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) + " ";
     command += std::string(HEMIRAD_BINARY) + " " + arguments + " 2>&1";
-    FILE* pipe = ::popen(command.c_str(), "r");
-    REQUIRE(pipe != nullptr);
-    std::string output;
-    std::array<char, 4096> buffer;
-    std::size_t n;
-    while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) output.append(buffer.data(), n);
-    const int status = ::pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+    return runCommand(command);
 }
 
 std::string bytes(const std::filesystem::path& path) {
