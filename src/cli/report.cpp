@@ -67,6 +67,11 @@ ProgressCallback Reporter::progress(const std::string& label, double raysPerRow,
 }
 
 void Reporter::formFactorSummary(const FormFactorRun& run, const Scene& scene, const MethodSettings& settings) const {
+    formFactorRun(run, scene, settings);
+    formFactorStats(run.stats, run.F.memoryBytes());
+}
+
+void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const MethodSettings& settings) const {
     if (m_quiet) return;
     const RayCounts& c = run.counts;
     const BackendDescriptor& backend = findBackend(settings.method);
@@ -103,7 +108,6 @@ void Reporter::formFactorSummary(const FormFactorRun& run, const Scene& scene, c
             out << ' ' << stage << ' ' << 1e3 * seconds / double(run.rowsComputed) << " ms";
     }
     line(out.str());
-    formFactorStats(run.stats, run.F.memoryBytes());
 }
 
 void Reporter::formFactorStats(const FormFactorStats& s, std::size_t memoryBytes) const {

@@ -37,6 +37,8 @@ public:
     ProgressCallback progress(const std::string& label, double raysPerRow, const std::string& unit = "rays") const;
     /// The run's method (as its back end describes it), ray or pixel counts, losses and F statistics.
     void formFactorSummary(const FormFactorRun& run, const Scene& scene, const MethodSettings& settings) const;
+    /// formFactorSummary without the statistics (run.F and run.stats are not read).
+    void formFactorRun(const FormFactorRun& run, const Scene& scene, const MethodSettings& settings) const;
     void formFactorStats(const FormFactorStats& stats, std::size_t memoryBytes) const;
     void solveSummary(const Radiosity& result) const;
 

@@ -241,7 +241,6 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
                         queue.close();
                         exhausted = true;
                     } else if (reply[0] < reply[1]) {
-                        for (std::size_t k = reply[0]; k < reply[1]; ++k) owner[rows[k]] = context.rank();
                         queue.push(rows.data() + reply[0], rows.data() + reply[1]);
                     }
                 }

@@ -23,6 +23,8 @@ namespace {
 
 /// One command's state on one rank.
 struct Job {
+    /// Rank 0 alone reports.
+    Job(const Context& c, const Options& o) : context(c), options(o), reporter(o.quiet || !c.root()) {}
     const Context& context;
     const Options& options;
     Reporter reporter;
@@ -62,7 +64,7 @@ void loadScene(Job& job, const RadiosityPipeline& pipeline) {
 
 /// F's rows spread over the ranks: reused from --ff (each rank keeps a contiguous share of the rows
 /// it reads) and completed by the work queue.
-void obtainFormFactors(Job& job, const RadiosityPipeline& pipeline, const std::string& reusePath) {
+void obtainFormFactors(Job& job, const std::string& reusePath) {
     const Context& context = job.context;
     const Options& options = job.options;
     const std::size_t n = job.scene.size();
@@ -76,7 +78,8 @@ void obtainFormFactors(Job& job, const RadiosityPipeline& pipeline, const std::s
         job.reporter.line("form factors: reused " + reusePath + " (" + std::to_string(current.computedRows()) + " rows)");
     });
     std::vector<std::int32_t> owner(n, -1);
-    if (current.size() == n) {
+    const bool reused = current.size() == n;
+    if (reused) {
         for (std::size_t i = 0; i < n; ++i)
             if (current.rowComputed(i)) owner[i] = std::int32_t(i * std::size_t(context.size()) / n);
         job.F = keepOwnRows(context, std::move(current), owner);
@@ -113,25 +116,13 @@ void obtainFormFactors(Job& job, const RadiosityPipeline& pipeline, const std::s
         run.stageSeconds = added.stageSeconds;
         job.reporter.line("form factors: " + std::to_string(rows.size()) + " rows on " + std::to_string(context.size()) +
                           " MPI ranks");
-        // The one-process summary, less the statistics (they follow, from every rank's rows).
-        Reporter(true).formFactorSummary(run, job.scene, method);
-        std::ostringstream out;
-        out.setf(std::ios::fixed);
-        const RunDescription description = backend.describe(job.scene, method);
-        out << "  " << backend.name << ", " << description.settings << "; " << backend.workUnit << ' '
-            << std::setprecision(2) << run.counts.rays / 1e6 << " M in " << formatSeconds(run.computeSeconds) << " s = "
-            << (run.computeSeconds > 0 ? run.counts.rays / run.computeSeconds / 1e6 : 0.0) << " M " << backend.workUnit
-            << "/s";
-        job.reporter.line(out.str());
+        // The one-process summary; the statistics follow, from every rank's rows (reportStatistics).
+        job.reporter.formFactorRun(run, job.scene, method);
     }
     reportBalance(job, added);
-    if (job.F.local.nonZeros() || job.F.local.computedRows()) {
-        job.F.local.replaceRows(added.local);
-        job.F.local.parameters["rows_added"] = std::to_string(rows.size()) + " with " + method.method + ", " +
-                                               backend.describe(job.scene, method).settings;
-    } else {
-        job.F.local = std::move(added.local);
-    }
+    // Every rank merges alike (rank 0's provenance and parameters are the ones written).
+    if (reused) mergeAddedRows(job.F.local, added.local, rows.size(), job.scene, method);
+    else job.F.local = std::move(added.local);
     for (std::size_t i = 0; i < n; ++i)
         if (added.owner[i] >= 0) job.F.owner[i] = added.owner[i];
     job.computed = true;
@@ -178,7 +169,7 @@ void finish(Job& job) {
 void runFormFactors(Job& job) {
     const RadiosityPipeline pipeline = makePipeline(job.options, job.timings, job.reporter);
     loadScene(job, pipeline);
-    obtainFormFactors(job, pipeline, "");
+    obtainFormFactors(job, "");
     normalise(job);
     reportStatistics(job);
     storeFormFactors(job, job.options.output);
@@ -195,7 +186,7 @@ void runSolveOrRender(Job& job, bool render) {
     const RadiosityPipeline pipeline = makePipeline(options, job.timings, job.reporter);
     loadScene(job, pipeline);
     const bool reuse = !options.ffPath.empty() && !options.recomputeFf && std::filesystem::exists(options.ffPath);
-    obtainFormFactors(job, pipeline, reuse ? options.ffPath : "");
+    obtainFormFactors(job, reuse ? options.ffPath : "");
     // A reused file gains the rows it lacked and stays as computed; a new file stores F as normalised.
     if (!options.ffPath.empty() && reuse && job.computed) storeFormFactors(job, options.ffPath);
     normalise(job);
@@ -234,7 +225,7 @@ int runUnderMpi(int argc, char** argv) {
         });
         const std::string& command = options.command;
         if (command == "formfactors" || command == "solve" || command == "render") {
-            Job job{context, options, Reporter(options.quiet || !context.root()), {}, {}, {}, {}, false};
+            Job job(context, options);
             if (command == "formfactors") runFormFactors(job);
             else runSolveOrRender(job, command == "render");
         } else {

@@ -19,6 +19,15 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 }  // namespace
 
+void mergeAddedRows(FormFactors& current, const FormFactors& added, std::size_t rows, const Scene& scene,
+                    const MethodSettings& method) {
+    const FormFactorProvenance provenance = added.provenance;
+    current.replaceRows(added);
+    current.provenance.rowSumBound = std::max(current.provenance.rowSumBound, provenance.rowSumBound);
+    current.parameters["rows_added"] = std::to_string(rows) + " with " + provenance.method + ", " +
+                                       findBackend(method.method).describe(scene, method).settings;
+}
+
 RadiosityPipeline::RadiosityPipeline(FormFactorPolicy policy, PipelineEvents events)
     : m_policy(std::move(policy)), m_events(std::move(events)) {}
 
@@ -82,12 +91,7 @@ FormFactorUpdate RadiosityPipeline::computeMissingRows(const Scene& scene, FormF
         update.rowsComputed = rows.size();
         update.changed = true;
         if (haveCurrent) {
-            // The merged F allows the larger row sum of the two computations (e.g. a deeper mirror chain).
-            const FormFactorProvenance added = run.F.provenance;
-            current.replaceRows(run.F);
-            current.provenance.rowSumBound = std::max(current.provenance.rowSumBound, added.rowSumBound);
-            current.parameters["rows_added"] = std::to_string(rows.size()) + " with " + added.method + ", " +
-                                               backend.describe(scene, method).settings;
+            mergeAddedRows(current, run.F, rows.size(), scene, method);
             update.F = std::move(current);
             refreshStats(scene, update);
         } else {

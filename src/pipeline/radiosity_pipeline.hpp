@@ -53,6 +53,12 @@ struct FormFactorUpdate {
     std::optional<FormFactorStats> stats;
 };
 
+/// Takes the rows `added` computed into `current` (a reused F): the merged F allows the larger row sum
+/// of the two computations (e.g. a deeper mirror chain) and records "rows_added" (`rows` rows, the
+/// back end's run description).
+void mergeAddedRows(FormFactors& current, const FormFactors& added, std::size_t rows, const Scene& scene,
+                    const MethodSettings& method);
+
 class RadiosityPipeline {
 public:
     RadiosityPipeline(FormFactorPolicy policy, PipelineEvents events);

@@ -115,6 +115,28 @@ TEST_CASE("The distributed PETSc solve matches the one-process LU solve to the C
     CHECK(largestRelativeDifference(radiosityColumns(dir / "fresh.csv"), exact) < 1e-8);
 }
 
+TEST_CASE("A reused F gains the rows it lacks on 2 ranks, and the updated file is byte-identical to one process's") {
+    const auto dir = tempDir("mpi-merge");
+    std::filesystem::copy_file(sourcePath("scenes/cornell_box.obj"), dir / "box.obj");
+    const std::string mtl = readText(sourcePath("scenes/cornell_box.mtl"));
+    const std::string red = "Kd 0.65 0.05 0.05";
+    REQUIRE(mtl.find(red) != std::string::npos);
+    std::string black = mtl;
+    black.replace(black.find(red), red.size(), "Kd 0 0 0");
+    writeFile(dir / "cornell_box.mtl", black);  // the red wall black: its rows are skipped
+    const std::string flags = " --subdivide 80 --samples 256 --quiet";
+    REQUIRE(runHemirad(dir, 0, "solve box.obj --ff one.hff -o B.csv" + flags).status == 0);
+    std::filesystem::copy_file(dir / "one.hff", dir / "two.hff");
+    writeFile(dir / "cornell_box.mtl", mtl);  // red again: the same geometry, rows missing
+    const Run one = runHemirad(dir, 0, "solve box.obj --ff one.hff -o B.csv" + flags);
+    REQUIRE_MESSAGE(one.status == 0, one.output);
+    const Run two = runHemirad(dir, 2, "solve box.obj --ff two.hff -o B.csv --threads 1 --subdivide 80 --samples 256");
+    REQUIRE_MESSAGE(two.status == 0, two.output);
+    CHECK(two.output.find("rows on 2 MPI ranks") != std::string::npos);
+    CHECK(bytes(dir / "two.hff") == bytes(dir / "one.hff"));
+    CHECK(readText(dir / "two.hff").find("rows_added=") != std::string::npos);
+}
+
 TEST_CASE("A malformed scene or a missing file on 2 ranks gives the one-process message once, exit 1, no hang") {
     const auto dir = tempDir("mpi-errors");
     writeFile(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 nan\nf 1 2 3\n");
