@@ -195,6 +195,16 @@ def main():
                "| %s | %s | %s | %s | %s | %s | %s |" % (fmt(num(s["t_bvh"]) + num(s["t_ff"])), fmt(s["rays_per_s"]), count(s["nnz"]),
                                                    fmt(s["f_mib"]), fmt(s["peak_rss_mib"]), count(s["rows"]), fmt(s["t_solve"])), ""]
 
+    # bench/mpi_scaling.sh writes its own Markdown; its body follows under this report's heading.
+    try:
+        scaling = open(os.path.join(R, "mpi_scaling.md")).read().splitlines()[1:]
+    except OSError:
+        scaling = []
+    if scaling:
+        md += ["## street64k across MPI ranks (issue 10)", "",
+               "`bash bench/mpi_scaling.sh build 3072`, a step of `make bench`; from `results/mpi_scaling.md`."]
+        md += scaling + [""]
+
     def total_seconds(path):
         try:
             for line in open(path):
