@@ -135,7 +135,7 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
         for (double e : ch.E) localE += e * e;
         MPI_Allreduce(&localE, &normE, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
         normE = std::sqrt(normE);
-        std::vector<double> B(n, 0.0);
+        std::vector<double> B(context.root() ? n : 0, 0.0);  // filled on rank 0 only
         if (normE == 0.0) {
             ch.report.converged = true;
             ch.report.note = "no emission in this channel";
