@@ -2,6 +2,7 @@
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
 #include "engine/form_factor_file.hpp"
+#include "engine/form_factor_shards.hpp"
 
 #include <iostream>
 
@@ -16,9 +17,11 @@ int runFormFactors(const Options& options) {
     computeOnly.ffPath.clear();
     const FormFactors F = obtainFormFactors(scene, computeOnly, timings, reporter, warnings);
     timings.start("write F");
-    saveFormFactors(F, options.output);
+    if (options.shards) saveShardedFormFactors(F, options.output, 1);
+    else saveFormFactors(F, options.output);
     timings.stop();
-    reporter.line("wrote " + options.output + " (scene hash " + hexHash(F.sceneHash) + ")");
+    reporter.line("wrote " + options.output + (options.shards ? " (a shard manifest and 1 shard; " : " (") +
+                  "scene hash " + hexHash(F.sceneHash) + ")");
     reporter.line(timings.table());
     if (warnings.count()) std::cerr << "hemirad: " << warnings.summary() << '\n';
     return 0;

@@ -1,44 +1,100 @@
-// `hemirad info F.hff|F.mtx`: verify an F file completely and describe it.
+// `hemirad info F.hff|F.mtx`: verify an F file (or a shard manifest and every shard) completely and
+// describe it.
 #include "cli/commands.hpp"
 #include "cli/report.hpp"
 #include "engine/form_factor_file.hpp"
+#include "engine/form_factor_shards.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 
 namespace hemirad {
+namespace {
 
-int runInfo(const Options& options) {
-    const std::string& path = options.inputs.at(0);
-    const FormFactorFileInfo info = readFormFactorInfo(path);  // structure and checksum
-    const FormFactors F = loadFormFactors(path);               // every entry checked
+/// Row statistics of computed rows, accumulated over one F or shard by shard (every figure is row-local).
+struct RowTotals {
     double lo = std::numeric_limits<double>::infinity(), hi = 0.0, sum = 0.0;
-    std::size_t rows = 0, diagonal = 0;
-    for (std::size_t i = 0; i < F.size(); ++i) {
-        if (!F.rowComputed(i)) continue;
-        const double s = F.rowSum(i);
-        lo = std::min(lo, s);
-        hi = std::max(hi, s);
-        sum += s;
-        ++rows;
-        if (F.at(i, i) > 0.0) ++diagonal;
+    std::size_t patches = 0, rows = 0, diagonal = 0, nonZeros = 0;
+
+    void add(const FormFactors& F) {
+        patches = F.size();
+        nonZeros += F.nonZeros();
+        for (std::size_t i = 0; i < F.size(); ++i) {
+            if (!F.rowComputed(i)) continue;
+            const double s = F.rowSum(i);
+            lo = std::min(lo, s);
+            hi = std::max(hi, s);
+            sum += s;
+            ++rows;
+            if (F.at(i, i) > 0.0) ++diagonal;
+        }
     }
-    std::cout << path << ": valid Hemirad form factors";
-    if (info.version) std::cout << ", format version " << info.version;
-    std::cout << "\n  patches " << F.size() << ", computed rows " << F.computedRows() << " (skipped "
-              << F.size() - F.computedRows() << ")\n  nonzeros " << F.nonZeros() << " ("
-              << (rows ? double(F.nonZeros()) / rows : 0.0) << " per computed row), in memory "
-              << F.memoryBytes() / 1048576.0 << " MiB, file " << info.fileBytes / 1048576.0 << " MiB\n"
-              << "  scene hash " << (F.provenance.sceneHashKnown ? hexHash(F.sceneHash) : std::string("unknown (a foreign file: only the size is checked)")) << '\n';
-    const FormFactorProvenance& p = F.provenance;
+};
+
+double mib(double bytes) { return bytes / 1048576.0; }
+
+void describe(const RowTotals& t, std::uint64_t sceneHash, const FormFactorProvenance& p,
+              const std::map<std::string, std::string>& parameters, double fileBytes) {
+    // In memory as one F: 8 bytes per row start, 8 per entry, 1 per row flag.
+    const double memory = 8.0 * double(t.patches + 1) + 8.0 * double(t.nonZeros) + double(t.patches);
+    std::cout << "\n  patches " << t.patches << ", computed rows " << t.rows << " (skipped " << t.patches - t.rows
+              << ")\n  nonzeros " << t.nonZeros << " (" << (t.rows ? double(t.nonZeros) / double(t.rows) : 0.0)
+              << " per computed row), in memory " << mib(memory) << " MiB, file " << mib(fileBytes) << " MiB\n"
+              << "  scene hash "
+              << (p.sceneHashKnown ? hexHash(sceneHash) : std::string("unknown (a foreign file: only the size is checked)"))
+              << '\n';
     std::cout << "  method " << (p.method.empty() ? "unknown" : p.method);
     if (!p.estimator.empty()) std::cout << ", estimator " << p.estimator;
     std::cout << "; row sums bounded by " << p.rowSumBound << (p.rowSumBound > 1.0 ? " (mirror chains)" : "") << '\n';
-    if (rows) std::cout << "  row sums min " << lo << " mean " << sum / rows << " max " << hi << '\n';
-    if (diagonal) std::cout << "  " << diagonal << " rows with F_ii > 0 (patches that see their mirror image)\n";
-    for (const auto& [key, value] : withProvenance(F.provenance, F.parameters))
-        std::cout << "  " << key << " = " << value << '\n';
+    if (t.rows) std::cout << "  row sums min " << t.lo << " mean " << t.sum / double(t.rows) << " max " << t.hi << '\n';
+    if (t.diagonal) std::cout << "  " << t.diagonal << " rows with F_ii > 0 (patches that see their mirror image)\n";
+    for (const auto& [key, value] : withProvenance(p, parameters)) std::cout << "  " << key << " = " << value << '\n';
+}
+
+/// A manifest: every shard loaded and checked in turn (one shard in memory at a time).
+int describeShards(const std::string& path) {
+    const ShardManifest m = readShardManifest(path);
+    std::vector<std::size_t> all(m.shards.size());
+    for (std::size_t k = 0; k < all.size(); ++k) all[k] = k;
+    RowTotals totals;
+    std::vector<std::uint8_t> seen(m.patches, 0);
+    double bytes = double(std::filesystem::file_size(path));
+    visitShards(path, m, all, [&](std::size_t index, FormFactors&& shard) {
+        for (std::size_t i = 0; i < shard.size(); ++i) {
+            if (!shard.rowComputed(i)) continue;
+            if (seen[i]) throw Error(shardPath(path, m.shards[index]), 0, "row " + std::to_string(i) + " is in two shards of " + path);
+            seen[i] = 1;
+        }
+        totals.add(shard);
+        bytes += double(m.shards[index].bytes);
+    });
+    std::map<std::string, std::string> parameters = m.parameters;
+    const FormFactorProvenance provenance = takeProvenance(parameters, path);
+    std::cout << path << ": valid Hemirad form factors, a manifest of " << m.shards.size() << " shard"
+              << (m.shards.size() == 1 ? "" : "s");
+    describe(totals, m.sceneHash, provenance, parameters, bytes);
+    for (std::size_t k = 0; k < m.shards.size(); ++k) {
+        const FormFactorShard& s = m.shards[k];
+        std::cout << "  shard " << k << ": " << s.file << ", " << s.rows << " rows, " << s.nonZeros << " nonzeros, "
+                  << mib(double(s.bytes)) << " MiB\n";
+    }
+    return 0;
+}
+
+}  // namespace
+
+int runInfo(const Options& options) {
+    const std::string& path = options.inputs.at(0);
+    if (isShardManifest(path)) return describeShards(path);
+    const FormFactorFileInfo info = readFormFactorInfo(path);  // structure and checksum
+    const FormFactors F = loadFormFactors(path);               // every entry checked
+    RowTotals totals;
+    totals.add(F);
+    std::cout << path << ": valid Hemirad form factors";
+    if (info.version) std::cout << ", format version " << info.version;
+    describe(totals, F.sceneHash, F.provenance, F.parameters, double(info.fileBytes));
     return 0;
 }
 

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <set>
@@ -102,6 +103,8 @@ const std::map<std::string, Flag>& flags() {
         {"--normalize-rows",
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.normalizeRows = true; }}},
         {"--ff", {{"solve", "render"}, true, [](Options& o, const std::string&, const std::string& v) { o.ffPath = v; }}},
+        {"--shards", {{"formfactors", "solve", "render"}, false,
+                      [](Options& o, const std::string&, const std::string&) { o.shards = true; }}},
         {"--recompute-ff", {{"solve", "render"}, false, [](Options& o, const std::string&, const std::string&) { o.recomputeFf = true; }}},
         {"--solver", {kSolving, true,
                       [](Options& o, const std::string& f, const std::string& v) {
@@ -323,6 +326,14 @@ Options parseOptions(int argc, const char* const* argv) {
         throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F)");
     if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
     if (o.recomputeFf && o.ffPath.empty()) throw UsageError("--recompute-ff needs --ff FILE");
+    if (o.shards) {
+        const std::string& path = o.command == "formfactors" ? o.output : o.ffPath;
+        if (path.empty()) throw UsageError("--shards stores F: it needs --ff FILE.hff");
+        std::string ext = std::filesystem::path(path).extension().string();
+        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (ext != ".hff")
+            throw UsageError("--shards writes .hff shards and a manifest: '" + path + "' must end in .hff");
+    }
     return o;
 }
 
@@ -346,7 +357,8 @@ commands:
   formfactors SCENE.obj -o F.hff|F.mtx   compute the form-factor matrix F and store it
   solve SCENE.obj -o B.csv|B.ply         compute (or reuse with --ff) F and solve radiosity
   render SCENE.obj -o IMAGE.png          compute, solve and render an image
-  info F.hff|F.mtx                       check an F file and describe it
+  info F.hff|F.mtx                       check an F file (or a shard manifest and its shards) and
+                                         describe it
   subdivide SCENE.obj -o OUT.obj --max-edge L   split patches until no edge exceeds L
   bench SCENE.obj -o RESULTS.csv         time against error over a sweep of methods and sample counts
   help                                   this text
@@ -363,6 +375,9 @@ form factors (formfactors, solve, render):
   --ff FILE              (solve, render) reuse F from FILE when its scene hash matches;
                          create FILE when it does not exist
   --recompute-ff         (solve, render) recompute F and overwrite FILE
+  --shards               store F as shard files (one per MPI rank, one in one process), each
+                         written by its rank alone, plus a small manifest at the F path that
+                         info, solve --ff and the GUI read (an F larger than one machine's memory)
 )" + backendSections + R"(solve (solve, render):
   --solver NAME          )" + solverNames() + R"( (auto: lu up to 2000 patches, else gauss-seidel)
   --tolerance T          relative residual to reach (default 1e-6)

@@ -35,6 +35,7 @@ struct Options {
     bool memoryCheck = true;             ///< --no-memory-check turns the F memory estimate off
     std::string ffPath;                  ///< --ff: stored F to reuse (or to create)
     bool recomputeFf = false;
+    bool shards = false;                 ///< --shards: F stored as shard files + manifest (one shard per rank)
 
     // Solve and output.
     SolverOptions solver;

@@ -37,7 +37,7 @@ FormFactors obtainFormFactors(const Scene& scene, const Options& options, Timing
     } catch (const Error& e) {
         throw UsageError(e.what());
     }
-    return pipeline.formFactorsWithFile(scene, options.ffPath, options.recomputeFf, warnings).F;
+    return pipeline.formFactorsWithFile(scene, {options.ffPath, options.recomputeFf, options.shards}, warnings).F;
 }
 
 Radiosity solveScene(const Scene& scene, const FormFactors& F, const Options& options, Timings& timings,

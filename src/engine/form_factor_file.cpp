@@ -19,6 +19,7 @@
 
 #include "engine/atomic_file.hpp"
 #include "engine/error.hpp"
+#include "engine/form_factor_shards.hpp"
 #include "engine/obj_loader.hpp"
 #include "engine/text_reader.hpp"
 
@@ -101,9 +102,10 @@ public:
         m_out.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
     }
     template <class T> void value(const T& v) { write(&v, sizeof(T)); }
-    void finish() {
+    std::uint64_t finish() {
         const std::uint64_t sum = m_sum.value();
         m_out.write(reinterpret_cast<const char*>(&sum), sizeof(sum));
+        return sum;
     }
 
 private:
@@ -111,7 +113,7 @@ private:
     Checksum m_sum;
 };
 
-void saveHff(const FormFactors& F, const std::string& path) {
+std::uint64_t saveHff(const FormFactors& F, const std::string& path) {
     AtomicFile file(path);
     HffWriter w(file.stream());
     const std::string params = parameterText(F);
@@ -126,8 +128,9 @@ void saveHff(const FormFactors& F, const std::string& path) {
     w.write(F.rowStarts().data(), F.rowStarts().size() * sizeof(std::uint64_t));
     w.write(F.columns(), F.nonZeros() * sizeof(std::uint32_t));
     w.write(F.values(), F.nonZeros() * sizeof(float));
-    w.finish();
+    const std::uint64_t sum = w.finish();
     file.commit();
+    return sum;
 }
 
 /// Reads an .hff file section by section, checking sizes before allocating and the checksum at the end.
@@ -181,12 +184,14 @@ public:
         return v;
     }
 
-    void checkChecksum() {
+    /// Returns the checksum, verified.
+    std::uint64_t checkChecksum() {
         const std::uint64_t computed = m_sum.value();
         std::uint64_t stored = 0;
         m_in.read(reinterpret_cast<char*>(&stored), 8);
         if (!m_in) fail("truncated before the checksum");
         if (stored != computed) fail("checksum mismatch: the file is corrupt");
+        return stored;
     }
 
     /// Skips the arrays (hashing them) and checks the checksum; for `hemirad info`.
@@ -233,14 +238,15 @@ struct HffFile {
     }
 };
 
-FormFactors readHff(HffReader& r, const std::string& path) {
+FormFactors readHff(HffReader& r, const std::string& path, std::uint64_t* checksum = nullptr) {
     const FormFactorFileInfo info = r.header();
     const std::uint64_t n = info.size, nnz = info.nonZeros;
     auto computed = r.array<std::uint8_t>(n);
     auto rowStart = r.array<std::uint64_t>(n + 1);
     auto columns = r.array<std::uint32_t>(nnz);
     auto values = r.array<float>(nnz);
-    r.checkChecksum();
+    const std::uint64_t sum = r.checkChecksum();
+    if (checksum) *checksum = sum;
     if (rowStart[0] != 0 || rowStart[n] != nnz) r.fail("corrupt row starts (first must be 0, last nnz)");
     for (std::uint64_t i = 0; i < n; ++i) {
         if (computed[i] > 1) r.fail("corrupt computed-row flag " + std::to_string(computed[i]) + " for row " + std::to_string(i));
@@ -433,8 +439,34 @@ void saveFormFactors(const FormFactors& F, const std::string& path) {
     else throw Error(path, 0, "unknown F file type " + quote(ext) + " (use .hff or .mtx)");
 }
 
+std::uint64_t saveHffFile(const FormFactors& F, const std::string& path) { return saveHff(F, path); }
+
+FormFactors loadHffFile(const std::string& path, std::uint64_t& checksum) {
+    HffFile file(path);
+    HffReader r(file.stream, file.bytes, path);
+    return readHff(r, path, &checksum);
+}
+
+HffRowIndex readHffRowIndex(const std::string& path) {
+    HffFile file(path);
+    HffReader r(file.stream, file.bytes, path);
+    const FormFactorFileInfo info = r.header();
+    HffRowIndex index;
+    index.computed = r.array<std::uint8_t>(info.size);
+    index.lengths = r.array<std::uint64_t>(info.size + 1);
+    std::vector<std::uint64_t>& lengths = index.lengths;
+    for (std::uint64_t i = 0; i < info.size; ++i) {
+        if (lengths[i + 1] < lengths[i] || lengths[i + 1] > info.nonZeros)
+            r.fail("corrupt row starts at row " + std::to_string(i));
+        lengths[i] = lengths[i + 1] - lengths[i];
+    }
+    lengths.pop_back();
+    return index;
+}
+
 FormFactors loadFormFactors(const std::string& path) {
     const std::string ext = extension(path);
+    if (ext == ".hff" && isShardManifest(path)) return loadShardedFormFactors(path);
     if (ext == ".hff") {
         HffFile file(path);
         HffReader r(file.stream, file.bytes, path);

@@ -10,7 +10,20 @@ namespace hemirad {
 /// Writes F atomically; the format follows the extension (.hff or .mtx). Throws hemirad::Error.
 void saveFormFactors(const FormFactors& F, const std::string& path);
 /// Reads F, checking structure, checksum (.hff) and values. Throws hemirad::Error naming the file.
+/// A shard manifest (form_factor_shards.hpp) at an .hff path reads every shard into one F.
 FormFactors loadFormFactors(const std::string& path);
+
+/// Writes F as .hff atomically and returns the checksum its last 8 bytes hold (shard manifests keep it).
+std::uint64_t saveHffFile(const FormFactors& F, const std::string& path);
+/// Reads an .hff file as loadFormFactors does, with the checksum it holds.
+FormFactors loadHffFile(const std::string& path, std::uint64_t& checksum);
+/// The computed-row flags and entries per row of an .hff file, from its header and row starts alone
+/// (the checksum is not verified: for planning a merge whose reads verify it).
+struct HffRowIndex {
+    std::vector<std::uint8_t> computed;
+    std::vector<std::uint64_t> lengths;
+};
+HffRowIndex readHffRowIndex(const std::string& path);
 
 /// Reads F from bytes in memory (tests, fuzzing); `name` names it in messages and its extension
 /// (.hff or .mtx) picks the format. Same checks as loadFormFactors.

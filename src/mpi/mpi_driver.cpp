@@ -7,7 +7,9 @@
 #include "engine/form_factor_file.hpp"
 #include "engine/memory.hpp"
 #include "engine/threads.hpp"
+#include "engine/form_factor_shards.hpp"
 #include "mpi/distributed_form_factors.hpp"
+#include "mpi/distributed_shards.hpp"
 #include "mpi/petsc_solve.hpp"
 
 #include <mpi.h>
@@ -68,23 +70,33 @@ void obtainFormFactors(Job& job, const std::string& reusePath) {
     const Context& context = job.context;
     const Options& options = job.options;
     const std::size_t n = job.scene.size();
-    FormFactors current;
-    context.collectively([&] {
-        if (reusePath.empty()) return;
-        const auto t0 = std::chrono::steady_clock::now();
-        current = loadFormFactors(reusePath);
-        job.timings.add("load F", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-        checkFormFactorsMatch(current, job.scene.geometryHash(), n, reusePath);
-        job.reporter.line("form factors: reused " + reusePath + " (" + std::to_string(current.computedRows()) + " rows)");
-    });
-    std::vector<std::int32_t> owner(n, -1);
-    const bool reused = current.size() == n;
+    const bool reused = !reusePath.empty();
     if (reused) {
-        for (std::size_t i = 0; i < n; ++i)
-            if (current.rowComputed(i)) owner[i] = std::int32_t(i * std::size_t(context.size()) / n);
-        job.F = keepOwnRows(context, std::move(current), owner);
+        const auto t0 = std::chrono::steady_clock::now();
+        bool sharded = false;
+        FormFactors current;
+        context.collectively([&] {
+            sharded = isShardManifest(reusePath);
+            if (sharded) return;
+            current = loadFormFactors(reusePath);
+            checkFormFactorsMatch(current, job.scene.geometryHash(), n, reusePath);
+        });
+        if (sharded) {
+            job.F = readShards(context, reusePath);  // each rank its own shards
+            context.collectively([&] { checkFormFactorsMatch(job.F.local, job.scene.geometryHash(), n, reusePath); });
+        } else {
+            // One file: every rank reads it and keeps a contiguous share of its rows.
+            std::vector<std::int32_t> owner(n, -1);
+            for (std::size_t i = 0; i < n; ++i)
+                if (current.rowComputed(i)) owner[i] = std::int32_t(i * std::size_t(context.size()) / n);
+            job.F = keepOwnRows(context, std::move(current), owner);
+        }
+        job.timings.add("load F", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        const auto rowsHeld = std::count_if(job.F.owner.begin(), job.F.owner.end(), [](std::int32_t r) { return r >= 0; });
+        job.reporter.line("form factors: reused " + reusePath + " (" + std::to_string(rowsHeld) + " rows" +
+                          (sharded ? ", each rank reading its own shards)" : ")"));
     } else {
-        job.F.owner = owner;
+        job.F.owner.assign(n, -1);
         job.F.local = FormFactors(n);
     }
     std::vector<PatchId> rows;
@@ -149,9 +161,20 @@ void reportStatistics(Job& job) {
     job.reporter.line(out.str());
 }
 
-/// One F file on rank 0, streamed from the ranks (the same bytes as one process writes).
-void storeFormFactors(Job& job, const std::string& path) {
+/// F as shards, each written by its rank, or as one file on rank 0 streamed from the ranks (the same
+/// bytes as one process writes).
+void storeFormFactors(Job& job, const std::string& path, bool sharded) {
     const auto t0 = std::chrono::steady_clock::now();
+    if (sharded) {
+        const std::uint64_t bytes = writeShards(job.context, job.F, path);
+        job.timings.add("write F", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        std::ostringstream line;
+        line << "wrote " << path << " (a shard manifest; " << job.context.size() << " shards of "
+             << std::setprecision(4) << double(bytes) / 1048576.0 << " MiB in all, one per rank; scene hash "
+             << hexHash(job.F.local.sceneHash) << ")";
+        job.reporter.line(line.str());
+        return;
+    }
     FormFactors all = gatherFormFactors(job.context, job.F);
     job.context.collectively([&] {
         if (!job.context.root()) return;
@@ -172,7 +195,7 @@ void runFormFactors(Job& job) {
     obtainFormFactors(job, "");
     normalise(job);
     reportStatistics(job);
-    storeFormFactors(job, job.options.output);
+    storeFormFactors(job, job.options.output, job.options.shards);
     finish(job);
 }
 
@@ -186,11 +209,13 @@ void runSolveOrRender(Job& job, bool render) {
     const RadiosityPipeline pipeline = makePipeline(options, job.timings, job.reporter);
     loadScene(job, pipeline);
     const bool reuse = !options.ffPath.empty() && !options.recomputeFf && std::filesystem::exists(options.ffPath);
+    // A manifest stays one; --shards makes one.
+    const bool sharded = !options.ffPath.empty() && (options.shards || isShardManifest(options.ffPath));
     obtainFormFactors(job, reuse ? options.ffPath : "");
     // A reused file gains the rows it lacked and stays as computed; a new file stores F as normalised.
-    if (!options.ffPath.empty() && reuse && job.computed) storeFormFactors(job, options.ffPath);
+    if (!options.ffPath.empty() && reuse && job.computed) storeFormFactors(job, options.ffPath, sharded);
     normalise(job);
-    if (!options.ffPath.empty() && !reuse) storeFormFactors(job, options.ffPath);
+    if (!options.ffPath.empty() && !reuse) storeFormFactors(job, options.ffPath, sharded);
     reportStatistics(job);
     Radiosity result;
     job.context.collectively([&] {

@@ -56,10 +56,67 @@ struct Channel {
     std::vector<double> B;       // all patches, on rank 0
 };
 
+
+/// This rank's rows of a MATMPIAIJ with the pattern of I - R F (diagonal always present): row i holds
+/// diagonal + scale_i * F_ii and scale_i * F_ij elsewhere.
+Mat rowsMatrix(const DistributedFormFactors& F, const Layout& layout, std::size_t n, const std::vector<PetscInt>& diagonalCount,
+               const std::vector<PetscInt>& offCount, const std::vector<double>& diagonal, const std::vector<double>& scale) {
+    const PetscInt m = layout.end - layout.begin;
+    Mat A;
+    check(MatCreateAIJ(PETSC_COMM_WORLD, m, m, PetscInt(n), PetscInt(n), 0, diagonalCount.data(), 0, offCount.data(), &A),
+          "MatCreateAIJ");
+    std::vector<PetscInt> columns;
+    std::vector<PetscScalar> values;
+    for (PetscInt k = 0; k < m; ++k) {
+        const PatchId i = layout.mine[std::size_t(k)];
+        const PetscInt row = layout.begin + k;
+        const double a = scale[std::size_t(k)];
+        columns.assign(1, row);
+        values.assign(1, diagonal[std::size_t(k)]);
+        if (F.owner[i] >= 0 && a != 0.0)
+            for (std::uint64_t e = F.local.rowBegin(i); e < F.local.rowEnd(i); ++e) {
+                const PetscInt p = layout.perm[F.local.columns()[e]];
+                const double v = a * double(F.local.values()[e]);
+                if (p == row) values[0] += v;
+                else columns.push_back(p), values.push_back(v);
+            }
+        check(MatSetValues(A, 1, &row, PetscInt(columns.size()), columns.data(), values.data(), INSERT_VALUES),
+              "MatSetValues");
+    }
+    check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+    check(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+    return A;
+}
+
+/// CG's operator without its per-channel diagonal: S = -(G + G^T) / 2 with G = diag(A) F, the area-
+/// weighted F symmetrised as one process symmetrises it (eigen_solvers.cpp). G is kept for residuals.
+struct SymmetricPart {
+    Mat G = nullptr, S = nullptr;
+    ~SymmetricPart() {
+        MatDestroy(&S);
+        MatDestroy(&G);
+    }
+};
+
+void buildSymmetricPart(SymmetricPart& part, const Scene& scene, const DistributedFormFactors& F, const Layout& layout,
+                        const std::vector<PetscInt>& diagonalCount, const std::vector<PetscInt>& offCount) {
+    const std::size_t m = layout.mine.size();
+    std::vector<double> zero(m, 0.0), area(m);
+    for (std::size_t k = 0; k < m; ++k) area[k] = scene.patches[layout.mine[k]].area;
+    part.G = rowsMatrix(F, layout, scene.size(), diagonalCount, offCount, zero, area);
+    Mat Gt;
+    check(MatTranspose(part.G, MAT_INITIAL_MATRIX, &Gt), "MatTranspose");
+    check(MatDuplicate(part.G, MAT_COPY_VALUES, &part.S), "MatDuplicate");
+    const PetscErrorCode code = MatAXPY(part.S, 1.0, Gt, DIFFERENT_NONZERO_PATTERN);
+    MatDestroy(&Gt);
+    check(code, "MatAXPY");
+    check(MatScale(part.S, -0.5), "MatScale");
+}
+
 }  // namespace
 
 const std::vector<std::string>& distributedSolverNames() {
-    static const std::vector<std::string> names = {"bicgstab", "jacobi"};
+    static const std::vector<std::string> names = {"bicgstab", "cg", "jacobi"};
     return names;
 }
 
@@ -67,8 +124,8 @@ void checkDistributedSolver(const std::string& name) {
     if (name == "auto") return;
     for (const std::string& s : distributedSolverNames())
         if (s == name) return;
-    throw UsageError("--solver " + name + " does not run across MPI ranks; the distributed solve takes auto, bicgstab "
-                     "or jacobi (PETSc)");
+    throw UsageError("--solver " + name + " does not run across MPI ranks; the distributed solve takes auto, bicgstab, "
+                     "cg or jacobi (PETSc)");
 }
 
 Radiosity solveDistributed(const Context& context, const Scene& scene, const DistributedFormFactors& F,
@@ -127,6 +184,10 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
         }
     }
 
+    const bool cg = name == "cg";
+    SymmetricPart symmetric;
+    if (cg) buildSymmetricPart(symmetric, scene, F, layout, diagonalCount, offCount);
+
     for (Channel& ch : channels) {
         const auto t0 = std::chrono::steady_clock::now();
         ch.report.solver = name + " (PETSc, " + std::to_string(context.size()) + " ranks)";
@@ -140,42 +201,49 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
             ch.report.converged = true;
             ch.report.note = "no emission in this channel";
         } else {
-            Mat A;
             Vec b, x, r;
             KSP ksp;
             PC pc;
-            check(MatCreateAIJ(PETSC_COMM_WORLD, m, m, PetscInt(n), PetscInt(n), 0, diagonalCount.data(), 0,
-                               offCount.data(), &A),
-                  "MatCreateAIJ");
-            std::vector<PetscInt> columns;
-            std::vector<PetscScalar> values;
-            for (PetscInt k = 0; k < m; ++k) {
-                const PatchId i = layout.mine[std::size_t(k)];
-                const PetscInt row = layout.begin + k;
-                const double rho = ch.rho[std::size_t(k)];
-                columns.assign(1, row);
-                values.assign(1, 1.0);
-                if (F.owner[i] >= 0 && rho > 0.0)
-                    for (std::uint64_t e = F.local.rowBegin(i); e < F.local.rowEnd(i); ++e) {
-                        const PetscInt p = layout.perm[F.local.columns()[e]];
-                        const double a = -rho * double(F.local.values()[e]);
-                        if (p == row) values[0] += a;
-                        else columns.push_back(p), values.push_back(a);
-                    }
-                check(MatSetValues(A, 1, &row, PetscInt(columns.size()), columns.data(), values.data(), INSERT_VALUES),
-                      "MatSetValues");
+            const std::size_t local = layout.mine.size();
+            std::vector<double> rhs(ch.E);  // this rank's right-hand side
+            Mat A;
+            if (cg) {
+                // K = diag(A / rho) + S with black patches (rho = 0: B = E) moved to the right-hand side.
+                check(MatDuplicate(symmetric.S, MAT_COPY_VALUES, &A), "MatDuplicate");
+                Vec d;
+                check(MatCreateVecs(A, &d, nullptr), "MatCreateVecs");
+                for (std::size_t k = 0; k < local; ++k) {
+                    const double rho = ch.rho[k], area = scene.patches[layout.mine[k]].area;
+                    if (rho > 0.0) rhs[k] = area / rho * ch.E[k];
+                    check(VecSetValue(d, layout.begin + PetscInt(k), rho > 0.0 ? area / rho : 1.0, INSERT_VALUES),
+                          "VecSetValue");
+                }
+                check(VecAssemblyBegin(d), "VecAssemblyBegin");
+                check(VecAssemblyEnd(d), "VecAssemblyEnd");
+                const PetscErrorCode code = MatDiagonalSet(A, d, ADD_VALUES);
+                VecDestroy(&d);
+                check(code, "MatDiagonalSet");
+            } else {
+                std::vector<double> one(local, 1.0), minusRho(local);
+                for (std::size_t k = 0; k < local; ++k) minusRho[k] = -ch.rho[k];
+                A = rowsMatrix(F, layout, n, diagonalCount, offCount, one, minusRho);
             }
-            check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
-            check(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
             check(MatCreateVecs(A, &x, &b), "MatCreateVecs");
             check(VecDuplicate(b, &r), "VecDuplicate");
             for (PetscInt k = 0; k < m; ++k) {
-                check(VecSetValue(b, layout.begin + k, ch.E[std::size_t(k)], INSERT_VALUES), "VecSetValue");
+                check(VecSetValue(b, layout.begin + k, rhs[std::size_t(k)], INSERT_VALUES), "VecSetValue");
                 check(VecSetValue(x, layout.begin + k, ch.E[std::size_t(k)], INSERT_VALUES), "VecSetValue");
             }
             for (Vec v : {b, x}) {
                 check(VecAssemblyBegin(v), "VecAssemblyBegin");
                 check(VecAssemblyEnd(v), "VecAssemblyEnd");
+            }
+            if (cg) {
+                // Rows and columns of black patches: B = E there, their terms moved into b.
+                std::vector<PetscInt> black;
+                for (std::size_t k = 0; k < local; ++k)
+                    if (!(ch.rho[k] > 0.0)) black.push_back(layout.begin + PetscInt(k));
+                check(MatZeroRowsColumns(A, PetscInt(black.size()), black.data(), 1.0, x, b), "MatZeroRowsColumns");
             }
             check(KSPCreate(PETSC_COMM_WORLD, &ksp), "KSPCreate");
             check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
@@ -184,6 +252,8 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
             if (name == "bicgstab") {
                 check(KSPSetType(ksp, KSPBCGS), "KSPSetType");
                 check(KSPSetPCSide(ksp, PC_RIGHT), "KSPSetPCSide");  // the norm watched is the true residual's
+            } else if (cg) {
+                check(KSPSetType(ksp, KSPCG), "KSPSetType");
             } else {
                 check(KSPSetType(ksp, KSPRICHARDSON), "KSPSetType");
             }
@@ -202,8 +272,40 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
             check(VecAYPX(r, -1.0, b), "VecAYPX");
             check(VecNorm(r, NORM_2, &residual), "VecNorm");
             ch.report.iterations = int(iterations);
-            ch.report.residual = ch.report.residualOriginal = double(residual) / normE;
-            ch.report.converged = reason > 0 && ch.report.residual <= std::max(10.0 * options.tolerance, 1e-12);
+            if (cg) {
+                // The symmetric system's own residual, then that of I - R F: E - B + R F B, F B = (G B) / A.
+                PetscReal normB = 0;
+                check(VecNorm(b, NORM_2, &normB), "VecNorm");
+                ch.report.residual = normB > 0 ? double(residual) / double(normB) : 0.0;
+                check(MatMult(symmetric.G, x, r), "MatMult");
+                const PetscScalar *gx = nullptr, *xs = nullptr;
+                check(VecGetArrayRead(r, &gx), "VecGetArrayRead");
+                check(VecGetArrayRead(x, &xs), "VecGetArrayRead");
+                double sum = 0, total = 0;
+                for (std::size_t k = 0; k < local; ++k) {
+                    const double area = scene.patches[layout.mine[k]].area;
+                    const double e = ch.E[k] - xs[k] + (ch.rho[k] > 0.0 ? ch.rho[k] * gx[k] / area : 0.0);
+                    sum += e * e;
+                }
+                VecRestoreArrayRead(x, &xs);
+                VecRestoreArrayRead(r, &gx);
+                MPI_Allreduce(&sum, &total, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+                ch.report.residualOriginal = std::sqrt(total) / normE;
+                // As in one process: converged on the symmetrised system means nothing for a non-reciprocal F.
+                const double limit = std::max(10.0 * options.tolerance, 1e-6);
+                ch.report.converged = reason > 0 && ch.report.residualOriginal <= limit;
+                if (reason > 0 && !ch.report.converged) {
+                    std::ostringstream note;
+                    note << "the symmetrised system converged (residual " << ch.report.residual
+                         << ") but the residual on I - R F is " << ch.report.residualOriginal << " > " << limit
+                         << ": F is not reciprocal enough for the symmetric form; use bicgstab or jacobi, or an F made "
+                            "reciprocal in one process (--enforce-reciprocity)";
+                    ch.report.note = note.str();
+                }
+            } else {
+                ch.report.residual = ch.report.residualOriginal = double(residual) / normE;
+                ch.report.converged = reason > 0 && ch.report.residual <= std::max(10.0 * options.tolerance, 1e-12);
+            }
             if (reason <= 0) {
                 const char* why = nullptr;
                 KSPGetConvergedReasonString(ksp, &why);

@@ -16,9 +16,13 @@ const std::vector<std::string>& distributedSolverNames();
 void checkDistributedSolver(const std::string& name);
 
 /// Solves (I - R F) B = E per distinct channel (identical rho and E columns once) with PETSc:
-/// bicgstab = KSPBCGS with a right Jacobi preconditioner, jacobi = KSPRICHARDSON with PCJACOBI.
-/// Both stop at the relative residual ||E - (I - R F) B|| / ||E|| <= options.tolerance, as the
-/// one-process solvers do, starting from B = E. Collective; B on rank 0 (empty elsewhere).
+/// bicgstab = KSPBCGS with a right Jacobi preconditioner, jacobi = KSPRICHARDSON with PCJACOBI: both
+/// stop at the relative residual ||E - (I - R F) B|| / ||E|| <= options.tolerance, as the one-process
+/// solvers do, starting from B = E. cg = KSPCG with PCJACOBI on the symmetric form
+/// K = diag(A / rho) - (diag(A) F + F^T diag(A)) / 2 (black patches on the right-hand side), built with
+/// MatTranspose; it stops at options.tolerance on K, and, as in one process, counts as converged
+/// only when the residual on I - R F is within max(10 x tolerance, 1e-6) (F reciprocal enough).
+/// Collective; B on rank 0 (empty elsewhere).
 /// Throws hemirad::Error as solveRadiosity does (a needed row missing, unconverged).
 Radiosity solveDistributed(const Context& context, const Scene& scene, const DistributedFormFactors& F,
                            const SolverOptions& options);

@@ -3,6 +3,7 @@
 
 #include "engine/error.hpp"
 #include "engine/form_factor_file.hpp"
+#include "engine/form_factor_shards.hpp"
 #include "engine/obj_loader.hpp"
 #include "engine/subdivide.hpp"
 
@@ -138,10 +139,12 @@ FormFactorUpdate RadiosityPipeline::updateFormFactors(const Scene& scene, FormFa
     return update;
 }
 
-FormFactorUpdate RadiosityPipeline::formFactorsWithFile(const Scene& scene, const std::string& path, bool recompute,
+FormFactorUpdate RadiosityPipeline::formFactorsWithFile(const Scene& scene, const StoredFormFactors& file,
                                                         Warnings& warnings) const {
     checkBeforeComputing(scene);
-    const bool reuse = !path.empty() && !recompute && std::filesystem::exists(path);
+    const std::string& path = file.path;
+    const bool reuse = !path.empty() && !file.recompute && std::filesystem::exists(path);
+    const bool sharded = !path.empty() && (file.sharded || isShardManifest(path));
     FormFactors current;
     if (reuse) {
         const auto t0 = Clock::now();
@@ -160,7 +163,8 @@ FormFactorUpdate RadiosityPipeline::formFactorsWithFile(const Scene& scene, cons
     }
     auto store = [&](const FormFactors& F) {
         const auto t0 = Clock::now();
-        saveFormFactors(F, path);
+        if (sharded) saveShardedFormFactors(F, path, 1);
+        else saveFormFactors(F, path);
         timing("write F", since(t0));
         message(reuse ? "form factors: updated " + path : "form factors: stored in " + path);
     };

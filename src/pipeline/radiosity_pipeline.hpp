@@ -59,6 +59,15 @@ struct FormFactorUpdate {
 void mergeAddedRows(FormFactors& current, const FormFactors& added, std::size_t rows, const Scene& scene,
                     const MethodSettings& method);
 
+/// Where F is kept between runs (--ff).
+struct StoredFormFactors {
+    std::string path;        ///< "" = none
+    bool recompute = false;  ///< recompute F and overwrite the file
+    /// Store it as a shard manifest with its shard (form_factor_shards.hpp); a manifest already at
+    /// `path` stays one.
+    bool sharded = false;
+};
+
 class RadiosityPipeline {
 public:
     RadiosityPipeline(FormFactorPolicy policy, PipelineEvents events);
@@ -80,11 +89,10 @@ public:
     /// `current` must belong to `scene` (checkFormFactorsMatch). Throws hemirad::Error.
     FormFactorUpdate updateFormFactors(const Scene& scene, FormFactors current = {}) const;
 
-    /// updateFormFactors with a stored F: reuses `path` when it exists and belongs to the scene
-    /// (unless `recompute`), stores the result there when it changed or did not exist. Files without
-    /// a Hemirad scene hash (foreign .mtx) are checked by size only and counted in `warnings`.
-    FormFactorUpdate formFactorsWithFile(const Scene& scene, const std::string& path, bool recompute,
-                                         Warnings& warnings) const;
+    /// updateFormFactors with a stored F: reuses `file.path` when it exists and belongs to the scene
+    /// (unless `file.recompute`), stores the result there when it changed or did not exist. Files
+    /// without a Hemirad scene hash (foreign .mtx) are checked by size only and counted in `warnings`.
+    FormFactorUpdate formFactorsWithFile(const Scene& scene, const StoredFormFactors& file, Warnings& warnings) const;
 
     /// Solves (I - R F) B = E per channel; `initial` warm-starts iterative solvers. "auto" picks the
     /// solver for the scene (chooseSolver). Throws hemirad::Error unless solver.allowUnconverged.

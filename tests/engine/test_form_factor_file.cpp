@@ -4,6 +4,7 @@
 #include "engine/atomic_file.hpp"
 #include "engine/error.hpp"
 #include "engine/form_factor_file.hpp"
+#include "engine/form_factor_shards.hpp"
 
 #include <doctest/doctest.h>
 
@@ -228,4 +229,80 @@ TEST_CASE("An uncommitted atomic write leaves the target untouched and no tempor
     for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir)) ++files;
     CHECK(files == 1);
     CHECK_THROWS_WITH_AS(AtomicFile((dir / "missing" / "x.hff").string()), doctest::Contains("cannot write"), Error);
+}
+
+TEST_CASE("A sharded F reads back as the one F it was split from, and a damaged shard set is refused") {
+    const auto dir = tempDir("shards");
+    const FormFactors F = sampleF();
+    const std::string path = (dir / "F.hff").string();
+    for (std::size_t count : {1, 2, 3, 5}) {
+        CAPTURE(count);
+        saveShardedFormFactors(F, path, count);
+        CHECK(isShardManifest(path));
+        const ShardManifest m = readShardManifest(path);
+        REQUIRE(m.shards.size() == count);
+        CHECK(m.patches == 4);
+        CHECK(m.nonZeros == F.nonZeros());
+        std::uint64_t rows = 0;
+        for (const FormFactorShard& s : m.shards) rows += s.rows;
+        CHECK(rows == F.computedRows());
+        const FormFactors G = loadFormFactors(path);  // the manifest, merged
+        requireSame(F, G);
+        CHECK(G.provenance == F.provenance);
+        CHECK(G.parameters == F.parameters);
+        // Every shard is a valid F file on its own, holding its rows only.
+        std::size_t held = 0;
+        for (const FormFactorShard& s : m.shards) held += loadFormFactors(shardPath(path, s)).computedRows();
+        CHECK(held == F.computedRows());
+    }
+    // A subset of shards: their rows only, the others not computed.
+    saveShardedFormFactors(F, path, 2);
+    const ShardManifest m = readShardManifest(path);
+    const FormFactors first = loadShards(path, m, {0});
+    CHECK(first.computedRows() == m.shards[0].rows);
+    CHECK(first.rowComputed(0));
+    CHECK_FALSE(first.rowComputed(3));
+
+    const std::string shard1 = shardPath(path, m.shards[1]);
+    const std::string manifestText = readAll(path);
+    auto restore = [&] {
+        std::ofstream(path, std::ios::binary) << manifestText;
+        saveShardedFormFactors(F, path, 2);
+    };
+    SUBCASE("a missing shard names the file") {
+        std::filesystem::remove(shard1);
+        CHECK_THROWS_WITH(loadFormFactors(path), doctest::Contains("F.shard-1-of-2.hff: cannot open"));
+    }
+    SUBCASE("a shard of another run is refused by its checksum") {
+        FormFactors other = sampleF();
+        other.values()[other.rowBegin(3)] = 0.0625f;
+        saveShardedFormFactors(other, (dir / "other.hff").string(), 2);
+        std::filesystem::copy_file(dir / "other.shard-1-of-2.hff", shard1,
+                                   std::filesystem::copy_options::overwrite_existing);
+        CHECK_THROWS_WITH(loadFormFactors(path), doctest::Contains("does not match its manifest"));
+    }
+    SUBCASE("a row in two shards") {
+        std::string text = manifestText;
+        const std::size_t first = text.find("\nshard ") + 1;
+        text += text.substr(first, text.find('\n', first) + 1 - first);  // shard 0 listed twice
+        // The duplicate makes the nonzero total wrong first; fix the total to reach the row check.
+        const std::size_t nz = text.find("nonzeros ");
+        const std::size_t eol = text.find('\n', nz);
+        text.replace(nz, eol - nz, "nonzeros " + std::to_string(F.nonZeros() + m.shards[0].nonZeros));
+        std::ofstream(path, std::ios::binary) << text;
+        CHECK_THROWS_WITH(loadFormFactors(path), doctest::Contains("is in two shards"));
+    }
+    SUBCASE("a damaged manifest names its line") {
+        std::string text = manifestText;
+        text.replace(text.find("patches 4"), 9, "patches x");
+        std::ofstream(path, std::ios::binary) << text;
+        CHECK_THROWS_WITH(loadFormFactors(path), doctest::Contains("F.hff:2:"));
+    }
+    SUBCASE("a manifest whose shard totals disagree") {
+        std::string text = manifestText;
+        text.replace(text.find("nonzeros "), 10, "nonzeros 9");
+        std::ofstream(path, std::ios::binary) << text;
+        CHECK_THROWS_WITH(loadFormFactors(path), doctest::Contains("the manifest announces"));
+    }
+    restore();
 }

@@ -2,6 +2,8 @@
 // against the one-process LU solve, and errors that end every rank with one message and no hang.
 #include "support.hpp"
 
+#include "engine/form_factor_file.hpp"
+
 #include <doctest/doctest.h>
 
 #include <array>
@@ -115,6 +117,33 @@ TEST_CASE("The distributed PETSc solve matches the one-process LU solve to the C
     CHECK(largestRelativeDifference(radiosityColumns(dir / "fresh.csv"), exact) < 1e-8);
 }
 
+TEST_CASE("Distributed CG on the symmetric form matches LU for a reciprocal F, and refuses a non-reciprocal one") {
+    const auto dir = tempDir("mpi-cg");
+    // With mirrors: their chains allow row sums above 1, so the averaged pairs stay within the file's bound.
+    const std::string scene = sourcePath("scenes/cornell_mirror.obj") + " --subdivide 100 --samples 256";
+    // One process stores F made reciprocal (a new file stores F as post-processed).
+    const Run stored = runHemirad(dir, 0, "solve " + scene + " --enforce-reciprocity --ff F.hff --solver lu -o lu.csv --quiet");
+    REQUIRE_MESSAGE(stored.status == 0, stored.output);
+    const Run one = runHemirad(dir, 0, "solve " + scene + " --ff F.hff --solver cg --tolerance 1e-12 -o cg1.csv --quiet");
+    REQUIRE_MESSAGE(one.status == 0, one.output);
+    const Run cg = runHemirad(dir, 2, "solve " + scene + " --ff F.hff --threads 1 --solver cg --tolerance 1e-12 -o cg.csv");
+    REQUIRE_MESSAGE(cg.status == 0, cg.output);
+    CHECK(count(cg.output, "cg (PETSc, 2 ranks), channel(s)") == 3);
+    CHECK(count(cg.output, ": converged in") == 3);
+    const std::vector<double> B = radiosityColumns(dir / "cg.csv");
+    // The same symmetric system as one process's CG, to the CSV's 9 digits.
+    CHECK(largestRelativeDifference(B, radiosityColumns(dir / "cg1.csv")) < 1e-8);
+    // LU solves I - R F itself; F stored in float is symmetric to ~1e-7 only, so the two differ by ~1e-8.
+    CHECK(largestRelativeDifference(B, radiosityColumns(dir / "lu.csv")) < 1e-6);
+    // F as computed (not reciprocal): the symmetrised system converges, the posed one does not.
+    REQUIRE(runHemirad(dir, 0, "formfactors " + scene + " -o raw.hff --quiet").status == 0);
+    const Run refused = runHemirad(dir, 2, "solve " + scene + " --ff raw.hff --threads 1 --solver cg -o raw.csv");
+    CHECK(refused.status == 1);
+    CHECK(count(refused.output, "F is not reciprocal enough for the symmetric form") >= 1);
+    CHECK(count(refused.output, "hemirad: error: ") == 1);
+    CHECK_FALSE(std::filesystem::exists(dir / "raw.csv"));
+}
+
 TEST_CASE("A reused F gains the rows it lacks on 2 ranks, and the updated file is byte-identical to one process's") {
     const auto dir = tempDir("mpi-merge");
     std::filesystem::copy_file(sourcePath("scenes/cornell_box.obj"), dir / "box.obj");
@@ -135,6 +164,56 @@ TEST_CASE("A reused F gains the rows it lacks on 2 ranks, and the updated file i
     CHECK(two.output.find("rows on 2 MPI ranks") != std::string::npos);
     CHECK(bytes(dir / "two.hff") == bytes(dir / "one.hff"));
     CHECK(readText(dir / "two.hff").find("rows_added=") != std::string::npos);
+}
+
+TEST_CASE("A sharded F from 2 ranks round-trips through info and solve --ff, in one process and on 2 or 3 ranks") {
+    const auto dir = tempDir("mpi-shards");
+    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 80 --samples 256";
+    REQUIRE(runHemirad(dir, 0, "formfactors " + scene + " -o one.hff --quiet").status == 0);
+    const Run write = runHemirad(dir, 2, "formfactors " + scene + " -o sharded.hff --shards --threads 1");
+    REQUIRE_MESSAGE(write.status == 0, write.output);
+    CHECK(write.output.find("(a shard manifest; 2 shards of") != std::string::npos);
+    CHECK(std::filesystem::exists(dir / "sharded.shard-0-of-2.hff"));
+    CHECK(std::filesystem::exists(dir / "sharded.shard-1-of-2.hff"));
+    // The shards together are the one-process F, entry for entry.
+    const hemirad::FormFactors one = hemirad::loadFormFactors((dir / "one.hff").string());
+    const hemirad::FormFactors merged = hemirad::loadFormFactors((dir / "sharded.hff").string());
+    CHECK(merged.rowStarts() == one.rowStarts());
+    CHECK(merged.columnVector() == one.columnVector());
+    CHECK(merged.valueVector() == one.valueVector());
+    CHECK(merged.computedFlags() == one.computedFlags());
+    CHECK(merged.parameters == one.parameters);
+    CHECK(merged.sceneHash == one.sceneHash);
+
+    const Run info = runHemirad(dir, 0, "info sharded.hff");
+    REQUIRE_MESSAGE(info.status == 0, info.output);
+    CHECK(info.output.find("a manifest of 2 shards") != std::string::npos);
+    CHECK(info.output.find("nonzeros " + std::to_string(one.nonZeros()) + " (") != std::string::npos);
+    CHECK(info.output.find("shard 1: sharded.shard-1-of-2.hff") != std::string::npos);
+
+    REQUIRE(runHemirad(dir, 0, "solve " + scene + " --ff one.hff --solver lu -o lu.csv --quiet").status == 0);
+    const Run solveOne = runHemirad(dir, 0, "solve " + scene + " --ff sharded.hff --solver lu -o lu-sharded.csv");
+    REQUIRE_MESSAGE(solveOne.status == 0, solveOne.output);
+    CHECK(solveOne.output.find("form factors: reused sharded.hff") != std::string::npos);
+    CHECK(bytes(dir / "lu-sharded.csv") == bytes(dir / "lu.csv"));
+    const std::vector<double> exact = radiosityColumns(dir / "lu.csv");
+    for (int ranks : {2, 3}) {  // 3 ranks: one rank holds no shard
+        CAPTURE(ranks);
+        const Run solve = runHemirad(dir, ranks, "solve " + scene + " --ff sharded.hff --threads 1 --tolerance 1e-13 -o B.csv");
+        REQUIRE_MESSAGE(solve.status == 0, solve.output);
+        CHECK(solve.output.find("each rank reading its own shards") != std::string::npos);
+        CHECK(solve.output.find("rows on") == std::string::npos);  // nothing recomputed
+        CHECK(largestRelativeDifference(radiosityColumns(dir / "B.csv"), exact) < 1e-8);
+    }
+    // A damaged shard: every rank stops with one message naming it, exit 1.
+    std::string damaged = bytes(dir / "sharded.shard-1-of-2.hff");
+    damaged[damaged.size() / 2] = char(damaged[damaged.size() / 2] ^ 0x5a);
+    writeFile(dir / "sharded.shard-1-of-2.hff", damaged);
+    const Run broken = runHemirad(dir, 2, "solve " + scene + " --ff sharded.hff --threads 1 -o B2.csv");
+    CHECK(broken.status == 1);
+    CHECK(count(broken.output, "hemirad: error: ") == 1);
+    CHECK(count(broken.output, "sharded.shard-1-of-2.hff: checksum mismatch") == 1);
+    CHECK_FALSE(std::filesystem::exists(dir / "B2.csv"));
 }
 
 TEST_CASE("A malformed scene or a missing file on 2 ranks gives the one-process message once, exit 1, no hang") {
