@@ -204,6 +204,14 @@ def main():
         md += ["## street64k across MPI ranks (issue 10)", "",
                "`bash bench/mpi_scaling.sh build 3072`, a step of `make bench`; from `results/mpi_scaling.md`."]
         md += scaling + [""]
+    try:
+        tiled = open(os.path.join(R, "mpi_street_tiled.md")).read().splitlines()
+    except OSError:
+        tiled = []
+    if tiled:
+        md += ["## " + tiled[0].lstrip("# "), "",
+               "`bash bench/mpi_street_tiled.sh build 3072`, a step of `make bench`; from `results/mpi_street_tiled.md`."]
+        md += tiled[1:] + [""]
 
     def total_seconds(path):
         try:

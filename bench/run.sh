@@ -63,6 +63,9 @@ step "street64k at 3072 directions: time and peak memory"
 step "street64k across MPI ranks: F on 1 vs 2 ranks, the PETSc solve"
 bash bench/mpi_scaling.sh "$build"
 
+step "the scale-out job: street64k x 4 (~250k patches) on 2 MPI ranks, F sharded"
+bash bench/mpi_street_tiled.sh "$build"
+
 step "what skipping saves: black rows, the mirror pass, F reuse after a material-only edit"
 "$hemirad" bench-run "$scenes/street64k.obj" --label street64k_all_rows --method hemisphere --samples 3072 \
     --all-rows | tee "$results/skip_black_rows.jsonl"

@@ -45,12 +45,14 @@ class ObjWriter:
         self.object = "default"
         self.material = None
         self.counts = [0, 0, 0]    # triangles, quads, other
+        self.shift_x = 0.0         # added to every vertex's x (tiled copies of a layout)
 
     def number(self, c):
         text = self.FMT % c
         return "0.0000" if text == "-0.0000" else text
 
     def vertex(self, p):
+        p = (p[0] + self.shift_x, p[1], p[2])
         key = " ".join(self.number(c) for c in p)
         idx = self.vertex_index.get(key)
         if idx is None:

@@ -3,7 +3,10 @@
 some of them mirrors, street and sidewalk ground) under a sky dome of equal-solid-angle cells from
 the Beckers & Beckers (2012) hemisphere partition, ten of which form an emitting sun.
 
-Usage: street64k.py OUTPUT_DIR
+Usage: street64k.py OUTPUT_DIR [--tiles N]
+
+--tiles N repeats the street (buildings and ground) N times along x, an alley apart, centred on the
+origin, under one sky dome: street64k_xN.obj (N = 4: 249,807 patches, the scale-out benchmark).
 
 Conventions (Hemirad's OBJ loader): one face = one patch; the right-hand-rule normal is the side
 a patch emits into and receives from. Buildings face outward, the ground faces up, the sky dome
@@ -227,12 +230,15 @@ def sky_dome(w):
     return len(cells), S
 
 
-def ground(w, rows):
-    w.object = "ground"
+def street_bands():
+    return [(-FACADE_Z, -ROAD_HALF, "sidewalk"), (-ROAD_HALF, ROAD_HALF, "asphalt"), (ROAD_HALF, FACADE_Z, "sidewalk")]
+
+
+def ground(w, rows, prefix=""):
+    w.object = prefix + "ground"
     nx = divisions(STREET_X1 - STREET_X0, GROUND_CELL)
     up = (0.0, 1.0, 0.0)
-    bands = [(-FACADE_Z, -ROAD_HALF, "sidewalk"), (-ROAD_HALF, ROAD_HALF, "asphalt"), (ROAD_HALF, FACADE_Z, "sidewalk")]
-    for z0, z1, mat in bands:
+    for z0, z1, mat in street_bands():
         axis_rect(w, 1, 0.0, STREET_X0, STREET_X1, z0, z1, nx, divisions(z1 - z0, GROUND_CELL), up, mat)
     # Alleys between neighbouring buildings, back to the deeper neighbour's back wall.
     for side, spans in rows:
@@ -243,8 +249,26 @@ def ground(w, rows):
                       up, "sidewalk")
 
 
-def build():
+def build(tiles=1):
     w = ObjWriter()
+    windows = 0
+    # Tiles an alley apart (touching end walls would face each other at distance 0).
+    pitch = STREET_X1 - STREET_X0 + ALLEY
+    for tile in range(tiles):
+        w.shift_x = (tile - (tiles - 1) / 2.0) * pitch
+        windows += build_street(w, "" if tiles == 1 else "tile%d_" % (tile + 1))
+        if tile + 1 < tiles:  # the street across the alley to the next tile
+            up = (0.0, 1.0, 0.0)
+            for z0, z1, mat in street_bands():
+                axis_rect(w, 1, 0.0, STREET_X1, STREET_X1 + ALLEY, z0, z1, divisions(ALLEY, GROUND_CELL),
+                          divisions(z1 - z0, GROUND_CELL), up, mat)
+    w.shift_x = 0.0
+    sky, S = sky_dome(w)
+    return w, windows, sky, S
+
+
+def build_street(w, prefix):
+    """The buildings and ground of one street (objects named with `prefix`); returns the window count."""
     rows = []
     windows = 0
     for side, table, label in ((1, NORTH, "north"), (-1, SOUTH, "south")):
@@ -255,25 +279,32 @@ def build():
         for k, (width, floors, depth, mode, wall) in enumerate(table):
             height = floors * FLOOR + PARAPET
             assert 12.0 <= height <= 40.0 and 12.0 <= depth <= 20.0
-            windows += building(w, "building_%s_%d" % (label, k + 1), x, x + width, depth, floors, side, mode, wall)
+            windows += building(w, "%sbuilding_%s_%d" % (prefix, label, k + 1), x, x + width, depth, floors, side, mode,
+                                wall)
             spans.append((x, x + width, depth))
             x += width + ALLEY
         rows.append((side, spans))
-    ground(w, rows)
-    sky, S = sky_dome(w)
-    return w, windows, sky, S
+    ground(w, rows, prefix)
+    return windows
 
 
 def main():
-    if len(sys.argv) != 2:
-        sys.exit("usage: street64k.py OUTPUT_DIR")
-    out = sys.argv[1]
+    args = sys.argv[1:]
+    tiles = 1
+    if len(args) == 3 and args[1] == "--tiles" and args[2].isdigit() and int(args[2]) >= 1:
+        tiles = int(args[2])
+        args = args[:1]
+    if len(args) != 1:
+        sys.exit("usage: street64k.py OUTPUT_DIR [--tiles N]")
+    out = args[0]
     os.makedirs(out, exist_ok=True)
-    w, windows, sky, S = build()
+    w, windows, sky, S = build(tiles)
+    name = NAME if tiles == 1 else "%s_x%d" % (NAME, tiles)
     t, q, o = w.counts
-    w.write(os.path.join(out, NAME + ".obj"),
-            "Urban street canyon: 18 buildings with window panes (some mirrors), ground, Beckers sky dome "
-            "of %d cells with %d sun cells; %d patches" % (sky, SUN_CELLS, t + q + o),
+    w.write(os.path.join(out, name + ".obj"),
+            "Urban street canyon%s: %d buildings with window panes (some mirrors), ground, Beckers sky dome "
+            "of %d cells with %d sun cells; %d patches"
+            % ("" if tiles == 1 else " repeated %d times along x" % tiles, 18 * tiles, sky, SUN_CELLS, t + q + o),
             NAME + ".mtl",
             ["# hemirad camera -95 1.7 0 100 12 0 70",
              "# Buildings face outward, ground up, sky dome inward. Units m, +y up, street along x.",
@@ -282,7 +313,7 @@ def main():
     write_mtl(os.path.join(out, NAME + ".mtl"),
               "Materials for street64k.obj (Kd diffuse, Ke emission, illum 3 + Ks s = mirror)", MATERIALS)
     print("%s: %d patches (%d triangles, %d quads, %d other); %d windows, %d sky cells"
-          % (NAME, t + q + o, t, q, o, windows, sky))
+          % (name, t + q + o, t, q, o, windows, sky))
 
 
 if __name__ == "__main__":
