@@ -3,6 +3,7 @@
 #include "support.hpp"
 
 #include "engine/form_factor_file.hpp"
+#include "engine/form_factor_shards.hpp"
 #include "engine/subdivide.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
 #include "ui/app_state.hpp"
@@ -174,6 +175,11 @@ TEST_CASE("GUI state: importing F checks that it belongs to the scene") {
     const auto dir = tempDir("gui-ff");
     REQUIRE(app.exportFormFactors((dir / "cube.hff").string()));
     CHECK(app.importFormFactors((dir / "cube.hff").string()));
+    // A sharded F (a manifest and its shards, as MPI ranks write it) imports as one F.
+    const FormFactors exported = *app.formFactors();
+    saveShardedFormFactors(exported, (dir / "sharded.hff").string(), 3);
+    CHECK(app.importFormFactors((dir / "sharded.hff").string()));
+    CHECK(app.formFactors()->valueVector() == exported.valueVector());
     REQUIRE(app.loadScene(sourcePath("scenes/parallel_plates.obj")));
     CHECK_FALSE(app.importFormFactors((dir / "cube.hff").string()));
     CHECK(logged(app, "F has 6 patches but the scene has 2"));
