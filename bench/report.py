@@ -205,6 +205,14 @@ def main():
                "`bash bench/mpi_scaling.sh build 3072`, a step of `make bench`; from `results/mpi_scaling.md`."]
         md += scaling + [""]
     try:
+        auto = open(os.path.join(R, "auto_solver.md")).read().splitlines()
+    except OSError:
+        auto = []
+    if auto:
+        md += ["## " + auto[0].lstrip("# "), "",
+               "`bash bench/auto_solver.sh build`, a step of `make bench`; from `results/auto_solver.md`."]
+        md += auto[1:] + [""]
+    try:
         tiled = open(os.path.join(R, "mpi_street_tiled.md")).read().splitlines()
     except OSError:
         tiled = []

@@ -63,6 +63,9 @@ step "street64k at 3072 directions: time and peak memory"
 step "street64k across MPI ranks: F on 1 vs 2 ranks, the PETSc solve"
 bash bench/mpi_scaling.sh "$build"
 
+step "what --solver auto picks above 2000 patches: Gauss-Seidel or Jacobi by thread count"
+bash bench/auto_solver.sh "$build"
+
 step "the scale-out job: street64k x 4 (~250k patches) on 2 MPI ranks, F sharded"
 bash bench/mpi_street_tiled.sh "$build"
 

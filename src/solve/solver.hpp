@@ -51,7 +51,9 @@ Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverO
 /// report unless options.allowUnconverged: one verdict for every solve, distributed ones included.
 void checkConverged(const SolveReport& report, const SolverOptions& options);
 
-/// The solver "auto" picks for N patches and the given materials.
+/// The solver "auto" picks for N patches and the given materials, on the process's worker threads
+/// (resolveThreads(0): the team configureProcessThreads set): lu up to 2000 patches; above, Gauss-
+/// Seidel (ordered sweeps, one core) on up to 2 threads and Jacobi (parallel sweeps) on more.
 std::string chooseSolver(std::size_t patches, const Scene& scene);
 
 }  // namespace hemirad

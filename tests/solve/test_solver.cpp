@@ -6,6 +6,7 @@
 #include "solve/solver_registry.hpp"
 
 #include <doctest/doctest.h>
+#include <omp.h>
 
 using namespace hemirad;
 using namespace hemirad::test;
@@ -245,4 +246,18 @@ TEST_CASE("Jacobi and Gauss-Seidel hand each sweep's radiosity to a progress cal
         CHECK(errors.back() < 0.1 * errors.front());  // the view converges toward the answer
         CHECK(r.B[1][0] == doctest::Approx(exact.B[1][0]).epsilon(1e-6));
     }
+}
+
+TEST_CASE("auto picks LU for small systems, and above 2000 patches Gauss-Seidel on up to 2 threads and Jacobi (parallel sweeps) on more") {
+    const Scene scene;
+    const int saved = omp_get_max_threads();
+    omp_set_num_threads(2);
+    CHECK(chooseSolver(2000, scene) == "lu");
+    CHECK(chooseSolver(2001, scene) == "gauss-seidel");
+    omp_set_num_threads(3);
+    CHECK(chooseSolver(2000, scene) == "lu");
+    CHECK(chooseSolver(2001, scene) == "jacobi");
+    omp_set_num_threads(1);
+    CHECK(chooseSolver(50000, scene) == "gauss-seidel");
+    omp_set_num_threads(saved);
 }
