@@ -2,12 +2,7 @@
 # What `--solver auto` should pick above 2000 patches: Gauss-Seidel (ordered sweeps, one core) or
 # Jacobi (parallel sweeps), on cornell13k with F reused, for 1 thread up to the cores this machine has.
 # Usage: bench/auto_solver.sh BUILD_DIR; writes bench/results/auto_solver.md.
-set -euo pipefail
-build=${1:-build}
-hemirad="$(cd "$build" && pwd)/hemirad"
-root="$(cd "$(dirname "$0")/.." && pwd)"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/setup.sh" "${1:-build}"
 /usr/bin/python3 "$root/scenes/generators/cornell13k.py" "$work" >/dev/null
 "$hemirad" formfactors "$work/cornell13k.obj" -o "$work/F.hff" --quiet
 cores=$(nproc)

@@ -2,13 +2,8 @@
 # street64k F (hemisphere, 3072 directions) on 1 rank x 1 thread, 2 ranks x 1 thread and 1 process x
 # 2 threads, then the distributed solve on 1 vs 2 ranks; wall time and peak RSS per rank from
 # /usr/bin/time. Usage: bench/mpi_scaling.sh BUILD_DIR [SAMPLES]; writes bench/results/mpi_scaling.md.
-set -euo pipefail
-build=${1:-build}
+source "$(dirname "$0")/setup.sh" "${1:-build}"
 samples=${2:-3072}
-hemirad="$(cd "$build" && pwd)/hemirad"
-root="$(cd "$(dirname "$0")/.." && pwd)"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 /usr/bin/python3 "$root/scenes/generators/street64k.py" "$work" >/dev/null
 scene="$work/street64k.obj"
 mpirun=(mpirun --allow-run-as-root --oversubscribe)

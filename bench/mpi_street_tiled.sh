@@ -4,13 +4,8 @@
 # PETSc where the rows are; then `hemirad info` on the shards (one process, one shard in memory at a
 # time) and a second solve that reads the shards. Wall time and peak RSS per rank from /usr/bin/time.
 # Usage: bench/mpi_street_tiled.sh BUILD_DIR [SAMPLES]; writes bench/results/mpi_street_tiled.md.
-set -euo pipefail
-build=${1:-build}
+source "$(dirname "$0")/setup.sh" "${1:-build}"
 samples=${2:-3072}
-hemirad="$(cd "$build" && pwd)/hemirad"
-root="$(cd "$(dirname "$0")/.." && pwd)"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 generated=$(/usr/bin/python3 "$root/scenes/generators/street64k.py" "$work" --tiles 4)
 scene="$work/street64k_x4.obj"
 mpirun=(mpirun --allow-run-as-root --oversubscribe)

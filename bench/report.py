@@ -195,31 +195,21 @@ def main():
                "| %s | %s | %s | %s | %s | %s | %s |" % (fmt(num(s["t_bvh"]) + num(s["t_ff"])), fmt(s["rays_per_s"]), count(s["nnz"]),
                                                    fmt(s["f_mib"]), fmt(s["peak_rss_mib"]), count(s["rows"]), fmt(s["t_solve"])), ""]
 
-    # bench/mpi_scaling.sh writes its own Markdown; its body follows under this report's heading.
-    try:
-        scaling = open(os.path.join(R, "mpi_scaling.md")).read().splitlines()[1:]
-    except OSError:
-        scaling = []
-    if scaling:
-        md += ["## street64k across MPI ranks (issue 10)", "",
-               "`bash bench/mpi_scaling.sh build 3072`, a step of `make bench`; from `results/mpi_scaling.md`."]
-        md += scaling + [""]
-    try:
-        auto = open(os.path.join(R, "auto_solver.md")).read().splitlines()
-    except OSError:
-        auto = []
-    if auto:
-        md += ["## " + auto[0].lstrip("# "), "",
-               "`bash bench/auto_solver.sh build`, a step of `make bench`; from `results/auto_solver.md`."]
-        md += auto[1:] + [""]
-    try:
-        tiled = open(os.path.join(R, "mpi_street_tiled.md")).read().splitlines()
-    except OSError:
-        tiled = []
-    if tiled:
-        md += ["## " + tiled[0].lstrip("# "), "",
-               "`bash bench/mpi_street_tiled.sh build 3072`, a step of `make bench`; from `results/mpi_street_tiled.md`."]
-        md += tiled[1:] + [""]
+    # Scripts that write their own Markdown (bench/*.sh -> results/*.md): each body follows under a
+    # heading of this report (the script's own first line unless one is given).
+    def script_section(name, command, heading=None):
+        try:
+            lines = open(os.path.join(R, name)).read().splitlines()
+        except OSError:
+            return []
+        if not lines:
+            return []
+        return ["## " + (heading or lines[0].lstrip("# ")), "",
+                "`%s`, a step of `make bench`; from `results/%s`." % (command, name)] + lines[1:] + [""]
+
+    md += script_section("mpi_scaling.md", "bash bench/mpi_scaling.sh build 3072", "street64k across MPI ranks (issue 10)")
+    md += script_section("auto_solver.md", "bash bench/auto_solver.sh build")
+    md += script_section("mpi_street_tiled.md", "bash bench/mpi_street_tiled.sh build 3072")
 
     def total_seconds(path):
         try:

@@ -68,7 +68,7 @@ std::string chooseSolver(std::size_t patches, const Scene&) {
     // converges for any rho < 1 with row sums <= 1 (diagonally dominant I - R F) and serves RGB in one
     // pass. Gauss-Seidel needs fewer sweeps, but each runs in order on one core; Jacobi's sweeps run
     // on every thread. Measured on cornell13k (bench/results/auto_solver.md): 15 against 26 sweeps,
-    // 1.15 s against 1.03 s on 2 threads (Jacobi 1.95 s on 1): even at 2 threads, Jacobi ahead beyond.
+    // 1.5 s against 2.2 s on 1 thread, even (1.37 s) on 2: Jacobi ahead beyond.
     if (patches <= 2000) return "lu";
     return resolveThreads(0) > 2 ? "jacobi" : "gauss-seidel";
 }
