@@ -9,6 +9,7 @@
 #include "engine/threads.hpp"
 #include "engine/form_factor_shards.hpp"
 #include "mpi/distributed_form_factors.hpp"
+#include "mpi/distributed_reciprocity.hpp"
 #include "mpi/distributed_shards.hpp"
 #include "mpi/petsc_solve.hpp"
 
@@ -58,9 +59,6 @@ void loadScene(Job& job, const RadiosityPipeline& pipeline) {
         } catch (const Error& e) {
             throw UsageError(e.what());
         }
-        if (job.options.enforceReciprocity)
-            throw UsageError("--enforce-reciprocity averages pairs of rows that different ranks hold; it does not run "
-                             "across MPI ranks yet: store F with --ff and apply it in one process");
     });
 }
 
@@ -140,6 +138,18 @@ void obtainFormFactors(Job& job, const std::string& reusePath) {
     job.computed = true;
 }
 
+/// --enforce-reciprocity: pairs of rows on any two ranks averaged, as one process averages them.
+void reciprocity(Job& job) {
+    if (!job.options.enforceReciprocity) return;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::size_t changed = 0;
+    job.context.collectively([&] { changed = enforceReciprocityDistributed(job.context, job.scene, job.F); });
+    job.timings.add("enforce reciprocity", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    job.reporter.line("form factors: reciprocity enforced: " + std::to_string(changed) +
+                      " entries replaced by the pair's area-weighted mean (A_i F_ij + A_j F_ji) / 2");
+    job.computed = true;
+}
+
 /// --normalize-rows on each rank's rows (row-local), the largest correction reported.
 void normalise(Job& job) {
     if (!job.options.normalizeRows) return;
@@ -193,6 +203,7 @@ void runFormFactors(Job& job) {
     const RadiosityPipeline pipeline = makePipeline(job.options, job.timings, job.reporter);
     loadScene(job, pipeline);
     obtainFormFactors(job, "");
+    reciprocity(job);
     normalise(job);
     reportStatistics(job);
     storeFormFactors(job, job.options.output, job.options.shards);
@@ -214,6 +225,7 @@ void runSolveOrRender(Job& job, bool render) {
     obtainFormFactors(job, reuse ? options.ffPath : "");
     // A reused file gains the rows it lacked and stays as computed; a new file stores F as normalised.
     if (!options.ffPath.empty() && reuse && job.computed) storeFormFactors(job, options.ffPath, sharded);
+    reciprocity(job);
     normalise(job);
     if (!options.ffPath.empty() && !reuse) storeFormFactors(job, options.ffPath, sharded);
     reportStatistics(job);

@@ -1,11 +1,9 @@
-// Distributed solve with PETSc. PETSc's parallel matrices own contiguous row ranges, while the work
-// queue leaves each rank an arbitrary set of rows; patches are therefore renumbered so that each
-// rank's rows come first-to-last in its range (rows nobody computed, B = E, go round-robin):
-//
-//   old patch i --perm--> new index p;  rank r owns new [offset_r, offset_r + count_r)
-//
-// and the system P (I - R F) P^T (P B) = P E is solved: the same system, the same residuals.
+// Distributed solve with PETSc on F's rows where the ranks hold them (petsc_rows.hpp: the renumbering
+// that gives each rank a contiguous range), solving P (I - R F) P^T (P B) = P E: the same system, the
+// same residuals.
 #include "mpi/petsc_solve.hpp"
+
+#include "mpi/petsc_rows.hpp"
 
 #include "cli/options.hpp"
 
@@ -18,37 +16,6 @@
 namespace hemirad::mpi {
 namespace {
 
-void check(PetscErrorCode code, const char* what) {
-    if (!code) return;
-    const char* text = nullptr;
-    PetscErrorMessage(code, &text, nullptr);
-    throw Error(std::string("PETSc: ") + what + ": " + (text ? text : "error " + std::to_string(int(code))));
-}
-
-/// The renumbering: new index per patch, and this rank's rows (old indices, in new order).
-struct Layout {
-    std::vector<PetscInt> perm;
-    std::vector<PatchId> mine;
-    PetscInt begin = 0, end = 0;
-};
-
-Layout layoutOf(const Context& context, const std::vector<std::int32_t>& owner) {
-    const int K = context.size();
-    std::vector<std::vector<PatchId>> byRank(static_cast<std::size_t>(K));
-    for (std::size_t i = 0; i < owner.size(); ++i)
-        byRank[std::size_t(owner[i] >= 0 ? owner[i] : int(i % std::size_t(K)))].push_back(PatchId(i));
-    Layout layout;
-    layout.perm.resize(owner.size());
-    PetscInt next = 0;
-    for (int r = 0; r < K; ++r) {
-        if (r == context.rank()) layout.begin = next;
-        for (PatchId i : byRank[std::size_t(r)]) layout.perm[i] = next++;
-        if (r == context.rank()) layout.end = next;
-    }
-    layout.mine = std::move(byRank[std::size_t(context.rank())]);
-    return layout;
-}
-
 struct Channel {
     std::vector<double> rho, E;  // this rank's rows, in new order
     std::string names;
@@ -56,37 +23,6 @@ struct Channel {
     std::vector<double> B;       // all patches, on rank 0
 };
 
-
-/// This rank's rows of a MATMPIAIJ with the pattern of I - R F (diagonal always present): row i holds
-/// diagonal + scale_i * F_ii and scale_i * F_ij elsewhere.
-Mat rowsMatrix(const DistributedFormFactors& F, const Layout& layout, std::size_t n, const std::vector<PetscInt>& diagonalCount,
-               const std::vector<PetscInt>& offCount, const std::vector<double>& diagonal, const std::vector<double>& scale) {
-    const PetscInt m = layout.end - layout.begin;
-    Mat A;
-    check(MatCreateAIJ(PETSC_COMM_WORLD, m, m, PetscInt(n), PetscInt(n), 0, diagonalCount.data(), 0, offCount.data(), &A),
-          "MatCreateAIJ");
-    std::vector<PetscInt> columns;
-    std::vector<PetscScalar> values;
-    for (PetscInt k = 0; k < m; ++k) {
-        const PatchId i = layout.mine[std::size_t(k)];
-        const PetscInt row = layout.begin + k;
-        const double a = scale[std::size_t(k)];
-        columns.assign(1, row);
-        values.assign(1, diagonal[std::size_t(k)]);
-        if (F.owner[i] >= 0 && a != 0.0)
-            for (std::uint64_t e = F.local.rowBegin(i); e < F.local.rowEnd(i); ++e) {
-                const PetscInt p = layout.perm[F.local.columns()[e]];
-                const double v = a * double(F.local.values()[e]);
-                if (p == row) values[0] += v;
-                else columns.push_back(p), values.push_back(v);
-            }
-        check(MatSetValues(A, 1, &row, PetscInt(columns.size()), columns.data(), values.data(), INSERT_VALUES),
-              "MatSetValues");
-    }
-    check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
-    check(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
-    return A;
-}
 
 /// CG's operator without its per-channel diagonal: S = -(G + G^T) / 2 with G = diag(A) F, the area-
 /// weighted F symmetrised as one process symmetrises it (eigen_solvers.cpp). G is kept for residuals.
@@ -99,11 +35,11 @@ struct SymmetricPart {
 };
 
 void buildSymmetricPart(SymmetricPart& part, const Scene& scene, const DistributedFormFactors& F, const Layout& layout,
-                        const std::vector<PetscInt>& diagonalCount, const std::vector<PetscInt>& offCount) {
+                        const Preallocation& counts) {
     const std::size_t m = layout.mine.size();
     std::vector<double> zero(m, 0.0), area(m);
     for (std::size_t k = 0; k < m; ++k) area[k] = scene.patches[layout.mine[k]].area;
-    part.G = rowsMatrix(F, layout, scene.size(), diagonalCount, offCount, zero, area);
+    part.G = rowsMatrix(F, layout, scene.size(), counts, zero, area);
     Mat Gt;
     check(MatTranspose(part.G, MAT_INITIAL_MATRIX, &Gt), "MatTranspose");
     check(MatDuplicate(part.G, MAT_COPY_VALUES, &part.S), "MatDuplicate");
@@ -172,21 +108,11 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
         channelOf[c] = same;
     }
 
-    // Preallocation: per local row, entries inside this rank's column range and outside it.
-    std::vector<PetscInt> diagonalCount(std::size_t(m), 1), offCount(std::size_t(m), 0);
-    for (PetscInt k = 0; k < m; ++k) {
-        const PatchId i = layout.mine[std::size_t(k)];
-        if (F.owner[i] < 0) continue;
-        for (std::uint64_t e = F.local.rowBegin(i); e < F.local.rowEnd(i); ++e) {
-            const PetscInt p = layout.perm[F.local.columns()[e]];
-            if (p == layout.begin + k) continue;  // the diagonal is counted already
-            ++(p >= layout.begin && p < layout.end ? diagonalCount : offCount)[std::size_t(k)];
-        }
-    }
+    const Preallocation counts = preallocationOf(F, layout);
 
     const bool cg = name == "cg";
     SymmetricPart symmetric;
-    if (cg) buildSymmetricPart(symmetric, scene, F, layout, diagonalCount, offCount);
+    if (cg) buildSymmetricPart(symmetric, scene, F, layout, counts);
 
     for (Channel& ch : channels) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -226,7 +152,7 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
             } else {
                 std::vector<double> one(local, 1.0), minusRho(local);
                 for (std::size_t k = 0; k < local; ++k) minusRho[k] = -ch.rho[k];
-                A = rowsMatrix(F, layout, n, diagonalCount, offCount, one, minusRho);
+                A = rowsMatrix(F, layout, n, counts, one, minusRho);
             }
             check(MatCreateVecs(A, &x, &b), "MatCreateVecs");
             check(VecDuplicate(b, &r), "VecDuplicate");
