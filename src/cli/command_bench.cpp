@@ -3,6 +3,7 @@
 // disturb each other; the reference F (a high-resolution hemisphere run) and its radiosity are
 // computed once and cached by scene hash.
 #include "cli/bench_records.hpp"
+#include "cli/bench_run.hpp"
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
 #include "engine/atomic_file.hpp"
@@ -38,6 +39,8 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 /// This process's peak resident memory. VmHWM, not getrusage: ru_maxrss survives exec, so a child
 /// would report its parent's peak.
+}  // namespace
+
 double peakRssMiB() {
     std::ifstream status("/proc/self/status");
     std::string key;
@@ -51,6 +54,8 @@ double peakRssMiB() {
     }
     return 0.0;
 }
+
+namespace {
 
 // Reference radiosity cache: "HEMIRADB", N (uint64), then N x 3 doubles.
 void saveRadiosity(const std::vector<Rgb>& B, const std::string& path) {
@@ -75,12 +80,16 @@ std::vector<Rgb> loadRadiosity(const std::string& path, std::size_t expected) {
     return B;
 }
 
+}  // namespace
+
 Scene loadBenchScene(const Options& o) {
     Warnings warnings(nullptr);
     Scene scene = loadObj(o.inputs.at(0), warnings);
     if (o.subdivide > 0) scene = subdivide(scene, o.subdivide);
     return scene;
 }
+
+namespace {
 
 struct ChildResult {
     int status = -1;
@@ -139,12 +148,9 @@ std::string shortNumber(double v) {
 
 }  // namespace
 
-int runBenchRun(const Options& o) {
-    BenchRecord r;
+void recordScene(BenchRecord& r, const Options& o, const Scene& scene, double loadSeconds) {
     r.set("scene", o.label.empty() ? fs::path(o.inputs.at(0)).stem().string() : o.label);
-    auto t0 = Clock::now();
-    const Scene scene = loadBenchScene(o);
-    r.set("t_load", since(t0));
+    r.set("t_load", loadSeconds);
     r.set("patches", double(scene.size()));
     r.set("method", o.formFactors.method);
     for (const auto& [key, value] : findBackend(o.formFactors.method).describe(scene, o.formFactors).record) {
@@ -153,13 +159,9 @@ int runBenchRun(const Options& o) {
         if (!value.empty() && *end == '\0') r.set(key, number);
         else r.set(key, value);
     }
-    FormFactorRun run = computeFormFactors(scene, o.formFactors, neededRows(scene, o.allRows));
-    if (o.enforceReciprocity) {
-        const auto t = Clock::now();
-        enforceReciprocity(run.F, scene);
-        r.set("t_reciprocity", since(t));
-    }
-    if (o.normalizeRows) normalizeRows(run.F);
+}
+
+void recordFormFactors(BenchRecord& r, const Options& o, const FormFactorRun& run) {
     r.set("postprocess", std::string(o.enforceReciprocity ? "reciprocity" : "") +
                              (o.normalizeRows ? (o.enforceReciprocity ? "+normalised" : "normalised") : ""));
     r.set("t_bvh", run.prepareSeconds);
@@ -182,22 +184,22 @@ int runBenchRun(const Options& o) {
             if (c == ' ') c = '_';
         r.set(key, run.rowsComputed ? 1e3 * seconds / double(run.rowsComputed) : 0.0);
     }
-    t0 = Clock::now();
-    SolverOptions solver = o.solver;
-    if (solver.solver == "auto") solver.solver = chooseSolver(scene.size(), scene);
-    const Radiosity B = solveRadiosity(scene, run.F, solver);
-    r.set("t_solve", since(t0));
-    r.set("solver", solver.solver);
+}
+
+void recordSolve(BenchRecord& r, const Radiosity& B, const std::string& solver, double seconds, const FormFactorRun& run) {
+    r.set("t_solve", seconds);
+    r.set("solver", solver);
     int iterations = 0;
     for (const SolveReport& rep : B.reports) iterations = std::max(iterations, rep.iterations);
     r.set("solve_iterations", double(iterations));
-    r.set("t_total", run.prepareSeconds + run.computeSeconds + since(t0));
-    r.set("peak_rss_mib", peakRssMiB());  // before the reference is loaded
+    r.set("t_total", run.prepareSeconds + run.computeSeconds + seconds);
+}
 
+void recordErrors(BenchRecord& r, const Options& o, const Scene& scene, const FormFactors& F, const std::vector<Rgb>& B) {
     if (!o.referencePath.empty()) {
         const FormFactors reference = loadFormFactors(o.referencePath);
         checkFormFactorsMatch(reference, scene.geometryHash(), scene.size(), o.referencePath);
-        const FormFactorError e = compareFormFactors(run.F, reference);
+        const FormFactorError e = compareFormFactors(F, reference);
         r.set("err_rows", double(e.rows));
         r.set("err_mean", e.mean);
         r.set("err_worst_mean", e.worstMean);
@@ -209,7 +211,7 @@ int runBenchRun(const Options& o) {
         r.set("err_worst_row_l1", e.worstRowL1);
     }
     if (!o.referenceRadiosityPath.empty()) {
-        const RadiosityError e = compareRadiosity(B.B, loadRadiosity(o.referenceRadiosityPath, scene.size()));
+        const RadiosityError e = compareRadiosity(B, loadRadiosity(o.referenceRadiosityPath, scene.size()));
         r.set("b_err_mean", e.mean);
         r.set("b_err_max", e.max);
         r.set("b_err_rms", e.rms);
@@ -217,6 +219,28 @@ int runBenchRun(const Options& o) {
         r.set("b_rel_max", e.relativeMax);
         r.set("b_rel_rms", e.relativeRms);
     }
+}
+
+int runBenchRun(const Options& o) {
+    BenchRecord r;
+    auto t0 = Clock::now();
+    const Scene scene = loadBenchScene(o);
+    recordScene(r, o, scene, since(t0));
+    FormFactorRun run = computeFormFactors(scene, o.formFactors, neededRows(scene, o.allRows));
+    if (o.enforceReciprocity) {
+        const auto t = Clock::now();
+        enforceReciprocity(run.F, scene);
+        r.set("t_reciprocity", since(t));
+    }
+    if (o.normalizeRows) normalizeRows(run.F);
+    recordFormFactors(r, o, run);
+    t0 = Clock::now();
+    SolverOptions solver = o.solver;
+    if (solver.solver == "auto") solver.solver = chooseSolver(scene.size(), scene);
+    const Radiosity B = solveRadiosity(scene, run.F, solver);
+    recordSolve(r, B, solver.solver, since(t0), run);
+    r.set("peak_rss_mib", peakRssMiB());  // before the reference is loaded
+    recordErrors(r, o, scene, run.F, B.B);
     std::cout << r.json() << std::endl;
     return 0;
 }

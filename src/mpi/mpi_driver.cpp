@@ -2,6 +2,7 @@
 // there (petsc_solve). Rank 0 reports and writes; every step runs inside Context::collectively.
 #include "mpi/mpi_driver.hpp"
 
+#include "cli/bench_run.hpp"
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
 #include "engine/form_factor_file.hpp"
@@ -35,6 +36,7 @@ struct Job {
     Warnings warnings;
     Scene scene;
     DistributedFormFactors F;
+    FormFactorRun run;      ///< on rank 0: the rows' computation (counts, times; its F stays empty)
     bool computed = false;  ///< rows were computed in this run (a stored F is out of date)
 };
 
@@ -117,7 +119,7 @@ void obtainFormFactors(Job& job, const std::string& reusePath) {
     job.timings.add("acceleration structure", added.prepareSeconds);
     job.timings.add("form factors", added.computeSeconds);
     if (context.root()) {
-        FormFactorRun run;
+        FormFactorRun& run = job.run;
         run.counts = added.counts;
         run.computeSeconds = added.computeSeconds;
         run.prepareSeconds = added.prepareSeconds;
@@ -250,6 +252,56 @@ void runSolveOrRender(Job& job, bool render) {
     finish(job);
 }
 
+/// `bench-run` across ranks: F computed, post-processed and solved where the rows are, as `solve`
+/// does; rank 0 gathers F for the statistics and the errors against the reference and prints the
+/// one-process record as one JSON line, with the ranks and their peak memory (the largest rank's as
+/// peak_rss_mib, all ranks' together as peak_rss_mib_total).
+void runBenchRun(Job& job) {
+    const Options& options = job.options;
+    const bool root = job.context.root();
+    auto since = [](std::chrono::steady_clock::time_point t) {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    };
+    BenchRecord record;
+    auto t0 = std::chrono::steady_clock::now();
+    job.context.collectively([&] { checkDistributedSolver(options.solver.solver); });
+    loadScene(job, makePipeline(options, job.timings, job.reporter));
+    if (root) recordScene(record, options, job.scene, since(t0));
+    obtainFormFactors(job, "");
+    t0 = std::chrono::steady_clock::now();
+    reciprocity(job);
+    if (root && options.enforceReciprocity) record.set("t_reciprocity", since(t0));
+    normalise(job);
+    FormFactors all = gatherFormFactors(job.context, job.F);
+    if (root) {
+        t0 = std::chrono::steady_clock::now();
+        job.run.stats = computeStats(all, job.scene);
+        job.run.statsSeconds = since(t0);
+        job.run.F = std::move(all);
+        recordFormFactors(record, options, job.run);
+    }
+    Radiosity result;
+    job.context.collectively([&] {
+        t0 = std::chrono::steady_clock::now();
+        result = solveDistributed(job.context, job.scene, job.F, options.solver);
+        if (root)
+            recordSolve(record, result, options.solver.solver == "auto" ? "bicgstab" : options.solver.solver, since(t0),
+                        job.run);
+    });
+    const double mine = peakRssMiB();
+    double largest = 0, total = 0;
+    MPI_Reduce(&mine, &largest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+    MPI_Reduce(&mine, &total, 1, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+    job.context.collectively([&] {
+        if (!root) return;
+        record.set("ranks", double(job.context.size()));
+        record.set("peak_rss_mib", largest);  // before the reference is loaded
+        record.set("peak_rss_mib_total", total);
+        recordErrors(record, options, job.scene, job.run.F, result.B);
+        std::cout << record.json() << std::endl;
+    });
+}
+
 }  // namespace
 
 int runUnderMpi(int argc, char** argv) {
@@ -265,12 +317,18 @@ int runUnderMpi(int argc, char** argv) {
             Job job(context, options);
             if (command == "formfactors") runFormFactors(job);
             else runSolveOrRender(job, command == "render");
+        } else if (command == "bench-run") {
+            Options quiet = options;  // its output is the JSON line alone
+            quiet.quiet = true;
+            Job job(context, quiet);
+            runBenchRun(job);
         } else {
             // help, info, subdivide: one process's work, done by rank 0.
             int status = 0;
             context.collectively([&] {
-                if (command == "bench" || command == "bench-run")
-                    throw UsageError("'" + command + "' measures one process; run it without mpirun");
+                if (command == "bench")
+                    throw UsageError("'bench' runs each measurement as a child process of one process; run it "
+                                     "without mpirun, or measure across ranks with 'mpirun -np K hemirad bench-run'");
                 if (!context.root()) return;
                 if (command == "help") std::cout << usageText();
                 else if (command == "info") status = runInfo(options);

@@ -221,6 +221,28 @@ TEST_CASE("A sharded F from 2 ranks round-trips through info and solve --ff, in 
     CHECK_FALSE(std::filesystem::exists(dir / "B2.csv"));
 }
 
+TEST_CASE("bench-run on 2 ranks records the one-process measurement: the same F, the same errors, and the ranks") {
+    const auto dir = tempDir("mpi-bench-run");
+    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 80";
+    REQUIRE(runHemirad(dir, 0, "formfactors " + scene + " --samples 1024 --origins 4 -o ref.hff --quiet").status == 0);
+    const Run one = runHemirad(dir, 0, "bench-run " + scene + " --samples 256 --reference ref.hff --solver bicgstab");
+    const Run two = runHemirad(dir, 2, "bench-run " + scene + " --samples 256 --reference ref.hff --threads 1");
+    REQUIRE_MESSAGE(one.status == 0, one.output);
+    REQUIRE_MESSAGE(two.status == 0, two.output);
+    CHECK(count(two.output, "{\"scene\": ") == 1);  // one JSON line, from rank 0 alone
+    CHECK(two.output.find("\"ranks\": 2") != std::string::npos);
+    CHECK(two.output.find("\"peak_rss_mib_total\": ") != std::string::npos);
+    // F is byte-identical, so its size, row sums and errors against the reference are the same text.
+    for (const char* key : {"\"nnz\": ", "\"row_sum_mean\": ", "\"reciprocity_mean\": ", "\"err_mean\": ",
+                            "\"err_worst_row_l1\": "}) {
+        CAPTURE(key);
+        const std::size_t a = one.output.find(key), b = two.output.find(key);
+        REQUIRE(a != std::string::npos);
+        REQUIRE(b != std::string::npos);
+        CHECK(one.output.substr(a, one.output.find(',', a) - a) == two.output.substr(b, two.output.find(',', b) - b));
+    }
+}
+
 TEST_CASE("A malformed scene or a missing file on 2 ranks gives the one-process message once, exit 1, no hang") {
     const auto dir = tempDir("mpi-errors");
     writeFile(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 nan\nf 1 2 3\n");
@@ -244,6 +266,9 @@ TEST_CASE("Options that cannot run across ranks are usage errors on every rank, 
     Run r = runHemirad(dir, 2, "solve " + scene + " -o B.csv --solver gauss-seidel");
     CHECK(r.status == 2);
     CHECK(count(r.output, "--solver gauss-seidel does not run across MPI ranks") == 1);
+    r = runHemirad(dir, 2, "bench " + scene + " -o results.csv");
+    CHECK(r.status == 2);
+    CHECK(count(r.output, "'bench' runs each measurement as a child process of one process") == 1);
     r = runHemirad(dir, 2, "formfactors " + scene + " -o F.hff --bogus");
     CHECK(r.status == 2);
     CHECK(count(r.output, "unknown option '--bogus'") == 1);
