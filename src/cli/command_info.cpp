@@ -59,9 +59,10 @@ int describeShards(const std::string& path) {
     std::vector<std::size_t> all(m.shards.size());
     for (std::size_t k = 0; k < all.size(); ++k) all[k] = k;
     RowTotals totals;
-    std::vector<std::uint8_t> seen(m.patches, 0);
+    std::vector<std::uint8_t> seen;  // allocated once a shard has confirmed the manifest's size
     double bytes = double(std::filesystem::file_size(path));
     visitShards(path, m, all, [&](std::size_t index, FormFactors&& shard) {
+        seen.resize(shard.size(), 0);
         for (std::size_t i = 0; i < shard.size(); ++i) {
             if (!shard.rowComputed(i)) continue;
             if (seen[i]) throw Error(shardPath(path, m.shards[index]), 0, "row " + std::to_string(i) + " is in two shards of " + path);

@@ -434,9 +434,11 @@ std::string hexHash(std::uint64_t hash) {
 
 void saveFormFactors(const FormFactors& F, const std::string& path) {
     const std::string ext = extension(path);
+    if (ext != ".hff" && ext != ".mtx") throw Error(path, 0, "unknown F file type " + quote(ext) + " (use .hff or .mtx)");
+    const std::vector<std::string> shards = listedShardFiles(path);  // a manifest this file replaces
     if (ext == ".hff") saveHff(F, path);
-    else if (ext == ".mtx") saveMtx(F, path);
-    else throw Error(path, 0, "unknown F file type " + quote(ext) + " (use .hff or .mtx)");
+    else saveMtx(F, path);
+    removeReplacedShards(path, shards);
 }
 
 std::uint64_t saveHffFile(const FormFactors& F, const std::string& path) { return saveHff(F, path); }

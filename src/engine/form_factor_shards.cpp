@@ -9,16 +9,22 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <random>
+
+#include <unistd.h>
 
 namespace hemirad {
 namespace {
 
 constexpr char kManifestMagic[] = "HEMIRAD-SHARDS";
 constexpr long kManifestVersion = 1;
+constexpr std::uint64_t kMaxPatches = 1ULL << 28;  // as for an .hff file
 
 std::uint64_t parseHex(const TextReader& r, std::size_t k, const char* what) {
     const std::string text(r.tokens()[k]);
@@ -41,6 +47,9 @@ std::string restVerbatim(const TextReader& r, std::size_t k) {
     const std::string_view line = r.text();
     return std::string(line.substr(static_cast<std::size_t>(r.tokens()[k].data() - line.data())));
 }
+
+/// The start of every shard file name of the manifest at `path`: STEM.shard-
+std::string shardStem(const std::string& path) { return std::filesystem::path(path).stem().string() + ".shard-"; }
 
 }  // namespace
 
@@ -66,7 +75,8 @@ ShardManifest readShardManifest(const std::string& path) {
         if (t.empty()) continue;
         if (t[0] == "patches" && t.size() == 2) {
             m.patches = count(r, 1, "patch count");
-            if (m.patches == 0) r.fail("patch count 0");
+            if (m.patches == 0 || m.patches > kMaxPatches)
+                r.fail("patch count " + quote(r.tokens()[1]) + " is out of range (1 to " + std::to_string(kMaxPatches) + ")");
             havePatches = true;
         } else if (t[0] == "scene_hash" && t.size() == 2) {
             m.sceneHash = parseHex(r, 1, "scene hash");
@@ -86,6 +96,8 @@ ShardManifest readShardManifest(const std::string& path) {
             s.bytes = count(r, 3, "shard file size");
             s.checksum = parseHex(r, 4, "shard checksum");
             s.file = restVerbatim(r, 5);
+            if (s.file == "." || s.file == ".." || s.file.find('/') != std::string::npos)
+                r.fail("shard file " + quote(s.file) + " is not a file name beside the manifest");
             rows += s.rows;
             nonZeros += s.nonZeros;
             m.shards.push_back(std::move(s));
@@ -127,18 +139,48 @@ ShardManifest manifestFor(const FormFactors& F) {
     return m;
 }
 
-std::string shardFileName(const std::string& manifestPath, std::size_t index, std::size_t count) {
-    return std::filesystem::path(manifestPath).stem().string() + ".shard-" + std::to_string(index) + "-of-" +
-           std::to_string(count) + ".hff";
+std::uint32_t newShardSetId() {
+    std::random_device device;
+    const auto now = std::uint64_t(std::chrono::steady_clock::now().time_since_epoch().count());
+    return std::uint32_t(device()) ^ std::uint32_t(now) ^ std::uint32_t(now >> 32) ^ std::uint32_t(::getpid());
+}
+
+std::string shardFileName(const std::string& manifestPath, std::size_t index, std::size_t count, std::uint32_t setId) {
+    char id[9];
+    std::snprintf(id, sizeof id, "%08x", setId);
+    return shardStem(manifestPath) + std::to_string(index) + "-of-" + std::to_string(count) + "." + id + ".hff";
+}
+
+std::vector<std::string> listedShardFiles(const std::string& path) {
+    std::vector<std::string> files;
+    try {
+        if (!isShardManifest(path)) return files;
+        for (const FormFactorShard& s : readShardManifest(path).shards) files.push_back(shardPath(path, s));
+    } catch (const std::exception&) {
+        files.clear();  // not a manifest one can trust: nothing of it is removed
+    }
+    return files;
+}
+
+void removeReplacedShards(const std::string& path, const std::vector<std::string>& previous) {
+    const std::vector<std::string> current = listedShardFiles(path);
+    const std::string own = shardStem(path);
+    for (const std::string& file : previous) {
+        if (std::find(current.begin(), current.end(), file) != current.end()) continue;
+        if (std::filesystem::path(file).filename().string().rfind(own, 0) != 0) continue;
+        std::error_code ignored;
+        std::filesystem::remove(file, ignored);
+    }
 }
 
 std::string shardPath(const std::string& manifestPath, const FormFactorShard& shard) {
     return (std::filesystem::path(manifestPath).parent_path() / shard.file).string();
 }
 
-FormFactorShard writeShard(const FormFactors& F, const std::string& manifestPath, std::size_t index, std::size_t count) {
+FormFactorShard writeShard(const FormFactors& F, const std::string& manifestPath, std::size_t index, std::size_t count,
+                           std::uint32_t setId) {
     FormFactorShard s;
-    s.file = shardFileName(manifestPath, index, count);
+    s.file = shardFileName(manifestPath, index, count, setId);
     const std::string path = shardPath(manifestPath, s);
     s.checksum = saveHffFile(F, path);
     s.rows = F.computedRows();
@@ -149,6 +191,8 @@ FormFactorShard writeShard(const FormFactors& F, const std::string& manifestPath
 
 void saveShardedFormFactors(const FormFactors& F, const std::string& path, std::size_t count) {
     if (count == 0) throw Error(path, 0, "no shards asked for");
+    const std::vector<std::string> previous = listedShardFiles(path);
+    const std::uint32_t setId = newShardSetId();
     ShardManifest m = manifestFor(F);
     const std::size_t n = F.size(), rows = F.computedRows();
     std::size_t i = 0, done = 0;
@@ -172,10 +216,19 @@ void saveShardedFormFactors(const FormFactors& F, const std::string& path, std::
         shard.sceneHash = F.sceneHash;
         shard.provenance = F.provenance;
         shard.parameters = F.parameters;
-        m.shards.push_back(writeShard(shard, path, k, count));
+        try {
+            m.shards.push_back(writeShard(shard, path, k, count, setId));
+        } catch (...) {
+            for (const FormFactorShard& written : m.shards) {  // the old set stays whole
+                std::error_code ignored;
+                std::filesystem::remove(shardPath(path, written), ignored);
+            }
+            throw;
+        }
         m.nonZeros += m.shards.back().nonZeros;
     }
     writeShardManifest(m, path);
+    removeReplacedShards(path, previous);
 }
 
 void visitShards(const std::string& manifestPath, const ShardManifest& m, const std::vector<std::size_t>& which,
@@ -190,6 +243,9 @@ void visitShards(const std::string& manifestPath, const ShardManifest& m, const 
                                      " (a shard of another run? recompute F)");
         };
         if (checksum != s.checksum) mismatch("checksum " + hexHash(checksum) + ", listed " + hexHash(s.checksum));
+        std::error_code ec;
+        const std::uint64_t bytes = std::filesystem::file_size(path, ec);
+        if (!ec && bytes != s.bytes) mismatch(std::to_string(bytes) + " bytes, listed " + std::to_string(s.bytes));
         if (F.size() != m.patches)
             mismatch(std::to_string(F.size()) + " patches, listed " + std::to_string(m.patches));
         if (F.sceneHash != m.sceneHash) mismatch("scene hash " + hexHash(F.sceneHash) + ", listed " + hexHash(m.sceneHash));
@@ -203,15 +259,18 @@ void visitShards(const std::string& manifestPath, const ShardManifest& m, const 
 
 FormFactors loadShards(const std::string& manifestPath, const ShardManifest& m, const std::vector<std::size_t>& which) {
     const std::size_t n = m.patches;
-    // Pass 1: each shard's rows and entries per row, to place every row once.
-    std::vector<std::uint64_t> rowStart(n + 1, 0);
-    std::vector<std::uint8_t> held(n, 0);
+    // Pass 1: each shard's rows and entries per row, to place every row once. Nothing of size N is
+    // allocated before a shard has confirmed the manifest's N.
+    std::vector<std::uint64_t> rowStart;
+    std::vector<std::uint8_t> held;
     for (std::size_t index : which) {
         const std::string path = shardPath(manifestPath, m.shards.at(index));
         const HffRowIndex rows = readHffRowIndex(path);
         if (rows.lengths.size() != n)
             throw Error(path, 0, "has " + std::to_string(rows.lengths.size()) + " patches; its manifest " + manifestPath +
                                      " lists " + std::to_string(n));
+        rowStart.resize(n + 1, 0);
+        held.resize(n, 0);
         for (std::size_t i = 0; i < n; ++i) {
             if (!rows.computed[i]) continue;
             if (held[i]) throw Error(path, 0, "row " + std::to_string(i) + " is in two shards of " + manifestPath);
@@ -220,6 +279,7 @@ FormFactors loadShards(const std::string& manifestPath, const ShardManifest& m, 
         }
     }
     std::vector<std::uint8_t>().swap(held);
+    rowStart.resize(n + 1, 0);  // no shard of this rank's: every row empty
     for (std::size_t i = 0; i < n; ++i) rowStart[i + 1] += rowStart[i];
     // Pass 2: each shard read, checked and scattered into place.
     std::vector<std::uint32_t> columns(rowStart[n]);

@@ -11,7 +11,7 @@
 //   nonzeros NNZ                          (all shards together)
 //   param KEY=VALUE                       (the shards' parameter text, provenance included; repeated)
 //   shard ROWS NNZ BYTES CHECKSUM FILE    (computed rows, entries, file size, the file's stored
-//                                          checksum in hex; FILE relative to the manifest's folder)
+//                                          checksum in hex; FILE a name in the manifest's folder)
 #pragma once
 
 #include "engine/form_factors.hpp"
@@ -25,7 +25,7 @@
 namespace hemirad {
 
 struct FormFactorShard {
-    std::string file;  ///< relative to the manifest's folder
+    std::string file;  ///< a file name in the manifest's folder
     std::uint64_t rows = 0, nonZeros = 0, bytes = 0, checksum = 0;
 };
 
@@ -44,17 +44,31 @@ void writeShardManifest(const ShardManifest& manifest, const std::string& path);
 /// The manifest's header (patches, scene hash, parameters) from an F; no shards yet.
 ShardManifest manifestFor(const FormFactors& F);
 
-/// The file name of shard `index` of `count` beside the manifest at `manifestPath`:
-/// STEM.shard-INDEX-of-COUNT.hff.
-std::string shardFileName(const std::string& manifestPath, std::size_t index, std::size_t count);
+/// A fresh identifier for a set of shards. A new set's files never have the names of the set the
+/// current manifest lists, so that set stays whole until the new manifest replaces it.
+std::uint32_t newShardSetId();
+
+/// The file name of shard `index` of `count` of set `setId` beside the manifest at `manifestPath`:
+/// STEM.shard-INDEX-of-COUNT.SETID.hff.
+std::string shardFileName(const std::string& manifestPath, std::size_t index, std::size_t count, std::uint32_t setId);
 /// Where shard `shard` of the manifest at `manifestPath` lies.
 std::string shardPath(const std::string& manifestPath, const FormFactorShard& shard);
 
-/// Writes `F` (its computed rows are the shard's) as shard `index` of `count` beside the manifest at
-/// `manifestPath`, atomically, and returns its record.
-FormFactorShard writeShard(const FormFactors& F, const std::string& manifestPath, std::size_t index, std::size_t count);
+/// Writes `F` (its computed rows are the shard's) as shard `index` of `count` of set `setId` beside
+/// the manifest at `manifestPath`, atomically, and returns its record.
+FormFactorShard writeShard(const FormFactors& F, const std::string& manifestPath, std::size_t index, std::size_t count,
+                           std::uint32_t setId);
 
-/// One process: `F` as `count` shards of consecutive computed rows plus the manifest at `path`.
+/// The shard files the file at `path` lists when it is a readable manifest (none otherwise; never
+/// throws): read before replacing it, for removeReplacedShards.
+std::vector<std::string> listedShardFiles(const std::string& path);
+/// After a new manifest or F file was committed at `path`: removes the files of `previous` that the
+/// file at `path` no longer lists and that are this manifest's own (named STEM.shard-..., so the
+/// shards of a manifest copied under another name are left alone). Never throws.
+void removeReplacedShards(const std::string& path, const std::vector<std::string>& previous);
+
+/// One process: `F` as `count` shards of consecutive computed rows plus the manifest at `path`; the
+/// shards a manifest at `path` listed before are removed once the new manifest is in place.
 void saveShardedFormFactors(const FormFactors& F, const std::string& path, std::size_t count);
 
 /// Loads the shards `which` (indices into manifest.shards) one at a time, each checked completely and

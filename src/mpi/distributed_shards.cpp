@@ -13,10 +13,16 @@ namespace hemirad::mpi {
 
 std::uint64_t writeShards(const Context& context, const DistributedFormFactors& F, const std::string& manifestPath) {
     const std::size_t ranks = std::size_t(context.size());
+    // A new set beside the one a manifest at the path lists (rank 0 reads it), which stays whole
+    // until the new manifest is in place.
+    const std::vector<std::string> previous = context.root() ? listedShardFiles(manifestPath) : std::vector<std::string>();
+    std::uint32_t setId = context.root() ? newShardSetId() : 0;
+    MPI_Bcast(&setId, 1, MPI_UINT32_T, 0, MPI_COMM_WORLD);
     FormFactorShard mine;
     std::uint64_t bytes = 0;
     try {
-        context.collectively([&] { mine = writeShard(F.local, manifestPath, std::size_t(context.rank()), ranks); });
+        context.collectively(
+            [&] { mine = writeShard(F.local, manifestPath, std::size_t(context.rank()), ranks, setId); });
         // The records to rank 0 (the file names follow from the ranks).
         const std::array<std::uint64_t, 4> record = {mine.rows, mine.nonZeros, mine.bytes, mine.checksum};
         std::vector<std::uint64_t> records(context.root() ? 4 * ranks : 0);
@@ -26,7 +32,7 @@ std::uint64_t writeShards(const Context& context, const DistributedFormFactors& 
             ShardManifest manifest = manifestFor(F.local);
             for (std::size_t r = 0; r < ranks; ++r) {
                 FormFactorShard s;
-                s.file = shardFileName(manifestPath, r, ranks);
+                s.file = shardFileName(manifestPath, r, ranks, setId);
                 s.rows = records[4 * r], s.nonZeros = records[4 * r + 1], s.bytes = records[4 * r + 2];
                 s.checksum = records[4 * r + 3];
                 manifest.nonZeros += s.nonZeros;
@@ -34,9 +40,11 @@ std::uint64_t writeShards(const Context& context, const DistributedFormFactors& 
                 manifest.shards.push_back(std::move(s));
             }
             writeShardManifest(manifest, manifestPath);
+            removeReplacedShards(manifestPath, previous);
         });
     } catch (const AgreedFailure&) {
-        // A rank could not write its shard, or rank 0 the manifest: none of this run's shards stays.
+        // A rank could not write its shard, or rank 0 the manifest: none of this run's shards stays,
+        // and the set the old manifest lists is untouched.
         if (!mine.file.empty()) {
             std::error_code ignored;
             std::filesystem::remove(shardPath(manifestPath, mine), ignored);

@@ -8,9 +8,10 @@
 
 namespace hemirad::mpi {
 
-/// Each rank writes its rows as shard RANK of K beside `manifestPath`, then rank 0 writes the
-/// manifest. A failure on any rank removes the shards just written and throws AgreedFailure on every
-/// rank (no manifest is written). Collective; returns the shard files' total size, on rank 0.
+/// Each rank writes its rows as shard RANK of K of a new set beside `manifestPath`, then rank 0 writes
+/// the manifest and removes the set the old manifest listed. A failure on any rank removes the shards
+/// just written and throws AgreedFailure on every rank; the old manifest and its set stay whole.
+/// Collective; returns the shard files' total size, on rank 0.
 std::uint64_t writeShards(const Context& context, const DistributedFormFactors& F, const std::string& manifestPath);
 
 /// Rank r reads the shards s with s mod K = r of the manifest at `manifestPath` (each checked against

@@ -106,8 +106,19 @@ std::vector<std::string> Context::gatherText(const std::string& text) const {
     return texts;
 }
 
-void Context::abort(const std::string& message) const {
-    std::fprintf(stderr, "hemirad: error: rank %d of %d: %s\n", m_rank, m_size, message.c_str());
+bool Context::rootDecides(bool value) const {
+    int flag = value ? 1 : 0;
+    MPI_Bcast(&flag, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    return flag != 0;
+}
+
+void Context::abort(const std::string& message) const { abortAllRanks(message); }
+
+void abortAllRanks(const std::string& message) {
+    int rank = 0, size = 1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    std::fprintf(stderr, "hemirad: error: rank %d of %d: %s\n", rank, size, message.c_str());
     std::fflush(stderr);
     MPI_Abort(MPI_COMM_WORLD, 1);
     std::_Exit(1);

@@ -69,6 +69,10 @@ public:
         agree(status, message);
     }
 
+    /// Rank 0's `value` on every rank: for a decision every rank must take alike (a file's kind, read on
+    /// a filesystem that might not look the same from every node). Collective.
+    bool rootDecides(bool value) const;
+
     /// Texts from every rank, in rank order, on rank 0 (empty elsewhere).
     std::vector<std::string> gatherText(const std::string& text) const;
 
@@ -79,6 +83,10 @@ private:
     static int statusOf(const Error& e);
     int m_rank = 0, m_size = 1, m_ranksOnNode = 1;
 };
+
+/// Prints "hemirad: error: rank R of K: message" and ends every rank at once (MPI_Abort): for an error
+/// inside a collective, where the other ranks cannot be told otherwise. Does not return.
+[[noreturn]] void abortAllRanks(const std::string& message);
 
 /// Sends or receives a large array in pieces below MPI's int count limit (blocking, point to point).
 void sendBytes(const void* data, std::size_t bytes, int destination, int tag);

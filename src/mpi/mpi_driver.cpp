@@ -73,10 +73,9 @@ void obtainFormFactors(Job& job, const std::string& reusePath) {
     const bool reused = !reusePath.empty();
     if (reused) {
         const auto t0 = std::chrono::steady_clock::now();
-        bool sharded = false;
+        const bool sharded = context.rootDecides(context.root() && isShardManifest(reusePath));
         FormFactors current;
         context.collectively([&] {
-            sharded = isShardManifest(reusePath);
             if (sharded) return;
             current = loadFormFactors(reusePath);
             checkFormFactorsMatch(current, job.scene.geometryHash(), n, reusePath);
@@ -221,9 +220,13 @@ void runSolveOrRender(Job& job, bool render) {
     });
     const RadiosityPipeline pipeline = makePipeline(options, job.timings, job.reporter);
     loadScene(job, pipeline);
-    const bool reuse = !options.ffPath.empty() && !options.recomputeFf && std::filesystem::exists(options.ffPath);
+    // Decided by rank 0, so that every rank takes the same collective path.
+    const bool root = job.context.root();
+    const bool reuse = job.context.rootDecides(root && !options.ffPath.empty() && !options.recomputeFf &&
+                                               std::filesystem::exists(options.ffPath));
     // A manifest stays one; --shards makes one.
-    const bool sharded = !options.ffPath.empty() && (options.shards || isShardManifest(options.ffPath));
+    const bool sharded = job.context.rootDecides(
+        root && !options.ffPath.empty() && (options.shards || isShardManifest(options.ffPath)));
     obtainFormFactors(job, reuse ? options.ffPath : "");
     // A reused file gains the rows it lacked and stays as computed; a new file stores F as normalised.
     if (!options.ffPath.empty() && reuse && job.computed) storeFormFactors(job, options.ffPath, sharded);

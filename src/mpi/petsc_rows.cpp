@@ -9,7 +9,9 @@ void check(PetscErrorCode code, const char* what) {
     if (!code) return;
     const char* text = nullptr;
     PetscErrorMessage(code, &text, nullptr);
-    throw Error(std::string("PETSc: ") + what + ": " + (text ? text : "error " + std::to_string(int(code))));
+    // The other ranks may be inside a PETSc collective that this rank will never join: ending them
+    // all is the only way not to hang.
+    abortAllRanks(std::string("PETSc: ") + what + ": " + (text ? text : "error " + std::to_string(int(code))));
 }
 
 Layout layoutOf(const Context& context, const std::vector<std::int32_t>& owner) {

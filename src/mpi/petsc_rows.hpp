@@ -13,7 +13,8 @@
 
 namespace hemirad::mpi {
 
-/// Throws hemirad::Error with PETSc's message for a non-zero code.
+/// For a non-zero code, ends every rank with PETSc's message (abortAllRanks): an error on one rank
+/// may leave the others waiting in a PETSc collective, so it cannot be agreed on.
 void check(PetscErrorCode code, const char* what);
 
 /// A Mat destroyed with its owner (error paths included).

@@ -165,11 +165,28 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
                 check(VecAssemblyEnd(v), "VecAssemblyEnd");
             }
             if (cg) {
-                // Rows and columns of black patches: B = E there, their terms moved into b.
+                // Black patches (rho = 0) leave the system, B = E there. Row i's terms A_i F_ij E_j of black
+                // columns j join b_i unsymmetrised, as one process moves them: the pair's mean would halve
+                // the light of a black emitter whose own row is not computed.
                 std::vector<PetscInt> black;
                 for (std::size_t k = 0; k < local; ++k)
                     if (!(ch.rho[k] > 0.0)) black.push_back(layout.begin + PetscInt(k));
-                check(MatZeroRowsColumns(A, PetscInt(black.size()), black.data(), 1.0, x, b), "MatZeroRowsColumns");
+                check(VecSet(r, 0.0), "VecSet");
+                for (PetscInt row : black)
+                    check(VecSetValue(r, row, ch.E[std::size_t(row - layout.begin)], INSERT_VALUES), "VecSetValue");
+                check(VecAssemblyBegin(r), "VecAssemblyBegin");
+                check(VecAssemblyEnd(r), "VecAssemblyEnd");
+                Vec moved;
+                check(VecDuplicate(b, &moved), "VecDuplicate");
+                check(MatMult(symmetric.G, r, moved), "MatMult");
+                check(VecAXPY(b, 1.0, moved), "VecAXPY");
+                VecDestroy(&moved);
+                check(MatZeroRowsColumns(A, PetscInt(black.size()), black.data(), 1.0, nullptr, nullptr),
+                      "MatZeroRowsColumns");
+                for (PetscInt row : black)
+                    check(VecSetValue(b, row, ch.E[std::size_t(row - layout.begin)], INSERT_VALUES), "VecSetValue");
+                check(VecAssemblyBegin(b), "VecAssemblyBegin");
+                check(VecAssemblyEnd(b), "VecAssemblyEnd");
             }
             check(KSPCreate(PETSC_COMM_WORLD, &ksp), "KSPCreate");
             check(KSPSetOperators(ksp, A, A), "KSPSetOperators");

@@ -8,6 +8,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 
@@ -265,21 +266,18 @@ TEST_CASE("A sharded F reads back as the one F it was split from, and a damaged 
 
     const std::string shard1 = shardPath(path, m.shards[1]);
     const std::string manifestText = readAll(path);
-    auto restore = [&] {
-        std::ofstream(path, std::ios::binary) << manifestText;
-        saveShardedFormFactors(F, path, 2);
-    };
     SUBCASE("a missing shard names the file") {
         std::filesystem::remove(shard1);
-        CHECK_THROWS_WITH(loadFormFactors(path), doctest::Contains("F.shard-1-of-2.hff: cannot open"));
+        CHECK_THROWS_WITH_AS(loadFormFactors(path), doctest::Contains((m.shards[1].file + ": cannot open").c_str()), Error);
     }
     SUBCASE("a shard of another run is refused by its checksum") {
         FormFactors other = sampleF();
         other.values()[other.rowBegin(3)] = 0.0625f;
-        saveShardedFormFactors(other, (dir / "other.hff").string(), 2);
-        std::filesystem::copy_file(dir / "other.shard-1-of-2.hff", shard1,
+        const std::string otherPath = (dir / "other.hff").string();
+        saveShardedFormFactors(other, otherPath, 2);
+        std::filesystem::copy_file(shardPath(otherPath, readShardManifest(otherPath).shards[1]), shard1,
                                    std::filesystem::copy_options::overwrite_existing);
-        CHECK_THROWS_WITH(loadFormFactors(path), doctest::Contains("does not match its manifest"));
+        CHECK_THROWS_WITH_AS(loadFormFactors(path), doctest::Contains("does not match its manifest"), Error);
     }
     SUBCASE("a row in two shards") {
         std::string text = manifestText;
@@ -290,19 +288,67 @@ TEST_CASE("A sharded F reads back as the one F it was split from, and a damaged 
         const std::size_t eol = text.find('\n', nz);
         text.replace(nz, eol - nz, "nonzeros " + std::to_string(F.nonZeros() + m.shards[0].nonZeros));
         std::ofstream(path, std::ios::binary) << text;
-        CHECK_THROWS_WITH(loadFormFactors(path), doctest::Contains("is in two shards"));
+        CHECK_THROWS_WITH_AS(loadFormFactors(path), doctest::Contains("is in two shards"), Error);
     }
     SUBCASE("a damaged manifest names its line") {
         std::string text = manifestText;
         text.replace(text.find("patches 4"), 9, "patches x");
         std::ofstream(path, std::ios::binary) << text;
-        CHECK_THROWS_WITH(loadFormFactors(path), doctest::Contains("F.hff:2:"));
+        CHECK_THROWS_WITH_AS(loadFormFactors(path), doctest::Contains("F.hff:2:"), Error);
     }
     SUBCASE("a manifest whose shard totals disagree") {
         std::string text = manifestText;
         text.replace(text.find("nonzeros "), 10, "nonzeros 9");
         std::ofstream(path, std::ios::binary) << text;
-        CHECK_THROWS_WITH(loadFormFactors(path), doctest::Contains("the manifest announces"));
+        CHECK_THROWS_WITH_AS(loadFormFactors(path), doctest::Contains("the manifest announces"), Error);
     }
-    restore();
+    SUBCASE("an impossible patch count is refused before anything of its size is allocated") {
+        std::string text = manifestText;
+        text.replace(text.find("patches 4"), 9, "patches 9000000000000");
+        std::ofstream(path, std::ios::binary) << text;
+        CHECK_THROWS_WITH_AS(loadFormFactors(path), doctest::Contains("patch count '9000000000000' is out of range"), Error);
+    }
+    SUBCASE("a shard named outside the manifest's folder") {
+        std::string text = manifestText;
+        text.replace(text.find(m.shards[0].file), m.shards[0].file.size(), "../" + m.shards[0].file);
+        std::ofstream(path, std::ios::binary) << text;
+        CHECK_THROWS_WITH_AS(loadFormFactors(path), doctest::Contains("is not a file name beside the manifest"), Error);
+    }
+}
+
+TEST_CASE("Replacing a sharded F removes its old shards only once the new F is in place, and never another manifest's") {
+    const auto dir = tempDir("shard-replace");
+    const FormFactors F = sampleF();
+    const std::string path = (dir / "F.hff").string();
+    auto shardFiles = [&] {
+        std::vector<std::string> names;
+        for (const auto& entry : std::filesystem::directory_iterator(dir))
+            if (entry.path().filename().string().find(".shard-") != std::string::npos)
+                names.push_back(entry.path().filename().string());
+        std::sort(names.begin(), names.end());
+        return names;
+    };
+    saveShardedFormFactors(F, path, 3);
+    const ShardManifest three = readShardManifest(path);
+    CHECK(shardFiles().size() == 3);
+    // A copy of the manifest under another name, rewritten: the files it listed are F's, not its own.
+    const std::string copy = (dir / "copy.hff").string();
+    std::filesystem::copy_file(path, copy);
+    saveShardedFormFactors(F, copy, 1);
+    CHECK(shardFiles().size() == 4);
+    requireSame(F, loadFormFactors(path));
+    // F rewritten with another shard count: a new set, the old one removed once the manifest is in place.
+    saveShardedFormFactors(F, path, 2);
+    const ShardManifest two = readShardManifest(path);
+    std::vector<std::string> expected = {readShardManifest(copy).shards[0].file, two.shards[0].file, two.shards[1].file};
+    std::sort(expected.begin(), expected.end());
+    CHECK(shardFiles() == expected);
+    for (const FormFactorShard& s : three.shards) CHECK(std::find(expected.begin(), expected.end(), s.file) == expected.end());
+    requireSame(F, loadFormFactors(path));
+    requireSame(F, loadFormFactors(copy));
+    // One F file in place of the manifest: its shards go, the copy's stay.
+    saveFormFactors(F, path);
+    CHECK_FALSE(isShardManifest(path));
+    CHECK(shardFiles() == std::vector<std::string>{readShardManifest(copy).shards[0].file});
+    requireSame(F, loadFormFactors(path));
 }

@@ -3,6 +3,7 @@
 #include "support.hpp"
 
 #include "engine/form_factor_file.hpp"
+#include "engine/form_factor_shards.hpp"
 
 #include <doctest/doctest.h>
 
@@ -140,6 +141,20 @@ TEST_CASE("Distributed CG on the symmetric form matches LU for a reciprocal F, a
     CHECK(largestRelativeDifference(B, radiosityColumns(dir / "cg1.csv")) < 1e-8);
     // LU solves I - R F itself; F stored in float is symmetric to ~1e-7 only, so the two differ by ~1e-8.
     CHECK(largestRelativeDifference(B, radiosityColumns(dir / "lu.csv")) < 1e-6);
+    // A black emitter (rho = 0, its row not computed): its light enters the right-hand side whole.
+    std::filesystem::copy_file(sourcePath("scenes/cornell_mirror.obj"), dir / "black.obj");
+    std::string mtl = readText(sourcePath("scenes/cornell_mirror.mtl"));
+    const std::string light = "Kd 0.78 0.78 0.78\nKs 0 0 0\nKe 17";
+    REQUIRE(mtl.find(light) != std::string::npos);
+    mtl.replace(mtl.find(light), 17, "Kd 0 0 0");
+    writeFile(dir / "cornell_mirror.mtl", mtl);
+    const std::string blackScene = "black.obj --subdivide 100 --samples 256";
+    REQUIRE(runHemirad(dir, 0, "formfactors " + blackScene + " --enforce-reciprocity -o black.hff --quiet").status == 0);
+    const Run blackOne = runHemirad(dir, 0, "solve " + blackScene + " --ff black.hff --solver cg --tolerance 1e-12 -o b1.csv");
+    REQUIRE_MESSAGE(blackOne.status == 0, blackOne.output);
+    const Run blackTwo = runHemirad(dir, 2, "solve " + blackScene + " --ff black.hff --threads 1 --solver cg --tolerance 1e-12 -o b2.csv");
+    REQUIRE_MESSAGE(blackTwo.status == 0, blackTwo.output);
+    CHECK(largestRelativeDifference(radiosityColumns(dir / "b2.csv"), radiosityColumns(dir / "b1.csv")) < 1e-8);
     // F as computed (not reciprocal): the symmetrised system converges, the posed one does not.
     REQUIRE(runHemirad(dir, 0, "formfactors " + scene + " -o raw.hff --quiet").status == 0);
     const Run refused = runHemirad(dir, 2, "solve " + scene + " --ff raw.hff --threads 1 --solver cg -o raw.csv");
@@ -178,8 +193,12 @@ TEST_CASE("A sharded F from 2 ranks round-trips through info and solve --ff, in 
     const Run write = runHemirad(dir, 2, "formfactors " + scene + " -o sharded.hff --shards --threads 1");
     REQUIRE_MESSAGE(write.status == 0, write.output);
     CHECK(write.output.find("(a shard manifest; 2 shards of") != std::string::npos);
-    CHECK(std::filesystem::exists(dir / "sharded.shard-0-of-2.hff"));
-    CHECK(std::filesystem::exists(dir / "sharded.shard-1-of-2.hff"));
+    const hemirad::ShardManifest manifest = hemirad::readShardManifest((dir / "sharded.hff").string());
+    REQUIRE(manifest.shards.size() == 2);
+    const std::string shard1 = manifest.shards[1].file;
+    CHECK(shard1.rfind("sharded.shard-1-of-2.", 0) == 0);
+    CHECK(std::filesystem::exists(dir / manifest.shards[0].file));
+    CHECK(std::filesystem::exists(dir / shard1));
     // The shards together are the one-process F, entry for entry.
     const hemirad::FormFactors one = hemirad::loadFormFactors((dir / "one.hff").string());
     const hemirad::FormFactors merged = hemirad::loadFormFactors((dir / "sharded.hff").string());
@@ -194,7 +213,7 @@ TEST_CASE("A sharded F from 2 ranks round-trips through info and solve --ff, in 
     REQUIRE_MESSAGE(info.status == 0, info.output);
     CHECK(info.output.find("a manifest of 2 shards") != std::string::npos);
     CHECK(info.output.find("nonzeros " + std::to_string(one.nonZeros()) + " (") != std::string::npos);
-    CHECK(info.output.find("shard 1: sharded.shard-1-of-2.hff") != std::string::npos);
+    CHECK(info.output.find("shard 1: " + shard1) != std::string::npos);
 
     REQUIRE(runHemirad(dir, 0, "solve " + scene + " --ff one.hff --solver lu -o lu.csv --quiet").status == 0);
     const Run solveOne = runHemirad(dir, 0, "solve " + scene + " --ff sharded.hff --solver lu -o lu-sharded.csv");
@@ -210,14 +229,22 @@ TEST_CASE("A sharded F from 2 ranks round-trips through info and solve --ff, in 
         CHECK(solve.output.find("rows on") == std::string::npos);  // nothing recomputed
         CHECK(largestRelativeDifference(radiosityColumns(dir / "B.csv"), exact) < 1e-8);
     }
+    // Written again on 2 ranks: a new set, the old one removed, nothing else left behind.
+    REQUIRE(runHemirad(dir, 2, "formfactors " + scene + " -o again.hff --shards --threads 1 --quiet").status == 0);
+    const auto first = hemirad::readShardManifest((dir / "again.hff").string());
+    REQUIRE(runHemirad(dir, 2, "formfactors " + scene + " -o again.hff --shards --threads 1 --quiet").status == 0);
+    const auto second = hemirad::readShardManifest((dir / "again.hff").string());
+    CHECK(first.shards[0].file != second.shards[0].file);
+    for (const auto& s : first.shards) CHECK_FALSE(std::filesystem::exists(dir / s.file));
+    for (const auto& s : second.shards) CHECK(std::filesystem::exists(dir / s.file));
     // A damaged shard: every rank stops with one message naming it, exit 1.
-    std::string damaged = bytes(dir / "sharded.shard-1-of-2.hff");
+    std::string damaged = bytes(dir / shard1);
     damaged[damaged.size() / 2] = char(damaged[damaged.size() / 2] ^ 0x5a);
-    writeFile(dir / "sharded.shard-1-of-2.hff", damaged);
+    writeFile(dir / shard1, damaged);
     const Run broken = runHemirad(dir, 2, "solve " + scene + " --ff sharded.hff --threads 1 -o B2.csv");
     CHECK(broken.status == 1);
     CHECK(count(broken.output, "hemirad: error: ") == 1);
-    CHECK(count(broken.output, "sharded.shard-1-of-2.hff: checksum mismatch") == 1);
+    CHECK(count(broken.output, shard1 + ": checksum mismatch") == 1);
     CHECK_FALSE(std::filesystem::exists(dir / "B2.csv"));
 }
 
