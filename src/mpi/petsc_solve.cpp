@@ -3,9 +3,8 @@
 // same residuals.
 #include "mpi/petsc_solve.hpp"
 
-#include "mpi/petsc_rows.hpp"
-
 #include "cli/options.hpp"
+#include "mpi/petsc_rows.hpp"
 
 #include <petscksp.h>
 
@@ -22,7 +21,6 @@ struct Channel {
     SolveReport report;
     std::vector<double> B;       // all patches, on rank 0
 };
-
 
 /// CG's operator without its per-channel diagonal: S = -(G + G^T) / 2 with G = diag(A) F, the area-
 /// weighted F symmetrised as one process symmetrises it (eigen_solvers.cpp). G is kept for residuals.
