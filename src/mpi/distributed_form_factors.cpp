@@ -134,7 +134,21 @@ std::string messageOf(const std::exception_ptr& failure) {
     return "unknown failure";
 }
 
-void pause() { std::this_thread::sleep_for(std::chrono::microseconds(500)); }
+// The main thread of each rank polls MPI at this period while its worker computes. Waking every
+// 0.5 ms cost about 10 % of the rows' throughput with one rank per core (street64k at 768 directions:
+// 6.56 s against 5.94 s at 5 ms), so rows are held in reserve instead: enough for a few periods.
+constexpr double kPollSeconds = 0.002;
+
+void pause() { std::this_thread::sleep_for(std::chrono::duration<double>(kPollSeconds)); }
+
+/// Rows a rank keeps queued before it asks for more: four polling periods of work at the rate seen so
+/// far (at least two rows per thread), so its worker never waits for an answer and the tail stays
+/// a few milliseconds long.
+std::size_t reserveRows(const FormFactorBuilder& builder, Clock::time_point start, std::size_t threads) {
+    const double seconds = since(start);
+    const double rate = seconds > 0 ? double(builder.rowsDone()) / seconds : 0.0;
+    return std::max<std::size_t>(2 * threads, std::size_t(rate * 4 * kPollSeconds));
+}
 
 }  // namespace
 
@@ -152,7 +166,7 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
     FormFactorBuilder builder(scene.size());
     QueueSource queue(rows.size());
     const std::size_t threads = std::size_t(resolveThreads(settings.common.threads));
-    const std::size_t minRows = 4 * threads, lowWater = 2 * threads;
+    const std::size_t minRows = 4 * threads;
     std::vector<std::int32_t> owner(scene.size(), -1);
     const auto start = Clock::now();
     bool aborted = false;
@@ -198,7 +212,7 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
                 queue.close();
                 aborted = true;
             }
-            if (!exhausted && !aborted && queue.pending() < lowWater) {
+            if (!exhausted && !aborted && queue.pending() < reserveRows(builder, start, threads)) {
                 const auto block = grant(0);
                 if (block.first == block.second) {
                     queue.close();
@@ -251,7 +265,7 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
                     ask(kFinished);
                     break;
                 }
-                const bool wantRows = !exhausted && queue.pending() < lowWater;
+                const bool wantRows = !exhausted && queue.pending() < reserveRows(builder, start, threads);
                 if (wantRows || since(lastAsk) > 0.5) {
                     ask(wantRows ? kWantRows : kProgress);
                     MPI_Irecv(reply, 3, MPI_UINT64_T, 0, kTagReply, MPI_COMM_WORLD, &request);
