@@ -290,29 +290,23 @@ TEST_CASE("A sharded F reads back as the one F it was split from, and a damaged 
         std::ofstream(path, std::ios::binary) << text;
         CHECK_THROWS_WITH_AS(loadFormFactors(path), doctest::Contains("is in two shards"), Error);
     }
-    SUBCASE("a damaged manifest names its line") {
+    // The manifest with one piece of text replaced: refused with `expected` in the message.
+    auto refusedWith = [&](const std::string& from, const std::string& to, const char* expected) {
         std::string text = manifestText;
-        text.replace(text.find("patches 4"), 9, "patches x");
+        REQUIRE(text.find(from) != std::string::npos);
+        text.replace(text.find(from), from.size(), to);
         std::ofstream(path, std::ios::binary) << text;
-        CHECK_THROWS_WITH_AS(loadFormFactors(path), doctest::Contains("F.hff:2:"), Error);
-    }
+        CHECK_THROWS_WITH_AS(loadFormFactors(path), doctest::Contains(expected), Error);
+    };
+    SUBCASE("a damaged manifest names its line") { refusedWith("patches 4", "patches x", "F.hff:2:"); }
     SUBCASE("a manifest whose shard totals disagree") {
-        std::string text = manifestText;
-        text.replace(text.find("nonzeros "), 10, "nonzeros 9");
-        std::ofstream(path, std::ios::binary) << text;
-        CHECK_THROWS_WITH_AS(loadFormFactors(path), doctest::Contains("the manifest announces"), Error);
+        refusedWith("nonzeros " + std::to_string(F.nonZeros()), "nonzeros 9", "the manifest announces");
     }
     SUBCASE("an impossible patch count is refused before anything of its size is allocated") {
-        std::string text = manifestText;
-        text.replace(text.find("patches 4"), 9, "patches 9000000000000");
-        std::ofstream(path, std::ios::binary) << text;
-        CHECK_THROWS_WITH_AS(loadFormFactors(path), doctest::Contains("patch count '9000000000000' is out of range"), Error);
+        refusedWith("patches 4", "patches 9000000000000", "patch count '9000000000000' is out of range");
     }
     SUBCASE("a shard named outside the manifest's folder") {
-        std::string text = manifestText;
-        text.replace(text.find(m.shards[0].file), m.shards[0].file.size(), "../" + m.shards[0].file);
-        std::ofstream(path, std::ios::binary) << text;
-        CHECK_THROWS_WITH_AS(loadFormFactors(path), doctest::Contains("is not a file name beside the manifest"), Error);
+        refusedWith(m.shards[0].file, "../" + m.shards[0].file, "is not a file name beside the manifest");
     }
 }
 
