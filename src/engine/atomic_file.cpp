@@ -7,6 +7,8 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace hemirad {
@@ -37,21 +39,66 @@ void unregisterPending(const std::string& path) {
 
 }  // namespace
 
-AtomicFile::AtomicFile(std::string path, bool binary) : m_path(std::move(path)) {
+WriteMode writeModeFor(bool exists, mode_t mode) {
+    if (!exists || S_ISREG(mode)) return WriteMode::Replace;
+    if (S_ISDIR(mode)) return WriteMode::Refuse;
+    return WriteMode::Direct;  // FIFO, character or block device, socket
+}
+
+std::string resolveWriteTarget(const std::string& path) {
+    namespace fs = std::filesystem;
+    fs::path target(path);
+    for (int hops = 0; hops < 40; ++hops) {
+        std::error_code ec;
+        if (!fs::is_symlink(fs::symlink_status(target, ec))) return target.string();
+        const fs::path next = fs::read_symlink(target, ec);
+        if (ec) throw Error(path, 0, "cannot read the symbolic link " + target.string() + ": " + ec.message());
+        target = next.is_absolute() ? next : target.parent_path() / next;
+    }
+    throw Error(path, 0, "too many levels of symbolic links");
+}
+
+bool writesInPlace(const std::string& path) {
+    try {
+        struct stat st {};
+        return ::stat(resolveWriteTarget(path).c_str(), &st) == 0 && writeModeFor(true, st.st_mode) == WriteMode::Direct;
+    } catch (const Error&) {
+        return false;
+    }
+}
+
+AtomicFile::AtomicFile(std::string path, bool binary) : m_shown(std::move(path)) {
+    m_path = resolveWriteTarget(m_shown);
+    struct stat st {};
+    const bool exists = ::stat(m_path.c_str(), &st) == 0;
+    const std::ios::openmode mode = binary ? std::ios::binary | std::ios::trunc : std::ios::trunc;
+    switch (writeModeFor(exists, st.st_mode)) {
+    case WriteMode::Refuse:
+        throw Error(m_shown, 0, "is a directory; give a file name to write");
+    case WriteMode::Direct:
+        // Never replaced: a FIFO's reader, a device, a socket stay what they are. Opening a FIFO waits
+        // for its reader, as a shell redirection does.
+        m_out.open(m_path, mode);
+        if (!m_out) throw Error(m_shown, 0, std::string("cannot write: ") + std::strerror(errno));
+        return;
+    case WriteMode::Replace:
+        break;
+    }
     static std::atomic<unsigned> counter{0};
     m_temp = m_path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
     registerPending(m_temp);
-    m_out.open(m_temp, binary ? std::ios::binary | std::ios::trunc : std::ios::trunc);
+    m_out.open(m_temp, mode);
     if (!m_out) {
         const int err = errno;
         unregisterPending(m_temp);
-        throw Error(m_path, 0, std::string("cannot write: ") + std::strerror(err));
+        throw Error(m_shown, 0, std::string("cannot write: ") + std::strerror(err));
     }
 }
 
 AtomicFile::~AtomicFile() {
     if (m_committed) return;
     m_out.close();
+    if (m_temp.empty()) return;
     std::remove(m_temp.c_str());
     unregisterPending(m_temp);
 }
@@ -60,10 +107,12 @@ void AtomicFile::commit() {
     m_out.flush();
     const bool ok = static_cast<bool>(m_out);
     m_out.close();
-    if (!ok || m_out.fail()) throw Error(m_path, 0, "write failed (disk full?)");
-    if (std::rename(m_temp.c_str(), m_path.c_str()) != 0)
-        throw Error(m_path, 0, std::string("cannot replace: ") + std::strerror(errno));
-    unregisterPending(m_temp);
+    if (!ok || m_out.fail()) throw Error(m_shown, 0, "write failed (disk full?)");
+    if (!m_temp.empty()) {
+        if (std::rename(m_temp.c_str(), m_path.c_str()) != 0)
+            throw Error(m_shown, 0, std::string("cannot replace: ") + std::strerror(errno));
+        unregisterPending(m_temp);
+    }
     m_committed = true;
 }
 

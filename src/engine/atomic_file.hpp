@@ -1,13 +1,38 @@
-// Atomic file writes: data goes to a temporary file beside the target, renamed over it on commit().
+// Every output file goes through AtomicFile. A regular file (or none yet) is written atomically: data
+// goes to a temporary file beside the target, renamed over it on commit(). What is not a regular file
+// is never replaced: a symbolic link is followed to its target, and a FIFO, device or socket is
+// written in place.
 #pragma once
 
 #include <fstream>
 #include <string>
 
+#include <sys/types.h>
+
 namespace hemirad {
 
+/// How a write reaches an existing target (or none).
+enum class WriteMode {
+    Replace,  ///< a regular file, or nothing there yet: temporary file beside it, renamed onto it
+    Direct,   ///< a FIFO, character or block device or socket: opened and written in place (not atomic)
+    Refuse,   ///< a directory
+};
+
+/// The mode for a target whose stat() gave `mode` (`exists` false: nothing there). Decides from the
+/// file type alone, so that tests can check it on /dev/null without writing there.
+WriteMode writeModeFor(bool exists, mode_t mode);
+
+/// The path a write to `path` lands on: symbolic links followed (relative targets from the link's
+/// folder); the final target may not exist yet. Throws hemirad::Error naming `path` for a loop.
+std::string resolveWriteTarget(const std::string& path);
+
+/// Whether a write to `path` goes in place (it resolves to an existing FIFO, device or socket): such a
+/// target has no file name extension to choose a format by. Never throws.
+bool writesInPlace(const std::string& path);
+
 /// Write through stream(), then commit(). Destroyed without commit (an exception, Ctrl-C via
-/// removePendingFiles()), the temporary file is removed and the target is untouched.
+/// removePendingFiles()), the temporary file is removed and the target is untouched (a target
+/// written in place keeps what was written).
 class AtomicFile {
 public:
     explicit AtomicFile(std::string path, bool binary = true);
@@ -16,15 +41,17 @@ public:
     AtomicFile& operator=(const AtomicFile&) = delete;
 
     std::ofstream& stream() { return m_out; }
-    /// Flushes, checks for write errors and renames into place. Throws hemirad::Error.
+    /// Flushes, checks for write errors and renames into place (closes a target written in place).
+    /// Throws hemirad::Error.
     void commit();
 
     /// Deletes every temporary file not yet committed; async-signal-safe (for SIGINT handlers).
     static void removePendingFiles() noexcept;
 
 private:
-    std::string m_path;
-    std::string m_temp;
+    std::string m_shown;  ///< the path as given, for messages
+    std::string m_path;   ///< the resolved target
+    std::string m_temp;   ///< empty when writing in place
     std::ofstream m_out;
     bool m_committed = false;
 };

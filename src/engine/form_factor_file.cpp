@@ -433,7 +433,8 @@ std::string hexHash(std::uint64_t hash) {
 }
 
 void saveFormFactors(const FormFactors& F, const std::string& path) {
-    const std::string ext = extension(path);
+    std::string ext = extension(path);
+    if (ext != ".hff" && ext != ".mtx" && writesInPlace(path)) ext = ".hff";  // e.g. -o /dev/null to time F
     if (ext != ".hff" && ext != ".mtx") throw Error(path, 0, "unknown F file type " + quote(ext) + " (use .hff or .mtx)");
     const std::vector<std::string> shards = listedShardFiles(path);  // a manifest this file replaces
     if (ext == ".hff") saveHff(F, path);

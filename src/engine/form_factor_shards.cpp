@@ -54,6 +54,8 @@ std::string shardStem(const std::string& path) { return std::filesystem::path(pa
 }  // namespace
 
 bool isShardManifest(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return false;  // never opens a FIFO or a device
     std::ifstream in(path, std::ios::binary);
     char start[sizeof kManifestMagic - 1] = {};
     in.read(start, sizeof start);
