@@ -84,8 +84,13 @@ AtomicFile::AtomicFile(std::string path, bool binary) : m_shown(std::move(path))
     case WriteMode::Replace:
         break;
     }
+    // A read-only file stays as it is, as cp leaves it (a rename in a writable folder would not).
+    if (exists && ::access(m_path.c_str(), W_OK) != 0)
+        throw Error(m_shown, 0, std::string("cannot write: ") + std::strerror(errno));
+    // A short hidden name beside the target: any name the target may have leaves room for it.
     static std::atomic<unsigned> counter{0};
-    m_temp = m_path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
+    const std::filesystem::path folder = std::filesystem::path(m_path).parent_path();
+    m_temp = (folder / (".hemirad-tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++))).string();
     registerPending(m_temp);
     m_out.open(m_temp, mode);
     if (!m_out) {
@@ -110,7 +115,7 @@ void AtomicFile::commit() {
     if (!ok || m_out.fail()) throw Error(m_shown, 0, "write failed (disk full?)");
     if (!m_temp.empty()) {
         if (std::rename(m_temp.c_str(), m_path.c_str()) != 0)
-            throw Error(m_shown, 0, std::string("cannot replace: ") + std::strerror(errno));
+            throw Error(m_shown, 0, std::string("cannot write: ") + std::strerror(errno));
         unregisterPending(m_temp);
     }
     m_committed = true;

@@ -1,5 +1,6 @@
 // Every output file goes through AtomicFile. A regular file (or none yet) is written atomically: data
-// goes to a temporary file beside the target, renamed over it on commit(). What is not a regular file
+// goes to a temporary file beside the target (.hemirad-tmp.PID.N), renamed over it on commit(); a
+// read-only file is refused. What is not a regular file
 // is never replaced: a symbolic link is followed to its target, and a FIFO, device or socket is
 // written in place.
 #pragma once

@@ -208,7 +208,7 @@ TEST_CASE("Saving a scene as OBJ + MTL and loading it back keeps geometry, mater
     CHECK(t.camera->eye.isApprox(s.camera->eye));
     int files = 0;
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-        CHECK(entry.path().string().find(".tmp.") == std::string::npos);
+        CHECK(entry.path().string().find("hemirad-tmp") == std::string::npos);
         ++files;
     }
     CHECK(files == 2);

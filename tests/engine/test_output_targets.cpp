@@ -81,7 +81,7 @@ TEST_CASE("A FIFO target receives the whole CSV from a reader thread and stays a
     CHECK(received == expected);
     CHECK(S_ISFIFO(statOf(fifo, false).st_mode));
     for (const auto& entry : std::filesystem::directory_iterator(dir))  // no temporary file left beside it
-        CHECK(entry.path().filename().string().find(".tmp.") == std::string::npos);
+        CHECK(entry.path().filename().string().find("hemirad-tmp") == std::string::npos);
 }
 
 TEST_CASE("A symbolic link target stays a link and the file it points to is replaced atomically") {
@@ -144,4 +144,63 @@ TEST_CASE("formfactors -o /dev/null, run as user nobody (65534) when the tests r
     REQUIRE(WIFEXITED(status));
     CHECK(WEXITSTATUS(status) == 0);  // 90: could not become nobody; 91: could not run hemirad
     CHECK(S_ISCHR(statOf("/dev/null", false).st_mode));
+}
+
+TEST_CASE("Hostile output paths: spaces and non-ASCII work, a 250-character name works, a 300-character one is a clear error") {
+    const auto dir = tempDir("hostile-outputs");
+    REQUIRE(solveTo((dir / "regular.csv").string()).status == 0);
+    const std::string expected = readText(dir / "regular.csv");
+    for (const std::string name : {std::string("with space é ü 光.csv"), std::string(246, 'n') + ".csv"}) {
+        CAPTURE(name.size());
+        const CommandResult run = solveTo((dir / name).string());
+        CHECK_MESSAGE(run.status == 0, run.output);
+        CHECK(readText(dir / name) == expected);
+    }
+    const std::string tooLong = std::string(296, 'n') + ".csv";
+    const CommandResult run = solveTo((dir / tooLong).string());
+    CHECK(run.status == 1);
+    CHECK(run.output.find("cannot write: File name too long") != std::string::npos);
+    for (const auto& entry : std::filesystem::directory_iterator(dir))
+        CHECK(entry.path().filename().string().find("hemirad-tmp") == std::string::npos);
+}
+
+TEST_CASE("A read-only target, written by a child running as nobody (65534) when the tests run as root, is refused and kept") {
+    // As root every file is writable, so the child drops to nobody; the folder is nobody's, so only the
+    // file's own mode protects it (a rename in a writable folder would replace it).
+    char pattern[] = "/tmp/hemirad-readonly-XXXXXX";
+    REQUIRE(::mkdtemp(pattern) != nullptr);
+    const std::filesystem::path dir(pattern);
+    namespace fs = std::filesystem;
+    fs::copy_file(HEMIRAD_BINARY, dir / "hemirad");
+    fs::copy_file(sourcePath("scenes/cornell_box.obj"), dir / "cornell_box.obj");
+    fs::copy_file(sourcePath("scenes/cornell_box.mtl"), dir / "cornell_box.mtl");
+    writeFile(dir / "kept.csv", "precious\n");
+    for (const char* name : {"hemirad", "cornell_box.obj", "cornell_box.mtl"}) ::chmod((dir / name).c_str(), 0755);
+    ::chmod((dir / "kept.csv").c_str(), 0444);
+    if (::geteuid() == 0) {
+        REQUIRE(::chown(pattern, 65534, 65534) == 0);
+        REQUIRE(::chown((dir / "kept.csv").c_str(), 65534, 65534) == 0);
+    }
+    ::chmod(pattern, 0755);
+    const std::string binary = (dir / "hemirad").string(), scene = (dir / "cornell_box.obj").string();
+    const std::string target = (dir / "kept.csv").string(), log = (dir / "log.txt").string();
+    const pid_t child = ::fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+        if (::geteuid() == 0 && (::setgid(65534) != 0 || ::setuid(65534) != 0)) ::_exit(90);
+        const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (out < 0) ::_exit(92);
+        ::dup2(out, 2);
+        ::execl(binary.c_str(), binary.c_str(), "solve", scene.c_str(), "--samples", "256", "-o", target.c_str(),
+                static_cast<char*>(nullptr));
+        ::_exit(91);
+    }
+    int status = 0;
+    REQUIRE(::waitpid(child, &status, 0) == child);
+    const std::string message = readText(log), kept = readText(target);
+    fs::remove_all(dir);
+    REQUIRE(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 1);  // 90: could not become nobody; 91: could not run hemirad; 92: no log
+    CHECK(message.find("kept.csv: cannot write: Permission denied") != std::string::npos);
+    CHECK(kept == "precious\n");
 }
