@@ -22,8 +22,7 @@ int runFormFactors(const Options& options) {
     timings.stop();
     reporter.line("wrote " + options.output + (options.shards ? " (a shard manifest and 1 shard; " : " (") +
                   "scene hash " + hexHash(F.sceneHash) + ")");
-    reporter.line(timings.table());
-    if (warnings.count()) std::cerr << "hemirad: " << warnings.summary() << '\n';
+    finishCommand(reporter, timings, warnings);
     return 0;
 }
 

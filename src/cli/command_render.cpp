@@ -44,13 +44,9 @@ int runRender(const Options& options) {
     Warnings warnings;
     Timings timings;
     checkRenderOutput(options);
-    const Scene scene = loadScene(options, timings, reporter, warnings);
-    const FormFactors F = obtainFormFactors(scene, options, timings, reporter, warnings);
-    const Radiosity result = solveScene(scene, F, options, timings, reporter);
-
-    writeRenderOutput(options, scene, result, timings, reporter);
-    reporter.line(timings.table());
-    if (warnings.count()) std::cerr << "hemirad: " << warnings.summary() << '\n';
+    const SolvedScene solved = solveFromOptions(options, timings, reporter, warnings);
+    writeRenderOutput(options, solved.scene, solved.result, timings, reporter);
+    finishCommand(reporter, timings, warnings);
     return 0;
 }
 

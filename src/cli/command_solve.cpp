@@ -44,13 +44,10 @@ int runSolve(const Options& options) {
     Warnings warnings;
     Timings timings;
     checkSolveOutput(options);
-    const Scene scene = loadScene(options, timings, reporter, warnings);
-    const FormFactors F = obtainFormFactors(scene, options, timings, reporter, warnings);
-    const Radiosity result = solveScene(scene, F, options, timings, reporter);
-    writeSolveOutput(options, scene, result, timings);
+    const SolvedScene solved = solveFromOptions(options, timings, reporter, warnings);
+    writeSolveOutput(options, solved.scene, solved.result, timings);
     if (!options.output.empty()) reporter.line("wrote " + options.output);
-    reporter.line(timings.table());
-    if (warnings.count()) std::cerr << "hemirad: " << warnings.summary() << '\n';
+    finishCommand(reporter, timings, warnings);
     return 0;
 }
 

@@ -22,8 +22,7 @@ int runSubdivide(const Options& options) {
     timings.stop();
     reporter.line(options.inputs[0] + ": " + std::to_string(scene.size()) + " patches -> " + options.output + ": " +
                   std::to_string(out.size()) + " patches (edges <= " + std::to_string(options.maxEdge) + ")");
-    reporter.line(timings.table());
-    if (warnings.count()) std::cerr << "hemirad: " << warnings.summary() << '\n';
+    finishCommand(reporter, timings, warnings);
     return 0;
 }
 

@@ -40,11 +40,13 @@ FormFactors obtainFormFactors(const Scene& scene, const Options& options, Timing
     return pipeline.formFactorsWithFile(scene, {options.ffPath, options.recomputeFf, options.shards}, warnings).F;
 }
 
-Radiosity solveScene(const Scene& scene, const FormFactors& F, const Options& options, Timings& timings,
-                     const Reporter& reporter) {
-    Radiosity result = makePipeline(options, timings, reporter).solve(scene, F, options.solver);
-    reporter.solveSummary(result);
-    return result;
+SolvedScene solveFromOptions(const Options& options, Timings& timings, const Reporter& reporter, Warnings& warnings) {
+    SolvedScene solved;
+    solved.scene = loadScene(options, timings, reporter, warnings);
+    const FormFactors F = obtainFormFactors(solved.scene, options, timings, reporter, warnings);
+    solved.result = makePipeline(options, timings, reporter).solve(solved.scene, F, options.solver);
+    reporter.solveSummary(solved.result);
+    return solved;
 }
 
 }  // namespace hemirad

@@ -21,9 +21,13 @@ Scene loadScene(const Options& options, Timings& timings, const Reporter& report
 FormFactors obtainFormFactors(const Scene& scene, const Options& options, Timings& timings,
                               const Reporter& reporter, Warnings& warnings);
 
-/// Solves and reports.
-Radiosity solveScene(const Scene& scene, const FormFactors& F, const Options& options, Timings& timings,
-                     const Reporter& reporter);
+/// The scene and its radiosity, as solve and render make them: loaded, F obtained (obtainFormFactors;
+/// released once B is solved), solved and reported.
+struct SolvedScene {
+    Scene scene;
+    Radiosity result;
+};
+SolvedScene solveFromOptions(const Options& options, Timings& timings, const Reporter& reporter, Warnings& warnings);
 
 /// solve -o: a usage error unless the output is .csv or .ply (or none).
 void checkSolveOutput(const Options& options);

@@ -143,4 +143,9 @@ void Reporter::solveSummary(const Radiosity& result) const {
     }
 }
 
+void finishCommand(const Reporter& reporter, const Timings& timings, const Warnings& warnings) {
+    reporter.line(timings.table());
+    if (warnings.count()) std::cerr << "hemirad: " << warnings.summary() << '\n';
+}
+
 }  // namespace hemirad

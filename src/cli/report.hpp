@@ -1,6 +1,7 @@
 // Console output of the CLI: stage timings, a progress bar on a terminal, F and solver summaries.
 #pragma once
 
+#include "engine/warnings.hpp"
 #include "solve/solver.hpp"
 #include "preprocess/backend_registry.hpp"
 #include "preprocess/form_factor_job.hpp"
@@ -48,5 +49,8 @@ private:
 };
 
 std::string formatSeconds(double seconds);
+
+/// A command's last words: the timing table on the report, the warnings' summary on stderr.
+void finishCommand(const Reporter& reporter, const Timings& timings, const Warnings& warnings);
 
 }  // namespace hemirad

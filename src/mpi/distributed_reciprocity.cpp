@@ -14,12 +14,10 @@ std::size_t enforceReciprocityDistributed(const Context& context, const Scene& s
     const std::size_t n = scene.size();
     const Layout layout = layoutOf(context, F.owner);
     const std::size_t m = layout.mine.size();
-    std::vector<double> zero(m, 0.0), area(m);
-    for (std::size_t k = 0; k < m; ++k) area[k] = scene.patches[layout.mine[k]].area;
     // Row j of G holds A_j F_jk, computed as one process computes it; row i of G^T is column i of G.
     OwnedMat Gt;
     {
-        OwnedMat G(rowsMatrix(F, layout, n, preallocationOf(F, layout), zero, area));
+        OwnedMat G(areaWeightedRows(scene, F, layout, preallocationOf(F, layout)));
         check(MatTranspose(G.mat, MAT_INITIAL_MATRIX, &Gt.mat), "MatTranspose");
     }
     std::vector<PatchId> patchOf(n);
@@ -41,7 +39,7 @@ std::size_t enforceReciprocityDistributed(const Context& context, const Scene& s
         check(MatRestoreRow(Gt.mat, row, &count, &columns, &values), "MatRestoreRow");
         std::sort(column.begin(), column.end());
         // Row i and column i merged by j, as mergeRowAndColumn walks them in one process.
-        const double Ai = area[k];
+        const double Ai = scene.patches[i].area;
         std::uint64_t a = F.local.rowBegin(i), aEnd = F.local.rowEnd(i);
         std::size_t b = 0;
         std::vector<FormFactors::Entry>& out = rows[i];

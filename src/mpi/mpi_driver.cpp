@@ -25,6 +25,10 @@
 namespace hemirad::mpi {
 namespace {
 
+double secondsSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
 /// One command's state on one rank.
 struct Job {
     /// Rank 0 alone reports.
@@ -90,7 +94,7 @@ void obtainFormFactors(Job& job, const std::string& reusePath) {
                 if (current.rowComputed(i)) owner[i] = std::int32_t(i * std::size_t(context.size()) / n);
             job.F = keepOwnRows(context, std::move(current), owner);
         }
-        job.timings.add("load F", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        job.timings.add("load F", secondsSince(t0));
         const auto rowsHeld = std::count_if(job.F.owner.begin(), job.F.owner.end(), [](std::int32_t r) { return r >= 0; });
         job.reporter.line("form factors: reused " + reusePath + " (" + std::to_string(rowsHeld) + " rows" +
                           (sharded ? ", each rank reading its own shards)" : ")"));
@@ -145,7 +149,7 @@ void reciprocity(Job& job) {
     const auto t0 = std::chrono::steady_clock::now();
     std::size_t changed = 0;
     job.context.collectively([&] { changed = enforceReciprocityDistributed(job.context, job.scene, job.F); });
-    job.timings.add("enforce reciprocity", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    job.timings.add("enforce reciprocity", secondsSince(t0));
     job.reporter.line("form factors: reciprocity enforced: " + std::to_string(changed) +
                       " entries replaced by the pair's area-weighted mean (A_i F_ij + A_j F_ji) / 2");
     job.computed = true;
@@ -178,7 +182,7 @@ void storeFormFactors(Job& job, const std::string& path, bool sharded) {
     const auto t0 = std::chrono::steady_clock::now();
     if (sharded) {
         const std::uint64_t bytes = writeShards(job.context, job.F, path);
-        job.timings.add("write F", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        job.timings.add("write F", secondsSince(t0));
         std::ostringstream line;
         line << "wrote " << path << " (a shard manifest; " << job.context.size() << " shards of "
              << std::setprecision(4) << double(bytes) / 1048576.0 << " MiB in all, one per rank; scene hash "
@@ -190,14 +194,13 @@ void storeFormFactors(Job& job, const std::string& path, bool sharded) {
     job.context.collectively([&] {
         if (!job.context.root()) return;
         saveFormFactors(all, path);
-        job.timings.add("write F", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        job.timings.add("write F", secondsSince(t0));
         job.reporter.line("wrote " + path + " (scene hash " + hexHash(all.sceneHash) + ")");
     });
 }
 
 void finish(Job& job) {
-    job.reporter.line(job.timings.table());
-    if (job.context.root() && job.warnings.count()) std::cerr << "hemirad: " << job.warnings.summary() << '\n';
+    if (job.context.root()) finishCommand(job.reporter, job.timings, job.warnings);
 }
 
 void runFormFactors(Job& job) {
@@ -240,7 +243,7 @@ void runSolveOrRender(Job& job, bool render) {
         result = solveDistributed(job.context, job.scene, job.F, options.solver);
         job.timings.add("solve (" + (options.solver.solver == "auto" ? std::string("bicgstab") : options.solver.solver) +
                             ", PETSc)",
-                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+                        secondsSince(t0));
         job.reporter.solveSummary(result);
     });
     job.context.collectively([&] {
@@ -262,24 +265,21 @@ void runSolveOrRender(Job& job, bool render) {
 void runBenchRun(Job& job) {
     const Options& options = job.options;
     const bool root = job.context.root();
-    auto since = [](std::chrono::steady_clock::time_point t) {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-    };
     BenchRecord record;
     auto t0 = std::chrono::steady_clock::now();
     job.context.collectively([&] { checkDistributedSolver(options.solver.solver); });
     loadScene(job, makePipeline(options, job.timings, job.reporter));
-    if (root) recordScene(record, options, job.scene, since(t0));
+    if (root) recordScene(record, options, job.scene, secondsSince(t0));
     obtainFormFactors(job, "");
     t0 = std::chrono::steady_clock::now();
     reciprocity(job);
-    if (root && options.enforceReciprocity) record.set("t_reciprocity", since(t0));
+    if (root && options.enforceReciprocity) record.set("t_reciprocity", secondsSince(t0));
     normalise(job);
     FormFactors all = gatherFormFactors(job.context, job.F);
     if (root) {
         t0 = std::chrono::steady_clock::now();
         job.run.stats = computeStats(all, job.scene);
-        job.run.statsSeconds = since(t0);
+        job.run.statsSeconds = secondsSince(t0);
         job.run.F = std::move(all);
         recordFormFactors(record, options, job.run);
     }
@@ -288,7 +288,7 @@ void runBenchRun(Job& job) {
         t0 = std::chrono::steady_clock::now();
         result = solveDistributed(job.context, job.scene, job.F, options.solver);
         if (root)
-            recordSolve(record, result, options.solver.solver == "auto" ? "bicgstab" : options.solver.solver, since(t0),
+            recordSolve(record, result, options.solver.solver == "auto" ? "bicgstab" : options.solver.solver, secondsSince(t0),
                         job.run);
     });
     const double mine = peakRssMiB();

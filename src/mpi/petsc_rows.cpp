@@ -78,4 +78,12 @@ Mat rowsMatrix(const DistributedFormFactors& F, const Layout& layout, std::size_
     return A;
 }
 
+Mat areaWeightedRows(const Scene& scene, const DistributedFormFactors& F, const Layout& layout,
+                     const Preallocation& counts) {
+    const std::size_t m = layout.mine.size();
+    std::vector<double> zero(m, 0.0), area(m);
+    for (std::size_t k = 0; k < m; ++k) area[k] = scene.patches[layout.mine[k]].area;
+    return rowsMatrix(F, layout, scene.size(), counts, zero, area);
+}
+
 }  // namespace hemirad::mpi

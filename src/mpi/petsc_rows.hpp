@@ -47,4 +47,9 @@ Preallocation preallocationOf(const DistributedFormFactors& F, const Layout& lay
 Mat rowsMatrix(const DistributedFormFactors& F, const Layout& layout, std::size_t n, const Preallocation& counts,
                const std::vector<double>& diagonal, const std::vector<double>& scale);
 
+/// G = diag(A) F (row i holds A_i F_ij, with an explicit diagonal), in the layout's numbering: the
+/// area-weighted F whose transpose pairs F_ij with F_ji. Collective.
+Mat areaWeightedRows(const Scene& scene, const DistributedFormFactors& F, const Layout& layout,
+                     const Preallocation& counts);
+
 }  // namespace hemirad::mpi

@@ -25,26 +25,17 @@ struct Channel {
 /// CG's operator without its per-channel diagonal: S = -(G + G^T) / 2 with G = diag(A) F, the area-
 /// weighted F symmetrised as one process symmetrises it (eigen_solvers.cpp). G is kept for residuals.
 struct SymmetricPart {
-    Mat G = nullptr, S = nullptr;
-    ~SymmetricPart() {
-        MatDestroy(&S);
-        MatDestroy(&G);
-    }
+    OwnedMat G, S;
 };
 
 void buildSymmetricPart(SymmetricPart& part, const Scene& scene, const DistributedFormFactors& F, const Layout& layout,
                         const Preallocation& counts) {
-    const std::size_t m = layout.mine.size();
-    std::vector<double> zero(m, 0.0), area(m);
-    for (std::size_t k = 0; k < m; ++k) area[k] = scene.patches[layout.mine[k]].area;
-    part.G = rowsMatrix(F, layout, scene.size(), counts, zero, area);
-    Mat Gt;
-    check(MatTranspose(part.G, MAT_INITIAL_MATRIX, &Gt), "MatTranspose");
-    check(MatDuplicate(part.G, MAT_COPY_VALUES, &part.S), "MatDuplicate");
-    const PetscErrorCode code = MatAXPY(part.S, 1.0, Gt, DIFFERENT_NONZERO_PATTERN);
-    MatDestroy(&Gt);
-    check(code, "MatAXPY");
-    check(MatScale(part.S, -0.5), "MatScale");
+    part.G.mat = areaWeightedRows(scene, F, layout, counts);
+    OwnedMat Gt;
+    check(MatTranspose(part.G.mat, MAT_INITIAL_MATRIX, &Gt.mat), "MatTranspose");
+    check(MatDuplicate(part.G.mat, MAT_COPY_VALUES, &part.S.mat), "MatDuplicate");
+    check(MatAXPY(part.S.mat, 1.0, Gt.mat, DIFFERENT_NONZERO_PATTERN), "MatAXPY");
+    check(MatScale(part.S.mat, -0.5), "MatScale");
 }
 
 }  // namespace
@@ -133,7 +124,7 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
             Mat A;
             if (cg) {
                 // K = diag(A / rho) + S with black patches (rho = 0: B = E) moved to the right-hand side.
-                check(MatDuplicate(symmetric.S, MAT_COPY_VALUES, &A), "MatDuplicate");
+                check(MatDuplicate(symmetric.S.mat, MAT_COPY_VALUES, &A), "MatDuplicate");
                 Vec d;
                 check(MatCreateVecs(A, &d, nullptr), "MatCreateVecs");
                 for (std::size_t k = 0; k < local; ++k) {
@@ -176,7 +167,7 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
                 check(VecAssemblyEnd(r), "VecAssemblyEnd");
                 Vec moved;
                 check(VecDuplicate(b, &moved), "VecDuplicate");
-                check(MatMult(symmetric.G, r, moved), "MatMult");
+                check(MatMult(symmetric.G.mat, r, moved), "MatMult");
                 check(VecAXPY(b, 1.0, moved), "VecAXPY");
                 VecDestroy(&moved);
                 check(MatZeroRowsColumns(A, PetscInt(black.size()), black.data(), 1.0, nullptr, nullptr),
@@ -218,7 +209,7 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
                 PetscReal normB = 0;
                 check(VecNorm(b, NORM_2, &normB), "VecNorm");
                 ch.report.residual = normB > 0 ? double(residual) / double(normB) : 0.0;
-                check(MatMult(symmetric.G, x, r), "MatMult");
+                check(MatMult(symmetric.G.mat, x, r), "MatMult");
                 const PetscScalar *gx = nullptr, *xs = nullptr;
                 check(VecGetArrayRead(r, &gx), "VecGetArrayRead");
                 check(VecGetArrayRead(x, &xs), "VecGetArrayRead");
