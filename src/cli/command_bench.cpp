@@ -246,7 +246,7 @@ int runBenchRun(const Options& o) {
 }
 
 int runBench(const Options& o) {
-    Reporter reporter(o.quiet);
+    Reporter reporter(o.quiet, reportsToStandardError(o));
     const std::string scenePath = o.inputs.at(0);
     const std::string label = o.label.empty() ? fs::path(scenePath).stem().string() : o.label;
     const Scene scene = loadBenchScene(o);
@@ -386,7 +386,7 @@ int runBench(const Options& o) {
         json.stream() << toJsonArray(records);
         json.commit();
     }
-    reporter.line("bench: wrote " + o.output + (o.jsonPath.empty() ? "" : " and " + o.jsonPath));
+    reporter.line("bench: wrote " + outputName(o.output) + (o.jsonPath.empty() ? "" : " and " + outputName(o.jsonPath)));
     if (failures) throw Error("bench: " + std::to_string(failures) + " run(s) failed");
     return 0;
 }

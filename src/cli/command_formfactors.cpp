@@ -9,7 +9,7 @@
 namespace hemirad {
 
 int runFormFactors(const Options& options) {
-    Reporter reporter(options.quiet);
+    Reporter reporter(options.quiet, reportsToStandardError(options));
     Warnings warnings;
     Timings timings;
     const Scene scene = loadScene(options, timings, reporter, warnings);
@@ -18,9 +18,9 @@ int runFormFactors(const Options& options) {
     const FormFactors F = obtainFormFactors(scene, computeOnly, timings, reporter, warnings);
     timings.start("write F");
     if (options.shards) saveShardedFormFactors(F, options.output, 1);
-    else saveFormFactors(F, options.output);
+    else saveFormFactors(F, options.output, formFactorOutputFormat(options));
     timings.stop();
-    reporter.line("wrote " + options.output + (options.shards ? " (a shard manifest and 1 shard; " : " (") +
+    reporter.line("wrote " + outputName(options.output) + (options.shards ? " (a shard manifest and 1 shard; " : " (") +
                   "scene hash " + hexHash(F.sceneHash) + ")");
     finishCommand(reporter, timings, warnings);
     return 0;

@@ -6,15 +6,8 @@
 #include "rays/ray_scene.hpp"
 #include "render/raytracer.hpp"
 
-#include <filesystem>
-#include <iostream>
 
 namespace hemirad {
-
-void checkRenderOutput(const Options& options) {
-    if (std::filesystem::path(options.output).extension() != ".png")
-        throw UsageError("render -o: the image must be a .png file, got '" + options.output + "'");
-}
 
 void writeRenderOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings,
                        const Reporter& reporter) {
@@ -35,15 +28,14 @@ void writeRenderOutput(const Options& options, const Scene& scene, const Radiosi
     const std::vector<std::uint8_t> rgb = toneMap(image, options.exposure, scale);
     writePng(options.output, image.width, image.height, rgb);
     timings.stop();
-    reporter.line("wrote " + options.output + " (" + std::to_string(image.width) + "x" + std::to_string(image.height) +
+    reporter.line("wrote " + outputName(options.output) + " (" + std::to_string(image.width) + "x" + std::to_string(image.height) +
                   ", exposure " + std::to_string(scale) + (options.exposure > 0 ? "" : ", automatic") + ")");
 }
 
 int runRender(const Options& options) {
-    Reporter reporter(options.quiet);
+    Reporter reporter(options.quiet, reportsToStandardError(options));
     Warnings warnings;
     Timings timings;
-    checkRenderOutput(options);
     const SolvedScene solved = solveFromOptions(options, timings, reporter, warnings);
     writeRenderOutput(options, solved.scene, solved.result, timings, reporter);
     finishCommand(reporter, timings, warnings);

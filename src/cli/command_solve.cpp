@@ -5,25 +5,16 @@
 #include "engine/tone_map.hpp"
 #include "engine/vertex_radiosity.hpp"
 
-#include <filesystem>
-#include <iostream>
 
 namespace hemirad {
 
-void checkSolveOutput(const Options& options) {
-    if (options.output.empty()) return;
-    const std::string format = std::filesystem::path(options.output).extension().string();
-    if (format != ".csv" && format != ".ply")
-        throw UsageError("solve -o: unknown output type '" + format + "' (use .csv or .ply)");
-}
-
 void writeSolveOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings) {
-    const std::string format = options.output.empty() ? "" : std::filesystem::path(options.output).extension().string();
-    if (format == ".csv") {
+    const std::string format = options.output.empty() ? "" : outputFormat(options);
+    if (format == "csv") {
         timings.start("write CSV");
         writeRadiosityCsv(options.output, scene, result.B);
         timings.stop();
-    } else if (format == ".ply") {
+    } else if (format == "ply") {
         timings.start("vertex radiosity");
         const std::vector<Rgb> corner = cornerRadiosity(scene, result.B, options.crease);
         timings.start("write PLY");
@@ -40,13 +31,12 @@ void writeSolveOutput(const Options& options, const Scene& scene, const Radiosit
 }
 
 int runSolve(const Options& options) {
-    Reporter reporter(options.quiet);
+    Reporter reporter(options.quiet, reportsToStandardError(options));
     Warnings warnings;
     Timings timings;
-    checkSolveOutput(options);
     const SolvedScene solved = solveFromOptions(options, timings, reporter, warnings);
     writeSolveOutput(options, solved.scene, solved.result, timings);
-    if (!options.output.empty()) reporter.line("wrote " + options.output);
+    if (!options.output.empty()) reporter.line("wrote " + outputName(options.output));
     finishCommand(reporter, timings, warnings);
     return 0;
 }

@@ -10,7 +10,7 @@
 namespace hemirad {
 
 int runSubdivide(const Options& options) {
-    Reporter reporter(options.quiet);
+    Reporter reporter(options.quiet, reportsToStandardError(options));
     Warnings warnings;
     Timings timings;
     timings.start("load scene");

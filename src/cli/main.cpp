@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
     try {
         const Options options = parseOptions(argc, argv);
         configureProcessThreads(options.formFactors.common.threads);
+        if (isStandardOutput(options.output) && outputIsBinary(options)) requireBinaryStandardOutput();  // before any work
         if (options.command == "help") {
             std::cout << usageText();
             return 0;

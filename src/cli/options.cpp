@@ -1,6 +1,7 @@
 // Strict option parsing: each flag lists the commands that accept it; values are range-checked.
 #include "cli/options.hpp"
 
+#include "engine/atomic_file.hpp"
 #include "solve/solver_registry.hpp"
 
 #include <algorithm>
@@ -74,6 +75,22 @@ std::vector<double> parseList(const std::string& flag, const std::string& text, 
     return values;
 }
 
+std::string joined(const std::vector<std::string>& names, const std::string& last) {
+    std::string text;
+    for (std::size_t k = 0; k < names.size(); ++k)
+        text += (k == 0 ? "" : k + 1 == names.size() ? last : ", ") + names[k];
+    return text;
+}
+
+/// The formats each writing command offers; the first is the default on standard output.
+const std::vector<std::string>& outputFormats(const std::string& command) {
+    static const std::map<std::string, std::vector<std::string>> formats = {
+        {"formfactors", {"mtx", "hff"}}, {"solve", {"csv", "ply"}}, {"render", {"png"}}};
+    static const std::vector<std::string> none;
+    const auto it = formats.find(command);
+    return it == formats.end() ? none : it->second;
+}
+
 struct Flag {
     std::set<std::string> commands;  // empty: every command
     bool takesValue;
@@ -84,6 +101,14 @@ const std::map<std::string, Flag>& flags() {
     static const std::map<std::string, Flag> table = {
         {"-o", {{"formfactors", "solve", "render", "subdivide", "bench"}, true,
                 [](Options& o, const std::string&, const std::string& v) { o.output = v; }}},
+        {"--format", {{"formfactors", "solve", "render"}, true,
+                      [](Options& o, const std::string& f, const std::string& v) {
+                          const std::vector<std::string>& names = outputFormats(o.command);
+                          if (std::find(names.begin(), names.end(), v) == names.end())
+                              throw UsageError(f + " for '" + o.command + "' expects " + joined(names, " or ") +
+                                               ", got '" + v + "'");
+                          o.format = v;
+                      }}},
         {"--quiet", {{}, false, [](Options& o, const std::string&, const std::string&) { o.quiet = true; }}},
         {"--subdivide", {kComputing, true,
                          [](Options& o, const std::string& f, const std::string& v) { o.subdivide = parseNumber(f, v, 1e-12, 1e300); }}},
@@ -326,6 +351,13 @@ Options parseOptions(int argc, const char* const* argv) {
         throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F)");
     if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
     if (o.recomputeFf && o.ffPath.empty()) throw UsageError("--recompute-ff needs --ff FILE");
+    if (isStandardOutput(o.ffPath))
+        throw UsageError("--ff names a file that F is read from or stored in; standard output ('-') cannot be either");
+    if (o.command == "subdivide" && isStandardOutput(o.output))
+        throw UsageError("'subdivide' writes an OBJ and its MTL beside it: -o needs a file name, not '-'");
+    if (isStandardOutput(o.output) && isStandardOutput(o.jsonPath))
+        throw UsageError("-o - and --json - would both write to standard output; give one of them a file name");
+    if (!o.output.empty() && !outputFormats(o.command).empty()) outputFormat(o);  // usage errors before any work
     if (o.shards) {
         const std::string& path = o.command == "formfactors" ? o.output : o.ffPath;
         if (path.empty()) throw UsageError("--shards stores F: it needs --ff FILE.hff");
@@ -335,6 +367,34 @@ Options parseOptions(int argc, const char* const* argv) {
             throw UsageError("--shards writes .hff shards and a manifest: '" + path + "' must end in .hff");
     }
     return o;
+}
+
+bool outputIsBinary(const Options& o) {
+    if (outputFormats(o.command).empty()) return false;
+    const std::string format = outputFormat(o);
+    return format != "mtx" && format != "csv";
+}
+
+bool reportsToStandardError(const Options& o) {
+    return isStandardOutput(o.output) || isStandardOutput(o.jsonPath);
+}
+
+std::string outputFormat(const Options& o) {
+    const std::vector<std::string>& names = outputFormats(o.command);
+    std::string ext = std::filesystem::path(o.output).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (!ext.empty() && std::find(names.begin(), names.end(), ext.substr(1)) != names.end()) {
+        if (!o.format.empty() && o.format != ext.substr(1))
+            throw UsageError("-o " + o.output + " and --format " + o.format + " disagree; the extension names the format");
+        return ext.substr(1);
+    }
+    if (isStandardOutput(o.output)) return o.format.empty() ? names.front() : o.format;
+    if (writesInPlace(o.output))  // a FIFO or device: F defaults to the compact .hff (-o /dev/null to time F)
+        return !o.format.empty() ? o.format : o.command == "formfactors" ? "hff" : names.front();
+    std::string list;
+    for (const std::string& name : names) list += (list.empty() ? "." : " or .") + name;
+    throw UsageError("'" + o.command + "' -o " + o.output + ": unknown output type '" + ext + "' (use " + list +
+                     ", or -o - for standard output)");
 }
 
 std::string usageText() {
@@ -404,6 +464,13 @@ bench:
   --cache DIR            where reference F and B are kept (default bench/cache)
   --json FILE            also write the results as JSON
   --label NAME           scene name in the results (default: the file name)
+output (formfactors, solve, render, bench):
+  -o -                   standard output; the report then goes to standard error. Text (.mtx,
+                         .csv) always, binary (.hff, .ply, .png) into a pipe or file only, never
+                         onto a terminal (and not under mpirun, whose forwarding hides it)
+  --format NAME          the format where -o has no extension to tell it (-, a FIFO, a device):
+                         formfactors mtx (the default on -) or hff (the default on a device),
+                         solve csv (default) or ply, render png; with an extension it must agree
 general:
   --threads T            worker threads / GL contexts (default: OMP_NUM_THREADS, else all cores)
   --quiet                print errors and warnings only

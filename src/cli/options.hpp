@@ -21,7 +21,8 @@ public:
 struct Options {
     std::string command;                 ///< formfactors, solve, render, info, subdivide, bench, help
     std::vector<std::string> inputs;     ///< positional arguments
-    std::string output;                  ///< -o
+    std::string output;                  ///< -o ("-": standard output)
+    std::string format;                  ///< --format: for an -o without an extension to tell it
     bool quiet = false;
 
     // Scene.
@@ -68,6 +69,18 @@ struct Options {
 
 /// Parses argv; throws UsageError for unknown commands/flags, missing or malformed values.
 Options parseOptions(int argc, const char* const* argv);
+
+/// The format -o is written in ("mtx", "hff", "csv", "ply", "png"): the extension's; for standard
+/// output ("-"), a FIFO or a device, --format's or the command's default (text on standard output).
+/// Throws UsageError for an unknown extension or a --format that contradicts it.
+std::string outputFormat(const Options& options);
+
+/// Whether outputFormat(options) is binary (hff, ply, png), not text (mtx, csv); false for a command
+/// without formats (bench writes CSV).
+bool outputIsBinary(const Options& options);
+
+/// Whether standard output carries a result (-o -, --json -), so that the report goes to stderr.
+bool reportsToStandardError(const Options& options);
 
 /// The full usage text (`hemirad help`).
 std::string usageText();

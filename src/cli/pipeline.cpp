@@ -1,6 +1,8 @@
 // CLI pipeline stages: the library pipeline with the console reporter.
 #include "cli/pipeline.hpp"
 
+#include "engine/atomic_file.hpp"
+
 namespace hemirad {
 
 RadiosityPipeline makePipeline(const Options& options, Timings& timings, const Reporter& reporter) {
@@ -48,5 +50,11 @@ SolvedScene solveFromOptions(const Options& options, Timings& timings, const Rep
     reporter.solveSummary(solved.result);
     return solved;
 }
+
+FormFactorFormat formFactorOutputFormat(const Options& options) {
+    return outputFormat(options) == "hff" ? FormFactorFormat::Hff : FormFactorFormat::Mtx;
+}
+
+std::string outputName(const std::string& path) { return isStandardOutput(path) ? "standard output" : path; }
 
 }  // namespace hemirad

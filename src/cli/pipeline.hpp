@@ -3,6 +3,7 @@
 
 #include "cli/options.hpp"
 #include "cli/report.hpp"
+#include "engine/form_factor_file.hpp"
 #include "engine/warnings.hpp"
 #include "pipeline/radiosity_pipeline.hpp"
 
@@ -29,12 +30,13 @@ struct SolvedScene {
 };
 SolvedScene solveFromOptions(const Options& options, Timings& timings, const Reporter& reporter, Warnings& warnings);
 
-/// solve -o: a usage error unless the output is .csv or .ply (or none).
-void checkSolveOutput(const Options& options);
+/// The F format formfactors -o writes (outputFormat: the extension's, or --format's for -o -).
+FormFactorFormat formFactorOutputFormat(const Options& options);
+/// "standard output" for "-", else the path: for "wrote ..." lines.
+std::string outputName(const std::string& path);
+
 /// Writes B as solve -o asks (CSV per patch, or PLY with vertex radiosity); nothing without -o.
 void writeSolveOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings);
-/// render -o: a usage error unless the image is a .png.
-void checkRenderOutput(const Options& options);
 /// Vertex radiosity, the camera-ray image and its PNG, as render -o asks.
 void writeRenderOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings,
                        const Reporter& reporter);

@@ -43,10 +43,11 @@ std::string Timings::table() const {
     return out.str();
 }
 
-Reporter::Reporter(bool quiet) : m_quiet(quiet), m_terminal(::isatty(STDERR_FILENO) == 1) {}
+Reporter::Reporter(bool quiet, bool toStandardError)
+    : m_quiet(quiet), m_terminal(::isatty(STDERR_FILENO) == 1), m_out(toStandardError ? &std::cerr : &std::cout) {}
 
 void Reporter::line(const std::string& text) const {
-    if (!m_quiet) std::cout << text << std::endl;
+    if (!m_quiet) *m_out << text << std::endl;
 }
 
 ProgressCallback Reporter::progress(const std::string& label, double raysPerRow, const std::string& unit) const {

@@ -7,6 +7,7 @@
 #include "preprocess/form_factor_job.hpp"
 
 #include <chrono>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,10 +29,11 @@ private:
     std::chrono::steady_clock::time_point m_begin;
 };
 
-/// Messages on stdout unless quiet; the progress bar on stderr only when it is a terminal.
+/// Messages on stdout unless quiet (on stderr when stdout carries a result: -o -); the progress bar
+/// on stderr only when it is a terminal.
 class Reporter {
 public:
-    explicit Reporter(bool quiet);
+    explicit Reporter(bool quiet, bool toStandardError = false);
     bool quiet() const { return m_quiet; }
     void line(const std::string& text) const;
     /// Progress callback for computeFormFactors (work per row, in `unit`, for the rate figure).
@@ -46,6 +48,7 @@ public:
 private:
     bool m_quiet;
     bool m_terminal;
+    std::ostream* m_out;
 };
 
 std::string formatSeconds(double seconds);

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <iostream>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -39,6 +40,12 @@ void unregisterPending(const std::string& path) {
 
 }  // namespace
 
+void requireBinaryStandardOutput() {
+    if (::isatty(STDOUT_FILENO) == 1)
+        throw Error("cannot write binary data to standard output: it is a terminal; redirect it "
+                    "(> FILE or | PROGRAM) or give a file name");
+}
+
 WriteMode writeModeFor(bool exists, mode_t mode) {
     if (!exists || S_ISREG(mode)) return WriteMode::Replace;
     if (S_ISDIR(mode)) return WriteMode::Refuse;
@@ -59,31 +66,36 @@ std::string resolveWriteTarget(const std::string& path) {
 }
 
 bool writesInPlace(const std::string& path) {
-    try {
-        struct stat st {};
-        return ::stat(resolveWriteTarget(path).c_str(), &st) == 0 && writeModeFor(true, st.st_mode) == WriteMode::Direct;
-    } catch (const Error&) {
-        return false;
-    }
+    if (isStandardOutput(path)) return true;
+    struct stat st {};
+    return ::stat(path.c_str(), &st) == 0 && writeModeFor(true, st.st_mode) == WriteMode::Direct;
 }
 
 AtomicFile::AtomicFile(std::string path, bool binary) : m_shown(std::move(path)) {
-    m_path = resolveWriteTarget(m_shown);
+    if (isStandardOutput(m_shown)) {
+        if (binary) requireBinaryStandardOutput();
+        m_out = &std::cout;
+        return;
+    }
+    // stat() follows every link, the kernel's own too (/dev/stdout is /proc/self/fd/1, whose "target"
+    // may be a pipe with no path): what it finds decides, and only a regular file's links are resolved.
     struct stat st {};
-    const bool exists = ::stat(m_path.c_str(), &st) == 0;
+    const bool found = ::stat(m_shown.c_str(), &st) == 0;
     const std::ios::openmode mode = binary ? std::ios::binary | std::ios::trunc : std::ios::trunc;
-    switch (writeModeFor(exists, st.st_mode)) {
+    switch (writeModeFor(found, st.st_mode)) {
     case WriteMode::Refuse:
         throw Error(m_shown, 0, "is a directory; give a file name to write");
     case WriteMode::Direct:
         // Never replaced: a FIFO's reader, a device, a socket stay what they are. Opening a FIFO waits
         // for its reader, as a shell redirection does.
-        m_out.open(m_path, mode);
-        if (!m_out) throw Error(m_shown, 0, std::string("cannot write: ") + std::strerror(errno));
+        m_file.open(m_shown, mode);
+        if (!m_file) throw Error(m_shown, 0, std::string("cannot write: ") + std::strerror(errno));
         return;
     case WriteMode::Replace:
         break;
     }
+    m_path = resolveWriteTarget(m_shown);
+    const bool exists = ::access(m_path.c_str(), F_OK) == 0;
     // A read-only file stays as it is, as cp leaves it (a rename in a writable folder would not).
     if (exists && ::access(m_path.c_str(), W_OK) != 0)
         throw Error(m_shown, 0, std::string("cannot write: ") + std::strerror(errno));
@@ -92,8 +104,8 @@ AtomicFile::AtomicFile(std::string path, bool binary) : m_shown(std::move(path))
     const std::filesystem::path folder = std::filesystem::path(m_path).parent_path();
     m_temp = (folder / (".hemirad-tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++))).string();
     registerPending(m_temp);
-    m_out.open(m_temp, mode);
-    if (!m_out) {
+    m_file.open(m_temp, mode);
+    if (!m_file) {
         const int err = errno;
         unregisterPending(m_temp);
         throw Error(m_shown, 0, std::string("cannot write: ") + std::strerror(err));
@@ -102,17 +114,26 @@ AtomicFile::AtomicFile(std::string path, bool binary) : m_shown(std::move(path))
 
 AtomicFile::~AtomicFile() {
     if (m_committed) return;
-    m_out.close();
+    if (m_out != &m_file) {
+        m_out->flush();  // what was written reaches the reader, as for any target written in place
+        return;
+    }
+    m_file.close();
     if (m_temp.empty()) return;
     std::remove(m_temp.c_str());
     unregisterPending(m_temp);
 }
 
 void AtomicFile::commit() {
-    m_out.flush();
-    const bool ok = static_cast<bool>(m_out);
-    m_out.close();
-    if (!ok || m_out.fail()) throw Error(m_shown, 0, "write failed (disk full?)");
+    m_out->flush();
+    if (m_out != &m_file) {
+        if (!*m_out) throw Error("writing to standard output failed");
+        m_committed = true;
+        return;
+    }
+    const bool ok = static_cast<bool>(m_file);
+    m_file.close();
+    if (!ok || m_file.fail()) throw Error(m_shown, 0, "write failed (disk full?)");
     if (!m_temp.empty()) {
         if (std::rename(m_temp.c_str(), m_path.c_str()) != 0)
             throw Error(m_shown, 0, std::string("cannot write: ") + std::strerror(errno));

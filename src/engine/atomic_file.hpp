@@ -2,10 +2,11 @@
 // goes to a temporary file beside the target (.hemirad-tmp.PID.N), renamed over it on commit(); a
 // read-only file is refused. What is not a regular file
 // is never replaced: a symbolic link is followed to its target, and a FIFO, device or socket is
-// written in place.
+// written in place. The path "-" is standard output (binary data refused when it is a terminal).
 #pragma once
 
 #include <fstream>
+#include <ostream>
 #include <string>
 
 #include <sys/types.h>
@@ -19,6 +20,12 @@ enum class WriteMode {
     Refuse,   ///< a directory
 };
 
+/// The path that names standard output.
+inline bool isStandardOutput(const std::string& path) { return path == "-"; }
+
+/// Throws hemirad::Error when binary data would go to standard output and it is a terminal.
+void requireBinaryStandardOutput();
+
 /// The mode for a target whose stat() gave `mode` (`exists` false: nothing there). Decides from the
 /// file type alone, so that tests can check it on /dev/null without writing there.
 WriteMode writeModeFor(bool exists, mode_t mode);
@@ -27,8 +34,8 @@ WriteMode writeModeFor(bool exists, mode_t mode);
 /// folder); the final target may not exist yet. Throws hemirad::Error naming `path` for a loop.
 std::string resolveWriteTarget(const std::string& path);
 
-/// Whether a write to `path` goes in place (it resolves to an existing FIFO, device or socket): such a
-/// target has no file name extension to choose a format by. Never throws.
+/// Whether a write to `path` goes in place (standard output, or it resolves to an existing FIFO,
+/// device or socket): such a target has no file name extension to choose a format by. Never throws.
 bool writesInPlace(const std::string& path);
 
 /// Write through stream(), then commit(). Destroyed without commit (an exception, Ctrl-C via
@@ -36,12 +43,14 @@ bool writesInPlace(const std::string& path);
 /// written in place keeps what was written).
 class AtomicFile {
 public:
+    /// `binary`: the data is not text; "-" is then refused (hemirad::Error) when standard output is a
+    /// terminal.
     explicit AtomicFile(std::string path, bool binary = true);
     ~AtomicFile();
     AtomicFile(const AtomicFile&) = delete;
     AtomicFile& operator=(const AtomicFile&) = delete;
 
-    std::ofstream& stream() { return m_out; }
+    std::ostream& stream() { return *m_out; }
     /// Flushes, checks for write errors and renames into place (closes a target written in place).
     /// Throws hemirad::Error.
     void commit();
@@ -53,7 +62,8 @@ private:
     std::string m_shown;  ///< the path as given, for messages
     std::string m_path;   ///< the resolved target
     std::string m_temp;   ///< empty when writing in place
-    std::ofstream m_out;
+    std::ofstream m_file;
+    std::ostream* m_out = &m_file;  ///< m_file, or std::cout for "-"
     bool m_committed = false;
 };
 

@@ -96,7 +96,7 @@ std::string extension(const std::string& path) {
 
 class HffWriter {
 public:
-    explicit HffWriter(std::ofstream& out) : m_out(out) {}
+    explicit HffWriter(std::ostream& out) : m_out(out) {}
     void write(const void* data, std::size_t size) {
         m_sum.add(data, size);
         m_out.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
@@ -109,7 +109,7 @@ public:
     }
 
 private:
-    std::ofstream& m_out;
+    std::ostream& m_out;
     Checksum m_sum;
 };
 
@@ -270,7 +270,7 @@ FormFactors readHff(HffReader& r, const std::string& path, std::uint64_t* checks
     return F;
 }
 
-void appendRanges(std::ofstream& out, const FormFactors& F) {
+void appendRanges(std::ostream& out, const FormFactors& F) {
     std::size_t written = 0;
     for (std::size_t i = 0; i < F.size();) {
         if (F.rowComputed(i)) {
@@ -290,7 +290,7 @@ void appendRanges(std::ofstream& out, const FormFactors& F) {
 
 void saveMtx(const FormFactors& F, const std::string& path) {
     AtomicFile file(path, false);
-    std::ofstream& out = file.stream();
+    std::ostream& out = file.stream();
     out << "%%MatrixMarket matrix coordinate real general\n"
         << "% Hemirad form factors: row i = emitting patch, column j = receiving patch, value F_ij (1-based)\n"
         << "% hemirad scene_hash " << hexHash(F.sceneHash) << '\n';
@@ -432,14 +432,25 @@ std::string hexHash(std::uint64_t hash) {
     return buffer;
 }
 
-void saveFormFactors(const FormFactors& F, const std::string& path) {
-    std::string ext = extension(path);
-    if (ext != ".hff" && ext != ".mtx" && writesInPlace(path)) ext = ".hff";  // e.g. -o /dev/null to time F
-    if (ext != ".hff" && ext != ".mtx") throw Error(path, 0, "unknown F file type " + quote(ext) + " (use .hff or .mtx)");
-    const std::vector<std::string> shards = listedShardFiles(path);  // a manifest this file replaces
-    if (ext == ".hff") saveHff(F, path);
+FormFactorFormat formFactorFormatFor(const std::string& path) {
+    const std::string ext = extension(path);
+    if (ext == ".hff") return FormFactorFormat::Hff;
+    if (ext == ".mtx") return FormFactorFormat::Mtx;
+    if (isStandardOutput(path)) return FormFactorFormat::Mtx;
+    if (writesInPlace(path)) return FormFactorFormat::Hff;
+    throw Error(path, 0, "unknown F file type " + quote(ext) + " (use .hff or .mtx)");
+}
+
+void saveFormFactors(const FormFactors& F, const std::string& path, FormFactorFormat format) {
+    // A manifest this file replaces: its shards go once the new file is in place.
+    const std::vector<std::string> shards = isStandardOutput(path) ? std::vector<std::string>{} : listedShardFiles(path);
+    if (format == FormFactorFormat::Hff) saveHff(F, path);
     else saveMtx(F, path);
-    removeReplacedShards(path, shards);
+    if (!shards.empty()) removeReplacedShards(path, shards);
+}
+
+void saveFormFactors(const FormFactors& F, const std::string& path) {
+    saveFormFactors(F, path, formFactorFormatFor(path));
 }
 
 std::uint64_t saveHffFile(const FormFactors& F, const std::string& path) { return saveHff(F, path); }

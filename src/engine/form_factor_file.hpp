@@ -7,7 +7,17 @@
 
 namespace hemirad {
 
-/// Writes F atomically; the format follows the extension (.hff or .mtx). Throws hemirad::Error.
+enum class FormFactorFormat { Hff, Mtx };
+
+/// The format a path names by its extension (.hff or .mtx); a target without one to choose by gets
+/// the text .mtx on standard output ("-") and the compact .hff on a FIFO or device (-o /dev/null to
+/// time F). Throws hemirad::Error for any other extension.
+FormFactorFormat formFactorFormatFor(const std::string& path);
+
+/// Writes F atomically (AtomicFile) in `format`; a shard manifest it replaces loses its shards.
+/// Throws hemirad::Error.
+void saveFormFactors(const FormFactors& F, const std::string& path, FormFactorFormat format);
+/// saveFormFactors in formFactorFormatFor(path).
 void saveFormFactors(const FormFactors& F, const std::string& path);
 /// Reads F, checking structure, checksum (.hff) and values. Throws hemirad::Error naming the file.
 /// A shard manifest (form_factor_shards.hpp) at an .hff path reads every shard into one F.

@@ -123,7 +123,7 @@ ShardManifest readShardManifest(const std::string& path) {
 
 void writeShardManifest(const ShardManifest& m, const std::string& path) {
     AtomicFile file(path, false);
-    std::ofstream& out = file.stream();
+    std::ostream& out = file.stream();
     out << kManifestMagic << ' ' << kManifestVersion << "\npatches " << m.patches << "\nscene_hash "
         << hexHash(m.sceneHash) << "\nnonzeros " << m.nonZeros << '\n';
     for (const auto& [key, value] : m.parameters) out << "param " << key << '=' << value << '\n';

@@ -11,7 +11,7 @@
 namespace hemirad {
 namespace {
 
-void writeMaterial(std::ofstream& out, const Material& m) {
+void writeMaterial(std::ostream& out, const Material& m) {
     out.precision(9);
     out << "newmtl " << m.name << "\nKd " << m.rho[0] << ' ' << m.rho[1] << ' ' << m.rho[2] << "\nKe " << m.emission[0]
         << ' ' << m.emission[1] << ' ' << m.emission[2] << '\n';
@@ -27,6 +27,8 @@ bool sameValues(const Patch& p, const Material& m) {
 
 void saveObj(const Scene& scene, const std::string& path) {
     namespace fs = std::filesystem;
+    if (isStandardOutput(path))
+        throw Error(path, 0, "an OBJ is written with its MTL file beside it: give a file name, not standard output");
     const fs::path objPath(path);
     const fs::path mtlPath = fs::path(objPath).replace_extension(".mtl");
 
@@ -66,7 +68,7 @@ void saveObj(const Scene& scene, const std::string& path) {
         mtl.commit();
     }
     AtomicFile obj(path, false);
-    std::ofstream& out = obj.stream();
+    std::ostream& out = obj.stream();
     out.precision(17);
     out << "# Hemirad scene, " << scene.size() << " patches\n";
     if (scene.camera) {

@@ -22,7 +22,7 @@ void requireFinite(const std::vector<Rgb>& values, const char* what) {
 void writeRadiosityCsv(const std::string& path, const Scene& scene, const std::vector<Rgb>& B) {
     requireFinite(B, "radiosity");
     AtomicFile file(path, false);
-    std::ofstream& out = file.stream();
+    std::ostream& out = file.stream();
     out << "patch,area,E_r,E_g,E_b,rho_r,rho_g,rho_b,specular,B_r,B_g,B_b\n";
     char line[512];
     for (PatchId i = 0; i < scene.size(); ++i) {
@@ -38,7 +38,7 @@ void writeRadiosityCsv(const std::string& path, const Scene& scene, const std::v
 void writeRadiosityPly(const std::string& path, const Scene& scene, const std::vector<Rgb>& corner, double exposure) {
     requireFinite(corner, "corner radiosity");
     AtomicFile file(path);
-    std::ofstream& out = file.stream();
+    std::ostream& out = file.stream();
     out << "ply\nformat binary_little_endian 1.0\ncomment Hemirad radiosity: colour = sRGB(exposure * B / pi), "
            "B_* in W/m^2\n"
         << "element vertex " << scene.corners.size()
@@ -72,7 +72,7 @@ void writePng(const std::string& path, int width, int height, const std::vector<
         throw Error(path, 0, "internal: image buffer does not match its size");
     AtomicFile file(path);
     auto sink = [](void* context, void* data, int size) {
-        static_cast<std::ofstream*>(context)->write(static_cast<const char*>(data), size);
+        static_cast<std::ostream*>(context)->write(static_cast<const char*>(data), size);
     };
     if (!stbi_write_png_to_func(sink, &file.stream(), width, height, 3, rgb.data(), width * 3))
         throw Error(path, 0, "PNG encoding failed");

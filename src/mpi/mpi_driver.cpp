@@ -5,6 +5,7 @@
 #include "cli/bench_run.hpp"
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
+#include "engine/atomic_file.hpp"
 #include "engine/form_factor_file.hpp"
 #include "engine/form_factor_shards.hpp"
 #include "engine/memory.hpp"
@@ -32,7 +33,7 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
 /// One command's state on one rank.
 struct Job {
     /// Rank 0 alone reports.
-    Job(const Context& c, const Options& o) : context(c), options(o), reporter(o.quiet || !c.root()) {}
+    Job(const Context& c, const Options& o) : context(c), options(o), reporter(o.quiet || !c.root(), reportsToStandardError(o)) {}
     const Context& context;
     const Options& options;
     Reporter reporter;
@@ -178,7 +179,7 @@ void reportStatistics(Job& job) {
 
 /// F as shards, each written by its rank, or as one file on rank 0 streamed from the ranks (the same
 /// bytes as one process writes).
-void storeFormFactors(Job& job, const std::string& path, bool sharded) {
+void storeFormFactors(Job& job, const std::string& path, bool sharded, FormFactorFormat format) {
     const auto t0 = std::chrono::steady_clock::now();
     if (sharded) {
         const std::uint64_t bytes = writeShards(job.context, job.F, path);
@@ -193,9 +194,9 @@ void storeFormFactors(Job& job, const std::string& path, bool sharded) {
     FormFactors all = gatherFormFactors(job.context, job.F);
     job.context.collectively([&] {
         if (!job.context.root()) return;
-        saveFormFactors(all, path);
+        saveFormFactors(all, path, format);
         job.timings.add("write F", secondsSince(t0));
-        job.reporter.line("wrote " + path + " (scene hash " + hexHash(all.sceneHash) + ")");
+        job.reporter.line("wrote " + outputName(path) + " (scene hash " + hexHash(all.sceneHash) + ")");
     });
 }
 
@@ -210,17 +211,13 @@ void runFormFactors(Job& job) {
     reciprocity(job);
     normalise(job);
     reportStatistics(job);
-    storeFormFactors(job, job.options.output, job.options.shards);
+    storeFormFactors(job, job.options.output, job.options.shards, formFactorOutputFormat(job.options));
     finish(job);
 }
 
 void runSolveOrRender(Job& job, bool render) {
     const Options& options = job.options;
-    job.context.collectively([&] {
-        if (render) checkRenderOutput(options);
-        else checkSolveOutput(options);
-        checkDistributedSolver(options.solver.solver);
-    });
+    job.context.collectively([&] { checkDistributedSolver(options.solver.solver); });
     const RadiosityPipeline pipeline = makePipeline(options, job.timings, job.reporter);
     loadScene(job, pipeline);
     // Decided by rank 0, so that every rank takes the same collective path.
@@ -232,10 +229,10 @@ void runSolveOrRender(Job& job, bool render) {
         root && !options.ffPath.empty() && (options.shards || isShardManifest(options.ffPath)));
     obtainFormFactors(job, reuse ? options.ffPath : "");
     // A reused file gains the rows it lacked and stays as computed; a new file stores F as normalised.
-    if (!options.ffPath.empty() && reuse && job.computed) storeFormFactors(job, options.ffPath, sharded);
+    if (!options.ffPath.empty() && reuse && job.computed) storeFormFactors(job, options.ffPath, sharded, formFactorFormatFor(options.ffPath));
     reciprocity(job);
     normalise(job);
-    if (!options.ffPath.empty() && !reuse) storeFormFactors(job, options.ffPath, sharded);
+    if (!options.ffPath.empty() && !reuse) storeFormFactors(job, options.ffPath, sharded, formFactorFormatFor(options.ffPath));
     reportStatistics(job);
     Radiosity result;
     job.context.collectively([&] {
@@ -252,7 +249,7 @@ void runSolveOrRender(Job& job, bool render) {
             writeRenderOutput(options, job.scene, result, job.timings, job.reporter);
         } else {
             writeSolveOutput(options, job.scene, result, job.timings);
-            if (!options.output.empty()) job.reporter.line("wrote " + options.output);
+            if (!options.output.empty()) job.reporter.line("wrote " + outputName(options.output));
         }
     });
     finish(job);
@@ -314,6 +311,12 @@ int runUnderMpi(int argc, char** argv) {
         context.collectively([&] {
             options = parseOptions(argc, argv);
             configureProcessThreads(options.formFactors.common.threads);
+            // mpirun forwards rank 0's standard output: whether the user's end is a terminal is unknown.
+            if (isStandardOutput(options.output) && !options.shards && (options.command == "formfactors" ||
+                options.command == "solve" || options.command == "render") && outputIsBinary(options))
+                throw UsageError("-o - under mpirun: mpirun forwards standard output, which cannot be checked for a "
+                                 "terminal, so the binary ." + outputFormat(options) + " needs -o FILE (text .mtx "
+                                 "and .csv may go to '-')");
         });
         const std::string& command = options.command;
         if (command == "formfactors" || command == "solve" || command == "render") {

@@ -123,6 +123,20 @@ TEST_CASE("The distributed PETSc solve matches the one-process LU solve to the C
     CHECK(largestRelativeDifference(radiosityColumns(dir / "fresh.csv"), exact) < 1e-8);
 }
 
+TEST_CASE("solve -o - on 2 ranks writes the CSV alone to standard output (the report to standard error)") {
+    const auto dir = tempDir("mpi-stdout");
+    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --samples 256 --threads 1";
+    const Run file = runHemirad(dir, 2, "solve " + scene + " -o B.csv --quiet");
+    REQUIRE_MESSAGE(file.status == 0, file.output);
+    const Run out = runCommand("cd '" + dir.string() + "' && timeout 120 " + HEMIRAD_MPIEXEC +
+                               " --allow-run-as-root --oversubscribe -np 2 " + HEMIRAD_BINARY + " solve " + scene +
+                               " -o - 2> err.txt");
+    REQUIRE(out.status == 0);
+    CHECK(bytes(dir / "B.csv").size() > 500);
+    CHECK(out.output == bytes(dir / "B.csv"));
+    CHECK(count(bytes(dir / "err.txt"), "wrote standard output") == 1);
+}
+
 TEST_CASE("Distributed CG on the symmetric form matches LU for a reciprocal F, and refuses a non-reciprocal one") {
     const auto dir = tempDir("mpi-cg");
     // With mirrors: their chains allow row sums above 1, so the averaged pairs stay within the file's bound.
@@ -296,6 +310,9 @@ TEST_CASE("Options that cannot run across ranks are usage errors on every rank, 
     r = runHemirad(dir, 2, "bench " + scene + " -o results.csv");
     CHECK(r.status == 2);
     CHECK(count(r.output, "'bench' runs each measurement as a child process of one process") == 1);
+    r = runHemirad(dir, 2, "render " + scene + " -o - > image.png");  // mpirun's forwarding: no terminal check
+    CHECK(r.status == 2);
+    CHECK(count(bytes(dir / "image.png"), "the binary .png needs -o FILE") == 1);  // the messages went there too
     r = runHemirad(dir, 2, "formfactors " + scene + " -o F.hff --bogus");
     CHECK(r.status == 2);
     CHECK(count(r.output, "unknown option '--bogus'") == 1);
