@@ -8,7 +8,7 @@ SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks
 	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers.supp:print_suppressions=0 \
 	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
-.PHONY: all deps build demo test bench test-sanitize test-without-opengl fuzz clean
+.PHONY: all deps build python demo test bench test-sanitize test-without-opengl fuzz clean
 
 all: build
 
@@ -18,6 +18,10 @@ deps:
 build: deps
 	@cmake -S . -B $(BUILD) $(CMAKE_FLAGS) > $(BUILD).configure.log 2>&1 || { cat $(BUILD).configure.log; exit 1; }
 	@cmake --build $(BUILD) -j $(JOBS)
+
+# The Python module in $(BUILD)/python (PYTHONPATH=$(BUILD)/python python3 -c 'import hemirad').
+python: build
+	@cmake --build $(BUILD) --target python -j $(JOBS)
 
 # The main job on the bundled Cornell box: F (hemisphere), solve, render out/cornell.png, timing table.
 demo: build

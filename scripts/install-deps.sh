@@ -10,6 +10,7 @@ packages=(
   libglfw3-dev libegl-dev libegl-mesa0 libgl-dev libosmesa6-dev libimgui-dev
   xvfb python3-matplotlib
   libopenmpi-dev openmpi-bin petsc-dev time
+  pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-setuptools
 )
 
 # `install-deps.sh fuzz` adds clang and its fuzzer/sanitizer runtime for `make fuzz`.

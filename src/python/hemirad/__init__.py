@@ -1,0 +1,251 @@
+"""Hemirad from Python: form factors as scipy sparse matrices, radiosity as numpy arrays.
+
+The same C++ library as the ``hemirad`` command (no second implementation)::
+
+    import hemirad
+    scene = hemirad.load("scenes/cornell_box.obj", subdivide=50)
+    F, report = hemirad.form_factors(scene, samples=1024)   # scipy.sparse.csr_array, float32
+    B, _ = hemirad.solve(scene, F)                          # (N, 3) numpy array, W/m^2
+    hemirad.render(scene, B, "cornell.png")
+
+Long computations release the GIL; ``progress(done, total, seconds)`` is called on the calling thread;
+Ctrl-C (KeyboardInterrupt) or an exception raised by ``progress`` stops the computation. Errors of
+the library (a malformed OBJ: ``file:line: message``) raise :class:`hemirad.Error`, a ValueError.
+"""
+
+import os as _os
+
+import numpy as _np
+import scipy.sparse as _sparse
+
+from . import _hemirad
+from ._hemirad import Error, Scene
+
+__all__ = ["Error", "Scene", "load", "form_factors", "solve", "read_form_factors", "write_form_factors",
+           "render", "methods", "solvers"]
+
+
+def methods():
+    """The form-factor back ends of this build: {name: {"summary", "not_built", "options"}}, where
+    options maps each keyword form_factors() takes for that method to its help, kind, choices and
+    default (the same settings as the command line's flags)."""
+    return _hemirad._backends()
+
+
+def solvers():
+    """The names solve() takes ("auto" first)."""
+    return _hemirad._solvers()
+
+
+def load(path, subdivide=0.0):
+    """Loads a Wavefront OBJ (+MTL) scene; every face is a patch.
+
+    subdivide: split patches until no edge exceeds this length (scene units; 0 = as modelled).
+    Returns a :class:`Scene`. Warnings of the loader (e.g. non-planar faces) go to
+    ``warnings.warn``. Raises :class:`Error` naming file and line for a malformed file.
+    """
+    subdivide = float(subdivide)
+    if not subdivide >= 0 or subdivide != subdivide or subdivide == float("inf"):
+        raise ValueError(f"subdivide: expected a finite length >= 0, got {subdivide!r}")
+    scene, messages = _hemirad._load(_os.fspath(path), subdivide)
+    if messages:
+        import warnings
+        for message in messages:
+            warnings.warn(message, stacklevel=2)
+    return scene
+
+
+def _ids(scene, ids):
+    array = _np.asarray(ids)
+    if array.dtype == bool or not (_np.issubdtype(array.dtype, _np.integer) or array.size == 0):
+        raise TypeError(f"ids: expected patch indices (integers), got dtype {array.dtype}")
+    return _np.ascontiguousarray(array.reshape(-1), dtype=_np.int64)
+
+
+def _values(name, values, count, width, low, high):
+    array = _np.asarray(values, dtype=float) if not isinstance(values, str) else None
+    if array is None or array.dtype == object:
+        raise TypeError(f"{name}: expected numbers, got {type(values).__name__}")
+    shape = (width,) if width > 1 else ()
+    if array.shape == shape:
+        array = _np.broadcast_to(array, (count,) + shape)
+    if array.shape != (count,) + shape:
+        raise ValueError(f"{name}: expected shape {shape or '()'} or {(count,) + shape}, got {array.shape}")
+    if not _np.all(_np.isfinite(array)) or _np.any(array < low) or _np.any(array > high):
+        raise ValueError(f"{name}: values must lie in [{low}, {high}]")
+    return _np.ascontiguousarray(array, dtype=float)
+
+
+def _set_emission(self, ids, rgb):
+    """Sets the emission E (W/m^2, RGB >= 0) of patches ``ids`` (one RGB for all, or one per id)."""
+    ids = _ids(self, ids)
+    self._set("emission", ids, _values("rgb", rgb, len(ids), 3, 0.0, float("inf")))
+
+
+def _set_rho(self, ids, rgb):
+    """Sets the diffuse reflectance rho (RGB in [0, 1]) of patches ``ids``; rho + specular <= 1."""
+    ids = _ids(self, ids)
+    self._set("rho", ids, _values("rgb", rgb, len(ids), 3, 0.0, 1.0))
+
+
+def _set_specular(self, ids, s):
+    """Sets the mirror reflectance s (in [0, 1]) of patches ``ids``; rho + s <= 1. F depends on it:
+    an F computed before no longer belongs to the scene (its scene hash changes)."""
+    ids = _ids(self, ids)
+    self._set("specular", ids, _values("s", s, len(ids), 1, 0.0, 1.0))
+
+
+def _save(self, path):
+    """Writes the scene as OBJ + MTL (same stem, .mtl), edits included, atomically."""
+    self._save(_os.fspath(path))
+
+
+Scene.set_emission = _set_emission
+Scene.set_rho = _set_rho
+Scene.set_specular = _set_specular
+Scene.save = _save
+Scene.__repr__ = lambda self: f"<hemirad.Scene {self.path!r}: {len(self)} patches>"
+
+
+def _option_text(method, name, value):
+    options = methods()[method]["options"]
+    if name not in options:
+        known = ", ".join(sorted(options)) or "none"
+        raise TypeError(f"form_factors(): method {method!r} takes no option {name!r} (it takes {known})")
+    kind = options[name]["kind"]
+    if kind == "switch":
+        if not isinstance(value, (bool, _np.bool_)):
+            raise TypeError(f"{name}: expected True or False, got {value!r}")
+        return "yes" if value else "no"
+    if kind == "integer":
+        if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
+            raise TypeError(f"{name}: expected an integer, got {value!r}")
+        return str(int(value))
+    if not isinstance(value, str):
+        raise TypeError(f"{name}: expected one of {options[name]['choices']}, got {value!r}")
+    return value
+
+
+def _csr(arrays, n):
+    indptr, indices, data = arrays[:3]
+    return _sparse.csr_array((data, indices, indptr), shape=(n, n), copy=False)
+
+
+def _check_scene(scene, name="scene"):
+    if not isinstance(scene, Scene):
+        raise TypeError(f"{name}: expected a hemirad.Scene (from hemirad.load), got {type(scene).__name__}")
+
+
+def form_factors(scene, method="hemisphere", *, max_depth=8, threads=0, all_rows=False,
+                 enforce_reciprocity=False, normalize_rows=False, memory_check=True, progress=None,
+                 **options):
+    """Computes the form-factor matrix F of ``scene``.
+
+    method: a back end of :func:`methods` ("hemisphere", "hemicube"). Its own options are keywords
+    named as its command-line flags: hemisphere ``samples=3072, origins=1, estimator="auto", ...``,
+    hemicube ``resolution=256, ...``; an option the method does not take raises TypeError.
+    max_depth: mirror reflections followed; threads: worker threads (0: all cores);
+    all_rows: also rows of black patches (skipped by default: their B is their E);
+    enforce_reciprocity, normalize_rows: as the command line's flags; memory_check: refuse an F
+    that would not fit in memory; progress: ``progress(rows_done, rows_total, seconds)``.
+
+    Returns ``(F, report)``: F a ``scipy.sparse.csr_array`` of float32 (row i = emitter, F[i, j] the
+    fraction of i's power reaching j), sharing the library's memory (no copy); report a dict of the
+    diagnostics the command line prints (row sums, reciprocity, lost power, rays and rays/s,
+    seconds) plus ``computed`` (rows computed) and ``provenance`` (for write_form_factors).
+    """
+    _check_scene(scene)
+    if method not in methods():
+        raise ValueError(f"method: expected one of {sorted(methods())}, got {method!r}")
+    flags = {"--" + name.replace("_", "-"): _option_text(method, name, value) for name, value in options.items()}
+    if progress is not None and not callable(progress):
+        raise TypeError("progress: expected a callable progress(done, total, seconds)")
+    arrays, report = _hemirad._form_factors(scene, method, flags, int(max_depth), int(threads), bool(all_rows),
+                                            bool(enforce_reciprocity), bool(normalize_rows), bool(memory_check),
+                                            progress)
+    report["computed"] = arrays[3]
+    return _csr(arrays, len(scene)), report
+
+
+def _canonical(F, n, name="F"):
+    """F as CSR arrays the library takes: int64 row pointers, int32 sorted unique columns, float32."""
+    if not (_sparse.issparse(F) or isinstance(F, _np.ndarray)):
+        raise TypeError(f"{name}: expected a scipy sparse matrix or a numpy array, got {type(F).__name__}")
+    if F.shape != (n, n):
+        raise ValueError(f"{name}: expected shape ({n}, {n}) for a scene of {n} patches, got {F.shape}")
+    F = _sparse.csr_array(F)
+    if not F.has_canonical_format:
+        F = F.copy()
+        F.sum_duplicates()
+    return (_np.ascontiguousarray(F.indptr, dtype=_np.int64), _np.ascontiguousarray(F.indices, dtype=_np.int32),
+            _np.ascontiguousarray(F.data, dtype=_np.float32))
+
+
+def solve(scene, F, solver="auto", tolerance=1e-6, *, max_iterations=100000, allow_unconverged=False,
+          progress=None):
+    """Solves the radiosity system B = E + rho F B per RGB channel.
+
+    F: any scipy sparse matrix (or numpy array) of shape (N, N), e.g. form_factors()'s, post-processed
+    as you like; values must be finite, >= 0, and rows sum to at most 1 (1 / (1 - s_max) with mirrors).
+    solver: one of :func:`solvers` ("auto": LU up to 2000 patches, else an iterative solver).
+    progress: ``progress(sweep, max_iterations, seconds)`` for the iterative solvers.
+    Returns ``(B, report)``: B an (N, 3) float64 array in W/m^2; report["channels"] per solve.
+    Raises :class:`Error` when the solve does not converge (unless allow_unconverged).
+    """
+    _check_scene(scene)
+    if solver not in solvers():
+        raise ValueError(f"solver: expected one of {solvers()}, got {solver!r}")
+    if not 0 < float(tolerance) < 1:
+        raise ValueError(f"tolerance: expected a number in (0, 1), got {tolerance!r}")
+    indptr, indices, data = _canonical(F, len(scene))
+    return _hemirad._solve(scene, indptr, indices, data, solver, float(tolerance), int(max_iterations),
+                           bool(allow_unconverged), progress)
+
+
+def read_form_factors(path, scene=None, *, info=False):
+    """Reads F from an .hff file (checked: checksum, structure, values; a shard manifest too) or a
+    Matrix Market .mtx. With ``scene``, F must have been computed for it (scene hash), else
+    :class:`Error`. Returns F (csr_array, float32; with ``info=True``, ``(F, provenance)``)."""
+    if scene is not None:
+        _check_scene(scene)
+    arrays, provenance = _hemirad._read_form_factors(_os.fspath(path), scene)
+    F = _csr(arrays, len(arrays[3]))
+    return (F, provenance) if info else F
+
+
+def write_form_factors(path, F, scene, *, provenance=None):
+    """Writes F for ``scene`` atomically as .hff (checked binary) or .mtx (Matrix Market), by the
+    extension; "-" is standard output. The file records the scene's hash, so that reading it with
+    another scene fails. ``provenance``: form_factors()'s report["provenance"], to record how F was
+    computed."""
+    _check_scene(scene)
+    indptr, indices, data = _canonical(F, len(scene))
+    if provenance is not None and not isinstance(provenance, dict):
+        raise TypeError("provenance: expected the dict form_factors() reported")
+    _hemirad._write_form_factors(_os.fspath(path), scene, indptr, indices, data, provenance)
+
+
+def render(scene, B, path, *, camera=None, size=(640, 640), spp=4, exposure=0.0, flat=False, crease=45.0,
+           threads=0):
+    """Renders the solved ``scene`` to a PNG with camera rays: Gouraud radiosity (vertex values
+    averaged over patches within ``crease`` degrees), mirrors showing what they reflect.
+
+    camera: (eye_x, eye_y, eye_z, target_x, target_y, target_z, fov_degrees), default the scene's
+    own or one that frames it; size: (width, height); exposure: 0 = automatic.
+    Returns a dict with the exposure used.
+    """
+    _check_scene(scene)
+    B = _np.asarray(B, dtype=float)
+    if B.shape != (len(scene), 3):
+        raise ValueError(f"B: expected shape ({len(scene)}, 3), got {B.shape}")
+    if camera is not None:
+        camera = [float(v) for v in camera]
+        if len(camera) != 7:
+            raise ValueError("camera: expected 7 numbers (eye, target, vertical field of view in degrees)")
+    width, height = (int(v) for v in size)
+    if not (0 < width <= 16384 and 0 < height <= 16384):
+        raise ValueError(f"size: expected (width, height) in 1..16384, got {size!r}")
+    if int(spp) < 1:
+        raise ValueError(f"spp: expected >= 1, got {spp!r}")
+    return _hemirad._render(scene, _np.ascontiguousarray(B), _os.fspath(path), camera, width, height, int(spp),
+                            float(exposure), bool(flat), float(crease), int(threads))

@@ -1,0 +1,419 @@
+// hemirad._hemirad: the C++ library seen from Python. A thin layer over the pipeline, the back-end and
+// solver registries and the F files; hemirad/__init__.py turns its arrays into scipy/numpy objects.
+#include "engine/error.hpp"
+#include "engine/form_factor_file.hpp"
+#include "engine/obj_writer.hpp"
+#include "engine/result_writer.hpp"
+#include "engine/vertex_radiosity.hpp"
+#include "pipeline/radiosity_pipeline.hpp"
+#include "python/release_gil.hpp"
+#include "rays/ray_scene.hpp"
+#include "render/raytracer.hpp"
+#include "solve/solver_registry.hpp"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+namespace py = pybind11;
+
+namespace hemirad::python {
+namespace {
+
+using ScenePtr = std::shared_ptr<Scene>;
+
+/// A read-only numpy array of `rows` x `columns` doubles (columns 0: one dimension) filled by `value`.
+template <class T, class Value>
+py::array_t<T> patchArray(const Scene& scene, int columns, Value value) {
+    std::vector<py::ssize_t> shape = {py::ssize_t(scene.size())};
+    if (columns > 0) shape.push_back(columns);
+    py::array_t<T> array(shape);
+    T* out = array.mutable_data();
+    const int width = std::max(columns, 1);
+    for (std::size_t i = 0; i < scene.size(); ++i)
+        for (int c = 0; c < width; ++c) out[i * width + c] = value(scene.patches[i], c);
+    array.attr("setflags")(py::arg("write") = false);
+    return array;
+}
+
+/// F's CSR arrays handed to numpy without a copy: the FormFactors lives as long as any array does.
+py::tuple csrArrays(FormFactors&& F) {
+    auto* owner = new FormFactors(std::move(F));
+    py::capsule base(owner, [](void* p) { delete static_cast<FormFactors*>(p); });
+    const py::ssize_t n = py::ssize_t(owner->size()), nnz = py::ssize_t(owner->nonZeros());
+    // Columns are below 2^28 (the patch cap), so uint32 reads as int32, which scipy takes.
+    py::array indptr(py::dtype::of<std::int64_t>(), {n + 1}, {}, owner->rowStarts().data(), base);
+    py::array indices(py::dtype::of<std::int32_t>(), {nnz}, {}, owner->columns(), base);
+    py::array data(py::dtype::of<float>(), {nnz}, {}, owner->values(), base);
+    py::array computed(py::dtype::of<bool>(), {n}, {}, owner->computedFlags().data(), base);
+    for (py::array* a : {&indptr, &indices, &data, &computed}) a->attr("setflags")(py::arg("write") = false);
+    return py::make_tuple(indptr, indices, data, computed);
+}
+
+/// The largest row sum physics allows on `scene`: 1, or 1 / (1 - s_max) with mirrors.
+double physicalRowSumBound(const Scene& scene) {
+    double s = 0;
+    for (const Patch& p : scene.patches) s = std::max(s, p.specular);
+    return s > 0 ? 1.0 / (1.0 - std::min(s, 0.999999)) : 1.0;
+}
+
+/// A FormFactors from canonical CSR arrays (copied once), checked like a file: structure, values, row
+/// sums against `rowSumBound`. Throws hemirad::Error naming `argument`.
+FormFactors fromArrays(py::array_t<std::int64_t, py::array::c_style> indptr,
+                       py::array_t<std::int32_t, py::array::c_style> indices,
+                       py::array_t<float, py::array::c_style> data, std::size_t n, const std::string& argument) {
+    if (std::size_t(indptr.size()) != n + 1) throw Error(argument + ": indptr has the wrong length");
+    const std::int64_t* rowStart = indptr.data();
+    const std::int64_t nnz = std::int64_t(indices.size());
+    if (data.size() != indices.size() || rowStart[0] != 0 || rowStart[n] != nnz)
+        throw Error(argument + ": inconsistent CSR arrays");
+    std::vector<std::uint64_t> starts(n + 1);
+    std::vector<std::uint32_t> columns(static_cast<std::size_t>(nnz));
+    for (std::size_t i = 0; i < n; ++i) {
+        if (rowStart[i + 1] < rowStart[i]) throw Error(argument + ": row pointers decrease at row " + std::to_string(i));
+        for (std::int64_t k = rowStart[i]; k < rowStart[i + 1]; ++k) {
+            const std::int32_t j = indices.data()[k];
+            if (j < 0 || std::size_t(j) >= n || (k > rowStart[i] && j <= indices.data()[k - 1]))
+                throw Error(argument + ": row " + std::to_string(i) + " has a column out of range or out of order");
+            columns[std::size_t(k)] = std::uint32_t(j);
+        }
+        starts[i + 1] = std::uint64_t(rowStart[i + 1]);
+    }
+    std::vector<float> values(data.data(), data.data() + nnz);
+    return FormFactors::fromCsr(std::move(starts), std::move(columns), std::move(values), std::vector<std::uint8_t>(n, 1));
+}
+
+/// Every F handed in from Python: the scene's hash, provenance unknown, bounded by physics.
+FormFactors formFactorsFor(const Scene& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
+                           py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
+                           const std::string& argument) {
+    FormFactors F = fromArrays(indptr, indices, data, scene.size(), argument);
+    F.sceneHash = scene.geometryHash();
+    F.provenance.rowSumBound = physicalRowSumBound(scene);
+    validateFormFactors(F, scene.size(), argument, rowSumBound(F));
+    return F;
+}
+
+py::dict statsDict(const FormFactorStats& s) {
+    py::dict d;
+    d["computed_rows"] = s.computedRows;
+    d["nonzeros"] = s.nonZeros;
+    d["row_sum_min"] = s.rowSumMin;
+    d["row_sum_mean"] = s.rowSumMean;
+    d["row_sum_max"] = s.rowSumMax;
+    d["reciprocity_max"] = s.reciprocityMax;
+    d["reciprocity_mean"] = s.reciprocityMean;
+    d["self_factors"] = s.selfFactors;
+    return d;
+}
+
+/// What the CLI prints about a computation, as numbers.
+py::dict runDict(const FormFactorRun& run, const Scene& scene, const MethodSettings& method) {
+    const BackendDescriptor& backend = findBackend(method.method);
+    const RunDescription description = backend.describe(scene, method);
+    const RayCounts& c = run.counts;
+    const double rows = double(std::max<std::size_t>(run.rowsComputed, 1));
+    py::dict d;
+    d["method"] = backend.name;
+    d["settings"] = description.settings;
+    for (const auto& [key, value] : description.record) d[py::str(key)] = value;
+    d["rows_computed"] = run.rowsComputed;
+    d["rows_skipped"] = run.rowsSkipped;
+    d[py::str(backend.workUnit)] = c.rays;
+    d[py::str(backend.workUnit + "_per_s")] = run.computeSeconds > 0 ? double(c.rays) / run.computeSeconds : 0.0;
+    d["lost_fraction"] = c.lostWeight / rows;
+    d["misses"] = c.misses;
+    d["back_faces"] = c.backfaces;
+    d["mirror_bounces"] = c.bounces;
+    d["cutoff_fraction"] = c.cutoffWeight / rows;
+    d["rescaled_rows"] = c.rescaledRows;
+    py::dict seconds;
+    seconds["prepare"] = run.prepareSeconds;
+    seconds["compute"] = run.computeSeconds;
+    seconds["statistics"] = run.statsSeconds;
+    d["seconds"] = seconds;
+    return d;
+}
+
+py::dict provenanceDict(const FormFactors& F) {
+    py::dict d;
+    d["method"] = F.provenance.method;
+    d["estimator"] = F.provenance.estimator;
+    d["row_sum_bound"] = F.provenance.rowSumBound;
+    d["scene_hash"] = F.provenance.sceneHashKnown ? hexHash(F.sceneHash) : std::string();
+    d["parameters"] = F.parameters;
+    return d;
+}
+
+py::tuple formFactors(const ScenePtr& scene, const std::string& method, const std::map<std::string, std::string>& options,
+                      std::uint32_t maxDepth, int threads, bool allRows, bool enforceReciprocity, bool normalizeRows,
+                      bool memoryCheck, const py::object& progress) {
+    FormFactorPolicy policy;
+    policy.backend = defaultSettings(method);
+    for (const auto& [flag, value] : options) setBackendOption(policy.backend, flag, value);
+    policy.backend.common.maxDepth = maxDepth;
+    policy.backend.common.threads = threads;
+    policy.allRows = allRows;
+    policy.enforceReciprocity = enforceReciprocity;
+    policy.normalizeRows = normalizeRows;
+    policy.memoryCheck = memoryCheck;
+    policy.statistics = true;
+    WorkerLink link;
+    py::dict report;
+    py::list messages;
+    std::optional<FormFactorRun> computed;  // its F moved out: counts and times only
+    PipelineEvents events;
+    events.cancel = link.cancelFlag();
+    events.progress = [&link](const std::string&, double, const std::string&) { return link.progress(); };
+    events.formFactorsComputed = [&](const FormFactorRun& run, const Scene&, const MethodSettings&) {
+        computed.emplace();
+        computed->counts = run.counts;
+        computed->prepareSeconds = run.prepareSeconds;
+        computed->computeSeconds = run.computeSeconds;
+        computed->statsSeconds = run.statsSeconds;
+        computed->rowsComputed = run.rowsComputed;
+        computed->rowsSkipped = run.rowsSkipped;
+    };
+    std::vector<std::string> lines;
+    events.message = [&lines](const std::string& text) { lines.push_back(text); };
+    const RadiosityPipeline pipeline(policy, std::move(events));
+    FormFactorUpdate update =
+        link.run<FormFactorUpdate>([&] { return pipeline.updateFormFactors(*scene, FormFactors{}); }, progress);
+    if (computed) report = runDict(*computed, *scene, policy.backend);
+    if (update.stats) report.attr("update")(statsDict(*update.stats));
+    report["provenance"] = provenanceDict(update.F);
+    report["memory_bytes"] = update.F.memoryBytes();
+    for (const std::string& line : lines) messages.append(line);
+    report["messages"] = messages;
+    return py::make_tuple(csrArrays(std::move(update.F)), report);
+}
+
+py::tuple solve(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
+                py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
+                const std::string& solverName, double tolerance, int maxIterations, bool allowUnconverged,
+                const py::object& progress) {
+    const FormFactors F = formFactorsFor(*scene, indptr, indices, data, "F");
+    SolverOptions options;
+    options.solver = solverName;
+    options.tolerance = tolerance;
+    options.maxIterations = maxIterations;
+    options.allowUnconverged = allowUnconverged;
+    WorkerLink link;
+    const auto started = std::chrono::steady_clock::now();
+    options.progress = [&link, &options, started](int sweep, const std::vector<Rgb>&) {
+        if (link.cancelled()) throw Error("solve: cancelled");
+        link.progress()(std::size_t(sweep), std::size_t(options.maxIterations),
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+    };
+    const RadiosityPipeline pipeline(FormFactorPolicy{}, PipelineEvents{});
+    const Radiosity result = link.run<Radiosity>([&] { return pipeline.solve(*scene, F, options); }, progress);
+    py::array_t<double> B({py::ssize_t(scene->size()), py::ssize_t(3)});
+    for (std::size_t i = 0; i < scene->size(); ++i)
+        for (int c = 0; c < 3; ++c) B.mutable_at(i, c) = result.B[i][c];
+    py::list reports;
+    for (const SolveReport& r : result.reports) {
+        py::dict d;
+        d["solver"] = r.solver;
+        d["channels"] = r.channels;
+        d["converged"] = r.converged;
+        d["iterations"] = r.iterations;
+        d["residual"] = r.residual;
+        d["residual_original"] = r.residualOriginal;
+        d["seconds"] = r.seconds;
+        d["note"] = r.note;
+        reports.append(d);
+    }
+    py::dict report;
+    report["channels"] = reports;
+    return py::make_tuple(B, report);
+}
+
+py::tuple readFormFactors(const std::string& path, const py::object& scene) {
+    FormFactors F = [&] {
+        py::gil_scoped_release release;
+        return loadFormFactors(path);
+    }();
+    if (!scene.is_none()) {
+        const Scene& s = *scene.cast<ScenePtr>();
+        checkFormFactorsMatch(F, s.geometryHash(), s.size(), path);
+    }
+    py::dict info = provenanceDict(F);
+    return py::make_tuple(csrArrays(std::move(F)), info);
+}
+
+void writeFormFactors(const std::string& path, const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
+                      py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
+                      const py::object& provenance) {
+    FormFactors F = formFactorsFor(*scene, indptr, indices, data, "F");
+    if (!provenance.is_none()) {  // as form_factors() reported it: the file says how F was made
+        const py::dict d = provenance.cast<py::dict>();
+        F.provenance.method = d["method"].cast<std::string>();
+        F.provenance.estimator = d["estimator"].cast<std::string>();
+        F.provenance.rowSumBound = std::max(1.0, d["row_sum_bound"].cast<double>());
+        F.parameters = d["parameters"].cast<std::map<std::string, std::string>>();
+        validateFormFactors(F, scene->size(), "F", rowSumBound(F));
+    } else {
+        F.parameters["written_by"] = "the hemirad Python module (F given as a matrix: how it was made is unknown)";
+    }
+    py::gil_scoped_release release;
+    saveFormFactors(F, path);
+}
+
+py::dict render(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> B,
+                const std::string& path, const std::optional<std::vector<double>>& camera, int width, int height,
+                int samplesPerPixel, double exposure, bool flat, double crease, int threads) {
+    const std::size_t n = scene->size();
+    if (B.ndim() != 2 || std::size_t(B.shape(0)) != n || B.shape(1) != 3)
+        throw py::value_error("B: expected shape (" + std::to_string(n) + ", 3), got another");
+    std::vector<Rgb> radiosity(n);
+    for (std::size_t i = 0; i < n; ++i) radiosity[i] = Rgb(B.at(i, 0), B.at(i, 1), B.at(i, 2));
+    requireFinite(radiosity, "B");
+    RenderOptions options;
+    options.width = width;
+    options.height = height;
+    options.samplesPerPixel = samplesPerPixel;
+    options.flat = flat;
+    options.camera = defaultCamera(*scene);
+    if (camera) {
+        const std::vector<double>& c = *camera;
+        options.camera.eye = Vec3(c[0], c[1], c[2]);
+        options.camera.target = Vec3(c[3], c[4], c[5]);
+        options.camera.fovY = c[6];
+    }
+    double scale = 0;
+    {
+        py::gil_scoped_release release;
+        const std::vector<Rgb> corner = cornerRadiosity(*scene, radiosity, crease);
+        const RayScene rays(*scene, threads);
+        const RadianceImage image = renderRadiance(*scene, rays, radiosity, corner, options);
+        writePng(path, image.width, image.height, toneMap(image, exposure, scale));
+    }
+    py::dict report;
+    report["exposure"] = scale;
+    report["size"] = py::make_tuple(width, height);
+    return report;
+}
+
+/// ids (int64) and values (k x 3 or k) already checked by the Python side: shapes and ranges.
+void setPatchValues(Scene& scene, const std::string& what, py::array_t<std::int64_t, py::array::c_style> ids,
+                    py::array_t<double, py::array::c_style> values) {
+    const std::size_t k = std::size_t(ids.size());
+    const int width = what == "specular" ? 1 : 3;
+    if (std::size_t(values.size()) != k * std::size_t(width)) throw py::value_error(what + ": one value per id expected");
+    // Checked in full before anything changes: a refused edit leaves the scene as it was.
+    std::vector<Patch> edited;
+    for (std::size_t m = 0; m < k; ++m) {
+        const std::int64_t id = ids.data()[m];
+        if (id < 0 || std::size_t(id) >= scene.size())
+            throw py::index_error("ids: patch " + std::to_string(id) + " out of range [0, " + std::to_string(scene.size()) + ")");
+        Patch p = scene.patches[std::size_t(id)];
+        const double* v = values.data() + m * std::size_t(width);
+        if (what == "emission") p.emission = Rgb(v[0], v[1], v[2]);
+        else if (what == "rho") p.rho = Rgb(v[0], v[1], v[2]);
+        else p.specular = v[0];
+        if ((p.rho + Rgb::Constant(p.specular) > 1.0 + 1e-12).any())
+            throw py::value_error(what + ": patch " + std::to_string(id) +
+                                  " would reflect more than it receives (rho + specular > 1 in a channel)");
+        edited.push_back(p);
+    }
+    for (std::size_t m = 0; m < k; ++m) scene.patches[std::size_t(ids.data()[m])] = edited[m];
+}
+
+}  // namespace
+}  // namespace hemirad::python
+
+PYBIND11_MODULE(_hemirad, m) {
+    using namespace hemirad;
+    using namespace hemirad::python;
+    m.doc() = "Hemirad's C++ library (use the hemirad package, which wraps it)";
+    static py::exception<Error> error(m, "Error", PyExc_ValueError);
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const Error& e) {
+            PyErr_SetString(error.ptr(), e.what());
+        }
+    });
+
+    py::class_<Scene, ScenePtr>(m, "Scene")
+        .def_property_readonly("path", [](const Scene& s) { return s.path; })
+        .def("__len__", &Scene::size)
+        .def_property_readonly("area", [](const Scene& s) { return patchArray<double>(s, 0, [](const Patch& p, int) { return p.area; }); })
+        .def_property_readonly("normal", [](const Scene& s) { return patchArray<double>(s, 3, [](const Patch& p, int c) { return p.normal[c]; }); })
+        .def_property_readonly("centroid", [](const Scene& s) { return patchArray<double>(s, 3, [](const Patch& p, int c) { return p.centroid[c]; }); })
+        .def_property_readonly("rho", [](const Scene& s) { return patchArray<double>(s, 3, [](const Patch& p, int c) { return p.rho[c]; }); })
+        .def_property_readonly("emission", [](const Scene& s) { return patchArray<double>(s, 3, [](const Patch& p, int c) { return p.emission[c]; }); })
+        .def_property_readonly("specular", [](const Scene& s) { return patchArray<double>(s, 0, [](const Patch& p, int) { return p.specular; }); })
+        .def_property_readonly("parent", [](const Scene& s) {
+            return patchArray<std::int64_t>(s, 0, [&s](const Patch& p, int) { return std::int64_t(s.parents[p.parent].sourcePatch); });
+        })
+        .def_property_readonly("object", [](const Scene& s) { return patchArray<std::int64_t>(s, 0, [](const Patch& p, int) { return std::int64_t(p.object); }); })
+        .def_property_readonly("object_names", [](const Scene& s) { return s.objects; })
+        .def_property_readonly("material_names", [](const Scene& s) {
+            std::vector<std::string> names;
+            for (const Patch& p : s.patches) names.push_back(p.material < s.materials.size() ? s.materials[p.material].name : "");
+            return names;
+        })
+        .def_property_readonly("scene_hash", [](const Scene& s) { return hexHash(s.geometryHash()); })
+        .def_property_readonly("has_mirrors", &Scene::hasMirrors)
+        .def("polygon", [](const Scene& s, std::size_t id) {
+            if (id >= s.size()) throw py::index_error("id: patch " + std::to_string(id) + " out of range");
+            const std::vector<Vec3> corners = s.polygon(PatchId(id));
+            py::array_t<double> out({py::ssize_t(corners.size()), py::ssize_t(3)});
+            for (std::size_t k = 0; k < corners.size(); ++k)
+                for (int c = 0; c < 3; ++c) out.mutable_at(k, c) = corners[k][c];
+            return out;
+        })
+        .def("_set", &setPatchValues)
+        .def("_save", [](const Scene& s, const std::string& path) { saveObj(s, path); });
+
+    m.def("_load", [](const std::string& path, double subdivide) {
+        std::vector<std::string> warnings;
+        Warnings sink([&warnings](const std::string& text) { warnings.push_back(text); });
+        ScenePtr scene;
+        {
+            py::gil_scoped_release release;
+            const RadiosityPipeline pipeline(FormFactorPolicy{}, PipelineEvents{});
+            scene = std::make_shared<Scene>(pipeline.load(path, subdivide, sink));
+        }
+        return py::make_tuple(scene, warnings);
+    });
+    m.def("_form_factors", &formFactors);
+    m.def("_solve", &solve);
+    m.def("_read_form_factors", &readFormFactors);
+    m.def("_write_form_factors", &writeFormFactors);
+    m.def("_render", &render);
+    m.def("_backends", [] {
+        py::dict out;
+        for (const BackendDescriptor* d : formFactorBackends()) {
+            py::dict entry;
+            entry["summary"] = d->summary;
+            entry["not_built"] = d->notBuilt;
+            py::dict options;
+            const MethodSettings defaults = d->notBuilt.empty() ? defaultSettings(d->name) : MethodSettings{};
+            for (const BackendOption& o : d->options) {
+                py::dict option;
+                option["flag"] = o.flag;
+                option["help"] = o.help;
+                option["kind"] = o.kind == OptionKind::Switch ? "switch" : o.kind == OptionKind::Integer ? "integer" : "choice";
+                option["choices"] = o.choices;
+                option["default"] = d->notBuilt.empty() ? py::cast(o.get(defaults)) : py::none();
+                std::string name = o.flag.substr(2);  // --fixed-directions: fixed_directions=
+                std::replace(name.begin(), name.end(), '-', '_');
+                options[py::str(name)] = option;
+            }
+            entry["options"] = options;
+            out[py::str(d->name)] = entry;
+        }
+        return out;
+    });
+    m.def("_solvers", [] {
+        std::vector<std::string> names = {"auto"};
+        for (const SolverDescriptor* d : solverRegistry()) names.push_back(d->name);
+        return names;
+    });
+}

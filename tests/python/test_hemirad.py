@@ -1,0 +1,235 @@
+"""The Python module against the command line and closed forms (run by ctest: make test)."""
+
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+import scipy.io
+import scipy.sparse
+
+import hemirad
+
+SOURCE = os.environ.get("HEMIRAD_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+BINARY = os.environ["HEMIRAD_BINARY"]
+
+
+def scene_path(name):
+    return os.path.join(SOURCE, "scenes", name)
+
+
+def cli(*arguments, cwd):
+    run = subprocess.run([BINARY, *arguments, "--quiet"], cwd=cwd, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    return run
+
+
+def csv_radiosity(path):
+    return np.loadtxt(path, delimiter=",", skiprows=1)[:, 9:12]
+
+
+@pytest.fixture(scope="module")
+def cornell():
+    """The Cornell box subdivided to 344 patches, and F as the CLI computes it."""
+    return hemirad.load(scene_path("cornell_box.obj"), subdivide=100)
+
+
+def test_form_factors_equal_the_cli_entry_by_entry(cornell, tmp_path):
+    for options, flags in [({"samples": 256}, ["--samples", "256"]),
+                           ({"estimator": "rays", "samples": 512, "origins": 2},
+                            ["--estimator", "rays", "--samples", "512", "--origins", "2"])]:
+        cli("formfactors", scene_path("cornell_box.obj"), "--subdivide", "100", "--threads", "1", *flags,
+            "-o", "F.mtx", cwd=tmp_path)
+        expected = scipy.sparse.csr_array(scipy.io.mmread(str(tmp_path / "F.mtx")))
+        F, report = hemirad.form_factors(cornell, threads=1, **options)
+        assert isinstance(F, scipy.sparse.csr_array) and F.dtype == np.float32
+        assert F.shape == (len(cornell), len(cornell)) and F.nnz == expected.nnz > 10000
+        assert np.array_equal(F.indptr, expected.indptr) and np.array_equal(F.indices, expected.indices)
+        assert np.array_equal(F.data, expected.data.astype(np.float32))  # %.9g: float32 exactly
+        assert report["rows_computed"] == len(cornell) and report["computed"].all()
+        assert 0.18 < report["lost_fraction"] < 0.2  # the open box
+        assert report["rays"] > 0 and report["rays_per_s"] > 0 and report["seconds"]["compute"] > 0
+        assert report["row_sum_max"] <= 1.001 and report["nonzeros"] == F.nnz
+
+
+def test_closed_forms_unit_cube_and_plates():
+    cube = hemirad.load(scene_path("unit_cube.obj"))
+    F, _ = hemirad.form_factors(cube)
+    dense = F.toarray()
+    opposite, adjacent = 0.1998248957, 0.2000437761
+    for i in range(6):
+        others = np.sort(np.delete(dense[i], i))  # one opposite face, four adjacent ones
+        assert abs(others[0] - opposite) < 1e-6 and np.all(np.abs(others[1:] - adjacent) < 1e-6)
+    plates = hemirad.load(scene_path("parallel_plates.obj"))
+    F, _ = hemirad.form_factors(plates)
+    assert abs(F[0, 1] - 0.199825) < 1e-5 and abs(F[1, 0] - 0.199825) < 1e-5
+    perpendicular = hemirad.load(scene_path("perpendicular_plates.obj"))
+    F, _ = hemirad.form_factors(perpendicular, origins=16)
+    assert abs(F[0, 1] - 0.232853) < 2e-4 and abs(F[1, 0] - 0.116426) < 1e-4
+
+
+def test_solve_matches_the_cli_csv_and_takes_any_sparse_matrix(cornell, tmp_path):
+    cli("solve", scene_path("cornell_box.obj"), "--subdivide", "100", "--samples", "256", "--threads", "1",
+        "-o", "B.csv", cwd=tmp_path)
+    expected = csv_radiosity(tmp_path / "B.csv")
+    F, _ = hemirad.form_factors(cornell, samples=256, threads=1)
+    B, report = hemirad.solve(cornell, F)
+    assert B.shape == (len(cornell), 3) and B.dtype == np.float64
+    assert np.max(np.abs(B - expected) / np.maximum(np.abs(expected), 1e-6)) < 1e-8  # the CSV's 9 digits
+    assert all(r["converged"] for r in report["channels"])
+    # Post-processed by the user in float64 COO, solved by an iterative solver.
+    B2, _ = hemirad.solve(cornell, scipy.sparse.coo_matrix(F.astype(np.float64)), solver="bicgstab", tolerance=1e-12)
+    assert np.max(np.abs(B2 - expected) / np.maximum(np.abs(expected), 1e-6)) < 1e-7
+
+
+def test_file_round_trips_and_scene_hash_checks(cornell, tmp_path):
+    F, report = hemirad.form_factors(cornell, samples=256)
+    for name in ("F.hff", "F.mtx"):
+        path = tmp_path / name
+        hemirad.write_form_factors(path, F, cornell, provenance=report["provenance"])
+        G, info = hemirad.read_form_factors(path, cornell, info=True)
+        assert (G != F).nnz == 0 and G.dtype == np.float32
+        assert info["method"] == "hemisphere" and info["scene_hash"] == cornell.scene_hash
+    # The CLI reads what Python wrote.
+    assert subprocess.run([BINARY, "info", str(tmp_path / "F.hff")], capture_output=True).returncode == 0
+    # A scene whose mirrors changed is another scene for F.
+    edited = hemirad.load(scene_path("cornell_box.obj"), subdivide=100)
+    edited.set_rho([0], [0.0, 0.0, 0.0])
+    edited.set_specular([0], 0.9)
+    assert edited.scene_hash != cornell.scene_hash
+    with pytest.raises(hemirad.Error, match="computed for another scene"):
+        hemirad.read_form_factors(tmp_path / "F.hff", edited)
+    (tmp_path / "bad.hff").write_bytes((tmp_path / "F.hff").read_bytes()[:-9])
+    with pytest.raises(hemirad.Error, match="bad.hff: truncated"):
+        hemirad.read_form_factors(tmp_path / "bad.hff")
+
+
+def test_scene_arrays_edits_and_save(tmp_path):
+    scene = hemirad.load(scene_path("cornell_box.obj"))
+    assert len(scene) == 20 and scene.area.shape == (20,) and scene.normal.shape == (20, 3)
+    assert np.allclose(np.linalg.norm(scene.normal, axis=1), 1)
+    assert scene.emission.max() > 0 and scene.rho.shape == (20, 3) and scene.parent.tolist() == list(range(20))
+    with pytest.raises(ValueError):
+        scene.area[0] = 1  # read-only
+    light = int(np.argmax(scene.emission[:, 0]))
+    scene.set_emission([light], [1.0, 2.0, 3.0])
+    scene.set_rho(np.arange(3), [[0.1, 0.2, 0.3]] * 3)
+    scene.set_rho([5], [0.2, 0.2, 0.2])
+    scene.set_specular([5], 0.5)
+    assert scene.emission[light].tolist() == [1.0, 2.0, 3.0] and scene.rho[2].tolist() == [0.1, 0.2, 0.3]
+    scene.save(tmp_path / "edited.obj")
+    again = hemirad.load(tmp_path / "edited.obj")
+    assert again.scene_hash == scene.scene_hash
+    assert np.array_equal(again.rho, scene.rho) and np.array_equal(again.emission, scene.emission)
+    sub = hemirad.load(scene_path("cornell_box.obj"), subdivide=100)
+    assert len(sub) == 344 and set(sub.parent.tolist()) == set(range(20))
+
+
+def test_bad_arguments_name_themselves(cornell):
+    with pytest.raises(hemirad.Error, match=r"face_garbage_index\.obj:6: face vertex '3x' is not an index"):
+        hemirad.load(os.path.join(SOURCE, "tests", "data", "malformed", "face_garbage_index.obj"))
+    assert issubclass(hemirad.Error, ValueError)
+    with pytest.raises(hemirad.Error, match="missing.obj"):
+        hemirad.load("missing.obj")
+    with pytest.raises(ValueError, match=r"F: expected shape \(344, 344\)"):
+        hemirad.solve(cornell, scipy.sparse.eye(3))
+    with pytest.raises(TypeError, match="F: expected a scipy sparse matrix"):
+        hemirad.solve(cornell, [[1]])
+    with pytest.raises(TypeError, match="takes no option 'resolution'"):
+        hemirad.form_factors(cornell, resolution=64)
+    with pytest.raises(TypeError, match="samples: expected an integer"):
+        hemirad.form_factors(cornell, samples=3.5)
+    with pytest.raises(hemirad.Error, match="--samples"):
+        hemirad.form_factors(cornell, samples=0)
+    with pytest.raises(ValueError, match="method: expected one of"):
+        hemirad.form_factors(cornell, method="radiosity")
+    with pytest.raises(ValueError, match=r"rgb: expected shape \(3,\)"):
+        cornell.set_emission([0], [1, 2])
+    with pytest.raises(TypeError, match="ids: expected patch indices"):
+        cornell.set_emission([0.5], [1, 2, 3])
+    with pytest.raises(IndexError, match="ids: patch 344 out of range"):
+        cornell.set_rho([344], [0.5, 0.5, 0.5])
+    with pytest.raises(ValueError, match="rho \\+ specular > 1"):
+        cornell.set_specular([1, 0], [0.1, 0.9])  # rho 0.73 + 0.9 on patch 0
+    assert cornell.specular[:2].tolist() == [0.0, 0.0]  # a refused edit changes nothing
+    with pytest.raises(hemirad.Error, match="F: row 0"):
+        hemirad.solve(cornell, scipy.sparse.csr_array(np.full((344, 344), 0.01)))  # rows sum to 3.44
+    with pytest.raises(ValueError, match=r"B: expected shape \(344, 3\)"):
+        hemirad.render(cornell, np.zeros(5), "x.png")
+
+
+def test_the_gil_is_released_while_f_runs():
+    scene = hemirad.load(scene_path("cornell_box.obj"), subdivide=40)  # 1,934 patches, ~1 s
+    ticks = []
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.005)
+
+    thread = threading.Thread(target=count)
+    thread.start()
+    started = time.perf_counter()
+    hemirad.form_factors(scene, threads=1)
+    elapsed = time.perf_counter() - started
+    stop.set()
+    thread.join()
+    during = [t for t in ticks if started <= t <= started + elapsed]
+    assert elapsed > 0.2
+    assert len(during) > 0.3 * elapsed / 0.005  # the other thread kept running
+
+
+def test_progress_is_called_and_an_exception_in_it_stops_the_computation():
+    scene = hemirad.load(scene_path("cornell_box.obj"), subdivide=40)
+    calls = []
+    F, _ = hemirad.form_factors(scene, threads=1, progress=lambda *a: calls.append((threading.get_ident(), a)))
+    assert calls and all(ident == threading.get_ident() for ident, _ in calls)  # on the calling thread
+    assert calls[-1][1][0] == calls[-1][1][1] == len(scene)
+
+    seen = []
+
+    def stop_early(done, total, seconds):
+        seen.append(done)
+        raise RuntimeError("enough")
+
+    started = time.perf_counter()
+    with pytest.raises(RuntimeError, match="enough"):
+        hemirad.form_factors(scene, threads=1, progress=stop_early)
+    assert len(seen) == 1 and seen[0] < len(scene)
+    assert time.perf_counter() - started < 0.8 * (calls[-1][1][2] + 0.5)
+    F2, _ = hemirad.form_factors(scene, threads=1)  # the module is still usable
+    assert (F2 != F).nnz == 0
+
+
+def test_ctrl_c_cancels_a_running_computation():
+    scene = hemirad.load(scene_path("cornell_box.obj"), subdivide=40)
+    timer = threading.Timer(0.2, lambda: signal.pthread_kill(threading.main_thread().ident, signal.SIGINT))
+    started = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        hemirad.form_factors(scene, threads=1)
+    assert time.perf_counter() - started < 0.9
+    timer.join()
+
+
+def test_render_writes_a_png(cornell, tmp_path):
+    F, _ = hemirad.form_factors(cornell, samples=256)
+    B, _ = hemirad.solve(cornell, F)
+    report = hemirad.render(cornell, B, tmp_path / "image.png", size=(48, 32))
+    assert report["exposure"] > 0
+    data = (tmp_path / "image.png").read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and int.from_bytes(data[16:20], "big") == 48
+
+
+def test_the_example_runs(tmp_path):
+    example = os.path.join(SOURCE, "examples", "room_view_factors.py")
+    run = subprocess.run([sys.executable, example, "--out", str(tmp_path), "--divisions", "4"],
+                         capture_output=True, text=True, env=dict(os.environ, MPLBACKEND="Agg"))
+    assert run.returncode == 0, run.stderr
+    assert "floor -> ceiling" in run.stdout
+    assert (tmp_path / "room_radiosity.png").read_bytes()[:4] == b"\x89PNG"
