@@ -210,6 +210,7 @@ def main():
     md += script_section("mpi_scaling.md", "bash bench/mpi_scaling.sh build 3072", "street64k across MPI ranks (issue 10)")
     md += script_section("auto_solver.md", "bash bench/auto_solver.sh build")
     md += script_section("mpi_street_tiled.md", "bash bench/mpi_street_tiled.sh build 3072")
+    md += script_section("python_overhead.md", "bash bench/python_overhead.sh build")
 
     def total_seconds(path):
         try:

@@ -66,6 +66,9 @@ bash bench/mpi_scaling.sh "$build"
 step "what --solver auto picks above 2000 patches: Gauss-Seidel or Jacobi by thread count"
 bash bench/auto_solver.sh "$build"
 
+step "the Python module's overhead over the CLI: cornell13k F and solve"
+bash bench/python_overhead.sh "$build"
+
 step "the scale-out job: street64k x 4 (~250k patches) on 2 MPI ranks, F sharded"
 bash bench/mpi_street_tiled.sh "$build"
 

@@ -40,10 +40,14 @@ py::array_t<T> patchArray(const Scene& scene, int columns, Value value) {
     return array;
 }
 
+constexpr const char* kOwnerName = "hemirad.FormFactors";
+
 /// F's CSR arrays handed to numpy without a copy: the FormFactors lives as long as any array does.
 py::tuple csrArrays(FormFactors&& F) {
     auto* owner = new FormFactors(std::move(F));
-    py::capsule base(owner, [](void* p) { delete static_cast<FormFactors*>(p); });
+    py::capsule base(owner, kOwnerName, [](PyObject* capsule) {
+        delete static_cast<FormFactors*>(PyCapsule_GetPointer(capsule, kOwnerName));
+    });
     const py::ssize_t n = py::ssize_t(owner->size()), nnz = py::ssize_t(owner->nonZeros());
     // Columns are below 2^28 (the patch cap), so uint32 reads as int32, which scipy takes.
     py::array indptr(py::dtype::of<std::int64_t>(), {n + 1}, {}, owner->rowStarts().data(), base);
@@ -73,29 +77,64 @@ FormFactors fromArrays(py::array_t<std::int64_t, py::array::c_style> indptr,
         throw Error(argument + ": inconsistent CSR arrays");
     std::vector<std::uint64_t> starts(n + 1);
     std::vector<std::uint32_t> columns(static_cast<std::size_t>(nnz));
+    const std::int32_t* column = indices.data();  // raw pointers: array_t::data() is not free per entry
     for (std::size_t i = 0; i < n; ++i) {
         if (rowStart[i + 1] < rowStart[i]) throw Error(argument + ": row pointers decrease at row " + std::to_string(i));
         for (std::int64_t k = rowStart[i]; k < rowStart[i + 1]; ++k) {
-            const std::int32_t j = indices.data()[k];
-            if (j < 0 || std::size_t(j) >= n || (k > rowStart[i] && j <= indices.data()[k - 1]))
+            const std::int32_t j = column[k];
+            if (j < 0 || std::size_t(j) >= n || (k > rowStart[i] && j <= column[k - 1]))
                 throw Error(argument + ": row " + std::to_string(i) + " has a column out of range or out of order");
             columns[std::size_t(k)] = std::uint32_t(j);
         }
         starts[i + 1] = std::uint64_t(rowStart[i + 1]);
     }
-    std::vector<float> values(data.data(), data.data() + nnz);
+    const float* value = data.data();
+    std::vector<float> values(value, value + nnz);
     return FormFactors::fromCsr(std::move(starts), std::move(columns), std::move(values), std::vector<std::uint8_t>(n, 1));
 }
 
-/// Every F handed in from Python: the scene's hash, provenance unknown, bounded by physics.
-FormFactors formFactorsFor(const Scene& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
-                           py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
-                           const std::string& argument) {
-    FormFactors F = fromArrays(indptr, indices, data, scene.size(), argument);
+/// The FormFactors behind an array that csrArrays() made (numpy views of it included), or null.
+const FormFactors* ownerOf(const py::array& array) {
+    py::object base = array.base();
+    for (int depth = 0; depth < 8 && base && !base.is_none(); ++depth) {
+        if (PyCapsule_IsValid(base.ptr(), kOwnerName))
+            return static_cast<const FormFactors*>(PyCapsule_GetPointer(base.ptr(), kOwnerName));
+        if (!py::isinstance<py::array>(base)) return nullptr;
+        base = base.cast<py::array>().base();
+    }
+    return nullptr;
+}
+
+/// The library's own F behind arrays that csrArrays() made and nobody changed (they are read-only),
+/// when it belongs to `scene`; else null.
+const FormFactors* sharedFormFactors(const Scene& scene, const py::array& indices, const py::array& data) {
+    const FormFactors* F = ownerOf(data);
+    const bool same = F && F->size() == scene.size() && F->sceneHash == scene.geometryHash() &&
+                      data.data() == F->values() && std::size_t(data.size()) == F->nonZeros() &&
+                      indices.data() == static_cast<const void*>(F->columns()) && std::size_t(indices.size()) == F->nonZeros();
+    return same ? F : nullptr;
+}
+
+/// Every F handed in from Python: the library's own when the arrays are (no copy), else a checked
+/// copy with the scene's hash, provenance unknown, bounded by physics.
+struct GivenFormFactors {
+    const FormFactors* shared = nullptr;
+    FormFactors copy;
+    const FormFactors& get() const { return shared ? *shared : copy; }
+};
+
+GivenFormFactors formFactorsFor(const Scene& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
+                                py::array_t<std::int32_t, py::array::c_style> indices,
+                                py::array_t<float, py::array::c_style> data, const std::string& argument) {
+    GivenFormFactors given;
+    given.shared = sharedFormFactors(scene, indices, data);
+    if (given.shared) return given;
+    FormFactors& F = given.copy;
+    F = fromArrays(indptr, indices, data, scene.size(), argument);
     F.sceneHash = scene.geometryHash();
     F.provenance.rowSumBound = physicalRowSumBound(scene);
     validateFormFactors(F, scene.size(), argument, rowSumBound(F));
-    return F;
+    return given;
 }
 
 py::dict statsDict(const FormFactorStats& s) {
@@ -196,7 +235,8 @@ py::tuple solve(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_st
                 py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
                 const std::string& solverName, double tolerance, int maxIterations, bool allowUnconverged,
                 const py::object& progress) {
-    const FormFactors F = formFactorsFor(*scene, indptr, indices, data, "F");
+    const GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");
+    const FormFactors& F = given.get();
     SolverOptions options;
     options.solver = solverName;
     options.tolerance = tolerance;
@@ -248,7 +288,13 @@ py::tuple readFormFactors(const std::string& path, const py::object& scene) {
 void writeFormFactors(const std::string& path, const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
                       py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
                       const py::object& provenance) {
-    FormFactors F = formFactorsFor(*scene, indptr, indices, data, "F");
+    GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");
+    if (given.shared) {  // the library's own F: its file says how it was made
+        py::gil_scoped_release release;
+        saveFormFactors(*given.shared, path);
+        return;
+    }
+    FormFactors& F = given.copy;
     if (!provenance.is_none()) {  // as form_factors() reported it: the file says how F was made
         const py::dict d = provenance.cast<py::dict>();
         F.provenance.method = d["method"].cast<std::string>();

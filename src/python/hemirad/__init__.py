@@ -187,6 +187,8 @@ def solve(scene, F, solver="auto", tolerance=1e-6, *, max_iterations=100000, all
 
     F: any scipy sparse matrix (or numpy array) of shape (N, N), e.g. form_factors()'s, post-processed
     as you like; values must be finite, >= 0, and rows sum to at most 1 (1 / (1 - s_max) with mirrors).
+    F as form_factors() returned it is used in place; any other matrix is copied once. Rows of
+    patches that were black when F was computed are empty unless it was computed with all_rows=True.
     solver: one of :func:`solvers` ("auto": LU up to 2000 patches, else an iterative solver).
     progress: ``progress(sweep, max_iterations, seconds)`` for the iterative solvers.
     Returns ``(B, report)``: B an (N, 3) float64 array in W/m^2; report["channels"] per solve.
