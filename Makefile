@@ -35,9 +35,10 @@ bench: build
 	@bash bench/run.sh $(BUILD)
 
 # The whole suite under AddressSanitizer + UndefinedBehaviorSanitizer (gcc), in build-sanitize/; without
-# MPI (Open MPI's own allocations at exit would read as leaks in every rank).
+# MPI (Open MPI's own allocations at exit would read as leaks in every rank) and without the Python
+# module (an instrumented extension cannot load into an uninstrumented python3).
 test-sanitize: deps
-	@cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHEMIRAD_WITH_SANITIZERS=ON -DHEMIRAD_WITH_MPI=OFF \
+	@cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHEMIRAD_WITH_SANITIZERS=ON -DHEMIRAD_WITH_MPI=OFF -DHEMIRAD_WITH_PYTHON=OFF \
 	    -DHEMIRAD_WITH_BENCH=OFF > build-sanitize.configure.log 2>&1 || { cat build-sanitize.configure.log; exit 1; }
 	@cmake --build build-sanitize -j $(JOBS)
 	@cd build-sanitize && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS)
