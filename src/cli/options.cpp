@@ -75,6 +75,13 @@ std::vector<double> parseList(const std::string& flag, const std::string& text, 
     return values;
 }
 
+/// ".hff" for "F.HFF": the extension as the formats are named.
+std::string lowerExtension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
 std::string joined(const std::vector<std::string>& names, const std::string& last) {
     std::string text;
     for (std::size_t k = 0; k < names.size(); ++k)
@@ -361,8 +368,7 @@ Options parseOptions(int argc, const char* const* argv) {
     if (o.shards) {
         const std::string& path = o.command == "formfactors" ? o.output : o.ffPath;
         if (path.empty()) throw UsageError("--shards stores F: it needs --ff FILE.hff");
-        std::string ext = std::filesystem::path(path).extension().string();
-        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        const std::string ext = lowerExtension(path);
         if (ext != ".hff")
             throw UsageError("--shards writes .hff shards and a manifest: '" + path + "' must end in .hff");
     }
@@ -381,8 +387,7 @@ bool reportsToStandardError(const Options& o) {
 
 std::string outputFormat(const Options& o) {
     const std::vector<std::string>& names = outputFormats(o.command);
-    std::string ext = std::filesystem::path(o.output).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string ext = lowerExtension(o.output);
     if (!ext.empty() && std::find(names.begin(), names.end(), ext.substr(1)) != names.end()) {
         if (!o.format.empty() && o.format != ext.substr(1))
             throw UsageError("-o " + o.output + " and --format " + o.format + " disagree; the extension names the format");

@@ -312,8 +312,7 @@ int runUnderMpi(int argc, char** argv) {
             options = parseOptions(argc, argv);
             configureProcessThreads(options.formFactors.common.threads);
             // mpirun forwards rank 0's standard output: whether the user's end is a terminal is unknown.
-            if (isStandardOutput(options.output) && !options.shards && (options.command == "formfactors" ||
-                options.command == "solve" || options.command == "render") && outputIsBinary(options))
+            if (isStandardOutput(options.output) && outputIsBinary(options))
                 throw UsageError("-o - under mpirun: mpirun forwards standard output, which cannot be checked for a "
                                  "terminal, so the binary ." + outputFormat(options) + " needs -o FILE (text .mtx "
                                  "and .csv may go to '-')");
