@@ -8,7 +8,7 @@ SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks
 	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers.supp:print_suppressions=0 \
 	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
-.PHONY: all deps build python demo test bench test-sanitize test-without-opengl fuzz clean
+.PHONY: all deps build python demo test bench test-sanitize test-without-opengl test-without-embree fuzz clean
 
 all: build
 
@@ -51,6 +51,14 @@ test-without-opengl: deps
 	    > build-noopengl.configure.log 2>&1 || { cat build-noopengl.configure.log; exit 1; }
 	@cmake --build build-noopengl -j $(JOBS)
 	@cd build-noopengl && ctest --output-on-failure -j $(JOBS)
+
+# The build without Embree (no hemisphere back end, no render): the hemicube is the default back end,
+# the GUI is built without its ray-cast inspector, and whatever needs rays says how to get it.
+test-without-embree: deps
+	@cmake -S . -B build-noembree -DCMAKE_BUILD_TYPE=Release -DHEMIRAD_WITH_EMBREE=OFF -DHEMIRAD_WITH_MPI=OFF -DHEMIRAD_WITH_PYTHON=OFF \
+	    -DHEMIRAD_WITH_BENCH=OFF > build-noembree.configure.log 2>&1 || { cat build-noembree.configure.log; exit 1; }
+	@cmake --build build-noembree -j $(JOBS)
+	@cd build-noembree && ctest --output-on-failure -j $(JOBS)
 
 # libFuzzer on the OBJ/MTL and F readers (clang), FUZZ_SECONDS per harness; corpus in build-fuzz/.
 fuzz:

@@ -11,8 +11,10 @@ endfunction()
 find_package(Eigen3 3.3 QUIET NO_MODULE)
 hemirad_require(Eigen3_FOUND libeigen3-dev)
 
-find_package(embree 3 QUIET)
-hemirad_require(embree_FOUND libembree-dev)
+if(HEMIRAD_WITH_EMBREE)
+  find_package(embree 3 QUIET)
+  hemirad_require(embree_FOUND libembree-dev)
+endif()
 
 find_package(OpenMP QUIET COMPONENTS CXX)
 hemirad_require(OpenMP_CXX_FOUND "g++ (libgomp)")

@@ -1,6 +1,7 @@
 // Test support: closed-form view factors (Howell's catalogue), scene builders, temporary files.
 #pragma once
 
+#include "engine/form_factors.hpp"
 #include "engine/obj_loader.hpp"
 #include "engine/scene.hpp"
 #include "engine/warnings.hpp"
@@ -115,6 +116,20 @@ public:
     }
     Scene scene;
 };
+
+/// Mean over rows of sum_j |A_ij - B_ij|.
+inline double meanRowL1(const FormFactors& A, const FormFactors& B) {
+    double total = 0.0;
+    for (std::size_t i = 0; i < A.size(); ++i) {
+        double row = 0.0;
+        for (std::uint64_t k = A.rowBegin(i); k < A.rowEnd(i); ++k)
+            row += std::abs(A.values()[k] - B.at(i, A.columns()[k]));
+        for (std::uint64_t k = B.rowBegin(i); k < B.rowEnd(i); ++k)
+            if (A.at(i, B.columns()[k]) == 0.0) row += B.values()[k];
+        total += row;
+    }
+    return total / double(A.size());
+}
 
 /// The closed unit cube [0,1]^3 of six inward-facing quads; floor (y = 0) first.
 inline Scene unitCube() {

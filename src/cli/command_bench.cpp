@@ -259,15 +259,18 @@ int runBench(const Options& o) {
                             std::to_string(o.referenceSamples) + "x" + std::to_string(o.referenceOrigins);
     const std::string referencePath = (fs::path(o.cacheDir) / (key + ".hff")).string();
     if (!fs::exists(referencePath)) {
+        const BackendDescriptor& reference = findBackend("hemisphere");
+        if (!reference.notBuilt.empty())
+            throw Error("bench: the reference F (not in " + o.cacheDir + ") is computed by the hemisphere back end, which is " +
+                        reference.notBuilt);
         reporter.line("bench: computing the reference F (" +
                       (analyticReference ? "Lambert factors, shadow rays to random points, "
                                          : std::to_string(o.referenceSamples) + " jittered directions x ") +
                       std::to_string(o.referenceOrigins) + " origins, every row) into " + referencePath);
         // The reference is the hemisphere's estimator with jittered directions and a seed of its own:
         // it shares no discretisation with the runs.
-        MethodSettings b = defaultSettings("hemisphere");
+        MethodSettings b = defaultSettings(reference.name);
         b.common = o.formFactors.common;
-        const BackendDescriptor& reference = findBackend(b.method);
         reference.option("--estimator")->set(b, o.referenceEstimator);
         reference.option("--samples")->set(b, std::to_string(o.referenceSamples));
         reference.option("--origins")->set(b, std::to_string(o.referenceOrigins));

@@ -2,6 +2,7 @@
 #include "cli/options.hpp"
 
 #include "engine/atomic_file.hpp"
+#include "rays/ray_scene.hpp"
 #include "solve/solver_registry.hpp"
 
 #include <algorithm>
@@ -244,6 +245,17 @@ MethodSettings methodSettings(const std::string& name) {
     }
 }
 
+/// The back end's checks of combinations of its flags, as usage errors.
+void validateSettings(const MethodSettings& settings) {
+    const BackendDescriptor& backend = findBackend(settings.method);
+    if (!backend.validate) return;
+    try {
+        backend.validate(settings);
+    } catch (const Error& e) {
+        throw UsageError(e.what());
+    }
+}
+
 struct ParsedFlag {
     std::string flag, value;
 };
@@ -297,7 +309,7 @@ Options parseOptions(int argc, const char* const* argv) {
     // The back ends: --method for the commands that compute F, --methods for bench.
     const bool computing = kComputing.count(o.command) > 0;
     const bool bench = o.command == "bench";
-    std::string method = formFactorBackends().front()->name;
+    std::string method = defaultBackend().name;
     std::vector<std::string> benchNames = {method};
     for (const ParsedFlag& p : parsed) {
         if (p.flag == "--method") {
@@ -338,6 +350,9 @@ Options parseOptions(int argc, const char* const* argv) {
         setOption(o.formFactors, p.flag, p.value);
     }
     for (MethodSettings& m : o.benchMethods) m.common = o.formFactors.common;
+    // Combinations the per-flag checks cannot see (e.g. --mirrors rays in a build without Embree).
+    if (computing && !bench) validateSettings(o.formFactors);
+    for (const MethodSettings& m : o.benchMethods) validateSettings(m);
     // Solve flags the chosen solver takes (auto may pick either kind, so it takes them all).
     if (o.solver.solver != "auto") {
         const SolverDescriptor& solver = findSolver(o.solver.solver);
@@ -349,6 +364,8 @@ Options parseOptions(int argc, const char* const* argv) {
     }
 
     if (o.command == "help") return o;
+    if (o.command == "render" && !rayCastingNotBuilt().empty())
+        throw UsageError("'render' traces rays with Embree, which is " + rayCastingNotBuilt());
     if (o.inputs.size() != 1)
         throw UsageError("'" + o.command + "' takes exactly one input file, got " + std::to_string(o.inputs.size()));
     const bool needsOutput = o.command == "formfactors" || o.command == "subdivide" || o.command == "bench";
@@ -405,7 +422,7 @@ std::string outputFormat(const Options& o) {
 std::string usageText() {
     std::string methodNames, backendSections;
     for (const BackendDescriptor* d : formFactorBackends()) {
-        methodNames += (methodNames.empty() ? d->name + " (default)" : ", " + d->name);
+        methodNames += (methodNames.empty() ? "" : ", ") + d->name + (d == &defaultBackend() ? " (default)" : "");
         backendSections += d->name + " (--method " + d->name + "): " + d->summary +
                            (d->notBuilt.empty() ? "" : " -- " + d->notBuilt) + "\n";
         for (const BackendOption& o : d->options) {
@@ -414,7 +431,7 @@ std::string usageText() {
             backendSections += left + o.help + "\n";
         }
     }
-    return R"(hemirad: radiosity with hemisphere (Embree) form factors and sparse solvers
+    return R"(hemirad: radiosity with hemisphere (Embree) or hemicube (OpenGL) form factors and sparse solvers
 
 usage: hemirad COMMAND INPUT [options]
 

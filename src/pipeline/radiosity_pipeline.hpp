@@ -20,7 +20,7 @@ namespace hemirad {
 
 /// How F is made and post-processed.
 struct FormFactorPolicy {
-    MethodSettings backend = defaultSettings(formFactorBackends().front()->name);  ///< the back end and its options
+    MethodSettings backend = defaultSettings(defaultBackend().name);  ///< the back end and its options
     bool allRows = false;             ///< also rows of black patches (skipped by default: B = E there)
     bool enforceReciprocity = false;  ///< A_i F_ij = A_j F_ji by the pair's area-weighted mean
     bool normalizeRows = false;       ///< every row to sum 1 (closed scenes without mirrors)

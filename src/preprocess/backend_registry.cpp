@@ -1,10 +1,11 @@
 // The registry of form-factor back ends: one line per back end.
 #include "preprocess/backend_registry.hpp"
 
-#include "preprocess/hemisphere/hemisphere_backend.hpp"
-
 #include <cerrno>
 #include <cstdlib>
+#if HEMIRAD_WITH_EMBREE
+#include "preprocess/hemisphere/hemisphere_backend.hpp"
+#endif
 #if HEMIRAD_WITH_OPENGL
 #include "preprocess/hemicube/hemicube_backend.hpp"
 #endif
@@ -26,7 +27,12 @@ namespace {
 
 std::vector<const BackendDescriptor*>& registry() {
     static std::vector<const BackendDescriptor*> backends = {
+#if HEMIRAD_WITH_EMBREE
         &hemisphereDescriptor(),
+#else
+        &notBuilt("hemisphere", "Embree rays along Beckers directions, or Lambert's exact factors with shadow rays",
+                  "-DHEMIRAD_WITH_EMBREE=ON (needs libembree-dev)"),
+#endif
 #if HEMIRAD_WITH_OPENGL
         &hemicubeDescriptor(),
 #else
@@ -41,6 +47,12 @@ std::vector<const BackendDescriptor*>& registry() {
 
 const std::vector<const BackendDescriptor*>& formFactorBackends() { return registry(); }
 
+const BackendDescriptor& defaultBackend() {
+    for (const BackendDescriptor* d : registry())
+        if (d->notBuilt.empty()) return *d;
+    throw Error("this build has no form-factor back end");  // CMake refuses such a configuration
+}
+
 void registerFormFactorBackend(const BackendDescriptor& descriptor) {
     for (const BackendDescriptor* d : registry())
         if (d->name == descriptor.name) throw Error("a form-factor back end named '" + descriptor.name + "' is registered already");
@@ -53,7 +65,7 @@ void unregisterFormFactorBackend(std::string_view name) {
     auto& list = registry();
     for (auto it = list.begin(); it != list.end(); ++it)
         if ((*it)->name == name) {
-            if (it == list.begin()) throw Error("the default form-factor back end cannot be removed");
+            if (*it == &defaultBackend()) throw Error("the default form-factor back end cannot be removed");
             list.erase(it);
             return;
         }

@@ -67,8 +67,13 @@ struct BackendDescriptor {
     const BackendOption* option(std::string_view flag) const;
 };
 
-/// Every back end of this build, the default (hemisphere) first.
+/// Every back end this program knows, the hemisphere first; those left out of this build are listed
+/// with notBuilt set.
 const std::vector<const BackendDescriptor*>& formFactorBackends();
+
+/// The back end used when none is named: the first one built (the hemisphere, or the hemicube in a
+/// build without Embree).
+const BackendDescriptor& defaultBackend();
 
 /// Adds a back end defined outside this library (a plug-in, a test). `descriptor` must outlive its
 /// use. Call before any thread reads the registry (from main() or a test's setup). Throws

@@ -439,6 +439,7 @@ PYBIND11_MODULE(_hemirad, m) {
             py::dict entry;
             entry["summary"] = d->summary;
             entry["not_built"] = d->notBuilt;
+            entry["default"] = d == &defaultBackend();
             py::dict options;
             const MethodSettings defaults = d->notBuilt.empty() ? defaultSettings(d->name) : MethodSettings{};
             for (const BackendOption& o : d->options) {

@@ -67,6 +67,11 @@ inline void initRay(RTCRayHit& rh, const float o[3], const float* d, float tfar)
 
 }  // namespace
 
+const std::string& rayCastingNotBuilt() {
+    static const std::string built;
+    return built;
+}
+
 RayScene::RayScene(const Scene& scene, int threads) : m_impl(std::make_unique<Impl>()) {
     const std::string config = threads > 0 ? "threads=" + std::to_string(threads) : std::string();
     m_impl->device = rtcNewDevice(config.empty() ? nullptr : config.c_str());

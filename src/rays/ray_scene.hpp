@@ -8,6 +8,11 @@
 
 namespace hemirad {
 
+/// Empty when this build casts rays (Embree); else why not and how to get it ("not built: configure
+/// with -DHEMIRAD_WITH_EMBREE=ON ..."). Front ends check it before loading a scene; a RayScene made
+/// anyway throws hemirad::Error with this text.
+const std::string& rayCastingNotBuilt();
+
 /// Ray-casting view of a Scene. Triangles are the patches' fans (0, k, k+1); coordinates are
 /// shifted by the scene's centre before conversion to float so that large offsets keep precision.
 /// Thread-safe for concurrent queries after construction.
@@ -21,7 +26,8 @@ public:
     };
     static constexpr PatchId kNoHit = 0xffffffffu;
 
-    /// Builds the BVH. `threads` = 0 lets Embree use every core. Throws hemirad::Error on Embree errors.
+    /// Builds the BVH. `threads` = 0 lets Embree use every core. Throws hemirad::Error on Embree errors
+    /// and in a build without Embree.
     explicit RayScene(const Scene& scene, int threads = 0);
     ~RayScene();
     RayScene(const RayScene&) = delete;

@@ -24,7 +24,7 @@ enum class SelectionMode { Patch, Object };
 
 struct PipelineSettings {
     /// The form-factor back end and its options (the registry's default back end first).
-    MethodSettings formFactors = defaultSettings(formFactorBackends().front()->name);
+    MethodSettings formFactors = defaultSettings(defaultBackend().name);
     SolverOptions solver;
 };
 

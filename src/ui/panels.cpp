@@ -4,6 +4,7 @@
 #include "engine/atomic_file.hpp"
 #include "engine/error.hpp"
 #include "preprocess/backend_registry.hpp"
+#include "rays/ray_scene.hpp"
 #include "solve/solver_registry.hpp"
 
 #include <imgui.h>
@@ -223,6 +224,13 @@ void Panels::selectionPanel(AppState& app, Inspector& inspector, double viewExpo
     else
         ImGui::TextDisabled("F row not computed (black patch, or no F yet)");
     if (ImGui::Button("Colour by F of this patch")) app.layer = Layer::FormFactorRow;
+    if (!rayCastingNotBuilt().empty()) {
+        // The inspector's pictures are ray-cast; a build without Embree says so instead.
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextDisabled("Inspector: ray casting (Embree) is %s", rayCastingNotBuilt().c_str());
+        ImGui::PopTextWrapPos();
+        return;
+    }
     ImGui::SameLine();
     ImGui::Checkbox("Inspector", &m_showInspector);
     if (m_showInspector) {

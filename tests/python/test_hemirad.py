@@ -57,8 +57,11 @@ def test_form_factors_equal_the_cli_entry_by_entry(cornell, tmp_path):
 
 
 def test_closed_forms_unit_cube_and_plates():
+    # No method named: the registry's default (the hemisphere in a build with Embree), as on the CLI.
+    assert [name for name, entry in hemirad.methods().items() if entry["default"]] == ["hemisphere"]
     cube = hemirad.load(scene_path("unit_cube.obj"))
-    F, _ = hemirad.form_factors(cube)
+    F, report = hemirad.form_factors(cube)
+    assert report["provenance"]["method"] == "hemisphere"
     dense = F.toarray()
     opposite, adjacent = 0.1998248957, 0.2000437761
     for i in range(6):

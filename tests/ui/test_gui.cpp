@@ -1,78 +1,10 @@
 // hemirad-gui under Xvfb: load, compute, solve, draw, screenshot, quit, and the picture is checked.
 // Needs xvfb-run (installed by scripts/install-deps.sh); without it the test fails, never skips.
-#include "support.hpp"
-
-#include <doctest/doctest.h>
-
-#include <cstdlib>
-#include <sys/wait.h>
-
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC
-#include <stb/stb_image.h>
+#include "ui/gui_run.hpp"
 
 using namespace hemirad::test;
-
-namespace {
-
-struct Image {
-    int width = 0, height = 0;
-    std::vector<unsigned char> rgb;
-    const unsigned char* at(int x, int y) const { return &rgb[(std::size_t(y) * width + x) * 3]; }
-    /// Mean colour over a rectangle.
-    std::array<double, 3> mean(int x0, int y0, int x1, int y1) const {
-        std::array<double, 3> sum{};
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x)
-                for (int c = 0; c < 3; ++c) sum[c] += at(x, y)[c];
-        const double n = double(x1 - x0) * (y1 - y0);
-        return {sum[0] / n, sum[1] / n, sum[2] / n};
-    }
-};
-
-/// Runs hemirad-gui on the subdivided Cornell box with `methodFlags`, then checks the screenshot:
-/// not blank, the red wall left and the green one right, ImGui's menu bar drawn. Returns the log.
-std::string runGuiAndCheckPicture(const std::string& name, const std::string& methodFlags) {
-    REQUIRE_MESSAGE(std::system("command -v xvfb-run > /dev/null") == 0, "xvfb-run is missing (scripts/install-deps.sh)");
-    const auto dir = tempDir(name);
-    const std::string png = (dir / "gui.png").string();
-    const std::string log = (dir / "log.txt").string();
-    // Under `make test-sanitize` the GUI process runs without LeakSanitizer: Mesa's driver is unloaded
-    // at exit and its allocations can no longer be attributed (or suppressed) by module name.
-    const std::string command = "ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 "
-                                "xvfb-run -a -s '-screen 0 1400x900x24' " + std::string(HEMIRAD_GUI_BINARY) + " " +
-                                sourcePath("scenes/cornell_box.obj") + " --subdivide 60 " + methodFlags +
-                                " --run --screenshot " + png + " --exit > " + log + " 2>&1";
-    const int status = std::system(command.c_str());
-    const std::string output = readText(log);
-    INFO(output);
-    REQUIRE(WIFEXITED(status));
-    REQUIRE(WEXITSTATUS(status) == 0);
-    Image image;
-    int channels = 0;
-    unsigned char* data = stbi_load(png.c_str(), &image.width, &image.height, &channels, 3);
-    REQUIRE(data != nullptr);
-    image.rgb.assign(data, data + std::size_t(image.width) * image.height * 3);
-    stbi_image_free(data);
-    CHECK(image.width == 1280);
-    CHECK(image.height == 800);
-
-    // Not blank: the view has bright and dark pixels.
-    const auto whole = image.mean(0, 0, image.width, image.height);
-    CHECK(whole[0] + whole[1] + whole[2] > 60.0);
-    // The Cornell camera sees the red wall (x = 556) on the left, the green one (x = 0) on the right.
-    const int y0 = image.height * 40 / 100, y1 = image.height * 60 / 100;
-    const auto left = image.mean(image.width * 22 / 100, y0, image.width * 28 / 100, y1);
-    const auto right = image.mean(image.width * 72 / 100, y0, image.width * 78 / 100, y1);
-    CHECK(left[0] > 1.8 * left[1]);   // red
-    CHECK(right[1] > 1.3 * right[0]); // green
-    // The UI is drawn: ImGui's menu bar (grey 36) runs along the top of the window.
-    const auto menu = image.mean(200, 2, image.width - 200, 16);
-    for (int c = 0; c < 3; ++c) CHECK(menu[c] == doctest::Approx(36.0).epsilon(0.3));
-    return output;
-}
-
-}  // namespace
 
 TEST_CASE("hemirad-gui renders the Cornell box under Xvfb: walls in their halves, the UI drawn") {
     const std::string log = runGuiAndCheckPicture("gui", "--samples 768");

@@ -1,6 +1,7 @@
 // The hemicube back end's registry entry: its flags, work estimate and run description.
 #include "preprocess/backend_registry.hpp"
 #include "preprocess/hemicube/hemicube_backend.hpp"
+#include "rays/ray_scene.hpp"
 
 namespace hemirad {
 namespace {
@@ -42,6 +43,8 @@ BackendDescriptor make() {
     d.validate = [](const MethodSettings& s) {
         const C& o = s.as<C>();
         if (o.resolution < 2 || o.resolution % 2) throw Error("--resolution must be an even number >= 2");
+        if (o.mirrors == HemicubeMirrors::Rays && !rayCastingNotBuilt().empty())
+            throw Error("--mirrors rays casts Embree rays, which are " + rayCastingNotBuilt() + "; --mirrors portals needs none");
     };
     d.create = [](const MethodSettings& s) -> std::unique_ptr<FormFactorBackend> {
         return std::make_unique<HemicubeBackend>(s.as<C>(), s.common);

@@ -26,8 +26,9 @@ __all__ = ["Error", "Scene", "load", "form_factors", "solve", "read_form_factors
 
 
 def methods():
-    """The form-factor back ends of this build: {name: {"summary", "not_built", "options"}}, where
-    options maps each keyword form_factors() takes for that method to its help, kind, choices and
+    """The form-factor back ends: {name: {"summary", "not_built", "default", "options"}}, where
+    not_built is empty for a back end of this build (else how to get it), default is True for the one
+    form_factors() uses when no method is named, and options maps each keyword form_factors() takes for that method to its help, kind, choices and
     default (the same settings as the command line's flags)."""
     return _hemirad._backends()
 
@@ -136,12 +137,13 @@ def _check_scene(scene, name="scene"):
         raise TypeError(f"{name}: expected a hemirad.Scene (from hemirad.load), got {type(scene).__name__}")
 
 
-def form_factors(scene, method="hemisphere", *, max_depth=8, threads=0, all_rows=False,
+def form_factors(scene, method=None, *, max_depth=8, threads=0, all_rows=False,
                  enforce_reciprocity=False, normalize_rows=False, memory_check=True, progress=None,
                  **options):
     """Computes the form-factor matrix F of ``scene``.
 
-    method: a back end of :func:`methods` ("hemisphere", "hemicube"). Its own options are keywords
+    method: a back end of :func:`methods` ("hemisphere", "hemicube"; None: the default, the
+    hemisphere, or the hemicube in a build without Embree). Its own options are keywords
     named as its command-line flags: hemisphere ``samples=3072, origins=1, estimator="auto", ...``,
     hemicube ``resolution=256, ...``; an option the method does not take raises TypeError.
     max_depth: mirror reflections followed; threads: worker threads (0: all cores);
@@ -155,6 +157,8 @@ def form_factors(scene, method="hemisphere", *, max_depth=8, threads=0, all_rows
     seconds) plus ``computed`` (rows computed) and ``provenance`` (for write_form_factors).
     """
     _check_scene(scene)
+    if method is None:
+        method = next(name for name, entry in methods().items() if entry["default"])
     if method not in methods():
         raise ValueError(f"method: expected one of {sorted(methods())}, got {method!r}")
     flags = {"--" + name.replace("_", "-"): _option_text(method, name, value) for name, value in options.items()}

@@ -1,0 +1,80 @@
+// The hemicube against the hemisphere back end (a build with both OpenGL and Embree): the same F on
+// the Cornell box, facing mirrors by portals, ray-traced mirror pixels and hemisphere rays, and each
+// back end refusing the other's options. Needs a GL 4.5 context, like test_hemicube.cpp.
+#include "support.hpp"
+
+#include "engine/error.hpp"
+#include "engine/subdivide.hpp"
+#include "preprocess/backend_registry.hpp"
+#include "preprocess/form_factor_job.hpp"
+#include "preprocess/hemicube/hemicube_options.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+TEST_CASE("Hemicube and hemisphere converge to the same F on the Cornell box") {
+    const Scene s = subdivide(bundledScene("cornell_box.obj"), 100.0);
+    HemicubeOptions c;
+    c.resolution = 128;
+    const FormFactorRun cube = computeFormFactors(s, MethodSettings::of(c), neededRows(s, true));
+    HemisphereOptions o;
+    o.estimator = Estimator::Rays;  // centroid estimates like the hemicube's (analytic integrates near pairs over the emitter)
+    o.samples = 3072;
+    const FormFactorRun coarse = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
+    o.samples = 49152;  // about the hemicube's pixel count
+    const FormFactorRun fine = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
+    const double coarseL1 = meanRowL1(cube.F, coarse.F), fineL1 = meanRowL1(cube.F, fine.F);
+    MESSAGE("mean per-row sum |F_hemicube - F_hemisphere|: 3072 rays ", coarseL1, ", 49152 rays ", fineL1);
+    // Both estimate the centroid-to-patch factors; the gap is the hemisphere's sampling noise
+    // (~1/sqrt(rays)) plus the hemicube's pixel aliasing.
+    CHECK(fineL1 < 0.04);
+    CHECK(fineL1 < 0.5 * coarseL1);
+    for (PatchId i = 0; i < s.size(); ++i) CHECK(cube.F.rowSum(i) == doctest::Approx(fine.F.rowSum(i)).epsilon(3e-3));
+}
+
+TEST_CASE("Facing mirrors: portals, ray-traced mirror pixels and the hemisphere agree, depth limit included") {
+    SceneBuilder b;
+    const std::uint32_t mirror = b.material("mirror", Rgb::Constant(0.05), Rgb::Zero(), 0.9);
+    b.rectangle(2, 0, -3, 3, -3, 3, true, mirror);
+    b.rectangle(2, 1, -3, 3, -3, 3, false, mirror);
+    b.rectangle(2, 0.5, -0.3, 0.3, -0.3, 0.3, false);
+    HemicubeOptions o;
+    o.resolution = 256;
+    CommonOptions depth4;
+    depth4.maxDepth = 4;
+    const FormFactorRun portals = computeFormFactors(b.scene, MethodSettings::of(o, depth4), neededRows(b.scene, true));
+    o.mirrors = HemicubeMirrors::Rays;
+    const FormFactorRun rays = computeFormFactors(b.scene, MethodSettings::of(o, depth4), neededRows(b.scene, true));
+    HemisphereOptions h;
+    h.estimator = Estimator::Rays;
+    h.samples = 65536;
+    const FormFactorRun sphere = computeFormFactors(b.scene, MethodSettings::of(h, depth4), neededRows(b.scene, true));
+    for (PatchId i = 0; i < 3; ++i)
+        for (PatchId j = 0; j < 3; ++j) {
+            CAPTURE(i);
+            CAPTURE(j);
+            CHECK(portals.F.at(i, j) == doctest::Approx(rays.F.at(i, j)).epsilon(1e-5));
+            CHECK(portals.F.at(i, j) == doctest::Approx(sphere.F.at(i, j)).epsilon(0.02));
+        }
+    CHECK(portals.counts.cutoffWeight == doctest::Approx(sphere.counts.cutoffWeight).epsilon(0.02));
+    CHECK(portals.F.rowSum(0) > 1.0);  // deposits along the chain: extended rows exceed 1
+}
+
+TEST_CASE("Each back end takes only its own options: --estimator is refused for the hemicube, unknown values are errors") {
+    MethodSettings cube = defaultSettings("hemicube");
+    CHECK_THROWS_WITH_AS(setBackendOption(cube, "--estimator", "analytic"),
+                         doctest::Contains("option '--estimator' does not apply to --method hemicube (it takes --resolution"),
+                         Error);
+    MethodSettings sphere = defaultSettings("hemisphere");
+    CHECK_THROWS_WITH_AS(setBackendOption(sphere, "--estimator", "exact"),
+                         doctest::Contains("--estimator expects auto, rays or analytic, got 'exact'"), Error);
+    CHECK_THROWS_WITH_AS(setBackendOption(sphere, "--resolution", "64"),
+                         doctest::Contains("option '--resolution' does not apply to --method hemisphere"), Error);
+    CHECK_THROWS_WITH_AS(setBackendOption(sphere, "--frobnicate", "1"), doctest::Contains("unknown option '--frobnicate'"),
+                         Error);
+    // The typed options behind the flags: the wrong type is an internal error, never a silent default.
+    CHECK_THROWS_AS(cube.as<HemisphereOptions>(), Error);
+}
