@@ -102,6 +102,14 @@ MethodSettings defaultSettings(std::string_view method) {
     return {d.name, CommonOptions{}, d.defaults()};
 }
 
+bool sameFormFactorSettings(const MethodSettings& a, const MethodSettings& b) {
+    if (a.method != b.method || a.common.maxDepth != b.common.maxDepth || a.common.minWeight != b.common.minWeight)
+        return false;
+    for (const BackendOption& o : findBackend(a.method).options)
+        if (o.get(a) != o.get(b)) return false;
+    return true;
+}
+
 std::unique_ptr<FormFactorBackend> makeBackend(const MethodSettings& settings) {
     const BackendDescriptor& d = findBackend(settings.method);
     if (!d.notBuilt.empty()) throw Error("--method " + d.name + " is " + d.notBuilt);

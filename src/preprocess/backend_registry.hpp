@@ -90,6 +90,11 @@ const BackendDescriptor& findBackend(std::string_view name);
 /// The back end's default settings. Throws hemirad::Error for an unknown back end or one not built.
 MethodSettings defaultSettings(std::string_view method);
 
+/// True when `a` and `b` make the same F: the same back end, mirror depth and weight, and every one
+/// of the back end's options equal (compared as the registry's text, so no back end is named here).
+/// The thread count is not compared: it changes how fast F is made, not F.
+bool sameFormFactorSettings(const MethodSettings& a, const MethodSettings& b);
+
 /// Validates and creates the back end of `settings`. Throws hemirad::Error.
 std::unique_ptr<FormFactorBackend> makeBackend(const MethodSettings& settings);
 

@@ -148,6 +148,7 @@ void AppState::setScene(Scene scene, const std::string& path) {
     m_scene = std::make_unique<Scene>(std::move(scene));
     m_scenePath = path;
     m_F.reset();
+    m_fSettings.reset();
     m_stats.reset();
     m_B.assign(m_scene->size(), Rgb::Zero());
     for (PatchId i = 0; i < m_scene->size(); ++i) m_B[i] = m_scene->patches[i].emission;
@@ -315,7 +316,7 @@ void AppState::redo() {
     materialsChanged(specular);
 }
 
-void AppState::startJob(bool computeF) {
+void AppState::startJob(bool computeF, std::shared_ptr<const FormFactors> F) {
     if (!hasScene()) return;
     if (m_job && !m_job->finished) {
         error("a computation is running; cancel it first");
@@ -324,7 +325,7 @@ void AppState::startJob(bool computeF) {
     if (m_job && m_job->thread.joinable()) m_job->thread.join();
     m_job = std::make_unique<Job>();
     m_job->scene = *m_scene;
-    m_job->F = (m_fStale ? nullptr : m_F);
+    m_job->F = std::move(F);
     m_job->computeF = computeF;
     m_job->settings = settings;
     m_job->warmStart = m_B;
@@ -332,13 +333,26 @@ void AppState::startJob(bool computeF) {
     m_job->thread = std::thread([job = m_job.get()] { job->run(); });
 }
 
+bool AppState::formFactorsMatchSettings() const {
+    return m_F && m_fSettings && sameFormFactorSettings(*m_fSettings, settings.formFactors);
+}
+
 void AppState::runPipeline() {
     if (!hasScene()) return;
+    // Only an F made with the panel's settings is reused (or completed with missing rows).
+    const bool reuse = m_F && !m_fStale && formFactorsMatchSettings();
+    if (m_F && !m_fStale && !reuse) info("the form-factor settings changed since F was made: computing F again");
     FormFactorPolicy policy;
     policy.backend = settings.formFactors;
-    const bool needF = !m_F || m_fStale || !RadiosityPipeline(policy, {}).missingRows(*m_scene, m_F.get()).empty();
+    const bool needF = !reuse || !RadiosityPipeline(policy, {}).missingRows(*m_scene, m_F.get()).empty();
     info(needF ? "running: form factors and solve" : "running: solve (form factors are current)");
-    startJob(needF);
+    startJob(needF, reuse ? m_F : nullptr);
+}
+
+void AppState::recomputeFormFactors() {
+    if (!hasScene()) return;
+    info("running: form factors (recomputed) and solve");
+    startJob(true, nullptr);
 }
 
 void AppState::resolve() {
@@ -347,7 +361,7 @@ void AppState::resolve() {
         error("no current form factors: run the pipeline first");
         return;
     }
-    startJob(false);
+    startJob(false, m_F);
 }
 
 void AppState::cancel() {
@@ -382,6 +396,7 @@ bool AppState::poll() {
     }
     if (job->newF) {
         m_F = job->newF;
+        m_fSettings = job->settings.formFactors;
         m_stats = job->stats;
         m_fGeometryHash = job->scene.geometryHash();
         m_fStale = m_fGeometryHash != m_scene->geometryHash();
@@ -411,6 +426,7 @@ bool AppState::importFormFactors(const std::string& path) {
         checkFormFactorsMatch(*F, m_scene->geometryHash(), m_scene->size(), path);
         m_stats = computeStats(*F, *m_scene);
         m_F = std::move(F);
+        m_fSettings = settings.formFactors;  // Run reuses it until the panel's settings change
         m_fGeometryHash = m_scene->geometryHash();
         m_fStale = false;
         m_bStale = true;

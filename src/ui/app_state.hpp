@@ -116,8 +116,14 @@ public:
     void undo();
     void redo();
 
-    /// Computes F if it is missing, stale or lacks rows the materials now need, then solves.
+    /// Computes F if it is missing, stale, made with other settings than `settings.formFactors`
+    /// (method, its options, mirror depth) or lacks rows the materials now need, then solves.
     void runPipeline();
+    /// Computes the whole F again with the current settings, even when it is current, then solves.
+    void recomputeFormFactors();
+    /// True when F was made with the current form-factor settings (an imported F: with those the
+    /// panel had when it was imported).
+    bool formFactorsMatchSettings() const;
     /// Solves with the current F (warm start from the last radiosity).
     void resolve();
     void cancel();
@@ -142,7 +148,7 @@ private:
         std::vector<double> specular;
     };
     void addLog(const std::string& text, bool isError);
-    void startJob(bool computeF);
+    void startJob(bool computeF, std::shared_ptr<const FormFactors> F);
     Snapshot snapshot(const std::vector<PatchId>& ids) const;
     void restore(const std::vector<PatchId>& ids, const Snapshot& s);
     void materialsChanged(bool specularChanged);
@@ -152,6 +158,7 @@ private:
     std::string m_scenePath;
     std::uint64_t m_revision = 1;
     std::shared_ptr<const FormFactors> m_F;
+    std::optional<MethodSettings> m_fSettings;  ///< the settings m_F was made with
     std::optional<FormFactorStats> m_stats;
     std::uint64_t m_fGeometryHash = 0;
     std::uint64_t m_materialsRevision = 0;  ///< bumped by every material edit

@@ -319,7 +319,11 @@ void Panels::pipelinePanel(AppState& app) {
         if (ImGui::Button("Run", ImVec2(100, 0))) app.runPipeline();
         ImGui::SameLine();
         if (ImGui::Button("Re-solve", ImVec2(100, 0))) app.resolve();
+        ImGui::SameLine();
+        if (ImGui::Button("Recompute F")) app.recomputeFormFactors();
     }
+    if (app.formFactors() && !app.formFactorsStale() && !app.formFactorsMatchSettings())
+        ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "F was made with other settings: Run computes it again");
     ImGui::Separator();
     if (!app.formFactors()) {
         ImGui::TextDisabled("no form factors yet");

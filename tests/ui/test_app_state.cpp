@@ -5,10 +5,13 @@
 #include "engine/form_factor_file.hpp"
 #include "engine/form_factor_shards.hpp"
 #include "engine/subdivide.hpp"
+#include "preprocess/backend_registry.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
 #include "ui/app_state.hpp"
 
 #include <doctest/doctest.h>
+
+#include <algorithm>
 
 using namespace hemirad;
 using namespace hemirad::test;
@@ -198,4 +201,58 @@ TEST_CASE("GUI state: cancel stops a long form-factor computation and keeps the 
     CHECK_FALSE(app.job().running);
     CHECK(app.formFactors() == nullptr);
     CHECK(logged(app, "cancelled"));
+}
+
+TEST_CASE("GUI state: Run computes F again when the method or its options changed, and Recompute F forces it") {
+    // Issue 14, defect 1: Run solved with the old F after the panel's method or options changed.
+    AppState app;
+    solvedCube(app);  // hemisphere, 384 directions x 4 origins
+    CHECK(app.formFactors()->parameters.at("samples") == "384");
+    app.runPipeline();
+    runToEnd(app);
+    CHECK(logged(app, "running: solve (form factors are current)"));
+    CHECK(app.formFactorsMatchSettings());
+
+    // The thread count makes F faster, not different.
+    app.settings.formFactors.common.threads = 1;
+    CHECK(app.formFactorsMatchSettings());
+    // An option of the same back end.
+    app.settings.formFactors.as<HemisphereOptions>().samples = 768;
+    CHECK_FALSE(app.formFactorsMatchSettings());
+    app.runPipeline();
+    runToEnd(app);
+    CHECK(logged(app, "the form-factor settings changed since F was made: computing F again"));
+    CHECK(app.formFactors()->parameters.at("samples") == "768");
+    CHECK(app.formFactorsMatchSettings());
+    // The mirror depth.
+    app.settings.formFactors.common.maxDepth = 3;
+    CHECK_FALSE(app.formFactorsMatchSettings());
+    app.runPipeline();
+    runToEnd(app);
+    CHECK(app.formFactors()->parameters.at("max_depth") == "3");
+    // Another back end: the hemicube's F replaces the hemisphere's, and the stats follow.
+    app.settings.formFactors = defaultSettings("hemicube");
+    setBackendOption(app.settings.formFactors, "--resolution", "16");
+    app.runPipeline();
+    runToEnd(app);
+    REQUIRE(app.formFactors() != nullptr);
+    CHECK(app.formFactors()->provenance.method == "hemicube");
+    CHECK(app.formFactors()->parameters.at("resolution") == "16");
+    REQUIRE(app.formFactorStats().has_value());
+    CHECK(app.formFactorStats()->rowSumMean == doctest::Approx(1.0).epsilon(1e-3));
+
+    // Recompute F computes every row again with the same settings.
+    const auto computed = [&] {
+        return std::count_if(app.log().begin(), app.log().end(),
+                             [](const auto& e) { return e.text.rfind("form factors: hemicube", 0) == 0; });
+    };
+    const auto runs = computed();
+    CHECK(runs == 1);
+    app.recomputeFormFactors();
+    runToEnd(app);
+    CHECK(logged(app, "running: form factors (recomputed) and solve"));
+    CHECK(computed() == runs + 1);
+    REQUIRE(app.formFactors() != nullptr);
+    CHECK(app.formFactors()->computedRows() == 6);
+    CHECK(app.formFactorsMatchSettings());
 }
