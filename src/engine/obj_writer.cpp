@@ -4,6 +4,7 @@
 #include "engine/atomic_file.hpp"
 #include "engine/error.hpp"
 
+#include <charconv>
 #include <filesystem>
 #include <map>
 #include <tuple>
@@ -11,12 +12,35 @@
 namespace hemirad {
 namespace {
 
+/// `v` in the shortest form that reads back (strtod) as the same double: 0.9, 552.8, 0.8999999761581421;
+/// never the 17-digit noise of a fixed precision, and never fewer digits than the value needs (the
+/// scene hash, and so an F file's match, depends on the exact values).
+struct Shortest {
+    double v;
+};
+
+std::ostream& operator<<(std::ostream& out, Shortest x) {
+    char text[32];
+    const auto [end, failed] = std::to_chars(text, text + sizeof text, x.v);
+    if (failed != std::errc()) throw Error("cannot write the number " + std::to_string(x.v));
+    return out.write(text, end - text);
+}
+
+void writeRgb(std::ostream& out, const char* key, const Rgb& c) {
+    out << key << ' ' << Shortest{c[0]} << ' ' << Shortest{c[1]} << ' ' << Shortest{c[2]} << '\n';
+}
+
 void writeMaterial(std::ostream& out, const Material& m) {
-    out.precision(9);
-    out << "newmtl " << m.name << "\nKd " << m.rho[0] << ' ' << m.rho[1] << ' ' << m.rho[2] << "\nKe " << m.emission[0]
-        << ' ' << m.emission[1] << ' ' << m.emission[2] << '\n';
-    if (m.specular > 0.0) out << "Ks " << m.specular << ' ' << m.specular << ' ' << m.specular << "\nillum 3\n\n";
-    else out << "Ks " << m.ks[0] << ' ' << m.ks[1] << ' ' << m.ks[2] << "\nillum " << (m.illum == 3 || m.illum == 5 || m.illum == 7 ? 2 : m.illum) << "\n\n";
+    out << "newmtl " << m.name << '\n';
+    writeRgb(out, "Kd", m.rho);
+    writeRgb(out, "Ke", m.emission);
+    if (m.specular > 0.0) {
+        writeRgb(out, "Ks", Rgb::Constant(m.specular));
+        out << "illum 3\n\n";
+    } else {
+        writeRgb(out, "Ks", m.ks);
+        out << "illum " << (m.illum == 3 || m.illum == 5 || m.illum == 7 ? 2 : m.illum) << "\n\n";
+    }
 }
 
 bool sameValues(const Patch& p, const Material& m) {
@@ -69,15 +93,16 @@ void saveObj(const Scene& scene, const std::string& path) {
     }
     AtomicFile obj(path, false);
     std::ostream& out = obj.stream();
-    out.precision(17);
     out << "# Hemirad scene, " << scene.size() << " patches\n";
     if (scene.camera) {
         const Camera& c = *scene.camera;
-        out << "# hemirad camera " << c.eye.x() << ' ' << c.eye.y() << ' ' << c.eye.z() << ' ' << c.target.x() << ' '
-            << c.target.y() << ' ' << c.target.z() << ' ' << c.fovY << '\n';
+        out << "# hemirad camera " << Shortest{c.eye.x()} << ' ' << Shortest{c.eye.y()} << ' ' << Shortest{c.eye.z()} << ' '
+            << Shortest{c.target.x()} << ' ' << Shortest{c.target.y()} << ' ' << Shortest{c.target.z()} << ' '
+            << Shortest{c.fovY} << '\n';
     }
     out << "mtllib " << mtlPath.filename().string() << '\n';
-    for (const Vec3& v : scene.vertices) out << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+    for (const Vec3& v : scene.vertices)
+        out << "v " << Shortest{v.x()} << ' ' << Shortest{v.y()} << ' ' << Shortest{v.z()} << '\n';
     std::uint32_t object = UINT32_MAX, material = UINT32_MAX;
     for (PatchId i = 0; i < scene.size(); ++i) {
         const Patch& p = scene.patches[i];

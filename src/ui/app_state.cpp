@@ -159,7 +159,7 @@ void AppState::setScene(Scene scene, const std::string& path) {
     m_redo.clear();
     m_fStale = false;
     m_bStale = true;
-    m_dirty = false;
+    m_cleanDepth = 0;
     m_pendingResolve = false;
     bump();
 }
@@ -187,7 +187,7 @@ bool AppState::saveScene(const std::string& path) {
     try {
         saveObj(*m_scene, path);
         m_scenePath = path;
-        m_dirty = false;
+        m_cleanDepth = m_undo.size();
         info("saved " + path + " (and its .mtl)");
         return true;
     } catch (const std::exception& e) {
@@ -233,7 +233,6 @@ void AppState::restore(const std::vector<PatchId>& ids, const Snapshot& s) {
 }
 
 void AppState::materialsChanged(bool specularChanged) {
-    m_dirty = true;
     ++m_materialsRevision;
     bump();
     // F depends on geometry and mirrors only (Scene::geometryHash); a diffuse or emission edit
@@ -289,6 +288,7 @@ void AppState::editMaterial(const MaterialEdit& edit) {
         }
     }
     step.after = snapshot(step.ids);
+    if (m_cleanDepth && *m_cleanDepth > m_undo.size()) m_cleanDepth.reset();  // the saved state was undone and is now gone
     m_undo.push_back(std::move(step));
     m_redo.clear();
     materialsChanged(specularChanged);

@@ -79,7 +79,11 @@ public:
     SelectionMode selectionMode = SelectionMode::Patch;
     bool isSelected(PatchId id) const;
 
-    bool dirty() const { return m_dirty; }  ///< unsaved material edits
+    /// Unsaved material edits: the undo history is not where it was at the last load or save (an
+    /// undo back to the saved values is clean again).
+    bool dirty() const { return !m_cleanDepth || *m_cleanDepth != m_undo.size(); }
+    /// Bumped by every material edit, undo and redo (the material editor reloads its values).
+    std::uint64_t materialsRevision() const { return m_materialsRevision; }
     bool canUndo() const { return !m_undo.empty(); }
     bool canRedo() const { return !m_redo.empty(); }
 
@@ -163,7 +167,8 @@ private:
     std::uint64_t m_fGeometryHash = 0;
     std::uint64_t m_materialsRevision = 0;  ///< bumped by every material edit
     bool m_pendingResolve = false;          ///< an edit arrived while a job ran
-    bool m_fStale = false, m_bStale = false, m_dirty = false;
+    bool m_fStale = false, m_bStale = false;
+    std::optional<std::size_t> m_cleanDepth = 0;  ///< undo depth of the saved state; none once unreachable
     std::vector<Rgb> m_B;
     std::vector<SolveReport> m_reports;
     std::vector<std::pair<std::string, double>> m_timings;

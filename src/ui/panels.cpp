@@ -181,27 +181,33 @@ void Panels::materialPanel(AppState& app) {
     ImGui::Separator();
     ImGui::Text("Material of %zu selected patch%s", app.selection().size(), app.selection().size() == 1 ? "" : "es");
     const Scene& s = app.scene();
-    if (app.selection() != m_editorSelection) {
-        // Start from the first selected patch's values.
+    if (app.selection() != m_editorSelection || app.materialsRevision() != m_editorRevision) {
+        // The first selected patch's values, again after every edit, undo and redo (never stale).
         m_editorSelection = app.selection();
+        m_editorRevision = app.materialsRevision();
         const Patch& p = s.patches[m_editorSelection.front()];
-        const double strength = std::max({p.emission[0], p.emission[1], p.emission[2]});
-        m_strength = float(strength);
         for (int c = 0; c < 3; ++c) {
-            m_emission[c] = strength > 0 ? float(p.emission[c] / strength) : 1.0f;
-            m_rho[c] = float(p.rho[c]);
+            m_emission[c] = p.emission[c];
+            m_rho[c] = p.rho[c];
         }
-        m_specular = float(p.specular);
+        m_specular = p.specular;
     }
+    // Numeric fields in double: a value is stored as typed, and untouched channels keep theirs.
+    const auto swatch = [](const char* id, const double c[3], double scale) {
+        const float k = float(scale > 0 ? 1.0 / scale : 0.0);
+        ImGui::ColorButton(id, ImVec4(float(c[0]) * k, float(c[1]) * k, float(c[2]) * k, 1.0f), ImGuiColorEditFlags_NoTooltip);
+        ImGui::SameLine();
+    };
     MaterialEdit edit;
-    ImGui::ColorEdit3("Emission colour", m_emission);
-    if (ImGui::IsItemDeactivatedAfterEdit()) edit.emission = Rgb(m_emission[0], m_emission[1], m_emission[2]) * m_strength;
-    ImGui::DragFloat("Emission strength", &m_strength, 0.05f, 0.0f, 1e6f, "%.3g W/m^2");
-    if (ImGui::IsItemDeactivatedAfterEdit()) edit.emission = Rgb(m_emission[0], m_emission[1], m_emission[2]) * m_strength;
-    ImGui::ColorEdit3("Diffuse reflectance", m_rho);
+    swatch("##emission", m_emission, std::max({m_emission[0], m_emission[1], m_emission[2]}));
+    ImGui::InputScalarN("Emission W/m^2", ImGuiDataType_Double, m_emission, 3, nullptr, nullptr, "%.6g");
+    if (ImGui::IsItemDeactivatedAfterEdit()) edit.emission = Rgb(m_emission[0], m_emission[1], m_emission[2]);
+    swatch("##rho", m_rho, 1.0);
+    ImGui::InputScalarN("Diffuse reflectance", ImGuiDataType_Double, m_rho, 3, nullptr, nullptr, "%.6g");
     if (ImGui::IsItemDeactivatedAfterEdit()) edit.rho = Rgb(m_rho[0], m_rho[1], m_rho[2]);
-    ImGui::SliderFloat("Mirror reflectance", &m_specular, 0.0f, 1.0f, "%.3f");
-    if (ImGui::IsItemDeactivatedAfterEdit()) edit.specular = double(m_specular);
+    const double zero = 0.0, one = 1.0;
+    ImGui::SliderScalar("Mirror reflectance", ImGuiDataType_Double, &m_specular, &zero, &one, "%.3f");
+    if (ImGui::IsItemDeactivatedAfterEdit()) edit.specular = m_specular;
     if (edit.emission || edit.rho || edit.specular) app.editMaterial(edit);
     ImGui::TextDisabled("emission/diffuse edits re-solve with the current F; mirror edits need a new F");
 }
@@ -344,8 +350,10 @@ void Panels::pipelinePanel(AppState& app) {
 
 void Panels::logPanel(AppState& app) {
     for (const LogEntry& e : app.log()) {
-        if (e.error) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.4f, 1.0f), "[%8.2f] %s", e.seconds, e.text.c_str());
-        else ImGui::TextWrapped("[%8.2f] %s", e.seconds, e.text.c_str());
+        // Errors wrap like every other line, in red.
+        if (e.error) ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.4f, 1.0f));
+        ImGui::TextWrapped("[%8.2f] %s", e.seconds, e.text.c_str());
+        if (e.error) ImGui::PopStyleColor();
     }
     if (ImGui::GetScrollY() >= ImGui::GetScrollMaxY() - 20) ImGui::SetScrollHereY(1.0f);
 }

@@ -49,11 +49,11 @@ private:
     std::function<void()> m_confirmAction;
     bool m_openConfirm = false;
     // Material editor values (applied on release).
-    float m_emission[3] = {0, 0, 0};
-    float m_strength = 1.0f;
-    float m_rho[3] = {0.5f, 0.5f, 0.5f};
-    float m_specular = 0.0f;
+    double m_emission[3] = {0, 0, 0};  ///< W/m^2
+    double m_rho[3] = {0.5, 0.5, 0.5};
+    double m_specular = 0.0;
     std::vector<PatchId> m_editorSelection;
+    std::uint64_t m_editorRevision = 0;  ///< the materials revision the fields were loaded at
     bool m_showInspector = true;
 };
 

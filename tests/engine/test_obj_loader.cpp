@@ -213,3 +213,34 @@ TEST_CASE("Saving a scene as OBJ + MTL and loading it back keeps geometry, mater
     }
     CHECK(files == 2);
 }
+
+TEST_CASE("OBJ and MTL numbers are written in the shortest form that reads back to the same double") {
+    // Issue 14, defect 2: a mirror edited to 0.9 through a 32-bit slider (0.89999997615814209) was
+    // written with 9 digits, read back as another double, and the scene hash (so F's match) changed;
+    // coordinates carried 17-digit noise (552.79999999999995).
+    Warnings w = quietWarnings();
+    Scene s = loadObj(sourcePath("scenes/cornell_mirror.obj"), w);
+    PatchId mirror = 0;
+    while (!(s.patches[mirror].specular > 0.0)) ++mirror;
+    s.patches[mirror].specular = double(0.9f);
+    s.patches[mirror].rho = Rgb::Constant(double(0.1f) / 2.0);
+    s.patches[0].emission = Rgb(1.0 / 3.0, 2e-300, 123456789.125);
+    const auto dir = tempDir("shortest");
+    saveObj(s, (dir / "copy.obj").string());
+    const Scene t = loadObj((dir / "copy.obj").string(), w);
+    REQUIRE(t.size() == s.size());
+    CHECK(t.geometryHash() == s.geometryHash());
+    CHECK(t.vertices == s.vertices);
+    for (PatchId i = 0; i < s.size(); ++i) {
+        CAPTURE(i);
+        CHECK((t.patches[i].rho == s.patches[i].rho).all());
+        CHECK((t.patches[i].emission == s.patches[i].emission).all());
+        CHECK(t.patches[i].specular == s.patches[i].specular);  // bit for bit
+    }
+    const std::string obj = readText(dir / "copy.obj"), mtl = readText(dir / "copy.mtl");
+    CHECK(obj.find("v 552.8 0 0\n") != std::string::npos);
+    CHECK(obj.find("552.79999") == std::string::npos);
+    CHECK(mtl.find("Ks 0.8999999761581421 0.8999999761581421 0.8999999761581421\n") != std::string::npos);
+    CHECK(mtl.find("Kd 0.73 0.73 0.73\n") != std::string::npos);
+    CHECK(mtl.find("Ke 0.3333333333333333 2e-300 123456789.125\n") != std::string::npos);
+}

@@ -256,3 +256,64 @@ TEST_CASE("GUI state: Run computes F again when the method or its options change
     CHECK(app.formFactors()->computedRows() == 6);
     CHECK(app.formFactorsMatchSettings());
 }
+
+TEST_CASE("GUI state: after a mirror edit, save, reopen and import of the exported F work end to end") {
+    // Issue 14, defect 2: the mirror slider stored 0.9 as a float, the MTL kept 9 digits, and the
+    // reopened scene's hash refused the F exported before ("computed for another scene").
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/mirror_pair.obj")));
+    PatchId mirror = 0;
+    while (!(app.scene().patches[mirror].specular > 0.0)) ++mirror;
+    app.select(mirror, false);
+    MaterialEdit edit;
+    edit.specular = double(0.9f);  // what a 32-bit widget hands over: 0.89999997615814209
+    app.editMaterial(edit);
+    REQUIRE(app.scene().patches[mirror].specular == double(0.9f));
+    app.settings.formFactors.as<HemisphereOptions>().samples = 384;
+    app.runPipeline();
+    runToEnd(app);
+    REQUIRE(app.formFactors() != nullptr);
+    const auto dir = tempDir("gui-save-reopen");
+    REQUIRE(app.exportFormFactors((dir / "F.hff").string()));
+    REQUIRE(app.saveScene((dir / "edited.obj").string()));
+    AppState reopened;
+    REQUIRE(reopened.loadScene((dir / "edited.obj").string()));
+    CHECK(reopened.scene().patches[mirror].specular == double(0.9f));
+    CHECK(reopened.scene().geometryHash() == app.scene().geometryHash());
+    CHECK(reopened.importFormFactors((dir / "F.hff").string()));
+    CHECK_FALSE(logged(reopened, "computed for another scene"));
+}
+
+TEST_CASE("GUI state: undo back to the saved values is not an unsaved edit, and redo is") {
+    // Issue 14, defect 5: "(edited)" survived an undo back to the original values.
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
+    app.autoResolve = false;
+    CHECK_FALSE(app.dirty());
+    app.select(0, false);
+    MaterialEdit edit;
+    edit.rho = Rgb(0.12, 0.3, 0.4);
+    const std::uint64_t revision = app.materialsRevision();
+    app.editMaterial(edit);
+    CHECK(app.materialsRevision() > revision);  // the editor reloads its fields from the patch
+    CHECK(app.dirty());
+    app.undo();
+    CHECK_FALSE(app.dirty());
+    CHECK(app.materialsRevision() > revision + 1);
+    app.redo();
+    CHECK(app.dirty());
+    CHECK((app.scene().patches[0].rho == Rgb(0.12, 0.3, 0.4)).all());  // as typed, not re-quantised
+    const auto dir = tempDir("gui-dirty");
+    REQUIRE(app.saveScene((dir / "cube.obj").string()));
+    CHECK_FALSE(app.dirty());
+    app.undo();  // before the save: an unsaved change again
+    CHECK(app.dirty());
+    app.redo();
+    CHECK_FALSE(app.dirty());
+    app.undo();
+    edit.rho = Rgb(0.2, 0.2, 0.2);  // a new edit drops the redo step that led to the saved state
+    app.editMaterial(edit);
+    CHECK(app.dirty());
+    app.undo();
+    CHECK(app.dirty());
+}
