@@ -8,6 +8,15 @@
 #include <map>
 
 namespace hemirad {
+namespace {
+
+/// Emission and reflectances equal: B is continuous across the edge. Where they differ B jumps (a
+/// light in a ceiling, a red patch on a white wall), and averaging would smear it: a crease.
+bool sameMaterial(const Patch& a, const Patch& b) {
+    return (a.emission == b.emission).all() && (a.rho == b.rho).all() && a.specular == b.specular;
+}
+
+}  // namespace
 
 std::vector<Rgb> cornerRadiosity(const Scene& scene, const std::vector<Rgb>& B, double creaseDegrees) {
     if (B.size() != scene.size()) throw Error("cornerRadiosity: B has the wrong size");
@@ -53,7 +62,7 @@ std::vector<Rgb> cornerRadiosity(const Scene& scene, const std::vector<Rgb>& B, 
                 if (q == previous) continue;  // a patch listing the same position twice counts once
                 previous = q;
                 const Patch& other = scene.patches[q];
-                if (self.normal.dot(other.normal) < cosCrease) continue;
+                if (self.normal.dot(other.normal) < cosCrease || !sameMaterial(self, other)) continue;
                 sum += other.area * B[q];
                 weight += other.area;
             }

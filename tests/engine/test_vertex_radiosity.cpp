@@ -32,3 +32,29 @@ TEST_CASE("The crease angle keeps light from bleeding around a corner") {
     for (const Rgb& v : cornerRadiosity(b.scene, B, 90.0)) blended |= v[0] == doctest::Approx(3.0);
     CHECK(blended);
 }
+
+TEST_CASE("Emission and material edges are creases: a light does not smear into the ceiling around it") {
+    // Issue 14, defect 3: the Cornell light averaged with the ceiling polygons around it and showed as
+    // a glowing band several times its size; a small emitter got a halo.
+    SceneBuilder b;
+    b.scene.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(2, 0, 0), Vec3(2, 1, 0),
+                        Vec3(3, 0, 0), Vec3(3, 1, 0)};
+    b.scene.addPatch({0, 1, 2, 3}, 0, 0);  // ceiling
+    b.scene.addPatch({1, 4, 5, 2}, 0, 0);  // the light, in the ceiling's plane
+    b.scene.addPatch({4, 6, 7, 5}, 0, 0);  // ceiling again, another reflectance
+    b.scene.patches[1].emission = Rgb::Constant(100.0);
+    b.scene.patches[2].rho = Rgb(0.2, 0.3, 0.4);
+    const std::vector<Rgb> B = {Rgb::Constant(1.0), Rgb::Constant(100.0), Rgb::Constant(2.0)};
+    const std::vector<Rgb> c = cornerRadiosity(b.scene, B);
+    for (std::uint32_t k = 0; k < 4; ++k) {
+        CAPTURE(k);
+        CHECK((c[b.scene.patches[0].firstCorner + k] == 1.0).all());
+        CHECK((c[b.scene.patches[1].firstCorner + k] == 100.0).all());
+        CHECK((c[b.scene.patches[2].firstCorner + k] == 2.0).all());
+    }
+    // Equal materials still blend (the first case above), so subdivided walls stay smooth.
+    b.scene.patches[2].rho = b.scene.patches[0].rho;
+    b.scene.patches[1].emission = b.scene.patches[0].emission;
+    const std::vector<Rgb> blended = cornerRadiosity(b.scene, B);
+    CHECK(blended[b.scene.patches[0].firstCorner + 1][0] == doctest::Approx((1.0 + 100.0) / 2.0));
+}
