@@ -141,6 +141,31 @@ bool AppState::isSelected(PatchId id) const {
     return std::find(m_selection.begin(), m_selection.end(), id) != m_selection.end();
 }
 
+SelectionSummary AppState::selectionSummary() const {
+    SelectionSummary sum;
+    if (!hasScene()) return sum;
+    std::vector<bool> objectSeen(m_scene->objects.size() + 1, false);
+    for (PatchId i : m_selection) {
+        const Patch& p = m_scene->patches[i];
+        const std::size_t object = std::min<std::size_t>(p.object, m_scene->objects.size());
+        sum.objects += !objectSeen[object];
+        objectSeen[object] = true;
+        ++sum.patches;
+        sum.area += p.area;
+        sum.emission += p.area * p.emission;
+        sum.rho += p.area * p.rho;
+        sum.specular += p.area * p.specular;
+        if (i < m_B.size()) sum.power += p.area * m_B[i];
+    }
+    if (sum.area > 0.0) {
+        sum.emission /= sum.area;
+        sum.rho /= sum.area;
+        sum.specular /= sum.area;
+        sum.radiosity = sum.power / sum.area;
+    }
+    return sum;
+}
+
 void AppState::setScene(Scene scene, const std::string& path) {
     cancel();
     wait();

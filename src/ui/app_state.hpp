@@ -35,6 +35,17 @@ struct MaterialEdit {
     std::optional<double> specular;
 };
 
+/// What the Selection panel shows for a selection of one or many patches.
+struct SelectionSummary {
+    std::size_t patches = 0, objects = 0;
+    double area = 0.0;                   ///< total, scene units squared
+    Rgb emission = Rgb::Zero();          ///< area-weighted means
+    Rgb rho = Rgb::Zero();
+    double specular = 0.0;
+    Rgb radiosity = Rgb::Zero();
+    Rgb power = Rgb::Zero();             ///< sum of A B: the power leaving the selection
+};
+
 struct LogEntry {
     double seconds;  ///< since the application started
     std::string text;
@@ -78,6 +89,8 @@ public:
     const std::vector<PatchId>& selection() const { return m_selection; }
     SelectionMode selectionMode = SelectionMode::Patch;
     bool isSelected(PatchId id) const;
+    /// Count, objects, total area and area-weighted means of the selection (empty: all zero).
+    SelectionSummary selectionSummary() const;
 
     /// Unsaved material edits: the undo history is not where it was at the last load or save (an
     /// undo back to the saved values is clean again).

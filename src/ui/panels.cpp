@@ -216,6 +216,22 @@ void Panels::selectionPanel(AppState& app, Inspector& inspector, double viewExpo
     const Scene& s = app.scene();
     const PatchId id = app.selection().front();
     const Patch& p = s.patches[id];
+    const auto rgb = [](const Rgb& c) {
+        return formatNumber(c[0]) + " " + formatNumber(c[1]) + " " + formatNumber(c[2]);
+    };
+    if (app.selection().size() > 1) {
+        // The whole selection first: count, total area, area-weighted means, the power leaving it.
+        const SelectionSummary sum = app.selectionSummary();
+        ImGui::Text("%zu patches in %zu object%s, total area %s", sum.patches, sum.objects, sum.objects == 1 ? "" : "s",
+                    formatNumber(sum.area).c_str());
+        ImGui::Text("area-weighted means:");
+        ImGui::Text("  E   %s", rgb(sum.emission).c_str());
+        ImGui::Text("  rho %s   s %s", rgb(sum.rho).c_str(), formatNumber(sum.specular).c_str());
+        ImGui::Text("  B   %s", rgb(sum.radiosity).c_str());
+        ImGui::Text("power leaving (sum A B) %s", rgb(sum.power).c_str());
+        ImGui::Separator();
+        ImGui::TextDisabled("first selected patch:");
+    }
     ImGui::Text("patch %u, object '%s', line %d", id, p.object < s.objects.size() ? s.objects[p.object].c_str() : "?",
                 p.sourceLine);
     ImGui::Text("area %s", formatNumber(p.area).c_str());

@@ -18,6 +18,7 @@ using namespace hemirad::test;
 using hemirad::ui::AppState;
 using hemirad::ui::MaterialEdit;
 using hemirad::ui::SelectionMode;
+using hemirad::ui::SelectionSummary;
 
 namespace {
 
@@ -316,4 +317,41 @@ TEST_CASE("GUI state: undo back to the saved values is not an unsaved edit, and 
     CHECK(app.dirty());
     app.undo();
     CHECK(app.dirty());
+}
+
+TEST_CASE("GUI state: an object selection is summed: count, objects, total area, area-weighted means") {
+    // Issue 14, defect 6: object and multi-patch selections showed only their first patch.
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/cornell_box.obj")));
+    app.setScene(subdivide(app.scene(), 200.0), "cornell");
+    app.selectionMode = SelectionMode::Object;
+    app.select(0, false);
+    const Scene& s = app.scene();
+    const SelectionSummary one = app.selectionSummary();
+    double area = 0.0;
+    Rgb rhoArea = Rgb::Zero();
+    for (PatchId i : app.selection()) {
+        area += s.patches[i].area;
+        rhoArea += s.patches[i].area * s.patches[i].rho;
+    }
+    CHECK(one.patches == app.selection().size());
+    CHECK(one.patches > 1);
+    CHECK(one.objects == 1);
+    CHECK(one.area == doctest::Approx(area));
+    CHECK(one.rho[0] == doctest::Approx(rhoArea[0] / area));
+    CHECK((one.radiosity == one.emission).all());  // before any solve B is E
+    // A second object added: two objects, areas add up, means weight by area.
+    PatchId other = 0;
+    while (s.patches[other].object == s.patches[0].object || !(s.patches[other].emission > 0.0).any()) ++other;  // the light
+    app.select(other, true);
+    const SelectionSummary two = app.selectionSummary();
+    double lightArea = 0.0;
+    for (const Patch& p : s.patches)
+        if (p.object == s.patches[other].object) lightArea += p.area;
+    CHECK(two.objects == 2);
+    CHECK(two.area == doctest::Approx(area + lightArea));
+    CHECK(two.emission[0] == doctest::Approx(s.patches[other].emission[0] * lightArea / (area + lightArea)));
+    CHECK(two.power[0] == doctest::Approx(s.patches[other].emission[0] * lightArea));
+    app.clearSelection();
+    CHECK(app.selectionSummary().patches == 0);
 }
