@@ -1,10 +1,11 @@
-// The inspector's picture of how a patch's row of F was made: what the patch sees over its Nusselt
-// disk (hemisphere method) or on its unfolded hemicube atlas (hemicube method), ray-cast with Embree
-// from the patch centroid and coloured by the radiance of what each direction hits.
+// The inspector's picture of how a patch's row of F was made (inspector_picture.hpp) as a GL
+// texture: remade when the patch, method or scene revision changes, tone-mapped with the view's
+// exposure of the frame it is drawn in.
 #pragma once
 
 #include "gl/gl_objects.hpp"
 #include "ui/app_state.hpp"
+#include "ui/inspector_picture.hpp"
 
 #include <memory>
 
@@ -18,13 +19,14 @@ class Inspector {
 public:
     Inspector();
     ~Inspector();
-    /// Recomputes the picture for patch `id` when the patch, method or scene revision changed.
+    /// Recomputes the picture for patch `id` when the patch, method or scene revision changed, and
+    /// tone-maps it again when `exposure` (the view's, this frame) changed.
     void update(AppState& app, PatchId id, double exposure);
     /// GL texture with the picture (0 before the first update), and its size.
     GLuint texture() const { return m_texture.id(); }
-    int width() const { return m_width; }
-    int height() const { return m_height; }
-    const std::string& caption() const { return m_caption; }
+    int width() const { return m_picture.width; }
+    int height() const { return m_picture.height; }
+    const std::string& caption() const { return m_picture.caption; }
 
 private:
     std::unique_ptr<RayScene> m_rays;
@@ -32,9 +34,10 @@ private:
     std::uint64_t m_revision = 0;
     PatchId m_patch = ~0u;
     std::string m_method;
+    double m_exposure = 0.0;
+    InspectorPicture m_picture;
     gl::Texture m_texture;
-    int m_width = 0, m_height = 0;
-    std::string m_caption;
+    int m_textureWidth = 0, m_textureHeight = 0;
 };
 
 }  // namespace hemirad::ui
