@@ -47,7 +47,8 @@ const char* kUsage =
     "  --exit         quit after the screenshot (or at once without one), print the log,\n"
     "                 exit 1 if it holds an error\n"
     "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
-    "       (ctrl/shift + click adds); keys: F frame, C scene camera, Esc select none, Ctrl+Z/Y undo/redo\n";
+    "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc select none,\n"
+    "       Ctrl+Z/Y undo/redo; View > Look from: the standard views\n";
 
 GuiOptions parse(int argc, char** argv) {
     GuiOptions o;
@@ -250,6 +251,8 @@ int main(int argc, char** argv) {
                 }
                 if (!io.WantCaptureKeyboard && app.hasScene()) {
                     if (ImGui::IsKeyPressed(GLFW_KEY_F)) camera.frame(app.scene());
+                    if (!io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_S) && !app.selection().empty())
+                        camera.frameSelection(app.scene(), app.selection());
                     if (ImGui::IsKeyPressed(GLFW_KEY_C)) camera.useSceneCamera(app.scene());
                     if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) app.clearSelection();
                     if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Z)) app.undo();

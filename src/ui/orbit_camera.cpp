@@ -3,26 +3,99 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hemirad::ui {
+
+namespace {
+
+/// The outward direction of the vertical bounding-box face (+-x, +-z) that patches lying on it cover
+/// least, when it is covered less than half as much as the best covered one (an open side); else zero.
+Vec3 openSide(const Scene& scene, const Vec3& lo, const Vec3& hi) {
+    const Vec3 size = hi - lo;
+    Vec3 best = Vec3::Zero();
+    double least = 2.0, most = 0.0;
+    for (int axis : {0, 2}) {
+        const int other = 2 - axis;
+        const double faceArea = size[other] * size[1];
+        if (!(faceArea > 0.0)) continue;
+        for (int side = 0; side < 2; ++side) {
+            // Patches facing across the face within 2 % of the box from it (walls of modelled rooms,
+            // as the Cornell box's, are seldom exactly axis-aligned).
+            const double plane = side ? hi[axis] : lo[axis], slab = 0.02 * size[axis];
+            double covered = 0.0;
+            for (const Patch& p : scene.patches)
+                if (std::abs(p.normal[axis]) > 0.95 && std::abs(p.centroid[axis] - plane) <= slab) covered += p.area;
+            const double fraction = covered / faceArea;
+            most = std::max(most, fraction);
+            if (fraction < least) {
+                least = fraction;
+                best = Vec3::Zero();
+                best[axis] = side ? 1.0 : -1.0;
+            }
+        }
+    }
+    return least < 0.5 * most ? best : Vec3::Zero();
+}
+
+}  // namespace
+
+void OrbitCamera::fit(const Vec3& lo, const Vec3& hi) {
+    target = 0.5 * (lo + hi);
+    const double radius = std::max(0.5 * (hi - lo).norm(), 1e-9);
+    distance = radius / std::sin(0.5 * fovY * kPi / 180.0) * 1.1;
+}
+
+void OrbitCamera::setDirection(const Vec3& d) {
+    const double length = std::max(d.norm(), 1e-300);
+    pitch = std::clamp(std::asin(std::clamp(d.y() / length, -1.0, 1.0)), -1.55, 1.55);
+    yaw = std::atan2(d.x(), d.z());
+}
 
 void OrbitCamera::frame(const Scene& scene) {
     Vec3 lo, hi;
     scene.bounds(lo, hi);
-    target = 0.5 * (lo + hi);
     sceneRadius = std::max(0.5 * (hi - lo).norm(), 1e-9);
     fovY = 40.0;
     yaw = -0.35;
     pitch = 0.3;
-    distance = sceneRadius / std::sin(0.5 * fovY * kPi / 180.0) * 1.1;
+    if (scene.camera) {
+        setDirection(scene.camera->eye - scene.camera->target);
+    } else if (const Vec3 open = openSide(scene, lo, hi); open != Vec3::Zero()) {
+        setDirection(open + Vec3(0, 0.3, 0));  // from outside the open side, slightly above
+    }
+    fit(lo, hi);
+}
+
+void OrbitCamera::frameSelection(const Scene& scene, const std::vector<PatchId>& patches) {
+    if (patches.empty()) return;
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (PatchId id : patches) {
+        const Patch& p = scene.patches[id];
+        for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
+            const Vec3& v = scene.vertices[scene.corners[p.firstCorner + k]];
+            lo = lo.cwiseMin(v);
+            hi = hi.cwiseMax(v);
+        }
+    }
+    fit(lo, hi);
+}
+
+void OrbitCamera::lookAlong(const Scene& scene, int axis, bool positive) {
+    Vec3 lo, hi;
+    scene.bounds(lo, hi);
+    sceneRadius = std::max(0.5 * (hi - lo).norm(), 1e-9);
+    Vec3 d = Vec3::Zero();
+    d[axis] = positive ? 1.0 : -1.0;
+    setDirection(d);
+    fit(lo, hi);
 }
 
 void OrbitCamera::set(const Camera& camera) {
     target = camera.target;
     const Vec3 d = camera.eye - camera.target;
     distance = std::max(d.norm(), 1e-9);
-    pitch = std::asin(std::clamp(d.y() / distance, -1.0, 1.0));
-    yaw = std::atan2(d.x(), d.z());
+    setDirection(d);
     fovY = camera.fovY;
 }
 

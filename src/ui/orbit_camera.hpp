@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include <vector>
+
 namespace hemirad::ui {
 
 class OrbitCamera {
@@ -16,11 +18,20 @@ public:
     double fovY = 40.0;  ///< degrees
     Vec3 up = Vec3(0, 1, 0);
 
-    /// Fits the scene's bounds in view from the front-right, slightly above.
+    /// Fits the scene's bounds in view, seen from the scene camera's side when the scene has one,
+    /// else from its open side (the vertical bounding-box face that patches cover least, as the open
+    /// front of a Cornell box), else (a closed scene) from the front-right, slightly above.
     void frame(const Scene& scene);
+    /// Fits the selected patches in view, keeping the direction of view.
+    void frameSelection(const Scene& scene, const std::vector<PatchId>& patches);
+    /// Looks at the scene's centre from outside along `axis` (0 x, 1 y, 2 z) on its `positive` side,
+    /// fitting the whole scene: the standard views (top is +y).
+    void lookAlong(const Scene& scene, int axis, bool positive);
     /// Takes the scene's own camera (the Cornell camera for the bundled box); frames otherwise.
     void useSceneCamera(const Scene& scene);
     void set(const Camera& camera);
+    /// Points the view along the scene direction `fromTargetToEye` (need not be unit).
+    void setDirection(const Vec3& fromTargetToEye);
 
     /// Mouse drags in pixels of a viewport `height` pixels tall.
     void orbit(double dx, double dy);
@@ -33,6 +44,10 @@ public:
     /// OpenGL projection (depth -1..1), near/far from the scene size.
     Eigen::Matrix4d projection(double aspect) const;
     double sceneRadius = 1.0;
+
+private:
+    /// Centres the view on the box [lo, hi] at a distance that fits it; keeps the direction.
+    void fit(const Vec3& lo, const Vec3& hi);
 };
 
 }  // namespace hemirad::ui

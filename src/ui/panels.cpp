@@ -135,6 +135,19 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
         ImGui::MenuItem("Automatic exposure", nullptr, &app.autoExposure);
         ImGui::Separator();
         if (ImGui::MenuItem("Frame scene", "F", false, app.hasScene())) camera.frame(app.scene());
+        if (ImGui::MenuItem("Frame selection", "S", false, app.hasScene() && !app.selection().empty()))
+            camera.frameSelection(app.scene(), app.selection());
+        if (ImGui::BeginMenu("Look from", app.hasScene())) {
+            static const struct {
+                const char* label;
+                int axis;
+                bool positive;
+            } views[] = {{"Top (+y)", 1, true}, {"Bottom (-y)", 1, false}, {"+x", 0, true},
+                         {"-x", 0, false},      {"+z", 2, true},           {"-z", 2, false}};
+            for (const auto& v : views)
+                if (ImGui::MenuItem(v.label)) camera.lookAlong(app.scene(), v.axis, v.positive);
+            ImGui::EndMenu();
+        }
         if (ImGui::MenuItem("Scene camera", "C", false, app.hasScene())) camera.useSceneCamera(app.scene());
         ImGui::EndMenu();
     }
