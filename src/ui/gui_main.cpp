@@ -16,6 +16,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -32,6 +33,7 @@ struct GuiOptions {
     std::string scene;
     bool run = false;
     bool exitAfter = false;
+    double quitAfter = 0.0;  ///< --quit-after: seconds of interactive running, then quit as --exit
     std::string screenshot;
     double subdivide = 0.0;
     int width = 1280, height = 800;
@@ -42,10 +44,12 @@ struct GuiOptions {
 const char* kUsage =
     "usage: hemirad-gui [SCENE.obj] [--subdivide L] [--method NAME] [back-end options, see 'hemirad help']\n"
     "                   [--size WxH] [--select PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
+    "                   [--quit-after S]\n"
     "  --run          compute form factors and solve after loading\n"
     "  --screenshot   once the view shows the results, save the window (with the UI) as a PNG\n"
     "  --exit         quit after the screenshot (or at once without one), print the log,\n"
     "                 exit 1 if it holds an error\n"
+    "  --quit-after S run interactively for S seconds, then quit as --exit does\n"
     "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
     "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc select none,\n"
     "       Ctrl+Z/Y undo/redo; View > Look from: the standard views\n";
@@ -71,6 +75,7 @@ GuiOptions parse(int argc, char** argv) {
             std::exit(0);
         } else if (a == "--run") o.run = true;
         else if (a == "--exit") o.exitAfter = true;
+        else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
         else if (a == "--screenshot") o.screenshot = value(k, "--screenshot");
         else if (a == "--subdivide") o.subdivide = number(value(k, "--subdivide"), "--subdivide");
         else if (a == "--method") method = value(k, "--method");
@@ -201,8 +206,30 @@ int main(int argc, char** argv) {
             Inspector inspector;
             std::optional<PatchId> hovered;
             int framesSinceDone = 0;
+            // Frames are drawn while something changes, not all the time: a scripted run polls; a
+            // running job redraws 30 times a second (progress, progressive solves); after an event a
+            // few frames let ImGui settle; idle, the loop sleeps until an event (or 2 s pass).
+            const auto started = std::chrono::steady_clock::now();
+            const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
+            long frames = 0;
+            int settleFrames = 3;
             while (!glfwWindowShouldClose(window) && !requests.quit) {
-                glfwPollEvents();
+                const bool scripted = !options.screenshot.empty() || options.exitAfter;
+                if (scripted) {
+                    glfwPollEvents();
+                } else if (app.job().running) {
+                    glfwWaitEventsTimeout(1.0 / 30.0);
+                    settleFrames = 3;
+                } else if (settleFrames > 0) {
+                    glfwPollEvents();
+                    --settleFrames;
+                } else {
+                    const double limit = options.quitAfter > 0 ? std::max(options.quitAfter - seconds(), 1e-3) : 2.0;
+                    glfwWaitEventsTimeout(std::min(2.0, limit));
+                    settleFrames = 2;
+                }
+                if (options.quitAfter > 0 && seconds() >= options.quitAfter) requests.quit = true;
+                ++frames;
                 app.poll();
                 ImGui_ImplOpenGL3_NewFrame();
                 ImGui_ImplGlfw_NewFrame();
@@ -299,15 +326,17 @@ int main(int argc, char** argv) {
                 }
                 glfwSwapBuffers(window);
             }
-            // Scripted runs (--exit) print the whole log and fail if anything went wrong.
+            // Scripted runs (--exit, --quit-after) print the whole log and fail if anything went wrong.
+            const bool scriptedExit = options.exitAfter || options.quitAfter > 0;
             for (const LogEntry& e : app.log()) {
                 if (e.error) {
                     std::fprintf(stderr, "hemirad-gui: error: %s\n", e.text.c_str());
-                    if (options.exitAfter) status = 1;
-                } else if (options.exitAfter) {
+                    if (scriptedExit) status = 1;
+                } else if (scriptedExit) {
                     std::printf("hemirad-gui: %s\n", e.text.c_str());
                 }
             }
+            if (scriptedExit) std::printf("hemirad-gui: %ld frames drawn in %.2f s\n", frames, seconds());
         }
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();

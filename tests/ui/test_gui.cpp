@@ -32,3 +32,28 @@ TEST_CASE("hemirad-gui takes the back ends' flags from the registry and refuses 
     CHECK(run("--method cube") == 2);
     CHECK(readText(log).find("unknown --method 'cube' (hemisphere, hemicube)") != std::string::npos);
 }
+
+TEST_CASE("hemirad-gui sleeps while idle: a few frames, not one per refresh") {
+    // Issue 14, defect 9: the GUI redrew every frame and used a full core while nothing changed.
+    REQUIRE_MESSAGE(std::system("command -v xvfb-run > /dev/null") == 0, "xvfb-run is missing (scripts/install-deps.sh)");
+    const auto dir = tempDir("gui-idle");
+    const std::string log = (dir / "log.txt").string();
+    const std::string command = "ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 "
+                                "xvfb-run -a -s '-screen 0 1400x900x24' " + std::string(HEMIRAD_GUI_BINARY) + " " +
+                                sourcePath("scenes/cornell_box.obj") + " --quit-after 3 > " + log + " 2>&1";
+    const int status = std::system(command.c_str());
+    const std::string output = readText(log);
+    INFO(output);
+    REQUIRE(WIFEXITED(status));
+    REQUIRE(WEXITSTATUS(status) == 0);
+    long frames = -1;
+    double seconds = 0.0;
+    const std::size_t at = output.find("hemirad-gui: ");
+    REQUIRE(at != std::string::npos);
+    const std::size_t line = output.find(" frames drawn in ");
+    REQUIRE(line != std::string::npos);
+    REQUIRE(std::sscanf(output.c_str() + output.rfind('\n', line) + 1, "hemirad-gui: %ld frames drawn in %lf s", &frames, &seconds) == 2);
+    CHECK(seconds >= 3.0);
+    CHECK(frames >= 3);   // it did draw
+    CHECK(frames <= 20);  // 3 settling frames, then about 3 per 2 s of waiting (a busy loop draws hundreds)
+}
