@@ -336,7 +336,11 @@ int main(int argc, char** argv) {
                     std::printf("hemirad-gui: %s\n", e.text.c_str());
                 }
             }
-            if (scriptedExit) std::printf("hemirad-gui: %ld frames drawn in %.2f s\n", frames, seconds());
+            if (scriptedExit) {
+                std::printf("hemirad-gui: %ld frames drawn in %.2f s\n", frames, seconds());
+                for (const auto& [name, r] : panels.panelRects())
+                    std::printf("hemirad-gui: panel %s at %.0f,%.0f size %.0fx%.0f\n", name.c_str(), r.x, r.y, r.width, r.height);
+            }
         }
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();

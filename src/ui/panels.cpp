@@ -69,28 +69,55 @@ void Panels::open(AppState& app, OrbitCamera& camera, const std::string& path) {
     });
 }
 
+Panels::Layout Panels::layout(float width, float height) {
+    // A column on each side of the view: Scene (and the material editor) left over the Log; Pipeline
+    // over Selection on the right. Everything inside the window; panels scroll what does not fit.
+    constexpr float kMargin = 8.0f, kTop = 28.0f;
+    Layout l;
+    const float side = std::clamp(width * 0.27f, 260.0f, 420.0f);
+    const float logHeight = std::clamp(height * 0.2f, 100.0f, 220.0f);
+    const float right = width - side - kMargin;
+    const float column = height - kTop - kMargin;
+    l.scene = {kMargin, kTop, side, std::min(column - logHeight - kMargin, 340.0f)};  // the editor fits
+    l.log = {kMargin, height - logHeight - kMargin, std::max(right - 2 * kMargin, side), logHeight};
+    l.pipeline = {right, kTop, side, std::floor(column * 0.5f) - kMargin / 2};
+    l.selection = {right, kTop + std::floor(column * 0.5f) + kMargin / 2, side, column - std::floor(column * 0.5f) - kMargin / 2};
+    return l;
+}
+
+bool Panels::beginPanel(const char* name, const Rect& rect, bool relayout) {
+    const ImGuiCond when = relayout ? ImGuiCond_Always : ImGuiCond_FirstUseEver;
+    ImGui::SetNextWindowPos(ImVec2(rect.x, rect.y), when);
+    ImGui::SetNextWindowSize(ImVec2(rect.width, rect.height), when);
+    const bool open = ImGui::Begin(name);
+    const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+    m_panelRects[name] = {pos.x, pos.y, size.x, size.y};
+    return open;
+}
+
 void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, double viewExposure, LoopRequests& requests) {
     menuBar(app, camera, requests);
     const float width = ImGui::GetIO().DisplaySize.x, height = ImGui::GetIO().DisplaySize.y;
-    ImGui::SetNextWindowPos(ImVec2(8, 28), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
-    if (ImGui::Begin("Scene")) {
+    // The layout is applied at start and whenever the window's size changes; in between the user
+    // may move and resize panels.
+    const bool relayout = width != m_layoutWidth || height != m_layoutHeight;
+    m_layoutWidth = width;
+    m_layoutHeight = height;
+    const Layout l = layout(width, height);
+    m_panelRects.clear();
+    if (beginPanel("Scene", l.scene, relayout)) {
         scenePanel(app, camera);
         materialPanel(app);
     }
     ImGui::End();
-    ImGui::SetNextWindowPos(ImVec2(width - 348, 28), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
-    if (ImGui::Begin("Pipeline")) pipelinePanel(app);
+    if (beginPanel("Pipeline", l.pipeline, relayout)) pipelinePanel(app);
     ImGui::End();
     if (!app.selection().empty()) {
-        ImGui::SetNextWindowPos(ImVec2(width - 348, height * 0.45f), ImGuiCond_FirstUseEver);
-        if (ImGui::Begin("Selection")) selectionPanel(app, inspector, viewExposure);
+        if (beginPanel("Selection", l.selection, relayout || m_selectionHidden)) selectionPanel(app, inspector, viewExposure);
         ImGui::End();
     }
-    ImGui::SetNextWindowPos(ImVec2(8, height - 168), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(width * 0.55f, 160), ImGuiCond_FirstUseEver);
-    if (ImGui::Begin("Log")) logPanel(app);
+    m_selectionHidden = app.selection().empty();
+    if (beginPanel("Log", l.log, relayout)) logPanel(app);
     ImGui::End();
     modals(app, camera, requests);
 }
@@ -273,7 +300,7 @@ void Panels::selectionPanel(AppState& app, Inspector& inspector, double viewExpo
             inspector.update(app, id, viewExposure);
             if (inspector.texture()) {
                 ImGui::TextDisabled("%s", inspector.caption().c_str());
-                const float scale = 300.0f / float(std::max(inspector.width(), 1));
+                const float scale = std::min(300.0f, ImGui::GetContentRegionAvail().x) / float(std::max(inspector.width(), 1));
                 ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(inspector.texture())),
                              ImVec2(inspector.width() * scale, inspector.height() * scale));
             }

@@ -7,6 +7,7 @@
 
 #include <deque>
 #include <functional>
+#include <map>
 #include <string>
 
 namespace hemirad::ui {
@@ -28,7 +29,20 @@ public:
     void open(AppState& app, OrbitCamera& camera, const std::string& path);
     const std::deque<std::string>& recentFiles() const { return m_recent; }
 
+    struct Rect {
+        float x = 0, y = 0, width = 0, height = 0;
+    };
+    /// Where each panel drawn in the last frame was (window pixels), by name: scripted runs print
+    /// them and a test checks they stay inside the window and apart.
+    const std::map<std::string, Rect>& panelRects() const { return m_panelRects; }
+    /// The default layout for a window of this size.
+    struct Layout {
+        Rect scene, pipeline, selection, log;
+    };
+    static Layout layout(float width, float height);
+
 private:
+    bool beginPanel(const char* name, const Rect& rect, bool relayout);
     void menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests);
     void scenePanel(AppState& app, OrbitCamera& camera);
     void materialPanel(AppState& app);
@@ -55,6 +69,9 @@ private:
     std::vector<PatchId> m_editorSelection;
     std::uint64_t m_editorRevision = 0;  ///< the materials revision the fields were loaded at
     bool m_showInspector = true;
+    float m_layoutWidth = 0, m_layoutHeight = 0;  ///< the window size the layout was applied for
+    bool m_selectionHidden = true;                 ///< the Selection panel was not drawn last frame
+    std::map<std::string, Rect> m_panelRects;
 };
 
 }  // namespace hemirad::ui

@@ -57,3 +57,40 @@ TEST_CASE("hemirad-gui sleeps while idle: a few frames, not one per refresh") {
     CHECK(frames >= 3);   // it did draw
     CHECK(frames <= 20);  // 3 settling frames, then about 3 per 2 s of waiting (a busy loop draws hundreds)
 }
+
+TEST_CASE("hemirad-gui's panels stay inside a 1280x800 window and apart, the Selection panel included") {
+    // Issue 14: at the default size the Pipeline and Selection panels ran past the window's edge and
+    // over each other, hiding the F diagnostics and the inspector.
+    const std::string log = runGuiAndCheckPicture("gui-layout", "--samples 256 --select 0", false);
+    struct Panel {
+        std::string name;
+        double x, y, w, h;
+    };
+    std::vector<Panel> panels;
+    std::size_t at = 0;
+    while ((at = log.find("hemirad-gui: panel ", at)) != std::string::npos) {
+        char name[64] = {};
+        Panel p;
+        REQUIRE(std::sscanf(log.c_str() + at, "hemirad-gui: panel %63s at %lf,%lf size %lfx%lf", name, &p.x, &p.y, &p.w, &p.h) == 5);
+        p.name = name;
+        panels.push_back(p);
+        ++at;
+    }
+    REQUIRE(panels.size() == 4);  // Scene, Pipeline, Selection, Log
+    for (const Panel& p : panels) {
+        CAPTURE(p.name);
+        CHECK(p.x >= 0);
+        CHECK(p.y >= 20);  // below the menu bar
+        CHECK(p.x + p.w <= 1280);
+        CHECK(p.y + p.h <= 800);
+        CHECK(p.w >= 200);
+        CHECK(p.h >= 100);
+    }
+    for (std::size_t a = 0; a < panels.size(); ++a)
+        for (std::size_t b = a + 1; b < panels.size(); ++b) {
+            const Panel &p = panels[a], &q = panels[b];
+            CAPTURE(p.name);
+            CAPTURE(q.name);
+            CHECK((p.x + p.w <= q.x || q.x + q.w <= p.x || p.y + p.h <= q.y || q.y + q.h <= p.y));
+        }
+}
