@@ -4,15 +4,16 @@
 #include "engine/result_writer.hpp"
 #include "engine/vertex_radiosity.hpp"
 #include "rays/ray_scene.hpp"
+#include "render/false_colour.hpp"
 #include "render/raytracer.hpp"
 
+#include <sstream>
 
 namespace hemirad {
 
-void writeRenderOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings,
-                       const Reporter& reporter) {
-    timings.start("vertex radiosity");
-    const std::vector<Rgb> corner = cornerRadiosity(scene, result.B, options.crease);
+namespace {
+
+RenderOptions renderOptions(const Options& options, const Scene& scene) {
     RenderOptions render;
     render.width = options.width;
     render.height = options.height;
@@ -20,6 +21,41 @@ void writeRenderOutput(const Options& options, const Scene& scene, const Radiosi
     render.samplesPerPixel = options.samplesPerPixel;
     render.flat = options.flat;
     render.maxMirrorDepth = static_cast<int>(options.formFactors.common.maxDepth);
+    return render;
+}
+
+/// --false-color: one colour per patch from the quantity's value, and the legend.
+void writeFalseColour(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings,
+                      const Reporter& reporter) {
+    const FalseColourQuantity quantity = parseFalseColourQuantity(options.falseColour);
+    const std::vector<double> values = falseColourValues(scene, result.B, quantity);
+    const FalseColourRange range = falseColourRange(values, options.logScale ? FalseColourScale::Log : FalseColourScale::Linear,
+                                                    options.rangeMin, options.rangeMax);
+    const RenderOptions render = renderOptions(options, scene);
+    timings.start("false colour " + std::to_string(render.width) + "x" + std::to_string(render.height));
+    const RayScene rays(scene, options.formFactors.common.threads);
+    const Rgb8Image image = renderFalseColour(scene, rays, values, range, quantity, render);
+    timings.start("write PNG");
+    writePng(options.output, image.width, image.height, image.rgb);
+    timings.stop();
+    std::ostringstream line;
+    line.precision(9);
+    line << "false colour: " << falseColourTitle(quantity) << " (W/m^2, luminance Y), "
+         << (range.scale == FalseColourScale::Log ? "log" : "linear") << " scale " << range.min << " .. " << range.max
+         << (range.automatic ? " (the values' extremes)" : "");
+    reporter.line(line.str());
+    reporter.line("wrote " + outputName(options.output) + " (" + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                  ": the picture and a " + std::to_string(kFalseColourLegendWidth) + "-pixel legend)");
+}
+
+}  // namespace
+
+void writeRenderOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings,
+                       const Reporter& reporter) {
+    if (!options.falseColour.empty()) return writeFalseColour(options, scene, result, timings, reporter);
+    timings.start("vertex radiosity");
+    const std::vector<Rgb> corner = cornerRadiosity(scene, result.B, options.crease);
+    const RenderOptions render = renderOptions(options, scene);
     timings.start("render " + std::to_string(render.width) + "x" + std::to_string(render.height));
     const RayScene rays(scene, options.formFactors.common.threads);
     const RadianceImage image = renderRadiance(scene, rays, result.B, corner, render);

@@ -185,6 +185,27 @@ const std::map<std::string, Flag>& flags() {
         {"--exposure", {{"render", "solve"}, true,
                         [](Options& o, const std::string& f, const std::string& v) { o.exposure = parseNumber(f, v, 1e-30, 1e30); }}},
         {"--flat", {{"render"}, false, [](Options& o, const std::string&, const std::string&) { o.flat = true; }}},
+        {"--false-color", {{"render"}, true,
+                           [](Options& o, const std::string& f, const std::string& v) {
+                               if (v != "radiosity" && v != "irradiance" && v != "emission")
+                                   throw UsageError(f + " expects radiosity, irradiance or emission, got '" + v + "'");
+                               o.falseColour = v;
+                           }}},
+        {"--scale", {{"render"}, true,
+                     [](Options& o, const std::string& f, const std::string& v) {
+                         if (v != "linear" && v != "log") throw UsageError(f + " expects linear or log, got '" + v + "'");
+                         o.logScale = v == "log";
+                     }}},
+        {"--range", {{"render"}, true,
+                     [](Options& o, const std::string& f, const std::string& v) {
+                         const std::size_t colon = v.find(':');
+                         if (colon == std::string::npos)
+                             throw UsageError(f + " expects MIN:MAX (either may be empty: automatic), got '" + v + "'");
+                         if (colon > 0) o.rangeMin = parseNumber(f, v.substr(0, colon), -1e300, 1e300);
+                         if (colon + 1 < v.size()) o.rangeMax = parseNumber(f, v.substr(colon + 1), -1e300, 1e300);
+                         if (o.rangeMin && o.rangeMax && !(*o.rangeMin < *o.rangeMax))
+                             throw UsageError(f + " " + v + ": MIN must be below MAX");
+                     }}},
         {"--sweep-samples", {kBench, true,
                              [](Options& o, const std::string& f, const std::string& v) {
                                  o.sweepSamples = parseCounts(f, v, 1, 1 << 24);
@@ -371,6 +392,15 @@ Options parseOptions(int argc, const char* const* argv) {
     const bool needsOutput = o.command == "formfactors" || o.command == "subdivide" || o.command == "bench";
     if (needsOutput && o.output.empty()) throw UsageError("'" + o.command + "' needs -o OUTPUT");
     if (o.command == "render" && o.output.empty()) throw UsageError("'render' needs -o IMAGE.png");
+    if (o.falseColour.empty()) {
+        for (const ParsedFlag& p : parsed)
+            if (p.flag == "--scale" || p.flag == "--range") throw UsageError(p.flag + " needs --false-color QUANTITY");
+    } else {
+        for (const ParsedFlag& p : parsed)
+            if (p.flag == "--exposure" || p.flag == "--spp" || p.flag == "--flat" || p.flag == "--crease")
+                throw UsageError(p.flag + " does not apply with --false-color (one ray per pixel, one colour per patch)");
+        if (o.logScale && o.rangeMin && !(*o.rangeMin > 0.0)) throw UsageError("--range: a log scale needs MIN > 0");
+    }
     if (o.command == "solve" && o.output.empty() && o.ffPath.empty())
         throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F)");
     if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
@@ -473,6 +503,11 @@ render:
   --camera ex,ey,ez,tx,ty,tz,fov   eye, target, vertical field of view in degrees
   --spp N                samples per pixel (default 4)
   --flat                 flat patches instead of Gouraud shading
+  --false-color Q        a false-colour map of Q = radiosity (B), irradiance (H = (B - E)/rho, what a
+                         meter on the surface reads) or emission (E), W/m^2 as luminance Y, per
+                         patch, with a legend (colour bar, values, unit) right of the picture
+  --scale linear|log     the map's scale (default linear)
+  --range MIN:MAX        the map's range (default: the values' extremes; either side may be empty)
 bench:
   --methods LIST         back ends to compare, e.g. )" + methodNames + R"(; a back-end option
                          applies to every listed back end that takes it

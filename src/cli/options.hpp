@@ -48,6 +48,9 @@ struct Options {
     int samplesPerPixel = 4;
     double exposure = 0.0;               ///< 0 = automatic
     bool flat = false;
+    std::string falseColour;             ///< --false-color: radiosity, irradiance, emission ("" = a picture)
+    bool logScale = false;               ///< --scale log
+    std::optional<double> rangeMin, rangeMax;  ///< --range MIN:MAX (either may be empty: automatic)
 
     // subdivide command.
     double maxEdge = 0.0;

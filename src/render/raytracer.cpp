@@ -25,6 +25,29 @@ Camera defaultCamera(const Scene& scene) {
 
 namespace {
 
+/// Camera rays through the image: direction for a point (px, py) in [0, 1]^2, rows top to bottom.
+struct CameraRays {
+    Vec3 forward, right, up;
+    double tanHalf, aspect;
+
+    explicit CameraRays(const RenderOptions& options) {
+        if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
+            throw Error("image size " + std::to_string(options.width) + "x" + std::to_string(options.height) +
+                        " is out of range (1..16384)");
+        const Camera& cam = options.camera;
+        forward = (cam.target - cam.eye).normalized();
+        Vec3 u = cam.up.normalized();
+        if (std::abs(forward.dot(u)) > 0.999) u = std::abs(forward.z()) < 0.9 ? Vec3(0, 0, 1) : Vec3(1, 0, 0);
+        right = forward.cross(u).normalized();
+        up = right.cross(forward);
+        tanHalf = std::tan(0.5 * cam.fovY * kPi / 180.0);
+        aspect = double(options.width) / options.height;
+    }
+    Vec3 direction(double px, double py) const {
+        return (forward + (2.0 * px - 1.0) * tanHalf * aspect * right + (1.0 - 2.0 * py) * tanHalf * up).normalized();
+    }
+};
+
 Rgb shade(const Scene& scene, const RayScene& rays, const std::vector<Rgb>& B, const std::vector<Rgb>& corner,
           const RenderOptions& options, Vec3 origin, Vec3 dir) {
     Rgb radiance = Rgb::Zero();
@@ -56,19 +79,9 @@ Rgb shade(const Scene& scene, const RayScene& rays, const std::vector<Rgb>& B, c
 
 RadianceImage renderRadiance(const Scene& scene, const RayScene& rays, const std::vector<Rgb>& B,
                              const std::vector<Rgb>& corner, const RenderOptions& options) {
-    if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
-        throw Error("image size " + std::to_string(options.width) + "x" + std::to_string(options.height) +
-                    " is out of range (1..16384)");
+    const CameraRays camera(options);
     if (B.size() != scene.size() || corner.size() != scene.corners.size())
         throw Error("renderRadiance: radiosity arrays do not match the scene");
-    const Camera& cam = options.camera;
-    const Vec3 forward = (cam.target - cam.eye).normalized();
-    Vec3 up = cam.up.normalized();
-    if (std::abs(forward.dot(up)) > 0.999) up = std::abs(forward.z()) < 0.9 ? Vec3(0, 0, 1) : Vec3(1, 0, 0);
-    const Vec3 right = forward.cross(up).normalized();
-    const Vec3 trueUp = right.cross(forward);
-    const double tanHalf = std::tan(0.5 * cam.fovY * kPi / 180.0);
-    const double aspect = double(options.width) / options.height;
     const int strata = std::max(1, static_cast<int>(std::sqrt(double(std::max(1, options.samplesPerPixel)))));
 
     RadianceImage image;
@@ -83,14 +96,25 @@ RadianceImage renderRadiance(const Scene& scene, const RayScene& rays, const std
                 for (int sx = 0; sx < strata; ++sx) {
                     const double px = (x + (sx + 0.5) / strata) / options.width;
                     const double py = (y + (sy + 0.5) / strata) / options.height;
-                    const Vec3 dir =
-                        (forward + (2.0 * px - 1.0) * tanHalf * aspect * right + (1.0 - 2.0 * py) * tanHalf * trueUp)
-                            .normalized();
-                    sum += shade(scene, rays, B, corner, options, cam.eye, dir);
+                    sum += shade(scene, rays, B, corner, options, options.camera.eye, camera.direction(px, py));
                 }
             image.pixels[std::size_t(y) * options.width + x] = sum / double(strata * strata);
         }
     return image;
+}
+
+std::vector<PatchId> renderPatchIds(const Scene& scene, const RayScene& rays, const RenderOptions& options) {
+    const CameraRays camera(options);
+    std::vector<PatchId> ids(std::size_t(options.width) * options.height, RayScene::kNoHit);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int y = 0; y < options.height; ++y)
+        for (int x = 0; x < options.width; ++x) {
+            const Vec3 dir = camera.direction((x + 0.5) / options.width, (y + 0.5) / options.height);
+            const RayScene::Hit hit = rays.intersect(options.camera.eye, dir);
+            PatchId& id = ids[std::size_t(y) * options.width + x];
+            if (hit.patch != RayScene::kNoHit) id = dir.dot(scene.patches[hit.patch].normal) < 0.0 ? hit.patch : kBackFace;
+        }
+    return ids;
 }
 
 std::vector<std::uint8_t> toneMap(const RadianceImage& image, double exposure, double& scale) {

@@ -32,6 +32,11 @@ Camera defaultCamera(const Scene& scene);
 RadianceImage renderRadiance(const Scene& scene, const RayScene& rays, const std::vector<Rgb>& B,
                              const std::vector<Rgb>& corner, const RenderOptions& options);
 
+/// What each pixel centre's camera ray meets first: a patch id, RayScene::kNoHit (nothing), or
+/// kBackFace (a patch from behind). Rows top to bottom.
+constexpr PatchId kBackFace = 0xfffffffeu;
+std::vector<PatchId> renderPatchIds(const Scene& scene, const RayScene& rays, const RenderOptions& options);
+
 /// 8-bit sRGB pixels; exposure <= 0 means automatic (97th percentile luminance -> 0.85).
 /// Returns the scale used in `scale`.
 std::vector<std::uint8_t> toneMap(const RadianceImage& image, double exposure, double& scale);

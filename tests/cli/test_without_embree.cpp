@@ -11,8 +11,6 @@
 #include <doctest/doctest.h>
 
 #ifdef HEMIRAD_GUI_BINARY
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
 #include "ui/gui_run.hpp"
 #endif
 

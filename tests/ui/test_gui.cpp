@@ -1,7 +1,5 @@
 // hemirad-gui under Xvfb: load, compute, solve, draw, screenshot, quit, and the picture is checked.
 // Needs xvfb-run (installed by scripts/install-deps.sh); without it the test fails, never skips.
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
 #include "ui/gui_run.hpp"
 
 using namespace hemirad::test;

@@ -1,0 +1,65 @@
+// False-colour images for engineers: a per-patch quantity (radiosity B, irradiance H, emission E)
+// mapped through a perceptually uniform colour map (viridis) on a linear or log scale, with a legend
+// (colour bar, values, unit) beside the picture.
+#pragma once
+
+#include "engine/scene.hpp"
+#include "render/raytracer.hpp"
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hemirad {
+
+enum class FalseColourQuantity { Radiosity, Irradiance, Emission };
+enum class FalseColourScale { Linear, Log };
+
+/// "radiosity", "irradiance", "emission"; throws hemirad::Error for another name.
+FalseColourQuantity parseFalseColourQuantity(const std::string& name);
+/// What the legend calls it: "radiosity B", "irradiance H", "emission E".
+std::string falseColourTitle(FalseColourQuantity quantity);
+
+/// The quantity per patch as one number: the luminance Y (Rec. 709 weights) of the RGB value, in
+/// the scene's emission units (W/m^2). Irradiance H = (B - E) / rho, the flux a patch receives per
+/// area (what a meter on the surface reads); NaN where a channel's rho is 0 (B says nothing there).
+std::vector<double> falseColourValues(const Scene& scene, const std::vector<Rgb>& B, FalseColourQuantity quantity);
+
+struct FalseColourRange {
+    double min = 0.0, max = 1.0;
+    FalseColourScale scale = FalseColourScale::Linear;
+    bool automatic = true;
+    /// Position of `value` on the colour bar, 0 (min) .. 1 (max), clamped; NaN for NaN.
+    double position(double value) const;
+};
+
+/// The range: `min`/`max` where given, else the extremes of the finite values (log: of the positive
+/// ones). Throws hemirad::Error when no value can be shown or min >= max.
+FalseColourRange falseColourRange(const std::vector<double>& values, FalseColourScale scale, std::optional<double> min,
+                                  std::optional<double> max);
+
+/// The colour map at t in [0, 1] (matplotlib's viridis, 256 steps).
+std::array<std::uint8_t, 3> viridis(double t);
+
+/// 8-bit RGB image, rows top to bottom.
+struct Rgb8Image {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> rgb;
+};
+
+/// Colours of what is not a value: background, a patch's back, a patch without data (NaN).
+constexpr std::array<std::uint8_t, 3> kFalseColourBackground{0, 0, 0};
+constexpr std::array<std::uint8_t, 3> kFalseColourBackFace{48, 48, 48};
+constexpr std::array<std::uint8_t, 3> kFalseColourNoData{128, 128, 128};
+/// Width of the legend strip added to the right of the picture.
+constexpr int kFalseColourLegendWidth = 170;
+
+/// The picture (one camera ray per pixel centre: each pixel is the colour of the patch it sees,
+/// mirrors included as patches) and, to its right, the legend: title, unit, colour bar, five values
+/// on it, the scale, and "no data" when some patch has none.
+Rgb8Image renderFalseColour(const Scene& scene, const RayScene& rays, const std::vector<double>& values,
+                            const FalseColourRange& range, FalseColourQuantity quantity, const RenderOptions& options);
+
+}  // namespace hemirad

@@ -1,0 +1,164 @@
+// False-colour images: per-patch values (B, H, E), ranges and scales, the colour map, and
+// `hemirad render --false-color` end to end against the CSV of `hemirad solve`.
+#include "support.hpp"
+
+#include "engine/error.hpp"
+#include "engine/tone_map.hpp"
+#include "render/false_colour.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include <stb/stb_image.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+namespace {
+
+/// One number per line of `hemirad solve`'s CSV (patch,area,E_r,E_g,E_b,rho_r,rho_g,rho_b,specular,B_r,B_g,B_b):
+/// the irradiance H = Y((B - E) / rho), NaN where a rho is 0.
+std::vector<double> irradianceFromCsv(const std::string& csv) {
+    std::istringstream in(csv);
+    std::string line;
+    std::getline(in, line);  // header
+    std::vector<double> H;
+    while (std::getline(in, line)) {
+        std::vector<double> f;
+        std::istringstream fields(line);
+        for (std::string cell; std::getline(fields, cell, ',');) f.push_back(std::stod(cell));
+        REQUIRE(f.size() == 12);
+        const Rgb E(f[2], f[3], f[4]), rho(f[5], f[6], f[7]), B(f[9], f[10], f[11]);
+        H.push_back((rho > 0.0).all() ? luminance(Rgb((B - E) / rho)) : std::nan(""));
+    }
+    return H;
+}
+
+std::array<std::uint8_t, 3> pixel(const unsigned char* rgb, int width, int x, int y) {
+    const unsigned char* p = rgb + 3 * (std::size_t(y) * width + x);
+    return {p[0], p[1], p[2]};
+}
+
+}  // namespace
+
+TEST_CASE("False colour: values per quantity, automatic and given ranges, linear and log positions") {
+    SceneBuilder b;
+    b.rectangle(2, 0, 0, 1, 0, 1, true);
+    b.rectangle(2, 1, 0, 1, 0, 1, false);
+    b.rectangle(1, 0, 0, 1, 0, 1, true);
+    b.scene.patches[0].emission = Rgb(10, 10, 10);
+    b.scene.patches[1].rho = Rgb(0.5, 0.25, 0.5);
+    b.scene.patches[2].rho = Rgb(0.5, 0.0, 0.5);  // no green reflectance: H unknown
+    const std::vector<Rgb> B = {Rgb(10.5, 10.5, 10.5), Rgb(1, 1, 1), Rgb(2, 2, 2)};
+    const std::vector<double> H = falseColourValues(b.scene, B, FalseColourQuantity::Irradiance);
+    CHECK(H[0] == doctest::Approx(luminance(Rgb((B[0] - Rgb::Constant(10)) / b.scene.patches[0].rho))));
+    CHECK(H[1] == doctest::Approx(0.2126 * 2 + 0.7152 * 4 + 0.0722 * 2));
+    CHECK(std::isnan(H[2]));
+    CHECK(falseColourValues(b.scene, B, FalseColourQuantity::Radiosity)[1] == doctest::Approx(1.0));
+    CHECK(falseColourValues(b.scene, B, FalseColourQuantity::Emission)[0] == doctest::Approx(10.0));
+
+    const FalseColourRange automatic = falseColourRange(H, FalseColourScale::Linear, {}, {});
+    CHECK(automatic.min == doctest::Approx(std::min(H[0], H[1])));
+    CHECK(automatic.max == doctest::Approx(std::max(H[0], H[1])));
+    CHECK(automatic.automatic);
+    CHECK(automatic.position(automatic.max) == 1.0);
+    CHECK(automatic.position(automatic.min) == 0.0);
+    CHECK(std::isnan(automatic.position(H[2])));
+    const FalseColourRange log = falseColourRange({0.01, 1.0, 0.0, -3.0}, FalseColourScale::Log, {}, {});
+    CHECK(log.min == doctest::Approx(0.01));  // non-positive values cannot sit on a log scale
+    CHECK(log.position(0.1) == doctest::Approx(0.5));
+    CHECK(log.position(0.0) == 0.0);
+    const FalseColourRange given = falseColourRange(H, FalseColourScale::Linear, 0.0, 8.0);
+    CHECK(given.position(2.0) == doctest::Approx(0.25));
+    CHECK(given.position(100.0) == 1.0);
+    CHECK_FALSE(given.automatic);
+    CHECK_THROWS_WITH_AS(falseColourRange({-1.0, 0.0}, FalseColourScale::Log, {}, {}),
+                         doctest::Contains("no positive value to show on a log scale"), Error);
+    CHECK_THROWS_WITH_AS(falseColourRange(H, FalseColourScale::Linear, 5.0, 5.0), doctest::Contains("is empty"), Error);
+    // A uniform quantity still gets a range (and a colour) around its value.
+    const FalseColourRange flat = falseColourRange({2.0, 2.0}, FalseColourScale::Linear, {}, {});
+    CHECK(flat.min < 2.0);
+    CHECK(flat.max > 2.0);
+    // The map: viridis' ends and middle.
+    CHECK(viridis(0.0) == std::array<std::uint8_t, 3>{68, 1, 84});
+    CHECK(viridis(1.0) == std::array<std::uint8_t, 3>{253, 231, 37});
+    CHECK(viridis(0.5) == std::array<std::uint8_t, 3>{33, 145, 140});
+}
+
+TEST_CASE("hemirad render --false-color irradiance: colours, range and legend come from the solved values") {
+    const auto dir = tempDir("false-colour");
+    const std::string scene = sourcePath("scenes/cornell_box.obj"), F = (dir / "F.hff").string();
+    const std::string csvPath = (dir / "B.csv").string(), png = (dir / "H.png").string();
+    const std::string hemirad = std::string(HEMIRAD_BINARY) + " ";
+    CommandResult r = runCommand(hemirad + "solve " + scene + " --subdivide 150 --samples 512 --ff " + F + " -o " + csvPath + " 2>&1");
+    REQUIRE(r.status == 0);
+    r = runCommand(hemirad + "render " + scene + " --subdivide 150 --ff " + F + " --false-color irradiance --size 200x200 -o " +
+                   png + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    const std::vector<double> H = irradianceFromCsv(readText(csvPath));
+    double lo = 1e300, hi = -1e300;
+    bool noData = false;
+    for (double h : H) {
+        if (std::isnan(h)) noData = true;
+        else lo = std::min(lo, h), hi = std::max(hi, h);
+    }
+    // The report's range is the CSV's extremes.
+    double reportedMin = 0, reportedMax = 0;
+    const std::size_t at = r.output.find("linear scale ");
+    REQUIRE(at != std::string::npos);
+    REQUIRE(std::sscanf(r.output.c_str() + at, "linear scale %lf .. %lf", &reportedMin, &reportedMax) == 2);
+    CHECK(reportedMin == doctest::Approx(lo).epsilon(1e-6));
+    CHECK(reportedMax == doctest::Approx(hi).epsilon(1e-6));
+
+    int width = 0, height = 0, channels = 0;
+    unsigned char* data = stbi_load(png.c_str(), &width, &height, &channels, 3);
+    REQUIRE(data != nullptr);
+    CHECK(width == 200 + kFalseColourLegendWidth);
+    CHECK(height == 240);  // the legend needs 240 rows
+    // Every coloured pixel of the picture is the colour of some patch's value (the map's 256 steps).
+    FalseColourRange range;
+    range.min = lo, range.max = hi;
+    std::set<int> steps;
+    for (double h : H)
+        if (!std::isnan(h)) steps.insert(int(std::lround(range.position(h) * 255.0)));
+    std::size_t coloured = 0, unmatched = 0;
+    for (int y = 0; y < 200; ++y)
+        for (int x = 0; x < 200; ++x) {
+            const auto c = pixel(data, width, x, y);
+            if (c == kFalseColourBackground || c == kFalseColourBackFace || c == kFalseColourNoData) continue;
+            ++coloured;
+            bool found = false;
+            for (int k : steps) found |= viridis(k / 255.0) == c;
+            unmatched += !found;
+        }
+    CHECK(coloured > 30000);
+    CHECK(unmatched == 0);
+    // The legend's bar runs from the map's top colour (max) down to its bottom one (min).
+    const int barX = 200 + 12 + 14;
+    CHECK(pixel(data, width, barX, 52) == viridis(1.0));
+    int bottom = 52;
+    while (bottom + 1 < height && pixel(data, width, barX, bottom + 1) != std::array<std::uint8_t, 3>{255, 255, 255}) ++bottom;
+    CHECK(pixel(data, width, barX, bottom) == viridis(0.0));
+    CHECK(bottom == height - (noData ? 64 : 36) - 1);
+    // Its five values are drawn in ink right of the bar.
+    std::size_t ink = 0;
+    for (int y = 40; y < bottom + 8; ++y)
+        for (int x = barX + 20; x < width; ++x) ink += pixel(data, width, x, y) == std::array<std::uint8_t, 3>{0, 0, 0};
+    CHECK(ink > 200);
+    stbi_image_free(data);
+
+    // Flags that only make sense together, or not with a false-colour map, are usage errors.
+    r = runCommand(hemirad + "render " + scene + " --scale log -o " + png + " 2>&1");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("--scale needs --false-color QUANTITY") != std::string::npos);
+    r = runCommand(hemirad + "render " + scene + " --false-color irradiance --exposure 2 -o " + png + " 2>&1");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("--exposure does not apply with --false-color") != std::string::npos);
+    r = runCommand(hemirad + "render " + scene + " --false-color lux -o " + png + " 2>&1");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("--false-color expects radiosity, irradiance or emission, got 'lux'") != std::string::npos);
+}
