@@ -52,7 +52,7 @@ TEST_CASE("Frame scene looks from the scene camera's side, or into an open box t
     CHECK(fitsInView(camera, cube));
 }
 
-TEST_CASE("Frame selection centres the selected patches; the standard views look along the axes") {
+TEST_CASE("Frame selection centres the selected patches, and the standard views look along the axes") {
     const Scene cornell = bundledScene("cornell_box.obj");
     OrbitCamera camera;
     camera.frame(cornell);
