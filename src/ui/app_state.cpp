@@ -12,6 +12,7 @@
 #include "preprocess/form_factor_job.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <sstream>
@@ -139,6 +140,28 @@ JobStatus AppState::job() const {
 
 bool AppState::isSelected(PatchId id) const {
     return std::find(m_selection.begin(), m_selection.end(), id) != m_selection.end();
+}
+
+FalseColourView AppState::falseColourView() const {
+    FalseColourView view;
+    if (!hasScene()) return view;
+    view.colours.assign(m_scene->size(), FalseColourView::kNoData);
+    try {
+        const std::vector<double> values = falseColourValues(*m_scene, m_B, falseColour.quantity);
+        view.range = falseColourRange(values, falseColour.scale, falseColour.automatic ? std::nullopt : std::optional<double>(falseColour.min),
+                                      falseColour.automatic ? std::nullopt : std::optional<double>(falseColour.max));
+        for (PatchId i = 0; i < m_scene->size(); ++i) {
+            if (std::isnan(values[i])) {
+                view.noData = true;
+                continue;
+            }
+            const auto c = viridis(view.range.position(values[i]));
+            view.colours[i] = std::uint32_t(c[0]) << 16 | std::uint32_t(c[1]) << 8 | c[2];
+        }
+    } catch (const std::exception& e) {
+        view.error = e.what();
+    }
+    return view;
 }
 
 SelectionSummary AppState::selectionSummary() const {

@@ -5,6 +5,7 @@
 
 #include "engine/form_factors.hpp"
 #include "engine/scene.hpp"
+#include "render/false_colour.hpp"
 #include "solve/solver.hpp"
 #include "preprocess/backend_registry.hpp"
 
@@ -19,7 +20,24 @@
 
 namespace hemirad::ui {
 
-enum class Layer { Radiosity, PatchId, Emission, Reflectance, Specular, FormFactorRow };
+enum class Layer { Radiosity, PatchId, Emission, Reflectance, Specular, FormFactorRow, FalseColour };
+
+/// The false-colour view's settings (as `hemirad render --false-color`).
+struct FalseColourSettings {
+    FalseColourQuantity quantity = FalseColourQuantity::Irradiance;
+    FalseColourScale scale = FalseColourScale::Linear;
+    bool automatic = true;     ///< the values' extremes, else [min, max]
+    double min = 0.0, max = 1.0;
+};
+
+/// The false-colour map of the current radiosity: its range and each patch's colour.
+struct FalseColourView {
+    FalseColourRange range;
+    std::vector<std::uint32_t> colours;  ///< per patch 0xRRGGBB, kNoData where the quantity has no value
+    bool noData = false;
+    std::string error;                   ///< why no map can be shown (then colours are all kNoData)
+    static constexpr std::uint32_t kNoData = 0xff000000u;
+};
 enum class SelectionMode { Patch, Object };
 
 struct PipelineSettings {
@@ -111,6 +129,9 @@ public:
     double exposure = 1.0;
     bool showReflections = true;
     double creaseDegrees = 45.0;
+    FalseColourSettings falseColour;
+    /// The false-colour map of the current radiosity with `falseColour` (as hemirad render's).
+    FalseColourView falseColourView() const;
 
     const std::vector<LogEntry>& log() const { return m_log; }
     void info(const std::string& text) { addLog(text, false); }

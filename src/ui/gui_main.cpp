@@ -34,6 +34,9 @@ struct GuiOptions {
     bool run = false;
     bool exitAfter = false;
     double quitAfter = 0.0;  ///< --quit-after: seconds of interactive running, then quit as --exit
+    bool showFalseColour = false;  ///< --false-color: start in the false-colour view
+    FalseColourQuantity falseColour = FalseColourQuantity::Irradiance;
+    FalseColourScale falseColourScale = FalseColourScale::Linear;
     std::string screenshot;
     double subdivide = 0.0;
     int width = 1280, height = 800;
@@ -44,12 +47,14 @@ struct GuiOptions {
 const char* kUsage =
     "usage: hemirad-gui [SCENE.obj] [--subdivide L] [--method NAME] [back-end options, see 'hemirad help']\n"
     "                   [--size WxH] [--select PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
-    "                   [--quit-after S]\n"
+    "                   [--quit-after S] [--false-color Q [--scale linear|log]]\n"
     "  --run          compute form factors and solve after loading\n"
     "  --screenshot   once the view shows the results, save the window (with the UI) as a PNG\n"
     "  --exit         quit after the screenshot (or at once without one), print the log,\n"
     "                 exit 1 if it holds an error\n"
     "  --quit-after S run interactively for S seconds, then quit as --exit does\n"
+    "  --false-color Q  start in the false-colour view of Q (radiosity, irradiance, emission);\n"
+    "                 --scale linear|log its scale\n"
     "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
     "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc select none,\n"
     "       Ctrl+Z/Y undo/redo; View > Look from: the standard views\n";
@@ -75,7 +80,14 @@ GuiOptions parse(int argc, char** argv) {
             std::exit(0);
         } else if (a == "--run") o.run = true;
         else if (a == "--exit") o.exitAfter = true;
-        else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
+        else if (a == "--false-color") {
+            o.falseColour = parseFalseColourQuantity(value(k, "--false-color"));
+            o.showFalseColour = true;
+        } else if (a == "--scale") {
+            const std::string v = value(k, "--scale");
+            if (v != "linear" && v != "log") throw Error("--scale expects linear or log, got '" + v + "'");
+            o.falseColourScale = v == "log" ? FalseColourScale::Log : FalseColourScale::Linear;
+        } else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
         else if (a == "--screenshot") o.screenshot = value(k, "--screenshot");
         else if (a == "--subdivide") o.subdivide = number(value(k, "--subdivide"), "--subdivide");
         else if (a == "--method") method = value(k, "--method");
@@ -178,6 +190,9 @@ int main(int argc, char** argv) {
 
         AppState app;
         app.settings = options.settings;
+        if (options.showFalseColour) app.layer = Layer::FalseColour;
+        app.falseColour.quantity = options.falseColour;
+        app.falseColour.scale = options.falseColourScale;
         OrbitCamera camera;
         Panels panels(recentFilesPath());
         Input input;
@@ -338,6 +353,11 @@ int main(int argc, char** argv) {
             }
             if (scriptedExit) {
                 std::printf("hemirad-gui: %ld frames drawn in %.2f s\n", frames, seconds());
+                if (app.layer == Layer::FalseColour) {
+                    const FalseColourView view = app.falseColourView();
+                    std::printf("hemirad-gui: false colour: %s, %s scale %.9g .. %.9g\n", falseColourTitle(app.falseColour.quantity).c_str(),
+                                view.range.scale == FalseColourScale::Log ? "log" : "linear", view.range.min, view.range.max);
+                }
                 for (const auto& [name, r] : panels.panelRects())
                     std::printf("hemirad-gui: panel %s at %.0f,%.0f size %.0fx%.0f\n", name.c_str(), r.x, r.y, r.width, r.height);
             }

@@ -17,7 +17,9 @@
 namespace hemirad::ui {
 namespace {
 
-const char* kLayerNames[] = {"Radiosity", "Patch id", "Emission", "Diffuse reflectance", "Specular", "F row of selection"};
+const char* kLayerNames[] = {"Radiosity", "Patch id", "Emission", "Diffuse reflectance", "Specular", "F row of selection",
+                             "False colour"};
+constexpr int kLayerCount = int(sizeof kLayerNames / sizeof kLayerNames[0]);
 
 std::string formatNumber(double v) {
     char text[32];
@@ -82,6 +84,7 @@ Panels::Layout Panels::layout(float width, float height) {
     l.log = {kMargin, height - logHeight - kMargin, std::max(right - 2 * kMargin, side), logHeight};
     l.pipeline = {right, kTop, side, std::floor(column * 0.5f) - kMargin / 2};
     l.selection = {right, kTop + std::floor(column * 0.5f) + kMargin / 2, side, column - std::floor(column * 0.5f) - kMargin / 2};
+    l.legend = {2 * kMargin + side, kTop, 210.0f, std::min(column - logHeight - kMargin, 420.0f)};
     return l;
 }
 
@@ -119,6 +122,11 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
     m_selectionHidden = app.selection().empty();
     if (beginPanel("Log", l.log, relayout)) logPanel(app);
     ImGui::End();
+    if (app.layer == Layer::FalseColour && app.hasScene()) {
+        if (beginPanel("Legend", l.legend, relayout || m_legendHidden)) legendPanel(app);
+        ImGui::End();
+    }
+    m_legendHidden = app.layer != Layer::FalseColour;
     modals(app, camera, requests);
 }
 
@@ -154,7 +162,7 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("View")) {
-        for (int k = 0; k < 6; ++k)
+        for (int k = 0; k < kLayerCount; ++k)
             if (ImGui::MenuItem(kLayerNames[k], nullptr, int(app.layer) == k)) app.layer = Layer(k);
         ImGui::Separator();
         ImGui::MenuItem("Gouraud shading", nullptr, &app.gouraud);
@@ -201,7 +209,7 @@ void Panels::scenePanel(AppState& app, OrbitCamera& camera) {
     ImGui::RadioButton("object", &mode, 1);
     app.selectionMode = SelectionMode(mode);
     int layer = int(app.layer);
-    ImGui::Combo("Layer", &layer, kLayerNames, 6);
+    ImGui::Combo("Layer", &layer, kLayerNames, kLayerCount);
     app.layer = Layer(layer);
     ImGui::Checkbox("Gouraud", &app.gouraud);
     ImGui::SameLine();
@@ -402,6 +410,62 @@ void Panels::pipelinePanel(AppState& app) {
     for (const SolveReport& r : app.solveReports())
         ImGui::Text("%s (%s): %s, %d it, residual %.2e", r.solver.c_str(), r.channels.c_str(),
                     r.converged ? "converged" : "NOT converged", r.iterations, r.residual);
+}
+
+void Panels::legendPanel(AppState& app) {
+    // The false-colour settings, then the legend: title, unit, the bar (max on top), five values.
+    FalseColourSettings& fc = app.falseColour;
+    static const char* kQuantities[] = {"radiosity B", "irradiance H", "emission E"};
+    int quantity = int(fc.quantity);
+    if (ImGui::Combo("##quantity", &quantity, kQuantities, 3)) fc.quantity = FalseColourQuantity(quantity);
+    int scale = int(fc.scale);
+    ImGui::RadioButton("linear", &scale, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("log", &scale, 1);
+    fc.scale = FalseColourScale(scale);
+    ImGui::Checkbox("automatic range", &fc.automatic);
+    const FalseColourView view = app.falseColourView();
+    if (fc.automatic) {
+        fc.min = view.range.min;  // the fields start from the data when switched to manual
+        fc.max = view.range.max;
+    } else {
+        ImGui::InputDouble("max", &fc.max, 0.0, 0.0, "%.4g");
+        ImGui::InputDouble("min", &fc.min, 0.0, 0.0, "%.4g");
+    }
+    if (!view.error.empty()) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.4f, 1.0f));
+        ImGui::TextWrapped("%s", view.error.c_str());
+        ImGui::PopStyleColor();
+        return;
+    }
+    ImGui::Text("%s", falseColourTitle(fc.quantity).c_str());
+    ImGui::TextDisabled("W/m^2, luminance Y");
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const float barWidth = 24.0f, barHeight = std::max(60.0f, std::min(220.0f, ImGui::GetContentRegionAvail().y - 40.0f));
+    const float x0 = std::floor(origin.x), y0 = std::floor(origin.y + 6.0f);
+    const int rows = int(barHeight);
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    for (int y = 0; y < rows; ++y) {
+        const auto c = viridis(double(rows - 1 - y) / double(rows - 1));
+        draw->AddRectFilled(ImVec2(x0, y0 + y), ImVec2(x0 + barWidth, y0 + y + 1), IM_COL32(c[0], c[1], c[2], 255));
+    }
+    m_panelRects["LegendBar"] = {x0, y0, barWidth, float(rows)};
+    for (int k = 0; k <= 4; ++k) {
+        const double t = k / 4.0;
+        const FalseColourRange& r = view.range;
+        const double v = r.scale == FalseColourScale::Log ? r.min * std::pow(r.max / r.min, t) : r.min + t * (r.max - r.min);
+        const float y = y0 + float(rows - 1) * float(1.0 - t);
+        draw->AddLine(ImVec2(x0 + barWidth, y), ImVec2(x0 + barWidth + 5, y), IM_COL32(230, 230, 230, 255));
+        draw->AddText(ImVec2(x0 + barWidth + 9, y - 7), IM_COL32(230, 230, 230, 255), formatNumber(v).c_str());
+    }
+    ImGui::Dummy(ImVec2(barWidth + 80, barHeight + 12));
+    ImGui::TextDisabled("%s scale%s", view.range.scale == FalseColourScale::Log ? "log" : "linear",
+                        view.range.automatic ? ", the values' extremes" : "");
+    if (view.noData) {
+        ImGui::ColorButton("##nodata", ImVec4(0.5f, 0.5f, 0.5f, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
+        ImGui::SameLine();
+        ImGui::TextDisabled("no data (rho = 0)");
+    }
 }
 
 void Panels::logPanel(AppState& app) {

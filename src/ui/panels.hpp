@@ -37,7 +37,7 @@ public:
     const std::map<std::string, Rect>& panelRects() const { return m_panelRects; }
     /// The default layout for a window of this size.
     struct Layout {
-        Rect scene, pipeline, selection, log;
+        Rect scene, pipeline, selection, log, legend;
     };
     static Layout layout(float width, float height);
 
@@ -49,6 +49,7 @@ private:
     void selectionPanel(AppState& app, Inspector& inspector, double viewExposure);
     void pipelinePanel(AppState& app);
     void logPanel(AppState& app);
+    void legendPanel(AppState& app);
     void modals(AppState& app, OrbitCamera& camera, LoopRequests& requests);
     void remember(const std::string& path);
 
@@ -71,6 +72,7 @@ private:
     bool m_showInspector = true;
     float m_layoutWidth = 0, m_layoutHeight = 0;  ///< the window size the layout was applied for
     bool m_selectionHidden = true;                 ///< the Selection panel was not drawn last frame
+    bool m_legendHidden = true;                    ///< the Legend panel was not drawn last frame
     std::map<std::string, Rect> m_panelRects;
 };
 

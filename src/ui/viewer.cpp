@@ -37,6 +37,10 @@ Viewer::Viewer() {
     m_patchData = gl::makeBuffer();
     m_flags = gl::makeBuffer();
     m_row = gl::makeBuffer();
+    m_falseColours = gl::makeBuffer();
+    const std::uint32_t none = 0;
+    gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_falseColours.id());
+    gl::BufferData(GL_SHADER_STORAGE_BUFFER, 4, &none, GL_DYNAMIC_DRAW);
     m_mirrorGroups = gl::makeBuffer();
     gl::BindVertexArray(m_vao.id());
     gl::BindBuffer(GL_ARRAY_BUFFER, m_vertices.id());
@@ -145,6 +149,15 @@ void Viewer::upload(AppState& app) {
         gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(std::max<std::size_t>(1, flags.size()) * 4), flags.data(),
                        GL_DYNAMIC_DRAW);
         m_lastFlags = std::move(flags);
+    }
+    if (app.layer == Layer::FalseColour) {
+        std::vector<std::uint32_t> colours = app.falseColourView().colours;
+        if (colours != m_lastFalseColours || m_lastFalseColours.empty()) {
+            gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_falseColours.id());
+            gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(std::max<std::size_t>(1, colours.size()) * 4), colours.data(),
+                           GL_DYNAMIC_DRAW);
+            m_lastFalseColours = std::move(colours);
+        }
     }
     const int rowPatch = app.selection().empty() ? -1 : int(app.selection().front());
     if (rowPatch != m_lastRowPatch) {
@@ -261,6 +274,7 @@ void Viewer::render(AppState& app, const OrbitCamera& camera, int width, int hei
     gl::ActiveTexture(GL_TEXTURE0);
     gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m_flags.id());
     gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, m_row.id());
+    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m_falseColours.id());
     gl::BindVertexArray(m_emptyVao.id());
     gl::DrawArrays(GL_TRIANGLES, 0, 3);
     gl::BindVertexArray(0);

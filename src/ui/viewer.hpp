@@ -33,7 +33,7 @@ private:
 
     gl::Program m_scene, m_mark, m_present;
     gl::VertexArray m_vao, m_emptyVao;
-    gl::Buffer m_vertices, m_patchData, m_flags, m_row, m_mirrorGroups;
+    gl::Buffer m_vertices, m_patchData, m_flags, m_row, m_mirrorGroups, m_falseColours;
     gl::Framebuffer m_fbo;
     gl::Texture m_layers[5];
     gl::Texture m_idCopy;
@@ -46,6 +46,7 @@ private:
     std::vector<std::uint32_t> m_lastFlags;
     int m_lastRowPatch = -2;
     double m_rowMax = 1.0;
+    std::vector<std::uint32_t> m_lastFalseColours;
     MirrorGroups m_groups;
 };
 

@@ -33,9 +33,11 @@ struct Image {
 };
 
 /// Runs hemirad-gui on the subdivided Cornell box with `methodFlags`, then checks the screenshot:
-/// not blank, the red wall left and the green one right (unless a selection's panel covers the right
-/// side: `walls` false), ImGui's menu bar drawn. Returns the log.
-inline std::string runGuiAndCheckPicture(const std::string& name, const std::string& methodFlags, bool walls = true) {
+/// not blank, the red wall left and the green one right (`walls` false: not checked, for a selection
+/// panel over the right side or a false-colour view), ImGui's menu bar drawn. Returns the log; the
+/// screenshot goes to `picture` when given.
+inline std::string runGuiAndCheckPicture(const std::string& name, const std::string& methodFlags, bool walls = true,
+                                         Image* picture = nullptr) {
     REQUIRE_MESSAGE(std::system("command -v xvfb-run > /dev/null") == 0, "xvfb-run is missing (scripts/install-deps.sh)");
     const auto dir = tempDir(name);
     const std::string png = (dir / "gui.png").string();
@@ -67,11 +69,14 @@ inline std::string runGuiAndCheckPicture(const std::string& name, const std::str
     const int y0 = image.height * 40 / 100, y1 = image.height * 60 / 100;
     const auto left = image.mean(image.width * 22 / 100, y0, image.width * 28 / 100, y1);
     const auto right = image.mean(image.width * 72 / 100, y0, image.width * 78 / 100, y1);
-    CHECK(left[0] > 1.8 * left[1]);                // red
-    if (walls) CHECK(right[1] > 1.3 * right[0]);  // green
+    if (walls) {
+        CHECK(left[0] > 1.8 * left[1]);    // red
+        CHECK(right[1] > 1.3 * right[0]);  // green
+    }
     // The UI is drawn: ImGui's menu bar (grey 36) runs along the top of the window.
     const auto menu = image.mean(200, 2, image.width - 200, 16);
     for (int c = 0; c < 3; ++c) CHECK(menu[c] == doctest::Approx(36.0).epsilon(0.3));
+    if (picture) *picture = std::move(image);
     return output;
 }
 

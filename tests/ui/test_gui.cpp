@@ -1,8 +1,35 @@
 // hemirad-gui under Xvfb: load, compute, solve, draw, screenshot, quit, and the picture is checked.
 // Needs xvfb-run (installed by scripts/install-deps.sh); without it the test fails, never skips.
+#include "render/false_colour.hpp"
 #include "ui/gui_run.hpp"
 
+#include <algorithm>
+
 using namespace hemirad::test;
+
+namespace {
+
+struct Panel {
+    std::string name;
+    double x, y, w, h;
+};
+
+/// The panel rectangles a scripted run prints ("hemirad-gui: panel NAME at X,Y size WxH").
+std::vector<Panel> panelsOf(const std::string& log) {
+    std::vector<Panel> panels;
+    std::size_t at = 0;
+    while ((at = log.find("hemirad-gui: panel ", at)) != std::string::npos) {
+        char name[64] = {};
+        Panel p;
+        REQUIRE(std::sscanf(log.c_str() + at, "hemirad-gui: panel %63s at %lf,%lf size %lfx%lf", name, &p.x, &p.y, &p.w, &p.h) == 5);
+        p.name = name;
+        panels.push_back(p);
+        ++at;
+    }
+    return panels;
+}
+
+}  // namespace
 
 TEST_CASE("hemirad-gui renders the Cornell box under Xvfb: walls in their halves, the UI drawn") {
     const std::string log = runGuiAndCheckPicture("gui", "--samples 768");
@@ -60,20 +87,7 @@ TEST_CASE("hemirad-gui's panels stay inside a 1280x800 window and apart, the Sel
     // Issue 14: at the default size the Pipeline and Selection panels ran past the window's edge and
     // over each other, hiding the F diagnostics and the inspector.
     const std::string log = runGuiAndCheckPicture("gui-layout", "--samples 256 --select 0", false);
-    struct Panel {
-        std::string name;
-        double x, y, w, h;
-    };
-    std::vector<Panel> panels;
-    std::size_t at = 0;
-    while ((at = log.find("hemirad-gui: panel ", at)) != std::string::npos) {
-        char name[64] = {};
-        Panel p;
-        REQUIRE(std::sscanf(log.c_str() + at, "hemirad-gui: panel %63s at %lf,%lf size %lfx%lf", name, &p.x, &p.y, &p.w, &p.h) == 5);
-        p.name = name;
-        panels.push_back(p);
-        ++at;
-    }
+    const std::vector<Panel> panels = panelsOf(log);
     REQUIRE(panels.size() == 4);  // Scene, Pipeline, Selection, Log
     for (const Panel& p : panels) {
         CAPTURE(p.name);
@@ -91,4 +105,43 @@ TEST_CASE("hemirad-gui's panels stay inside a 1280x800 window and apart, the Sel
             CAPTURE(q.name);
             CHECK((p.x + p.w <= q.x || q.x + q.w <= p.x || p.y + p.h <= q.y || q.y + q.h <= p.y));
         }
+}
+
+TEST_CASE("hemirad-gui's false-colour view: patches in the map's colours, a legend whose bar and range come from the data") {
+    Image image;
+    const std::string log = runGuiAndCheckPicture("gui-false-colour", "--samples 256 --false-color irradiance", false, &image);
+    // The range equals hemirad render's for the same scene and settings.
+    double guiMin = 0, guiMax = 0;
+    const std::size_t at = log.find("hemirad-gui: false colour: irradiance H, linear scale ");
+    REQUIRE(at != std::string::npos);
+    REQUIRE(std::sscanf(log.c_str() + at, "hemirad-gui: false colour: irradiance H, linear scale %lf .. %lf", &guiMin, &guiMax) == 2);
+    const auto dir = tempDir("gui-false-colour-cli");
+    const CommandResult cli = runCommand(std::string(HEMIRAD_BINARY) + " render " + sourcePath("scenes/cornell_box.obj") +
+                                         " --subdivide 60 --samples 256 --false-color irradiance --size 64x64 -o " +
+                                         (dir / "H.png").string() + " 2>&1");
+    REQUIRE(cli.status == 0);
+    double cliMin = 0, cliMax = 0;
+    const std::size_t scale = cli.output.find("linear scale ");
+    REQUIRE(scale != std::string::npos);
+    REQUIRE(std::sscanf(cli.output.c_str() + scale, "linear scale %lf .. %lf", &cliMin, &cliMax) == 2);
+    CHECK(guiMin == doctest::Approx(cliMin).epsilon(1e-6));
+    CHECK(guiMax == doctest::Approx(cliMax).epsilon(1e-6));
+    CHECK(guiMax > guiMin);
+    // The legend's bar: the map's top colour at its top row, its bottom colour at its bottom row.
+    const std::vector<Panel> panels = panelsOf(log);
+    const auto bar = std::find_if(panels.begin(), panels.end(), [](const Panel& p) { return p.name == "LegendBar"; });
+    REQUIRE(bar != panels.end());
+    const int x = int(bar->x + bar->w / 2), top = int(bar->y), bottom = int(bar->y + bar->h) - 1;
+    const auto colour = [&](int px, int py) { return std::array<int, 3>{image.at(px, py)[0], image.at(px, py)[1], image.at(px, py)[2]}; };
+    const auto map = [](double t) {
+        const auto c = hemirad::viridis(t);
+        return std::array<int, 3>{c[0], c[1], c[2]};
+    };
+    CHECK(colour(x, top) == map(1.0));
+    CHECK(colour(x, bottom) == map(0.0));
+    // The view shows map colours: the back wall's middle is one of them, not a shaded radiance.
+    const int vx = image.width / 2 + 60, vy = image.height / 2 - 120;
+    bool inMap = false;
+    for (int k = 0; k < 256; ++k) inMap |= colour(vx, vy) == map(k / 255.0);
+    CHECK(inMap);
 }
