@@ -1,6 +1,7 @@
 // `hemirad solve SCENE.obj [--ff F] -o B.csv|B.ply`.
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
+#include "engine/object_table.hpp"
 #include "engine/result_writer.hpp"
 #include "engine/tone_map.hpp"
 #include "engine/vertex_radiosity.hpp"
@@ -28,6 +29,11 @@ void writeSolveOutput(const Options& options, const Scene& scene, const Radiosit
         writeRadiosityPly(options.output, scene, corner, exposure);
         timings.stop();
     }
+    if (!options.objectsPath.empty()) {
+        timings.start("write object table");
+        writeObjectTable(options.objectsPath, summarizeObjects(scene, result.B));
+        timings.stop();
+    }
 }
 
 int runSolve(const Options& options) {
@@ -37,6 +43,7 @@ int runSolve(const Options& options) {
     const SolvedScene solved = solveFromOptions(options, timings, reporter, warnings);
     writeSolveOutput(options, solved.scene, solved.result, timings);
     if (!options.output.empty()) reporter.line("wrote " + outputName(options.output));
+    if (!options.objectsPath.empty()) reporter.line("wrote " + outputName(options.objectsPath) + " (per object: area, B and H)");
     finishCommand(reporter, timings, warnings);
     return 0;
 }

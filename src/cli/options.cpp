@@ -185,6 +185,11 @@ const std::map<std::string, Flag>& flags() {
         {"--exposure", {{"render", "solve"}, true,
                         [](Options& o, const std::string& f, const std::string& v) { o.exposure = parseNumber(f, v, 1e-30, 1e30); }}},
         {"--flat", {{"render"}, false, [](Options& o, const std::string&, const std::string&) { o.flat = true; }}},
+        {"--objects", {{"solve"}, true,
+                       [](Options& o, const std::string& f, const std::string& v) {
+                           if (lowerExtension(v) != ".csv") throw UsageError(f + " writes a CSV table: '" + v + "' must end in .csv");
+                           o.objectsPath = v;
+                       }}},
         {"--false-color", {{"render"}, true,
                            [](Options& o, const std::string& f, const std::string& v) {
                                if (v != "radiosity" && v != "irradiance" && v != "emission")
@@ -401,8 +406,8 @@ Options parseOptions(int argc, const char* const* argv) {
                 throw UsageError(p.flag + " does not apply with --false-color (one ray per pixel, one colour per patch)");
         if (o.logScale && o.rangeMin && !(*o.rangeMin > 0.0)) throw UsageError("--range: a log scale needs MIN > 0");
     }
-    if (o.command == "solve" && o.output.empty() && o.ffPath.empty())
-        throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F)");
+    if (o.command == "solve" && o.output.empty() && o.ffPath.empty() && o.objectsPath.empty())
+        throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F, or --objects T.csv)");
     if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
     if (o.recomputeFf && o.ffPath.empty()) throw UsageError("--recompute-ff needs --ff FILE");
     if (isStandardOutput(o.ffPath))
@@ -498,6 +503,8 @@ form factors (formfactors, solve, render):
   --allow-unconverged    report an unconverged solve instead of failing
   --crease DEG           crease angle for vertex radiosity (default 45)
   --exposure X           display scale for PNG/PLY colours (default automatic)
+  --objects T.csv        (solve) per object: patches, area, and radiosity B and irradiance
+                         H = (B - E)/rho as luminance Y: area-weighted mean, min and max
 render:
   --size WxH             image size (default 640x640)
   --camera ex,ey,ez,tx,ty,tz,fov   eye, target, vertical field of view in degrees

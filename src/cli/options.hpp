@@ -48,6 +48,7 @@ struct Options {
     int samplesPerPixel = 4;
     double exposure = 0.0;               ///< 0 = automatic
     bool flat = false;
+    std::string objectsPath;             ///< solve --objects: the per-object table (CSV)
     std::string falseColour;             ///< --false-color: radiosity, irradiance, emission ("" = a picture)
     bool logScale = false;               ///< --scale log
     std::optional<double> rangeMin, rangeMax;  ///< --range MIN:MAX (either may be empty: automatic)

@@ -517,6 +517,22 @@ bool AppState::exportPly(const std::string& path) {
     }
 }
 
+std::vector<ObjectSummary> AppState::objectTable() const {
+    return hasScene() ? summarizeObjects(*m_scene, m_B) : std::vector<ObjectSummary>{};
+}
+
+bool AppState::exportObjectTable(const std::string& path) {
+    if (!hasScene()) return false;
+    try {
+        writeObjectTable(path, objectTable());
+        info("exported " + path + " (per object: area, B and H)");
+        return true;
+    } catch (const std::exception& e) {
+        error(e.what());
+        return false;
+    }
+}
+
 std::vector<float> AppState::formFactorRow(PatchId i) const {
     if (!m_F || !hasScene() || i >= m_F->size() || !m_F->rowComputed(i)) return {};
     std::vector<float> row(m_scene->size(), 0.0f);

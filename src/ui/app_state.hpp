@@ -4,6 +4,7 @@
 #pragma once
 
 #include "engine/form_factors.hpp"
+#include "engine/object_table.hpp"
 #include "engine/scene.hpp"
 #include "render/false_colour.hpp"
 #include "solve/solver.hpp"
@@ -173,6 +174,9 @@ public:
     bool importFormFactors(const std::string& path);
     bool exportFormFactors(const std::string& path);
     bool exportPly(const std::string& path);
+    /// Per object: patches, area, B and H (as `hemirad solve --objects`); exported as CSV.
+    std::vector<ObjectSummary> objectTable() const;
+    bool exportObjectTable(const std::string& path);
 
     /// Per-patch value of row `i` of F (the inspector's layer); empty when F or the row is missing.
     std::vector<float> formFactorRow(PatchId i) const;

@@ -127,6 +127,12 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
         ImGui::End();
     }
     m_legendHidden = app.layer != Layer::FalseColour;
+    if (m_showObjects && app.hasScene()) {
+        ImGui::SetNextWindowSize(ImVec2(620, 260), ImGuiCond_FirstUseEver);
+        ImGui::SetNextWindowPos(ImVec2(width * 0.5f - 310, height * 0.3f), ImGuiCond_FirstUseEver);
+        if (ImGui::Begin("Objects", &m_showObjects)) objectsPanel(app);
+        ImGui::End();
+    }
     modals(app, camera, requests);
 }
 
@@ -151,6 +157,8 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
         if (ImGui::MenuItem("Export F (.hff, .mtx)...", nullptr, false, app.formFactors() != nullptr)) prompt("Export F", stem + ".hff");
         if (ImGui::MenuItem("Export PNG...", nullptr, false, app.hasScene())) prompt("Export PNG", stem + ".png");
         if (ImGui::MenuItem("Export PLY...", nullptr, false, app.hasScene())) prompt("Export PLY", stem + ".ply");
+        if (ImGui::MenuItem("Export object table (CSV)...", nullptr, false, app.hasScene()))
+            prompt("Export object table", stem + "_objects.csv");
         ImGui::Separator();
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) guarded(app, "quit", [&requests] { requests.quit = true; });
         ImGui::EndMenu();
@@ -164,6 +172,8 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
     if (ImGui::BeginMenu("View")) {
         for (int k = 0; k < kLayerCount; ++k)
             if (ImGui::MenuItem(kLayerNames[k], nullptr, int(app.layer) == k)) app.layer = Layer(k);
+        ImGui::Separator();
+        ImGui::MenuItem("Object table", nullptr, &m_showObjects, app.hasScene());
         ImGui::Separator();
         ImGui::MenuItem("Gouraud shading", nullptr, &app.gouraud);
         ImGui::MenuItem("Mirrors show reflections", nullptr, &app.showReflections);
@@ -468,6 +478,30 @@ void Panels::legendPanel(AppState& app) {
     }
 }
 
+void Panels::objectsPanel(AppState& app) {
+    // Per object: B and H as luminance Y (W/m^2), area-weighted means and extremes (File > Export
+    // object table writes the same as CSV).
+    ImGui::TextDisabled("B, H: luminance Y in W/m^2; mean = area-weighted; H = (B - E)/rho");
+    const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY | ImGuiTableFlags_Resizable;
+    if (!ImGui::BeginTable("objects", 8, flags)) return;
+    ImGui::TableSetupScrollFreeze(0, 1);
+    for (const char* h : {"object", "patches", "area", "B mean", "B min", "B max", "H mean", "H max"}) ImGui::TableSetupColumn(h);
+    ImGui::TableHeadersRow();
+    for (const ObjectSummary& o : app.objectTable()) {
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(o.name.c_str());
+        ImGui::TableNextColumn();
+        ImGui::Text("%zu", o.patches);
+        for (double v : {o.area, o.bMean, o.bMin, o.bMax, o.hMean, o.hMax}) {
+            ImGui::TableNextColumn();
+            if (std::isnan(v)) ImGui::TextDisabled("no data");
+            else ImGui::TextUnformatted(formatNumber(v).c_str());
+        }
+    }
+    ImGui::EndTable();
+}
+
 void Panels::logPanel(AppState& app) {
     for (const LogEntry& e : app.log()) {
         // Errors wrap like every other line, in red.
@@ -497,6 +531,7 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
             else if (m_pathPurpose == "Export F") app.exportFormFactors(path);
             else if (m_pathPurpose == "Export PNG") requests.exportImage = path;
             else if (m_pathPurpose == "Export PLY") app.exportPly(path);
+            else if (m_pathPurpose == "Export object table") app.exportObjectTable(path);
         }
         ImGui::SameLine();
         if (ImGui::Button("Cancel", ImVec2(100, 0))) ImGui::CloseCurrentPopup();

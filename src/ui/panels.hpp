@@ -50,6 +50,7 @@ private:
     void pipelinePanel(AppState& app);
     void logPanel(AppState& app);
     void legendPanel(AppState& app);
+    void objectsPanel(AppState& app);
     void modals(AppState& app, OrbitCamera& camera, LoopRequests& requests);
     void remember(const std::string& path);
 
@@ -73,6 +74,7 @@ private:
     float m_layoutWidth = 0, m_layoutHeight = 0;  ///< the window size the layout was applied for
     bool m_selectionHidden = true;                 ///< the Selection panel was not drawn last frame
     bool m_legendHidden = true;                    ///< the Legend panel was not drawn last frame
+    bool m_showObjects = false;                    ///< View > Object table
     std::map<std::string, Rect> m_panelRects;
 };
 

@@ -4,7 +4,9 @@
 
 #include "engine/form_factor_file.hpp"
 #include "engine/form_factor_shards.hpp"
+#include "engine/object_table.hpp"
 #include "engine/subdivide.hpp"
+#include "engine/tone_map.hpp"
 #include "preprocess/backend_registry.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
 #include "ui/app_state.hpp"
@@ -12,6 +14,8 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 
 using namespace hemirad;
 using namespace hemirad::test;
@@ -354,4 +358,63 @@ TEST_CASE("GUI state: an object selection is summed: count, objects, total area,
     CHECK(two.power[0] == doctest::Approx(s.patches[other].emission[0] * lightArea));
     app.clearSelection();
     CHECK(app.selectionSummary().patches == 0);
+}
+
+TEST_CASE("GUI state: the object table equals the CLI's CSV aggregated per object, and solve --objects writes the same") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/cornell_box.obj")));
+    const Scene scene = subdivide(app.scene(), 60.0);
+    app.setScene(scene, "cornell");
+    app.settings.formFactors.as<HemisphereOptions>().samples = 256;
+    app.runPipeline();
+    runToEnd(app);
+    REQUIRE(app.formFactors() != nullptr);
+    const auto dir = tempDir("gui-objects");
+    REQUIRE(app.exportObjectTable((dir / "gui.csv").string()));
+
+    const CommandResult cli = runCommand(std::string(HEMIRAD_BINARY) + " solve " + sourcePath("scenes/cornell_box.obj") +
+                                         " --subdivide 60 --samples 256 -o " + (dir / "B.csv").string() + " --objects " +
+                                         (dir / "cli.csv").string() + " 2>&1");
+    INFO(cli.output);
+    REQUIRE(cli.status == 0);
+    // The CLI's per-patch CSV, aggregated here by the scene's objects.
+    std::istringstream csv(readText(dir / "B.csv"));
+    std::string line;
+    std::getline(csv, line);
+    std::vector<double> area(scene.objects.size(), 0.0), bArea(scene.objects.size(), 0.0), hArea(scene.objects.size(), 0.0),
+        hWeight(scene.objects.size(), 0.0), bMax(scene.objects.size(), -1.0);
+    PatchId i = 0;
+    while (std::getline(csv, line)) {
+        std::vector<double> f;
+        std::istringstream fields(line);
+        for (std::string cell; std::getline(fields, cell, ',');) f.push_back(std::stod(cell));
+        REQUIRE(f.size() == 12);
+        const std::uint32_t o = scene.patches[i++].object;
+        const Rgb E(f[2], f[3], f[4]), rho(f[5], f[6], f[7]), B(f[9], f[10], f[11]);
+        area[o] += f[1];
+        bArea[o] += f[1] * luminance(B);
+        bMax[o] = std::max(bMax[o], luminance(B));
+        if ((rho > 0.0).all()) {
+            hArea[o] += f[1] * luminance(Rgb((B - E) / rho));
+            hWeight[o] += f[1];
+        }
+    }
+    REQUIRE(i == scene.size());
+    const std::vector<ObjectSummary> table = app.objectTable();
+    std::size_t withPatches = 0;
+    for (double a : area) withPatches += a > 0.0;
+    REQUIRE(table.size() == withPatches);  // objects without patches are left out
+    for (const ObjectSummary& row : table) {
+        CAPTURE(row.name);
+        const std::size_t o = std::size_t(std::find(scene.objects.begin(), scene.objects.end(), row.name) - scene.objects.begin());
+        REQUIRE(o < scene.objects.size());
+        CHECK(row.area == doctest::Approx(area[o]).epsilon(1e-7));
+        CHECK(row.bMean == doctest::Approx(bArea[o] / area[o]).epsilon(1e-6));
+        CHECK(row.bMax == doctest::Approx(bMax[o]).epsilon(1e-6));
+        if (hWeight[o] > 0) CHECK(row.hMean == doctest::Approx(hArea[o] / hWeight[o]).epsilon(1e-6));
+        else CHECK(std::isnan(row.hMean));
+    }
+    // The GUI's export and `solve --objects` are the same table.
+    CHECK(readText(dir / "gui.csv") == readText(dir / "cli.csv"));
+    CHECK(readText(dir / "gui.csv").rfind("object,patches,area,B_mean,B_min,B_max,H_patches,H_mean,H_min,H_max\n", 0) == 0);
 }

@@ -1,0 +1,29 @@
+// Results per object (the OBJ's `o` groups): what engineers read off a model, as a table and CSV.
+#pragma once
+
+#include "engine/scene.hpp"
+
+#include <string>
+#include <vector>
+
+namespace hemirad {
+
+/// One object's patches summed: the area, and radiosity B and irradiance H = (B - E)/rho as
+/// luminance Y (W/m^2): area-weighted mean, minimum and maximum over its patches. H is over the
+/// patches where it is known (every rho > 0); hPatches counts them (0: H has no value, NaN).
+struct ObjectSummary {
+    std::string name;
+    std::size_t patches = 0, hPatches = 0;
+    double area = 0.0;
+    double bMean = 0.0, bMin = 0.0, bMax = 0.0;
+    double hMean = 0.0, hMin = 0.0, hMax = 0.0;
+};
+
+/// One entry per object of the scene, in the scene's order (objects without patches left out).
+std::vector<ObjectSummary> summarizeObjects(const Scene& scene, const std::vector<Rgb>& B);
+
+/// The table as CSV (object,patches,area,B_mean,B_min,B_max,H_patches,H_mean,H_min,H_max), written
+/// atomically; object names are quoted when they hold a comma or a quote.
+void writeObjectTable(const std::string& path, const std::vector<ObjectSummary>& table);
+
+}  // namespace hemirad
