@@ -37,16 +37,25 @@ double expectedWorkPerRow(const Scene& scene, const MethodSettings& settings) {
     return findBackend(settings.method).workPerRow(scene, settings);
 }
 
+namespace {
+// While rows are built, each exists twice (row lists, then CSR): 2 x 8 bytes per nonzero.
+constexpr double kBytesPerNonzero = 16.0;
+double fixedBytes(const Scene& scene) { return 9.0 * double(scene.size()); }
+}  // namespace
+
+double formFactorMemoryBound(const Scene& scene, const MethodSettings& settings, std::size_t rows) {
+    const double raysPerRow = expectedWorkPerRow(scene, settings);
+    const double chain = scene.hasMirrors() ? double(settings.common.maxDepth) + 1.0 : 1.0;
+    return fixedBytes(scene) + kBytesPerNonzero * double(rows) * std::min(double(scene.size()), raysPerRow * chain);
+}
+
 std::size_t checkFormFactorMemory(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
                                   std::size_t available) {
     if (!available) available = availableMemory();
     if (!available) return 0;  // unknown: nothing to compare with
     const double budget = 0.8 * double(available);
-    // While rows are built, each exists twice (row lists, then CSR): 2 x 8 bytes per nonzero.
-    const double perNonzero = 16.0, fixed = 9.0 * double(scene.size());
-    const double raysPerRow = expectedWorkPerRow(scene, settings);
-    const double chain = scene.hasMirrors() ? double(settings.common.maxDepth) + 1.0 : 1.0;
-    const double bound = fixed + perNonzero * double(rows.size()) * std::min(double(scene.size()), raysPerRow * chain);
+    const double perNonzero = kBytesPerNonzero, fixed = fixedBytes(scene);
+    const double bound = formFactorMemoryBound(scene, settings, rows.size());
     if (bound <= budget) return std::size_t(bound);
     // The bound is loose (rays hit the same patches): measure 64 rows spread over the list.
     std::vector<PatchId> sample;

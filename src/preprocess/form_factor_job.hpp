@@ -25,6 +25,10 @@ using ProgressCallback = std::function<void(std::size_t, std::size_t, double)>;
 /// Rows a solve needs: patches with rho > 0 in some channel (B = E for the others); every row with allRows.
 std::vector<PatchId> neededRows(const Scene& scene, bool allRows);
 
+/// An upper bound of the bytes F for `rows` takes while it is built (each nonzero twice, 8 bytes each;
+/// at most one nonzero per ray or pixel and chain step, and per patch). No row is computed.
+double formFactorMemoryBound(const Scene& scene, const MethodSettings& settings, std::size_t rows);
+
 /// Refuses (hemirad::Error with the estimate and how to proceed) when F for `rows` may not fit in
 /// `available` bytes (0 = the machine's available memory). A cheap upper bound first (rays per
 /// row, or N, per row); only if that exceeds the budget, 64 sample rows are computed and their

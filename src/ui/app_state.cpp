@@ -42,6 +42,7 @@ struct AppState::Job {
     // Outputs.
     std::shared_ptr<const FormFactors> newF;
     std::optional<FormFactorStats> stats;
+    double workPerSecond = 0.0;  ///< rays (or pixels) per second of the rows computed, 0 if none
     Radiosity result;
     std::string error;
     // Intermediate radiosity of a running solve (progressive display), newest only.
@@ -79,6 +80,8 @@ struct AppState::Job {
                 << ".." << run.stats.rowSumMax << ", reciprocity (mean) " << run.stats.reciprocityMean << ", lost "
                 << (run.rowsComputed ? 100.0 * run.counts.lostWeight / double(run.rowsComputed) : 0.0) << "%";
             messages.push_back(msg.str());
+            if (run.rowsComputed > 0 && run.computeSeconds > 0.0)
+                workPerSecond = double(run.rowsComputed) * expectedWorkPerRow(s, method) / run.computeSeconds;
         };
         return RadiosityPipeline(std::move(policy), std::move(events));
     }
@@ -381,6 +384,26 @@ void AppState::startJob(bool computeF, std::shared_ptr<const FormFactors> F) {
     m_job->thread = std::thread([job = m_job.get()] { job->run(); });
 }
 
+FormFactorEstimate AppState::formFactorEstimate() const {
+    FormFactorEstimate e;
+    if (!hasScene()) return e;
+    const MethodSettings& method = settings.formFactors;
+    const BackendDescriptor& backend = findBackend(method.method);
+    e.workUnit = backend.workUnit;
+    e.description = backend.describe(*m_scene, method).settings;
+    e.workPerRow = backend.workPerRow(*m_scene, method);
+    // The rows Run would compute: the missing ones of a reusable F, else every row needed.
+    FormFactorPolicy policy;
+    policy.backend = method;
+    const bool reuse = m_F && !m_fStale && formFactorsMatchSettings();
+    e.rows = RadiosityPipeline(policy, {}).missingRows(*m_scene, reuse ? m_F.get() : nullptr).size();
+    e.reusesF = reuse;
+    e.memoryBound = formFactorMemoryBound(*m_scene, method, e.rows);
+    if (const auto it = m_workPerSecond.find(method.method); it != m_workPerSecond.end())
+        e.seconds = double(e.rows) * e.workPerRow / it->second;
+    return e;
+}
+
 bool AppState::formFactorsMatchSettings() const {
     return m_F && m_fSettings && sameFormFactorSettings(*m_fSettings, settings.formFactors);
 }
@@ -452,6 +475,7 @@ bool AppState::poll() {
     if (job->scene.size() == m_scene->size()) m_B = job->result.B;
     m_reports = job->result.reports;
     m_timings = job->timings;
+    if (job->workPerSecond > 0.0) m_workPerSecond[job->settings.formFactors.method] = job->workPerSecond;
     for (const SolveReport& r : m_reports) {
         std::ostringstream msg;
         msg << "solve: " << r.solver << " (" << r.channels << ") " << (r.converged ? "converged" : "NOT converged") << " in "

@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -52,6 +53,17 @@ struct MaterialEdit {
     std::optional<Rgb> emission;  ///< E, W/m^2
     std::optional<Rgb> rho;       ///< diffuse reflectance 0..1
     std::optional<double> specular;
+};
+
+/// What Run would compute, shown before it is pressed.
+struct FormFactorEstimate {
+    std::size_t rows = 0;           ///< rows Run computes (0: it reuses F and only solves)
+    bool reusesF = false;
+    double workPerRow = 0.0;        ///< rays or pixels (workUnit) per row
+    std::string workUnit;
+    std::string description;        ///< the back end's run description (what "auto" picks, e.g.)
+    double memoryBound = 0.0;       ///< bytes F takes at most while it is built
+    std::optional<double> seconds;  ///< from the rate of the last run of this method; none before one
 };
 
 /// What the Selection panel shows for a selection of one or many patches.
@@ -163,6 +175,8 @@ public:
     /// True when F was made with the current form-factor settings (an imported F: with those the
     /// panel had when it was imported).
     bool formFactorsMatchSettings() const;
+    /// Rows, work, the memory bound and (after a first run of the method) the time Run would take.
+    FormFactorEstimate formFactorEstimate() const;
     /// Solves with the current F (warm start from the last radiosity).
     void resolve();
     void cancel();
@@ -201,6 +215,7 @@ private:
     std::uint64_t m_revision = 1;
     std::shared_ptr<const FormFactors> m_F;
     std::optional<MethodSettings> m_fSettings;  ///< the settings m_F was made with
+    std::map<std::string, double> m_workPerSecond;  ///< measured rays (pixels) per second, by method
     std::optional<FormFactorStats> m_stats;
     std::uint64_t m_fGeometryHash = 0;
     std::uint64_t m_materialsRevision = 0;  ///< bumped by every material edit

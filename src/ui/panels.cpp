@@ -375,6 +375,25 @@ void Panels::pipelinePanel(AppState& app) {
     }
     int depth = int(st.formFactors.common.maxDepth);
     if (ImGui::InputInt("Mirror depth", &depth)) st.formFactors.common.maxDepth = std::uint32_t(std::clamp(depth, 0, 254));
+    int threads = st.formFactors.common.threads;
+    if (ImGui::InputInt("Threads", &threads)) st.formFactors.common.threads = std::clamp(threads, 0, 4096);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("--threads: worker threads (GL contexts for the hemicube); 0 = all cores");
+    if (app.hasScene()) {
+        // What Run will do, before it is pressed: the back end's description (what auto picks),
+        // rows and work, the memory bound, and the time at the last run's rate.
+        const FormFactorEstimate e = app.formFactorEstimate();
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextDisabled("%s", e.description.c_str());
+        if (e.rows == 0) {
+            ImGui::TextDisabled("Run: F is current, it only solves");
+        } else {
+            ImGui::TextDisabled("Run: %zu rows x %s %s, F at most %.1f MiB, %s", e.rows, formatNumber(e.workPerRow).c_str(),
+                                e.workUnit.c_str(), e.memoryBound / 1048576.0,
+                                e.seconds ? ("about " + formatNumber(*e.seconds) + " s").c_str()
+                                          : "time known after a first run");
+        }
+        ImGui::PopTextWrapPos();
+    }
     if (ImGui::BeginCombo("Solver", st.solver.solver.c_str())) {
         if (ImGui::Selectable("auto", st.solver.solver == "auto")) st.solver.solver = "auto";
         for (const SolverDescriptor* d : solverRegistry()) {

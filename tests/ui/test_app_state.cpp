@@ -23,6 +23,7 @@ using hemirad::ui::AppState;
 using hemirad::ui::MaterialEdit;
 using hemirad::ui::SelectionMode;
 using hemirad::ui::SelectionSummary;
+using hemirad::ui::FormFactorEstimate;
 
 namespace {
 
@@ -417,4 +418,33 @@ TEST_CASE("GUI state: the object table equals the CLI's CSV aggregated per objec
     // The GUI's export and `solve --objects` are the same table.
     CHECK(readText(dir / "gui.csv") == readText(dir / "cli.csv"));
     CHECK(readText(dir / "gui.csv").rfind("object,patches,area,B_mean,B_min,B_max,H_patches,H_mean,H_min,H_max\n", 0) == 0);
+}
+
+TEST_CASE("GUI state: before Run the panel knows the rows, the work, the memory bound, and after a first run the time") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
+    app.settings.formFactors.as<HemisphereOptions>().samples = 384;
+    app.settings.formFactors.as<HemisphereOptions>().estimator = Estimator::Rays;
+    FormFactorEstimate e = app.formFactorEstimate();
+    CHECK(e.rows == 6);
+    CHECK_FALSE(e.reusesF);
+    CHECK(e.workPerRow == doctest::Approx(384.0));
+    CHECK(e.workUnit == "rays");
+    CHECK(e.description.find("384 directions") != std::string::npos);
+    CHECK(e.memoryBound >= 16.0 * 6 * 6);  // at most every pair, twice 8 bytes
+    CHECK_FALSE(e.seconds.has_value());     // no rate measured yet
+    // What auto picks is in the description.
+    app.settings.formFactors.as<HemisphereOptions>().estimator = Estimator::Auto;
+    CHECK(app.formFactorEstimate().description.find("analytic") != std::string::npos);
+
+    app.runPipeline();
+    runToEnd(app);
+    e = app.formFactorEstimate();
+    CHECK(e.rows == 0);  // F is current: Run only solves
+    CHECK(e.reusesF);
+    app.settings.formFactors.as<HemisphereOptions>().samples = 768;
+    e = app.formFactorEstimate();
+    CHECK(e.rows == 6);  // other settings: every row again
+    REQUIRE(e.seconds.has_value());
+    CHECK(*e.seconds > 0.0);
 }
