@@ -269,7 +269,9 @@ void Viewer::render(AppState& app, const OrbitCamera& camera, int width, int hei
     gl::ActiveTexture(GL_TEXTURE0);
     gl::BindTexture(GL_TEXTURE_2D, m_layers[0].id());
     gl::ActiveTexture(GL_TEXTURE1);
-    const int source = layer == 1 || layer == 5 ? 1 : (layer == 0 ? 1 : layer);
+    // Textures: 0 patch ids, 1 radiance, 2 emission, 3 reflectance, 4 specular. The radiance layer
+    // shows texture 1; emission, reflectance and specular their own; the others sample none of them.
+    const int source = layer >= 2 && layer <= 4 ? layer : 1;
     gl::BindTexture(GL_TEXTURE_2D, m_layers[source].id());
     gl::ActiveTexture(GL_TEXTURE0);
     gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m_flags.id());
