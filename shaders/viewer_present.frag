@@ -8,7 +8,7 @@ layout(std430, binding = 2) readonly buffer PatchFlags {
     uint flags[];        // bit 0 selected
 };
 layout(std430, binding = 3) readonly buffer RowValues { float rowValue[]; };
-layout(std430, binding = 4) readonly buffer FalseColours { uint falseColour[]; };  // 0xRRGGBB, bit 31: no data
+layout(std430, binding = 4) readonly buffer FalseColours { uint falseColour[]; };  // 0xRRGGBB per patch
 
 uniform int layer;        // 0 radiance, 1 patch id, 2 emission, 3 reflectance, 4 specular, 5 F row, 6 false colour
 uniform float exposure;
@@ -41,7 +41,7 @@ void main() {
     } else if (layer == 6) {
         // The colour map was applied per patch on the CPU (sRGB bytes, as hemirad render's).
         const uint v = id == 0u ? 0u : falseColour[id - 1u];
-        c = (v & 0x80000000u) != 0u ? vec3(0.5) : vec3(float((v >> 16) & 255u), float((v >> 8) & 255u), float(v & 255u)) / 255.0;
+        c = vec3(float((v >> 16) & 255u), float((v >> 8) & 255u), float(v & 255u)) / 255.0;
     } else if (layer == 5) {
         const float v = id == 0u ? 0.0 : rowValue[id - 1u];
         c = v > 0.0 ? ramp(clamp(1.0 + log(v / rowMax) / log(10000.0), 0.0, 1.0)) : vec3(0.05);

@@ -27,10 +27,9 @@ RenderOptions renderOptions(const Options& options, const Scene& scene) {
 /// --false-color: one colour per patch from the quantity's value, and the legend.
 void writeFalseColour(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings,
                       const Reporter& reporter) {
-    const FalseColourQuantity quantity = parseFalseColourQuantity(options.falseColour);
+    const FalseColourQuantity quantity = *options.falseColour;
     const std::vector<double> values = falseColourValues(scene, result.B, quantity);
-    const FalseColourRange range = falseColourRange(values, options.logScale ? FalseColourScale::Log : FalseColourScale::Linear,
-                                                    options.rangeMin, options.rangeMax);
+    const FalseColourRange range = falseColourRange(values, options.falseColourScale, options.rangeMin, options.rangeMax);
     const RenderOptions render = renderOptions(options, scene);
     timings.start("false colour " + std::to_string(render.width) + "x" + std::to_string(render.height));
     const RayScene rays(scene, options.formFactors.common.threads);
@@ -41,7 +40,7 @@ void writeFalseColour(const Options& options, const Scene& scene, const Radiosit
     std::ostringstream line;
     line.precision(9);
     line << "false colour: " << falseColourTitle(quantity) << " (W/m^2, luminance Y), "
-         << (range.scale == FalseColourScale::Log ? "log" : "linear") << " scale " << range.min << " .. " << range.max
+         << falseColourScaleName(range.scale) << " scale " << range.min << " .. " << range.max
          << (range.automatic ? " (the values' extremes)" : "");
     reporter.line(line.str());
     reporter.line("wrote " + outputName(options.output) + " (" + std::to_string(image.width) + "x" + std::to_string(image.height) +
@@ -52,7 +51,7 @@ void writeFalseColour(const Options& options, const Scene& scene, const Radiosit
 
 void writeRenderOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings,
                        const Reporter& reporter) {
-    if (!options.falseColour.empty()) return writeFalseColour(options, scene, result, timings, reporter);
+    if (options.falseColour) return writeFalseColour(options, scene, result, timings, reporter);
     timings.start("vertex radiosity");
     const std::vector<Rgb> corner = cornerRadiosity(scene, result.B, options.crease);
     const RenderOptions render = renderOptions(options, scene);

@@ -191,15 +191,20 @@ const std::map<std::string, Flag>& flags() {
                            o.objectsPath = v;
                        }}},
         {"--false-color", {{"render"}, true,
-                           [](Options& o, const std::string& f, const std::string& v) {
-                               if (v != "radiosity" && v != "irradiance" && v != "emission")
-                                   throw UsageError(f + " expects radiosity, irradiance or emission, got '" + v + "'");
-                               o.falseColour = v;
+                           [](Options& o, const std::string&, const std::string& v) {
+                               try {
+                                   o.falseColour = parseFalseColourQuantity(v);
+                               } catch (const Error& e) {
+                                   throw UsageError(e.what());
+                               }
                            }}},
         {"--scale", {{"render"}, true,
-                     [](Options& o, const std::string& f, const std::string& v) {
-                         if (v != "linear" && v != "log") throw UsageError(f + " expects linear or log, got '" + v + "'");
-                         o.logScale = v == "log";
+                     [](Options& o, const std::string&, const std::string& v) {
+                         try {
+                             o.falseColourScale = parseFalseColourScale(v);
+                         } catch (const Error& e) {
+                             throw UsageError(e.what());
+                         }
                      }}},
         {"--range", {{"render"}, true,
                      [](Options& o, const std::string& f, const std::string& v) {
@@ -397,14 +402,14 @@ Options parseOptions(int argc, const char* const* argv) {
     const bool needsOutput = o.command == "formfactors" || o.command == "subdivide" || o.command == "bench";
     if (needsOutput && o.output.empty()) throw UsageError("'" + o.command + "' needs -o OUTPUT");
     if (o.command == "render" && o.output.empty()) throw UsageError("'render' needs -o IMAGE.png");
-    if (o.falseColour.empty()) {
+    if (!o.falseColour) {
         for (const ParsedFlag& p : parsed)
             if (p.flag == "--scale" || p.flag == "--range") throw UsageError(p.flag + " needs --false-color QUANTITY");
     } else {
         for (const ParsedFlag& p : parsed)
             if (p.flag == "--exposure" || p.flag == "--spp" || p.flag == "--flat" || p.flag == "--crease")
                 throw UsageError(p.flag + " does not apply with --false-color (one ray per pixel, one colour per patch)");
-        if (o.logScale && o.rangeMin && !(*o.rangeMin > 0.0)) throw UsageError("--range: a log scale needs MIN > 0");
+        if (o.falseColourScale == FalseColourScale::Log && o.rangeMin && !(*o.rangeMin > 0.0)) throw UsageError("--range: a log scale needs MIN > 0");
     }
     if (o.command == "solve" && o.output.empty() && o.ffPath.empty() && o.objectsPath.empty())
         throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F, or --objects T.csv)");

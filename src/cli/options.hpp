@@ -5,6 +5,7 @@
 #include "engine/scene.hpp"
 #include "solve/solver.hpp"
 #include "preprocess/backend_registry.hpp"
+#include "render/false_colour.hpp"
 
 #include <optional>
 #include <string>
@@ -49,8 +50,8 @@ struct Options {
     double exposure = 0.0;               ///< 0 = automatic
     bool flat = false;
     std::string objectsPath;             ///< solve --objects: the per-object table (CSV)
-    std::string falseColour;             ///< --false-color: radiosity, irradiance, emission ("" = a picture)
-    bool logScale = false;               ///< --scale log
+    std::optional<FalseColourQuantity> falseColour;  ///< --false-color (none: a picture)
+    FalseColourScale falseColourScale = FalseColourScale::Linear;  ///< --scale
     std::optional<double> rangeMin, rangeMax;  ///< --range MIN:MAX (either may be empty: automatic)
 
     // subdivide command.

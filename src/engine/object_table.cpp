@@ -3,6 +3,7 @@
 
 #include "engine/atomic_file.hpp"
 #include "engine/error.hpp"
+#include "engine/irradiance.hpp"
 #include "engine/tone_map.hpp"
 
 #include <algorithm>
@@ -24,17 +25,17 @@ std::vector<ObjectSummary> summarizeObjects(const Scene& scene, const std::vecto
     std::vector<double> hArea(all.size(), 0.0);
     for (PatchId i = 0; i < scene.size(); ++i) {
         const Patch& p = scene.patches[i];
-        ObjectSummary& o = all[std::min<std::size_t>(p.object, scene.objects.size())];
+        const std::size_t k = std::min<std::size_t>(p.object, scene.objects.size());
+        ObjectSummary& o = all[k];
         const double b = luminance(B[i]);
         ++o.patches;
         o.area += p.area;
         o.bMean += p.area * b;
         o.bMin = std::min(o.bMin, b);
         o.bMax = std::max(o.bMax, b);
-        if ((p.rho > 0.0).all()) {
-            const double h = luminance(Rgb((B[i] - p.emission) / p.rho));
+        if (const double h = irradianceLuminance(p, B[i]); !std::isnan(h)) {
             ++o.hPatches;
-            hArea[&o - all.data()] += p.area;
+            hArea[k] += p.area;
             o.hMean += p.area * h;
             o.hMin = std::min(o.hMin, h);
             o.hMax = std::max(o.hMax, h);

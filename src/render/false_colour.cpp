@@ -2,6 +2,7 @@
 #include "render/false_colour.hpp"
 
 #include "engine/error.hpp"
+#include "engine/irradiance.hpp"
 #include "engine/tone_map.hpp"
 #include "rays/ray_scene.hpp"
 
@@ -94,6 +95,14 @@ FalseColourQuantity parseFalseColourQuantity(const std::string& name) {
     throw Error("--false-color expects radiosity, irradiance or emission, got '" + name + "'");
 }
 
+FalseColourScale parseFalseColourScale(const std::string& name) {
+    if (name == "linear") return FalseColourScale::Linear;
+    if (name == "log") return FalseColourScale::Log;
+    throw Error("--scale expects linear or log, got '" + name + "'");
+}
+
+const char* falseColourScaleName(FalseColourScale scale) { return scale == FalseColourScale::Log ? "log" : "linear"; }
+
 std::string falseColourTitle(FalseColourQuantity quantity) {
     switch (quantity) {
         case FalseColourQuantity::Radiosity: return "radiosity B";
@@ -111,9 +120,7 @@ std::vector<double> falseColourValues(const Scene& scene, const std::vector<Rgb>
         switch (quantity) {
             case FalseColourQuantity::Radiosity: values[i] = luminance(B[i]); break;
             case FalseColourQuantity::Emission: values[i] = luminance(p.emission); break;
-            case FalseColourQuantity::Irradiance:
-                values[i] = (p.rho > 0.0).all() ? luminance(Rgb((B[i] - p.emission) / p.rho)) : std::numeric_limits<double>::quiet_NaN();
-                break;
+            case FalseColourQuantity::Irradiance: values[i] = irradianceLuminance(p, B[i]); break;
         }
     }
     return values;
@@ -159,6 +166,10 @@ std::array<std::uint8_t, 3> viridis(double t) {
     return {kViridis[k][0], kViridis[k][1], kViridis[k][2]};
 }
 
+std::array<std::uint8_t, 3> falseColourOf(double value, const FalseColourRange& range) {
+    return std::isnan(value) ? kFalseColourNoData : viridis(range.position(value));
+}
+
 Rgb8Image renderFalseColour(const Scene& scene, const RayScene& rays, const std::vector<double>& values,
                             const FalseColourRange& range, FalseColourQuantity quantity, const RenderOptions& options) {
     if (values.size() != scene.size()) throw Error("false colour: values do not match the scene");
@@ -176,9 +187,8 @@ Rgb8Image renderFalseColour(const Scene& scene, const RayScene& rays, const std:
             std::array<std::uint8_t, 3> c = kFalseColourBackground;
             if (id == kBackFace) c = kFalseColourBackFace;
             else if (id != RayScene::kNoHit) {
-                const double v = values[id];
-                noData |= std::isnan(v);
-                c = std::isnan(v) ? kFalseColourNoData : viridis(range.position(v));
+                noData |= std::isnan(values[id]);
+                c = falseColourOf(values[id], range);
             }
             canvas.fill(x, y, x + 1, y + 1, c);
         }
@@ -199,7 +209,7 @@ Rgb8Image renderFalseColour(const Scene& scene, const RayScene& rays, const std:
         canvas.fill(barRight, y, barRight + 5, y + 1, ink);
         canvas.text(barRight + 8, y - 6, label(v), 2, ink);
     }
-    canvas.text(left, barBottom + 10, range.scale == FalseColourScale::Log ? "log scale" : "linear scale", 1, ink);
+    canvas.text(left, barBottom + 10, std::string(falseColourScaleName(range.scale)) + " scale", 1, ink);
     if (noData) {
         canvas.fill(left, barBottom + 30, left + 14, barBottom + 44, kFalseColourNoData);
         canvas.text(left + 20, barBottom + 33, "no data (rho = 0)", 1, ink);

@@ -19,6 +19,10 @@ enum class FalseColourScale { Linear, Log };
 
 /// "radiosity", "irradiance", "emission"; throws hemirad::Error for another name.
 FalseColourQuantity parseFalseColourQuantity(const std::string& name);
+/// "linear", "log"; throws hemirad::Error for another name.
+FalseColourScale parseFalseColourScale(const std::string& name);
+/// "linear" or "log".
+const char* falseColourScaleName(FalseColourScale scale);
 /// What the legend calls it: "radiosity B", "irradiance H", "emission E".
 std::string falseColourTitle(FalseColourQuantity quantity);
 
@@ -53,6 +57,9 @@ struct Rgb8Image {
 constexpr std::array<std::uint8_t, 3> kFalseColourBackground{0, 0, 0};
 constexpr std::array<std::uint8_t, 3> kFalseColourBackFace{48, 48, 48};
 constexpr std::array<std::uint8_t, 3> kFalseColourNoData{128, 128, 128};
+/// The colour of `value` on `range`: the map's, or kFalseColourNoData for NaN.
+std::array<std::uint8_t, 3> falseColourOf(double value, const FalseColourRange& range);
+
 /// Width of the legend strip added to the right of the picture.
 constexpr int kFalseColourLegendWidth = 170;
 

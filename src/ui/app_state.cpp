@@ -148,18 +148,15 @@ bool AppState::isSelected(PatchId id) const {
 FalseColourView AppState::falseColourView() const {
     FalseColourView view;
     if (!hasScene()) return view;
-    view.colours.assign(m_scene->size(), FalseColourView::kNoData);
+    const auto pack = [](const std::array<std::uint8_t, 3>& c) { return std::uint32_t(c[0]) << 16 | std::uint32_t(c[1]) << 8 | c[2]; };
+    view.colours.assign(m_scene->size(), pack(kFalseColourNoData));
     try {
         const std::vector<double> values = falseColourValues(*m_scene, m_B, falseColour.quantity);
         view.range = falseColourRange(values, falseColour.scale, falseColour.automatic ? std::nullopt : std::optional<double>(falseColour.min),
                                       falseColour.automatic ? std::nullopt : std::optional<double>(falseColour.max));
         for (PatchId i = 0; i < m_scene->size(); ++i) {
-            if (std::isnan(values[i])) {
-                view.noData = true;
-                continue;
-            }
-            const auto c = viridis(view.range.position(values[i]));
-            view.colours[i] = std::uint32_t(c[0]) << 16 | std::uint32_t(c[1]) << 8 | c[2];
+            view.noData |= std::isnan(values[i]);
+            view.colours[i] = pack(falseColourOf(values[i], view.range));
         }
     } catch (const std::exception& e) {
         view.error = e.what();

@@ -35,10 +35,9 @@ struct FalseColourSettings {
 /// The false-colour map of the current radiosity: its range and each patch's colour.
 struct FalseColourView {
     FalseColourRange range;
-    std::vector<std::uint32_t> colours;  ///< per patch 0xRRGGBB, kNoData where the quantity has no value
+    std::vector<std::uint32_t> colours;  ///< per patch 0xRRGGBB (falseColourOf: the no-data grey where none)
     bool noData = false;
-    std::string error;                   ///< why no map can be shown (then colours are all kNoData)
-    static constexpr std::uint32_t kNoData = 0xff000000u;
+    std::string error;                   ///< why no map can be shown (then every patch is no-data grey)
 };
 enum class SelectionMode { Patch, Object };
 

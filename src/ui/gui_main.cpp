@@ -34,8 +34,7 @@ struct GuiOptions {
     bool run = false;
     bool exitAfter = false;
     double quitAfter = 0.0;  ///< --quit-after: seconds of interactive running, then quit as --exit
-    bool showFalseColour = false;  ///< --false-color: start in the false-colour view
-    FalseColourQuantity falseColour = FalseColourQuantity::Irradiance;
+    std::optional<FalseColourQuantity> falseColour;  ///< --false-color: start in the false-colour view of it
     FalseColourScale falseColourScale = FalseColourScale::Linear;
     std::string screenshot;
     double subdivide = 0.0;
@@ -80,14 +79,9 @@ GuiOptions parse(int argc, char** argv) {
             std::exit(0);
         } else if (a == "--run") o.run = true;
         else if (a == "--exit") o.exitAfter = true;
-        else if (a == "--false-color") {
-            o.falseColour = parseFalseColourQuantity(value(k, "--false-color"));
-            o.showFalseColour = true;
-        } else if (a == "--scale") {
-            const std::string v = value(k, "--scale");
-            if (v != "linear" && v != "log") throw Error("--scale expects linear or log, got '" + v + "'");
-            o.falseColourScale = v == "log" ? FalseColourScale::Log : FalseColourScale::Linear;
-        } else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
+        else if (a == "--false-color") o.falseColour = parseFalseColourQuantity(value(k, "--false-color"));
+        else if (a == "--scale") o.falseColourScale = parseFalseColourScale(value(k, "--scale"));
+        else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
         else if (a == "--screenshot") o.screenshot = value(k, "--screenshot");
         else if (a == "--subdivide") o.subdivide = number(value(k, "--subdivide"), "--subdivide");
         else if (a == "--method") method = value(k, "--method");
@@ -190,8 +184,10 @@ int main(int argc, char** argv) {
 
         AppState app;
         app.settings = options.settings;
-        if (options.showFalseColour) app.layer = Layer::FalseColour;
-        app.falseColour.quantity = options.falseColour;
+        if (options.falseColour) {
+            app.layer = Layer::FalseColour;
+            app.falseColour.quantity = *options.falseColour;
+        }
         app.falseColour.scale = options.falseColourScale;
         OrbitCamera camera;
         Panels panels(recentFilesPath());
@@ -356,7 +352,7 @@ int main(int argc, char** argv) {
                 if (app.layer == Layer::FalseColour) {
                     const FalseColourView view = app.falseColourView();
                     std::printf("hemirad-gui: false colour: %s, %s scale %.9g .. %.9g\n", falseColourTitle(app.falseColour.quantity).c_str(),
-                                view.range.scale == FalseColourScale::Log ? "log" : "linear", view.range.min, view.range.max);
+                                falseColourScaleName(view.range.scale), view.range.min, view.range.max);
                 }
                 for (const auto& [name, r] : panels.panelRects())
                     std::printf("hemirad-gui: panel %s at %.0f,%.0f size %.0fx%.0f\n", name.c_str(), r.x, r.y, r.width, r.height);
