@@ -54,7 +54,6 @@ std::size_t checkFormFactorMemory(const Scene& scene, const MethodSettings& sett
     if (!available) available = availableMemory();
     if (!available) return 0;  // unknown: nothing to compare with
     const double budget = 0.8 * double(available);
-    const double perNonzero = kBytesPerNonzero, fixed = fixedBytes(scene);
     const double bound = formFactorMemoryBound(scene, settings, rows.size());
     if (bound <= budget) return std::size_t(bound);
     // The bound is loose (rays hit the same patches): measure 64 rows spread over the list.
@@ -63,7 +62,7 @@ std::size_t checkFormFactorMemory(const Scene& scene, const MethodSettings& sett
     for (std::size_t k = 0; k < rows.size() && sample.size() < 64; k += step) sample.push_back(rows[k]);
     const FormFactorRun probe = computeFormFactors(scene, settings, sample);
     const double perRow = sample.empty() ? 0.0 : double(probe.F.nonZeros()) / double(sample.size());
-    const double estimate = fixed + 1.1 * perNonzero * perRow * double(rows.size());
+    const double estimate = fixedBytes(scene) + 1.1 * kBytesPerNonzero * perRow * double(rows.size());
     if (estimate > budget) {
         char perRowText[32];
         std::snprintf(perRowText, sizeof perRowText, "%.0f", perRow);

@@ -14,7 +14,11 @@ const std::string& rayCastingNotBuilt() {
     return why;
 }
 
-RayScene::RayScene(const Scene&, int) { throw Error("ray casting (Embree) is " + rayCastingNotBuilt()); }
+namespace {
+[[noreturn]] void refuse() { throw Error("ray casting (Embree) is " + rayCastingNotBuilt()); }
+}  // namespace
+
+RayScene::RayScene(const Scene&, int) { refuse(); }
 
 RayScene::~RayScene() = default;
 
@@ -23,14 +27,10 @@ void RayScene::toLocal(const Vec3& p, float out[3]) const {
 }
 
 // Unreachable: no RayScene exists in this build (the constructor throws).
-RayScene::Hit RayScene::intersect(const Vec3&, const Vec3&, float) const { throw Error("ray casting (Embree) is " + rayCastingNotBuilt()); }
+RayScene::Hit RayScene::intersect(const Vec3&, const Vec3&, float) const { refuse(); }
 
-void RayScene::intersectFan(const float*, const float*, std::size_t, PatchId*, float*) const {
-    throw Error("ray casting (Embree) is " + rayCastingNotBuilt());
-}
+void RayScene::intersectFan(const float*, const float*, std::size_t, PatchId*, float*) const { refuse(); }
 
-void RayScene::occludedSegments(const float*, const float*, std::size_t, std::uint8_t*) const {
-    throw Error("ray casting (Embree) is " + rayCastingNotBuilt());
-}
+void RayScene::occludedSegments(const float*, const float*, std::size_t, std::uint8_t*) const { refuse(); }
 
 }  // namespace hemirad

@@ -28,8 +28,9 @@ __all__ = ["Error", "Scene", "load", "form_factors", "solve", "read_form_factors
 def methods():
     """The form-factor back ends: {name: {"summary", "not_built", "default", "options"}}, where
     not_built is empty for a back end of this build (else how to get it), default is True for the one
-    form_factors() uses when no method is named, and options maps each keyword form_factors() takes for that method to its help, kind, choices and
-    default (the same settings as the command line's flags)."""
+    form_factors() uses when no method is named, and options maps each keyword form_factors() takes
+    for that method to its help, kind, choices and default (the same settings as the command line's
+    flags)."""
     return _hemirad._backends()
 
 
