@@ -3,6 +3,7 @@
 // against the depth limit, extreme scales, and float against double accumulation.
 #include "engine/error.hpp"
 #include "engine/obj_loader.hpp"
+#include "engine/reciprocal_closure.hpp"
 #include "solve/solver.hpp"
 #include "solve/solver_registry.hpp"
 #include "engine/subdivide.hpp"
@@ -51,59 +52,77 @@ FormFactors hemisphereF(const Scene& s, std::uint32_t samples, std::uint32_t ori
 void solvers() {
     std::printf("\n## Closed box furnace: every solver at high albedo\n\n");
     std::printf("Unit cube, 8 x 8 patches per face (384), hemisphere F (768 directions, rows sum to 1 exactly),\n"
-                "E = 1 everywhere: B = E / (1 - rho). Tolerance 1e-9; `error` = max |B (1 - rho) - 1|.\n\n");
-    std::printf("| rho | solver | converged | iterations | seconds | error |\n|---|---|---|---|---|---|\n");
+                "E = 1 everywhere: B = E / (1 - rho). Tolerance 1e-9; `error` = max |B (1 - rho) - 1|.\n"
+                "Cholesky and CG solve the symmetric form diag(A / rho) - diag(A) F, exact only for a reciprocal F:\n"
+                "`--enforce-reciprocity` (symmetric scaling to the row targets, here 1: a closed box) makes it so.\n\n");
+    std::printf("| rho | F | solver | converged | iterations | seconds | error |\n|---|---|---|---|---|---|---|\n");
     Scene s = box(0.125);
-    const FormFactors F = hemisphereF(s, 768);
+    const FormFactors raw = hemisphereF(s, 768);
+    FormFactors enforced = raw;
+    enforceReciprocity(enforced, s);
     for (double rho : {0.9, 0.99, 0.999}) {
         furnace(s, rho);
-        for (const SolverDescriptor* solver : solverRegistry()) {
-            const std::string& kind = solver->name;
-            SolverOptions o;
-            o.solver = kind;
-            o.tolerance = 1e-9;
-            o.allowUnconverged = true;
-            o.maxIterations = 200000;
-            const auto t0 = Clock::now();
-            const Radiosity r = solveRadiosity(s, F, o);
-            std::printf("| %.3f | %s | %s | %d | %.3f | %.2e |\n", rho, kind.c_str(),
-                        r.reports[0].converged ? "yes" : "NO", r.reports[0].iterations, since(t0), furnaceError(r, rho));
-        }
+        for (const FormFactors* F : {&raw, static_cast<const FormFactors*>(&enforced)})
+            for (const SolverDescriptor* solver : solverRegistry()) {
+                const std::string& kind = solver->name;
+                SolverOptions o;
+                o.solver = kind;
+                o.tolerance = 1e-9;
+                o.allowUnconverged = true;
+                o.maxIterations = 200000;
+                const auto t0 = Clock::now();
+                const Radiosity r = solveRadiosity(s, *F, o);
+                std::printf("| %.3f | %s | %s | %s | %d | %.3f | %.2e |\n", rho, F == &raw ? "as estimated" : "enforced",
+                            kind.c_str(), r.reports[0].converged ? "yes" : "NO", r.reports[0].iterations, since(t0),
+                            furnaceError(r, rho));
+            }
     }
 }
 
 void closure() {
     std::printf("\n## Closure error amplification\n\n");
-    std::printf("Same box, hemisphere F with 96 directions x 4 origins. Enforcing reciprocity (averaging\n"
-                "A_i F_ij and A_j F_ji) breaks the rows' closure; at high albedo the furnace error grows as\n"
-                "rho delta / (1 - rho) (physics.md). Row normalisation restores closure. Gauss-Seidel to 1e-10.\n\n");
-    std::printf("| rho | F | max row-sum error | furnace error |\n|---|---|---|---|\n");
+    std::printf("Same box, hemisphere F with 96 directions x 4 origins. The old `--enforce-reciprocity` averaged\n"
+                "A_i F_ij and A_j F_ji, which broke the rows' closure (the furnace error grows as rho delta / (1 - rho),\n"
+                "physics.md); the pair mean scaled symmetrically to the row targets keeps both. Gauss-Seidel to 1e-10.\n\n");
     Scene s = box(0.125);
     const FormFactors raw = hemisphereF(s, 96, 4);
+    // The pair means alone (the old --enforce-reciprocity): both rows of a pair computed.
+    FormFactors averaged = raw;
+    {
+        const TransposedFormFactors Ft = transpose(raw);
+        std::vector<std::vector<FormFactors::Entry>> rows(raw.size());
+        for (std::size_t i = 0; i < raw.size(); ++i)
+            mergeRowAndColumn(raw, Ft, i, [&](std::uint32_t j, double fij, double fji) {
+                const double v = j == i ? fij : 0.5 * (s.patches[i].area * fij + s.patches[j].area * fji) / s.patches[i].area;
+                if (v > 0.0) rows[i].push_back({j, float(v)});
+            });
+        averaged = FormFactors::fromRows(std::move(rows), raw.computedFlags());
+    }
     FormFactors enforced = raw;
-    enforceReciprocity(enforced, s);
-    FormFactors normalised = enforced;
-    normalizeRows(normalised);
+    const ReciprocityReport report = enforceReciprocity(enforced, s);
+    std::printf("(`--enforce-reciprocity`: %s)\n\n", describe(report).c_str());
+    std::printf("| rho | F | max row-sum error | reciprocity max | furnace error |\n|---|---|---|---|---|\n");
     struct Variant {
         const char* name;
         const FormFactors* F;
     };
-    const Variant variants[] = {{"as estimated", &raw}, {"reciprocity enforced", &enforced},
-                                {"enforced + rows normalised", &normalised}};
+    const Variant variants[] = {{"as estimated", &raw}, {"pair means (the old enforcement)", &averaged},
+                                {"--enforce-reciprocity", &enforced}};
     for (double rho : {0.9, 0.99, 0.999}) {
         furnace(s, rho);
         for (const Variant& v : variants) {
             double delta = 0.0;
             for (std::size_t i = 0; i < v.F->size(); ++i) delta = std::max(delta, std::abs(v.F->rowSum(i) - 1.0));
+            const double reciprocity = computeStats(*v.F, s).reciprocityMax;
             SolverOptions o;
             o.solver = "gauss-seidel";
             o.tolerance = 1e-10;
             o.maxIterations = 200000;
             try {
                 const Radiosity r = solveRadiosity(s, *v.F, o);
-                std::printf("| %.3f | %s | %.2e | %.2e |\n", rho, v.name, delta, furnaceError(r, rho));
+                std::printf("| %.3f | %s | %.2e | %.2e | %.2e |\n", rho, v.name, delta, reciprocity, furnaceError(r, rho));
             } catch (const Error& e) {
-                std::printf("| %.3f | %s | %.2e | no solution: %s |\n", rho, v.name, delta, e.what());
+                std::printf("| %.3f | %s | %.2e | %.2e | no solution: %s |\n", rho, v.name, delta, reciprocity, e.what());
             }
         }
     }

@@ -11,6 +11,7 @@
 #include "engine/form_factor_file.hpp"
 #include "engine/hash.hpp"
 #include "engine/obj_loader.hpp"
+#include "engine/reciprocal_closure.hpp"
 #include "engine/subdivide.hpp"
 #include "solve/solver_registry.hpp"
 

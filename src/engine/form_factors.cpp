@@ -168,36 +168,6 @@ FormFactorStats computeStats(const FormFactors& F, const Scene& scene) {
     return s;
 }
 
-std::size_t enforceReciprocity(FormFactors& F, const Scene& scene) {
-    const std::size_t n = F.size();
-    const TransposedFormFactors Ft = transpose(F);
-    std::vector<std::vector<FormFactors::Entry>> rows(n);
-    std::size_t changed = 0;
-#pragma omp parallel for schedule(dynamic, 64) reduction(+ : changed)
-    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i) {
-        if (!F.rowComputed(i)) continue;
-        const double Ai = scene.patches[i].area;
-        std::vector<FormFactors::Entry>& row = rows[i];
-        row.reserve(F.rowEnd(i) - F.rowBegin(i));
-        mergeRowAndColumn(F, Ft, i, [&](std::uint32_t j, double fij, double fji) {
-            double v = fij;
-            // Both rows known: A_i F_ij = A_j F_ji = their mean (a missing entry counts as 0).
-            if (j != std::uint32_t(i) && F.rowComputed(j)) v = 0.5 * (Ai * fij + scene.patches[j].area * fji) / Ai;
-            if (static_cast<float>(v) != static_cast<float>(fij)) ++changed;
-            if (v > 0.0) row.push_back({j, static_cast<float>(v)});
-        });
-    }
-    const std::uint64_t hash = F.sceneHash;
-    auto params = F.parameters;
-    const FormFactorProvenance provenance = F.provenance;
-    F = FormFactors::fromRows(std::move(rows), F.computedFlags());
-    F.sceneHash = hash;
-    F.provenance = provenance;
-    F.parameters = std::move(params);
-    F.parameters["reciprocity"] = "enforced";
-    return changed;
-}
-
 double normalizeRows(FormFactors& F) {
     double worst = 0.0;
     for (std::size_t i = 0; i < F.size(); ++i) {

@@ -132,10 +132,6 @@ struct FormFactorStats {
 
 FormFactorStats computeStats(const FormFactors& F, const Scene& scene);
 
-/// Replaces F_ij and F_ji (both rows computed) by their area-weighted mean so that A_i F_ij = A_j F_ji.
-/// Returns the number of pairs changed. Entries present in only one row get a partner.
-std::size_t enforceReciprocity(FormFactors& F, const Scene& scene);
-
 /// Rescales every computed row with a positive sum to sum exactly 1 (closed scenes without mirrors:
 /// removes the closure error that high albedo amplifies, physics.md). Returns the largest |sum - 1|
 /// corrected.

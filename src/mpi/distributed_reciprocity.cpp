@@ -1,4 +1,4 @@
-// --enforce-reciprocity across MPI ranks, through PETSc's parallel transpose.
+// --enforce-reciprocity across MPI ranks, through PETSc's parallel transpose and shared vectors.
 #include "mpi/distributed_reciprocity.hpp"
 
 #include "mpi/petsc_rows.hpp"
@@ -9,11 +9,12 @@
 #include <utility>
 
 namespace hemirad::mpi {
+namespace {
 
-std::size_t enforceReciprocityDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F) {
+/// The rows of S = (G + G^T) / 2 this rank holds (layout.mine), merged by column as
+/// enforceReciprocity merges them in one process.
+SymmetricRows symmetricRows(const Scene& scene, const DistributedFormFactors& F, const Layout& layout) {
     const std::size_t n = scene.size();
-    const Layout layout = layoutOf(context, F.owner);
-    const std::size_t m = layout.mine.size();
     // Row j of G holds A_j F_jk, computed as one process computes it; row i of G^T is column i of G.
     OwnedMat Gt;
     {
@@ -23,47 +24,104 @@ std::size_t enforceReciprocityDistributed(const Context& context, const Scene& s
     std::vector<PatchId> patchOf(n);
     for (std::size_t i = 0; i < n; ++i) patchOf[std::size_t(layout.perm[i])] = PatchId(i);
 
-    std::vector<std::vector<FormFactors::Entry>> rows(n);
+    SymmetricRows S;
     std::vector<std::pair<PatchId, double>> column;  // (j, A_j F_ji) for this row i, by j
-    std::uint64_t changed = 0;
-    for (std::size_t k = 0; k < m; ++k) {
+    for (std::size_t k = 0; k < layout.mine.size(); ++k) {
         const PatchId i = layout.mine[k];
-        if (F.owner[i] != context.rank()) continue;  // rows nobody computed stay empty
-        PetscInt count = 0;
-        const PetscInt* columns = nullptr;
-        const PetscScalar* values = nullptr;
-        const PetscInt row = layout.begin + PetscInt(k);
-        check(MatGetRow(Gt.mat, row, &count, &columns, &values), "MatGetRow");
-        column.clear();
-        for (PetscInt t = 0; t < count; ++t) column.emplace_back(patchOf[std::size_t(columns[t])], double(values[t]));
-        check(MatRestoreRow(Gt.mat, row, &count, &columns, &values), "MatRestoreRow");
-        std::sort(column.begin(), column.end());
-        // Row i and column i merged by j, as mergeRowAndColumn walks them in one process.
-        const double Ai = scene.patches[i].area;
-        std::uint64_t a = F.local.rowBegin(i), aEnd = F.local.rowEnd(i);
-        std::size_t b = 0;
-        std::vector<FormFactors::Entry>& out = rows[i];
-        while (a < aEnd || b < column.size()) {
-            const std::uint32_t ja = a < aEnd ? F.local.columns()[a] : UINT32_MAX;
-            const std::uint32_t jb = b < column.size() ? column[b].first : UINT32_MAX;
-            const std::uint32_t j = std::min(ja, jb);
-            const double fij = ja == j ? double(F.local.values()[a++]) : 0.0;
-            const double ajfji = jb == j ? column[b++].second : 0.0;
-            double v = fij;
-            if (j != i && F.owner[j] >= 0) v = 0.5 * (Ai * fij + ajfji) / Ai;
-            if (static_cast<float>(v) != static_cast<float>(fij)) ++changed;
-            if (v > 0.0) out.push_back({j, static_cast<float>(v)});
+        const bool computed = F.owner[i] >= 0;
+        if (computed) {
+            PetscInt count = 0;
+            const PetscInt* columns = nullptr;
+            const PetscScalar* values = nullptr;
+            const PetscInt row = layout.begin + PetscInt(k);
+            check(MatGetRow(Gt.mat, row, &count, &columns, &values), "MatGetRow");
+            column.clear();
+            for (PetscInt t = 0; t < count; ++t) column.emplace_back(patchOf[std::size_t(columns[t])], double(values[t]));
+            check(MatRestoreRow(Gt.mat, row, &count, &columns, &values), "MatRestoreRow");
+            std::sort(column.begin(), column.end());
+            const double Ai = scene.patches[i].area;
+            std::uint64_t a = F.local.rowBegin(i);
+            const std::uint64_t aEnd = F.local.rowEnd(i);
+            std::size_t b = 0;
+            while (a < aEnd || b < column.size()) {
+                const std::uint32_t ja = a < aEnd ? F.local.columns()[a] : UINT32_MAX;
+                const std::uint32_t jb = b < column.size() ? column[b].first : UINT32_MAX;
+                const std::uint32_t j = std::min(ja, jb);
+                const double fij = ja == j ? double(F.local.values()[a++]) : 0.0;
+                const double ajfji = jb == j ? column[b++].second : 0.0;
+                if (j == i || F.owner[j] < 0) S.add(j, Ai * fij, j != i);
+                else S.add(j, 0.5 * (Ai * fij + ajfji), false);
+            }
         }
+        S.endRow(i, computed, computed ? F.local.rowSum(i) : 0.0);
     }
+    return S;
+}
+
+/// Shares vectors of patch length: each rank's entries for layout.mine, gathered in PETSc's numbering.
+class VectorSharing {
+public:
+    explicit VectorSharing(const Layout& layout) : m_layout(layout) {
+        int size = 0;
+        MPI_Comm_size(MPI_COMM_WORLD, &size);
+        const int mine = int(layout.mine.size());
+        m_counts.resize(std::size_t(size));
+        MPI_Allgather(&mine, 1, MPI_INT, m_counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+        m_offsets.assign(std::size_t(size), 0);
+        for (std::size_t r = 1; r < m_offsets.size(); ++r) m_offsets[r] = m_offsets[r - 1] + m_counts[r - 1];
+        m_send.resize(layout.mine.size());
+        m_gathered.resize(layout.perm.size());
+    }
+
+    void share(std::vector<double>& full) {
+        for (std::size_t k = 0; k < m_layout.mine.size(); ++k) m_send[k] = full[m_layout.mine[k]];
+        MPI_Allgatherv(m_send.data(), int(m_send.size()), MPI_DOUBLE, m_gathered.data(), m_counts.data(),
+                       m_offsets.data(), MPI_DOUBLE, MPI_COMM_WORLD);
+        for (std::size_t i = 0; i < full.size(); ++i) full[i] = m_gathered[std::size_t(m_layout.perm[i])];
+    }
+
+private:
+    const Layout& m_layout;
+    std::vector<int> m_counts, m_offsets;
+    std::vector<double> m_send, m_gathered;
+};
+
+double maxOverRanks(double value) {
+    double out = 0.0;
+    MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    return out;
+}
+
+}  // namespace
+
+ReciprocityReport enforceReciprocityDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F) {
+    const std::size_t n = scene.size();
+    const Layout layout = layoutOf(context, F.owner);
+    const SymmetricRows S = symmetricRows(scene, F, layout);
+    VectorSharing sharing(layout);
+    const RowExchange exchange{[&](std::vector<double>& v) { sharing.share(v); }, maxOverRanks};
+
+    ReciprocityReport report;
+    // Every computed row near 1 on every rank: the maximum of "not near" is 0.
+    chooseTargets(scene, maxOverRanks(estimatedNearOne(S) ? 0.0 : 1.0) == 0.0, report);
+    const std::vector<double> x = closureScaling(scene, S, report.closedTargets, exchange, report);
+    std::vector<std::vector<FormFactors::Entry>> held = closedRows(scene, S, x, F.local, report);
+
+    std::vector<std::vector<FormFactors::Entry>> rows(n);
+    for (std::size_t k = 0; k < layout.mine.size(); ++k) rows[layout.mine[k]] = std::move(held[k]);
     FormFactors updated = FormFactors::fromRows(std::move(rows), F.local.computedFlags());
     updated.sceneHash = F.local.sceneHash;
     updated.provenance = F.local.provenance;
     updated.parameters = F.local.parameters;
-    updated.parameters["reciprocity"] = "enforced";
+    updated.parameters["reciprocity"] =
+        report.closedTargets ? "enforced, rows closed to 1" : "enforced, estimated row sums kept";
     F.local = std::move(updated);
-    std::uint64_t total = 0;
+    // Totals over the ranks, for the one report line.
+    std::uint64_t changed = report.changed, total = 0;
     MPI_Allreduce(&changed, &total, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
-    return std::size_t(total);
+    report.changed = std::size_t(total);
+    report.largestChange = maxOverRanks(report.largestChange);
+    return report;
 }
 
 }  // namespace hemirad::mpi

@@ -2,14 +2,15 @@
 // transpose of G = diag(A) F brings column i of G to the rank that holds row i.
 #pragma once
 
+#include "engine/reciprocal_closure.hpp"
 #include "mpi/distributed_form_factors.hpp"
 
 namespace hemirad::mpi {
 
-/// Replaces F_ij and F_ji (both rows computed) by their area-weighted mean so that A_i F_ij = A_j F_ji,
-/// with enforceReciprocity's arithmetic (engine/form_factors.hpp), so the rows are bit for bit those
-/// of one process; entries present in only one of the two rows get a partner. Returns the entries
-/// changed over all ranks (on every rank). Collective.
-std::size_t enforceReciprocityDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F);
+/// enforceReciprocity (engine/reciprocal_closure.hpp) over the ranks' rows: the pair means built
+/// with one process's arithmetic, the scaling's vectors shared by MPI_Allgatherv and its sums taken
+/// in one order, so the rows are bit for bit those of one process. The report (entries changed over
+/// all ranks) is the same on every rank. Collective.
+ReciprocityReport enforceReciprocityDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F);
 
 }  // namespace hemirad::mpi

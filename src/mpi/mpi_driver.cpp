@@ -144,15 +144,14 @@ void obtainFormFactors(Job& job, const std::string& reusePath) {
     job.computed = true;
 }
 
-/// --enforce-reciprocity: pairs of rows on any two ranks averaged, as one process averages them.
+/// --enforce-reciprocity: pairs of rows on any two ranks, scaled to closure as one process scales them.
 void reciprocity(Job& job) {
     if (!job.options.enforceReciprocity) return;
     const auto t0 = std::chrono::steady_clock::now();
-    std::size_t changed = 0;
-    job.context.collectively([&] { changed = enforceReciprocityDistributed(job.context, job.scene, job.F); });
+    ReciprocityReport report;
+    job.context.collectively([&] { report = enforceReciprocityDistributed(job.context, job.scene, job.F); });
     job.timings.add("enforce reciprocity", secondsSince(t0));
-    job.reporter.line("form factors: reciprocity enforced: " + std::to_string(changed) +
-                      " entries replaced by the pair's area-weighted mean (A_i F_ij + A_j F_ji) / 2");
+    job.reporter.line("form factors: " + describe(report));
     job.computed = true;
 }
 

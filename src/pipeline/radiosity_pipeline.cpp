@@ -5,6 +5,7 @@
 #include "engine/form_factor_file.hpp"
 #include "engine/form_factor_shards.hpp"
 #include "engine/obj_loader.hpp"
+#include "engine/reciprocal_closure.hpp"
 #include "engine/subdivide.hpp"
 
 #include <algorithm>
@@ -116,10 +117,9 @@ void RadiosityPipeline::refreshStats(const Scene& scene, FormFactorUpdate& updat
 void RadiosityPipeline::postProcess(const Scene& scene, FormFactorUpdate& update) const {
     if (m_policy.enforceReciprocity) {
         const auto t0 = Clock::now();
-        const std::size_t changed = enforceReciprocity(update.F, scene);
+        const ReciprocityReport report = enforceReciprocity(update.F, scene);
         timing("enforce reciprocity", since(t0));
-        message("form factors: reciprocity enforced: " + std::to_string(changed) +
-                " entries replaced by the pair's area-weighted mean (A_i F_ij + A_j F_ji) / 2");
+        message("form factors: " + describe(report));
         refreshStats(scene, update, bool(m_events.formFactorsChanged));
         if (m_events.formFactorsChanged) m_events.formFactorsChanged(*update.stats, update.F.memoryBytes());
         update.changed = true;

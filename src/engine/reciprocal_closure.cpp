@@ -1,0 +1,260 @@
+// Reciprocity with closure: symmetric scaling of the pair means by Newton's method and CG.
+#include "engine/reciprocal_closure.hpp"
+
+#include "engine/scene.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <unordered_map>
+
+namespace hemirad {
+namespace {
+
+constexpr double kTolerance = 1e-12;  ///< max |row sum - target| / target at which Newton stops
+constexpr int kMaxNewtonSteps = 50;
+constexpr int kMaxCgIterations = 2000;  ///< per Newton step
+constexpr double kNearOne = 1e-2;       ///< closed scenes: estimated row sums within this of 1
+
+/// Sum of a full-length vector in index order: the same bits on every process and split.
+double orderedSum(const std::vector<double>& v) {
+    double s = 0.0;
+    for (const double t : v) s += t;
+    return s;
+}
+
+}  // namespace
+
+void SymmetricRows::add(std::uint32_t j, double value, bool isFixed) {
+    columns.push_back(j);
+    values.push_back(value);
+    fixed.push_back(isFixed ? 1 : 0);
+}
+
+void SymmetricRows::endRow(PatchId i, bool rowComputed, double estimatedSum) {
+    rows.push_back(i);
+    computed.push_back(rowComputed ? 1 : 0);
+    estimated.push_back(estimatedSum);
+    start.push_back(columns.size());
+}
+
+RowExchange singleProcess() {
+    return {[](std::vector<double>&) {}, [](double v) { return v; }};
+}
+
+bool isWatertight(const Scene& scene) {
+    if (scene.size() == 0) return false;
+    const double tolerance = std::max(1e-9 * scene.extent(), 1e-300);
+    // Positions snapped to a grid of the tolerance: corners that generators compute by different
+    // float expressions meet; a pair split by a cell boundary only makes the scene count as open.
+    struct Hash {
+        std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
+            return std::size_t(k[0]) * 0x9e3779b97f4a7c15ULL ^ std::size_t(k[1]) * 0xc2b2ae3d27d4eb4fULL ^ std::size_t(k[2]);
+        }
+    };
+    std::unordered_map<std::array<std::int64_t, 3>, std::uint32_t, Hash> ids;
+    auto idOf = [&](const Vec3& p) {
+        const std::array<std::int64_t, 3> key{std::llround(p.x() / tolerance), std::llround(p.y() / tolerance),
+                                              std::llround(p.z() / tolerance)};
+        return ids.emplace(key, std::uint32_t(ids.size())).first->second;
+    };
+    std::unordered_map<std::uint64_t, std::uint32_t> edges;
+    for (const Patch& p : scene.patches)
+        for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
+            const std::uint32_t a = idOf(scene.corner(p, k)), b = idOf(scene.corner(p, (k + 1) % p.cornerCount));
+            if (a == b) continue;
+            ++edges[std::uint64_t(std::min(a, b)) << 32 | std::max(a, b)];
+        }
+    return std::all_of(edges.begin(), edges.end(), [](const auto& e) { return e.second == 2; });
+}
+
+bool estimatedNearOne(const SymmetricRows& S) {
+    for (std::size_t k = 0; k < S.rows.size(); ++k)
+        if (S.computed[k] && std::abs(S.estimated[k] - 1.0) > kNearOne) return false;
+    return true;
+}
+
+void chooseTargets(const Scene& scene, bool rowSumsNearOne, ReciprocityReport& report) {
+    report.closedTargets = false;
+    if (scene.hasMirrors())
+        report.why = "rows keep their estimated sums (mirrors: extended rows may exceed 1)";
+    else if (!isWatertight(scene))
+        report.why = "rows keep their estimated sums (an open scene: a patch edge not shared by two patches)";
+    else if (!rowSumsNearOne)
+        report.why = "rows keep their estimated sums (watertight, but some rows were estimated more than 1e-2 from 1)";
+    else {
+        report.closedTargets = true;
+        report.why = "rows sum to 1 (a closed scene: watertight, no mirrors, every row estimated within 1e-2 of 1)";
+    }
+}
+
+std::vector<double> closureScaling(const Scene& scene, const SymmetricRows& S, bool closed, const RowExchange& exchange,
+                                   ReciprocityReport& report) {
+    const std::size_t n = scene.size(), m = S.rows.size();
+    const auto held = static_cast<std::ptrdiff_t>(m);
+    std::vector<double> x(n, 1.0);
+    // (S v)_k over the entries that scale, v of full length.
+    auto multiply = [&](const std::vector<double>& v, std::vector<double>& out) {
+#pragma omp parallel for schedule(dynamic, 256)
+        for (std::ptrdiff_t k = 0; k < held; ++k) {
+            double s = 0.0;
+            for (std::uint64_t e = S.start[k]; e < S.start[k + 1]; ++e)
+                if (!S.fixed[e]) s += S.values[e] * v[S.columns[e]];
+            out[k] = s;
+        }
+    };
+    std::vector<double> full(n);
+    auto dot = [&](const std::vector<double>& a, const std::vector<double>& b) {
+        std::fill(full.begin(), full.end(), 0.0);
+        for (std::size_t k = 0; k < m; ++k) full[S.rows[k]] = a[k] * b[k];
+        exchange.share(full);
+        return orderedSum(full);
+    };
+
+    std::vector<double> target(m), y(m);
+    std::vector<std::uint8_t> active(m);
+    multiply(x, y);
+    for (std::size_t k = 0; k < m; ++k) {
+        const PatchId i = S.rows[k];
+        double fixedPart = 0.0;
+        for (std::uint64_t e = S.start[k]; e < S.start[k + 1]; ++e)
+            if (S.fixed[e]) fixedPart += S.values[e];
+        target[k] = scene.patches[i].area * (closed ? 1.0 : S.estimated[k]) - fixedPart;
+        active[k] = S.computed[k] && target[k] > 0.0 && y[k] > 0.0;
+    }
+
+    std::vector<double> r(m), g(m), u(m), res(m), p(m), q(m), Sw(m);
+    report.converged = false;
+    report.newtonSteps = report.cgIterations = 0;
+    for (;;) {
+        double worst = 0.0;
+        for (std::size_t k = 0; k < m; ++k) {
+            r[k] = active[k] ? target[k] - x[S.rows[k]] * y[k] : 0.0;
+            if (active[k]) worst = std::max(worst, std::abs(r[k]) / target[k]);
+        }
+        report.residual = exchange.max(worst);
+        if (report.residual <= kTolerance) {
+            report.converged = true;
+            break;
+        }
+        if (report.newtonSteps == kMaxNewtonSteps) break;
+        ++report.newtonSteps;
+        // Newton for x_i (S x)_i = t_i in u = dx / x: M u = x r with M = diag(x S x) + diag(x) S diag(x),
+        // symmetric positive semidefinite (u^T M u = sum_ij x_i S_ij x_j (u_i + u_j)^2 / 2), so CG.
+        for (std::size_t k = 0; k < m; ++k) g[k] = x[S.rows[k]] * r[k];
+        std::fill(u.begin(), u.end(), 0.0);
+        res = g;
+        p = g;
+        double rr = dot(res, res);
+        const double stop = std::min(0.1, report.residual) * std::sqrt(rr);
+        for (int it = 0; it < kMaxCgIterations && std::sqrt(rr) > stop; ++it) {
+            std::fill(full.begin(), full.end(), 0.0);
+            for (std::size_t k = 0; k < m; ++k) full[S.rows[k]] = x[S.rows[k]] * p[k];
+            exchange.share(full);
+            multiply(full, Sw);
+            for (std::size_t k = 0; k < m; ++k) {
+                const double xi = x[S.rows[k]];
+                q[k] = active[k] ? xi * y[k] * p[k] + xi * Sw[k] : 0.0;
+            }
+            const double pq = dot(p, q);
+            ++report.cgIterations;
+            if (!(pq > 0.0)) break;
+            const double alpha = rr / pq;
+            for (std::size_t k = 0; k < m; ++k) {
+                u[k] += alpha * p[k];
+                res[k] -= alpha * q[k];
+            }
+            const double next = dot(res, res);
+            for (std::size_t k = 0; k < m; ++k) p[k] = res[k] + next / rr * p[k];
+            rr = next;
+        }
+        // A damped step keeps every x_i above half its value.
+        double shrink = 0.0;
+        for (std::size_t k = 0; k < m; ++k) shrink = std::max(shrink, -u[k]);
+        shrink = exchange.max(shrink);
+        const double theta = shrink > 0.5 ? 0.5 / shrink : 1.0;
+        std::fill(full.begin(), full.end(), 0.0);
+        for (std::size_t k = 0; k < m; ++k) full[S.rows[k]] = x[S.rows[k]] * (active[k] ? 1.0 + theta * u[k] : 1.0);
+        exchange.share(full);
+        // Rows nobody holds as computed keep x = 1 (their entries are fixed on the other side).
+        for (std::size_t i = 0; i < n; ++i) x[i] = full[i];
+        multiply(x, y);
+    }
+    return x;
+}
+
+std::vector<std::vector<FormFactors::Entry>> closedRows(const Scene& scene, const SymmetricRows& S,
+                                                        const std::vector<double>& x, const FormFactors& before,
+                                                        ReciprocityReport& report) {
+    const std::size_t m = S.rows.size();
+    std::vector<std::vector<FormFactors::Entry>> rows(m);
+    std::size_t changed = 0;
+    double largest = 0.0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : changed) reduction(max : largest)
+    for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(m); ++k) {
+        if (!S.computed[k]) continue;
+        const PatchId i = S.rows[k];
+        const double Ai = scene.patches[i].area;
+        std::uint64_t a = before.rowBegin(i);
+        const std::uint64_t aEnd = before.rowEnd(i);
+        std::vector<FormFactors::Entry>& out = rows[k];
+        out.reserve(S.start[k + 1] - S.start[k]);
+        for (std::uint64_t e = S.start[k]; e < S.start[k + 1]; ++e) {
+            const std::uint32_t j = S.columns[e];
+            while (a < aEnd && before.columns()[a] < j) ++a;  // S's pattern holds F's
+            const float old = a < aEnd && before.columns()[a] == j ? before.values()[a] : 0.0f;
+            const double v = S.fixed[e] ? S.values[e] / Ai : x[i] * S.values[e] * x[j] / Ai;
+            const auto value = static_cast<float>(v);
+            if (value != old) ++changed;
+            largest = std::max(largest, std::abs(double(value) - double(old)));
+            if (value > 0.0f) out.push_back({j, value});
+        }
+    }
+    report.changed = changed;
+    report.largestChange = largest;
+    return rows;
+}
+
+std::string describe(const ReciprocityReport& report) {
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "reciprocity enforced with closure: A_i F_ij = A_j F_ji, %s; target reached within %.2e (%d Newton "
+                  "steps, %d CG iterations%s); %zu entries changed, the largest by %.3g",
+                  report.why.c_str(), report.residual, report.newtonSteps, report.cgIterations,
+                  report.converged ? "" : ", NOT converged: rows miss their targets by the residual", report.changed,
+                  report.largestChange);
+    return text;
+}
+
+ReciprocityReport enforceReciprocity(FormFactors& F, const Scene& scene) {
+    const std::size_t n = F.size();
+    const TransposedFormFactors Ft = transpose(F);
+    SymmetricRows S;
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool computed = F.rowComputed(i);
+        const double Ai = scene.patches[i].area;
+        if (computed)
+            mergeRowAndColumn(F, Ft, i, [&](std::uint32_t j, double fij, double fji) {
+                // Both rows known: the pair's mean of A_i F_ij and A_j F_ji (a missing entry counts as 0).
+                if (j == i || !F.rowComputed(j)) S.add(j, Ai * fij, j != i);
+                else S.add(j, 0.5 * (Ai * fij + scene.patches[j].area * fji), false);
+            });
+        S.endRow(PatchId(i), computed, computed ? F.rowSum(i) : 0.0);
+    }
+    ReciprocityReport report;
+    chooseTargets(scene, estimatedNearOne(S), report);
+    const std::vector<double> x = closureScaling(scene, S, report.closedTargets, singleProcess(), report);
+    std::vector<std::vector<FormFactors::Entry>> rows = closedRows(scene, S, x, F, report);
+    const std::uint64_t hash = F.sceneHash;
+    auto params = F.parameters;
+    const FormFactorProvenance provenance = F.provenance;
+    F = FormFactors::fromRows(std::move(rows), F.computedFlags());
+    F.sceneHash = hash;
+    F.provenance = provenance;
+    F.parameters = std::move(params);
+    F.parameters["reciprocity"] = report.closedTargets ? "enforced, rows closed to 1" : "enforced, estimated row sums kept";
+    return report;
+}
+
+}  // namespace hemirad

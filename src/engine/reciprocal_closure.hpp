@@ -1,0 +1,84 @@
+// --enforce-reciprocity that keeps closure: G = diag(A) F made symmetric, then scaled symmetrically
+// (G'_ij = x_i S_ij x_j, S the pair means) so that every row reaches its target sum. One algorithm
+// for one process and for MPI ranks: a process holds some rows, vectors are shared in full.
+#pragma once
+
+#include "engine/form_factors.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hemirad {
+
+/// The rows of S = (G + G^T) / 2 one process holds, G = diag(A) F; every entry in the order of its
+/// column. An entry whose partner row was not computed is `fixed`: it holds A_i F_ij and is kept.
+struct SymmetricRows {
+    std::vector<PatchId> rows;            ///< the patches whose rows this process holds
+    std::vector<std::uint8_t> computed;   ///< per held row: F's row was computed
+    std::vector<double> estimated;        ///< per held row: its sum in F as estimated
+    std::vector<std::uint64_t> start{0};  ///< CSR over held rows
+    std::vector<std::uint32_t> columns;
+    std::vector<double> values;
+    std::vector<std::uint8_t> fixed;
+
+    /// Appends held row i: call add() for its entries, by column, then this.
+    void endRow(PatchId i, bool rowComputed, double estimatedSum);
+    void add(std::uint32_t j, double value, bool isFixed);
+};
+
+/// How the processes that hold the rows talk: `share` completes a vector of patch length from each
+/// process's entries for its own rows (nothing to do in one process), `max` is the maximum over
+/// processes. Both are collective.
+struct RowExchange {
+    std::function<void(std::vector<double>&)> share;
+    std::function<double(double)> max;
+};
+RowExchange singleProcess();
+
+/// What the closure did: the targets, how well they were met, what changed.
+struct ReciprocityReport {
+    bool closedTargets = false;  ///< rows aimed at 1 (a closed scene), else at their estimated sums
+    std::string why;             ///< why those targets, for people
+    double residual = 0.0;       ///< max |row sum - target| / target over the rows it could aim
+    int newtonSteps = 0, cgIterations = 0;
+    bool converged = false;
+    std::size_t changed = 0;     ///< entries whose float value changed (all processes)
+    double largestChange = 0.0;  ///< max |F'_ij - F_ij|
+};
+
+/// Solves x_i (S x)_i = A_i t_i - (fixed part of row i) for the held rows by Newton's method with
+/// conjugate gradients on the symmetric Jacobian (Knight & Ruiz 2013 balance a matrix the same
+/// way), t_i = 1 when `closed`, else the row's estimated sum. Rows whose target cannot be reached
+/// (nothing to scale, or a target at or below the fixed part) keep x_i = 1. Every reduction runs in
+/// one order over the full vector, so any split of the rows over processes gives the same x bit for
+/// bit. Returns x for every patch (1 where nobody holds a computed row).
+std::vector<double> closureScaling(const Scene& scene, const SymmetricRows& S, bool closed, const RowExchange& exchange,
+                                   ReciprocityReport& report);
+
+/// The held rows of F' = diag(A)^-1 diag(x) S diag(x), fixed entries kept (an entry below float's
+/// smallest value drops out); rows not computed stay empty. Counts changes into `report`.
+std::vector<std::vector<FormFactors::Entry>> closedRows(const Scene& scene, const SymmetricRows& S,
+                                                        const std::vector<double>& x, const FormFactors& before,
+                                                        ReciprocityReport& report);
+
+/// Whether row targets of 1 are right: no mirrors (extended rows exceed 1), a watertight surface
+/// (every patch edge shared by exactly two patches, positions matched within 1e-9 of the scene's
+/// size; a T-junction counts as open), and every computed row estimated within 1e-2 of 1.
+/// `rowSumsNearOne` is that last test over all processes. Sets report.closedTargets and why.
+void chooseTargets(const Scene& scene, bool rowSumsNearOne, ReciprocityReport& report);
+
+/// Whether each patch edge is shared by exactly two patches (see chooseTargets).
+bool isWatertight(const Scene& scene);
+
+/// Whether S's computed rows were estimated within 1e-2 of 1 (this process's rows).
+bool estimatedNearOne(const SymmetricRows& S);
+
+/// One line for the run's report: targets, residual, steps, entries changed.
+std::string describe(const ReciprocityReport& report);
+
+/// --enforce-reciprocity in one process: A_i F_ij = A_j F_ji exactly (to float rounding), each row
+/// summing to its target (chooseTargets). Rows of F not computed are left as they are.
+ReciprocityReport enforceReciprocity(FormFactors& F, const Scene& scene);
+
+}  // namespace hemirad

@@ -1,0 +1,142 @@
+// --enforce-reciprocity with closure: symmetric scaling of the pair means to the row targets.
+#include "support.hpp"
+
+#include "engine/error.hpp"
+#include "engine/reciprocal_closure.hpp"
+#include "engine/subdivide.hpp"
+#include "solve/solver.hpp"
+#include "solve/solver_registry.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+namespace {
+
+/// The exact cube F (opposite faces 0-1, 2-3, 4-5) with each row's entries scaled by `scale[i]` and
+/// entry (0, 2) by `skew`: rows off 1 by a few 1e-3, pairs no longer reciprocal, as estimates are.
+FormFactors perturbedCubeF(const double (&scale)[6], double skew) {
+    std::vector<std::vector<FormFactors::Entry>> rows(6);
+    for (std::uint32_t i = 0; i < 6; ++i)
+        for (std::uint32_t j = 0; j < 6; ++j)
+            if (i != j) {
+                const double f = ((i ^ 1) == j ? kCubeOpposite : kCubeAdjacent) * scale[i] * (i == 0 && j == 2 ? skew : 1.0);
+                rows[i].push_back({j, static_cast<float>(f)});
+            }
+    return FormFactors::fromRows(std::move(rows), std::vector<std::uint8_t>(6, 1));
+}
+
+double worstReciprocity(const FormFactors& F, const Scene& s) {
+    double worst = 0.0, largest = 0.0;
+    for (PatchId i = 0; i < F.size(); ++i)
+        for (PatchId j = 0; j < F.size(); ++j) {
+            const double a = s.patches[i].area * F.at(i, j), b = s.patches[j].area * F.at(j, i);
+            worst = std::max(worst, std::abs(a - b));
+            largest = std::max(largest, a);
+        }
+    return worst / largest;
+}
+
+}  // namespace
+
+TEST_CASE("Enforced reciprocity closes a nearly closed box: reciprocal, rows sum to 1, every solver reaches the furnace answer") {
+    Scene s = unitCube();
+    for (Patch& p : s.patches) {
+        p.rho = Rgb::Constant(0.99);
+        p.emission = Rgb::Constant(1.0);
+    }
+    const double scale[6] = {0.995, 1.0, 1.004, 0.998, 1.0, 1.002};
+    const FormFactors estimated = perturbedCubeF(scale, 1.006);
+    FormFactors F = estimated;
+    const ReciprocityReport report = enforceReciprocity(F, s);
+    CHECK(report.closedTargets);
+    CHECK(report.converged);
+    CHECK(report.residual <= 1e-12);
+    CHECK(report.changed > 0);
+    CHECK(F.parameters.at("reciprocity") == "enforced, rows closed to 1");
+    CHECK(worstReciprocity(F, s) < 2e-7);  // float storage of the two entries
+    for (PatchId i = 0; i < 6; ++i) CHECK(F.rowSum(i) == doctest::Approx(1.0).epsilon(2e-7));
+    // B = E / (1 - rho) = 100 for every solver, the symmetric ones (Cholesky, CG) included.
+    for (const SolverDescriptor* d : solverRegistry()) {
+        CAPTURE(d->name);
+        SolverOptions o;
+        o.solver = d->name;
+        o.tolerance = 1e-12;
+        o.maxIterations = 100000;
+        const Radiosity r = solveRadiosity(s, F, o);
+        for (const Rgb& b : r.B) CHECK(b[0] * (1 - 0.99) == doctest::Approx(1.0).epsilon(1e-6));
+    }
+    // As estimated, the symmetric form is not F's system: Cholesky's answer fails the residual gate.
+    SolverOptions cholesky;
+    cholesky.solver = "cholesky";
+    cholesky.tolerance = 1e-9;
+    CHECK_THROWS_WITH_AS(solveRadiosity(s, estimated, cholesky), doctest::Contains("the residual on I - R F"), Error);
+}
+
+TEST_CASE("Enforced reciprocity keeps the estimated row sums of an open scene and of a scene with mirrors") {
+    // The cube without its ceiling (patch 1): open, so each row keeps what the estimator found escaping.
+    const double scale[6] = {1.0, 1.0, 0.98, 1.01, 0.99, 1.0};
+    const FormFactors closedF = perturbedCubeF(scale, 1.006);
+    std::vector<std::vector<FormFactors::Entry>> rows(5);
+    for (PatchId i = 0; i < 6; ++i)
+        if (i != 1)
+            for (std::uint64_t e = closedF.rowBegin(i); e < closedF.rowEnd(i); ++e) {
+                const std::uint32_t j = closedF.columns()[e];
+                if (j != 1) rows[i - (i > 1)].push_back({j - (j > 1), closedF.values()[e]});
+            }
+    FormFactors F = FormFactors::fromRows(std::move(rows), std::vector<std::uint8_t>(5, 1));
+    Scene open = unitCube();
+    open.patches.erase(open.patches.begin() + 1);
+    const FormFactors before = F;
+    SUBCASE("open: a missing face") {
+        const ReciprocityReport report = enforceReciprocity(F, open);
+        CHECK_FALSE(report.closedTargets);
+        CHECK(report.why.find("an open scene") != std::string::npos);
+    }
+    SUBCASE("mirrors") {
+        open.patches[0].specular = 0.5;
+        const ReciprocityReport report = enforceReciprocity(F, open);
+        CHECK_FALSE(report.closedTargets);
+        CHECK(report.why.find("mirrors") != std::string::npos);
+    }
+    CHECK(F.parameters.at("reciprocity") == "enforced, estimated row sums kept");
+    CHECK(worstReciprocity(F, open) < 2e-7);
+    for (PatchId i = 0; i < 5; ++i) CHECK(F.rowSum(i) == doctest::Approx(before.rowSum(i)).epsilon(2e-7));
+}
+
+TEST_CASE("A scene counts as watertight only when every patch edge has exactly two patches") {
+    CHECK(isWatertight(unitCube()));
+    CHECK(isWatertight(subdivide(unitCube(), 0.25)));  // conforming grids meet at the cube's edges
+    Scene open = unitCube();
+    open.patches.pop_back();
+    CHECK_FALSE(isWatertight(open));
+    // A T-junction: one face split in two, its neighbours not.
+    SceneBuilder b;
+    b.rectangle(1, 0, 0, 1, 0, 1, true);
+    CHECK_FALSE(isWatertight(b.scene));
+    CHECK_FALSE(isWatertight(Scene{}));
+}
+
+TEST_CASE("Rows not computed keep their entries, and computed rows stay reciprocal among themselves") {
+    const Scene s = unitCube();
+    const double scale[6] = {0.995, 1.0, 1.004, 0.998, 1.0, 1.002};
+    const FormFactors full = perturbedCubeF(scale, 1.0);
+    std::vector<std::vector<FormFactors::Entry>> rows(6);
+    std::vector<std::uint8_t> computed(6, 1);
+    computed[5] = 0;
+    for (PatchId i = 0; i < 5; ++i)
+        for (std::uint64_t e = full.rowBegin(i); e < full.rowEnd(i); ++e) rows[i].push_back({full.columns()[e], full.values()[e]});
+    FormFactors F = FormFactors::fromRows(std::move(rows), computed);
+    const FormFactors before = F;
+    const ReciprocityReport report = enforceReciprocity(F, s);
+    CHECK(report.closedTargets);
+    CHECK(report.converged);
+    CHECK_FALSE(F.rowComputed(5));
+    CHECK(F.rowEnd(5) == F.rowBegin(5));
+    for (PatchId i = 0; i < 5; ++i) {
+        CHECK(F.at(i, 5) == before.at(i, 5));  // its partner row is unknown: kept
+        CHECK(F.rowSum(i) == doctest::Approx(1.0).epsilon(2e-7));
+        for (PatchId j = 0; j < 5; ++j) CHECK(F.at(i, j) == doctest::Approx(F.at(j, i)).epsilon(2e-7));
+    }
+}
