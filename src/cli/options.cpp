@@ -491,7 +491,7 @@ form factors (formfactors, solve, render):
   --method NAME          the form-factor back end: )" + methodNames + R"( (options of each below)
   --max-depth D          mirror reflections followed (default 8)
   --all-rows             also compute rows of black patches (rho = 0; skipped by default)
-  --enforce-reciprocity  make A_i F_ij = A_j F_ji by averaging each pair
+  --enforce-reciprocity  make A_i F_ij = A_j F_ji keeping each row's sum (1 in a closed scene)
   --normalize-rows       rescale every row to sum 1 (closed scenes without mirrors; after reciprocity)
   --no-memory-check      compute F even when its estimated size exceeds the available memory
   --ff FILE              (solve, render) reuse F from FILE when its scene hash matches;
