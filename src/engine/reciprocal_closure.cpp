@@ -26,12 +26,6 @@ double orderedSum(const std::vector<double>& v) {
 
 }  // namespace
 
-void SymmetricRows::add(std::uint32_t j, double value, bool isFixed) {
-    columns.push_back(j);
-    values.push_back(value);
-    fixed.push_back(isFixed ? 1 : 0);
-}
-
 void SymmetricRows::endRow(PatchId i, bool rowComputed, double estimatedSum) {
     rows.push_back(i);
     computed.push_back(rowComputed ? 1 : 0);
@@ -100,7 +94,7 @@ std::vector<double> closureScaling(const Scene& scene, const SymmetricRows& S, b
         for (std::ptrdiff_t k = 0; k < held; ++k) {
             double s = 0.0;
             for (std::uint64_t e = S.start[k]; e < S.start[k + 1]; ++e)
-                if (!S.fixed[e]) s += S.values[e] * v[S.columns[e]];
+                if (S.scales[S.columns[e]]) s += double(S.values[e]) * v[S.columns[e]];
             out[k] = s;
         }
     };
@@ -119,8 +113,8 @@ std::vector<double> closureScaling(const Scene& scene, const SymmetricRows& S, b
         const PatchId i = S.rows[k];
         double fixedPart = 0.0;
         for (std::uint64_t e = S.start[k]; e < S.start[k + 1]; ++e)
-            if (S.fixed[e]) fixedPart += S.values[e];
-        target[k] = scene.patches[i].area * (closed ? 1.0 : S.estimated[k]) - fixedPart;
+            if (!S.scales[S.columns[e]]) fixedPart += double(S.values[e]);
+        target[k] = scene.patches[i].area * ((closed ? 1.0 : S.estimated[k]) - fixedPart);
         active[k] = S.computed[k] && target[k] > 0.0 && y[k] > 0.0;
     }
 
@@ -204,7 +198,7 @@ std::vector<std::vector<FormFactors::Entry>> closedRows(const Scene& scene, cons
             const std::uint32_t j = S.columns[e];
             while (a < aEnd && before.columns()[a] < j) ++a;  // S's pattern holds F's
             const float old = a < aEnd && before.columns()[a] == j ? before.values()[a] : 0.0f;
-            const double v = S.fixed[e] ? S.values[e] / Ai : x[i] * S.values[e] * x[j] / Ai;
+            const double v = S.scales[j] ? x[i] * double(S.values[e]) * x[j] / Ai : double(S.values[e]);
             const auto value = static_cast<float>(v);
             if (value != old) ++changed;
             largest = std::max(largest, std::abs(double(value) - double(old)));
@@ -227,25 +221,53 @@ std::string describe(const ReciprocityReport& report) {
     return text;
 }
 
-ReciprocityReport enforceReciprocity(FormFactors& F, const Scene& scene) {
+namespace {
+
+/// S for every row of F, built in parallel; F^T lives only while it is built.
+SymmetricRows symmetricRowsOf(const FormFactors& F, const Scene& scene) {
     const std::size_t n = F.size();
     const TransposedFormFactors Ft = transpose(F);
     SymmetricRows S;
-    for (std::size_t i = 0; i < n; ++i) {
-        const bool computed = F.rowComputed(i);
+    S.scales = F.computedFlags();
+    // Two passes over the merged row and column of each computed row, in parallel: count, then fill.
+    S.start.assign(n + 1, 0);
+    const auto count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::ptrdiff_t i = 0; i < count; ++i)
+        if (F.rowComputed(i)) mergeRowAndColumn(F, Ft, i, [&](std::uint32_t, double, double) { ++S.start[i + 1]; });
+    for (std::size_t i = 0; i < n; ++i) S.start[i + 1] += S.start[i];
+    S.columns.resize(S.start[n]);
+    S.values.resize(S.start[n]);
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+        if (!F.rowComputed(i)) continue;
         const double Ai = scene.patches[i].area;
-        if (computed)
-            mergeRowAndColumn(F, Ft, i, [&](std::uint32_t j, double fij, double fji) {
-                // Both rows known: the pair's mean of A_i F_ij and A_j F_ji (a missing entry counts as 0).
-                if (j == i || !F.rowComputed(j)) S.add(j, Ai * fij, j != i);
-                else S.add(j, 0.5 * (Ai * fij + scene.patches[j].area * fji), false);
-            });
-        S.endRow(PatchId(i), computed, computed ? F.rowSum(i) : 0.0);
+        std::uint64_t e = S.start[i];
+        mergeRowAndColumn(F, Ft, i, [&](std::uint32_t j, double fij, double fji) {
+            S.columns[e] = j;
+            S.values[e++] = static_cast<float>(
+                SymmetricRows::pairMean(i, j, Ai, fij, scene.patches[j].area * fji, F.rowComputed(j)));
+        });
     }
+    S.rows.resize(n);
+    S.computed = F.computedFlags();
+    S.estimated.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        S.rows[i] = PatchId(i);
+        S.estimated[i] = F.rowComputed(i) ? F.rowSum(i) : 0.0;
+    }
+    return S;
+}
+
+}  // namespace
+
+ReciprocityReport enforceReciprocity(FormFactors& F, const Scene& scene) {
+    SymmetricRows S = symmetricRowsOf(F, scene);
     ReciprocityReport report;
     chooseTargets(scene, estimatedNearOne(S), report);
     const std::vector<double> x = closureScaling(scene, S, report.closedTargets, singleProcess(), report);
     std::vector<std::vector<FormFactors::Entry>> rows = closedRows(scene, S, x, F, report);
+    S = SymmetricRows();  // its memory back before F' is packed
     const std::uint64_t hash = F.sceneHash;
     auto params = F.parameters;
     const FormFactorProvenance provenance = F.provenance;

@@ -12,19 +12,27 @@
 namespace hemirad {
 
 /// The rows of S = (G + G^T) / 2 one process holds, G = diag(A) F; every entry in the order of its
-/// column. An entry whose partner row was not computed is `fixed`: it holds A_i F_ij and is kept.
+/// column, in float as F is (9 bytes per nonzero with the columns). An entry whose column's row
+/// was not computed is fixed: it holds F_ij itself and is kept.
 struct SymmetricRows {
     std::vector<PatchId> rows;            ///< the patches whose rows this process holds
     std::vector<std::uint8_t> computed;   ///< per held row: F's row was computed
     std::vector<double> estimated;        ///< per held row: its sum in F as estimated
     std::vector<std::uint64_t> start{0};  ///< CSR over held rows
     std::vector<std::uint32_t> columns;
-    std::vector<double> values;
-    std::vector<std::uint8_t> fixed;
+    std::vector<float> values;
+    std::vector<std::uint8_t> scales;     ///< per patch (all of them): its row was computed
 
     /// Appends held row i: call add() for its entries, by column, then this.
     void endRow(PatchId i, bool rowComputed, double estimatedSum);
-    void add(std::uint32_t j, double value, bool isFixed);
+    void add(std::uint32_t j, double value) {
+        columns.push_back(j);
+        values.push_back(static_cast<float>(value));
+    }
+    /// The value of entry e for row i: the pair's mean S_ij, or F_ij where j's row was not computed.
+    static double pairMean(std::uint32_t i, std::uint32_t j, double Ai, double fij, double Ajfji, bool jComputed) {
+        return j == i ? Ai * fij : jComputed ? 0.5 * (Ai * fij + Ajfji) : fij;
+    }
 };
 
 /// How the processes that hold the rows talk: `share` completes a vector of patch length from each
@@ -47,7 +55,7 @@ struct ReciprocityReport {
     double largestChange = 0.0;  ///< max |F'_ij - F_ij|
 };
 
-/// Solves x_i (S x)_i = A_i t_i - (fixed part of row i) for the held rows by Newton's method with
+/// Solves x_i (S x)_i = A_i (t_i - sum of row i's fixed F_ij) for the held rows by Newton's method with
 /// conjugate gradients on the symmetric Jacobian (Knight & Ruiz 2013 balance a matrix the same
 /// way), t_i = 1 when `closed`, else the row's estimated sum. Rows whose target cannot be reached
 /// (nothing to scale, or a target at or below the fixed part) keep x_i = 1. Every reduction runs in

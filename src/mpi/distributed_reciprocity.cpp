@@ -25,6 +25,8 @@ SymmetricRows symmetricRows(const Scene& scene, const DistributedFormFactors& F,
     for (std::size_t i = 0; i < n; ++i) patchOf[std::size_t(layout.perm[i])] = PatchId(i);
 
     SymmetricRows S;
+    S.scales.resize(n);
+    for (std::size_t i = 0; i < n; ++i) S.scales[i] = F.owner[i] >= 0;
     std::vector<std::pair<PatchId, double>> column;  // (j, A_j F_ji) for this row i, by j
     for (std::size_t k = 0; k < layout.mine.size(); ++k) {
         const PatchId i = layout.mine[k];
@@ -49,8 +51,7 @@ SymmetricRows symmetricRows(const Scene& scene, const DistributedFormFactors& F,
                 const std::uint32_t j = std::min(ja, jb);
                 const double fij = ja == j ? double(F.local.values()[a++]) : 0.0;
                 const double ajfji = jb == j ? column[b++].second : 0.0;
-                if (j == i || F.owner[j] < 0) S.add(j, Ai * fij, j != i);
-                else S.add(j, 0.5 * (Ai * fij + ajfji), false);
+                S.add(j, SymmetricRows::pairMean(i, j, Ai, fij, ajfji, F.owner[j] >= 0));
             }
         }
         S.endRow(i, computed, computed ? F.local.rowSum(i) : 0.0);

@@ -66,7 +66,8 @@ std::size_t count(const std::string& text, const std::string& what) {
     return n;
 }
 
-void checkSameF(const std::string& scene, const std::string& flags) {
+/// Returns the two-rank run's output.
+std::string checkSameF(const std::string& scene, const std::string& flags) {
     const auto dir = tempDir("mpi-f");
     const Run one = runHemirad(dir, 0, "formfactors " + sourcePath("scenes/" + scene) + " -o one.hff --quiet " + flags);
     REQUIRE_MESSAGE(one.status == 0, one.output);
@@ -75,6 +76,7 @@ void checkSameF(const std::string& scene, const std::string& flags) {
     CHECK(two.output.find("on 2 MPI ranks") != std::string::npos);
     CHECK(bytes(dir / "one.hff").size() > 1000);
     CHECK(bytes(dir / "one.hff") == bytes(dir / "two.hff"));
+    return two.output;
 }
 
 }  // namespace
@@ -90,6 +92,9 @@ TEST_CASE("F from 2 MPI ranks is byte-identical to one process: hemisphere analy
 TEST_CASE("F from 2 MPI ranks is byte-identical to one process: reciprocity enforced across ranks, rows normalised") {
     checkSameF("cornell_mirror.obj", "--subdivide 80 --samples 256 --enforce-reciprocity");
     checkSameF("cornell_box.obj", "--subdivide 80 --samples 256 --enforce-reciprocity --normalize-rows");
+    // A closed box: rows scaled to 1, the Newton steps' sums taken in one order on every rank.
+    const std::string closed = checkSameF("unit_cube.obj", "--subdivide 0.2 --enforce-reciprocity");
+    CHECK(closed.find("rows sum to 1 (a closed scene") != std::string::npos);
 }
 
 #ifdef HEMIRAD_TEST_HEMICUBE
