@@ -12,6 +12,7 @@
 #include "preprocess/form_factor_job.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
 #include "preprocess/hemisphere/beckers.hpp"
+#include "preprocess/hemisphere/obstruction.hpp"
 
 #include <doctest/doctest.h>
 
@@ -341,4 +342,29 @@ TEST_CASE("The analytic F of a subdivided cube with reciprocity enforced: recipr
         for (const Rgb& b : B.B) worst = std::max(worst, std::abs(b[0] * (1 - 0.99) - 1.0));
         CHECK(worst <= 1e-6);
     }
+}
+
+TEST_CASE("Only a patch with some of the scene behind its plane can obstruct: convex rooms need no shadow rays") {
+    CHECK_FALSE(somePatchCanObstruct(unitCube()));
+    CHECK_FALSE(somePatchCanObstruct(subdivide(unitCube(), 0.25)));
+    CHECK_FALSE(somePatchCanObstruct(bundledScene("parallel_plates.obj")));
+    CHECK(somePatchCanObstruct(bundledScene("cornell_box.obj")));  // the blocks
+    CHECK(somePatchCanObstruct(subdivide(unitCube(), 0.25), 0.0));  // over the budget: visibility stays on
+    Scene withBlocker = unitCube();
+    SceneBuilder b;
+    b.scene = withBlocker;
+    b.rectangle(1, 0.5, 0.25, 0.75, 0.25, 0.75, true);  // a plate across the middle of the cube
+    CHECK(somePatchCanObstruct(b.scene));
+
+    // The analytic estimator in the subdivided cube: no ray cast, the cube's factors as before.
+    const Scene cube = subdivide(unitCube(), 0.25);
+    const FormFactorRun r = analytic(cube, 1);
+    CHECK(r.counts.rays == 0);
+    CHECK(r.F.parameters.at("estimator").find("no shadow rays") != std::string::npos);
+    double opposite = 0.0;
+    for (PatchId i = 0; i < cube.size(); ++i)
+        if (cube.patches[i].normal.y() > 0.5)  // floor to ceiling, area-weighted
+            for (PatchId j = 0; j < cube.size(); ++j)
+                if (cube.patches[j].normal.y() < -0.5) opposite += cube.patches[i].area * r.F.at(i, j);
+    CHECK(opposite == doctest::Approx(kCubeOpposite).epsilon(1e-3));
 }

@@ -7,6 +7,7 @@
 #include "engine/error.hpp"
 #include "engine/threads.hpp"
 #include "preprocess/hemisphere/beckers.hpp"
+#include "preprocess/hemisphere/obstruction.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
 #include "preprocess/hemisphere/point_polygon.hpp"
 #include "rays/mirror_chain.hpp"
@@ -78,6 +79,7 @@ void HemisphereBackend::prepare(const Scene& scene) {
     m_mirrors = scene.hasMirrors();
     m_analytic = usesAnalyticEstimator(m_options, scene.size());
     if (!m_analytic) return;
+    m_visibility = somePatchCanObstruct(scene);
     gaussLegendre(nearOrder(m_options.origins), m_gaussNodes, m_gaussWeights);
     // K > 1 origins: the Gauss-Legendre product rule of order ceil(sqrt(K)) (smooth far-field integrands).
     m_originNodes.clear();
@@ -121,7 +123,9 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
         p["estimator"] = std::string("analytic: Lambert point-to-polygon factors from ") +
                          (m_originNodes.empty() ? std::string("the centroid")
                                                 : "Gauss-Legendre " + std::to_string(m_originNodes.size()) + "^2 points") +
-                         ", shadow rays to " + (m_options.jitter ? "random points" : "centres") + ", " + "Gauss-Legendre " +
+                         (m_visibility ? std::string(", shadow rays to ") + (m_options.jitter ? "random points" : "centres")
+                                       : std::string(", no shadow rays (no patch can obstruct: a convex scene)")) +
+                         ", Gauss-Legendre " +
                          std::to_string(nearOrder(m_options.origins)) + "^2 points for near patches, silhouette patches split in " +
                          std::to_string(m_splitLevels) + (m_splitLevels == 1 ? " level" : " levels");
     return p;
@@ -362,6 +366,10 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, const std::v
     float origin[3];
     m_rays->toLocal(x + offset * n, origin);
     auto shoot = [&] {
+        if (!m_visibility) {
+            ws.blocked.assign(ws.candidates.size(), 0);
+            return;
+        }
         ws.blocked.resize(ws.candidates.size());
         m_rays->occludedSegments(origin, ws.targets.data(), ws.candidates.size(), ws.blocked.data());
         counts.rays += ws.candidates.size();

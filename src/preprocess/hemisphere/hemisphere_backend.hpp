@@ -19,7 +19,8 @@ namespace hemirad {
 /// origin to every patch in front of it whose centre (or a random point on it, with jitter) a
 /// shadow ray reaches; patches close to the emitter are integrated over a Gauss-Legendre rule on it,
 /// and patches on a silhouette (mesh neighbours disagreeing about visibility) are split into pieces.
-/// Rays then only carry the mirror chains (none are cast in a scene without mirrors).
+/// Rays then only carry the mirror chains (none are cast in a scene without mirrors). Where no
+/// patch can obstruct another (a convex room), no shadow ray is cast either.
 class HemisphereBackend final : public FormFactorBackend {
 public:
     HemisphereBackend(const HemisphereOptions& options, const CommonOptions& common);
@@ -68,6 +69,7 @@ private:
     std::vector<float> m_normals;     ///< per patch, 3 floats
     bool m_mirrors = false;
     bool m_analytic = false;
+    bool m_visibility = true;  ///< analytic estimator: some patch can obstruct (somePatchCanObstruct)
     std::vector<PatchShape> m_shapes;    ///< analytic estimator only
     std::vector<Vec3> m_corners;      ///< analytic estimator only, corner positions in patch order
     std::vector<double> m_gaussNodes, m_gaussWeights;  ///< the near-field rule on [0, 1]

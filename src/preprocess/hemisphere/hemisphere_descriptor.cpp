@@ -35,7 +35,7 @@ RunDescription describe(const Scene& scene, const MethodSettings& s) {
     RunDescription d;
     const bool analytic = usesAnalyticEstimator(o, scene.size());
     if (analytic) {
-        d.settings = std::string("analytic estimator (Lambert factors, one shadow ray per pair") +
+        d.settings = std::string("analytic estimator (Lambert factors, one shadow ray per pair where some patch can obstruct") +
                      (scene.hasMirrors() ? "; " + std::to_string(o.samples) + " directions carry the mirror chains"
                                          : std::string("; no directions cast: --samples only chose the estimator")) +
                      "), " +
