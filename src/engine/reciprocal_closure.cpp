@@ -15,6 +15,7 @@ namespace {
 constexpr double kTolerance = 1e-12;  ///< max |row sum - target| / target at which Newton stops
 constexpr int kMaxNewtonSteps = 50;
 constexpr int kMaxCgIterations = 2000;  ///< per Newton step
+constexpr int kMaxHalvings = 20;        ///< line search steps per Newton step
 constexpr double kNearOne = 1e-2;       ///< closed scenes: estimated row sums within this of 1
 
 /// Sum of a full-length vector in index order: the same bits on every process and split.
@@ -98,12 +99,12 @@ std::vector<double> closureScaling(const Scene& scene, const SymmetricRows& S, b
             out[k] = s;
         }
     };
-    std::vector<double> full(n);
+    std::vector<double> full(n), terms(n);
     auto dot = [&](const std::vector<double>& a, const std::vector<double>& b) {
-        std::fill(full.begin(), full.end(), 0.0);
-        for (std::size_t k = 0; k < m; ++k) full[S.rows[k]] = a[k] * b[k];
-        exchange.share(full);
-        return orderedSum(full);
+        std::fill(terms.begin(), terms.end(), 0.0);
+        for (std::size_t k = 0; k < m; ++k) terms[S.rows[k]] = a[k] * b[k];
+        exchange.share(terms);
+        return orderedSum(terms);
     };
 
     std::vector<double> target(m), y(m);
@@ -118,7 +119,13 @@ std::vector<double> closureScaling(const Scene& scene, const SymmetricRows& S, b
         active[k] = S.computed[k] && target[k] > 0.0 && y[k] > 0.0;
     }
 
-    std::vector<double> r(m), g(m), u(m), res(m), p(m), q(m), Sw(m);
+    std::vector<double> r(m), g(m), u(m), res(m), p(m), q(m), Sw(m), trial(m);
+    // sum over rows of (r_i / t_i)^2 for x and y = S x, in one order.
+    auto merit = [&](const std::vector<double>& xs, const std::vector<double>& ys) {
+        std::vector<double> rel(m);
+        for (std::size_t k = 0; k < m; ++k) rel[k] = active[k] ? (target[k] - xs[S.rows[k]] * ys[k]) / target[k] : 0.0;
+        return dot(rel, rel);
+    };
     report.converged = false;
     report.newtonSteps = report.cgIterations = 0;
     for (;;) {
@@ -163,17 +170,26 @@ std::vector<double> closureScaling(const Scene& scene, const SymmetricRows& S, b
             for (std::size_t k = 0; k < m; ++k) p[k] = res[k] + next / rr * p[k];
             rr = next;
         }
-        // A damped step keeps every x_i above half its value.
+        // A damped step keeps every x_i above half its value; then a backtracking line search on
+        // sum (r_i / t_i)^2: targets no scaling can meet (an estimate inconsistent with its
+        // neighbours') make Newton's full steps wander, and the best x found is kept.
         double shrink = 0.0;
         for (std::size_t k = 0; k < m; ++k) shrink = std::max(shrink, -u[k]);
         shrink = exchange.max(shrink);
-        const double theta = shrink > 0.5 ? 0.5 / shrink : 1.0;
-        std::fill(full.begin(), full.end(), 0.0);
-        for (std::size_t k = 0; k < m; ++k) full[S.rows[k]] = x[S.rows[k]] * (active[k] ? 1.0 + theta * u[k] : 1.0);
-        exchange.share(full);
-        // Rows nobody holds as computed keep x = 1 (their entries are fixed on the other side).
-        for (std::size_t i = 0; i < n; ++i) x[i] = full[i];
-        multiply(x, y);
+        double theta = shrink > 0.5 ? 0.5 / shrink : 1.0;
+        const double before = merit(x, y);
+        bool accepted = false;
+        for (int halving = 0; halving < kMaxHalvings && !accepted; ++halving, theta *= 0.5) {
+            std::fill(full.begin(), full.end(), 0.0);
+            for (std::size_t k = 0; k < m; ++k) full[S.rows[k]] = x[S.rows[k]] * (active[k] ? 1.0 + theta * u[k] : 1.0);
+            exchange.share(full);
+            // Rows nobody holds as computed keep x = 1 (their entries are fixed on the other side).
+            multiply(full, trial);
+            accepted = merit(full, trial) < (1.0 - 1e-4 * theta) * before;
+        }
+        if (!accepted) break;  // no descent: the targets are met as closely as they can be
+        x.swap(full);
+        y.swap(trial);
     }
     return x;
 }
