@@ -29,6 +29,24 @@ inline double c11(double a, double b, double c) {
             Y * std::sqrt(1 + x2) * std::atan(Y / std::sqrt(1 + x2)) - X * std::atan(X) - Y * std::atan(Y));
 }
 
+/// Howell C-12 (parallel rectangles in general position, by superposition of corner terms): from
+/// [x1, x2] x [y1, y2] on one plane to [u1, u2] x [v1, v2] on a parallel plane at distance z.
+inline double parallelRectangles(double x1, double x2, double y1, double y2, double u1, double u2, double v1,
+                                 double v2, double z) {
+    auto g = [z](double x, double y) {
+        const double a = std::sqrt(x * x + z * z), b = std::sqrt(y * y + z * z);
+        return y * a * std::atan(y / a) + x * b * std::atan(x / b) - 0.5 * z * z * std::log(x * x + y * y + z * z);
+    };
+    const double xs[2] = {x1, x2}, ys[2] = {y1, y2}, us[2] = {u1, u2}, vs[2] = {v1, v2};
+    double sum = 0.0;
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j)
+            for (int k = 0; k < 2; ++k)
+                for (int l = 0; l < 2; ++l)
+                    sum += ((i + j + k + l) % 2 ? -1.0 : 1.0) * g(xs[i] - us[k], ys[j] - vs[l]);
+    return sum / (2.0 * kPi * (x2 - x1) * (y2 - y1));
+}
+
 /// Howell C-14: perpendicular rectangles with a common edge l; emitter w x l, receiver h x l.
 inline double c14(double w, double h, double l) {
     const double W = w / l, H = h / l;

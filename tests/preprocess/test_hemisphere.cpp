@@ -270,9 +270,13 @@ TEST_CASE("Analytic estimator: an occluder hides what its shadow rays cannot rea
     CHECK(r.F.rowSum(0) <= 1.0);
 }
 
-TEST_CASE("Analytic estimator with mirrors: rays carry only the chains and the image-method factor holds") {
+TEST_CASE("Analytic estimator with --mirror-estimator rays: rays carry only the chains and the image-method factor holds") {
     const Scene s = bundledScene("mirror_pair.obj");
-    const FormFactorRun r = analytic(s, 16, false, 3072);
+    HemisphereOptions o;
+    o.estimator = Estimator::Analytic;
+    o.origins = 16;
+    o.mirrorEstimator = MirrorEstimator::Rays;
+    const FormFactorRun r = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
     const double expected = 0.9 * (c11(2, 1, 1) - c11(1, 1, 1));
     CHECK(r.F.at(0, 1) == doctest::Approx(expected).epsilon(1.5e-2));
     CHECK(r.counts.bounces > 0);

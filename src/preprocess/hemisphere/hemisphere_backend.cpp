@@ -7,6 +7,7 @@
 #include "engine/error.hpp"
 #include "engine/threads.hpp"
 #include "preprocess/hemisphere/beckers.hpp"
+#include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/obstruction.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
 #include "preprocess/hemisphere/point_polygon.hpp"
@@ -24,20 +25,6 @@
 #include <unordered_map>
 
 namespace hemirad {
-namespace {
-
-/// Analytic estimator: a patch j whose nearest possible point lies within kNearDistance times the
-/// emitter's radius sees F(x -> j) vary strongly over the emitter, so it is integrated over the
-/// emitter with a Gauss-Legendre product rule (order nearOrder(origins)) instead of the row's origins.
-constexpr double kNearDistance = 3.0;
-
-/// 6 x 6 points for one to four origins, more for the many-origin runs that serve as references.
-int nearOrder(std::uint32_t origins) {
-    return std::min(16, std::max(6, 3 * int(std::ceil(std::sqrt(double(origins))))));
-}
-
-}  // namespace
-
 /// Per-thread scratch: the row being accumulated and the rotated directions and their hits.
 struct HemisphereBackend::Workspace {
     Workspace(std::size_t patches, bool weights)
@@ -80,25 +67,27 @@ void HemisphereBackend::prepare(const Scene& scene) {
     m_analytic = usesAnalyticEstimator(m_options, scene.size());
     if (!m_analytic) return;
     m_visibility = somePatchCanObstruct(scene);
+    m_images.reset();
+    m_imagesRefused.clear();
     gaussLegendre(nearOrder(m_options.origins), m_gaussNodes, m_gaussWeights);
     // K > 1 origins: the Gauss-Legendre product rule of order ceil(sqrt(K)) (smooth far-field integrands).
     m_originNodes.clear();
     m_originWeights.clear();
-    if (m_options.origins > 1)
-        gaussLegendre(int(std::ceil(std::sqrt(double(m_options.origins)) - 1e-9)), m_originNodes, m_originWeights);
+    if (m_options.origins > 1) gaussLegendre(farOrder(m_options.origins), m_originNodes, m_originWeights);
     m_splitLevels = m_options.jitter ? 2 : 1;
-    m_shapes.resize(scene.size());
-    m_corners.resize(scene.corners.size());
-    for (PatchId j = 0; j < scene.size(); ++j) {
-        const Patch& p = scene.patches[j];
-        PatchShape& t = m_shapes[j];
-        t = {p.centroid, p.normal, 0.0, p.firstCorner, p.cornerCount};
-        for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
-            m_corners[p.firstCorner + k] = scene.vertices[scene.corners[p.firstCorner + k]];
-            t.radius = std::max(t.radius, (m_corners[p.firstCorner + k] - p.centroid).norm());
+    m_geometry.build(scene);
+    buildNeighbours(scene);
+    if (m_mirrors && m_options.mirrorEstimator == MirrorEstimator::Images) {
+        std::vector<Reflector> reflectors;
+        m_imagesRefused = findReflectors(scene, reflectors);
+        if (m_imagesRefused.empty()) {
+            MirrorImages::Settings settings;
+            settings.limits = {m_common.maxDepth, m_common.minWeight};
+            settings.visibility = m_visibility;
+            settings.origins = m_options.origins;
+            m_images = std::make_unique<MirrorImages>(scene, m_geometry, std::move(reflectors), *m_rays, settings);
         }
     }
-    buildNeighbours(scene);
 }
 
 FormFactorProvenance HemisphereBackend::provenance() const {
@@ -128,6 +117,11 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
                          ", Gauss-Legendre " +
                          std::to_string(nearOrder(m_options.origins)) + "^2 points for near patches, silhouette patches split in " +
                          std::to_string(m_splitLevels) + (m_splitLevels == 1 ? " level" : " levels");
+    if (m_analytic && m_mirrors)
+        p["mirror_terms"] = m_images ? "virtual images through " + std::to_string(m_images->reflectorCount()) +
+                                           " planar mirrors, emitter rule per chain and receiver"
+                        : m_imagesRefused.empty() ? std::string("rays along the directions (--mirror-estimator rays)")
+                                                  : "rays along the directions: " + m_imagesRefused;
     return p;
 }
 
@@ -141,6 +135,7 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
 #pragma omp parallel num_threads(threads)
     {
         Workspace ws(m_scene->size(), m_mirrors || m_analytic);
+        const std::unique_ptr<MirrorImages::Workspace> imageSpace = m_images ? m_images->workspace() : nullptr;
         if (m_analytic) {
             ws.isNear.assign(m_scene->size(), 0);
             ws.status.assign(m_scene->size(), 0);
@@ -162,7 +157,8 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
                         ws.row.scaleWeights(1.0 / direct);
                         ++counts.rescaledRows;
                     }
-                    if (m_mirrors) castRays<true, false>(i, ws, counts);
+                    if (m_images) m_images->addRow(i, ws.row, double(m_options.origins) * m_options.samples, *imageSpace, counts);
+                    else if (m_mirrors) castRays<true, false>(i, ws, counts);
                 } else if (m_mirrors) {
                     castRays<true, true>(i, ws, counts);
                 } else {
@@ -265,14 +261,14 @@ void HemisphereBackend::buildNeighbours(const Scene& scene) {
     // Cells 4 tolerances wide: two corners within the tolerance lie in the same or adjacent cells.
     std::unordered_map<std::array<std::int64_t, 3>, std::vector<std::pair<PatchId, Vec3>>, Hash> grid;
     for (PatchId j = 0; j < scene.size(); ++j)
-        for (std::uint32_t k = 0; k < m_shapes[j].count; ++k) {
-            const Vec3& p = m_corners[m_shapes[j].first + k];
+        for (std::uint32_t k = 0; k < m_geometry.shapes[j].count; ++k) {
+            const Vec3& p = m_geometry.corners[m_geometry.shapes[j].first + k];
             grid[cell(p)].emplace_back(j, p);
         }
     std::vector<std::vector<PatchId>> lists(scene.size());
     for (PatchId j = 0; j < scene.size(); ++j)
-        for (std::uint32_t k = 0; k < m_shapes[j].count; ++k) {
-            const Vec3& p = m_corners[m_shapes[j].first + k];
+        for (std::uint32_t k = 0; k < m_geometry.shapes[j].count; ++k) {
+            const Vec3& p = m_geometry.corners[m_geometry.shapes[j].first + k];
             const auto c = cell(p);
             for (std::int64_t dx = -1; dx <= 1; ++dx)
                 for (std::int64_t dy = -1; dy <= 1; ++dy)
@@ -283,21 +279,21 @@ void HemisphereBackend::buildNeighbours(const Scene& scene) {
                             if (other != j && (q - p).norm() <= tolerance) lists[j].push_back(other);
                     }
         }
-    m_neighbourStart.assign(1, 0);
-    m_neighbours.clear();
+    m_geometry.neighbourStart.assign(1, 0);
+    m_geometry.neighbours.clear();
     for (std::vector<PatchId>& list : lists) {
         std::sort(list.begin(), list.end());
         list.erase(std::unique(list.begin(), list.end()), list.end());
-        m_neighbours.insert(m_neighbours.end(), list.begin(), list.end());
-        m_neighbourStart.push_back(static_cast<std::uint32_t>(m_neighbours.size()));
+        m_geometry.neighbours.insert(m_geometry.neighbours.end(), list.begin(), list.end());
+        m_geometry.neighbourStart.push_back(static_cast<std::uint32_t>(m_geometry.neighbours.size()));
     }
 }
 
 double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& counts) const {
-    const PatchShape& emitter = m_shapes[i];
+    const PatchShape& emitter = m_geometry.shapes[i];
     ws.near.clear();
-    for (PatchId j = 0; j < m_shapes.size(); ++j) {
-        const PatchShape& receiver = m_shapes[j];
+    for (PatchId j = 0; j < m_geometry.shapes.size(); ++j) {
+        const PatchShape& receiver = m_geometry.shapes[j];
         if (j != i && (receiver.centroid - emitter.centroid).norm() - receiver.radius < kNearDistance * emitter.radius) {
             ws.near.push_back(j);
             ws.isNear[j] = 1;
@@ -312,7 +308,7 @@ double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& co
                          const std::vector<PatchId>* candidates) {
         ws.quadPoints.clear();
         ws.quadWeights.clear();
-        polygonQuadrature(&m_corners[emitter.first], emitter.count, nodes, weights, ws.quadPoints, ws.quadWeights);
+        polygonQuadrature(&m_geometry.corners[emitter.first], emitter.count, nodes, weights, ws.quadPoints, ws.quadWeights);
         double sum = 0.0;
         for (std::size_t q = 0; q < ws.quadPoints.size(); ++q)
             sum += addAnalyticFrom(i, ws.quadPoints[q], candidates, unit * ws.quadWeights[q], random, ws, counts);
@@ -329,8 +325,8 @@ double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& co
 
 std::size_t HemisphereBackend::polygonAbove(PatchId j, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer,
                                             const Vec3*& polygon) const {
-    const PatchShape& t = m_shapes[j];
-    polygon = &m_corners[t.first];
+    const PatchShape& t = m_geometry.shapes[j];
+    polygon = &m_geometry.corners[t.first];
     const double height = n.dot(t.centroid - x);
     if (height <= -t.radius) return 0;
     bool below = false;
@@ -354,11 +350,11 @@ Vec3 HemisphereBackend::aimPoint(const Vec3* polygon, std::size_t corners, Rando
 
 double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, const std::vector<PatchId>* candidates,
                                           double weight, Random& random, Workspace& ws, RayCounts& counts) const {
-    const Vec3& n = m_shapes[i].normal;
+    const Vec3& n = m_geometry.shapes[i].normal;
     const double offset = m_rays->originOffset();
     auto aim = [&](const Vec3& target, PatchId j, double f) {
         float local[3];
-        m_rays->toLocal(target + offset * m_shapes[j].normal, local);  // lifted off j towards x
+        m_rays->toLocal(target + offset * m_geometry.shapes[j].normal, local);  // lifted off j towards x
         ws.targets.insert(ws.targets.end(), local, local + 3);
         ws.candidates.push_back(j);
         ws.factors.push_back(f);
@@ -377,11 +373,11 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, const std::v
     ws.candidates.clear();
     ws.factors.clear();
     ws.targets.clear();
-    const std::size_t count = candidates ? candidates->size() : m_shapes.size();
+    const std::size_t count = candidates ? candidates->size() : m_geometry.shapes.size();
     for (std::size_t c = 0; c < count; ++c) {
         const PatchId j = candidates ? (*candidates)[c] : PatchId(c);
         if (j == i || (!candidates && ws.isNear[j])) continue;
-        const PatchShape& t = m_shapes[j];
+        const PatchShape& t = m_geometry.shapes[j];
         if (t.normal.dot(x - t.centroid) <= 1e-9 * t.radius) continue;  // x must lie in front of j
         const Vec3* polygon;
         const std::size_t corners = polygonAbove(j, x, n, ws.clipped, polygon);
@@ -397,12 +393,7 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, const std::v
     ws.split.clear();
     for (std::size_t k = 0; k < ws.candidates.size(); ++k) {
         const PatchId j = ws.candidates[k];
-        bool mixed = false;
-        for (std::uint32_t e = m_neighbourStart[j]; e < m_neighbourStart[j + 1] && !mixed; ++e) {
-            const std::uint8_t other = ws.status[m_neighbours[e]];
-            mixed = other != 0 && other != ws.status[j];
-        }
-        if (mixed) {
+        if (m_geometry.onSilhouette(j, ws.status)) {
             ws.split.push_back(j);
         } else if (!ws.blocked[k]) {
             ws.row.addWeight(j, ws.factors[k] * weight);

@@ -4,6 +4,8 @@
 #include "preprocess/form_factor_backend.hpp"
 #include "rays/ray_scene.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
+#include "preprocess/hemisphere/mirror_images.hpp"
+#include "preprocess/hemisphere/patch_geometry.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
 
 #include <memory>
@@ -19,8 +21,9 @@ namespace hemirad {
 /// origin to every patch in front of it whose centre (or a random point on it, with jitter) a
 /// shadow ray reaches; patches close to the emitter are integrated over a Gauss-Legendre rule on it,
 /// and patches on a silhouette (mesh neighbours disagreeing about visibility) are split into pieces.
-/// Rays then only carry the mirror chains (none are cast in a scene without mirrors). Where no
-/// patch can obstruct another (a convex room), no shadow ray is cast either.
+/// Its terms through planar mirrors come from virtual images (mirror_images.hpp); with
+/// --mirror-estimator rays, or where a mirror is not planar and convex, rays carry only the mirror
+/// chains. Where no patch can obstruct another (a convex room), no shadow ray is cast.
 class HemisphereBackend final : public FormFactorBackend {
 public:
     HemisphereBackend(const HemisphereOptions& options, const CommonOptions& common);
@@ -53,13 +56,6 @@ private:
     Vec3 aimPoint(const Vec3* polygon, std::size_t corners, Random& random) const;
     void buildNeighbours(const Scene& scene);
 
-    /// Patch geometry packed for the analytic estimator's scans over every patch.
-    struct PatchShape {
-        Vec3 centroid, normal;
-        double radius;  ///< largest centroid-to-corner distance
-        std::uint32_t first, count;  ///< corners in m_corners
-    };
-
     HemisphereOptions m_options;
     CommonOptions m_common;
     const Scene* m_scene = nullptr;
@@ -69,13 +65,12 @@ private:
     std::vector<float> m_normals;     ///< per patch, 3 floats
     bool m_mirrors = false;
     bool m_analytic = false;
+    std::unique_ptr<MirrorImages> m_images;  ///< analytic estimator with mirrors by images
+    std::string m_imagesRefused;  ///< why images were not used although asked for (rays carry the chains)
     bool m_visibility = true;  ///< analytic estimator: some patch can obstruct (somePatchCanObstruct)
-    std::vector<PatchShape> m_shapes;    ///< analytic estimator only
-    std::vector<Vec3> m_corners;      ///< analytic estimator only, corner positions in patch order
+    PatchGeometry m_geometry;  ///< analytic estimator only
     std::vector<double> m_gaussNodes, m_gaussWeights;  ///< the near-field rule on [0, 1]
     std::vector<double> m_originNodes, m_originWeights;  ///< the far-field rule (empty: the centroid)
-    std::vector<std::uint32_t> m_neighbourStart;  ///< CSR: patches sharing a corner position with patch j
-    std::vector<PatchId> m_neighbours;
     int m_splitLevels = 1;  ///< silhouette patches: 1 = split once (4 pieces of a quad), 2 = twice
 };
 

@@ -1,5 +1,6 @@
 // The hemisphere back end's registry entry: its flags, work estimate and run description.
 #include "preprocess/backend_registry.hpp"
+#include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/hemisphere_backend.hpp"
 
 #include <cmath>
@@ -12,8 +13,7 @@ bool usesAnalyticEstimator(const HemisphereOptions& options, std::size_t patches
 }
 
 std::uint32_t analyticOriginPoints(std::uint32_t origins) {
-    if (origins <= 1) return 1;
-    const auto m = static_cast<std::uint32_t>(std::ceil(std::sqrt(double(origins)) - 1e-9));
+    const auto m = static_cast<std::uint32_t>(farOrder(origins));
     return m * m;
 }
 
@@ -21,13 +21,24 @@ namespace {
 
 using H = HemisphereOptions;
 
+/// Whether the analytic estimator's mirror terms come from virtual images (else rays carry them);
+/// `why` says why not where images were asked for.
+bool mirrorImages(const Scene& scene, const H& o, std::string* why = nullptr) {
+    if (!scene.hasMirrors() || o.mirrorEstimator != MirrorEstimator::Images) return false;
+    std::vector<Reflector> reflectors;
+    const std::string refused = findReflectors(scene, reflectors);
+    if (why) *why = refused;
+    return refused.empty();
+}
+
 /// Rays one row costs: samples x origins, or one shadow ray per patch and origin point for the
-/// analytic estimator (plus the directions when mirrors need them).
+/// analytic estimator (plus the directions when rays carry the mirror chains).
 double workPerRow(const Scene& scene, const MethodSettings& s) {
     const H& o = s.as<H>();
     const double rays = double(o.samples) * o.origins;
     if (!usesAnalyticEstimator(o, scene.size())) return rays;
-    return double(scene.size()) * analyticOriginPoints(o.origins) + (scene.hasMirrors() ? rays : 0.0);
+    const bool chainRays = scene.hasMirrors() && !mirrorImages(scene, o);
+    return double(scene.size()) * analyticOriginPoints(o.origins) + (chainRays ? rays : 0.0);
 }
 
 RunDescription describe(const Scene& scene, const MethodSettings& s) {
@@ -35,9 +46,14 @@ RunDescription describe(const Scene& scene, const MethodSettings& s) {
     RunDescription d;
     const bool analytic = usesAnalyticEstimator(o, scene.size());
     if (analytic) {
+        std::string refused;
+        const bool images = mirrorImages(scene, o, &refused);
         d.settings = std::string("analytic estimator (Lambert factors, one shadow ray per pair where some patch can obstruct") +
-                     (scene.hasMirrors() ? "; " + std::to_string(o.samples) + " directions carry the mirror chains"
-                                         : std::string("; no directions cast: --samples only chose the estimator")) +
+                     (images ? std::string("; mirror terms by virtual images, no directions cast")
+                      : scene.hasMirrors()
+                          ? "; " + std::to_string(o.samples) + " directions carry the mirror chains" +
+                                (refused.empty() ? std::string() : " (" + refused + ")")
+                          : std::string("; no directions cast: --samples only chose the estimator")) +
                      "), " +
                      (o.origins == 1 ? std::string("centroid")
                                      : std::to_string(analyticOriginPoints(o.origins)) +
@@ -52,7 +68,8 @@ RunDescription describe(const Scene& scene, const MethodSettings& s) {
                 {"origins", std::to_string(o.origins)},
                 {"rays_per_patch", std::to_string(double(o.samples) * o.origins)},
                 {"directions", o.fixedDirections ? "fixed" : "rotated"},
-                {"estimator", analytic ? "analytic" : "rays"}};
+                {"estimator", analytic ? "analytic" : "rays"},
+                {"mirror_estimator", o.mirrorEstimator == MirrorEstimator::Images ? "images" : "rays"}};
     return d;
 }
 
@@ -79,6 +96,13 @@ BackendDescriptor make() {
                                    "patch a shadow ray finds visible; auto (default): analytic when patches <= 5 x samples",
                                    &H::estimator,
                                    {{"auto", Estimator::Auto}, {"rays", Estimator::Rays}, {"analytic", Estimator::Analytic}}),
+        choiceOption<H, MirrorEstimator>("--mirror-estimator", "Mirror terms",
+                                         "the analytic estimator's factors through mirrors: exact from virtual images "
+                                         "(default; a mirror that is not planar and convex falls back to rays, said in "
+                                         "the report) or Monte Carlo along the directions; the ray estimator always "
+                                         "follows its rays",
+                                         &H::mirrorEstimator,
+                                         {{"images", MirrorEstimator::Images}, {"rays", MirrorEstimator::Rays}}),
     };
     d.defaults = [] { return std::any(H{}); };
     d.validate = [](const MethodSettings& s) {

@@ -10,6 +10,10 @@ namespace hemirad {
 /// ray finds visible, or automatic (analytic while patches <= kAnalyticRaysFactor x samples).
 enum class Estimator { Auto, Rays, Analytic };
 
+/// The analytic estimator's terms through mirrors: exact by virtual images (planar convex mirrors),
+/// or Monte Carlo along the Beckers directions. The ray estimator always follows its own rays.
+enum class MirrorEstimator { Images, Rays };
+
 struct HemisphereOptions {
     static constexpr const char* kMethod = "hemisphere";
     std::uint32_t samples = 3072;  ///< directions per origin (Beckers cells), >= 1
@@ -18,6 +22,7 @@ struct HemisphereOptions {
     bool fixedDirections = false;  ///< one pattern orientation for every origin (the reference system's way)
     bool jitter = false;           ///< a random direction inside each Beckers cell (unbiased; for references)
     Estimator estimator = Estimator::Auto;
+    MirrorEstimator mirrorEstimator = MirrorEstimator::Images;
 };
 
 /// "auto" picks the analytic estimator while the patch count is at most this many times the

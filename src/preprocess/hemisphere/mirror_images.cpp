@@ -1,0 +1,324 @@
+// Virtual images through planar mirrors: chains enumerated per emitter with a conservative cone,
+// then evaluated per emitter point by clipping each receiver to the aperture's cone.
+#include "preprocess/hemisphere/mirror_images.hpp"
+
+#include "engine/error.hpp"
+#include "engine/polygon.hpp"
+#include "preprocess/hemisphere/emitter_rule.hpp"
+#include "preprocess/hemisphere/point_polygon.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hemirad {
+namespace {
+
+Vec3 reflectPoint(const Reflector& r, const Vec3& p) { return p - 2.0 * (r.normal.dot(p) - r.offset) * r.normal; }
+Vec3 reflectDirection(const Reflector& r, const Vec3& d) { return d - 2.0 * r.normal.dot(d) * r.normal; }
+
+/// Where lines through two balls (an emitter image and an aperture) can go beyond the second: the
+/// cone from their inner homothety centre through the second ball. `all` when the balls overlap.
+struct BallCone {
+    bool all = false;
+    Vec3 apex, axis;
+    double angle = 0.0;
+
+    BallCone(const Vec3& c1, double r1, const Vec3& c2, double r2) {
+        const Vec3 d = c2 - c1;
+        const double length = d.norm();
+        if (!(r1 + r2 < length)) {
+            all = true;
+            return;
+        }
+        axis = d / length;
+        apex = c1 + d * (r1 / (r1 + r2));
+        angle = std::asin((r1 + r2) / length);
+    }
+    /// Whether the ball (c, r) can meet the cone.
+    bool meets(const Vec3& c, double r) const {
+        if (all) return true;
+        const Vec3 d = c - apex;
+        const double distance = d.norm();
+        if (distance <= r) return true;
+        const double off = std::acos(std::clamp(d.dot(axis) / distance, -1.0, 1.0));
+        return off <= angle + std::asin(std::min(1.0, r / distance));
+    }
+};
+
+Vec3 centre(const std::vector<Vec3>& polygon) {
+    Vec3 sum = Vec3::Zero();
+    for (const Vec3& p : polygon) sum += p;
+    return sum / double(polygon.size());
+}
+
+/// Clips `polygon` to the cone from `apex` through the convex `aperture`; the result in `out`.
+void clipToCone(const Vec3& apex, const std::vector<Vec3>& aperture, std::vector<Vec3>& polygon,
+                std::vector<Vec3>& scratch) {
+    const Vec3 middle = centre(aperture);
+    for (std::size_t k = 0; k < aperture.size() && !polygon.empty(); ++k) {
+        const Vec3& a = aperture[k];
+        const Vec3& b = aperture[(k + 1) % aperture.size()];
+        Vec3 n = (a - apex).cross(b - apex);
+        if (n.dot(middle - apex) < 0.0) n = -n;
+        clipAbovePlane(apex, n, polygon.data(), polygon.size(), scratch);
+        polygon.swap(scratch);
+    }
+}
+
+/// Whether some corner lies in front of the mirror's plane (not on it: a coplanar mirror is never
+/// reached after this one).
+bool partlyInFront(const Reflector& m, const std::vector<Vec3>& polygon) {
+    const double tolerance = 1e-9 * std::max(m.radius, 1e-300);
+    for (const Vec3& p : polygon)
+        if (m.normal.dot(p) - m.offset > tolerance) return true;
+    return false;
+}
+
+}  // namespace
+
+std::string findReflectors(const Scene& scene, std::vector<Reflector>& out) {
+    out.clear();
+    auto describe = [&](PatchId j, const char* what) {
+        const Patch& p = scene.patches[j];
+        return scene.path + (p.sourceLine > 0 ? ":" + std::to_string(p.sourceLine) : std::string()) +
+               ": mirror patch " + std::to_string(j) + " is " + what;
+    };
+    auto add = [&](const std::vector<Vec3>& polygon, double specular) {
+        const PolygonMeasures m = measurePolygon(polygon);
+        Reflector r;
+        r.polygon = polygon;
+        r.normal = m.normal;
+        r.centre = m.centroid;
+        r.offset = m.normal.dot(m.centroid);
+        for (const Vec3& p : polygon) r.radius = std::max(r.radius, (p - m.centroid).norm());
+        r.specular = specular;
+        out.push_back(std::move(r));
+        return m;
+    };
+    const double flat = 1e-9 * scene.extent();
+    std::vector<std::uint8_t> done(scene.size(), 0);
+    // A parent polygon whose patches are all mirrors of one s is one reflector (its patches tile it).
+    for (const Parent& parent : scene.parents) {
+        if (parent.patchCount < 2) continue;
+        const double s = scene.patches[parent.firstPatch].specular;
+        bool uniform = s > 0.0;
+        for (PatchId j = parent.firstPatch; j < parent.firstPatch + parent.patchCount && uniform; ++j)
+            uniform = scene.patches[j].specular == s;
+        if (!uniform) continue;
+        std::vector<Vec3> polygon;
+        for (std::uint32_t k = 0; k < parent.cornerCount; ++k)
+            polygon.push_back(scene.vertices[scene.parentCorners[parent.firstCorner + k]]);
+        const PolygonMeasures m = measurePolygon(polygon);
+        if (!(m.area > 0.0) || m.planarDeviation > flat || !m.convex) continue;  // its patches on their own below
+        add(polygon, s);
+        for (PatchId j = parent.firstPatch; j < parent.firstPatch + parent.patchCount; ++j) done[j] = 1;
+    }
+    for (PatchId j = 0; j < scene.size(); ++j) {
+        if (done[j] || scene.patches[j].specular <= 0.0) continue;
+        const PolygonMeasures m = add(scene.polygon(j), scene.patches[j].specular);
+        if (!(m.area > 0.0)) {
+            out.pop_back();  // a degenerate patch reflects nothing
+            continue;
+        }
+        if (m.planarDeviation > flat) return describe(j, "not planar");
+        if (!m.convex) return describe(j, "not convex");
+    }
+    return {};
+}
+
+MirrorImages::MirrorImages(const Scene& scene, const PatchGeometry& geometry, std::vector<Reflector> reflectors,
+                           const RayScene& rays, const Settings& settings)
+    : m_scene(scene), m_geometry(geometry), m_reflectors(std::move(reflectors)), m_rays(rays), m_settings(settings),
+      m_lowest(farOrder(settings.origins)), m_near(nearOrder(settings.origins)) {}
+
+MirrorImages::~MirrorImages() = default;
+
+std::unique_ptr<MirrorImages::Workspace> MirrorImages::workspace() const {
+    auto ws = std::make_unique<Workspace>();
+    ws->status.assign(m_geometry.shapes.size(), 0);
+    return ws;
+}
+
+void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
+    const PatchShape& e = m_geometry.shapes[i];
+    const double r = e.radius;
+    ws.nodes.clear();
+    ws.receivers.clear();
+    ws.orders.clear();
+    auto push = [&](std::int32_t parent, std::uint32_t k, std::uint32_t depth, double weight, const Vec3& from) {
+        if (ws.nodes.size() >= m_settings.maxChains)
+            throw Error("mirror images: patch " + std::to_string(i) + " sees more than " +
+                        std::to_string(m_settings.maxChains) +
+                        " chains of mirrors; lower --max-depth or raise --min-weight, or use --mirror-estimator rays");
+        const Reflector& m = m_reflectors[k];
+        Node node{parent, k, depth, weight, reflectPoint(m, from)};
+        node.cutoff = depth > m_settings.limits.maxDepth || weight < m_settings.limits.minWeight;
+        ws.nodes.push_back(node);
+    };
+    // Reflectors some point of the emitter sees: partly above its plane, the emitter partly in front.
+    for (std::uint32_t k = 0; k < m_reflectors.size(); ++k) {
+        const Reflector& m = m_reflectors[k];
+        if (m.normal.dot(e.centroid) - m.offset <= -r) continue;
+        bool above = false;
+        for (const Vec3& p : m.polygon) above = above || e.normal.dot(p - e.centroid) > 0.0;
+        if (above) push(-1, k, 1, m.specular, e.centroid);
+    }
+    for (std::size_t q = 0; q < ws.nodes.size(); ++q) {
+        if (ws.nodes[q].cutoff) continue;
+        const Node node = ws.nodes[q];
+        const Reflector& m = m_reflectors[node.reflector];
+        const BallCone cone(node.image, r, m.centre, m.radius);
+        ws.nodes[q].first = static_cast<std::uint32_t>(ws.receivers.size());
+        for (PatchId j = 0; j < m_geometry.shapes.size(); ++j) {
+            const PatchShape& t = m_geometry.shapes[j];
+            if (m.normal.dot(t.centroid) - m.offset <= -t.radius) continue;   // behind the mirror
+            if (t.normal.dot(node.image - t.centroid) <= -r) continue;         // faces away from every image point
+            if (!cone.meets(t.centroid, t.radius)) continue;
+            const double ratio = std::max(0.0, (t.centroid - node.image).norm() - t.radius) / r;
+            ws.receivers.push_back(j);
+            ws.orders.push_back(static_cast<std::uint8_t>(emitterOrder(ratio, m_settings.tolerance, m_lowest, m_near)));
+        }
+        ws.nodes[q].count = static_cast<std::uint32_t>(ws.receivers.size()) - ws.nodes[q].first;
+        for (std::uint32_t k = 0; k < m_reflectors.size(); ++k) {
+            const Reflector& next = m_reflectors[k];
+            if (k == node.reflector || !partlyInFront(m, next.polygon)) continue;
+            if (next.normal.dot(node.image) - next.offset <= -r) continue;
+            if (!cone.meets(next.centre, next.radius)) continue;
+            push(std::int32_t(q), k, node.depth + 1, node.weight * next.specular, node.image);
+        }
+    }
+}
+
+bool MirrorImages::pathBlocked(std::size_t node, const Vec3& emitterPoint, const Vec3& emitterNormal, const Vec3& target,
+                               const Vec3& targetNormal, Workspace& ws, RayCounts& counts) const {
+    const double offset = m_rays.originOffset();
+    auto blocked = [&](const Vec3& from, const Vec3& fromNormal, const Vec3& to, const Vec3& toNormal) {
+        float a[3], b[3];
+        m_rays.toLocal(from + offset * fromNormal, a);
+        m_rays.toLocal(to + offset * toNormal, b);
+        std::uint8_t hit = 0;
+        m_rays.occludedSegments(a, b, 1, &hit);
+        ++counts.rays;
+        return hit != 0;
+    };
+    // Back along the chain: the leg into `to` comes from the mirror point where the line from the
+    // chain's image to `to` crosses the mirror.
+    Vec3 to = target, toNormal = targetNormal;
+    for (std::int32_t q = std::int32_t(node); q >= 0; q = ws.nodes[q].parent) {
+        const Reflector& m = m_reflectors[ws.nodes[q].reflector];
+        const Vec3& image = ws.apex[q];
+        const double along = (m.offset - m.normal.dot(image)) / m.normal.dot(to - image);
+        const Vec3 onMirror = image + along * (to - image);
+        if (blocked(onMirror, m.normal, to, toNormal)) return true;
+        to = onMirror;
+        toNormal = m.normal;
+    }
+    return blocked(emitterPoint, emitterNormal, to, toNormal);
+}
+
+void MirrorImages::evaluate(PatchId i, int order, RowAccumulator& row, double unit, Workspace& ws,
+                            RayCounts& counts) const {
+    const PatchShape& e = m_geometry.shapes[i];
+    ws.points.clear();
+    ws.weights.clear();
+    if (order <= 1) {
+        ws.points.push_back(e.centroid);
+        ws.weights.push_back(1.0);
+    } else {
+        gaussLegendre(order, ws.nodes1, ws.weights1);
+        polygonQuadrature(m_geometry.polygon(i), e.count, ws.nodes1, ws.weights1, ws.points, ws.weights);
+    }
+    const std::size_t count = ws.nodes.size();
+    ws.apex.resize(count);
+    ws.axis.resize(count);
+    ws.apertures.resize(count);
+    ws.alive.assign(count, 0);
+    for (std::size_t point = 0; point < ws.points.size(); ++point) {
+        const Vec3& x = ws.points[point];
+        const double w = ws.weights[point];
+        for (std::size_t q = 0; q < count; ++q) {
+            const Node& node = ws.nodes[q];
+            ws.alive[q] = 0;
+            const Reflector& m = m_reflectors[node.reflector];
+            const Vec3& from = node.parent < 0 ? x : ws.apex[node.parent];
+            const Vec3& fromAxis = node.parent < 0 ? e.normal : ws.axis[node.parent];
+            if (node.parent >= 0 && !ws.alive[node.parent]) continue;
+            if (m.normal.dot(from) - m.offset <= 0.0) continue;  // the (image) source is behind this mirror
+            std::vector<Vec3>& aperture = ws.apertures[q];
+            if (node.parent < 0) {
+                clipAbovePlane(x, e.normal, m.polygon.data(), m.polygon.size(), aperture);
+            } else {
+                const Reflector& previous = m_reflectors[ws.nodes[node.parent].reflector];
+                clipAbovePlane(previous.centre, previous.normal, m.polygon.data(), m.polygon.size(), aperture);
+                clipToCone(from, ws.apertures[node.parent], aperture, ws.scratch);
+            }
+            if (aperture.empty()) continue;
+            if (node.cutoff) {  // the power reaching this mirror and reflected on is cut off
+                if (order == m_lowest)
+                    counts.cutoffWeight += w * node.weight * pointToPolygonFactor(from, fromAxis, aperture.data(), aperture.size());
+                continue;
+            }
+            ws.alive[q] = 1;
+            ws.apex[q] = reflectPoint(m, from);
+            ws.axis[q] = reflectDirection(m, fromAxis);
+            // Each receiver's factor and shadow-ray verdict; receivers whose mesh neighbours disagree
+            // sit on a silhouette (seen through this aperture) and are split into pieces.
+            ws.batch.clear();
+            ws.factors.clear();
+            ws.blocked.clear();
+            for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+                if (ws.orders[k] != order || !clipReceiver(q, ws.receivers[k], ws)) continue;
+                const PatchId j = ws.receivers[k];
+                const double f = pointToPolygonFactor(ws.apex[q], ws.axis[q], ws.clipped.data(), ws.clipped.size());
+                if (!(f > 0.0)) continue;
+                ws.batch.push_back(j);
+                ws.factors.push_back(f);
+                ws.blocked.push_back(m_settings.visibility && pathBlocked(q, x, e.normal, centre(ws.clipped),
+                                                                          m_geometry.shapes[j].normal, ws, counts));
+            }
+            const double scale = unit * w * node.weight;
+            if (m_settings.visibility)
+                for (std::size_t b = 0; b < ws.batch.size(); ++b) ws.status[ws.batch[b]] = ws.blocked[b] ? 2 : 1;
+            for (std::size_t b = 0; b < ws.batch.size(); ++b) {
+                const PatchId j = ws.batch[b];
+                if (m_settings.visibility && m_geometry.onSilhouette(j, ws.status)) {
+                    clipReceiver(q, j, ws);
+                    ws.pieces.clear();
+                    splitPolygon(ws.clipped.data(), ws.clipped.size(), ws.pieces);
+                    for (std::size_t p = 0; p < ws.pieces.size(); p += 4) {
+                        const double f = pointToPolygonFactor(ws.apex[q], ws.axis[q], &ws.pieces[p], 4);
+                        const Vec3 aim = 0.25 * (ws.pieces[p] + ws.pieces[p + 1] + ws.pieces[p + 2] + ws.pieces[p + 3]);
+                        if (f > 0.0 && !pathBlocked(q, x, e.normal, aim, m_geometry.shapes[j].normal, ws, counts))
+                            row.addWeight(j, scale * f);
+                    }
+                } else if (!ws.blocked[b]) {
+                    row.addWeight(j, scale * ws.factors[b]);
+                }
+                counts.bounces += node.depth;
+            }
+            if (m_settings.visibility)
+                for (const PatchId j : ws.batch) ws.status[j] = 0;
+        }
+    }
+}
+
+bool MirrorImages::clipReceiver(std::size_t q, PatchId j, Workspace& ws) const {
+    const PatchShape& t = m_geometry.shapes[j];
+    if (t.normal.dot(ws.apex[q] - t.centroid) <= 1e-9 * t.radius) return false;  // must face the image
+    const Reflector& m = m_reflectors[ws.nodes[q].reflector];
+    clipAbovePlane(m.centre, m.normal, m_geometry.polygon(j), t.count, ws.clipped);
+    clipToCone(ws.apex[q], ws.apertures[q], ws.clipped, ws.scratch);
+    return !ws.clipped.empty();
+}
+
+void MirrorImages::addRow(PatchId i, RowAccumulator& row, double unit, Workspace& ws, RayCounts& counts) const {
+    enumerate(i, ws);
+    if (ws.nodes.empty()) return;
+    // One pass per emitter rule in use; the lowest always runs (it counts what is cut off).
+    std::uint32_t used = 1u << m_lowest;
+    for (const std::uint8_t o : ws.orders) used |= 1u << o;
+    for (int order = m_lowest; order <= 31; ++order)
+        if (used & (1u << order)) evaluate(i, order, row, unit, ws, counts);
+}
+
+}  // namespace hemirad

@@ -1,0 +1,102 @@
+// Extended form factors through planar mirrors by virtual images: the analytic estimator's mirror
+// terms, exact per emitter point where the rays were Monte Carlo.
+#pragma once
+
+#include "preprocess/form_factor_backend.hpp"
+#include "preprocess/hemisphere/patch_geometry.hpp"
+#include "preprocess/row_accumulator.hpp"
+#include "rays/mirror_chain.hpp"
+#include "rays/ray_scene.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hemirad {
+
+/// A planar convex mirror seen as an aperture: an input polygon all of whose patches are mirrors
+/// with one s (a subdivided mirror is one reflector), or else a single mirror patch.
+struct Reflector {
+    std::vector<Vec3> polygon;  ///< convex, counter-clockwise seen from the front
+    Vec3 normal = Vec3::Zero(), centre = Vec3::Zero();
+    double offset = 0.0;        ///< normal . y for every y on the plane
+    double radius = 0.0;        ///< largest centre-to-corner distance
+    double specular = 0.0;
+};
+
+/// The scene's mirrors as reflectors, in `out`. Returns why the image method cannot serve them (a
+/// mirror patch that is not planar or not convex, named by its OBJ line), or an empty string.
+std::string findReflectors(const Scene& scene, std::vector<Reflector>& out);
+
+/// For each point x of the emitter and each reflector m in front of it, x and the emitter's normal
+/// are reflected about m's plane; a receiver seen through m's aperture gets Lambert's exact factor
+/// from the image of the part of it inside the aperture's cone, times s_m; the cone's part on a
+/// further reflector is the next aperture (chains to --max-depth, or until the product of the s met
+/// falls below --min-weight, the power still travelling reported as cut off). Shadow rays follow
+/// the reflected path leg by leg where some patch can obstruct. The emitter rule is chosen per
+/// receiver and chain from the distance of the receiver to the emitter's image (emitter_rule.hpp).
+class MirrorImages {
+public:
+    struct Settings {
+        MirrorChainLimits limits;
+        bool visibility = true;   ///< cast shadow rays (false where no patch can obstruct)
+        std::uint32_t origins = 1;  ///< --origins: the lowest emitter rule
+        double tolerance = 1e-7;  ///< estimated relative error per (chain, receiver) for the rule
+        std::size_t maxChains = 200000;  ///< per row; more is refused with advice
+    };
+
+    /// A chain of reflectors ending at `reflector`, enumerated per emitter.
+    struct Node {
+        std::int32_t parent;        ///< -1: reflected straight from the emitter
+        std::uint32_t reflector;
+        std::uint32_t depth;
+        double weight;              ///< product of the s met, this reflector's included
+        Vec3 image;                 ///< the emitter's centroid reflected along the chain
+        std::uint32_t first = 0, count = 0;  ///< receivers in Workspace::receivers
+        bool cutoff = false;        ///< past --max-depth or --min-weight: only the power reaching it is counted
+    };
+
+    /// Per-thread scratch.
+    struct Workspace {
+        std::vector<Node> nodes;
+        std::vector<PatchId> receivers;
+        std::vector<std::uint8_t> orders;  // emitter rule per (node, receiver)
+        // Per emitter point: each node's image of the point and of the normal, and its aperture.
+        std::vector<Vec3> apex, axis;
+        std::vector<std::vector<Vec3>> apertures;
+        std::vector<std::uint8_t> alive;
+        std::vector<Vec3> points, clipped, scratch, pieces;
+        // One node's receivers at one point: factor and shadow-ray verdict; statuses per patch.
+        std::vector<PatchId> batch;
+        std::vector<double> factors;
+        std::vector<std::uint8_t> blocked, status;
+        std::vector<double> weights, nodes1, weights1;
+    };
+
+    MirrorImages(const Scene& scene, const PatchGeometry& geometry, std::vector<Reflector> reflectors,
+                 const RayScene& rays, const Settings& settings);
+    ~MirrorImages();
+
+    /// Adds emitter i's factors through every chain of reflectors to `row`, `unit` per unit of F.
+    void addRow(PatchId i, RowAccumulator& row, double unit, Workspace& ws, RayCounts& counts) const;
+
+    std::unique_ptr<Workspace> workspace() const;
+    std::size_t reflectorCount() const { return m_reflectors.size(); }
+
+private:
+    void enumerate(PatchId i, Workspace& ws) const;
+    void evaluate(PatchId i, int order, RowAccumulator& row, double unit, Workspace& ws, RayCounts& counts) const;
+    bool pathBlocked(std::size_t node, const Vec3& emitterPoint, const Vec3& emitterNormal, const Vec3& target,
+                     const Vec3& targetNormal, Workspace& ws, RayCounts& counts) const;
+    /// Receiver j's part seen through node q's aperture (into ws.clipped); false when empty.
+    bool clipReceiver(std::size_t q, PatchId j, Workspace& ws) const;
+
+    const Scene& m_scene;
+    const PatchGeometry& m_geometry;
+    std::vector<Reflector> m_reflectors;
+    const RayScene& m_rays;
+    Settings m_settings;
+    int m_lowest, m_near;
+};
+
+}  // namespace hemirad

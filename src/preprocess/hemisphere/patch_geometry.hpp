@@ -1,0 +1,50 @@
+// Patch polygons packed for the analytic estimator's scans over every patch (direct factors and
+// mirror images).
+#pragma once
+
+#include "engine/scene.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace hemirad {
+
+struct PatchShape {
+    Vec3 centroid, normal;
+    double radius = 0.0;  ///< largest centroid-to-corner distance
+    std::uint32_t first = 0, count = 0;  ///< corners in PatchGeometry::corners
+};
+
+struct PatchGeometry {
+    std::vector<PatchShape> shapes;
+    std::vector<Vec3> corners;  ///< corner positions in patch order
+    std::vector<std::uint32_t> neighbourStart;  ///< CSR: patches sharing a corner position with patch j
+    std::vector<PatchId> neighbours;
+
+    void build(const Scene& scene) {
+        shapes.resize(scene.size());
+        corners.resize(scene.corners.size());
+        for (PatchId j = 0; j < scene.size(); ++j) {
+            const Patch& p = scene.patches[j];
+            PatchShape& t = shapes[j];
+            t = {p.centroid, p.normal, 0.0, p.firstCorner, p.cornerCount};
+            for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
+                corners[p.firstCorner + k] = scene.vertices[scene.corners[p.firstCorner + k]];
+                t.radius = std::max(t.radius, (corners[p.firstCorner + k] - p.centroid).norm());
+            }
+        }
+    }
+    const Vec3* polygon(PatchId j) const { return &corners[shapes[j].first]; }
+
+    /// Whether a mesh neighbour of j has a visibility status (0 = not aimed at) other than j's:
+    /// j sits on a silhouette and is split into pieces.
+    bool onSilhouette(PatchId j, const std::vector<std::uint8_t>& status) const {
+        for (std::uint32_t e = neighbourStart[j]; e < neighbourStart[j + 1]; ++e) {
+            const std::uint8_t other = status[neighbours[e]];
+            if (other != 0 && other != status[j]) return true;
+        }
+        return false;
+    }
+};
+
+}  // namespace hemirad
