@@ -343,9 +343,7 @@ Vec3 HemisphereBackend::aimPoint(const Vec3* polygon, std::size_t corners, Rando
         const double u = random.uniform(), v = random.uniform();
         return pointOnPolygon(polygon, corners, u, v);
     }
-    Vec3 centre = Vec3::Zero();
-    for (std::size_t k = 0; k < corners; ++k) centre += polygon[k];
-    return centre / double(corners);
+    return vertexMean(polygon, corners);
 }
 
 double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, const std::vector<PatchId>* candidates,

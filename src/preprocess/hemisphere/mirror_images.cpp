@@ -45,16 +45,10 @@ struct BallCone {
     }
 };
 
-Vec3 centre(const std::vector<Vec3>& polygon) {
-    Vec3 sum = Vec3::Zero();
-    for (const Vec3& p : polygon) sum += p;
-    return sum / double(polygon.size());
-}
-
 /// Clips `polygon` to the cone from `apex` through the convex `aperture`; the result in `out`.
 void clipToCone(const Vec3& apex, const std::vector<Vec3>& aperture, std::vector<Vec3>& polygon,
                 std::vector<Vec3>& scratch) {
-    const Vec3 middle = centre(aperture);
+    const Vec3 middle = vertexMean(aperture.data(), aperture.size());
     for (std::size_t k = 0; k < aperture.size() && !polygon.empty(); ++k) {
         const Vec3& a = aperture[k];
         const Vec3& b = aperture[(k + 1) % aperture.size()];
@@ -273,7 +267,7 @@ void MirrorImages::evaluate(PatchId i, int order, RowAccumulator& row, double un
                 if (!(f > 0.0)) continue;
                 ws.batch.push_back(j);
                 ws.factors.push_back(f);
-                ws.blocked.push_back(m_settings.visibility && pathBlocked(q, x, e.normal, centre(ws.clipped),
+                ws.blocked.push_back(m_settings.visibility && pathBlocked(q, x, e.normal, vertexMean(ws.clipped.data(), ws.clipped.size()),
                                                                           m_geometry.shapes[j].normal, ws, counts));
             }
             const double scale = unit * w * node.weight;
@@ -287,7 +281,7 @@ void MirrorImages::evaluate(PatchId i, int order, RowAccumulator& row, double un
                     splitPolygon(ws.clipped.data(), ws.clipped.size(), ws.pieces);
                     for (std::size_t p = 0; p < ws.pieces.size(); p += 4) {
                         const double f = pointToPolygonFactor(ws.apex[q], ws.axis[q], &ws.pieces[p], 4);
-                        const Vec3 aim = 0.25 * (ws.pieces[p] + ws.pieces[p + 1] + ws.pieces[p + 2] + ws.pieces[p + 3]);
+                        const Vec3 aim = vertexMean(&ws.pieces[p], 4);
                         if (f > 0.0 && !pathBlocked(q, x, e.normal, aim, m_geometry.shapes[j].normal, ws, counts))
                             row.addWeight(j, scale * f);
                     }

@@ -20,6 +20,12 @@ double pointToPolygonFactor(const Vec3& x, const Vec3& n, const Vec3* p, std::si
     return std::abs(sum) / (2.0 * kPi);
 }
 
+Vec3 vertexMean(const Vec3* p, std::size_t count) {
+    Vec3 sum = Vec3::Zero();
+    for (std::size_t k = 0; k < count; ++k) sum += p[k];
+    return sum / double(count);
+}
+
 void clipAbovePlane(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t count, std::vector<Vec3>& out) {
     out.clear();
     Vec3 a = p[count - 1];
@@ -59,9 +65,7 @@ Vec3 pointOnPolygon(const Vec3* p, std::size_t count, double u, double v) {
 }
 
 void splitPolygon(const Vec3* p, std::size_t count, std::vector<Vec3>& out) {
-    Vec3 centre = Vec3::Zero();
-    for (std::size_t k = 0; k < count; ++k) centre += p[k];
-    centre /= double(count);
+    const Vec3 centre = vertexMean(p, count);
     for (std::size_t k = 0; k < count; ++k) {
         const Vec3& previous = p[(k + count - 1) % count];
         const Vec3& next = p[(k + 1) % count];
@@ -101,9 +105,7 @@ void polygonQuadrature(const Vec3* p, std::size_t count, const std::vector<doubl
     if (!(total > 0.0)) {  // a degenerate polygon: its vertex centroid carries everything
         points.resize(first);
         pointWeights.resize(first);
-        Vec3 centre = Vec3::Zero();
-        for (std::size_t k = 0; k < count; ++k) centre += p[k];
-        points.push_back(centre / double(count));
+        points.push_back(vertexMean(p, count));
         pointWeights.push_back(1.0);
         return;
     }

@@ -16,6 +16,9 @@ namespace hemirad {
 /// Exact for any planar simple polygon, convex or not.
 double pointToPolygonFactor(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t count);
 
+/// The mean of the corners p[0..count): where shadow rays aim, and the middle of a convex polygon.
+Vec3 vertexMean(const Vec3* p, std::size_t count);
+
 /// The part of polygon p[0..count) with n . (y - x) >= 0 (Sutherland-Hodgman), written to `out`
 /// (cleared first). Empty when nothing lies above the plane.
 void clipAbovePlane(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t count, std::vector<Vec3>& out);
