@@ -96,7 +96,7 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
         out << "\n  (lost power left the scene through its openings, e.g. a box without a front wall, or met the "
                "back of a patch: it is gone, not an error; a closed scene loses almost nothing)";
     if (c.rescaledRows)
-        out << "\n  analytic rows whose direct factors summed above 1 (largest " << std::setprecision(4) << c.largestDirectSum
+        out << "\n  analytic rows whose direct factors summed above 1.001 (largest " << std::setprecision(4) << c.largestDirectSum
             << "), scaled to 1: " << c.rescaledRows;
     if (c.bounces) {
         out << "\n  mirror bounces " << c.bounces << "; power cut off by --max-depth " << settings.common.maxDepth

@@ -55,7 +55,7 @@ struct RayCounts {
     std::uint64_t backfaces = 0;     ///< rays that hit the back of a patch (lost)
     double lostWeight = 0;           ///< sum over rows of the row fraction lost to misses and backfaces
     double cutoffWeight = 0;         ///< sum over rows of the fraction still travelling at the depth/weight limit
-    std::uint64_t rescaledRows = 0;  ///< analytic estimator: rows whose direct factors summed above 1, scaled to 1
+    std::uint64_t rescaledRows = 0;  ///< analytic estimator: rows whose direct factors summed above 1.001, scaled to 1
     double largestDirectSum = 0;     ///< analytic estimator: the largest direct row sum before that scaling
     RayCounts& operator+=(const RayCounts& o);
 };

@@ -157,9 +157,12 @@ void RayScene::intersectFan(const float origin[3], const float* dirs, std::size_
     }
 }
 
-void RayScene::occludedSegments(const float origin[3], const float* targets, std::size_t count,
-                                std::uint8_t* blocked) const {
-    // Packets of 16 rays from one origin: coherent, measured ~2x faster than single rays here.
+namespace {
+
+/// Segments from origins[originStride k] to targets[3 k], in packets of 16 (coherent when they share
+/// an origin: measured ~2x faster than single rays here).
+void occludedPackets(RTCScene scene, const float* origins, std::size_t originStride, const float* targets,
+                     std::size_t count, std::uint8_t* blocked) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -169,14 +172,16 @@ void RayScene::occludedSegments(const float origin[3], const float* targets, std
         alignas(64) int valid[W];
         const std::size_t n = std::min(W, count - start);
         for (std::size_t k = 0; k < W; ++k) {
-            const float* t = targets + 3 * (start + std::min(k, n - 1));
+            const std::size_t s = start + std::min(k, n - 1);
+            const float* o = origins + originStride * s;
+            const float* t = targets + 3 * s;
             valid[k] = k < n ? -1 : 0;
-            ray.org_x[k] = origin[0];
-            ray.org_y[k] = origin[1];
-            ray.org_z[k] = origin[2];
-            ray.dir_x[k] = t[0] - origin[0];  // unnormalised: the target sits at t = 1
-            ray.dir_y[k] = t[1] - origin[1];
-            ray.dir_z[k] = t[2] - origin[2];
+            ray.org_x[k] = o[0];
+            ray.org_y[k] = o[1];
+            ray.org_z[k] = o[2];
+            ray.dir_x[k] = t[0] - o[0];  // unnormalised: the target sits at t = 1
+            ray.dir_y[k] = t[1] - o[1];
+            ray.dir_z[k] = t[2] - o[2];
             ray.tnear[k] = 0.0f;
             ray.tfar[k] = 1.0f;
             ray.mask[k] = 0xffffffffu;
@@ -184,9 +189,21 @@ void RayScene::occludedSegments(const float origin[3], const float* targets, std
             ray.time[k] = 0.0f;
             ray.id[k] = 0;
         }
-        rtcOccluded16(valid, m_impl->scene, &context, &ray);
+        rtcOccluded16(valid, scene, &context, &ray);
         for (std::size_t k = 0; k < n; ++k) blocked[start + k] = ray.tfar[k] < 0.0f;  // Embree: tfar = -inf on a hit
     }
+}
+
+}  // namespace
+
+void RayScene::occludedSegments(const float origin[3], const float* targets, std::size_t count,
+                                std::uint8_t* blocked) const {
+    occludedPackets(m_impl->scene, origin, 0, targets, count, blocked);
+}
+
+void RayScene::occludedSegmentPairs(const float* origins, const float* targets, std::size_t count,
+                                    std::uint8_t* blocked) const {
+    occludedPackets(m_impl->scene, origins, 3, targets, count, blocked);
 }
 
 }  // namespace hemirad

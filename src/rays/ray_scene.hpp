@@ -45,6 +45,9 @@ public:
     /// Shadow rays: blocked[k] = 1 when something lies on the segment from `origin` to target k
     /// (both in local float coordinates, both already lifted off their surfaces), else 0.
     void occludedSegments(const float origin[3], const float* targets, std::size_t count, std::uint8_t* blocked) const;
+    /// The same for segments with origins of their own (origin k at origins[3 k]). Both go through one
+    /// packet routine, so a segment gets the same answer from either.
+    void occludedSegmentPairs(const float* origins, const float* targets, std::size_t count, std::uint8_t* blocked) const;
 
     /// Scene coordinates -> the float frame used by the BVH (centre subtracted).
     void toLocal(const Vec3& p, float out[3]) const;

@@ -32,5 +32,6 @@ RayScene::Hit RayScene::intersect(const Vec3&, const Vec3&, float) const { refus
 void RayScene::intersectFan(const float*, const float*, std::size_t, PatchId*, float*) const { refuse(); }
 
 void RayScene::occludedSegments(const float*, const float*, std::size_t, std::uint8_t*) const { refuse(); }
+void RayScene::occludedSegmentPairs(const float*, const float*, std::size_t, std::uint8_t*) const { refuse(); }
 
 }  // namespace hemirad

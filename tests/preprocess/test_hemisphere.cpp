@@ -4,6 +4,7 @@
 #include "engine/error.hpp"
 #include "engine/obj_loader.hpp"
 #include "engine/subdivide.hpp"
+#include "preprocess/hemisphere/far_rule.hpp"
 #include "engine/form_factors.hpp"
 #include "engine/reciprocal_closure.hpp"
 #include "solve/furnace.hpp"
@@ -260,7 +261,8 @@ TEST_CASE("Analytic estimator: an occluder hides what its shadow rays cannot rea
     // From the emitter's centre, a rectangle [x0, x1] x [-0.5, 0.5] at height 1 (x0 >= 0) has the
     // factor 2 (B-3(x1, 0.5, 1) - B-3(x0, 0.5, 1)).
     CHECK(hidden == 0.0);
-    CHECK(seen == doctest::Approx(2 * (b3(0.5, 0.5, 1) - b3(0.1, 0.5, 1))).epsilon(1e-6));
+    // (The far rule integrates over the 0.01 emitter: within 1e-4 of its centre's factor.)
+    CHECK(seen == doctest::Approx(2 * (b3(0.5, 0.5, 1) - b3(0.1, 0.5, 1))).epsilon(1e-4));
     // The column the shadow edge crosses: its centre (x = 0.05) is lit, so unsplit it would count
     // whole; split once, its left pieces (centres x = 0.025) are hidden and its right ones lit.
     CHECK(split == doctest::Approx(2 * (b3(0.1, 0.5, 1) - b3(0.05, 0.5, 1))).epsilon(1e-6));
@@ -290,7 +292,7 @@ TEST_CASE("Analytic estimator with --mirror-estimator rays: rays carry only the 
     CHECK(r.F.at(0, 2) == doctest::Approx(direct.F.at(0, 2)).epsilon(1e-6));
 }
 
-TEST_CASE("Analytic and ray estimators agree on the closed Cornell box, and analytic rows stay <= 1") {
+TEST_CASE("Analytic and ray estimators agree on the closed Cornell box, and analytic rows stay <= 1 + 1e-3") {
     const Scene s = subdivide(bundledScene("cornell_closed.obj"), 100.0);
     const FormFactorRun rays = run(s, 3072, 16);
     const FormFactorRun exact = analytic(s, 16, true);
@@ -299,8 +301,10 @@ TEST_CASE("Analytic and ray estimators agree on the closed Cornell box, and anal
         for (PatchId j = 0; j < s.size(); ++j) difference += std::abs(rays.F.at(i, j) - exact.F.at(i, j));
     const double meanRowL1 = difference / double(s.size());
     MESSAGE("mean row L1 |F_rays - F_analytic| = " << meanRowL1);
-    CHECK(meanRowL1 < 0.05);
-    CHECK(exact.stats.rowSumMax <= 1.0 + 1e-6);
+    CHECK(meanRowL1 < 0.06);
+    // Rows above 1 + 1e-3 (shadow rays counting a partly hidden patch whole) are scaled to 1; the
+    // quadrature's own excess stays below that and is kept (scaling would break reciprocity).
+    CHECK(exact.stats.rowSumMax <= 1.0 + 1e-3);
     // Reciprocity is far tighter than the rays' (exact factors, quadrature over the emitter).
     CHECK(exact.stats.reciprocityMean < 0.5 * rays.stats.reciprocityMean);
 }
@@ -320,13 +324,14 @@ TEST_CASE("F that cannot fit the memory budget is refused before the work, with 
                          doctest::Contains("--no-memory-check"), Error);
 }
 
-TEST_CASE("The analytic F of a subdivided cube with reciprocity enforced: reciprocal to 1e-7, and every solver meets the furnace at rho 0.99") {
-    Scene s = subdivide(unitCube(), 0.25);  // 96 patches: centroid factors, rows rescaled where above 1
+TEST_CASE("The ray estimator's F of a subdivided cube with reciprocity enforced: reciprocal to 1e-7, and every solver meets the furnace at rho 0.99") {
+    Scene s = subdivide(unitCube(), 0.25);  // 96 patches
     for (Patch& p : s.patches) {
         p.rho = Rgb::Constant(0.99);
         p.emission = Rgb::Constant(1.0);
     }
-    const FormFactorRun r = analytic(s, 1);
+    // The rays' F (the analytic one is reciprocal by construction, see below).
+    const FormFactorRun r = run(s, 3072, 1);
     REQUIRE(r.stats.reciprocityMax > 1e-3);  // as estimated, pairs disagree
     FormFactors F = r.F;
     const ReciprocityReport report = enforceReciprocity(F, s);
@@ -365,4 +370,50 @@ TEST_CASE("Only a patch with some of the scene behind its plane can obstruct: co
             for (PatchId j = 0; j < cube.size(); ++j)
                 if (cube.patches[j].normal.y() < -0.5) opposite += cube.patches[i].area * r.F.at(i, j);
     CHECK(opposite == doctest::Approx(kCubeOpposite).epsilon(1e-3));
+}
+
+TEST_CASE("The analytic F of a subdivided cube is reciprocal by construction, its wall factors within 1e-5 with the default flags") {
+    const Scene s = subdivide(unitCube(), 0.125);  // 8 x 8 patches per face
+    HemisphereOptions o;
+    o.estimator = Estimator::Analytic;
+    const FormFactorRun r = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
+    double largest = 0.0, gap = 0.0;
+    for (PatchId i = 0; i < s.size(); ++i)
+        for (PatchId j = 0; j < s.size(); ++j) {
+            const double g = s.patches[i].area * r.F.at(i, j);
+            largest = std::max(largest, g);
+            gap = std::max(gap, std::abs(g - s.patches[j].area * r.F.at(j, i)));
+        }
+    MESSAGE("max |A_i F_ij - A_j F_ji| / max A_i F_ij = " << gap / largest);
+    CHECK(gap <= 1e-7 * largest);
+    CHECK(r.counts.rescaledRows == 0);
+    // Wall to wall: the floor (normal +y) to the ceiling and to one side wall (normal +x).
+    double opposite = 0.0, adjacent = 0.0, floorArea = 0.0;
+    for (PatchId i = 0; i < s.size(); ++i) {
+        if (s.patches[i].normal.y() < 0.5) continue;
+        floorArea += s.patches[i].area;
+        for (PatchId j = 0; j < s.size(); ++j) {
+            if (s.patches[j].normal.y() < -0.5) opposite += s.patches[i].area * r.F.at(i, j);
+            if (s.patches[j].normal.x() > 0.5) adjacent += s.patches[i].area * r.F.at(i, j);
+        }
+    }
+    CHECK(opposite / floorArea == doctest::Approx(kCubeOpposite).epsilon(1e-5 / kCubeOpposite));
+    CHECK(adjacent / floorArea == doctest::Approx(kCubeAdjacent).epsilon(1e-5 / kCubeAdjacent));
+}
+
+TEST_CASE("The far rule: C-11 unit squares 10 apart within C rho^-4 of the closed form") {
+    SceneBuilder b;
+    b.rectangle(2, 0, 0, 1, 0, 1, true);
+    b.rectangle(2, 10, 0, 1, 0, 1, false);
+    PatchGeometry geometry;
+    geometry.build(b.scene);
+    FarRule rule;
+    rule.build(geometry);
+    const double ratio = FarRule::ratio(geometry.shapes[0], geometry.shapes[1]);
+    CHECK(ratio == doctest::Approx(10.0 / std::sqrt(0.5)));
+    const double exact = c11(1, 1, 10);
+    const double error = std::abs(rule.factor(geometry, 0, 1, 1.0) - exact) / exact;
+    MESSAGE("relative error " << error << " at rho " << ratio);
+    CHECK(error <= FarRule::kErrorConstant * std::pow(ratio, -4.0));
+    CHECK(rule.factor(geometry, 1, 0, 1.0) == doctest::Approx(rule.factor(geometry, 0, 1, 1.0)).epsilon(1e-14));
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace hemirad {
 
@@ -24,17 +25,35 @@ inline int farOrder(std::uint32_t origins) {
 }
 
 /// The lowest order m >= `lowest` whose estimated relative error for a receiver at `ratio` =
-/// (distance to its nearest possible point) / (emitter radius) is at most `tolerance`; `near`
+/// (distance to its nearest possible point) / (emitter radius) is at most a tolerance; `near`
 /// within kNearDistance or when no lower order is good enough. The m x m product rule's error
 /// behaves like C rho^(-2m): measured on parallel, perpendicular and offset plates (rho = 1.5..90)
-/// C stays below 1.5 for m = 1, 2 for m = 2 and 1 above.
-inline int emitterOrder(double ratio, double tolerance, int lowest, int near) {
-    if (ratio < kNearDistance) return std::max(lowest, near);
-    for (int m = lowest; m < near; ++m) {
-        const double c = m == 1 ? 1.5 : m == 2 ? 2.0 : 1.0;
-        if (c * std::pow(ratio, -2.0 * m) <= tolerance) return m;
+/// C stays below 1.5 for m = 1, 2 for m = 2 and 1 above. The thresholds are computed once, so an
+/// order costs a few comparisons (one per pair of patches in the direct factors).
+class EmitterOrders {
+public:
+    EmitterOrders(double tolerance, int lowest, int near) : m_lowest(lowest), m_near(std::max(lowest, near)) {
+        for (int m = lowest; m < near; ++m) {
+            const double c = m == 1 ? 1.5 : m == 2 ? 2.0 : 1.0;
+            m_threshold.push_back(std::max(kNearDistance, std::pow(c / tolerance, 1.0 / (2.0 * m))));
+        }
     }
-    return std::max(lowest, near);
+    int operator()(double ratio) const {
+        if (!(ratio >= kNearDistance)) return m_near;
+        for (std::size_t k = 0; k < m_threshold.size(); ++k)
+            if (ratio >= m_threshold[k]) return m_lowest + int(k);
+        return m_near;
+    }
+    int lowest() const { return m_lowest; }
+    int highest() const { return m_near; }
+
+private:
+    int m_lowest, m_near;
+    std::vector<double> m_threshold;  ///< the smallest ratio order lowest + k is good for
+};
+
+inline int emitterOrder(double ratio, double tolerance, int lowest, int near) {
+    return EmitterOrders(tolerance, lowest, near)(ratio);
 }
 
 }  // namespace hemirad

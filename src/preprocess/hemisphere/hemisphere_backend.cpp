@@ -25,19 +25,29 @@
 #include <unordered_map>
 
 namespace hemirad {
+
+/// Analytic rows whose direct factors sum above 1 + this are scaled to 1 (rowSumBound's tolerance).
+constexpr double kRescaleAbove = 1e-3;
+
 /// Per-thread scratch: the row being accumulated and the rotated directions and their hits.
 struct HemisphereBackend::Workspace {
     Workspace(std::size_t patches, bool weights)
         : row(patches, weights ? RowAccumulator::Mode::Weights : RowAccumulator::Mode::Counts) {}
     RowAccumulator row;
-    // Analytic estimator: near patches, and the visible-candidate batch of one origin.
-    std::vector<PatchId> near;
+    // Analytic estimator: receivers by the order of their emitter rule, and the visible-candidate
+    // batch of one point.
+    std::vector<std::vector<PatchId>> byOrder;
+    std::vector<std::uint8_t> ruled;  // per patch: in byOrder (not in the centroid pass)
     std::vector<Vec3> quadPoints;  // a quadrature rule over the emitter
     std::vector<double> quadWeights;
-    std::vector<std::uint8_t> isNear;
     std::vector<PatchId> candidates;
     std::vector<double> factors;
     std::vector<float> targets;
+    // Pairs emitted by the other patch: their patches, terms (CSR), weights and segment origins.
+    std::vector<PatchId> reversed;
+    std::vector<std::uint32_t> termStart;
+    std::vector<double> termWeights;
+    std::vector<float> origins;
     std::vector<std::uint8_t> blocked;
     std::vector<Vec3> clipped;
     std::vector<std::uint8_t> status;  // per patch for one origin: 0 not aimed at, 1 visible, 2 blocked
@@ -69,13 +79,18 @@ void HemisphereBackend::prepare(const Scene& scene) {
     m_visibility = somePatchCanObstruct(scene);
     m_images.reset();
     m_imagesRefused.clear();
-    gaussLegendre(nearOrder(m_options.origins), m_gaussNodes, m_gaussWeights);
-    // K > 1 origins: the Gauss-Legendre product rule of order ceil(sqrt(K)) (smooth far-field integrands).
-    m_originNodes.clear();
-    m_originWeights.clear();
-    if (m_options.origins > 1) gaussLegendre(farOrder(m_options.origins), m_originNodes, m_originWeights);
+    // Per pair, the lowest order good for --pair-digits: at least ceil(sqrt(K)) for --origins K,
+    // the near-field order within kNearDistance.
+    const double tolerance = std::pow(10.0, -double(m_options.pairDigits));
+    m_orders = EmitterOrders(tolerance, farOrder(m_options.origins), nearOrder(m_options.origins));
+    // The far rule is the default's: --origins K > 1 asks for at least ceil(sqrt(K))^2 points over the emitter.
+    m_farRatio = m_options.origins == 1 ? std::pow(FarRule::kErrorConstant / tolerance, 0.25) : 0.0;
+    m_ruleNodes.assign(std::size_t(m_orders.highest()) + 1, {});
+    m_ruleWeights.assign(m_ruleNodes.size(), {});
+    for (int m = m_orders.lowest(); m <= m_orders.highest(); ++m) gaussLegendre(m, m_ruleNodes[m], m_ruleWeights[m]);
     m_splitLevels = m_options.jitter ? 2 : 1;
     m_geometry.build(scene);
+    if (m_farRatio > 0.0) m_far.build(m_geometry);
     buildNeighbours(scene);
     if (m_mirrors && m_options.mirrorEstimator == MirrorEstimator::Images) {
         std::vector<Reflector> reflectors;
@@ -110,12 +125,14 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
     // The analytic estimator described for people (the provenance holds its kind).
     if (m_analytic)
         p["estimator"] = std::string("analytic: Lambert point-to-polygon factors from ") +
-                         (m_originNodes.empty() ? std::string("the centroid")
-                                                : "Gauss-Legendre " + std::to_string(m_originNodes.size()) + "^2 points") +
+                         "m x m Gauss-Legendre points over the smaller patch of each pair (the centroid for m = 1, m >= " +
+                         std::to_string(m_orders.lowest()) + "), m chosen from the pair's distance and size for a relative error of " +
+                         "1e-" + std::to_string(m_options.pairDigits) + ", the 2 x 2 x 2 x 2 point rule for pairs far from each other's horizon, " +
+                         std::to_string(m_orders.highest()) + " within " + std::to_string(int(kNearDistance)) +
+                         " radii, each pair computed once for both rows (reciprocal)" +
                          (m_visibility ? std::string(", shadow rays to ") + (m_options.jitter ? "random points" : "centres")
                                        : std::string(", no shadow rays (no patch can obstruct: a convex scene)")) +
-                         ", Gauss-Legendre " +
-                         std::to_string(nearOrder(m_options.origins)) + "^2 points for near patches, silhouette patches split in " +
+                         ", silhouette patches split in " +
                          std::to_string(m_splitLevels) + (m_splitLevels == 1 ? " level" : " levels");
     if (m_analytic && m_mirrors)
         p["mirror_terms"] = m_images ? "virtual images through " + std::to_string(m_images->reflectorCount()) +
@@ -137,7 +154,8 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
         Workspace ws(m_scene->size(), m_mirrors || m_analytic);
         const std::unique_ptr<MirrorImages::Workspace> imageSpace = m_images ? m_images->workspace() : nullptr;
         if (m_analytic) {
-            ws.isNear.assign(m_scene->size(), 0);
+            ws.ruled.assign(m_scene->size(), 0);
+            ws.byOrder.resize(std::size_t(m_orders.highest()) + 1);  // [0]: the far rule
             ws.status.assign(m_scene->size(), 0);
         }
         ws.dirs.resize(m_directions.size());
@@ -152,8 +170,9 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
                     counts.lostWeight += std::max(0.0, 1.0 - direct);
                     counts.largestDirectSum = std::max(counts.largestDirectSum, direct);
                     // Visibility from a few shadow rays can count a partly hidden patch whole; no
-                    // row may send out more than it emits.
-                    if (direct > 1.0 + 1e-6) {
+                    // row may send out more than it emits. Quadrature alone stays within 1e-3 (and
+                    // scaling would break the pairs' reciprocity).
+                    if (direct > 1.0 + kRescaleAbove) {
                         ws.row.scaleWeights(1.0 / direct);
                         ++counts.rescaledRows;
                     }
@@ -290,37 +309,162 @@ void HemisphereBackend::buildNeighbours(const Scene& scene) {
 }
 
 double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& counts) const {
-    const PatchShape& emitter = m_geometry.shapes[i];
-    ws.near.clear();
+    // Pairs whose other patch emits first: their terms come from that patch's points, and their
+    // visibility is the neighbours' status for the silhouette test below.
+    double direct = addReversedPairs(i, ws, counts);
+    // Receivers by the order of their rule over i (0: the far rule); order 1 (the centroid) takes
+    // the rest in one pass.
+    for (auto& list : ws.byOrder) list.clear();
     for (PatchId j = 0; j < m_geometry.shapes.size(); ++j) {
-        const PatchShape& receiver = m_geometry.shapes[j];
-        if (j != i && (receiver.centroid - emitter.centroid).norm() - receiver.radius < kNearDistance * emitter.radius) {
-            ws.near.push_back(j);
-            ws.isNear[j] = 1;
-        }
+        if (j == i || !emitsFor(i, j)) continue;
+        const int m = pairOrder(i, j);
+        if (m == 1) continue;
+        ws.byOrder[m].push_back(j);
+        ws.ruled[j] = 1;
     }
+    direct += addFarPairs(i, ws, counts);
     // The accumulator holds ray units (take() scales by 1 / (origins samples)): F = value / unit.
     const double unit = double(m_options.origins) * m_options.samples;
-    // A stream of its own (not the one castRays draws origin shifts from) for jittered shadow rays.
-    Random random((m_options.seed * 0x9e3779b97f4a7c15ULL ^ (std::uint64_t(i) << 20)) ^ 0xa5a5a5a5deadbeefULL);
-    // Factors from every point of a Gauss-Legendre rule over the emitter to `candidates`.
-    auto integrate = [&](const std::vector<double>& nodes, const std::vector<double>& weights,
-                         const std::vector<PatchId>* candidates) {
+    const PatchShape& emitter = m_geometry.shapes[i];
+    if (m_orders.lowest() == 1) direct += addAnalyticFrom(i, emitter.centroid, 0, nullptr, unit, ws, counts);
+    for (int m = std::max(2, m_orders.lowest()); m <= m_orders.highest(); ++m) {
+        if (ws.byOrder[m].empty()) continue;
         ws.quadPoints.clear();
         ws.quadWeights.clear();
-        polygonQuadrature(&m_geometry.corners[emitter.first], emitter.count, nodes, weights, ws.quadPoints, ws.quadWeights);
-        double sum = 0.0;
+        polygonQuadrature(m_geometry.polygon(i), emitter.count, m_ruleNodes[m], m_ruleWeights[m], ws.quadPoints,
+                          ws.quadWeights);
         for (std::size_t q = 0; q < ws.quadPoints.size(); ++q)
-            sum += addAnalyticFrom(i, ws.quadPoints[q], candidates, unit * ws.quadWeights[q], random, ws, counts);
-        return sum;
-    };
-    double direct = m_originNodes.empty() ? addAnalyticFrom(i, emitter.centroid, nullptr, unit, random, ws, counts)
-                                          : integrate(m_originNodes, m_originWeights, nullptr);
-    if (!ws.near.empty()) {
-        direct += integrate(m_gaussNodes, m_gaussWeights, &ws.near);
-        for (const PatchId j : ws.near) ws.isNear[j] = 0;
+            direct += addAnalyticFrom(i, ws.quadPoints[q], std::uint32_t(q), &ws.byOrder[m], unit * ws.quadWeights[q], ws,
+                                      counts);
+        for (const PatchId j : ws.byOrder[m]) ws.ruled[j] = 0;
     }
+    for (const PatchId j : ws.byOrder[0]) ws.ruled[j] = ws.status[j] = 0;
+    for (const PatchId j : ws.reversed) ws.status[j] = 0;
     return direct / unit;
+}
+
+double HemisphereBackend::addFarPairs(PatchId i, Workspace& ws, RayCounts& counts) const {
+    const std::vector<PatchId>& pairs = ws.byOrder[0];
+    if (pairs.empty()) return 0.0;
+    const double unit = double(m_options.origins) * m_options.samples;
+    const double offset = m_rays->originOffset();
+    ws.factors.clear();
+    ws.targets.clear();
+    for (const PatchId j : pairs) {
+        ws.factors.push_back(m_far.factor(m_geometry, i, j, m_scene->patches[j].area));
+        float local[3];
+        const Vec3 aim = aimPoint(m_geometry.polygon(j), m_geometry.shapes[j].count, i, j, 0, 0);
+        m_rays->toLocal(aim + offset * m_geometry.shapes[j].normal, local);
+        ws.targets.insert(ws.targets.end(), local, local + 3);
+    }
+    ws.blocked.assign(pairs.size(), 0);
+    if (m_visibility) {
+        float origin[3];
+        m_rays->toLocal(m_geometry.shapes[i].centroid + offset * m_geometry.shapes[i].normal, origin);
+        m_rays->occludedSegments(origin, ws.targets.data(), pairs.size(), ws.blocked.data());
+        counts.rays += pairs.size();
+    }
+    for (std::size_t k = 0; k < pairs.size(); ++k) ws.status[pairs[k]] = ws.blocked[k] ? 2 : 1;
+    double sum = 0.0;
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        // A receiver on a silhouette goes to the centroid pass, which splits it.
+        if (m_geometry.onSilhouette(pairs[k], ws.status)) {
+            ws.ruled[pairs[k]] = 0;
+            continue;
+        }
+        if (ws.blocked[k] || !(ws.factors[k] > 0.0)) continue;
+        ws.row.addWeight(pairs[k], ws.factors[k] * unit);
+        sum += ws.factors[k] * unit;
+    }
+    return sum;
+}
+
+double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& counts) const {
+    // For every j that emits for i, the terms row j sums for i (addAnalyticFrom with j's rule, in
+    // j's order, the same shadow rays), so that A_i F_ij = A_j F_ji to rounding wherever row j does
+    // not split i on a silhouette.
+    const PatchShape& receiver = m_geometry.shapes[i];
+    const double unit = double(m_options.origins) * m_options.samples;
+    const double offset = m_rays->originOffset();
+    ws.reversed.clear();
+    ws.termStart.assign(1, 0);
+    ws.factors.clear();
+    ws.termWeights.clear();
+    ws.origins.clear();
+    ws.targets.clear();
+    for (PatchId j = 0; j < m_geometry.shapes.size(); ++j) {
+        if (j == i || !emitsFor(j, i)) continue;
+        const PatchShape& emitter = m_geometry.shapes[j];
+        // No point of j has a term when all of i lies below j's plane or all of j behind i's (with
+        // a margin of j's radius for the points off its centroid's plane).
+        if (emitter.normal.dot(receiver.centroid - emitter.centroid) <= -receiver.radius - emitter.radius ||
+            receiver.normal.dot(emitter.centroid - receiver.centroid) + emitter.radius <= 0.0)
+            continue;
+        const int m = pairOrder(j, i);
+        if (m == 0) {  // the far rule: one term, one shadow ray from j's centroid (as addFarPairs)
+            const double f = m_far.factor(m_geometry, j, i, m_scene->patches[i].area);
+            if (!(f > 0.0)) continue;
+            ws.factors.push_back(f);
+            ws.termWeights.push_back(unit);
+            float local[3];
+            m_rays->toLocal(emitter.centroid + offset * emitter.normal, local);
+            ws.origins.insert(ws.origins.end(), local, local + 3);
+            m_rays->toLocal(aimPoint(m_geometry.polygon(i), receiver.count, j, i, 0, 0) + offset * receiver.normal, local);
+            ws.targets.insert(ws.targets.end(), local, local + 3);
+            ws.reversed.push_back(j);
+            ws.termStart.push_back(std::uint32_t(ws.factors.size()));
+            continue;
+        }
+        ws.quadPoints.clear();
+        ws.quadWeights.clear();
+        if (m == 1) {
+            ws.quadPoints.push_back(emitter.centroid);
+            ws.quadWeights.push_back(1.0);
+        } else {
+            polygonQuadrature(m_geometry.polygon(j), emitter.count, m_ruleNodes[m], m_ruleWeights[m], ws.quadPoints,
+                              ws.quadWeights);
+        }
+        const std::size_t before = ws.factors.size();
+        for (std::size_t q = 0; q < ws.quadPoints.size(); ++q) {
+            const Vec3* polygon;
+            std::size_t corners;
+            const double f = pointFactor(i, ws.quadPoints[q], emitter.normal, ws.clipped, polygon, corners);
+            if (f <= 0.0) continue;
+            ws.factors.push_back(f);
+            ws.termWeights.push_back(m == 1 ? unit : unit * ws.quadWeights[q]);  // as row j weighs it
+            float local[3];
+            m_rays->toLocal(ws.quadPoints[q] + offset * emitter.normal, local);
+            ws.origins.insert(ws.origins.end(), local, local + 3);
+            m_rays->toLocal(aimPoint(polygon, corners, j, i, std::uint32_t(q), 0) + offset * receiver.normal, local);
+            ws.targets.insert(ws.targets.end(), local, local + 3);
+        }
+        if (ws.factors.size() == before) continue;
+        ws.reversed.push_back(j);
+        ws.termStart.push_back(std::uint32_t(ws.factors.size()));
+    }
+    ws.blocked.assign(ws.factors.size(), 0);
+    if (m_visibility && !ws.factors.empty()) {
+        m_rays->occludedSegmentPairs(ws.origins.data(), ws.targets.data(), ws.factors.size(), ws.blocked.data());
+        counts.rays += ws.factors.size();
+    }
+    double sum = 0.0;
+    const double Ai = m_scene->patches[i].area;
+    for (std::size_t p = 0; p < ws.reversed.size(); ++p) {
+        const PatchId j = ws.reversed[p];
+        double term = 0.0;  // row j's entry for i, summed in row j's order
+        bool visible = false;
+        for (std::uint32_t t = ws.termStart[p]; t < ws.termStart[p + 1]; ++t) {
+            if (ws.blocked[t]) continue;
+            term += ws.factors[t] * ws.termWeights[t];
+            visible = true;
+        }
+        ws.status[j] = visible ? 1 : 2;
+        if (!visible) continue;
+        const double value = term * (m_scene->patches[j].area / Ai);
+        ws.row.addWeight(j, value);
+        sum += value;
+    }
+    return sum;
 }
 
 std::size_t HemisphereBackend::polygonAbove(PatchId j, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer,
@@ -338,16 +482,28 @@ std::size_t HemisphereBackend::polygonAbove(PatchId j, const Vec3& x, const Vec3
     return buffer.size();
 }
 
-Vec3 HemisphereBackend::aimPoint(const Vec3* polygon, std::size_t corners, Random& random) const {
-    if (m_options.jitter) {
-        const double u = random.uniform(), v = random.uniform();
-        return pointOnPolygon(polygon, corners, u, v);
-    }
-    return vertexMean(polygon, corners);
+double HemisphereBackend::pointFactor(PatchId r, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer,
+                                      const Vec3*& polygon, std::size_t& corners) const {
+    const PatchShape& t = m_geometry.shapes[r];
+    corners = 0;
+    if (t.normal.dot(x - t.centroid) <= 1e-9 * t.radius) return 0.0;  // x must lie in front of r
+    corners = polygonAbove(r, x, n, buffer, polygon);
+    return corners == 0 ? 0.0 : pointToPolygonFactor(x, n, polygon, corners);
 }
 
-double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, const std::vector<PatchId>* candidates,
-                                          double weight, Random& random, Workspace& ws, RayCounts& counts) const {
+Vec3 HemisphereBackend::aimPoint(const Vec3* polygon, std::size_t corners, PatchId e, PatchId r, std::uint32_t point,
+                                 std::uint32_t piece) const {
+    if (!m_options.jitter) return vertexMean(polygon, corners);
+    // Drawn from the pair alone, so both rows of a pair aim their shadow rays alike.
+    Random random(((m_options.seed * 0x9e3779b97f4a7c15ULL ^ (std::uint64_t(e) << 32 | r)) + 0xa5a5a5a5deadbeefULL) ^
+                  (std::uint64_t(point) << 40 | std::uint64_t(piece) << 8));
+    const double u = random.uniform(), v = random.uniform();
+    return pointOnPolygon(polygon, corners, u, v);
+}
+
+double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_t point,
+                                          const std::vector<PatchId>* candidates, double weight, Workspace& ws,
+                                          RayCounts& counts) const {
     const Vec3& n = m_geometry.shapes[i].normal;
     const double offset = m_rays->originOffset();
     auto aim = [&](const Vec3& target, PatchId j, double f) {
@@ -374,14 +530,11 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, const std::v
     const std::size_t count = candidates ? candidates->size() : m_geometry.shapes.size();
     for (std::size_t c = 0; c < count; ++c) {
         const PatchId j = candidates ? (*candidates)[c] : PatchId(c);
-        if (j == i || (!candidates && ws.isNear[j])) continue;
-        const PatchShape& t = m_geometry.shapes[j];
-        if (t.normal.dot(x - t.centroid) <= 1e-9 * t.radius) continue;  // x must lie in front of j
+        if (j == i || (!candidates && (ws.ruled[j] || !emitsFor(i, j)))) continue;
         const Vec3* polygon;
-        const std::size_t corners = polygonAbove(j, x, n, ws.clipped, polygon);
-        if (corners == 0) continue;
-        const double f = pointToPolygonFactor(x, n, polygon, corners);
-        if (f > 0.0) aim(aimPoint(polygon, corners, random), j, f);
+        std::size_t corners;
+        const double f = pointFactor(j, x, n, ws.clipped, polygon, corners);
+        if (f > 0.0) aim(aimPoint(polygon, corners, i, j, point, 0), j, f);
     }
     shoot();
     // Visibility of each patch from its shadow ray; a patch whose mesh neighbours disagree with it
@@ -415,7 +568,7 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, const std::v
         }
         for (std::size_t q = 0; q < ws.pieces.size(); q += 4) {
             const double f = pointToPolygonFactor(x, n, &ws.pieces[q], 4);
-            if (f > 0.0) aim(aimPoint(&ws.pieces[q], 4, random), j, f);
+            if (f > 0.0) aim(aimPoint(&ws.pieces[q], 4, i, j, point, std::uint32_t(q / 4 + 1)), j, f);
         }
     }
     shoot();

@@ -3,6 +3,8 @@
 
 #include "preprocess/form_factor_backend.hpp"
 #include "rays/ray_scene.hpp"
+#include "preprocess/hemisphere/emitter_rule.hpp"
+#include "preprocess/hemisphere/far_rule.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
 #include "preprocess/hemisphere/mirror_images.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
@@ -44,16 +46,42 @@ private:
     template <bool Mirrors, bool Direct> void castRays(PatchId i, Workspace& ws, RayCounts& counts) const;
     /// Analytic direct factors of row i added to ws.row in ray units; returns their sum (row fraction).
     double addAnalyticRow(PatchId i, Workspace& ws, RayCounts& counts) const;
-    /// Factors from point x on patch i to the `candidates` (all patches when null), scaled by `weight`.
-    double addAnalyticFrom(PatchId i, const Vec3& x, const std::vector<PatchId>* candidates, double weight,
-                           Random& random, Workspace& ws, RayCounts& counts) const;
+    /// Factors from point `point` x of patch i's rule to the `candidates` (all patches when null) that
+    /// i emits for, scaled by `weight`.
+    double addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_t point, const std::vector<PatchId>* candidates,
+                           double weight, Workspace& ws, RayCounts& counts) const;
+    /// Row i's entries for the patches that emit for i: the terms each of their rows sums for i,
+    /// scaled by A_j / A_i; sets their visibility status. Returns their sum (row fraction).
+    double addReversedPairs(PatchId i, Workspace& ws, RayCounts& counts) const;
 
+    /// Which patch of a pair integrates the pair's factor over its points (the other is exact): the
+    /// smaller one, the lower id on a tie. Both rows of the pair use its terms, so the analytic F is
+    /// reciprocal by construction.
+    /// The order m of the m x m rule over e for receiver r (1: e's centroid), or 0 for the far rule.
+    int pairOrder(PatchId e, PatchId r) const {
+        const PatchShape& a = m_geometry.shapes[e];
+        const PatchShape& b = m_geometry.shapes[r];
+        if (m_farRatio > 0.0 && FarRule::ratio(a, b) >= m_farRatio) return 0;
+        return m_orders(((b.centroid - a.centroid).norm() - b.radius) / a.radius);
+    }
+    /// Row i's entries for the receivers of the far rule (pairOrder 0); sets their status.
+    double addFarPairs(PatchId i, Workspace& ws, RayCounts& counts) const;
+    bool emitsFor(PatchId e, PatchId r) const {
+        const double a = m_scene->patches[e].area, b = m_scene->patches[r].area;
+        return a < b || (a == b && e < r);
+    }
+    /// Lambert's factor from x (normal n) to the part of receiver r above that plane, 0 when x lies
+    /// behind r; `polygon` and `corners` say which part (for the shadow ray's aim).
+    double pointFactor(PatchId r, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer, const Vec3*& polygon,
+                       std::size_t& corners) const;
     /// Patch j's polygon, clipped to the half-space above (x, n) into `buffer` when it straddles
     /// the plane; returns the corner count (0 when nothing lies above).
     std::size_t polygonAbove(PatchId j, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer,
                              const Vec3*& polygon) const;
-    /// Where a shadow ray to a polygon aims: its centre, or a random point with jitter.
-    Vec3 aimPoint(const Vec3* polygon, std::size_t corners, Random& random) const;
+    /// Where a shadow ray from emitter e's point `point` to (a piece of) receiver r aims: the
+    /// polygon's centre, or with jitter a random point drawn from (e, r, point, piece) alone.
+    Vec3 aimPoint(const Vec3* polygon, std::size_t corners, PatchId e, PatchId r, std::uint32_t point,
+                  std::uint32_t piece) const;
     void buildNeighbours(const Scene& scene);
 
     HemisphereOptions m_options;
@@ -69,8 +97,10 @@ private:
     std::string m_imagesRefused;  ///< why images were not used although asked for (rays carry the chains)
     bool m_visibility = true;  ///< analytic estimator: some patch can obstruct (somePatchCanObstruct)
     PatchGeometry m_geometry;  ///< analytic estimator only
-    std::vector<double> m_gaussNodes, m_gaussWeights;  ///< the near-field rule on [0, 1]
-    std::vector<double> m_originNodes, m_originWeights;  ///< the far-field rule (empty: the centroid)
+    EmitterOrders m_orders{1.0, 1, 1};  ///< the emitter rule's order per pair (emitter_rule.hpp)
+    FarRule m_far;  ///< the point-to-point kernel for pairs far from each other's horizon
+    double m_farRatio = 0.0;  ///< the smallest FarRule::ratio it serves (0: not used, with --origins > 1)
+    std::vector<std::vector<double>> m_ruleNodes, m_ruleWeights;  ///< Gauss-Legendre on [0, 1] per order
     int m_splitLevels = 1;  ///< silhouette patches: 1 = split once (4 pieces of a quad), 2 = twice
 };
 

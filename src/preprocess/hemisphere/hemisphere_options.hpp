@@ -23,6 +23,8 @@ struct HemisphereOptions {
     bool jitter = false;           ///< a random direction inside each Beckers cell (unbiased; for references)
     Estimator estimator = Estimator::Auto;
     MirrorEstimator mirrorEstimator = MirrorEstimator::Images;
+    /// The analytic estimator's emitter rule aims at a relative error of 10^-pairDigits per pair.
+    std::uint32_t pairDigits = 2;
 };
 
 /// "auto" picks the analytic estimator while the patch count is at most this many times the
