@@ -329,10 +329,7 @@ double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& co
     if (m_orders.lowest() == 1) direct += addAnalyticFrom(i, emitter.centroid, 0, nullptr, unit, ws, counts);
     for (int m = std::max(2, m_orders.lowest()); m <= m_orders.highest(); ++m) {
         if (ws.byOrder[m].empty()) continue;
-        ws.quadPoints.clear();
-        ws.quadWeights.clear();
-        polygonQuadrature(m_geometry.polygon(i), emitter.count, m_ruleNodes[m], m_ruleWeights[m], ws.quadPoints,
-                          ws.quadWeights);
+        emitterRule(i, m, ws);
         for (std::size_t q = 0; q < ws.quadPoints.size(); ++q)
             direct += addAnalyticFrom(i, ws.quadPoints[q], std::uint32_t(q), &ws.byOrder[m], unit * ws.quadWeights[q], ws,
                                       counts);
@@ -341,6 +338,18 @@ double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& co
     for (const PatchId j : ws.byOrder[0]) ws.ruled[j] = ws.status[j] = 0;
     for (const PatchId j : ws.reversed) ws.status[j] = 0;
     return direct / unit;
+}
+
+void HemisphereBackend::emitterRule(PatchId e, int m, Workspace& ws) const {
+    ws.quadPoints.clear();
+    ws.quadWeights.clear();
+    if (m == 1) {
+        ws.quadPoints.push_back(m_geometry.shapes[e].centroid);
+        ws.quadWeights.push_back(1.0);
+        return;
+    }
+    polygonQuadrature(m_geometry.polygon(e), m_geometry.shapes[e].count, m_ruleNodes[m], m_ruleWeights[m], ws.quadPoints,
+                      ws.quadWeights);
 }
 
 double HemisphereBackend::addFarPairs(PatchId i, Workspace& ws, RayCounts& counts) const {
@@ -415,15 +424,7 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
             ws.termStart.push_back(std::uint32_t(ws.factors.size()));
             continue;
         }
-        ws.quadPoints.clear();
-        ws.quadWeights.clear();
-        if (m == 1) {
-            ws.quadPoints.push_back(emitter.centroid);
-            ws.quadWeights.push_back(1.0);
-        } else {
-            polygonQuadrature(m_geometry.polygon(j), emitter.count, m_ruleNodes[m], m_ruleWeights[m], ws.quadPoints,
-                              ws.quadWeights);
-        }
+        emitterRule(j, m, ws);
         const std::size_t before = ws.factors.size();
         for (std::size_t q = 0; q < ws.quadPoints.size(); ++q) {
             const Vec3* polygon;
@@ -431,7 +432,7 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
             const double f = pointFactor(i, ws.quadPoints[q], emitter.normal, ws.clipped, polygon, corners);
             if (f <= 0.0) continue;
             ws.factors.push_back(f);
-            ws.termWeights.push_back(m == 1 ? unit : unit * ws.quadWeights[q]);  // as row j weighs it
+            ws.termWeights.push_back(unit * ws.quadWeights[q]);  // as row j weighs it (the centroid's weight is 1)
             float local[3];
             m_rays->toLocal(ws.quadPoints[q] + offset * emitter.normal, local);
             ws.origins.insert(ws.origins.end(), local, local + 3);

@@ -64,6 +64,9 @@ private:
         if (m_farRatio > 0.0 && FarRule::ratio(a, b) >= m_farRatio) return 0;
         return m_orders(((b.centroid - a.centroid).norm() - b.radius) / a.radius);
     }
+    /// The points and weights (summing to 1) of the m x m rule over patch e into ws.quadPoints and
+    /// ws.quadWeights: one function for both rows of a pair, so that their terms agree bit for bit.
+    void emitterRule(PatchId e, int m, Workspace& ws) const;
     /// Row i's entries for the receivers of the far rule (pairOrder 0); sets their status.
     double addFarPairs(PatchId i, Workspace& ws, RayCounts& counts) const;
     bool emitsFor(PatchId e, PatchId r) const {
