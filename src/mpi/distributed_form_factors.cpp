@@ -291,9 +291,10 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
 
     // Bookkeeping to rank 0: counts summed (the largest direct sum taken), stage times, per-rank load.
     const RayCounts mine = builder.counts();
-    std::uint64_t integers[5] = {mine.rays, mine.bounces, mine.misses, mine.backfaces, mine.rescaledRows}, integerSums[5];
+    std::uint64_t integers[6] = {mine.rays, mine.bounces, mine.misses, mine.backfaces, mine.rescaledRows, mine.shadowTerms},
+                  integerSums[6];
     double reals[2] = {mine.lostWeight, mine.cutoffWeight}, realSums[2];
-    MPI_Reduce(integers, integerSums, 5, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    MPI_Reduce(integers, integerSums, 6, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
     MPI_Reduce(reals, realSums, 2, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
     double largest = 0;
     MPI_Reduce(&mine.largestDirectSum, &largest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
@@ -316,7 +317,7 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
     if (context.root()) {
         RayCounts& c = result.counts;
         c.rays = integerSums[0], c.bounces = integerSums[1], c.misses = integerSums[2], c.backfaces = integerSums[3];
-        c.rescaledRows = integerSums[4];
+        c.rescaledRows = integerSums[4], c.shadowTerms = integerSums[5];
         c.lostWeight = realSums[0], c.cutoffWeight = realSums[1];
         c.largestDirectSum = largest;
     }

@@ -17,6 +17,7 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
     lostWeight += o.lostWeight;
     cutoffWeight += o.cutoffWeight;
     rescaledRows += o.rescaledRows;
+    shadowTerms += o.shadowTerms;
     largestDirectSum = std::max(largestDirectSum, o.largestDirectSum);
     return *this;
 }

@@ -56,6 +56,7 @@ struct RayCounts {
     double lostWeight = 0;           ///< sum over rows of the row fraction lost to misses and backfaces
     double cutoffWeight = 0;         ///< sum over rows of the fraction still travelling at the depth/weight limit
     std::uint64_t rescaledRows = 0;  ///< analytic estimator: rows whose direct factors summed above 1.001, scaled to 1
+    std::uint64_t shadowTerms = 0;   ///< analytic estimator: point-to-patch terms whose visibility came from shadow polygons
     double largestDirectSum = 0;     ///< analytic estimator: the largest direct row sum before that scaling
     RayCounts& operator+=(const RayCounts& o);
 };

@@ -170,6 +170,7 @@ py::dict runDict(const FormFactorRun& run, const Scene& scene, const MethodSetti
     d["mirror_bounces"] = c.bounces;
     d["cutoff_fraction"] = c.cutoffWeight / rows;
     d["rescaled_rows"] = c.rescaledRows;
+    d["shadow_terms"] = c.shadowTerms;
     py::dict seconds;
     seconds["prepare"] = run.prepareSeconds;
     seconds["compute"] = run.computeSeconds;

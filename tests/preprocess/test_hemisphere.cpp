@@ -240,7 +240,7 @@ TEST_CASE("Analytic estimator: C-14 both ways, and a far small emitter gets the 
     CHECK(analytic(b.scene, 1).F.at(0, 1) == doctest::Approx(4 * b3(0.5, 0.5, 1)).epsilon(1e-5));
 }
 
-TEST_CASE("Analytic estimator: an occluder hides what its shadow rays cannot reach, and silhouettes are split") {
+TEST_CASE("Analytic estimator: an occluder hides its shadow exactly, and with one shadow ray per small term silhouettes are split") {
     // A 0.01 emitter at the origin under a 10 x 10 grid of 0.1 quads at z = 1; a blocker at z = 0.5
     // covers x < 0.02, so its shadow on the grid ends at x = 0.04, inside the column [0, 0.1]. The
     // grid's corners are computed as -0.5 + 0.1 u, which differ in the last bit between neighbours
@@ -252,24 +252,44 @@ TEST_CASE("Analytic estimator: an occluder hides what its shadow rays cannot rea
     for (int u = 0; u < 10; ++u)
         for (int v = 0; v < 10; ++v) b.rectangle(2, 1, -0.5 + 0.1 * u, -0.4 + 0.1 * u, -0.5 + 0.1 * v, -0.4 + 0.1 * v, false);
     const Scene& s = b.scene;
-    const FormFactorRun r = analytic(s, 1);
-    double hidden = 0.0, split = 0.0, seen = 0.0;
-    for (PatchId j = first; j < s.size(); ++j) {
-        const double x = s.patches[j].centroid.x();
-        (x < 0.0 ? hidden : x < 0.1 ? split : seen) += r.F.at(0, j);
-    }
+    auto columns = [&](const FormFactorRun& r) {
+        std::array<double, 3> sums{0.0, 0.0, 0.0};  // hidden, the column the shadow edge crosses, seen
+        for (PatchId j = first; j < s.size(); ++j) {
+            const double x = s.patches[j].centroid.x();
+            sums[x < 0.0 ? 0 : x < 0.1 ? 1 : 2] += r.F.at(0, j);
+        }
+        return sums;
+    };
     // From the emitter's centre, a rectangle [x0, x1] x [-0.5, 0.5] at height 1 (x0 >= 0) has the
-    // factor 2 (B-3(x1, 0.5, 1) - B-3(x0, 0.5, 1)).
-    CHECK(hidden == 0.0);
-    // (The far rule integrates over the 0.01 emitter: within 1e-4 of its centre's factor.)
-    CHECK(seen == doctest::Approx(2 * (b3(0.5, 0.5, 1) - b3(0.1, 0.5, 1))).epsilon(1e-4));
-    // The column the shadow edge crosses: its centre (x = 0.05) is lit, so unsplit it would count
-    // whole; split once, its left pieces (centres x = 0.025) are hidden and its right ones lit.
-    CHECK(split == doctest::Approx(2 * (b3(0.1, 0.5, 1) - b3(0.05, 0.5, 1))).epsilon(1e-6));
-    CHECK(split < 0.6 * 2 * b3(0.1, 0.5, 1));
-    // The first pass aims one shadow ray at each of the 101 patches; the split pieces add more.
-    CHECK(r.counts.rays > 101);
-    CHECK(r.F.rowSum(0) <= 1.0);
+    // factor 2 (B-3(x1, 0.5, 1) - B-3(x0, 0.5, 1)); the 0.01 emitter's own size moves it by < 1e-4.
+    const double seen = 2 * (b3(0.5, 0.5, 1) - b3(0.1, 0.5, 1));
+    SUBCASE("default: each quad's factor (~3e-3) is above 1e-3, so its visible part is exact, without rays") {
+        const FormFactorRun r = analytic(s, 1);
+        const auto [hidden, split, lit] = columns(r);
+        CHECK(hidden == 0.0);
+        CHECK(lit == doctest::Approx(seen).epsilon(1e-4));
+        // The column's lit part, x in [0.04, 0.1].
+        CHECK(split == doctest::Approx(2 * (b3(0.1, 0.5, 1) - b3(0.04, 0.5, 1))).epsilon(1e-4));
+        CHECK(r.counts.rays == 0);
+        CHECK(r.counts.shadowTerms >= 101);
+        CHECK(r.F.rowSum(0) <= 1.0);
+    }
+    SUBCASE("--pair-digits 1: terms up to 1e-2 get one shadow ray, and the silhouette column is split") {
+        HemisphereOptions o;
+        o.estimator = Estimator::Analytic;
+        o.pairDigits = 1;
+        const FormFactorRun r = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
+        const auto [hidden, split, lit] = columns(r);
+        CHECK(hidden == 0.0);
+        CHECK(lit == doctest::Approx(seen).epsilon(1e-4));
+        // Its centre (x = 0.05) is lit, so unsplit it would count whole; split once, its left pieces
+        // (centres x = 0.025) are hidden and its right ones lit.
+        CHECK(split == doctest::Approx(2 * (b3(0.1, 0.5, 1) - b3(0.05, 0.5, 1))).epsilon(1e-4));
+        CHECK(split < 0.6 * 2 * b3(0.1, 0.5, 1));
+        // The first pass aims one shadow ray at each of the 100 quads; the split pieces add more.
+        CHECK(r.counts.rays > 100);
+        CHECK(r.F.rowSum(0) <= 1.0);
+    }
 }
 
 TEST_CASE("Analytic estimator with --mirror-estimator rays: rays carry only the chains and the image-method factor holds") {
@@ -347,17 +367,33 @@ TEST_CASE("The ray estimator's F of a subdivided cube with reciprocity enforced:
     }
 }
 
-TEST_CASE("Only a patch with some of the scene behind its plane can obstruct: convex rooms need no shadow rays") {
+TEST_CASE("Only a patch with some of the scene on both sides of its plane can obstruct: convex rooms need no shadow rays") {
     CHECK_FALSE(somePatchCanObstruct(unitCube()));
     CHECK_FALSE(somePatchCanObstruct(subdivide(unitCube(), 0.25)));
     CHECK_FALSE(somePatchCanObstruct(bundledScene("parallel_plates.obj")));
-    CHECK(somePatchCanObstruct(bundledScene("cornell_box.obj")));  // the blocks
-    CHECK(somePatchCanObstruct(subdivide(unitCube(), 0.25), 0.0));  // over the budget: visibility stays on
+    // The Cornell box: only the blocks' faces (the room has nothing behind its walls).
+    const Scene cornell = bundledScene("cornell_box.obj");
+    const std::vector<std::uint8_t> flags = obstructingPatches(cornell);
+    for (PatchId j = 0; j < cornell.size(); ++j) {
+        CAPTURE(cornell.objects[cornell.patches[j].object]);
+        CHECK(bool(flags[j]) == (cornell.objects[cornell.patches[j].object].find("block") != std::string::npos));
+    }
+    // A cube turned 30 degrees about y: its bounding box lies on both sides of the walls, so the
+    // corners are scanned (convex: no blocker); with no budget for the scan, visibility stays on.
+    Scene turned = subdivide(unitCube(), 0.25);
+    const double c = std::cos(0.5236), sn = std::sin(0.5236);
+    for (Vec3& v : turned.vertices) v = Vec3(c * v.x() + sn * v.z(), v.y(), -sn * v.x() + c * v.z());
+    turned.updateMeasures();
+    CHECK_FALSE(somePatchCanObstruct(turned));
+    CHECK(somePatchCanObstruct(turned, 0.0));
     Scene withBlocker = unitCube();
     SceneBuilder b;
     b.scene = withBlocker;
-    b.rectangle(1, 0.5, 0.25, 0.75, 0.25, 0.75, true);  // a plate across the middle of the cube
+    const PatchId plate = b.rectangle(1, 0.5, 0.25, 0.75, 0.25, 0.75, true);  // a plate across the middle of the cube
     CHECK(somePatchCanObstruct(b.scene));
+    const std::vector<std::uint8_t> plateFlags = obstructingPatches(b.scene);
+    CHECK(std::count(plateFlags.begin(), plateFlags.end(), 1) == 1);
+    CHECK(plateFlags[plate] == 1);
 
     // The analytic estimator in the subdivided cube: no ray cast, the cube's factors as before.
     const Scene cube = subdivide(unitCube(), 0.25);

@@ -22,12 +22,15 @@
 #include <exception>
 #include <array>
 #include <atomic>
+#include <limits>
 #include <unordered_map>
 
 namespace hemirad {
 
 /// Analytic rows whose direct factors sum above 1 + this are scaled to 1 (rowSumBound's tolerance).
 constexpr double kRescaleAbove = 1e-3;
+/// A reversed term without a shadow ray (its visibility came from shadow polygons).
+constexpr std::uint32_t kNoRay = ~std::uint32_t(0);
 
 /// Per-thread scratch: the row being accumulated and the rotated directions and their hits.
 struct HemisphereBackend::Workspace {
@@ -49,6 +52,11 @@ struct HemisphereBackend::Workspace {
     std::vector<double> termWeights;
     std::vector<float> origins;
     std::vector<std::uint8_t> blocked;
+    std::vector<std::uint32_t> rayOf;  // per reversed term: its shadow ray, or kNoRay (shadow polygons)
+    // One point's receivers with exact visibility: their visible and whole factors.
+    std::vector<PatchId> exact;
+    std::vector<double> exactVisible, exactWhole;
+    ShadowPolygons::Scratch shadow;
     std::vector<Vec3> clipped;
     std::vector<std::uint8_t> status;  // per patch for one origin: 0 not aimed at, 1 visible, 2 blocked
     std::vector<PatchId> split;        // silhouette patches of one origin
@@ -76,7 +84,8 @@ void HemisphereBackend::prepare(const Scene& scene) {
     m_mirrors = scene.hasMirrors();
     m_analytic = usesAnalyticEstimator(m_options, scene.size());
     if (!m_analytic) return;
-    m_visibility = somePatchCanObstruct(scene);
+    const std::vector<std::uint8_t> blocks = obstructingPatches(scene);
+    m_visibility = std::find(blocks.begin(), blocks.end(), 1) != blocks.end();
     m_images.reset();
     m_imagesRefused.clear();
     // Per pair, the lowest order good for --pair-digits: at least ceil(sqrt(K)) for --origins K,
@@ -91,6 +100,10 @@ void HemisphereBackend::prepare(const Scene& scene) {
     m_splitLevels = m_options.jitter ? 2 : 1;
     m_geometry.build(scene);
     if (m_farRatio > 0.0) m_far.build(m_geometry);
+    // Exact partial visibility where one shadow ray's verdict could move the pair by more than a
+    // tenth of the pair tolerance in absolute terms (each row sums to at most 1).
+    m_shadows.build(m_geometry, blocks);
+    m_exactAbove = m_visibility ? 0.1 * tolerance : std::numeric_limits<double>::infinity();
     buildNeighbours(scene);
     if (m_mirrors && m_options.mirrorEstimator == MirrorEstimator::Images) {
         std::vector<Reflector> reflectors;
@@ -130,10 +143,13 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
                          "1e-" + std::to_string(m_options.pairDigits) + ", the 2 x 2 x 2 x 2 point rule for pairs far from each other's horizon, " +
                          std::to_string(m_orders.highest()) + " within " + std::to_string(int(kNearDistance)) +
                          " radii, each pair computed once for both rows (reciprocal)" +
-                         (m_visibility ? std::string(", shadow rays to ") + (m_options.jitter ? "random points" : "centres")
-                                       : std::string(", no shadow rays (no patch can obstruct: a convex scene)")) +
-                         ", silhouette patches split in " +
-                         std::to_string(m_splitLevels) + (m_splitLevels == 1 ? " level" : " levels");
+                         (m_visibility ? ", the exact visible part (shadow polygons of the " + std::to_string(m_shadows.size()) +
+                                             " patches that can obstruct) where a point's factor exceeds 1e-" +
+                                             std::to_string(m_options.pairDigits + 1) + ", elsewhere shadow rays to " +
+                                             (m_options.jitter ? "random points" : "centres") +
+                                             ", silhouette patches split in " + std::to_string(m_splitLevels) +
+                                             (m_splitLevels == 1 ? " level" : " levels")
+                                       : std::string(", no shadow rays (no patch can obstruct: a convex scene)"));
     if (m_analytic && m_mirrors)
         p["mirror_terms"] = m_images ? "virtual images through " + std::to_string(m_images->reflectorCount()) +
                                            " planar mirrors, emitter rule per chain and receiver"
@@ -353,19 +369,32 @@ void HemisphereBackend::emitterRule(PatchId e, int m, Workspace& ws) const {
 }
 
 double HemisphereBackend::addFarPairs(PatchId i, Workspace& ws, RayCounts& counts) const {
-    const std::vector<PatchId>& pairs = ws.byOrder[0];
+    std::vector<PatchId>& pairs = ws.byOrder[0];
     if (pairs.empty()) return 0.0;
     const double unit = double(m_options.origins) * m_options.samples;
     const double offset = m_rays->originOffset();
     ws.factors.clear();
     ws.targets.clear();
+    std::size_t kept = 0;
     for (const PatchId j : pairs) {
-        ws.factors.push_back(m_far.factor(m_geometry, i, j, m_scene->patches[j].area));
+        const double f = m_far.factor(m_geometry, i, j, m_scene->patches[j].area);
+        if (f > m_exactAbove) {  // too large for one shadow ray: the rule's points with exact visibility
+            const int m = ruleOrder(i, j);
+            if (m == 1)
+                ws.ruled[j] = 0;
+            else
+                ws.byOrder[std::size_t(m)].push_back(j);
+            continue;
+        }
+        pairs[kept++] = j;
+        ws.factors.push_back(f);
         float local[3];
         const Vec3 aim = aimPoint(m_geometry.polygon(j), m_geometry.shapes[j].count, i, j, 0, 0);
         m_rays->toLocal(aim + offset * m_geometry.shapes[j].normal, local);
         ws.targets.insert(ws.targets.end(), local, local + 3);
     }
+    pairs.resize(kept);
+    if (pairs.empty()) return 0.0;
     ws.blocked.assign(pairs.size(), 0);
     if (m_visibility) {
         float origin[3];
@@ -401,6 +430,8 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
     ws.termWeights.clear();
     ws.origins.clear();
     ws.targets.clear();
+    ws.rayOf.clear();
+    std::uint32_t rays = 0;
     for (PatchId j = 0; j < m_geometry.shapes.size(); ++j) {
         if (j == i || !emitsFor(j, i)) continue;
         const PatchShape& emitter = m_geometry.shapes[j];
@@ -409,11 +440,14 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
         if (emitter.normal.dot(receiver.centroid - emitter.centroid) <= -receiver.radius - emitter.radius ||
             receiver.normal.dot(emitter.centroid - receiver.centroid) + emitter.radius <= 0.0)
             continue;
-        const int m = pairOrder(j, i);
+        int m = pairOrder(j, i);
+        const double far = m == 0 ? m_far.factor(m_geometry, j, i, m_scene->patches[i].area) : 0.0;
+        if (far > m_exactAbove) m = ruleOrder(j, i);  // as addFarPairs: the rule with exact visibility
         if (m == 0) {  // the far rule: one term, one shadow ray from j's centroid (as addFarPairs)
-            const double f = m_far.factor(m_geometry, j, i, m_scene->patches[i].area);
+            const double f = far;
             if (!(f > 0.0)) continue;
             ws.factors.push_back(f);
+            ws.rayOf.push_back(rays++);
             ws.termWeights.push_back(unit);
             float local[3];
             m_rays->toLocal(emitter.centroid + offset * emitter.normal, local);
@@ -431,8 +465,16 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
             std::size_t corners;
             const double f = pointFactor(i, ws.quadPoints[q], emitter.normal, ws.clipped, polygon, corners);
             if (f <= 0.0) continue;
-            ws.factors.push_back(f);
             ws.termWeights.push_back(unit * ws.quadWeights[q]);  // as row j weighs it (the centroid's weight is 1)
+            if (f > m_exactAbove) {  // as addAnalyticFrom: the visible part from shadow polygons
+                ws.factors.push_back(
+                    m_shadows.visibleFactor(ws.quadPoints[q], emitter.normal, polygon, corners, j, i, f, ws.shadow));
+                ws.rayOf.push_back(kNoRay);
+                ++counts.shadowTerms;
+                continue;
+            }
+            ws.factors.push_back(f);
+            ws.rayOf.push_back(rays++);
             float local[3];
             m_rays->toLocal(ws.quadPoints[q] + offset * emitter.normal, local);
             ws.origins.insert(ws.origins.end(), local, local + 3);
@@ -443,10 +485,10 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
         ws.reversed.push_back(j);
         ws.termStart.push_back(std::uint32_t(ws.factors.size()));
     }
-    ws.blocked.assign(ws.factors.size(), 0);
-    if (m_visibility && !ws.factors.empty()) {
-        m_rays->occludedSegmentPairs(ws.origins.data(), ws.targets.data(), ws.factors.size(), ws.blocked.data());
-        counts.rays += ws.factors.size();
+    ws.blocked.assign(rays, 0);
+    if (m_visibility && rays > 0) {
+        m_rays->occludedSegmentPairs(ws.origins.data(), ws.targets.data(), rays, ws.blocked.data());
+        counts.rays += rays;
     }
     double sum = 0.0;
     const double Ai = m_scene->patches[i].area;
@@ -455,7 +497,7 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
         double term = 0.0;  // row j's entry for i, summed in row j's order
         bool visible = false;
         for (std::uint32_t t = ws.termStart[p]; t < ws.termStart[p + 1]; ++t) {
-            if (ws.blocked[t]) continue;
+            if (ws.rayOf[t] == kNoRay ? !(ws.factors[t] > 0.0) : ws.blocked[ws.rayOf[t]] != 0) continue;
             term += ws.factors[t] * ws.termWeights[t];
             visible = true;
         }
@@ -528,6 +570,9 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_
     ws.candidates.clear();
     ws.factors.clear();
     ws.targets.clear();
+    ws.exact.clear();
+    ws.exactVisible.clear();
+    ws.exactWhole.clear();
     const std::size_t count = candidates ? candidates->size() : m_geometry.shapes.size();
     for (std::size_t c = 0; c < count; ++c) {
         const PatchId j = candidates ? (*candidates)[c] : PatchId(c);
@@ -535,13 +580,27 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_
         const Vec3* polygon;
         std::size_t corners;
         const double f = pointFactor(j, x, n, ws.clipped, polygon, corners);
-        if (f > 0.0) aim(aimPoint(polygon, corners, i, j, point, 0), j, f);
+        if (!(f > 0.0)) continue;
+        if (f > m_exactAbove) {  // too large for one shadow ray's verdict: the visible part, exactly
+            ws.exact.push_back(j);
+            ws.exactVisible.push_back(m_shadows.visibleFactor(x, n, polygon, corners, i, j, f, ws.shadow));
+            ws.exactWhole.push_back(f);
+            ++counts.shadowTerms;
+            continue;
+        }
+        aim(aimPoint(polygon, corners, i, j, point, 0), j, f);
     }
     shoot();
     // Visibility of each patch from its shadow ray; a patch whose mesh neighbours disagree with it
     // sits on a silhouette and is split into pieces, each with its own factor and shadow ray.
     for (std::size_t k = 0; k < ws.candidates.size(); ++k) ws.status[ws.candidates[k]] = ws.blocked[k] ? 2 : 1;
     double sum = 0.0;
+    for (std::size_t k = 0; k < ws.exact.size(); ++k) {
+        ws.status[ws.exact[k]] = ws.exactVisible[k] >= 0.5 * ws.exactWhole[k] ? 1 : 2;  // as its centre's ray would say
+        if (!(ws.exactVisible[k] > 0.0)) continue;
+        ws.row.addWeight(ws.exact[k], ws.exactVisible[k] * weight);
+        sum += ws.exactVisible[k] * weight;
+    }
     ws.split.clear();
     for (std::size_t k = 0; k < ws.candidates.size(); ++k) {
         const PatchId j = ws.candidates[k];
@@ -553,6 +612,7 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_
         }
     }
     for (const PatchId j : ws.candidates) ws.status[j] = 0;
+    for (const PatchId j : ws.exact) ws.status[j] = 0;
     if (ws.split.empty()) return sum;
     ws.candidates.clear();
     ws.factors.clear();

@@ -9,6 +9,7 @@
 #include "preprocess/hemisphere/mirror_images.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
+#include "preprocess/hemisphere/shadow_polygons.hpp"
 
 #include <memory>
 
@@ -23,6 +24,8 @@ namespace hemirad {
 /// origin to every patch in front of it whose centre (or a random point on it, with jitter) a
 /// shadow ray reaches; patches close to the emitter are integrated over a Gauss-Legendre rule on it,
 /// and patches on a silhouette (mesh neighbours disagreeing about visibility) are split into pieces.
+/// Where a point's factor to a patch exceeds 10^-(pair digits + 1), the patch's visible part is
+/// exact instead (shadow polygons of the patches that can obstruct, shadow_polygons.hpp).
 /// Its terms through planar mirrors come from virtual images (mirror_images.hpp); with
 /// --mirror-estimator rays, or where a mirror is not planar and convex, rays carry only the mirror
 /// chains. Where no patch can obstruct another (a convex room), no shadow ray is cast.
@@ -59,9 +62,13 @@ private:
     /// reciprocal by construction.
     /// The order m of the m x m rule over e for receiver r (1: e's centroid), or 0 for the far rule.
     int pairOrder(PatchId e, PatchId r) const {
+        if (m_farRatio > 0.0 && FarRule::ratio(m_geometry.shapes[e], m_geometry.shapes[r]) >= m_farRatio) return 0;
+        return ruleOrder(e, r);
+    }
+    /// The order of the m x m rule alone (a far pair whose factor needs exact visibility takes it).
+    int ruleOrder(PatchId e, PatchId r) const {
         const PatchShape& a = m_geometry.shapes[e];
         const PatchShape& b = m_geometry.shapes[r];
-        if (m_farRatio > 0.0 && FarRule::ratio(a, b) >= m_farRatio) return 0;
         return m_orders(((b.centroid - a.centroid).norm() - b.radius) / a.radius);
     }
     /// The points and weights (summing to 1) of the m x m rule over patch e into ws.quadPoints and
@@ -98,7 +105,9 @@ private:
     bool m_analytic = false;
     std::unique_ptr<MirrorImages> m_images;  ///< analytic estimator with mirrors by images
     std::string m_imagesRefused;  ///< why images were not used although asked for (rays carry the chains)
-    bool m_visibility = true;  ///< analytic estimator: some patch can obstruct (somePatchCanObstruct)
+    bool m_visibility = true;  ///< analytic estimator: some patch can obstruct (obstructingPatches)
+    ShadowPolygons m_shadows;  ///< the patches that can obstruct, for exact partial visibility
+    double m_exactAbove = 0.0;  ///< point factors above this get shadow polygons instead of a shadow ray
     PatchGeometry m_geometry;  ///< analytic estimator only
     EmitterOrders m_orders{1.0, 1, 1};  ///< the emitter rule's order per pair (emitter_rule.hpp)
     FarRule m_far;  ///< the point-to-point kernel for pairs far from each other's horizon

@@ -1,0 +1,55 @@
+// Exact visibility of a polygon from a point past polygonal blockers: the analytic estimator's
+// partial visibility for pairs whose factor is too large to trust one shadow ray.
+#pragma once
+
+#include "engine/math.hpp"
+#include "preprocess/hemisphere/patch_geometry.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace hemirad {
+
+/// The shadow-polygon method (as View3D treats partly obstructed views): every blocker reaching
+/// into the cone from a point x through a convex receiver is clipped to that cone and projected
+/// from x onto the receiver's plane; the receiver's part outside all these shadows, kept as convex
+/// pieces, gets Lambert's factor. Exact for planar convex blockers (back faces block too); the
+/// blockers are the patches flagged by obstructingPatches, found through a bounding-volume tree.
+class ShadowPolygons {
+public:
+    /// Per-thread scratch (reused between calls).
+    struct Scratch {
+        std::vector<std::uint32_t> stack;
+        std::vector<Vec3> cut, cutNext;           // a blocker clipped to the cone
+        std::vector<double> pieces, nextPieces;   // clear convex pieces, 2D, as (count, x0, y0, x1, ...)
+        std::vector<double> shadow, inside, outside, rest;
+        std::vector<Vec3> lifted;
+        std::size_t shadows = 0;                  // shadows met by the last call
+    };
+
+    /// The tree over the patches with blocks[j] != 0 of `geometry` (kept by reference).
+    void build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks);
+    bool empty() const { return m_items.empty(); }
+    std::size_t size() const { return m_items.size(); }
+
+    /// Lambert's factor from x (unit normal n) to the part of the convex polygon p[0..count) that no
+    /// blocker other than patches e and r hides from x. p is receiver r's polygon or its part above
+    /// x's plane; `whole` is its unobstructed factor, returned unchanged when no shadow falls on it.
+    double visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t count, PatchId e, PatchId r,
+                         double whole, Scratch& scratch) const;
+
+private:
+    struct Node {
+        Vec3 lo, hi;
+        std::uint32_t first = 0, count = 0;  ///< items of a leaf (count > 0)
+        std::uint32_t right = 0;             ///< an inner node's second child (the first follows it)
+    };
+    std::uint32_t buildNode(std::uint32_t first, std::uint32_t count);
+
+    const PatchGeometry* m_geometry = nullptr;
+    std::vector<PatchId> m_items;
+    std::vector<Node> m_nodes;
+};
+
+}  // namespace hemirad

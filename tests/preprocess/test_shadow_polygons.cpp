@@ -1,0 +1,115 @@
+// Shadow polygons against closed forms: from a point, the visible part of a rectangle past
+// rectangular blockers parallel to it is the rectangle minus the blockers' scaled images, whose
+// factors are sums of Howell's B-3 corner terms.
+#include "support.hpp"
+
+#include "preprocess/hemisphere/obstruction.hpp"
+#include "preprocess/hemisphere/patch_geometry.hpp"
+#include "preprocess/hemisphere/point_polygon.hpp"
+#include "preprocess/hemisphere/shadow_polygons.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+namespace {
+
+/// From a point at (px, py, 0) facing +z to the rectangle [x0, x1] x [y0, y1] at height c (B-3 per corner).
+double toRectangle(double px, double py, double x0, double x1, double y0, double y1, double c) {
+    auto corner = [&](double a, double b) {
+        return (a < 0 ? -1.0 : 1.0) * (b < 0 ? -1.0 : 1.0) * b3(std::abs(a), std::abs(b), c);
+    };
+    return corner(x1 - px, y1 - py) - corner(x0 - px, y1 - py) - corner(x1 - px, y0 - py) + corner(x0 - px, y0 - py);
+}
+
+struct Setup {
+    Scene scene;
+    PatchGeometry geometry;
+    ShadowPolygons shadows;
+    void finish() {
+        geometry.build(scene);
+        shadows.build(geometry, std::vector<std::uint8_t>(scene.size(), 1));
+    }
+};
+
+}  // namespace
+
+TEST_CASE("Shadow polygons: two overlapping blockers between a point and a rectangle leave the rectangle minus their union") {
+    // Receiver [-0.5, 0.5]^2 at z = 1 facing down; from x = (0.2, -0.1, 0) a square [-0.05, 0.05]^2
+    // at z = 0.9 and [0, 0.1] x [-0.05, 0.05] at z = 0.8 cast the images x + (y - x) / z of their corners.
+    Setup s;
+    SceneBuilder b;
+    const PatchId emitter = b.rectangle(2, 0, 0.15, 0.25, -0.15, -0.05, true);
+    const PatchId receiver = b.rectangle(2, 1, -0.5, 0.5, -0.5, 0.5, false);
+    b.rectangle(2, 0.9, -0.05, 0.05, -0.05, 0.05, false);
+    b.rectangle(2, 0.8, 0.0, 0.1, -0.05, 0.05, true);  // a back face towards x blocks too
+    s.scene = b.scene;
+    s.finish();
+    const double px = 0.2, py = -0.1;
+    auto image = [&](double y, double p, double z) { return p + (y - p) / z; };
+    // The two shadows and their overlap, as rectangles [x0, x1] x [y0, y1] on the receiver.
+    const double a[4] = {image(-0.05, px, 0.9), image(0.05, px, 0.9), image(-0.05, py, 0.9), image(0.05, py, 0.9)};
+    const double c[4] = {image(0.0, px, 0.8), image(0.1, px, 0.8), image(-0.05, py, 0.8), image(0.05, py, 0.8)};
+    const double o[4] = {std::max(a[0], c[0]), std::min(a[1], c[1]), std::max(a[2], c[2]), std::min(a[3], c[3])};
+    REQUIRE(o[0] < o[1]);
+    REQUIRE(o[2] < o[3]);
+    const double whole = toRectangle(px, py, -0.5, 0.5, -0.5, 0.5, 1.0);
+    const double expected = whole - toRectangle(px, py, a[0], a[1], a[2], a[3], 1.0) -
+                            toRectangle(px, py, c[0], c[1], c[2], c[3], 1.0) + toRectangle(px, py, o[0], o[1], o[2], o[3], 1.0);
+    const Vec3 x(px, py, 0), n(0, 0, 1);
+    ShadowPolygons::Scratch scratch;
+    const double lambert = pointToPolygonFactor(x, n, s.geometry.polygon(receiver), 4);
+    CHECK(lambert == doctest::Approx(whole).epsilon(1e-12));
+    const double visible = s.shadows.visibleFactor(x, n, s.geometry.polygon(receiver), 4, emitter, receiver, lambert, scratch);
+    CHECK(scratch.shadows == 2);
+    CHECK(visible == doctest::Approx(expected).epsilon(1e-12));
+    CHECK(expected < 0.99 * whole);  // the blockers matter (2.4 %)
+}
+
+TEST_CASE("Shadow polygons: what lies behind the receiver, behind the point or on the receiver's plane casts no shadow, a cover hides all") {
+    SceneBuilder b;
+    const PatchId emitter = b.rectangle(2, 0, -0.1, 0.1, -0.1, 0.1, true);
+    const PatchId receiver = b.rectangle(2, 1, -0.5, 0.5, -0.5, 0.5, false);
+    b.rectangle(2, 1.5, -1, 1, -1, 1, false);     // behind the receiver
+    b.rectangle(2, -0.5, -1, 1, -1, 1, true);     // behind the point
+    b.rectangle(2, 1, 0.5, 1.5, -0.5, 0.5, false);  // the receiver's neighbour in its plane
+    b.rectangle(0, 0.5, -0.5, 0.5, 0.0, 1.0, false);  // a wall along the receiver's edge, outside its cone
+    Setup s;
+    s.scene = b.scene;
+    s.finish();
+    const Vec3 x(0.05, 0.02, 0), n(0, 0, 1);
+    ShadowPolygons::Scratch scratch;
+    const double whole = pointToPolygonFactor(x, n, s.geometry.polygon(receiver), 4);
+    CHECK(s.shadows.visibleFactor(x, n, s.geometry.polygon(receiver), 4, emitter, receiver, whole, scratch) == whole);
+    CHECK(scratch.shadows == 0);
+    // A plate covering the whole cone hides everything.
+    SceneBuilder covered = b;
+    covered.rectangle(2, 0.5, -2, 2, -2, 2, false);
+    s.scene = covered.scene;
+    s.finish();
+    CHECK(s.shadows.visibleFactor(x, n, s.geometry.polygon(receiver), 4, emitter, receiver, whole, scratch) == 0.0);
+}
+
+TEST_CASE("Shadow polygons: a partition from the emitter's edge to the receiver's middle hides exactly the far half") {
+    // Emitter [0, 1]^2 at z = 0, receiver [0, 2] x [0, 1] at z = 1, a wall x = 1 between them: from
+    // every point of the emitter the receiver's part x > 1 is hidden, whatever the point.
+    SceneBuilder b;
+    const PatchId emitter = b.rectangle(2, 0, 0, 1, 0, 1, true);
+    const PatchId receiver = b.rectangle(2, 1, 0, 2, 0, 1, false);
+    b.rectangle(0, 1, 0, 1, 0, 1, false);
+    Setup s;
+    s.scene = b.scene;
+    s.finish();
+    ShadowPolygons::Scratch scratch;
+    for (const double px : {0.01, 0.5, 0.999})
+        for (const double py : {0.02, 0.7}) {
+            CAPTURE(px);
+            CAPTURE(py);
+            const Vec3 x(px, py, 0), n(0, 0, 1);
+            const double whole = pointToPolygonFactor(x, n, s.geometry.polygon(receiver), 4);
+            const double visible =
+                s.shadows.visibleFactor(x, n, s.geometry.polygon(receiver), 4, emitter, receiver, whole, scratch);
+            CHECK(visible == doctest::Approx(toRectangle(px, py, 0, 1, 0, 1, 1)).epsilon(1e-9));
+        }
+}
