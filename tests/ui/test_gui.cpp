@@ -79,7 +79,9 @@ TEST_CASE("hemirad-gui sleeps while idle: a few frames, not one per refresh") {
     REQUIRE(line != std::string::npos);
     REQUIRE(std::sscanf(output.c_str() + output.rfind('\n', line) + 1, "hemirad-gui: %ld frames drawn in %lf s", &frames, &seconds) == 2);
     CHECK(seconds >= 3.0);
-    CHECK(frames >= 3);   // it did draw
+    // It did draw. Not ">= 3": under the sanitizers on a loaded 2-core machine the first frames
+    // (llvmpipe compiling shaders) took 3.4 s for 2 (CI, 2026-11-24).
+    CHECK(frames >= 1);
     CHECK(frames <= 20);  // 3 settling frames, then about 3 per 2 s of waiting (a busy loop draws hundreds)
 }
 
