@@ -98,6 +98,10 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
     if (c.rescaledRows)
         out << "\n  analytic rows whose direct factors summed above 1.001 (largest " << std::setprecision(4) << c.largestDirectSum
             << "), scaled to 1: " << c.rescaledRows;
+    if (c.shadowTerms)
+        out << "\n  point-to-patch terms whose visible part came from shadow polygons (exact partial visibility, no "
+               "shadow ray): "
+            << c.shadowTerms;
     if (c.bounces) {
         out << "\n  mirror bounces " << c.bounces << "; power cut off by --max-depth " << settings.common.maxDepth
             << " / weight < " << settings.common.minWeight << ": " << std::setprecision(5)

@@ -29,6 +29,7 @@ struct Setup {
     ShadowPolygons shadows;
     void finish() {
         geometry.build(scene);
+        geometry.buildNeighbours(scene);
         shadows.build(geometry, std::vector<std::uint8_t>(scene.size(), 1));
     }
 };
@@ -112,4 +113,58 @@ TEST_CASE("Shadow polygons: a partition from the emitter's edge to the receiver'
                 s.shadows.visibleFactor(x, n, s.geometry.polygon(receiver), 4, emitter, receiver, whole, scratch);
             CHECK(visible == doctest::Approx(toRectangle(px, py, 0, 1, 0, 1, 1)).epsilon(1e-9));
         }
+}
+
+TEST_CASE("Shadow polygons: coplanar tiles whose union is convex block as one polygon, an L of tiles stays tiles, same shadows") {
+    // The first test's blockers, the square at z = 0.9 as 2 x 2 tiles; then as an L of three tiles
+    // (the fourth quarter open), whose shadow is the square's minus that quarter's.
+    const double px = 0.2, py = -0.1;
+    const Vec3 x(px, py, 0), n(0, 0, 1);
+    auto make = [&](bool fourth, Setup& s, PatchId& emitter, PatchId& receiver) {
+        SceneBuilder b;
+        emitter = b.rectangle(2, 0, 0.15, 0.25, -0.15, -0.05, true);
+        receiver = b.rectangle(2, 1, -0.5, 0.5, -0.5, 0.5, false);
+        b.rectangle(2, 0.9, -0.05, 0.0, -0.05, 0.0, false);
+        b.rectangle(2, 0.9, 0.0, 0.05, -0.05, 0.0, false);
+        b.rectangle(2, 0.9, -0.05, 0.0, 0.0, 0.05, false);
+        if (fourth) b.rectangle(2, 0.9, 0.0, 0.05, 0.0, 0.05, false);
+        b.rectangle(2, 0.8, 0.0, 0.1, -0.05, 0.05, true);
+        s.scene = b.scene;
+        s.finish();
+    };
+    auto image = [&](double y, double p, double z) { return p + (y - p) / z; };
+    const double whole = toRectangle(px, py, -0.5, 0.5, -0.5, 0.5, 1.0);
+    const double c[4] = {image(0.0, px, 0.8), image(0.1, px, 0.8), image(-0.05, py, 0.8), image(0.05, py, 0.8)};
+    // Hidden part of the receiver: union of the tiles' shadow T and the other blocker's C, by
+    // inclusion-exclusion over rectangles.
+    auto hidden = [&](const double t[4]) {
+        const double o[4] = {std::max(t[0], c[0]), std::min(t[1], c[1]), std::max(t[2], c[2]), std::min(t[3], c[3])};
+        const double overlap = o[0] < o[1] && o[2] < o[3] ? toRectangle(px, py, o[0], o[1], o[2], o[3], 1.0) : 0.0;
+        return toRectangle(px, py, t[0], t[1], t[2], t[3], 1.0) + toRectangle(px, py, c[0], c[1], c[2], c[3], 1.0) - overlap;
+    };
+    const double square[4] = {image(-0.05, px, 0.9), image(0.05, px, 0.9), image(-0.05, py, 0.9), image(0.05, py, 0.9)};
+    const double quarter[4] = {image(0.0, px, 0.9), image(0.05, px, 0.9), image(0.0, py, 0.9), image(0.05, py, 0.9)};
+    ShadowPolygons::Scratch scratch;
+    {
+        Setup s;
+        PatchId e, r;
+        make(true, s, e, r);
+        CHECK(s.shadows.size() == 4);  // the four tiles merged; the other blocker, the emitter, the receiver
+        const double visible = s.shadows.visibleFactor(x, n, s.geometry.polygon(r), 4, e, r, whole, scratch);
+        CHECK(scratch.shadows == 2);
+        CHECK(visible == doctest::Approx(whole - hidden(square)).epsilon(1e-12));
+    }
+    {
+        Setup s;
+        PatchId e, r;
+        make(false, s, e, r);
+        CHECK(s.shadows.size() == 6);  // the L is not convex: three tiles; the other blocker, the emitter, the receiver
+        const double visible = s.shadows.visibleFactor(x, n, s.geometry.polygon(r), 4, e, r, whole, scratch);
+        // The L hides the square's shadow but the quarter's part outside C's.
+        const double o[4] = {std::max(quarter[0], c[0]), std::min(quarter[1], c[1]), std::max(quarter[2], c[2]),
+                             std::min(quarter[3], c[3])};
+        const double quarterOutsideC = toRectangle(px, py, quarter[0], quarter[1], quarter[2], quarter[3], 1.0) -
+                                       (o[0] < o[1] && o[2] < o[3] ? toRectangle(px, py, o[0], o[1], o[2], o[3], 1.0) : 0.0);
+        CHECK(visible == doctest::Approx(whole - hidden(square) + quarterOutsideC).epsilon(1e-12));
+    }
 }

@@ -100,11 +100,11 @@ void HemisphereBackend::prepare(const Scene& scene) {
     m_splitLevels = m_options.jitter ? 2 : 1;
     m_geometry.build(scene);
     if (m_farRatio > 0.0) m_far.build(m_geometry);
+    m_geometry.buildNeighbours(scene);
     // Exact partial visibility where one shadow ray's verdict could move the pair by more than a
     // tenth of the pair tolerance in absolute terms (each row sums to at most 1).
     m_shadows.build(m_geometry, blocks);
     m_exactAbove = m_visibility ? 0.1 * tolerance : std::numeric_limits<double>::infinity();
-    buildNeighbours(scene);
     if (m_mirrors && m_options.mirrorEstimator == MirrorEstimator::Images) {
         std::vector<Reflector> reflectors;
         m_imagesRefused = findReflectors(scene, reflectors);
@@ -278,52 +278,6 @@ void HemisphereBackend::castRays(PatchId i, Workspace& ws, RayCounts& counts) co
     counts.lostWeight += double(lost) * rowWeight;
 }
 
-void HemisphereBackend::buildNeighbours(const Scene& scene) {
-    // Patches sharing a corner position, within a tolerance of the scene's scale: generators repeat
-    // vertices and compute shared corners by different float expressions (0.1 * 3 != 0.3).
-    Vec3 lo, hi;
-    scene.bounds(lo, hi);
-    const double tolerance = std::max(1e-9 * (hi - lo).norm(), 1e-300);
-    auto cell = [&](const Vec3& p) {
-        return std::array<std::int64_t, 3>{std::llround(p.x() / tolerance / 4), std::llround(p.y() / tolerance / 4),
-                                           std::llround(p.z() / tolerance / 4)};
-    };
-    struct Hash {
-        std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
-            return std::size_t(k[0]) * 0x9e3779b97f4a7c15ULL ^ std::size_t(k[1]) * 0xc2b2ae3d27d4eb4fULL ^ std::size_t(k[2]);
-        }
-    };
-    // Cells 4 tolerances wide: two corners within the tolerance lie in the same or adjacent cells.
-    std::unordered_map<std::array<std::int64_t, 3>, std::vector<std::pair<PatchId, Vec3>>, Hash> grid;
-    for (PatchId j = 0; j < scene.size(); ++j)
-        for (std::uint32_t k = 0; k < m_geometry.shapes[j].count; ++k) {
-            const Vec3& p = m_geometry.corners[m_geometry.shapes[j].first + k];
-            grid[cell(p)].emplace_back(j, p);
-        }
-    std::vector<std::vector<PatchId>> lists(scene.size());
-    for (PatchId j = 0; j < scene.size(); ++j)
-        for (std::uint32_t k = 0; k < m_geometry.shapes[j].count; ++k) {
-            const Vec3& p = m_geometry.corners[m_geometry.shapes[j].first + k];
-            const auto c = cell(p);
-            for (std::int64_t dx = -1; dx <= 1; ++dx)
-                for (std::int64_t dy = -1; dy <= 1; ++dy)
-                    for (std::int64_t dz = -1; dz <= 1; ++dz) {
-                        const auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
-                        if (it == grid.end()) continue;
-                        for (const auto& [other, q] : it->second)
-                            if (other != j && (q - p).norm() <= tolerance) lists[j].push_back(other);
-                    }
-        }
-    m_geometry.neighbourStart.assign(1, 0);
-    m_geometry.neighbours.clear();
-    for (std::vector<PatchId>& list : lists) {
-        std::sort(list.begin(), list.end());
-        list.erase(std::unique(list.begin(), list.end()), list.end());
-        m_geometry.neighbours.insert(m_geometry.neighbours.end(), list.begin(), list.end());
-        m_geometry.neighbourStart.push_back(static_cast<std::uint32_t>(m_geometry.neighbours.size()));
-    }
-}
-
 double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& counts) const {
     // Pairs whose other patch emits first: their terms come from that patch's points, and their
     // visibility is the neighbours' status for the silhouette test below.
@@ -369,13 +323,16 @@ void HemisphereBackend::emitterRule(PatchId e, int m, Workspace& ws) const {
 }
 
 double HemisphereBackend::addFarPairs(PatchId i, Workspace& ws, RayCounts& counts) const {
-    std::vector<PatchId>& pairs = ws.byOrder[0];
+    const std::vector<PatchId>& pairs = ws.byOrder[0];
     if (pairs.empty()) return 0.0;
     const double unit = double(m_options.origins) * m_options.samples;
     const double offset = m_rays->originOffset();
+    ws.candidates.clear();  // the pairs with a shadow ray
     ws.factors.clear();
     ws.targets.clear();
-    std::size_t kept = 0;
+    ws.exact.clear();
+    ws.exactVisible.clear();
+    ws.exactWhole.clear();
     for (const PatchId j : pairs) {
         const double f = m_far.factor(m_geometry, i, j, m_scene->patches[j].area);
         if (f > m_exactAbove) {  // too large for one shadow ray: the rule's points with exact visibility
@@ -386,32 +343,37 @@ double HemisphereBackend::addFarPairs(PatchId i, Workspace& ws, RayCounts& count
                 ws.byOrder[std::size_t(m)].push_back(j);
             continue;
         }
-        pairs[kept++] = j;
+        ws.candidates.push_back(j);
         ws.factors.push_back(f);
         float local[3];
         const Vec3 aim = aimPoint(m_geometry.polygon(j), m_geometry.shapes[j].count, i, j, 0, 0);
         m_rays->toLocal(aim + offset * m_geometry.shapes[j].normal, local);
         ws.targets.insert(ws.targets.end(), local, local + 3);
     }
-    pairs.resize(kept);
-    if (pairs.empty()) return 0.0;
-    ws.blocked.assign(pairs.size(), 0);
-    if (m_visibility) {
+    ws.blocked.assign(ws.candidates.size(), 0);
+    if (m_visibility && !ws.candidates.empty()) {
         float origin[3];
         m_rays->toLocal(m_geometry.shapes[i].centroid + offset * m_geometry.shapes[i].normal, origin);
-        m_rays->occludedSegments(origin, ws.targets.data(), pairs.size(), ws.blocked.data());
-        counts.rays += pairs.size();
+        m_rays->occludedSegments(origin, ws.targets.data(), ws.candidates.size(), ws.blocked.data());
+        counts.rays += ws.candidates.size();
     }
-    for (std::size_t k = 0; k < pairs.size(); ++k) ws.status[pairs[k]] = ws.blocked[k] ? 2 : 1;
+    for (std::size_t k = 0; k < ws.candidates.size(); ++k) ws.status[ws.candidates[k]] = ws.blocked[k] ? 2 : 1;
     double sum = 0.0;
-    for (std::size_t k = 0; k < pairs.size(); ++k) {
+    for (std::size_t k = 0; k < ws.exact.size(); ++k) {
+        ws.status[ws.exact[k]] = ws.exactVisible[k] >= 0.5 * ws.exactWhole[k] ? 1 : 2;
+        if (!(ws.exactVisible[k] > 0.0)) continue;
+        ws.row.addWeight(ws.exact[k], ws.exactVisible[k] * unit);
+        sum += ws.exactVisible[k] * unit;
+    }
+    for (std::size_t k = 0; k < ws.candidates.size(); ++k) {
+        const PatchId j = ws.candidates[k];
         // A receiver on a silhouette goes to the centroid pass, which splits it.
-        if (m_geometry.onSilhouette(pairs[k], ws.status)) {
-            ws.ruled[pairs[k]] = 0;
+        if (m_geometry.onSilhouette(j, ws.status)) {
+            ws.ruled[j] = 0;
             continue;
         }
         if (ws.blocked[k] || !(ws.factors[k] > 0.0)) continue;
-        ws.row.addWeight(pairs[k], ws.factors[k] * unit);
+        ws.row.addWeight(j, ws.factors[k] * unit);
         sum += ws.factors[k] * unit;
     }
     return sum;

@@ -92,7 +92,6 @@ private:
     /// polygon's centre, or with jitter a random point drawn from (e, r, point, piece) alone.
     Vec3 aimPoint(const Vec3* polygon, std::size_t corners, PatchId e, PatchId r, std::uint32_t point,
                   std::uint32_t piece) const;
-    void buildNeighbours(const Scene& scene);
 
     HemisphereOptions m_options;
     CommonOptions m_common;

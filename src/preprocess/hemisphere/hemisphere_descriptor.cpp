@@ -48,7 +48,8 @@ RunDescription describe(const Scene& scene, const MethodSettings& s) {
     if (analytic) {
         std::string refused;
         const bool images = mirrorImages(scene, o, &refused);
-        d.settings = std::string("analytic estimator (Lambert factors, one shadow ray per pair where some patch can obstruct") +
+        d.settings = std::string("analytic estimator (Lambert factors; where some patch can obstruct, the exact visible part for "
+                                 "terms above 1e-") + std::to_string(o.pairDigits + 1) + " and one shadow ray for the rest" +
                      (images ? std::string("; mirror terms by virtual images, no directions cast")
                       : scene.hasMirrors()
                           ? "; " + std::to_string(o.samples) + " directions carry the mirror chains" +

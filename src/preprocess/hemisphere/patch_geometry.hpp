@@ -36,6 +36,10 @@ struct PatchGeometry {
     }
     const Vec3* polygon(PatchId j) const { return &corners[shapes[j].first]; }
 
+    /// Fills neighbourStart and neighbours: patches sharing a corner position within 1e-9 of the
+    /// scene's size (generators compute shared corners by different float expressions). After build().
+    void buildNeighbours(const Scene& scene);
+
     /// Whether a mesh neighbour of j has a visibility status (0 = not aimed at) other than j's:
     /// j sits on a silhouette and is split into pieces.
     bool onSilhouette(PatchId j, const std::vector<std::uint8_t>& status) const {

@@ -65,15 +65,145 @@ void clipToPlane(const std::vector<Vec3>& poly, const Vec3& m, double d, std::ve
     }
 }
 
+/// Cuts the counter-clockwise 2D polygon shadow[0..2 sides) out of every clear piece of s.pieces
+/// that it overlaps: each piece's parts outside the shadow's edges, one edge after the other, stay
+/// clear; pieces below `smallest` in (twice the) area are dropped.
+void subtract(const double* shadow, std::size_t sides, double smallest, ShadowPolygons::Scratch& s) {
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    for (std::size_t c = 0; c < sides; ++c)
+        for (int a = 0; a < 2; ++a) {
+            lo[a] = std::min(lo[a], shadow[2 * c + a]);
+            hi[a] = std::max(hi[a], shadow[2 * c + a]);
+        }
+    s.nextPieces.clear();
+    for (std::size_t at = 0; at < s.pieces.size();) {
+        const std::size_t k = std::size_t(s.pieces[at]);
+        const double* piece = &s.pieces[at + 1];
+        double plo[2] = {1e300, 1e300}, phi[2] = {-1e300, -1e300};
+        for (std::size_t c = 0; c < k; ++c)
+            for (int a = 0; a < 2; ++a) {
+                plo[a] = std::min(plo[a], piece[2 * c + a]);
+                phi[a] = std::max(phi[a], piece[2 * c + a]);
+            }
+        if (phi[0] <= lo[0] || plo[0] >= hi[0] || phi[1] <= lo[1] || plo[1] >= hi[1]) {
+            s.nextPieces.insert(s.nextPieces.end(), piece - 1, piece + 2 * k);
+        } else {
+            s.inside.assign(piece, piece + 2 * k);
+            for (std::size_t c = 0; c < sides && s.inside.size() >= 6; ++c) {
+                splitByLine(s.inside.data(), s.inside.size() / 2, &shadow[2 * c], &shadow[2 * ((c + 1) % sides)], s.rest,
+                            s.outside);
+                s.inside.swap(s.rest);
+                if (s.outside.size() >= 6 && std::abs(doubleArea(s.outside.data(), s.outside.size() / 2)) > smallest) {
+                    s.nextPieces.push_back(double(s.outside.size() / 2));
+                    s.nextPieces.insert(s.nextPieces.end(), s.outside.begin(), s.outside.end());
+                }
+            }
+        }
+        at += 1 + 2 * k;
+    }
+    s.pieces.swap(s.nextPieces);
+}
+
 }  // namespace
+
+void ShadowPolygons::addBlocker(const Vec3* corners, std::size_t count, PatchId owner) {
+    m_corners.insert(m_corners.end(), corners, corners + count);
+    m_first.push_back(std::uint32_t(m_corners.size()));
+    m_owner.push_back(owner);
+    m_centre.push_back(vertexMean(corners, count));
+}
 
 void ShadowPolygons::build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks) {
     m_geometry = &geometry;
+    m_corners.clear();
+    m_first.assign(1, 0);
+    m_owner.clear();
+    m_centre.clear();
     m_items.clear();
     m_nodes.clear();
-    for (PatchId j = 0; j < blocks.size(); ++j)
-        if (blocks[j]) m_items.push_back(j);
-    if (m_items.empty()) return;
+    // Components of blockers that share a corner position and a plane (union-find).
+    const std::size_t n = blocks.size();
+    std::vector<PatchId> root(n);
+    for (PatchId j = 0; j < n; ++j) root[j] = j;
+    auto find = [&](PatchId j) {
+        while (root[j] != j) j = root[j] = root[root[j]];
+        return j;
+    };
+    auto coplanar = [&](PatchId a, PatchId b) {
+        const PatchShape& p = geometry.shapes[a];
+        const PatchShape& q = geometry.shapes[b];
+        return p.normal.dot(q.normal) > 1.0 - 1e-12 &&
+               std::abs(p.normal.dot(q.centroid - p.centroid)) <= 1e-9 * (p.radius + q.radius);
+    };
+    for (PatchId j = 0; j < n; ++j) {
+        if (!blocks[j]) continue;
+        for (std::uint32_t e = geometry.neighbourStart[j]; e < geometry.neighbourStart[j + 1]; ++e) {
+            const PatchId k = geometry.neighbours[e];
+            if (blocks[k] && coplanar(j, k)) root[find(j)] = find(k);
+        }
+    }
+    std::vector<std::vector<PatchId>> groups(n);
+    for (PatchId j = 0; j < n; ++j)
+        if (blocks[j]) groups[find(j)].push_back(j);
+    // A group whose convex hull has the area of its tiles is that hull; else its tiles stay.
+    std::vector<std::array<double, 2>> points, hull;
+    std::vector<Vec3> lifted;
+    for (const std::vector<PatchId>& group : groups) {
+        if (group.empty()) continue;
+        if (group.size() > 1) {
+            const Vec3& normal = geometry.shapes[group[0]].normal;
+            const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+            const Vec3 u = normal.cross(helper).normalized(), v = normal.cross(u);
+            const Vec3 origin = geometry.shapes[group[0]].centroid;
+            points.clear();
+            double tiles = 0.0;
+            for (const PatchId j : group) {
+                const PatchShape& t = geometry.shapes[j];
+                const std::size_t before = points.size();
+                for (std::uint32_t c = 0; c < t.count; ++c) {
+                    const Vec3 d = geometry.corners[t.first + c] - origin;
+                    points.push_back({d.dot(u), d.dot(v)});
+                }
+                for (std::size_t c = before; c < points.size(); ++c) {
+                    const auto& a = points[c];
+                    const auto& b = points[c + 1 < points.size() ? c + 1 : before];
+                    tiles += a[0] * b[1] - b[0] * a[1];
+                }
+            }
+            // Andrew's monotone chain, counter-clockwise, collinear corners dropped.
+            std::sort(points.begin(), points.end());
+            hull.assign(2 * points.size(), {0.0, 0.0});
+            std::size_t k = 0;
+            auto turn = [](const std::array<double, 2>& o, const std::array<double, 2>& a, const std::array<double, 2>& b) {
+                return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+            };
+            for (std::size_t i = 0; i < points.size(); ++i) {
+                while (k >= 2 && turn(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+                hull[k++] = points[i];
+            }
+            for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
+                while (k >= lower && turn(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+                hull[k++] = points[i];
+            }
+            hull.resize(k - 1);
+            double area = 0.0;
+            for (std::size_t c = 0; c < hull.size(); ++c) {
+                const auto& a = hull[c];
+                const auto& b = hull[(c + 1) % hull.size()];
+                area += a[0] * b[1] - b[0] * a[1];
+            }
+            if (hull.size() >= 3 && std::abs(area - std::abs(tiles)) <= 1e-9 * std::abs(tiles)) {
+                lifted.clear();
+                for (const auto& h : hull) lifted.push_back(origin + h[0] * u + h[1] * v);
+                addBlocker(lifted.data(), lifted.size(), kMerged);
+                continue;
+            }
+        }
+        for (const PatchId j : group) addBlocker(geometry.polygon(j), geometry.shapes[j].count, j);
+    }
+    if (m_owner.empty()) return;
+    m_items.resize(m_owner.size());
+    for (std::uint32_t b = 0; b < m_items.size(); ++b) m_items[b] = b;
     m_nodes.reserve(2 * m_items.size());
     buildNode(0, std::uint32_t(m_items.size()));
 }
@@ -84,13 +214,13 @@ std::uint32_t ShadowPolygons::buildNode(std::uint32_t first, std::uint32_t count
     Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
     Vec3 clo = lo, chi = hi;
     for (std::uint32_t k = first; k < first + count; ++k) {
-        const PatchShape& s = m_geometry->shapes[m_items[k]];
-        for (std::uint32_t c = 0; c < s.count; ++c) {
-            lo = lo.cwiseMin(m_geometry->corners[s.first + c]);
-            hi = hi.cwiseMax(m_geometry->corners[s.first + c]);
+        const std::uint32_t b = m_items[k];
+        for (std::uint32_t c = m_first[b]; c < m_first[b + 1]; ++c) {
+            lo = lo.cwiseMin(m_corners[c]);
+            hi = hi.cwiseMax(m_corners[c]);
         }
-        clo = clo.cwiseMin(s.centroid);
-        chi = chi.cwiseMax(s.centroid);
+        clo = clo.cwiseMin(m_centre[b]);
+        chi = chi.cwiseMax(m_centre[b]);
     }
     m_nodes[index].lo = lo;
     m_nodes[index].hi = hi;
@@ -103,13 +233,44 @@ std::uint32_t ShadowPolygons::buildNode(std::uint32_t first, std::uint32_t count
     (chi - clo).maxCoeff(&axis);
     const std::uint32_t half = count / 2;
     std::nth_element(m_items.begin() + first, m_items.begin() + first + half, m_items.begin() + first + count,
-                     [&](PatchId a, PatchId b) {
-                         return m_geometry->shapes[a].centroid[axis] < m_geometry->shapes[b].centroid[axis];
-                     });
+                     [&](std::uint32_t a, std::uint32_t b) { return m_centre[a][axis] < m_centre[b][axis]; });
     buildNode(first, half);  // at index + 1
     const std::uint32_t right = buildNode(first + half, count - half);
     m_nodes[index].right = right;
     return index;
+}
+
+template <class Visit>
+void ShadowPolygons::traverse(const Vec3* m, const double* d, std::size_t planes, double tolerance, PatchId e, PatchId r,
+                              Scratch& s, Visit visit) const {
+    s.stack.assign(1, 0);
+    while (!s.stack.empty()) {
+        const std::uint32_t at = s.stack.back();
+        const Node& node = m_nodes[at];
+        s.stack.pop_back();
+        const Vec3 centre = 0.5 * (node.lo + node.hi), half = 0.5 * (node.hi - node.lo);
+        bool outside = false;
+        for (std::size_t k = 0; k < planes && !outside; ++k)
+            outside = m[k].dot(centre) - d[k] + m[k].cwiseAbs().dot(half) <= tolerance;
+        if (outside) continue;
+        if (node.count == 0) {
+            s.stack.push_back(node.right);
+            s.stack.push_back(at + 1);
+            continue;
+        }
+        for (std::uint32_t item = node.first; item < node.first + node.count; ++item) {
+            const std::uint32_t b = m_items[item];
+            if (m_owner[b] == e || m_owner[b] == r) continue;
+            const Vec3* corners = &m_corners[m_first[b]];
+            const std::uint32_t cornerCount = m_first[b + 1] - m_first[b];
+            bool away = false;  // all corners outside one plane
+            for (std::size_t k = 0; k < planes && !away; ++k) {
+                away = true;
+                for (std::uint32_t c = 0; c < cornerCount && away; ++c) away = m[k].dot(corners[c]) - d[k] <= tolerance;
+            }
+            if (!away && !visit(corners, cornerCount)) return;
+        }
+    }
 }
 
 double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t count, PatchId e,
@@ -129,7 +290,7 @@ double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p
     std::array<Vec3, kMaxPlanes> m;
     std::array<double, kMaxPlanes> d;
     std::size_t planes = 0;
-    for (std::size_t k = 0; k < count && planes + 1 < kMaxPlanes; ++k) {
+    for (std::size_t k = 0; k < count && planes + 2 < kMaxPlanes; ++k) {
         Vec3 side = (p[k] - x).cross(p[(k + 1) % count] - x);
         const double length = side.norm();
         if (!(length > 0.0)) continue;
@@ -140,106 +301,68 @@ double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p
     }
     m[planes] = normal;
     d[planes++] = offset + tolerance;
+    m[planes] = n;  // and the emitter's: what lies in x's own plane casts no shadow either
+    d[planes++] = n.dot(x) + tolerance;
 
-    // The receiver in 2D coordinates of its plane (origin p[0]), counter-clockwise.
+    // 2D coordinates in the receiver's plane (origin p[0]); the receiver itself, counter-clockwise,
+    // becomes the first clear piece when the first shadow falls (most cones hold no blocker).
     const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
     const Vec3 u = normal.cross(helper).normalized(), v = normal.cross(u);
     const Vec3 origin = p[0];
-    s.pieces.assign(1, double(count));
-    for (std::size_t k = 0; k < count; ++k) {
-        s.pieces.push_back((p[k] - origin).dot(u));
-        s.pieces.push_back((p[k] - origin).dot(v));
-    }
-    const double area = doubleArea(&s.pieces[1], count);
-    if (area < 0.0) reverse2D(&s.pieces[1], count);
-    const double smallest = 1e-12 * std::abs(area);
-    if (!(smallest > 0.0)) return whole;
+    double smallest = 0.0;  // pieces below this area are dropped; 0 until the receiver is set up
 
-    s.stack.assign(1, 0);
     bool clear = true;  // some of the receiver still clear
-    while (!s.stack.empty() && clear) {
-        const Node& node = m_nodes[s.stack.back()];
-        const std::uint32_t at = s.stack.back();
-        s.stack.pop_back();
-        const Vec3 centre = 0.5 * (node.lo + node.hi), half = 0.5 * (node.hi - node.lo);
-        bool outside = false;
-        for (std::size_t k = 0; k < planes && !outside; ++k)
-            outside = m[k].dot(centre) - d[k] + m[k].cwiseAbs().dot(half) <= tolerance;
-        if (outside) continue;
-        if (node.count == 0) {
-            s.stack.push_back(node.right);
-            s.stack.push_back(at + 1);
-            continue;
-        }
-        for (std::uint32_t item = node.first; item < node.first + node.count && clear; ++item) {
-            const PatchId b = m_items[item];
-            if (b == e || b == r) continue;
-            const PatchShape& shape = m_geometry->shapes[b];
-            const Vec3* corners = m_geometry->polygon(b);
-            bool away = false;  // all corners outside one plane of the cone
-            for (std::size_t k = 0; k < planes && !away; ++k) {
-                away = true;
-                for (std::uint32_t c = 0; c < shape.count && away; ++c) away = m[k].dot(corners[c]) - d[k] <= tolerance;
-            }
-            if (away) continue;
+    traverse(m.data(), d.data(), planes, tolerance, e, r, s, [&](const Vec3* corners, std::uint32_t cornerCount) {
             // The blocker's part inside the cone, projected from x onto the receiver's plane.
-            s.cut.assign(corners, corners + shape.count);
+            s.cut.assign(corners, corners + cornerCount);
             for (std::size_t k = 0; k < planes && s.cut.size() >= 3; ++k) {
                 clipToPlane(s.cut, m[k], d[k], s.cutNext);
                 s.cut.swap(s.cutNext);
             }
-            if (s.cut.size() < 3) continue;
+            if (s.cut.size() < 3) return true;
             s.shadow.clear();
-            double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+            s.image.clear();
             for (const Vec3& y : s.cut) {
                 const double gap = std::max(height - (normal.dot(y) - offset), 1e-12 * height);
-                const Vec3 image = x + (y - x) * (height / gap) - origin;
-                const double q[2] = {image.dot(u), image.dot(v)};
-                for (int a = 0; a < 2; ++a) {
-                    lo[a] = std::min(lo[a], q[a]);
-                    hi[a] = std::max(hi[a], q[a]);
+                s.image.push_back(x + (y - x) * (height / gap));
+                s.shadow.push_back((s.image.back() - origin).dot(u));
+                s.shadow.push_back((s.image.back() - origin).dot(v));
+            }
+            if (smallest == 0.0) {
+                s.pieces.assign(1, double(count));
+                for (std::size_t k = 0; k < count; ++k) {
+                    s.pieces.push_back((p[k] - origin).dot(u));
+                    s.pieces.push_back((p[k] - origin).dot(v));
                 }
-                s.shadow.insert(s.shadow.end(), q, q + 2);
+                const double area = doubleArea(&s.pieces[1], count);
+                if (area < 0.0) reverse2D(&s.pieces[1], count);
+                smallest = 1e-12 * std::abs(area);
+                if (!(smallest > 0.0)) {  // a receiver without area: no shadow counts
+                    s.shadows = 0;
+                    return false;
+                }
             }
             const std::size_t sides = s.shadow.size() / 2;
             const double shadowArea = doubleArea(s.shadow.data(), sides);
-            if (std::abs(shadowArea) <= smallest) continue;
+            if (std::abs(shadowArea) <= smallest) return true;
             if (shadowArea < 0.0) reverse2D(s.shadow.data(), sides);
-            ++s.shadows;
-            // Cut the shadow out of every clear piece it overlaps: each piece's parts outside the
-            // shadow's edges, one edge after the other, stay clear.
-            s.nextPieces.clear();
-            for (std::size_t at2 = 0; at2 < s.pieces.size();) {
-                const std::size_t k = std::size_t(s.pieces[at2]);
-                const double* piece = &s.pieces[at2 + 1];
-                double plo[2] = {1e300, 1e300}, phi[2] = {-1e300, -1e300};
-                for (std::size_t c = 0; c < k; ++c)
-                    for (int a = 0; a < 2; ++a) {
-                        plo[a] = std::min(plo[a], piece[2 * c + a]);
-                        phi[a] = std::max(phi[a], piece[2 * c + a]);
-                    }
-                if (phi[0] <= lo[0] || plo[0] >= hi[0] || phi[1] <= lo[1] || plo[1] >= hi[1]) {
-                    s.nextPieces.insert(s.nextPieces.end(), s.pieces.begin() + std::ptrdiff_t(at2),
-                                        s.pieces.begin() + std::ptrdiff_t(at2 + 1 + 2 * k));
-                } else {
-                    s.inside.assign(piece, piece + 2 * k);
-                    for (std::size_t c = 0; c < sides && s.inside.size() >= 6; ++c) {
-                        splitByLine(s.inside.data(), s.inside.size() / 2, &s.shadow[2 * c],
-                                    &s.shadow[2 * ((c + 1) % sides)], s.rest, s.outside);
-                        s.inside.swap(s.rest);
-                        if (s.outside.size() >= 6 && std::abs(doubleArea(s.outside.data(), s.outside.size() / 2)) > smallest) {
-                            s.nextPieces.push_back(double(s.outside.size() / 2));
-                            s.nextPieces.insert(s.nextPieces.end(), s.outside.begin(), s.outside.end());
-                        }
-                    }
-                }
-                at2 += 1 + 2 * k;
+            // One shadow (the usual case): kept whole, visible = whole - its factor. From the second
+            // on, the clear part is kept as pieces, each shadow cut out of them.
+            if (++s.shadows == 1) {
+                s.first.swap(s.image);
+                s.firstShadow.swap(s.shadow);
+                return true;
             }
-            s.pieces.swap(s.nextPieces);
+            if (s.shadows == 2) subtract(s.firstShadow.data(), s.firstShadow.size() / 2, smallest, s);
+            subtract(s.shadow.data(), sides, smallest, s);
             clear = !s.pieces.empty();
-        }
-    }
+            return clear;
+    });
     if (s.shadows == 0) return whole;
+    if (s.shadows == 1) {
+        const double visible = whole - pointToPolygonFactor(x, n, s.first.data(), s.first.size());
+        return visible > 1e-12 * whole ? visible : 0.0;
+    }
     double factor = 0.0;
     for (std::size_t at = 0; at < s.pieces.size();) {
         const std::size_t k = std::size_t(s.pieces[at]);

@@ -23,15 +23,19 @@ public:
         std::vector<std::uint32_t> stack;
         std::vector<Vec3> cut, cutNext;           // a blocker clipped to the cone
         std::vector<double> pieces, nextPieces;   // clear convex pieces, 2D, as (count, x0, y0, x1, ...)
-        std::vector<double> shadow, inside, outside, rest;
+        std::vector<double> shadow, firstShadow, inside, outside, rest;
+        std::vector<Vec3> image, first;           // the shadow's corners on the receiver (3D)
         std::vector<Vec3> lifted;
         std::size_t shadows = 0;                  // shadows met by the last call
     };
 
-    /// The tree over the patches with blocks[j] != 0 of `geometry` (kept by reference).
+    /// The tree over the patches with blocks[j] != 0 of `geometry` (its neighbours built). Connected
+    /// coplanar blockers whose union is convex (a subdivided face) become one blocker polygon: one
+    /// shadow instead of a tile per patch.
     void build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks);
-    bool empty() const { return m_items.empty(); }
-    std::size_t size() const { return m_items.size(); }
+    bool empty() const { return m_owner.empty(); }
+    /// Blocker polygons (after merging).
+    std::size_t size() const { return m_owner.size(); }
 
     /// Lambert's factor from x (unit normal n) to the part of the convex polygon p[0..count) that no
     /// blocker other than patches e and r hides from x. p is receiver r's polygon or its part above
@@ -40,15 +44,26 @@ public:
                          double whole, Scratch& scratch) const;
 
 private:
+    /// Calls visit(corners, count) for each blocker other than e and r that no plane (m, d) leaves
+    /// entirely outside (m . y - d <= tolerance), until visit returns false.
+    template <class Visit>
+    void traverse(const Vec3* m, const double* d, std::size_t planes, double tolerance, PatchId e, PatchId r,
+                  Scratch& s, Visit visit) const;
     struct Node {
         Vec3 lo, hi;
         std::uint32_t first = 0, count = 0;  ///< items of a leaf (count > 0)
         std::uint32_t right = 0;             ///< an inner node's second child (the first follows it)
     };
     std::uint32_t buildNode(std::uint32_t first, std::uint32_t count);
+    void addBlocker(const Vec3* corners, std::size_t count, PatchId owner);
 
-    const PatchGeometry* m_geometry = nullptr;
-    std::vector<PatchId> m_items;
+    static constexpr PatchId kMerged = ~PatchId(0);
+    const PatchGeometry* m_geometry = nullptr;  ///< for the receivers' planes
+    std::vector<Vec3> m_corners;         ///< blocker polygons' corners
+    std::vector<std::uint32_t> m_first;  ///< per blocker, into m_corners (one past the end appended)
+    std::vector<PatchId> m_owner;        ///< the patch a blocker is, or kMerged for a union of tiles
+    std::vector<Vec3> m_centre;          ///< per blocker, its corners' mean (for the tree's splits)
+    std::vector<std::uint32_t> m_items;  ///< blockers in tree order
     std::vector<Node> m_nodes;
 };
 
