@@ -330,9 +330,6 @@ double HemisphereBackend::addFarPairs(PatchId i, Workspace& ws, RayCounts& count
     ws.candidates.clear();  // the pairs with a shadow ray
     ws.factors.clear();
     ws.targets.clear();
-    ws.exact.clear();
-    ws.exactVisible.clear();
-    ws.exactWhole.clear();
     for (const PatchId j : pairs) {
         const double f = m_far.factor(m_geometry, i, j, m_scene->patches[j].area);
         if (f > m_exactAbove) {  // too large for one shadow ray: the rule's points with exact visibility
@@ -359,12 +356,6 @@ double HemisphereBackend::addFarPairs(PatchId i, Workspace& ws, RayCounts& count
     }
     for (std::size_t k = 0; k < ws.candidates.size(); ++k) ws.status[ws.candidates[k]] = ws.blocked[k] ? 2 : 1;
     double sum = 0.0;
-    for (std::size_t k = 0; k < ws.exact.size(); ++k) {
-        ws.status[ws.exact[k]] = ws.exactVisible[k] >= 0.5 * ws.exactWhole[k] ? 1 : 2;
-        if (!(ws.exactVisible[k] > 0.0)) continue;
-        ws.row.addWeight(ws.exact[k], ws.exactVisible[k] * unit);
-        sum += ws.exactVisible[k] * unit;
-    }
     for (std::size_t k = 0; k < ws.candidates.size(); ++k) {
         const PatchId j = ws.candidates[k];
         // A receiver on a silhouette goes to the centroid pass, which splits it.
