@@ -75,6 +75,14 @@ inline double b3(double a, double b, double c) {
            (2 * kPi);
 }
 
+/// From (px, py, 0) facing +z to the rectangle [x0, x1] x [y0, y1] at height c (B-3 per corner).
+inline double toRectangle(double px, double py, double x0, double x1, double y0, double y1, double c) {
+    auto corner = [&](double a, double b) {
+        return (a < 0 ? -1.0 : 1.0) * (b < 0 ? -1.0 : 1.0) * b3(std::abs(a), std::abs(b), c);
+    };
+    return corner(x1 - px, y1 - py) - corner(x0 - px, y1 - py) - corner(x1 - px, y0 - py) + corner(x0 - px, y0 - py);
+}
+
 constexpr double kCubeOpposite = 0.1998248957;
 constexpr double kCubeAdjacent = 0.2000437761;
 

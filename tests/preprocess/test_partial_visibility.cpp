@@ -19,14 +19,6 @@ FormFactorRun analyticF(const Scene& s) {
     return computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
 }
 
-/// From (px, py, 0) facing +z to the rectangle [x0, x1] x [y0, y1] at height c (B-3 per corner).
-double toRectangle(double px, double py, double x0, double x1, double y0, double y1, double c) {
-    auto corner = [&](double a, double b) {
-        return (a < 0 ? -1.0 : 1.0) * (b < 0 ? -1.0 : 1.0) * b3(std::abs(a), std::abs(b), c);
-    };
-    return corner(x1 - px, y1 - py) - corner(x0 - px, y1 - py) - corner(x1 - px, y0 - py) + corner(x0 - px, y0 - py);
-}
-
 /// The square plates [-0.5, 0.5]^2 at z = 0 and z = 1 (n x n patches each) with a square blocker of
 /// side 0.1 centred at z = 0.9; returns the plates' first patch ids.
 Scene platesWithBlocker(int n, PatchId& lower, PatchId& upper) {
