@@ -4,8 +4,11 @@
 #include "engine/error.hpp"
 #include "engine/threads.hpp"
 #include "preprocess/backend_registry.hpp"
+#include "gl/gl_api.hpp"
 #include "gl/gl_context.hpp"
 #include "preprocess/hemicube/hemicube_renderer.hpp"
+#include "preprocess/hemisphere/emitter_rule.hpp"
+#include "preprocess/hemisphere/point_polygon.hpp"
 #include "preprocess/row_accumulator.hpp"
 
 #include <atomic>
@@ -16,9 +19,26 @@
 
 namespace hemirad {
 
+bool isSoftwareRenderer(std::string_view renderer) {
+    for (const std::string_view name : {"llvmpipe", "softpipe", "swrast", "Software Rasterizer"})
+        if (renderer.find(name) != std::string_view::npos) return true;
+    return false;
+}
+
+int hemicubeWorkers(std::string_view renderer, int requested, int cores) {
+    if (requested > 0) return requested;
+    return isSoftwareRenderer(renderer) ? std::max(1, cores) : 1;
+}
+
+std::uint32_t hemicubeOriginPoints(std::uint32_t origins) {
+    const auto m = static_cast<std::uint32_t>(farOrder(origins));
+    return m * m;
+}
+
 HemicubeBackend::HemicubeBackend(const HemicubeOptions& options, const CommonOptions& common)
     : m_options(options), m_common(common) {
     m_layout = std::make_unique<HemicubeLayout>(options.resolution);
+    if (options.origins > 1) gaussLegendre(farOrder(options.origins), m_nodes, m_nodeWeights);
 }
 
 HemicubeBackend::~HemicubeBackend() = default;
@@ -27,11 +47,13 @@ void HemicubeBackend::prepare(const Scene& scene) {
     m_scene = &scene;
     m_geometry = HemicubeGeometry::build(scene, m_options.parentPolygons);
     if (scene.hasMirrors() && m_options.mirrors == HemicubeMirrors::Rays) m_rays = std::make_unique<RayScene>(scene, m_common.threads);
-    m_workers = resolveThreads(m_common.threads);
-    // Fail here, before any work, if no context can be made.
+    // Fail here, before any work, if no context can be made; the renderer decides the worker count.
     auto context = createHeadlessContext(m_options.gl);
     context->makeCurrent();
+    const auto* renderer = reinterpret_cast<const char*>(gl::GetString(GL_RENDERER));
+    m_renderer = renderer ? renderer : "unknown";
     context->release();
+    m_workers = hemicubeWorkers(m_renderer, m_common.threads, resolveThreads(0));
 }
 
 FormFactorProvenance HemicubeBackend::provenance() const {
@@ -48,8 +70,13 @@ std::map<std::string, std::string> HemicubeBackend::parameters() const {
             {"mirrors", text("--mirrors")},
             {"min_weight", std::to_string(m_common.minWeight)},
             {"resolution", std::to_string(m_options.resolution)},
+            {"origins", std::to_string(hemicubeOriginPoints(m_options.origins))},
             {"reduce", text("--reduce")},
             {"gl", text("--gl")},
+            {"device", m_renderer + ", " + std::to_string(m_workers) + (m_workers == 1 ? " GL context" : " GL contexts") +
+                           (m_common.threads > 0 ? " (--threads)"
+                                                 : isSoftwareRenderer(m_renderer) ? " (software renderer: one per core)"
+                                                                                  : " (GPU: one context)")},
             {"parent_polygons", m_geometry.patchesInParents ? "yes" : "no"},
             {"delta_form_factors", "Cohen-Greenberg, normalised"}};
 }
@@ -71,6 +98,8 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
                 HemicubeRenderer renderer(*m_scene, m_geometry, *m_layout, reduction, limits);
                 RowAccumulator row(m_scene->size(), RowAccumulator::Mode::Weights);
                 HemicubeStats stats;
+                std::vector<Vec3> corners, points;
+                std::vector<double> weights;
                 PatchId i = 0;
                 for (;;) {
                     {
@@ -78,7 +107,19 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
                         if (failure) break;
                     }
                     if (builder.cancelled() || !rows.next(i)) break;
-                    renderer.computeRow(i, row, stats);
+                    if (m_nodes.empty()) {
+                        renderer.computeRow(i, row, stats);
+                    } else {
+                        const Patch& p = m_scene->patches[i];
+                        corners.clear();
+                        for (std::uint32_t k = 0; k < p.cornerCount; ++k)
+                            corners.push_back(m_scene->corner(p, k));
+                        points.clear();
+                        weights.clear();
+                        polygonQuadrature(corners.data(), corners.size(), m_nodes, m_nodeWeights, points, weights);
+                        for (std::size_t k = 0; k < points.size(); ++k)
+                            renderer.computeRow(i, points[k], weights[k], row, stats);
+                    }
                     const auto t0 = std::chrono::steady_clock::now();
                     builder.setRow(i, row.take(1.0));
                     stats.collect += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

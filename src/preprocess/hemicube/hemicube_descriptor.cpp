@@ -12,11 +12,17 @@ RunDescription describe(const Scene&, const MethodSettings& s) {
     const C& o = s.as<C>();
     const std::string reduce = findBackend(C::kMethod).option("--reduce")->get(s);
     RunDescription d;
+    const std::uint32_t points = hemicubeOriginPoints(o.origins);
     d.settings = std::to_string(o.resolution) + " x " + std::to_string(o.resolution) + " top face (" +
-                 std::to_string(3 * o.resolution * o.resolution) + " pixels), reduction on the " + reduce;
+                 std::to_string(3 * o.resolution * o.resolution) + " pixels), " +
+                 (points == 1 ? std::string("one hemicube at the centroid")
+                              : std::to_string(points) + " hemicubes per patch at Gauss-Legendre points (--origins " +
+                                    std::to_string(o.origins) + ")") +
+                 ", reduction on the " + reduce;
     d.record = {{"resolution", std::to_string(o.resolution)},
                 {"reduce", reduce},
-                {"rays_per_patch", std::to_string(3.0 * o.resolution * o.resolution)}};
+                {"origins", std::to_string(points)},
+                {"rays_per_patch", std::to_string(3.0 * o.resolution * o.resolution * points)}};
     return d;
 }
 
@@ -36,6 +42,10 @@ BackendDescriptor make() {
         choiceOption<C, HemicubeMirrors>("--mirrors", "Mirrors",
                                          "mirrors by stencil portals (default) or Embree rays from mirror pixels",
                                          &C::mirrors, {{"portals", HemicubeMirrors::Portals}, {"rays", HemicubeMirrors::Rays}}),
+        integerOption<C>("--origins", "Origins", "K",
+                         "hemicubes per patch: 1 = centroid (default); K > 1 = ceil(sqrt K)^2 Gauss-Legendre points over "
+                         "the patch, weighted (area-to-area factors next to large patches)",
+                         &C::origins, 1, 1024),
         switchOption<C>("--no-parents", "Draw every patch",
                         "draw every patch, not subdivided parents whole (reference path)", &C::parentPolygons, false),
     };
@@ -43,6 +53,7 @@ BackendDescriptor make() {
     d.validate = [](const MethodSettings& s) {
         const C& o = s.as<C>();
         if (o.resolution < 2 || o.resolution % 2) throw Error("--resolution must be an even number >= 2");
+        if (o.origins < 1) throw Error("--origins must be at least 1");
         if (o.mirrors == HemicubeMirrors::Rays && !rayCastingNotBuilt().empty())
             throw Error("--mirrors rays casts Embree rays, which are " + rayCastingNotBuilt() + "; --mirrors portals needs none");
     };
@@ -51,7 +62,7 @@ BackendDescriptor make() {
     };
     d.workPerRow = [](const Scene&, const MethodSettings& s) {
         const C& o = s.as<C>();
-        return 3.0 * o.resolution * o.resolution;
+        return 3.0 * o.resolution * o.resolution * hemicubeOriginPoints(o.origins);
     };
     d.describe = describe;
     return d;

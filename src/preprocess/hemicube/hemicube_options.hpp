@@ -20,6 +20,9 @@ struct HemicubeOptions {
     GlApiKind gl = GlApiKind::Auto;
     bool parentPolygons = true;      ///< draw subdivided parents whole, patch ids from their grids
     HemicubeMirrors mirrors = HemicubeMirrors::Portals;
+    /// Hemicubes per patch: 1 = the centroid; K > 1 = the m x m Gauss-Legendre points (m = ceil(sqrt K))
+    /// the analytic estimator uses, each hemicube weighted by its point's weight (area sampling).
+    std::uint32_t origins = 1;
 };
 
 }  // namespace hemirad

@@ -130,9 +130,10 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
 
 HemicubeRenderer::~HemicubeRenderer() = default;
 
-void HemicubeRenderer::beginRow(PatchId i) {
+void HemicubeRenderer::beginRow(PatchId i, const Vec3& origin, double weight) {
     const Patch& p = m_scene.patches[i];
-    m_eye = p.centroid - m_geometry.centre;
+    m_eye = origin - m_geometry.centre;
+    m_weight = weight;
     m_normal = p.normal;
     Vec3 t, b;
     orthonormalBasis(p.normal, t, b);
@@ -191,9 +192,10 @@ void HemicubeRenderer::readPixels(std::vector<std::uint32_t>& ids, HemicubeStats
     stats.readback += since(t0);
 }
 
-void HemicubeRenderer::computeRow(PatchId i, RowAccumulator& row, HemicubeStats& stats) {
+void HemicubeRenderer::computeRow(PatchId i, const Vec3& origin, double weight, RowAccumulator& row,
+                                  HemicubeStats& stats) {
     auto t0 = Clock::now();
-    beginRow(i);
+    beginRow(i, origin, weight);
     Pass direct;
     direct.skipCode = m_geometry.codeOfPatch[i];
     draw(direct);
@@ -213,7 +215,7 @@ void HemicubeRenderer::computeRow(PatchId i, RowAccumulator& row, HemicubeStats&
             std::vector<std::uint32_t> everything(m_pixels.size());
             for (std::size_t k = 0; k < everything.size(); ++k) everything[k] = static_cast<std::uint32_t>(k);
             const std::vector<std::uint32_t> levelIds = m_pixels;
-            traversePortals(1, levelIds, everything, Eigen::Matrix4d::Identity(), 1.0, row, stats);
+            traversePortals(1, levelIds, everything, Eigen::Matrix4d::Identity(), m_weight, row, stats);
         }
         stats.mirrors += since(t0);
     }
@@ -222,7 +224,7 @@ void HemicubeRenderer::computeRow(PatchId i, RowAccumulator& row, HemicubeStats&
 
 void HemicubeRenderer::traceMirrorPixels(PatchId i, RowAccumulator& row, HemicubeStats& stats) {
     const Patch& patch = m_scene.patches[i];
-    const Vec3 origin = patch.centroid + m_limits.rays->originOffset() * patch.normal;
+    const Vec3 origin = m_eye + m_geometry.centre + m_limits.rays->originOffset() * patch.normal;
     const float* w = m_layout.weights().data();
     const MirrorChainLimits limits{m_limits.maxDepth, m_limits.minWeight};
     RayCounts counts;
@@ -241,7 +243,7 @@ void HemicubeRenderer::traceMirrorPixels(PatchId i, RowAccumulator& row, Hemicub
                 const RayScene::Hit hit = m_limits.rays->intersect(origin, dir);
                 // Rasteriser and ray may disagree at a mirror's edge: then the pixel stays as drawn.
                 if (hit.patch == RayScene::kNoHit || !(m_scene.patches[hit.patch].specular > 0.0)) continue;
-                followMirrorChain(m_scene, *m_limits.rays, origin, dir, hit.patch, hit.t, w[k], 1.0, limits,
+                followMirrorChain(m_scene, *m_limits.rays, origin, dir, hit.patch, hit.t, w[k] * m_weight, 1.0, limits,
                                   [&row](PatchId p, double weight) { row.addWeight(p, weight); }, counts);
             }
     }
@@ -292,7 +294,8 @@ void HemicubeRenderer::traversePortals(int depth, const std::vector<std::uint32_
     for (const auto& [group, pixels] : portals) {
         const Patch& m = m_scene.patches[m_groupPatch[group]];
         const double f = factor * m.specular;
-        if (std::uint32_t(depth) > m_limits.maxDepth || f < m_limits.minWeight) {
+        // factor starts at the hemicube's weight: the cut-off is relative to it.
+        if (std::uint32_t(depth) > m_limits.maxDepth || f < m_limits.minWeight * m_weight) {
             double cut = 0.0;
             for (const std::uint32_t p : pixels) cut += w[p];
             stats.cutoffWeight += cut * f;
@@ -359,6 +362,7 @@ void HemicubeRenderer::reduceOnCpu(RowAccumulator& row, HemicubeStats& stats) {
         double sum = w[k];
         const std::size_t start = k++;
         while (k < n && ids[k] == id) sum += w[k++];
+        sum *= m_weight;
         if (id - 1u < 0xfffffffeu) {
             row.addWeight(id - 1u, sum);
         } else {
@@ -407,10 +411,11 @@ void HemicubeRenderer::reduceOnGpu(RowAccumulator& row, HemicubeStats& stats) {
     gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_touched.id());
     gl::BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zeros, zeros);
     stats.readback += since(t0);
-    for (std::uint32_t k = 0; k < count; ++k) row.addWeight(list[k], values[k] / m_fixedScale);
+    const double unit = m_weight / m_fixedScale;
+    for (std::uint32_t k = 0; k < count; ++k) row.addWeight(list[k], values[k] * unit);
     stats.missed += header[1];
     stats.backfaces += header[2];
-    stats.lostWeight += header[3] / m_fixedScale + header[4] / (m_fixedScale * kRoundedScale);
+    stats.lostWeight += (header[3] + header[4] / kRoundedScale) * unit;
 }
 
 }  // namespace hemirad

@@ -45,9 +45,14 @@ public:
                      Reduction reduction, const MirrorLimits& mirrors = {});
     ~HemicubeRenderer();
 
-    /// Draws patch i's hemicube and deposits each pixel's delta form factor on the patch it sees
-    /// (weights in `row` relative to 1 = the whole row).
-    void computeRow(PatchId i, RowAccumulator& row, HemicubeStats& stats);
+    /// Draws patch i's hemicube at its centroid and deposits each pixel's delta form factor on the
+    /// patch it sees (weights in `row` relative to 1 = the whole row).
+    void computeRow(PatchId i, RowAccumulator& row, HemicubeStats& stats) {
+        computeRow(i, m_scene.patches[i].centroid, 1.0, row, stats);
+    }
+    /// The same from the point `origin` of patch i, its deposits times `weight` (one point of an
+    /// area rule over the patch: the weights of a row's points sum to 1).
+    void computeRow(PatchId i, const Vec3& origin, double weight, RowAccumulator& row, HemicubeStats& stats);
 
     /// The id atlas of the last hemicube (patch id + 1; 0 nothing; 0xffffffff back face), rows bottom-up.
     std::vector<std::uint32_t> readIds();
@@ -62,7 +67,7 @@ private:
         bool mirrored = false;   ///< an odd number of reflections flips the winding
         bool planeTest = true;   ///< drop triangles behind the patch plane (direct pass only)
     };
-    void beginRow(PatchId i);
+    void beginRow(PatchId i, const Vec3& origin, double weight);
     void draw(const Pass& pass);
     void readPixels(std::vector<std::uint32_t>& ids, HemicubeStats& stats);
     void reduceOnCpu(RowAccumulator& row, HemicubeStats& stats);
@@ -95,7 +100,8 @@ private:
     std::vector<PatchId> m_groupPatch;
     gl::Buffer m_groups;
     std::array<HemicubeFace, 5> m_faces;  ///< the current row's face cameras
-    Vec3 m_eye = Vec3::Zero(), m_normal = Vec3::Zero();
+    Vec3 m_eye = Vec3::Zero(), m_normal = Vec3::Zero();  ///< the hemicube's centre (scene-centred) and axis
+    double m_weight = 1;  ///< the current hemicube's share of the row
     double m_near = 0;
 };
 
