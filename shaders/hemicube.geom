@@ -3,7 +3,8 @@
 // (Cohen & Greenberg 1985), one viewport of the 3R x R atlas per face. Triangles of the patch
 // itself, behind its plane, or outside a face's frustum are dropped here. (Measured on llvmpipe:
 // twice as fast for a 6,348-triangle scene as one instanced draw whose vertex stage picks the
-// viewport and leaves all culling to the clipper.)
+// viewport and leaves all culling to the clipper.) Each instance is one hemicube of a batch,
+// drawn into its own layer of the atlas array.
 //
 // Face cameras in the patch frame (x, y, z) = (t, b, n), reversed Z with an infinite far plane:
 //   top  (looks along  n): clip = (-x, y,      near,  z)   [x, y in [-1, 1] at z = 1]
@@ -20,9 +21,16 @@ in VertexData {
     vec2 parameter;
     flat uint code;
     flat uvec4 grid;
+    flat int layer;
 } gs[];
 
-uniform uint skipCode;        // the code under which the patch itself is drawn
+struct Hemicube {
+    mat4 frameFromWorld;
+    uvec4 codes;  // x: the code under which the hemicube's own patch is drawn (skipped)
+};
+layout(std430, binding = 5) readonly buffer Hemicubes {
+    Hemicube hemicubes[];
+};
 uniform float planeEpsilon;   // elevation below which a vertex counts as on the patch plane
 uniform float nearPlane;
 
@@ -47,6 +55,7 @@ void emitFace(int face, uint code, vec4 c0, vec4 c1, vec4 c2) {
     for (int k = 0; k < 3; ++k) {
         gl_Position = c[k];
         gl_ViewportIndex = face;
+        gl_Layer = gs[0].layer;
         gl_ClipDistance[0] = gs[k].clip;
         fragCode = code;
 #if HEMICUBE_KIND != 0
@@ -60,7 +69,7 @@ void emitFace(int face, uint code, vec4 c0, vec4 c1, vec4 c2) {
 
 void main() {
     const uint code = gs[0].code;
-    if (code == skipCode) return;
+    if (code == hemicubes[gs[0].layer].codes.x) return;
     const vec3 a = gs[0].frame, b = gs[1].frame, c = gs[2].frame;
     if (max(a.z, max(b.z, c.z)) <= planeEpsilon) return;
     const float n = nearPlane;

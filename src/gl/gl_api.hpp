@@ -28,6 +28,7 @@ namespace hemirad::gl {
     X(CheckFramebufferStatus, PFNGLCHECKFRAMEBUFFERSTATUSPROC)                                       \
     X(Clear, PFNGLCLEARPROC)                                                                         \
     X(ClearBufferData, PFNGLCLEARBUFFERDATAPROC)                                                     \
+    X(ClearBufferSubData, PFNGLCLEARBUFFERSUBDATAPROC)                                               \
     X(ClearBufferfi, PFNGLCLEARBUFFERFIPROC)                                                         \
     X(ClearBufferfv, PFNGLCLEARBUFFERFVPROC)                                                         \
     X(ClearBufferuiv, PFNGLCLEARBUFFERUIVPROC)                                                       \
@@ -54,6 +55,7 @@ namespace hemirad::gl {
     X(Disable, PFNGLDISABLEPROC)                                                                     \
     X(DispatchCompute, PFNGLDISPATCHCOMPUTEPROC)                                                     \
     X(DrawArrays, PFNGLDRAWARRAYSPROC)                                                               \
+    X(DrawArraysInstanced, PFNGLDRAWARRAYSINSTANCEDPROC)                                             \
     X(DrawBuffers, PFNGLDRAWBUFFERSPROC)                                                             \
     X(DrawElements, PFNGLDRAWELEMENTSPROC)                                                           \
     X(Enable, PFNGLENABLEPROC)                                                                       \
@@ -65,6 +67,7 @@ namespace hemirad::gl {
     X(FramebufferRenderbuffer, PFNGLFRAMEBUFFERRENDERBUFFERPROC)                                     \
     X(FramebufferTexture2D, PFNGLFRAMEBUFFERTEXTURE2DPROC)                                           \
     X(FramebufferTextureLayer, PFNGLFRAMEBUFFERTEXTURELAYERPROC)                                     \
+    X(FramebufferTexture, PFNGLFRAMEBUFFERTEXTUREPROC)                                               \
     X(FrontFace, PFNGLFRONTFACEPROC)                                                                 \
     X(GenBuffers, PFNGLGENBUFFERSPROC)                                                               \
     X(GenFramebuffers, PFNGLGENFRAMEBUFFERSPROC)                                                     \
@@ -80,6 +83,7 @@ namespace hemirad::gl {
     X(GetShaderiv, PFNGLGETSHADERIVPROC)                                                             \
     X(GetString, PFNGLGETSTRINGPROC)                                                                 \
     X(GetStringi, PFNGLGETSTRINGIPROC)                                                               \
+    X(GetTextureSubImage, PFNGLGETTEXTURESUBIMAGEPROC)                                               \
     X(GetUniformLocation, PFNGLGETUNIFORMLOCATIONPROC)                                               \
     X(LinkProgram, PFNGLLINKPROGRAMPROC)                                                             \
     X(MemoryBarrier, PFNGLMEMORYBARRIERPROC)                                                         \

@@ -114,6 +114,70 @@ TEST_CASE("The worker count follows the renderer: one context per core on llvmpi
     CHECK(r.F.parameters.at("device").find("llvmpipe") != std::string::npos);
 }
 
+TEST_CASE("Batched hemicubes (one instanced draw into B atlas layers) give the row-by-row F entry by entry") {
+    const Scene s = subdivide(bundledScene("cornell_box.obj"), 100.0);  // parents of all kinds of the box
+    auto run = [&](Reduction reduce, std::uint32_t batch, std::uint32_t origins) {
+        HemicubeOptions o;
+        o.resolution = 64;
+        o.reduce = reduce;
+        o.batch = batch;
+        o.origins = origins;
+        return computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
+    };
+    auto maxEntryDifference = [&](const FormFactors& a, const FormFactors& b) {
+        double worst = 0.0;
+        for (PatchId i = 0; i < s.size(); ++i)
+            for (PatchId j = 0; j < s.size(); ++j) worst = std::max(worst, std::abs(a.at(i, j) - b.at(i, j)));
+        return worst;
+    };
+    auto maxRowDifference = [&](const FormFactors& a, const FormFactors& b) {
+        double worst = 0.0;
+        for (PatchId i = 0; i < s.size(); ++i) {
+            double sum = 0.0;
+            for (PatchId j = 0; j < s.size(); ++j) sum += std::abs(a.at(i, j) - b.at(i, j));
+            worst = std::max(worst, sum);
+        }
+        return worst;
+    };
+    // 8 rows per pass; and 4 origins per row in passes of 10 layers (two rows, two layers unused).
+    for (const auto& [batch, origins] : {std::pair<std::uint32_t, std::uint32_t>{8, 1}, {10, 4}}) {
+        CAPTURE(batch);
+        const FormFactorRun rowByRow = run(Reduction::Cpu, 1, origins);
+        const FormFactorRun cpu = run(Reduction::Cpu, batch, origins);
+        const FormFactorRun gpu = run(Reduction::Gpu, batch, origins);
+        const FormFactorRun gpuRowByRow = run(Reduction::Gpu, 1, origins);
+        CHECK(cpu.F.parameters.at("batch") == std::to_string(batch));
+        CHECK(rowByRow.F.parameters.at("batch") == "1");
+        CHECK(maxEntryDifference(rowByRow.F, cpu.F) < 1e-7);
+        CHECK(maxEntryDifference(gpuRowByRow.F, gpu.F) < 1e-7);
+        // The GPU sums in 2^-31 fixed point: a row differs by at most one unit per pixel.
+        CHECK(maxRowDifference(cpu.F, gpu.F) < 1e-6);
+        CHECK(cpu.counts.misses == rowByRow.counts.misses);
+        CHECK(gpu.counts.misses == rowByRow.counts.misses);
+        CHECK(gpu.counts.lostWeight == doctest::Approx(rowByRow.counts.lostWeight).epsilon(1e-6));
+    }
+}
+
+TEST_CASE("Hemicubes per pass: by renderer, within the driver's layers and the memory budget, a row's points at least") {
+    const char* llvmpipe = "llvmpipe (LLVM 15.0.6, 256 bits)";
+    const char* gpu = "NVIDIA H100 80GB HBM3/PCIe/SSE2";
+    CHECK(hemicubeLayers(llvmpipe, 0, 128, 13000, false, 1, 2048) == 1);  // measured: batches are slower there
+    CHECK(hemicubeLayers(gpu, 0, 128, 13000, false, 1, 2048) == 256);
+    CHECK(hemicubeLayers(gpu, 0, 128, 13000, true, 1, 2048) == 256);
+    CHECK(hemicubeLayers(gpu, 0, 128, 13000, false, 1, 100) == 100);     // GL_MAX_ARRAY_TEXTURE_LAYERS
+    CHECK(hemicubeLayers(gpu, 0, 1024, 13000, false, 1, 2048) == 7);     // 37.7 MB per layer in 256 MiB
+    CHECK(hemicubeLayers(gpu, 0, 1024, 13000, false, 16, 2048) == 16);   // but a row's 16 hemicubes fit a pass
+    CHECK(hemicubeLayers(gpu, 0, 128, 10000000, true, 1, 2048) == 6);    // the GPU's dense rows for 10M patches
+    CHECK(hemicubeLayers(llvmpipe, 8, 128, 13000, false, 1, 2048) == 8); // --batch
+    CHECK(hemicubeLayers(gpu, 1, 128, 13000, false, 16, 2048) == 1);     // --batch 1: row by row
+    // A scene with mirrors goes row by row whatever --batch says, and the run says so.
+    HemicubeOptions o;
+    o.resolution = 16;
+    o.batch = 8;
+    const Scene mirrors = bundledScene("mirror_pair.obj");
+    CHECK(computeFormFactors(mirrors, MethodSettings::of(o), {0}).F.parameters.at("batch") == "1 (mirrors: row by row)");
+}
+
 TEST_CASE("Subdivided closed cube: rows sum to 1 and face-to-face factors match the closed forms") {
     const Scene s = subdivide(unitCube(), 0.125);  // 8 x 8 patches per face
     const FormFactorRun r = hemicube(s, 128);

@@ -23,6 +23,13 @@ bool isSoftwareRenderer(std::string_view renderer);
 /// an H100: 4.0 s with one context, 6.0 s with two, 35 s with sixteen for a 13k-patch box).
 int hemicubeWorkers(std::string_view renderer, int requested, int cores);
 
+/// Hemicubes drawn per pass (--batch): `requested` when given (> 0), else by renderer (software: see
+/// the definition; GPU: up to 256, so that one round trip serves many rows); at most `maxLayers` (the
+/// driver's array layers) and what fits in 256 MiB of atlas and reduction buffers; when batching,
+/// at least a row's `points` hemicubes.
+std::uint32_t hemicubeLayers(std::string_view renderer, std::uint32_t requested, std::uint32_t resolution,
+                             std::size_t patches, bool gpuReduction, std::uint32_t points, std::uint32_t maxLayers);
+
 /// Hemicubes per patch for --origins K: m x m with m = ceil(sqrt K), as the analytic estimator's rule.
 std::uint32_t hemicubeOriginPoints(std::uint32_t origins);
 
@@ -50,6 +57,8 @@ private:
     std::unique_ptr<RayScene> m_rays;  ///< for --mirrors rays
     int m_workers = 1;
     std::vector<double> m_nodes, m_nodeWeights;  ///< the Gauss-Legendre rule on [0, 1] for --origins
+    std::uint32_t m_points = 1;  ///< hemicubes per row
+    std::uint32_t m_layers = 1;  ///< hemicubes per pass
     std::string m_renderer;  ///< GL_RENDERER of the context prepare() made
 };
 

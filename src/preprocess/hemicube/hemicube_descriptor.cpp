@@ -46,6 +46,10 @@ BackendDescriptor make() {
                          "hemicubes per patch: 1 = centroid (default); K > 1 = ceil(sqrt K)^2 Gauss-Legendre points over "
                          "the patch, weighted (area-to-area factors next to large patches)",
                          &C::origins, 1, 1024),
+        integerOption<C>("--batch", "Batch", "B",
+                         "hemicubes per pass, one instanced draw into B atlas layers (default 0 = by renderer: 1 on "
+                         "llvmpipe, up to 256 on a GPU); scenes with mirrors go row by row",
+                         &C::batch, 0, 4096),
         switchOption<C>("--no-parents", "Draw every patch",
                         "draw every patch, not subdivided parents whole (reference path)", &C::parentPolygons, false),
     };

@@ -23,6 +23,9 @@ struct HemicubeOptions {
     /// Hemicubes per patch: 1 = the centroid; K > 1 = the m x m Gauss-Legendre points (m = ceil(sqrt K))
     /// the analytic estimator uses, each hemicube weighted by its point's weight (area sampling).
     std::uint32_t origins = 1;
+    /// Hemicubes drawn per pass (layers of the atlas array, one instanced draw); 0 = by renderer
+    /// (hemicubeLayers). Scenes with mirrors go row by row.
+    std::uint32_t batch = 0;
 };
 
 }  // namespace hemirad

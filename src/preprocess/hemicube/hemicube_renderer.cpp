@@ -15,8 +15,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-/// The GPU row's header, before the touched list (hemicube_reduce.comp):
-///   | count | missed | backfaces | lost | roundedLost | list[count] ... |
+/// A layer's header in the GPU reduction's touched buffer (hemicube_reduce.comp), all layers'
+/// headers first, then their lists:  | count | missed | backfaces | lost | roundedLost |
 constexpr std::size_t kTouchedHeader = 5;
 /// roundedLost counts in units of 1 / (fixedScale x this): a rounded pixel adds at most 32 of them,
 /// so even all 3 x 4096^2 pixels of the largest common atlas stay below 2^32.
@@ -25,9 +25,10 @@ constexpr double kRoundedScale = 64.0;
 }  // namespace
 
 HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& geometry, const HemicubeLayout& layout,
-                                   Reduction reduction, const MirrorLimits& mirrors)
-    : m_scene(scene), m_geometry(geometry), m_layout(layout), m_reduction(reduction), m_limits(mirrors),
-      m_mirrors(scene.hasMirrors()) {
+                                   Reduction reduction, const MirrorLimits& mirrors, std::uint32_t layers)
+    : m_scene(scene), m_geometry(geometry), m_layout(layout), m_reduction(reduction), m_layers(std::max(1u, layers)),
+      m_limits(mirrors), m_mirrors(scene.hasMirrors()) {
+    if (m_mirrors && m_layers > 1) throw Error("internal: hemicube batches are for scenes without mirrors");
     if (m_limits.maxDepth > 254) throw Error("hemicube: --max-depth is limited to 254 (8-bit stencil)");
     {
         MirrorGroups groups = groupMirrors(scene);
@@ -63,23 +64,27 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
                    GLsizeiptr(std::max<std::size_t>(1, geometry.parents.size()) * sizeof(HemicubeGeometry::ParentRecord)),
                    geometry.parents.empty() ? &none : static_cast<const void*>(geometry.parents.data()), GL_STATIC_DRAW);
 
-    // Id atlas (R32UI) + float depth; reversed Z keeps precision over the whole scene.
-    const auto W = GLsizei(layout.width()), H = GLsizei(layout.height());
+    // Id atlas array (R32UI, a layer per hemicube of a pass) + float depth; reversed Z keeps
+    // precision over the whole scene.
+    const auto W = GLsizei(layout.width()), H = GLsizei(layout.height()), L = GLsizei(m_layers);
     m_ids = gl::makeTexture();
-    gl::BindTexture(GL_TEXTURE_2D, m_ids.id());
-    gl::TexStorage2D(GL_TEXTURE_2D, 1, GL_R32UI, W, H);
-    m_depth = gl::makeRenderbuffer();
-    gl::BindRenderbuffer(GL_RENDERBUFFER, m_depth.id());
+    gl::BindTexture(GL_TEXTURE_2D_ARRAY, m_ids.id());
+    gl::TexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_R32UI, W, H, L);
+    m_depth = gl::makeTexture();
+    gl::BindTexture(GL_TEXTURE_2D_ARRAY, m_depth.id());
     // The stencil marks mirror portals; scenes without mirrors skip it (less memory traffic).
-    gl::RenderbufferStorage(GL_RENDERBUFFER, m_mirrors ? GL_DEPTH32F_STENCIL8 : GL_DEPTH_COMPONENT32F, W, H);
+    gl::TexStorage3D(GL_TEXTURE_2D_ARRAY, 1, m_mirrors ? GL_DEPTH32F_STENCIL8 : GL_DEPTH_COMPONENT32F, W, H, L);
     m_fbo = gl::makeFramebuffer();
     gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
-    gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m_ids.id(), 0);
-    gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, m_mirrors ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT,
-                                GL_RENDERBUFFER, m_depth.id());
+    gl::FramebufferTexture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, m_ids.id(), 0);
+    gl::FramebufferTexture(GL_FRAMEBUFFER, m_mirrors ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT, m_depth.id(), 0);
     const GLenum buffers[] = {GL_COLOR_ATTACHMENT0};
     gl::DrawBuffers(1, buffers);
     gl::checkFramebuffer("the hemicube atlas");
+    m_instanceBuffer = gl::makeBuffer();
+    gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_instanceBuffer.id());
+    gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(m_layers * sizeof(Instance)), nullptr, GL_DYNAMIC_DRAW);
+    static_assert(sizeof(Instance) == 80, "hemicube.vert's Hemicube block: mat4 + uvec4 (std430)");
 
     gl::ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     gl::Enable(GL_DEPTH_TEST);
@@ -90,7 +95,7 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
         gl::ViewportIndexedf(GLuint(f), float(v.x), float(v.y), float(v.width), float(v.height));
         gl::ScissorIndexed(GLuint(f), v.x, v.y, v.width, v.height);
     }
-    m_pixels.resize(std::size_t(W) * std::size_t(H));
+    m_pixels.resize(std::size_t(W) * std::size_t(H) * m_layers);
     if (m_mirrors) {
         m_portal = gl::buildProgram({"hemicube_portal.vert", "hemicube_portal.frag"});
         m_groups = gl::makeBuffer();
@@ -111,17 +116,23 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
         gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_weights.id());
         gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(layout.weights().size() * sizeof(float)),
                        layout.weights().data(), GL_STATIC_DRAW);
-        const GLsizeiptr patches = GLsizeiptr(std::max<std::size_t>(1, scene.size()));
-        std::vector<std::uint32_t> zeros(std::size_t(patches) + kTouchedHeader, 0);
+        // Per layer: the dense fixed-point row, and a touched list as long as the row can have
+        // nonzeros (at most one per pixel and per patch).
+        const std::size_t patches = std::max<std::size_t>(1, scene.size());
+        m_capacity = std::min<std::size_t>(patches, m_layout.weights().size());
         m_accumulator = gl::makeBuffer();
         gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_accumulator.id());
-        gl::BufferData(GL_SHADER_STORAGE_BUFFER, patches * 4, zeros.data(), GL_DYNAMIC_COPY);
+        gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(patches * m_layers * 4), nullptr, GL_DYNAMIC_COPY);
+        const GLuint zero = 0;
+        gl::ClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
         m_touched = gl::makeBuffer();
         gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_touched.id());
-        gl::BufferData(GL_SHADER_STORAGE_BUFFER, (patches + kTouchedHeader) * 4, zeros.data(), GL_DYNAMIC_COPY);
+        gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr((kTouchedHeader + m_capacity) * m_layers * 4), nullptr,
+                       GL_DYNAMIC_COPY);
+        gl::ClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
         m_values = gl::makeBuffer();
         gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_values.id());
-        gl::BufferData(GL_SHADER_STORAGE_BUFFER, patches * 4, nullptr, GL_DYNAMIC_COPY);
+        gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(m_capacity * m_layers * 8), nullptr, GL_DYNAMIC_COPY);
         // Fixed point: a row sums to at most 1 (no mirrors), so 2^31 units per 1 cannot overflow.
         m_fixedScale = 2147483648.0;
     }
@@ -129,6 +140,20 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
 }
 
 HemicubeRenderer::~HemicubeRenderer() = default;
+
+void HemicubeRenderer::clearAtlas() {
+    gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
+    const GLuint zero[4] = {0, 0, 0, 0};
+    gl::Disable(GL_SCISSOR_TEST);
+    gl::ClearBufferuiv(GL_COLOR, 0, zero);  // every layer of the layered attachment
+    if (m_mirrors) {
+        gl::ClearBufferfi(GL_DEPTH_STENCIL, 0, 0.0f, 0);
+    } else {
+        const GLfloat farDepth = 0.0f;
+        gl::ClearBufferfv(GL_DEPTH, 0, &farDepth);
+    }
+    gl::Enable(GL_SCISSOR_TEST);
+}
 
 void HemicubeRenderer::beginRow(PatchId i, const Vec3& origin, double weight) {
     const Patch& p = m_scene.patches[i];
@@ -140,31 +165,35 @@ void HemicubeRenderer::beginRow(PatchId i, const Vec3& origin, double weight) {
     m_near = 1e-6 * m_geometry.extent;
     // Top face: symmetric 90-degree frustum; sides: the upper half (elevation 0..45 degrees).
     m_faces = hemicubeFaces(p.normal, t, b);
-    gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
-    const GLuint zero[4] = {0, 0, 0, 0};
-    gl::Disable(GL_SCISSOR_TEST);
-    gl::ClearBufferuiv(GL_COLOR, 0, zero);
-    if (m_mirrors) {
-        gl::ClearBufferfi(GL_DEPTH_STENCIL, 0, 0.0f, 0);
-    } else {
-        const GLfloat farDepth = 0.0f;
-        gl::ClearBufferfv(GL_DEPTH, 0, &farDepth);
-    }
-    gl::Enable(GL_SCISSOR_TEST);
+    clearAtlas();
 }
 
-void HemicubeRenderer::draw(const Pass& pass) {
-    // World -> patch frame (rows t, b, n about the eye), after the portal chain's reflections.
+Eigen::Matrix4d HemicubeRenderer::frameOf(const Vec3& eye, const Vec3& normal) const {
+    // Rows t, b, n about the eye.
     Vec3 t, b;
-    orthonormalBasis(m_normal, t, b);
+    orthonormalBasis(normal, t, b);
     Eigen::Matrix4d frame = Eigen::Matrix4d::Identity();
     frame.block<1, 3>(0, 0) = t.transpose();
     frame.block<1, 3>(1, 0) = b.transpose();
-    frame.block<1, 3>(2, 0) = m_normal.transpose();
-    frame.block<3, 1>(0, 3) = -frame.block<3, 3>(0, 0) * m_eye;
-    const Eigen::Matrix4f frameFromWorld = (frame * pass.transform).cast<float>();
+    frame.block<1, 3>(2, 0) = normal.transpose();
+    frame.block<3, 1>(0, 3) = -frame.block<3, 3>(0, 0) * eye;
+    return frame;
+}
+
+void HemicubeRenderer::draw(const Pass& pass) {
+    // World -> patch frame, after the portal chain's reflections.
+    m_instances.resize(1);
+    m_instances[0].frameFromWorld = (frameOf(m_eye, m_normal) * pass.transform).cast<float>();
+    m_instances[0].skipCode = pass.skipCode;
+    drawInstances(pass);
+}
+
+void HemicubeRenderer::drawInstances(const Pass& pass) {
+    gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_instanceBuffer.id());
+    gl::BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(m_instances.size() * sizeof(Instance)), m_instances.data());
     gl::FrontFace(pass.mirrored ? GL_CW : GL_CCW);
     gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m_parents.id());
+    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m_instanceBuffer.id());
     gl::BindVertexArray(m_vao.id());
     for (int kind = 0; kind < 4; ++kind) {
         const GLint first = GLint(m_geometry.rangeStart[kind]);
@@ -172,20 +201,40 @@ void HemicubeRenderer::draw(const Pass& pass) {
         if (count == 0) continue;
         const gl::Program& program = m_draw[kind];
         program.use();
-        gl::UniformMatrix4fv(program.uniform("frameFromWorld"), 1, GL_FALSE, frameFromWorld.data());
-        gl::Uniform1ui(program.uniform("skipCode"), pass.skipCode);
         gl::Uniform1f(program.uniform("planeEpsilon"), pass.planeTest ? float(1e-6 * m_geometry.extent) : -3.0e38f);
         gl::Uniform1f(program.uniform("nearPlane"), float(m_near));
         gl::Uniform4f(program.uniform("clipPlane"), float(pass.clipPlane[0]), float(pass.clipPlane[1]),
                       float(pass.clipPlane[2]), float(pass.clipPlane[3]));
-        gl::DrawArrays(GL_TRIANGLES, first, count);
+        gl::DrawArraysInstanced(GL_TRIANGLES, first, count, GLsizei(m_instances.size()));
     }
+}
+
+void HemicubeRenderer::drawBatch(const std::vector<HemicubeItem>& items, HemicubeStats& stats) {
+    if (items.size() > m_layers) throw Error("internal: a hemicube batch of " + std::to_string(items.size()) +
+                                             " exceeds the atlas's " + std::to_string(m_layers) + " layers");
+    if (m_mirrors) throw Error("internal: hemicube batches are for scenes without mirrors");
+    const auto t0 = Clock::now();
+    m_near = 1e-6 * m_geometry.extent;
+    clearAtlas();
+    m_instances.resize(items.size());
+    for (std::size_t k = 0; k < items.size(); ++k) {
+        const PatchId i = items[k].patch;
+        m_instances[k].frameFromWorld = frameOf(items[k].origin - m_geometry.centre, m_scene.patches[i].normal).cast<float>();
+        m_instances[k].skipCode = m_geometry.codeOfPatch[i];
+    }
+    drawInstances(Pass{});
+    gl::Finish();
+    stats.render += since(t0);
+    finishPass(items.size(), stats);
+    stats.hemicubes += items.size();
+    stats.pixels += items.size() * m_layout.weights().size();
+    gl::check("computing a batch of hemicubes");
 }
 
 void HemicubeRenderer::readPixels(std::vector<std::uint32_t>& ids, HemicubeStats& stats) {
     const auto t0 = Clock::now();
-    ids.resize(m_pixels.size());
-    gl::ReadBuffer(GL_COLOR_ATTACHMENT0);
+    ids.resize(std::max(ids.size(), m_layout.weights().size()));
+    gl::ReadBuffer(GL_COLOR_ATTACHMENT0);  // layer 0 of the layered attachment
     gl::PixelStorei(GL_PACK_ALIGNMENT, 4);
     gl::ReadPixels(0, 0, GLsizei(m_layout.width()), GLsizei(m_layout.height()), GL_RED_INTEGER, GL_UNSIGNED_INT,
                    ids.data());
@@ -201,10 +250,10 @@ void HemicubeRenderer::computeRow(PatchId i, const Vec3& origin, double weight, 
     draw(direct);
     gl::Finish();
     stats.render += since(t0);
-    if (m_reduction == Reduction::Cpu) reduceOnCpu(row, stats);
-    else reduceOnGpu(row, stats);
+    finishPass(1, stats);
+    reduceLayer(0, m_weight, row, stats);
     ++stats.hemicubes;
-    stats.pixels += m_pixels.size();
+    stats.pixels += m_layout.weights().size();
     if (m_mirrors) {
         // Portals only run for rows that see a mirror (Sillion & Puech extended form factors).
         t0 = Clock::now();
@@ -212,9 +261,10 @@ void HemicubeRenderer::computeRow(PatchId i, const Vec3& origin, double weight, 
         if (m_limits.rays) {
             traceMirrorPixels(i, row, stats);
         } else {
-            std::vector<std::uint32_t> everything(m_pixels.size());
-            for (std::size_t k = 0; k < everything.size(); ++k) everything[k] = static_cast<std::uint32_t>(k);
-            const std::vector<std::uint32_t> levelIds = m_pixels;
+            const std::size_t n = m_layout.weights().size();
+            std::vector<std::uint32_t> everything(n);
+            for (std::size_t k = 0; k < n; ++k) everything[k] = static_cast<std::uint32_t>(k);
+            const std::vector<std::uint32_t> levelIds(m_pixels.begin(), m_pixels.begin() + std::ptrdiff_t(n));
             traversePortals(1, levelIds, everything, Eigen::Matrix4d::Identity(), m_weight, row, stats);
         }
         stats.mirrors += since(t0);
@@ -342,19 +392,95 @@ std::vector<std::uint32_t> HemicubeRenderer::readIds() {
     gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
     gl::ReadBuffer(GL_COLOR_ATTACHMENT0);
     gl::PixelStorei(GL_PACK_ALIGNMENT, 4);
-    std::vector<std::uint32_t> ids(m_pixels.size());
+    std::vector<std::uint32_t> ids(m_layout.weights().size());
     gl::ReadPixels(0, 0, GLsizei(m_layout.width()), GLsizei(m_layout.height()), GL_RED_INTEGER, GL_UNSIGNED_INT,
                    ids.data());
     return ids;
 }
 
-void HemicubeRenderer::reduceOnCpu(RowAccumulator& row, HemicubeStats& stats) {
-    readPixels(m_pixels, stats);
+void HemicubeRenderer::finishPass(std::size_t count, HemicubeStats& stats) {
+    const auto W = GLuint(m_layout.width()), H = GLuint(m_layout.height());
+    const std::size_t layerPixels = m_layout.weights().size();
+    if (m_reduction == Reduction::Cpu) {
+        const auto t0 = Clock::now();
+        gl::PixelStorei(GL_PACK_ALIGNMENT, 4);
+        gl::GetTextureSubImage(m_ids.id(), 0, 0, 0, 0, GLsizei(W), GLsizei(H), GLsizei(count), GL_RED_INTEGER,
+                               GL_UNSIGNED_INT, GLsizei(count * layerPixels * 4), m_pixels.data());
+        stats.readback += since(t0);
+        return;
+    }
+    auto t0 = Clock::now();
+    const auto layers = GLuint(count);
+    gl::BindImageTexture(0, m_ids.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32UI);
+    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m_weights.id());
+    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m_accumulator.id());
+    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, m_touched.id());
+    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m_values.id());
+    gl::MemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    const auto patches = GLuint(std::max<std::size_t>(1, m_scene.size()));
+    m_reduce.use();
+    gl::Uniform2ui(m_reduce.uniform("size"), W, H);
+    gl::Uniform1ui(m_reduce.uniform("patches"), patches);
+    gl::Uniform1ui(m_reduce.uniform("layers"), layers);
+    gl::Uniform1ui(m_reduce.uniform("capacity"), GLuint(m_capacity));
+    gl::Uniform1f(m_reduce.uniform("fixedScale"), float(m_fixedScale));
+    gl::Uniform1f(m_reduce.uniform("roundedScale"), float(kRoundedScale));
+    gl::DispatchCompute((W + 15) / 16, (H + 15) / 16, layers);
+    gl::MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    m_headers.resize(kTouchedHeader * count);
+    gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_touched.id());
+    gl::GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(m_headers.size() * 4), m_headers.data());
+    // Each layer's pairs go to its place in one output block: one read-back for the whole pass.
+    m_pairStart.assign(count + 1, 0);
+    for (std::size_t k = 0; k < count; ++k) m_pairStart[k + 1] = m_pairStart[k] + m_headers[kTouchedHeader * k];
+    m_collect.use();
+    gl::Uniform1ui(m_collect.uniform("layers"), layers);
+    gl::Uniform1ui(m_collect.uniform("patches"), patches);
+    gl::Uniform1ui(m_collect.uniform("capacity"), GLuint(m_capacity));
+    for (std::size_t k = 0; k < count; ++k) {
+        const auto n = GLuint(m_headers[kTouchedHeader * k]);
+        if (n == 0) continue;
+        gl::Uniform1ui(m_collect.uniform("layer"), GLuint(k));
+        gl::Uniform1ui(m_collect.uniform("offset"), GLuint(m_pairStart[k]));
+        gl::Uniform1ui(m_collect.uniform("count"), n);
+        gl::DispatchCompute((n + 63) / 64, 1, 1);
+    }
+    gl::MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    stats.reduce += since(t0);
+    t0 = Clock::now();
+    m_pairs.resize(2 * m_pairStart[count]);
+    if (!m_pairs.empty()) {
+        gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_values.id());
+        gl::GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(m_pairs.size() * 4), m_pairs.data());
+    }
+    const GLuint zero = 0;  // the headers, for the next pass (the accumulator was cleared by collect)
+    gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_touched.id());
+    gl::ClearBufferSubData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, 0, GLsizeiptr(m_headers.size() * 4), GL_RED_INTEGER,
+                           GL_UNSIGNED_INT, &zero);
+    stats.readback += since(t0);
+}
+
+void HemicubeRenderer::reduceLayer(std::size_t k, double weight, RowAccumulator& row, HemicubeStats& stats) {
+    if (m_reduction == Reduction::Cpu) {
+        reduceIds(m_pixels.data() + k * m_layout.weights().size(), weight, row, stats);
+        return;
+    }
+    const auto t0 = Clock::now();
+    const double unit = weight / m_fixedScale;
+    for (std::size_t e = m_pairStart[k]; e < m_pairStart[k + 1]; ++e)
+        row.addWeight(m_pairs[2 * e], m_pairs[2 * e + 1] * unit);
+    const std::uint32_t* header = &m_headers[kTouchedHeader * k];
+    stats.missed += header[1];
+    stats.backfaces += header[2];
+    stats.lostWeight += (header[3] + header[4] / kRoundedScale) * unit;
+    stats.reduce += since(t0);
+}
+
+void HemicubeRenderer::reduceIds(const std::uint32_t* ids, double weight, RowAccumulator& row, HemicubeStats& stats) {
     const auto t0 = Clock::now();
     // Neighbouring pixels mostly see the same patch: sum runs in a register, touch memory per run.
     const float* w = m_layout.weights().data();
-    const std::uint32_t* ids = m_pixels.data();
-    const std::size_t n = m_pixels.size();
+    const std::size_t n = m_layout.weights().size();
     double lost = 0.0;
     std::size_t k = 0;
     while (k < n) {
@@ -362,7 +488,7 @@ void HemicubeRenderer::reduceOnCpu(RowAccumulator& row, HemicubeStats& stats) {
         double sum = w[k];
         const std::size_t start = k++;
         while (k < n && ids[k] == id) sum += w[k++];
-        sum *= m_weight;
+        sum *= weight;
         if (id - 1u < 0xfffffffeu) {
             row.addWeight(id - 1u, sum);
         } else {
@@ -372,50 +498,6 @@ void HemicubeRenderer::reduceOnCpu(RowAccumulator& row, HemicubeStats& stats) {
     }
     stats.lostWeight += lost;
     stats.reduce += since(t0);
-}
-
-void HemicubeRenderer::reduceOnGpu(RowAccumulator& row, HemicubeStats& stats) {
-    auto t0 = Clock::now();
-    const auto W = GLuint(m_layout.width()), H = GLuint(m_layout.height());
-    gl::BindImageTexture(0, m_ids.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
-    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m_weights.id());
-    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m_accumulator.id());
-    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, m_touched.id());
-    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m_values.id());
-    gl::MemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-    m_reduce.use();
-    gl::Uniform2ui(m_reduce.uniform("size"), W, H);
-    gl::Uniform1f(m_reduce.uniform("fixedScale"), float(m_fixedScale));
-    gl::Uniform1f(m_reduce.uniform("factor"), 1.0f);
-    gl::Uniform1f(m_reduce.uniform("roundedScale"), float(kRoundedScale));
-    gl::DispatchCompute((W + 15) / 16, (H + 15) / 16, 1);
-    gl::MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::uint32_t header[kTouchedHeader] = {};
-    gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_touched.id());
-    gl::GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof header, header);
-    const std::uint32_t count = header[0];
-    if (count > 0) {
-        m_collect.use();
-        gl::DispatchCompute((count + 63) / 64, 1, 1);
-        gl::MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    }
-    stats.reduce += since(t0);
-    t0 = Clock::now();
-    std::vector<std::uint32_t> list(count), values(count);
-    if (count > 0) {
-        gl::GetBufferSubData(GL_SHADER_STORAGE_BUFFER, sizeof header, GLsizeiptr(count) * 4, list.data());
-        gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_values.id());
-        gl::GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(count) * 4, values.data());
-    }
-    const std::uint32_t zeros[kTouchedHeader] = {};
-    gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_touched.id());
-    gl::BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zeros, zeros);
-    stats.readback += since(t0);
-    const double unit = m_weight / m_fixedScale;
-    for (std::uint32_t k = 0; k < count; ++k) row.addWeight(list[k], values[k] * unit);
-    stats.missed += header[1];
-    stats.backfaces += header[2];
-    stats.lostWeight += (header[3] + header[4] / kRoundedScale) * unit;
 }
 
 }  // namespace hemirad

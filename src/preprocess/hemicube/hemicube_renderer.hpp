@@ -38,26 +38,55 @@ struct MirrorLimits {
     const RayScene* rays = nullptr;
 };
 
+/// One hemicube of a batch: patch `patch` seen from `origin` (a point of it), its deposits times
+/// `weight` (the point's share of the row; the weights of a row's points sum to 1).
+struct HemicubeItem {
+    PatchId patch;
+    Vec3 origin;
+    double weight;
+};
+
 /// Requires a current GL 4.5 context for its whole life (construction, use, destruction).
 class HemicubeRenderer {
 public:
+    /// `layers`: hemicubes drawn per pass (the atlas is an array of that many layers).
     HemicubeRenderer(const Scene& scene, const HemicubeGeometry& geometry, const HemicubeLayout& layout,
-                     Reduction reduction, const MirrorLimits& mirrors = {});
+                     Reduction reduction, const MirrorLimits& mirrors = {}, std::uint32_t layers = 1);
     ~HemicubeRenderer();
+
+    std::uint32_t layers() const { return m_layers; }
 
     /// Draws patch i's hemicube at its centroid and deposits each pixel's delta form factor on the
     /// patch it sees (weights in `row` relative to 1 = the whole row).
     void computeRow(PatchId i, RowAccumulator& row, HemicubeStats& stats) {
         computeRow(i, m_scene.patches[i].centroid, 1.0, row, stats);
     }
-    /// The same from the point `origin` of patch i, its deposits times `weight` (one point of an
-    /// area rule over the patch: the weights of a row's points sum to 1).
+    /// The same from the point `origin` of patch i, its deposits times `weight`. Follows mirrors.
     void computeRow(PatchId i, const Vec3& origin, double weight, RowAccumulator& row, HemicubeStats& stats);
 
-    /// The id atlas of the last hemicube (patch id + 1; 0 nothing; 0xffffffff back face), rows bottom-up.
+    /// Draws up to layers() hemicubes in one instanced pass and reduces them all (no mirrors: a scene
+    /// with mirrors goes row by row). A row's items must be consecutive; after its last one,
+    /// rowDone(patch) is called with its deposits in `row` (take them there).
+    template <class RowDone>
+    void computeBatch(const std::vector<HemicubeItem>& items, RowAccumulator& row, RowDone&& rowDone,
+                      HemicubeStats& stats) {
+        drawBatch(items, stats);
+        for (std::size_t k = 0; k < items.size(); ++k) {
+            reduceLayer(k, items[k].weight, row, stats);
+            if (k + 1 == items.size() || items[k + 1].patch != items[k].patch) rowDone(items[k].patch);
+        }
+    }
+
+    /// The id atlas of the last hemicube (layer 0: patch id + 1; 0 nothing; 0xffffffff back face),
+    /// rows bottom-up.
     std::vector<std::uint32_t> readIds();
 
 private:
+    /// Per-hemicube data of a pass (hemicube.vert's Hemicubes block, std430).
+    struct Instance {
+        Eigen::Matrix4f frameFromWorld;
+        std::uint32_t skipCode = 0, pad[3] = {0, 0, 0};
+    };
     /// One draw of the scene into the five faces. transform (world -> world) holds the product of
     /// the reflections of a portal chain; clipPlane keeps what lies in front of the last mirror.
     struct Pass {
@@ -68,10 +97,20 @@ private:
         bool planeTest = true;   ///< drop triangles behind the patch plane (direct pass only)
     };
     void beginRow(PatchId i, const Vec3& origin, double weight);
+    void clearAtlas();
+    /// World -> patch frame of a hemicube at `eye` (scene-centred) with axis `normal`.
+    Eigen::Matrix4d frameOf(const Vec3& eye, const Vec3& normal) const;
     void draw(const Pass& pass);
+    /// Draws the uploaded instances (m_instances) with the pass's clip plane and winding.
+    void drawInstances(const Pass& pass);
+    void drawBatch(const std::vector<HemicubeItem>& items, HemicubeStats& stats);
     void readPixels(std::vector<std::uint32_t>& ids, HemicubeStats& stats);
-    void reduceOnCpu(RowAccumulator& row, HemicubeStats& stats);
-    void reduceOnGpu(RowAccumulator& row, HemicubeStats& stats);
+    /// Layer k of the last pass into `row`, times weight: from the read-back atlas (CPU) or the
+    /// GPU's compacted rows.
+    void reduceLayer(std::size_t k, double weight, RowAccumulator& row, HemicubeStats& stats);
+    void reduceIds(const std::uint32_t* ids, double weight, RowAccumulator& row, HemicubeStats& stats);
+    /// Reads back the first `count` layers (CPU reduction) or reduces them on the GPU.
+    void finishPass(std::size_t count, HemicubeStats& stats);
     /// Portal rendering (stencil) for the mirrors seen in `region` of `levelIds`, recursively.
     void traversePortals(int depth, const std::vector<std::uint32_t>& levelIds, const std::vector<std::uint32_t>& region,
                          const Eigen::Matrix4d& transform, double factor, RowAccumulator& row, HemicubeStats& stats);
@@ -83,14 +122,19 @@ private:
     const HemicubeGeometry& m_geometry;
     const HemicubeLayout& m_layout;
     Reduction m_reduction;
+    std::uint32_t m_layers = 1;
+    std::size_t m_capacity = 0;  ///< GPU reduction: touched-list length per layer
     gl::Program m_draw[4];  ///< one per HemicubeGeometry::Kind (empty when the scene has none)
     gl::Program m_reduce, m_collect, m_portal;
     gl::VertexArray m_vao;
-    gl::Buffer m_vertices, m_parents, m_weights, m_accumulator, m_touched, m_values;
-    gl::Texture m_ids, m_levelIds;
-    gl::Renderbuffer m_depth;
+    gl::Buffer m_vertices, m_parents, m_weights, m_accumulator, m_touched, m_values, m_instanceBuffer;
+    gl::Texture m_ids, m_depth, m_levelIds;
     gl::Framebuffer m_fbo;
-    std::vector<std::uint32_t> m_pixels;
+    std::vector<Instance> m_instances;
+    std::vector<std::uint32_t> m_pixels;  ///< the read-back atlas layers (CPU reduction, portals)
+    /// GPU reduction of the last pass: per layer its header and where its pairs start in m_pairs.
+    std::vector<std::uint32_t> m_headers, m_pairs;
+    std::vector<std::size_t> m_pairStart;
     double m_fixedScale = 0;
     MirrorLimits m_limits;
     bool m_mirrors = false;
