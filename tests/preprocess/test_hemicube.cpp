@@ -251,7 +251,7 @@ TEST_CASE("GPU reduction counts pixels below one fixed-point unit as lost power 
     CHECK(r.counts.lostWeight == doctest::Approx(below).epsilon(1e-3));
 }
 
-TEST_CASE("A failing GL context is a clear error, and auto falls back to OSMesa") {
+TEST_CASE("A failing GL context is a clear error, auto falls back to OSMesa, and OSMesa is loaded only when needed") {
     const std::string scene = sourcePath("scenes/unit_cube.obj");
     const auto dir = tempDir("gl-context");
     const std::string run = std::string(HEMIRAD_BINARY) + " formfactors " + scene + " -o " + (dir / "F.hff").string() +
@@ -270,6 +270,17 @@ TEST_CASE("A failing GL context is a clear error, and auto falls back to OSMesa"
     CHECK(status("MESA_GL_VERSION_OVERRIDE=3.3", "egl") == 1);
     CHECK(output().find("cannot create an OpenGL 4.5 core context") != std::string::npos);
     CHECK(status("__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json", "auto") == 0);
+    CHECK(status("", "osmesa") == 0);
+    // libOSMesa is loaded at run time, only when asked for: the binary does not need it, EGL runs
+    // without it, and its absence is a clear error naming the way out.
+    CHECK(runCommand("ldd " + std::string(HEMIRAD_BINARY)).output.find("libOSMesa") == std::string::npos);
+    CHECK(status("HEMIRAD_OSMESA_LIBRARY=/nonexistent/libOSMesa.so.8", "egl") == 0);
+    CHECK(status("HEMIRAD_OSMESA_LIBRARY=/nonexistent/libOSMesa.so.8", "osmesa") == 1);
+    CHECK(output().find("OSMesa: cannot load libOSMesa (/nonexistent/libOSMesa.so.8") != std::string::npos);
+    CHECK(output().find("--gl egl") != std::string::npos);
+    CHECK(status("HEMIRAD_OSMESA_LIBRARY=/nonexistent/libOSMesa.so.8 __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json", "auto") == 1);
+    CHECK(output().find("EGL: no surfaceless Mesa display") != std::string::npos);
+    CHECK(output().find("cannot load libOSMesa") != std::string::npos);
     MethodSettings cube = defaultSettings("hemicube");
     CHECK_THROWS_WITH_AS(setBackendOption(cube, "--gl", "vulkan"), doctest::Contains("--gl expects auto, egl or osmesa, got 'vulkan'"),
                          Error);
