@@ -179,6 +179,8 @@ void recordFormFactors(BenchRecord& r, const Options& o, const FormFactorRun& ru
     r.set("row_sum_max", run.stats.rowSumMax);
     r.set("reciprocity_mean", run.stats.reciprocityMean);
     r.set("lost_fraction", run.rowsComputed ? run.counts.lostWeight / double(run.rowsComputed) : 0.0);
+    if (!run.device.empty()) r.set("device", run.device);
+    if (const auto batch = run.F.parameters.find("batch"); batch != run.F.parameters.end()) r.set("batch", batch->second);
     for (const auto& [stage, seconds] : run.stageSeconds) {
         std::string key = "ms_per_row_" + stage;
         for (char& c : key)

@@ -95,8 +95,7 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
     if (lostPercent > 1.0 && c.misses > 0)  // what a newcomer asks first about the open Cornell box
         out << "\n  (lost power left the scene through its openings, e.g. a box without a front wall, or met the "
                "back of a patch: it is gone, not an error; a closed scene loses almost nothing)";
-    if (const auto device = run.F.parameters.find("device"); device != run.F.parameters.end())
-        out << "\n  device: " << device->second;
+    if (!run.device.empty()) out << "\n  device: " << run.device;
     if (c.rescaledRows)
         out << "\n  analytic rows whose direct factors summed above 1.001 (largest " << std::setprecision(4) << c.largestDirectSum
             << "), scaled to 1: " << c.rescaledRows;

@@ -323,6 +323,7 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
     }
     result.computeSeconds = computeSeconds;
     result.rowsComputed = rows.size();
+    result.device = backend->device();
     return result;
 }
 

@@ -19,6 +19,7 @@ struct DistributedFormFactors {
     // The computation, on rank 0 (summed or taken over ranks):
     RayCounts counts;
     std::map<std::string, double> stageSeconds;
+    std::string device;                   ///< rank 0's FormFactorBackend::device()
     double prepareSeconds = 0;            ///< the slowest rank's acceleration structures
     double computeSeconds = 0;            ///< wall time of the rows, first row to the last rank done
     std::vector<std::uint64_t> rowsPerRank;

@@ -139,6 +139,9 @@ public:
     virtual FormFactorProvenance provenance() const = 0;
     /// The back end's parameters recorded with F for people ("samples", "resolution", ...).
     virtual std::map<std::string, std::string> parameters() const = 0;
+    /// What computed the rows, for the run's report (e.g. the GL renderer and its contexts); not
+    /// recorded with F, which must not depend on how many processes or threads made it.
+    virtual std::string device() const { return {}; }
 };
 
 /// The largest row sum of an extended F (Sillion & Puech): a ray or pixel deposits its weight on

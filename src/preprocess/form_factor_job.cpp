@@ -109,6 +109,7 @@ FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& setti
 
     run.counts = builder.counts();
     run.stageSeconds = builder.stageSeconds();
+    run.device = backend->device();
     run.F = builder.finish();
     run.F.sceneHash = scene.geometryHash();
     run.F.provenance = backend->provenance();

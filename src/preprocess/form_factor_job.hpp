@@ -17,6 +17,7 @@ struct FormFactorRun {
     double statsSeconds = 0;     ///< diagnostics (row sums, reciprocity)
     std::size_t rowsComputed = 0, rowsSkipped = 0;
     std::map<std::string, double> stageSeconds;  ///< back-end stages, thread-seconds (see FormFactorBuilder)
+    std::string device;                          ///< FormFactorBackend::device() (rank 0's under MPI)
 };
 
 /// (rows done, rows total, seconds so far); called about 10 times a second from the calling thread.

@@ -109,9 +109,9 @@ TEST_CASE("Every back-end flag is a usage error with a back end that does not ta
     }
     CHECK(pairs >= 11);  // hemisphere: 6 flags, hemicube: 5
     // Flags given before --method count for the chosen back end too.
-    r = runHemirad("formfactors " + missing + " -o F.hff --origins 16 --method hemicube");
+    r = runHemirad("formfactors " + missing + " -o F.hff --samples 3072 --method hemicube");
     CHECK(r.status == 2);
-    CHECK(r.output.find("option '--origins' does not apply to --method hemicube") != std::string::npos);
+    CHECK(r.output.find("option '--samples' does not apply to --method hemicube") != std::string::npos);
     // A flag no listed back end takes is an error for bench.
     r = runHemirad("bench " + missing + " -o b.csv --methods hemisphere --resolution 64");
     CHECK(r.status == 2);

@@ -110,8 +110,9 @@ TEST_CASE("The worker count follows the renderer: one context per core on llvmpi
     HemicubeOptions o;
     o.resolution = 16;
     const FormFactorRun r = computeFormFactors(unitCube(), MethodSettings::of(o, one), {0});
-    CHECK(r.F.parameters.at("device").find("1 GL context (--threads)") != std::string::npos);
-    CHECK(r.F.parameters.at("device").find("llvmpipe") != std::string::npos);
+    CHECK(r.device.find("1 GL context (--threads)") != std::string::npos);
+    CHECK(r.device.find("llvmpipe") != std::string::npos);
+    CHECK(r.F.parameters.at("gl_renderer").find("llvmpipe") != std::string::npos);
 }
 
 TEST_CASE("Batched hemicubes (one instanced draw into B atlas layers) give the row-by-row F entry by entry") {

@@ -50,8 +50,8 @@ TEST_CASE("hemirad-gui takes the back ends' flags from the registry and refuses 
         const int s = std::system((std::string(HEMIRAD_GUI_BINARY) + " " + flags + " > " + log + " 2>&1").c_str());
         return WIFEXITED(s) ? WEXITSTATUS(s) : -1;
     };
-    CHECK(run("--origins 16 --method hemicube") == 2);
-    CHECK(readText(log).find("option '--origins' does not apply to --method hemicube") != std::string::npos);
+    CHECK(run("--samples 3072 --method hemicube") == 2);
+    CHECK(readText(log).find("option '--samples' does not apply to --method hemicube") != std::string::npos);
     CHECK(run("--method hemisphere --resolution 64") == 2);
     CHECK(readText(log).find("option '--resolution' does not apply to --method hemisphere") != std::string::npos);
     CHECK(run("--method cube") == 2);

@@ -101,12 +101,17 @@ std::map<std::string, std::string> HemicubeBackend::parameters() const {
             {"batch", std::to_string(m_layers) + (m_layers == 1 && m_scene->hasMirrors() ? " (mirrors: row by row)" : "")},
             {"reduce", text("--reduce")},
             {"gl", text("--gl")},
-            {"device", m_renderer + ", " + std::to_string(m_workers) + (m_workers == 1 ? " GL context" : " GL contexts") +
-                           (m_common.threads > 0 ? " (--threads)"
-                                                 : isSoftwareRenderer(m_renderer) ? " (software renderer: one per core)"
-                                                                                  : " (GPU: one context)")},
+            {"gl_renderer", m_renderer},
             {"parent_polygons", m_geometry.patchesInParents ? "yes" : "no"},
             {"delta_form_factors", "Cohen-Greenberg, normalised"}};
+}
+
+std::string HemicubeBackend::device() const {
+    return m_renderer + ", " + std::to_string(m_workers) + (m_workers == 1 ? " GL context" : " GL contexts") +
+           (m_common.threads > 0                ? " (--threads)"
+            : isSoftwareRenderer(m_renderer) ? " (software renderer: one per core)"
+                                             : " (GPU: one context)") +
+           ", " + std::to_string(m_layers) + (m_layers == 1 ? " hemicube per pass" : " hemicubes per pass");
 }
 
 void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {

@@ -47,6 +47,7 @@ public:
     void computeRows(RowSource& rows, FormFactorBuilder& builder) override;
     FormFactorProvenance provenance() const override;
     std::map<std::string, std::string> parameters() const override;
+    std::string device() const override;
 
 private:
     HemicubeOptions m_options;
