@@ -95,7 +95,8 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
         gl::ViewportIndexedf(GLuint(f), float(v.x), float(v.y), float(v.width), float(v.height));
         gl::ScissorIndexed(GLuint(f), v.x, v.y, v.width, v.height);
     }
-    m_pixels.resize(std::size_t(W) * std::size_t(H) * m_layers);
+    // The read-back atlas: every layer for the CPU reduction, layer 0 for portals after a GPU one.
+    m_pixels.resize(std::size_t(W) * std::size_t(H) * (reduction == Reduction::Cpu ? m_layers : 1u));
     if (m_mirrors) {
         m_portal = gl::buildProgram({"hemicube_portal.vert", "hemicube_portal.frag"});
         m_groups = gl::makeBuffer();
