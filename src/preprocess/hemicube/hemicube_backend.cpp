@@ -11,9 +11,9 @@
 #include "preprocess/hemisphere/point_polygon.hpp"
 #include "preprocess/row_accumulator.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <algorithm>
 #include <exception>
 #include <mutex>
 #include <thread>
