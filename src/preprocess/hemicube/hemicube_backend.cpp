@@ -50,11 +50,6 @@ std::uint32_t hemicubeLayers(std::string_view renderer, std::uint32_t requested,
     return layers <= 1 ? 1 : std::max(layers, points);
 }
 
-std::uint32_t hemicubeOriginPoints(std::uint32_t origins) {
-    const auto m = static_cast<std::uint32_t>(farOrder(origins));
-    return m * m;
-}
-
 HemicubeBackend::HemicubeBackend(const HemicubeOptions& options, const CommonOptions& common)
     : m_options(options), m_common(common) {
     m_layout = std::make_unique<HemicubeLayout>(options.resolution);
@@ -76,7 +71,7 @@ void HemicubeBackend::prepare(const Scene& scene) {
     gl::GetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
     context->release();
     m_workers = hemicubeWorkers(m_renderer, m_common.threads, resolveThreads(0));
-    m_points = hemicubeOriginPoints(m_options.origins);
+    m_points = originPoints(m_options.origins);
     // Mirrors go row by row: their portal passes depend on what each hemicube saw.
     m_layers = scene.hasMirrors() ? 1
                                   : hemicubeLayers(m_renderer, m_options.batch, m_options.resolution, scene.size(),

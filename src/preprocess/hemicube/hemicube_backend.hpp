@@ -30,9 +30,6 @@ int hemicubeWorkers(std::string_view renderer, int requested, int cores);
 std::uint32_t hemicubeLayers(std::string_view renderer, std::uint32_t requested, std::uint32_t resolution,
                              std::size_t patches, bool gpuReduction, std::uint32_t points, std::uint32_t maxLayers);
 
-/// Hemicubes per patch for --origins K: m x m with m = ceil(sqrt K), as the analytic estimator's rule.
-std::uint32_t hemicubeOriginPoints(std::uint32_t origins);
-
 /// Cohen & Greenberg (1985): each pixel of the hemicube atlas carries its delta form factor;
 /// F_ij sums the pixels that see patch j's front. One GL context per worker thread (headless EGL
 /// on Mesa's llvmpipe here, any GPU driver elsewhere), each computing its own rows.

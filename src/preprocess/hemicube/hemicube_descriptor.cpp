@@ -1,6 +1,7 @@
 // The hemicube back end's registry entry: its flags, work estimate and run description.
 #include "preprocess/backend_registry.hpp"
 #include "preprocess/hemicube/hemicube_backend.hpp"
+#include "preprocess/hemisphere/emitter_rule.hpp"
 #include "rays/ray_scene.hpp"
 
 namespace hemirad {
@@ -12,7 +13,7 @@ RunDescription describe(const Scene&, const MethodSettings& s) {
     const C& o = s.as<C>();
     const std::string reduce = findBackend(C::kMethod).option("--reduce")->get(s);
     RunDescription d;
-    const std::uint32_t points = hemicubeOriginPoints(o.origins);
+    const std::uint32_t points = originPoints(o.origins);
     d.settings = std::to_string(o.resolution) + " x " + std::to_string(o.resolution) + " top face (" +
                  std::to_string(3 * o.resolution * o.resolution) + " pixels), " +
                  (points == 1 ? std::string("one hemicube at the centroid")
@@ -66,7 +67,7 @@ BackendDescriptor make() {
     };
     d.workPerRow = [](const Scene&, const MethodSettings& s) {
         const C& o = s.as<C>();
-        return 3.0 * o.resolution * o.resolution * hemicubeOriginPoints(o.origins);
+        return 3.0 * o.resolution * o.resolution * originPoints(o.origins);
     };
     d.describe = describe;
     return d;

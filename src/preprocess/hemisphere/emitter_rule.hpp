@@ -24,6 +24,13 @@ inline int farOrder(std::uint32_t origins) {
     return origins <= 1 ? 1 : int(std::ceil(std::sqrt(double(origins)) - 1e-9));
 }
 
+/// The points of the m x m rule --origins K asks for (m = farOrder(K)): the analytic estimator's
+/// emitter points and the hemicube's hemicubes per patch.
+inline std::uint32_t originPoints(std::uint32_t origins) {
+    const auto m = static_cast<std::uint32_t>(farOrder(origins));
+    return m * m;
+}
+
 /// The lowest order m >= `lowest` whose estimated relative error for a receiver at `ratio` =
 /// (distance to its nearest possible point) / (emitter radius) is at most a tolerance; `near`
 /// within kNearDistance or when no lower order is good enough. The m x m product rule's error

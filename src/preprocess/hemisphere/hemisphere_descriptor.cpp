@@ -12,11 +12,6 @@ bool usesAnalyticEstimator(const HemisphereOptions& options, std::size_t patches
     return options.estimator == Estimator::Auto && double(patches) <= kAnalyticRaysFactor * double(options.samples);
 }
 
-std::uint32_t analyticOriginPoints(std::uint32_t origins) {
-    const auto m = static_cast<std::uint32_t>(farOrder(origins));
-    return m * m;
-}
-
 namespace {
 
 using H = HemisphereOptions;
@@ -38,7 +33,7 @@ double workPerRow(const Scene& scene, const MethodSettings& s) {
     const double rays = double(o.samples) * o.origins;
     if (!usesAnalyticEstimator(o, scene.size())) return rays;
     const bool chainRays = scene.hasMirrors() && !mirrorImages(scene, o);
-    return double(scene.size()) * analyticOriginPoints(o.origins) + (chainRays ? rays : 0.0);
+    return double(scene.size()) * originPoints(o.origins) + (chainRays ? rays : 0.0);
 }
 
 RunDescription describe(const Scene& scene, const MethodSettings& s) {
@@ -57,7 +52,7 @@ RunDescription describe(const Scene& scene, const MethodSettings& s) {
                           : std::string("; no directions cast: --samples only chose the estimator")) +
                      "), " +
                      (o.origins == 1 ? std::string("centroid")
-                                     : std::to_string(analyticOriginPoints(o.origins)) +
+                                     : std::to_string(originPoints(o.origins)) +
                                            " Gauss-Legendre origins per quad (--origins " + std::to_string(o.origins) + ")");
         d.lossFromRays = false;  // no ray tells misses from hidden patches: 1 - row sum reached no patch
     } else {

@@ -37,8 +37,4 @@ constexpr double kAnalyticRaysFactor = 5.0;
 /// Whether the hemisphere back end uses the analytic estimator for a scene of `patches` patches.
 bool usesAnalyticEstimator(const HemisphereOptions& options, std::size_t patches);
 
-/// Origins per patch the analytic estimator really uses: 1 (the centroid) or the m x m points of
-/// its Gauss-Legendre rule, m = ceil(sqrt(origins)), per quad (per fan triangle otherwise).
-std::uint32_t analyticOriginPoints(std::uint32_t origins);
-
 }  // namespace hemirad
