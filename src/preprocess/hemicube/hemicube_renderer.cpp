@@ -27,8 +27,7 @@ constexpr double kRoundedScale = 64.0;
 HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& geometry, const HemicubeLayout& layout,
                                    Reduction reduction, const MirrorLimits& mirrors, std::uint32_t layers)
     : m_scene(scene), m_geometry(geometry), m_layout(layout), m_reduction(reduction), m_layers(std::max(1u, layers)),
-      m_limits(mirrors), m_mirrors(scene.hasMirrors()) {
-    if (m_mirrors && m_layers > 1) throw Error("internal: hemicube batches are for scenes without mirrors");
+      m_limits(mirrors), m_mirrors(scene.hasMirrors()), m_near(1e-6 * geometry.extent) {
     if (m_limits.maxDepth > 254) throw Error("hemicube: --max-depth is limited to 254 (8-bit stencil)");
     {
         MirrorGroups groups = groupMirrors(scene);
@@ -163,7 +162,6 @@ void HemicubeRenderer::beginRow(PatchId i, const Vec3& origin, double weight) {
     m_normal = p.normal;
     Vec3 t, b;
     orthonormalBasis(p.normal, t, b);
-    m_near = 1e-6 * m_geometry.extent;
     // Top face: symmetric 90-degree frustum; sides: the upper half (elevation 0..45 degrees).
     m_faces = hemicubeFaces(p.normal, t, b);
     clearAtlas();
@@ -215,7 +213,6 @@ void HemicubeRenderer::drawBatch(const std::vector<HemicubeItem>& items, Hemicub
                                              " exceeds the atlas's " + std::to_string(m_layers) + " layers");
     if (m_mirrors) throw Error("internal: hemicube batches are for scenes without mirrors");
     const auto t0 = Clock::now();
-    m_near = 1e-6 * m_geometry.extent;
     clearAtlas();
     m_instances.resize(items.size());
     for (std::size_t k = 0; k < items.size(); ++k) {
@@ -387,16 +384,6 @@ void HemicubeRenderer::traversePortals(int depth, const std::vector<std::uint32_
         stats.lostWeight += lost;
         traversePortals(depth + 1, ids, pixels, pass.transform, f, row, stats);
     }
-}
-
-std::vector<std::uint32_t> HemicubeRenderer::readIds() {
-    gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
-    gl::ReadBuffer(GL_COLOR_ATTACHMENT0);
-    gl::PixelStorei(GL_PACK_ALIGNMENT, 4);
-    std::vector<std::uint32_t> ids(m_layout.weights().size());
-    gl::ReadPixels(0, 0, GLsizei(m_layout.width()), GLsizei(m_layout.height()), GL_RED_INTEGER, GL_UNSIGNED_INT,
-                   ids.data());
-    return ids;
 }
 
 void HemicubeRenderer::finishPass(std::size_t count, HemicubeStats& stats) {

@@ -77,10 +77,6 @@ public:
         }
     }
 
-    /// The id atlas of the last hemicube (layer 0: patch id + 1; 0 nothing; 0xffffffff back face),
-    /// rows bottom-up.
-    std::vector<std::uint32_t> readIds();
-
 private:
     /// Per-hemicube data of a pass (hemicube.vert's Hemicubes block, std430).
     struct Instance {
@@ -146,7 +142,7 @@ private:
     std::array<HemicubeFace, 5> m_faces;  ///< the current row's face cameras
     Vec3 m_eye = Vec3::Zero(), m_normal = Vec3::Zero();  ///< the hemicube's centre (scene-centred) and axis
     double m_weight = 1;  ///< the current hemicube's share of the row
-    double m_near = 0;
+    double m_near = 0;  ///< near plane: 1e-6 of the scene's extent
 };
 
 }  // namespace hemirad
