@@ -3,12 +3,22 @@
 
 #include "engine/error.hpp"
 
-#include <cmath>
-#include <map>
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <limits>
+#include <map>
 
 namespace hemirad {
 namespace {
+
+/// Grid steps along an edge of this length so that none exceeds maxEdge.
+std::uint32_t gridSteps(double length, double maxEdge) {
+    const double n = std::ceil(length / maxEdge * (1.0 - 1e-12));
+    if (n > 1e6) throw Error("subdivide: an edge of length " + std::to_string(length) + " would need " +
+                             std::to_string(n) + " steps at --max-edge " + std::to_string(maxEdge));
+    return std::max<std::uint32_t>(1, static_cast<std::uint32_t>(n));
+}
 
 class SubdivisionBuilder {
 public:
@@ -42,8 +52,8 @@ public:
 
     void quad(const Patch& src, PatchId srcId, const std::uint32_t c[4], double maxEdge) {
         const Vec3 p[4] = {m_in.vertices[c[0]], m_in.vertices[c[1]], m_in.vertices[c[2]], m_in.vertices[c[3]]};
-        const std::uint32_t nu = steps(std::max((p[1] - p[0]).norm(), (p[2] - p[3]).norm()), maxEdge);
-        const std::uint32_t nv = steps(std::max((p[3] - p[0]).norm(), (p[2] - p[1]).norm()), maxEdge);
+        const std::uint32_t nu = gridSteps(std::max((p[1] - p[0]).norm(), (p[2] - p[3]).norm()), maxEdge);
+        const std::uint32_t nv = gridSteps(std::max((p[3] - p[0]).norm(), (p[2] - p[1]).norm()), maxEdge);
         std::vector<std::uint32_t> grid((nu + 1) * (nv + 1));
         for (std::uint32_t j = 0; j <= nv; ++j)
             for (std::uint32_t i = 0; i <= nu; ++i) {
@@ -67,7 +77,7 @@ public:
 
     void triangle(const Patch& src, PatchId srcId, const std::uint32_t c[3], double maxEdge) {
         const Vec3 p[3] = {m_in.vertices[c[0]], m_in.vertices[c[1]], m_in.vertices[c[2]]};
-        const std::uint32_t n = steps(std::max({(p[1] - p[0]).norm(), (p[2] - p[1]).norm(), (p[0] - p[2]).norm()}),
+        const std::uint32_t n = gridSteps(std::max({(p[1] - p[0]).norm(), (p[2] - p[1]).norm(), (p[0] - p[2]).norm()}),
                                       maxEdge);
         // Barycentric grid: point (a, b) = p0 + a/n (p1 - p0) + b/n (p2 - p0), a + b <= n.
         auto index = [n](std::uint32_t a, std::uint32_t b) { return b * (n + 1) - b * (b - 1) / 2 + a; };
@@ -99,13 +109,6 @@ public:
     }
 
 private:
-    static std::uint32_t steps(double length, double maxEdge) {
-        const double n = std::ceil(length / maxEdge * (1.0 - 1e-12));
-        if (n > 1e6) throw Error("subdivide: an edge of length " + std::to_string(length) + " would need " +
-                                 std::to_string(n) + " steps at --max-edge " + std::to_string(maxEdge));
-        return std::max<std::uint32_t>(1, static_cast<std::uint32_t>(n));
-    }
-
     std::uint32_t beginParent(const Patch&, PatchId srcId, const std::uint32_t* c, std::uint32_t count,
                               GridKind kind, std::uint32_t nu, std::uint32_t nv) {
         Parent parent;
@@ -146,9 +149,44 @@ private:
 
 }  // namespace
 
-Scene subdivide(const Scene& in, double maxEdge) {
+namespace {
+
+void checkEdge(double maxEdge) {
     if (!(maxEdge > 0.0) || !std::isfinite(maxEdge))
         throw Error("subdivide: maximum edge length must be a positive number, got " + std::to_string(maxEdge));
+}
+
+/// The longest edge of a patch.
+double longestEdge(const Scene& in, const Patch& p) {
+    double longest = 0.0;
+    for (std::uint32_t k = 0; k < p.cornerCount; ++k)
+        longest = std::max(longest, (in.corner(p, (k + 1) % p.cornerCount) - in.corner(p, k)).norm());
+    return longest;
+}
+
+/// Checks one edge length per object (each 0 or positive).
+void checkEdges(const Scene& in, const std::vector<double>& maxEdgeByObject) {
+    if (maxEdgeByObject.size() != std::max<std::size_t>(in.objects.size(), 1))
+        throw Error("subdivide: " + std::to_string(maxEdgeByObject.size()) + " edge lengths for " +
+                    std::to_string(in.objects.size()) + " objects");
+    for (double edge : maxEdgeByObject)
+        if (edge != 0.0) checkEdge(edge);
+}
+
+/// The edge length that applies to patch p (0: kept whole).
+double edgeFor(const Patch& p, const std::vector<double>& maxEdgeByObject) {
+    return maxEdgeByObject[std::min<std::size_t>(p.object, maxEdgeByObject.size() - 1)];
+}
+
+}  // namespace
+
+Scene subdivide(const Scene& in, double maxEdge) {
+    checkEdge(maxEdge);
+    return subdivide(in, std::vector<double>(std::max<std::size_t>(in.objects.size(), 1), maxEdge));
+}
+
+Scene subdivide(const Scene& in, const std::vector<double>& maxEdgeByObject) {
+    checkEdges(in, maxEdgeByObject);
     Scene out;
     out.path = in.path;
     out.materials = in.materials;
@@ -157,11 +195,9 @@ Scene subdivide(const Scene& in, double maxEdge) {
     SubdivisionBuilder b(in, out);
     for (PatchId id = 0; id < in.size(); ++id) {
         const Patch& p = in.patches[id];
+        const double maxEdge = edgeFor(p, maxEdgeByObject);
         const std::uint32_t* c = &in.corners[p.firstCorner];
-        double longest = 0.0;
-        for (std::uint32_t k = 0; k < p.cornerCount; ++k)
-            longest = std::max(longest, (in.vertices[c[(k + 1) % p.cornerCount]] - in.vertices[c[k]]).norm());
-        if (longest <= maxEdge) b.single(p, id);
+        if (maxEdge == 0.0 || longestEdge(in, p) <= maxEdge) b.single(p, id);
         else if (p.cornerCount == 4) b.quad(p, id, c, maxEdge);
         else if (p.cornerCount == 3) b.triangle(p, id, c, maxEdge);
         else
@@ -171,6 +207,63 @@ Scene subdivide(const Scene& in, double maxEdge) {
             }
     }
     return out;
+}
+
+std::size_t subdividedSize(const Scene& in, const std::vector<double>& maxEdgeByObject) {
+    checkEdges(in, maxEdgeByObject);
+    std::size_t total = 0;
+    for (const Patch& p : in.patches) {
+        const double maxEdge = edgeFor(p, maxEdgeByObject);
+        if (maxEdge == 0.0 || longestEdge(in, p) <= maxEdge) {
+            ++total;
+            continue;
+        }
+        const auto v = [&](std::uint32_t k) { return in.corner(p, k); };
+        if (p.cornerCount == 4) {
+            total += std::size_t(gridSteps(std::max((v(1) - v(0)).norm(), (v(2) - v(3)).norm()), maxEdge)) *
+                     gridSteps(std::max((v(3) - v(0)).norm(), (v(2) - v(1)).norm()), maxEdge);
+            continue;
+        }
+        for (std::uint32_t k = 1; k + 1 < p.cornerCount; ++k) {
+            const std::size_t n = gridSteps(
+                std::max({(v(k) - v(0)).norm(), (v(k + 1) - v(k)).norm(), (v(0) - v(k + 1)).norm()}), maxEdge);
+            total += n * n;
+        }
+    }
+    return total;
+}
+
+std::vector<PatchId> coveringPatches(const Scene& from, const Scene& to) {
+    // The patches of `from` by the source patch they were cut from.
+    std::map<PatchId, std::vector<PatchId>> bySource;
+    for (PatchId i = 0; i < from.size(); ++i) bySource[from.parents[from.patches[i].parent].sourcePatch].push_back(i);
+    std::vector<PatchId> covering(to.size());
+    for (PatchId j = 0; j < to.size(); ++j) {
+        const Patch& q = to.patches[j];
+        const auto it = bySource.find(to.parents[q.parent].sourcePatch);
+        if (it == bySource.end())
+            throw Error("subdivide: patch " + std::to_string(j) + " comes from a source patch the other mesh lacks");
+        // The candidate whose polygon holds the centroid (all are coplanar pieces of one polygon);
+        // else, at a rounding edge case, the one with the nearest centroid.
+        PatchId best = it->second.front();
+        double bestDistance = std::numeric_limits<double>::infinity();
+        for (PatchId i : it->second) {
+            const Patch& p = from.patches[i];
+            bool inside = true;
+            for (std::uint32_t k = 0; k < p.cornerCount && inside; ++k) {
+                const Vec3 a = from.corner(p, k), b = from.corner(p, (k + 1) % p.cornerCount);
+                inside = (b - a).cross(q.centroid - a).dot(p.normal) >= -1e-12 * (b - a).squaredNorm();
+            }
+            const double distance = inside ? -1.0 : (p.centroid - q.centroid).squaredNorm();
+            if (distance < bestDistance) {
+                bestDistance = distance;
+                best = i;
+            }
+            if (inside) break;
+        }
+        covering[j] = best;
+    }
+    return covering;
 }
 
 }  // namespace hemirad

@@ -7,6 +7,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <set>
 
 using namespace hemirad;
@@ -104,4 +105,68 @@ TEST_CASE("Subdividing the Cornell box to 25 mm keeps its total area and materia
         for (std::uint32_t k = 0; k < p.cornerCount; ++k)
             CHECK((t.corner(p, (k + 1) % p.cornerCount) - t.corner(p, k)).norm() <= 25.0 + 1e-9);
     }
+}
+
+TEST_CASE("Per-object subdivision refines only the chosen objects, and its size is known before it is made") {
+    Warnings w = quietWarnings();
+    const Scene s = loadObj(sourcePath("scenes/cornell_box.obj"), w);
+    REQUIRE(s.objects.size() >= 3);
+    std::vector<double> edges(s.objects.size(), 0.0);
+    CHECK(subdividedSize(s, edges) == s.size());
+    CHECK(subdivide(s, edges).size() == s.size());
+    edges[1] = 40.0;
+    const Scene t = subdivide(s, edges);
+    CHECK(subdividedSize(s, edges) == t.size());
+    CHECK(t.size() > s.size());
+    CHECK(t.totalArea() == doctest::Approx(s.totalArea()).epsilon(1e-9));
+    for (const Patch& p : t.patches) {
+        double longest = 0.0;
+        for (std::uint32_t k = 0; k < p.cornerCount; ++k)
+            longest = std::max(longest, (t.corner(p, (k + 1) % p.cornerCount) - t.corner(p, k)).norm());
+        if (p.object == 1) CHECK(longest <= 40.0 + 1e-9);
+        else CHECK(t.parents[p.parent].kind == GridKind::Single);
+    }
+    std::size_t others = 0;
+    for (const Patch& p : s.patches) others += p.object != 1;
+    std::size_t kept = 0;
+    for (const Patch& p : t.patches) kept += p.object != 1 && t.parents[p.parent].kind == GridKind::Single;
+    CHECK(kept == others);
+    // Every object at once equals the scalar form, patch for patch.
+    for (double edge : {25.0, 100.0, 1000.0}) {
+        const Scene a = subdivide(s, edge), b = subdivide(s, std::vector<double>(s.objects.size(), edge));
+        CHECK(subdividedSize(s, std::vector<double>(s.objects.size(), edge)) == a.size());
+        REQUIRE(a.size() == b.size());
+        CHECK(a.geometryHash() == b.geometryHash());
+    }
+    CHECK_THROWS_WITH_AS(subdivide(s, std::vector<double>(1, 10.0)), doctest::Contains("edge lengths for"), Error);
+    edges[0] = -1.0;
+    CHECK_THROWS_WITH_AS(subdividedSize(s, edges), doctest::Contains("positive number"), Error);
+}
+
+TEST_CASE("coveringPatches maps each patch to the patch of the other mesh that holds its centroid") {
+    Warnings w = quietWarnings();
+    const Scene s = loadObj(sourcePath("scenes/cornell_box.obj"), w);
+    const Scene coarse = subdivide(s, 200.0), fine = subdivide(s, 45.0);
+    const auto holds = [](const Scene& scene, PatchId i, const Vec3& point) {
+        const Patch& p = scene.patches[i];
+        for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
+            const Vec3 a = scene.corner(p, k), b = scene.corner(p, (k + 1) % p.cornerCount);
+            if ((b - a).cross(point - a).dot(p.normal) < -1e-9) return false;
+        }
+        return std::abs((point - p.centroid).dot(p.normal)) < 1e-9;
+    };
+    const std::vector<PatchId> down = coveringPatches(coarse, fine);
+    REQUIRE(down.size() == fine.size());
+    std::vector<int> covered(coarse.size(), 0);
+    for (PatchId j = 0; j < fine.size(); ++j) {
+        CHECK(holds(coarse, down[j], fine.patches[j].centroid));
+        CHECK(coarse.patches[down[j]].object == fine.patches[j].object);
+        ++covered[down[j]];
+    }
+    CHECK(std::count(covered.begin(), covered.end(), 0) == 0);  // every coarse patch is refined, none lost
+    const std::vector<PatchId> up = coveringPatches(fine, coarse);
+    for (PatchId i = 0; i < coarse.size(); ++i) CHECK(holds(fine, up[i], coarse.patches[i].centroid));
+    // From the source scene itself.
+    const std::vector<PatchId> fromSource = coveringPatches(s, fine);
+    for (PatchId j = 0; j < fine.size(); ++j) CHECK(fromSource[j] == fine.parents[fine.patches[j].parent].sourcePatch);
 }
