@@ -6,6 +6,7 @@
 #include "engine/obj_loader.hpp"
 #include "engine/obj_writer.hpp"
 #include "engine/result_writer.hpp"
+#include "engine/subdivide.hpp"
 #include "engine/tone_map.hpp"
 #include "engine/vertex_radiosity.hpp"
 #include "pipeline/radiosity_pipeline.hpp"
@@ -194,6 +195,8 @@ void AppState::setScene(Scene scene, const std::string& path) {
     wait();
     poll();
     m_scene = std::make_unique<Scene>(std::move(scene));
+    m_source = std::make_unique<const Scene>(*m_scene);
+    m_meshEdges.assign(std::max<std::size_t>(m_scene->objects.size(), 1), 0.0);
     m_scenePath = path;
     m_F.reset();
     m_fSettings.reset();
@@ -346,6 +349,13 @@ void AppState::undo() {
     if (m_undo.empty()) return;
     UndoStep step = std::move(m_undo.back());
     m_undo.pop_back();
+    if (step.meshBefore) {
+        const auto before = step.meshBefore;
+        m_redo.push_back(std::move(step));
+        info("undo meshing");
+        applyMesh(*before);
+        return;
+    }
     restore(step.ids, step.before);
     const bool specular = step.before.specular != step.after.specular;
     m_redo.push_back(std::move(step));
@@ -357,11 +367,133 @@ void AppState::redo() {
     if (m_redo.empty()) return;
     UndoStep step = std::move(m_redo.back());
     m_redo.pop_back();
+    if (step.meshAfter) {
+        const auto after = step.meshAfter;
+        m_undo.push_back(std::move(step));
+        info("redo meshing");
+        applyMesh(*after);
+        return;
+    }
     restore(step.ids, step.after);
     const bool specular = step.before.specular != step.after.specular;
     m_undo.push_back(std::move(step));
     info("redo material edit");
     materialsChanged(specular);
+}
+
+std::vector<double> AppState::meshEdgesFor(double maxEdge, MeshTarget target) const {
+    if (!(maxEdge >= 0.0) || !std::isfinite(maxEdge))
+        throw Error("maximum edge length must be a positive number (0: as loaded), got " + std::to_string(maxEdge));
+    std::vector<double> edges = m_meshEdges;
+    if (target == MeshTarget::Scene) {
+        std::fill(edges.begin(), edges.end(), maxEdge);
+        return edges;
+    }
+    if (m_selection.empty()) throw Error("select the objects to mesh first (or mesh the whole scene)");
+    for (PatchId i : m_selection) edges[std::min<std::size_t>(m_scene->patches[i].object, edges.size() - 1)] = maxEdge;
+    return edges;
+}
+
+MeshingPreview AppState::meshingPreview(double maxEdge, MeshTarget target) const {
+    MeshingPreview preview;
+    if (!hasScene()) return preview;
+    try {
+        const std::vector<double> edges = meshEdgesFor(maxEdge, target);
+        const std::size_t patches = subdividedSize(*m_source, edges);
+        if (patches > kMaxGuiPatches)
+            throw Error("meshing to edges of " + std::to_string(maxEdge) + " would make " + std::to_string(patches) +
+                        " patches, more than hemirad-gui meshes (" + std::to_string(kMaxGuiPatches) +
+                        "); use hemirad subdivide and the command line for that");
+        preview.patches = patches;
+        for (std::size_t k = 0; k < edges.size(); ++k) preview.objects += edges[k] != m_meshEdges[k];
+    } catch (const Error& e) {
+        preview.error = e.what();
+    }
+    return preview;
+}
+
+bool AppState::mesh(double maxEdge, MeshTarget target, bool asLoaded) {
+    if (!hasScene()) return false;
+    const MeshingPreview preview = meshingPreview(maxEdge, target);
+    if (!preview.error.empty()) {
+        error(preview.error);
+        return false;
+    }
+    if (meshEdgesFor(maxEdge, target) == m_meshEdges) {
+        info("the mesh already has these edge lengths: nothing to do");
+        return true;
+    }
+    cancel();
+    wait();
+    poll();
+    auto next = std::make_shared<Mesh>();
+    next->edges = meshEdgesFor(maxEdge, target);
+    next->scene = subdivide(*m_source, next->edges);
+    // Material edits carry over: each new patch takes the values of the patch covering its centroid.
+    // Coarsening can merge patches edited apart; those take the covering patch's values (undo keeps them).
+    const std::vector<PatchId> from = coveringPatches(*m_scene, next->scene);
+    for (PatchId j = 0; j < next->scene.size(); ++j) {
+        const Patch& old = m_scene->patches[from[j]];
+        Patch& p = next->scene.patches[j];
+        p.emission = old.emission;
+        p.rho = old.rho;
+        p.specular = old.specular;
+    }
+    std::size_t merged = 0;
+    const std::vector<PatchId> to = coveringPatches(next->scene, *m_scene);
+    for (PatchId i = 0; i < m_scene->size(); ++i) {
+        const Patch &old = m_scene->patches[i], &p = next->scene.patches[to[i]];
+        merged += (old.emission != p.emission).any() || (old.rho != p.rho).any() || old.specular != p.specular;
+    }
+    std::ostringstream msg;
+    msg << "meshed " << (target == MeshTarget::Scene ? "the scene" : std::to_string(preview.objects) + " object(s)");
+    if (maxEdge > 0) msg << " to edges <= " << maxEdge;
+    else msg << " back to the patches as loaded";
+    msg << ": " << m_scene->size() << " -> " << next->scene.size() << " patches";
+    if (merged) msg << "; " << merged << " patch(es) edited apart were merged and take the values of the patch now covering them";
+    if (asLoaded) {
+        applyMesh(*next);
+        m_undo.clear();
+        m_redo.clear();
+        m_cleanDepth = 0;
+        info(msg.str());
+        return true;
+    }
+    UndoStep step;
+    step.meshBefore = std::make_shared<Mesh>(Mesh{*m_scene, m_meshEdges});
+    step.meshAfter = next;
+    if (m_cleanDepth && *m_cleanDepth > m_undo.size()) m_cleanDepth.reset();
+    m_undo.push_back(std::move(step));
+    m_redo.clear();
+    info(msg.str());
+    applyMesh(*next);
+    return true;
+}
+
+void AppState::applyMesh(const Mesh& next) {
+    cancel();
+    wait();
+    poll();
+    const std::vector<PatchId> from = coveringPatches(*m_scene, next.scene);
+    std::vector<Rgb> B(next.scene.size());
+    std::vector<PatchId> selection;
+    for (PatchId j = 0; j < next.scene.size(); ++j) {
+        B[j] = from[j] < m_B.size() ? m_B[from[j]] : next.scene.patches[j].emission;
+        if (isSelected(from[j])) selection.push_back(j);
+    }
+    *m_scene = next.scene;
+    m_meshEdges = next.edges;
+    m_B = std::move(B);
+    m_selection = std::move(selection);
+    m_corner.clear();
+    m_reports.clear();
+    ++m_materialsRevision;  // the material editor reloads: its patch ids changed
+    bump();
+    m_fStale = m_F && m_scene->geometryHash() != m_fGeometryHash;
+    m_bStale = true;
+    if (m_F && m_fStale) info("the mesh changed: form factors must be recomputed (Run)");
+    // Back on the mesh F was made for (undo): re-solve from the carried-over radiosity.
+    if (autoResolve && m_F && !m_fStale) resolve();
 }
 
 void AppState::startJob(bool computeF, std::shared_ptr<const FormFactors> F) {
@@ -555,7 +687,8 @@ bool AppState::exportObjectTable(const std::string& path) {
 }
 
 std::vector<float> AppState::formFactorRow(PatchId i) const {
-    if (!m_F || !hasScene() || i >= m_F->size() || !m_F->rowComputed(i)) return {};
+    // An F of another mesh (stale after meshing) has other patch ids.
+    if (!m_F || !hasScene() || m_F->size() != m_scene->size() || i >= m_F->size() || !m_F->rowComputed(i)) return {};
     std::vector<float> row(m_scene->size(), 0.0f);
     for (std::uint64_t k = m_F->rowBegin(i); k < m_F->rowEnd(i); ++k) row[m_F->columns()[k]] = m_F->values()[k];
     return row;

@@ -76,6 +76,16 @@ struct SelectionSummary {
     Rgb power = Rgb::Zero();             ///< sum of A B: the power leaving the selection
 };
 
+/// What the meshing panel would make (subdivide per object), shown before Apply.
+enum class MeshTarget { Scene, SelectedObjects };
+struct MeshingPreview {
+    std::size_t patches = 0;       ///< the scene's patch count after meshing
+    std::size_t objects = 0;       ///< objects given the new edge length
+    std::string error;             ///< why it cannot be applied (then the counts are 0)
+};
+/// hemirad-gui meshes interactively up to this many patches; larger meshes belong to the CLI.
+inline constexpr std::size_t kMaxGuiPatches = 2'000'000;
+
 struct LogEntry {
     double seconds;  ///< since the application started
     std::string text;
@@ -101,6 +111,10 @@ public:
     bool hasScene() const { return m_scene != nullptr; }
     const Scene& scene() const { return *m_scene; }
     const std::string& scenePath() const { return m_scenePath; }
+    /// The scene as loaded, before meshing: what the meshing panel subdivides.
+    const Scene& sourceScene() const { return *m_source; }
+    /// The maximum edge length each object was meshed to (scene units; 0 = as loaded).
+    const std::vector<double>& meshEdges() const { return m_meshEdges; }
     /// Bumped whenever geometry, materials or results change: the viewer re-uploads.
     std::uint64_t revision() const { return m_revision; }
 
@@ -154,7 +168,8 @@ public:
     // --- Actions -----------------------------------------------------------------------------
     /// Loads an OBJ (+MTL); on error the current scene stays and the error is logged. Returns success.
     bool loadScene(const std::string& path);
-    /// Replaces the scene (tests, generators); F and radiosity are dropped.
+    /// Replaces the scene (tests, generators); F and radiosity are dropped. It becomes the source
+    /// the meshing panel subdivides.
     void setScene(Scene scene, const std::string& path);
     bool saveScene(const std::string& path);
 
@@ -165,6 +180,15 @@ public:
     void editMaterial(const MaterialEdit& edit);
     void undo();
     void redo();
+
+    /// The patch count meshing would give: the objects of `target` subdivided from the scene as
+    /// loaded until no edge exceeds maxEdge (scene units; 0 = back to the patches as loaded).
+    MeshingPreview meshingPreview(double maxEdge, MeshTarget target) const;
+    /// Meshes as meshingPreview says. Material edits are kept (each new patch takes the values of the
+    /// patch that covered its centroid), so are the selection and, as a warm start, radiosity; F
+    /// becomes stale. Undoable unless `asLoaded` (hemirad-gui --subdivide: part of loading, the
+    /// scene stays unedited). Returns success; errors are logged.
+    bool mesh(double maxEdge, MeshTarget target, bool asLoaded = false);
 
     /// Computes F if it is missing, stale, made with other settings than `settings.formFactors`
     /// (method, its options, mirror depth) or lacks rows the materials now need, then solves.
@@ -210,6 +234,8 @@ private:
     void bump() { ++m_revision; }
 
     std::unique_ptr<Scene> m_scene;
+    std::unique_ptr<const Scene> m_source;  ///< the scene as loaded (meshing subdivides it)
+    std::vector<double> m_meshEdges;        ///< per object, 0 = as loaded
     std::string m_scenePath;
     std::uint64_t m_revision = 1;
     std::shared_ptr<const FormFactors> m_F;
@@ -225,10 +251,21 @@ private:
     std::vector<SolveReport> m_reports;
     std::vector<std::pair<std::string, double>> m_timings;
     std::vector<PatchId> m_selection;
+    /// A mesh and the edge lengths it was made with (whole scenes: meshing renumbers patches).
+    struct Mesh {
+        Scene scene;
+        std::vector<double> edges;
+    };
+    /// A material edit of `ids`, or a meshing step (meshBefore, meshAfter set).
     struct UndoStep {
         std::vector<PatchId> ids;
         Snapshot before, after;
+        std::shared_ptr<const Mesh> meshBefore, meshAfter;
     };
+    /// Makes `next` the current mesh, carrying radiosity and the selection over.
+    void applyMesh(const Mesh& next);
+    /// The edge lengths per object meshing with (maxEdge, target) asks for.
+    std::vector<double> meshEdgesFor(double maxEdge, MeshTarget target) const;
     std::vector<UndoStep> m_undo, m_redo;
     std::vector<LogEntry> m_log;
     std::chrono::steady_clock::time_point m_start;

@@ -58,3 +58,29 @@ TEST_CASE("Emission and material edges are creases: a light does not smear into 
     const std::vector<Rgb> blended = cornerRadiosity(b.scene, B);
     CHECK(blended[b.scene.patches[0].firstCorner + 1][0] == doctest::Approx((1.0 + 100.0) / 2.0));
 }
+
+TEST_CASE("At a T-junction (neighbours meshed to different sizes) corner values stay within their neighbours' range") {
+    // A coarse unit square next to one refined 2 x 2 (the GUI's meshing of a selected object): the
+    // refined side's vertex at (1, 0.5) lies on the coarse square's edge but is none of its corners.
+    SceneBuilder b;
+    b.scene.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(1.5, 0, 0), Vec3(2, 0, 0),
+                        Vec3(2, 0.5, 0), Vec3(1.5, 0.5, 0), Vec3(1, 0.5, 0), Vec3(2, 1, 0), Vec3(1.5, 1, 0)};
+    b.scene.addPatch({0, 1, 2, 3}, 0, 0);  // coarse, area 1
+    b.scene.addPatch({1, 4, 7, 8}, 0, 0);  // fine, area 0.25 each
+    b.scene.addPatch({4, 5, 6, 7}, 0, 0);
+    b.scene.addPatch({7, 6, 9, 10}, 0, 0);
+    b.scene.addPatch({8, 7, 10, 2}, 0, 0);
+    const std::vector<Rgb> constant(5, Rgb::Constant(3.0));
+    for (const Rgb& v : cornerRadiosity(b.scene, constant)) CHECK((v == 3.0).all());  // no seam in a constant field
+    const std::vector<Rgb> B = {Rgb::Constant(1.0), Rgb::Constant(2.0), Rgb::Constant(3.0), Rgb::Constant(4.0),
+                                Rgb::Constant(5.0)};
+    const std::vector<Rgb> c = cornerRadiosity(b.scene, B);
+    for (const Rgb& v : c) {
+        CHECK(v.allFinite());
+        CHECK(v[0] >= 1.0);
+        CHECK(v[0] <= 5.0);
+    }
+    // The shared corners average both sides; the T-vertex only the fine patches that have it.
+    CHECK(c[1][0] == doctest::Approx((1.0 * 1.0 + 0.25 * 2.0) / 1.25));       // (1, 0): coarse + fine 1
+    CHECK(c[b.scene.patches[1].firstCorner + 3][0] == doctest::Approx(3.5));  // (1, 0.5): fine 1 and 4
+}

@@ -448,3 +448,122 @@ TEST_CASE("GUI state: before Run the panel knows the rows, the work, the memory 
     REQUIRE(e.seconds.has_value());
     CHECK(*e.seconds > 0.0);
 }
+
+TEST_CASE("GUI state: meshing the selected object previews its patch count, keeps edits, makes F stale, and undoes") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/cornell_box.obj")));
+    const Scene source = app.scene();
+    app.settings.formFactors.as<HemisphereOptions>().samples = 384;
+    app.runPipeline();
+    runToEnd(app);
+    REQUIRE(app.formFactors() != nullptr);
+    REQUIRE(app.formFactors()->size() == source.size());
+
+    // Nothing selected: the selected-object mode says what to do; bad lengths are refused.
+    CHECK(app.meshingPreview(50.0, ui::MeshTarget::SelectedObjects).error.find("select the objects") != std::string::npos);
+    CHECK_FALSE(app.meshingPreview(-1.0, ui::MeshTarget::Scene).error.empty());
+    CHECK(app.meshingPreview(0.01, ui::MeshTarget::Scene).error.find("more than hemirad-gui meshes") != std::string::npos);
+    CHECK_FALSE(app.mesh(0.01, ui::MeshTarget::Scene));
+    CHECK(app.scene().size() == source.size());
+
+    // An edit on the short block first, then the block meshed: the edit stays on every new patch.
+    PatchId block = 0;
+    while (source.objects[source.patches[block].object] != "short_block") ++block;
+    const std::uint32_t blockObject = source.patches[block].object;
+    app.selectionMode = SelectionMode::Object;
+    app.select(block, false);
+    const std::size_t blockPatches = app.selection().size();
+    MaterialEdit edit;
+    edit.rho = Rgb(0.2, 0.4, 0.6);
+    app.editMaterial(edit);
+    runToEnd(app);
+    const double oldBlockB = app.radiosity()[block][2];
+
+    const ui::MeshingPreview preview = app.meshingPreview(40.0, ui::MeshTarget::SelectedObjects);
+    CHECK(preview.error.empty());
+    CHECK(preview.objects == 1);
+    REQUIRE(app.mesh(40.0, ui::MeshTarget::SelectedObjects));
+    const Scene& meshed = app.scene();
+    CHECK(meshed.size() == preview.patches);
+    CHECK(meshed.size() > source.size());
+    CHECK(meshed.totalArea() == doctest::Approx(source.totalArea()).epsilon(1e-9));
+    std::size_t newBlock = 0, others = 0;
+    for (const Patch& p : meshed.patches) {
+        if (p.object == blockObject) {
+            ++newBlock;
+            CHECK((p.rho == Rgb(0.2, 0.4, 0.6)).all());
+        } else {
+            ++others;
+        }
+    }
+    CHECK(others == source.size() - blockPatches);  // the other objects keep their patches
+    CHECK(app.meshEdges()[blockObject] == 40.0);
+    CHECK(app.selection().size() == newBlock);      // the selection follows the mesh
+    CHECK(app.radiosity().size() == meshed.size());
+    CHECK(app.radiosity()[app.selection()[0]][2] > 0.0);  // carried over as the warm start
+    CHECK(app.formFactorsStale());
+    CHECK(app.formFactorRow(0).empty());            // F's ids belong to the old mesh
+    CHECK(app.dirty());
+    CHECK(logged(app, "meshed 1 object(s) to edges <= 40"));
+
+    // Run computes F for the new mesh: every row, the new size.
+    app.runPipeline();
+    runToEnd(app);
+    REQUIRE(app.formFactors() != nullptr);
+    CHECK(app.formFactors()->size() == meshed.size());
+    CHECK_FALSE(app.formFactorsStale());
+    CHECK(app.formFactorRow(0).size() == meshed.size());
+    // The block's mean radiosity stays what the coarse solve gave (a refinement, same physics).
+    double area = 0.0, sum = 0.0;
+    for (PatchId i = 0; i < meshed.size(); ++i)
+        if (meshed.patches[i].object == blockObject && meshed.patches[i].normal.isApprox(source.patches[block].normal, 1e-9)) {
+            area += meshed.patches[i].area;
+            sum += meshed.patches[i].area * app.radiosity()[i][2];
+        }
+    CHECK(sum / area == doctest::Approx(oldBlockB).epsilon(0.05));
+
+    // Undo: the old mesh with the edit, and the old F is current again; redo meshes again.
+    app.undo();
+    runToEnd(app);
+    CHECK(app.scene().size() == source.size());
+    CHECK(app.scene().geometryHash() == source.geometryHash());
+    CHECK((app.scene().patches[block].rho == Rgb(0.2, 0.4, 0.6)).all());
+    CHECK(app.meshEdges()[blockObject] == 0.0);
+    CHECK(logged(app, "undo meshing"));
+    app.redo();
+    CHECK(app.scene().size() == preview.patches);
+    CHECK_FALSE(app.formFactorsStale());  // the F Run made for this mesh
+    app.undo();
+    app.undo();  // the material edit
+    runToEnd(app);
+    CHECK((app.scene().patches[block].rho == source.patches[block].rho).all());
+    CHECK_FALSE(app.dirty());
+
+    // The whole scene, then back to the patches as loaded.
+    REQUIRE(app.mesh(100.0, ui::MeshTarget::Scene));
+    CHECK(app.scene().size() == subdivide(source, 100.0).size());
+    CHECK(app.scene().geometryHash() == subdivide(source, 100.0).geometryHash());
+    REQUIRE(app.mesh(0.0, ui::MeshTarget::Scene));
+    CHECK(app.scene().geometryHash() == source.geometryHash());
+    CHECK(logged(app, "back to the patches as loaded"));
+}
+
+TEST_CASE("GUI state: coarsening merges patches edited apart, says so, and undo restores them") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/cornell_box.obj")));
+    app.autoResolve = false;
+    REQUIRE(app.mesh(100.0, ui::MeshTarget::Scene, true));
+    CHECK_FALSE(app.dirty());  // part of loading (hemirad-gui --subdivide)
+    CHECK_FALSE(app.canUndo());
+    const Scene fine = app.scene();
+    app.select(0, false);
+    MaterialEdit edit;
+    edit.emission = Rgb::Constant(5.0);
+    app.editMaterial(edit);
+    REQUIRE(app.mesh(0.0, ui::MeshTarget::Scene));
+    CHECK(logged(app, "edited apart were merged"));
+    app.undo();
+    CHECK(app.scene().geometryHash() == fine.geometryHash());
+    CHECK((app.scene().patches[0].emission == Rgb::Constant(5.0)).all());
+    CHECK((app.scene().patches[1].emission == fine.patches[1].emission).all());
+}
