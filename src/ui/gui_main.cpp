@@ -2,7 +2,6 @@
 // ImGui panels present the state; the viewer draws the scene behind them.
 #include "engine/error.hpp"
 #include "engine/result_writer.hpp"
-#include "engine/subdivide.hpp"
 #include "engine/threads.hpp"
 #include "gl/gl_api.hpp"
 #include "ui/app_state.hpp"
@@ -21,6 +20,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +38,9 @@ struct GuiOptions {
     FalseColourScale falseColourScale = FalseColourScale::Linear;
     std::string screenshot;
     double subdivide = 0.0;
+    std::optional<Layer> layer;  ///< --layer: the view's layer at start
+    double mesh = 0.0;          ///< --mesh L: the meshing panel's Apply for the whole scene
+    double meshSelected = 0.0;  ///< --mesh-selected L: the same for the objects of --select
     int width = 1280, height = 800;
     PipelineSettings settings;
     long select = -1;  ///< patch to select after loading (scripted screenshots)
@@ -45,15 +48,19 @@ struct GuiOptions {
 
 const char* kUsage =
     "usage: hemirad-gui [SCENE.obj] [--subdivide L] [--method NAME] [back-end options, see 'hemirad help']\n"
+    "                   [--mesh L | --select PATCH --mesh-selected L]\n"
     "                   [--size WxH] [--select PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
-    "                   [--quit-after S] [--false-color Q [--scale linear|log]]\n"
+    "                   [--quit-after S] [--false-color Q [--scale linear|log]] [--layer NAME]\n"
     "  --run          compute form factors and solve after loading\n"
+    "  --mesh L       mesh the scene to edges <= L as the Pipeline panel's Apply does (undoable);\n"
+    "                 --mesh-selected L only the objects of --select\n"
     "  --screenshot   once the view shows the results, save the window (with the UI) as a PNG\n"
     "  --exit         quit after the screenshot (or at once without one), print the log,\n"
     "                 exit 1 if it holds an error\n"
     "  --quit-after S run interactively for S seconds, then quit as --exit does\n"
     "  --false-color Q  start in the false-colour view of Q (radiosity, irradiance, emission);\n"
     "                 --scale linear|log its scale\n"
+    "  --layer NAME   start in that view: radiosity, patch-id, emission, reflectance, specular, f-row\n"
     "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
     "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc select none,\n"
     "       Ctrl+Z/Y undo/redo; View > Look from: the standard views\n";
@@ -84,6 +91,16 @@ GuiOptions parse(int argc, char** argv) {
         else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
         else if (a == "--screenshot") o.screenshot = value(k, "--screenshot");
         else if (a == "--subdivide") o.subdivide = number(value(k, "--subdivide"), "--subdivide");
+        else if (a == "--layer") {
+            const std::string v = value(k, "--layer");
+            static const std::pair<const char*, Layer> layers[] = {
+                {"radiosity", Layer::Radiosity}, {"patch-id", Layer::PatchId},       {"emission", Layer::Emission},
+                {"reflectance", Layer::Reflectance}, {"specular", Layer::Specular}, {"f-row", Layer::FormFactorRow}};
+            for (const auto& [name, layer] : layers)
+                if (v == name) o.layer = layer;
+            if (!o.layer) throw Error("--layer expects radiosity, patch-id, emission, reflectance, specular or f-row, got '" + v + "'");
+        } else if (a == "--mesh") o.mesh = number(value(k, "--mesh"), "--mesh");
+        else if (a == "--mesh-selected") o.meshSelected = number(value(k, "--mesh-selected"), "--mesh-selected");
         else if (a == "--method") method = value(k, "--method");
         else if (const BackendOption* option = findBackendOption(a)) {
             backendFlags.emplace_back(a, option->kind == OptionKind::Switch ? "yes" : value(k, a.c_str()));
@@ -189,6 +206,7 @@ int main(int argc, char** argv) {
             app.falseColour.quantity = *options.falseColour;
         }
         app.falseColour.scale = options.falseColourScale;
+        if (options.layer) app.layer = *options.layer;
         OrbitCamera camera;
         Panels panels(recentFilesPath());
         Input input;
@@ -198,12 +216,9 @@ int main(int argc, char** argv) {
         glfwSetCursorPosCallback(window, onCursor);  // ImGui 1.86's GLFW back end polls the cursor itself
         if (!options.scene.empty()) {
             panels.open(app, camera, options.scene);
-            if (app.hasScene() && options.subdivide > 0) {
-                app.setScene(subdivide(app.scene(), options.subdivide), options.scene);
-                char text[96];
-                std::snprintf(text, sizeof text, "subdivided to %zu patches (edges <= %g)", app.scene().size(), options.subdivide);
-                app.info(text);
-            }
+            // Part of loading: the meshing panel can still go back to the patches as loaded.
+            if (app.hasScene() && options.subdivide > 0 && !app.mesh(options.subdivide, MeshTarget::Scene, true))
+                throw Error("--subdivide " + std::to_string(options.subdivide) + ": " + app.log().back().text);
         }
         if (options.select >= 0 && app.hasScene()) {
             if (std::size_t(options.select) >= app.scene().size())
@@ -211,6 +226,11 @@ int main(int argc, char** argv) {
                             std::to_string(app.scene().size()) + " patches");
             app.select(PatchId(options.select), false);
         }
+        // Scripted meshing, as the panel's Apply (undoable): the whole scene, or the objects of --select.
+        if (app.hasScene() && options.mesh > 0 && !app.mesh(options.mesh, MeshTarget::Scene))
+            throw Error("--mesh: " + app.log().back().text);
+        if (app.hasScene() && options.meshSelected > 0 && !app.mesh(options.meshSelected, MeshTarget::SelectedObjects))
+            throw Error("--mesh-selected: " + app.log().back().text);
         if (options.run && app.hasScene()) app.runPipeline();
         {
             Viewer viewer;

@@ -164,8 +164,8 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Edit")) {
-        if (ImGui::MenuItem("Undo material edit", "Ctrl+Z", false, app.canUndo())) app.undo();
-        if (ImGui::MenuItem("Redo material edit", "Ctrl+Y", false, app.canRedo())) app.redo();
+        if (ImGui::MenuItem("Undo (material edit, meshing)", "Ctrl+Z", false, app.canUndo())) app.undo();
+        if (ImGui::MenuItem("Redo", "Ctrl+Y", false, app.canRedo())) app.redo();
         if (ImGui::MenuItem("Select none", "Esc", false, !app.selection().empty())) app.clearSelection();
         ImGui::EndMenu();
     }
@@ -329,7 +329,60 @@ void Panels::selectionPanel(AppState& app, Inspector& inspector, double viewExpo
     }
 }
 
+void Panels::meshingSection(AppState& app) {
+    const Scene& source = app.sourceScene();
+    if (m_meshSource != &source) {
+        // A new scene: a first suggestion of about 20 steps along its bounds' diagonal, rounded to 1-2-5.
+        m_meshSource = &source;
+        const double raw = source.extent() / 20.0;
+        const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+        m_meshEdge = raw >= 5 * decade ? 5 * decade : raw >= 2 * decade ? 2 * decade : decade;
+    }
+    const auto& edges = app.meshEdges();
+    if (edges != m_meshEdgesSeen) {
+        // Meshed elsewhere (undo, redo, --mesh): the fields show the mesh's edge length and target.
+        m_meshEdgesSeen = edges;
+        const auto finest = std::max_element(edges.begin(), edges.end());
+        if (finest != edges.end() && *finest > 0) {
+            m_meshEdge = *finest;
+            m_meshSelected = std::count(edges.begin(), edges.end(), *finest) != std::ptrdiff_t(edges.size());
+        }
+    }
+    const std::size_t meshed = std::size_t(std::count_if(edges.begin(), edges.end(), [](double e) { return e > 0; }));
+    ImGui::Text("Mesh: %zu patches", app.scene().size());
+    if (meshed == 0) ImGui::TextDisabled("as loaded");
+    else ImGui::TextDisabled("%zu of %zu objects meshed (%zu patches as loaded)", meshed, edges.size(), source.size());
+    ImGui::InputDouble("Max edge", &m_meshEdge, 0.0, 0.0, "%.6g");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Longest patch edge after meshing, in scene units (like --subdivide): quads become grids,\n"
+                          "triangles n x n triangles, always from the patches as loaded. 0: back to those.");
+    int target = m_meshSelected ? 1 : 0;
+    ImGui::RadioButton("whole scene", &target, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("selected objects", &target, 1);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("The objects of the selection (pick one patch of each); the rest keep their mesh");
+    m_meshSelected = target == 1;
+    const MeshTarget meshTarget = m_meshSelected ? MeshTarget::SelectedObjects : MeshTarget::Scene;
+    const MeshingPreview preview = app.meshingPreview(m_meshEdge, meshTarget);
+    ImGui::PushTextWrapPos(0.0f);
+    if (!preview.error.empty()) {
+        ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "%s", preview.error.c_str());
+    } else if (preview.objects == 0) {
+        ImGui::TextDisabled("the mesh already has these edges (%zu patches)", preview.patches);
+    } else {
+        ImGui::BeginDisabled(app.job().running);
+        if (ImGui::Button("Apply")) app.mesh(m_meshEdge, meshTarget);
+        ImGui::EndDisabled();
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("Mesh now (undoable, Ctrl+Z); materials and edits are kept, F must be recomputed");
+        ImGui::SameLine();
+        ImGui::TextDisabled("-> %zu patches (now %zu)", preview.patches, app.scene().size());
+    }
+    ImGui::PopTextWrapPos();
+    ImGui::Separator();
+}
+
 void Panels::pipelinePanel(AppState& app) {
+    if (app.hasScene()) meshingSection(app);
     PipelineSettings& st = app.settings;
     // The back ends and their options come from the registry: a widget per option kind.
     const auto& backends = formFactorBackends();

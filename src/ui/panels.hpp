@@ -48,6 +48,8 @@ private:
     void materialPanel(AppState& app);
     void selectionPanel(AppState& app, Inspector& inspector, double viewExposure);
     void pipelinePanel(AppState& app);
+    /// The pipeline's first step: mesh the scene or the selected objects to a maximum edge length.
+    void meshingSection(AppState& app);
     void logPanel(AppState& app);
     void legendPanel(AppState& app);
     void objectsPanel(AppState& app);
@@ -75,6 +77,11 @@ private:
     bool m_selectionHidden = true;                 ///< the Selection panel was not drawn last frame
     bool m_legendHidden = true;                    ///< the Legend panel was not drawn last frame
     bool m_showObjects = false;                    ///< View > Object table
+    // Meshing section: the edge length typed, whole scene or selected objects, for which scene.
+    double m_meshEdge = 0.0;
+    bool m_meshSelected = false;
+    const Scene* m_meshSource = nullptr;
+    std::vector<double> m_meshEdgesSeen;  ///< the mesh's edge lengths the fields were last set from
     std::map<std::string, Rect> m_panelRects;
 };
 

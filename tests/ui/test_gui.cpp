@@ -1,5 +1,7 @@
 // hemirad-gui under Xvfb: load, compute, solve, draw, screenshot, quit, and the picture is checked.
 // Needs xvfb-run (installed by scripts/install-deps.sh); without it the test fails, never skips.
+#include "engine/obj_loader.hpp"
+#include "engine/subdivide.hpp"
 #include "render/false_colour.hpp"
 #include "ui/gui_run.hpp"
 
@@ -146,4 +148,35 @@ TEST_CASE("hemirad-gui's false-colour view: patches in the map's colours, a lege
     bool inMap = false;
     for (int k = 0; k < 256; ++k) inMap |= colour(vx, vy) == map(k / 255.0);
     CHECK(inMap);
+}
+
+TEST_CASE("hemirad-gui meshes a selected object as the Pipeline panel's Apply does: the patch count it previews, and F made for it") {
+    // --mesh-selected is the panel's Apply for the objects of --select (patch 17 of the 60 mm mesh
+    // lies on the tall block); Run then computes every row of the new mesh.
+    hemirad::Warnings quiet = quietWarnings();
+    const hemirad::Scene source = hemirad::loadObj(sourcePath("scenes/cornell_box.obj"), quiet);
+    const hemirad::Scene loaded = hemirad::subdivide(source, 60.0);
+    std::vector<double> edges(source.objects.size(), 60.0);
+    edges[loaded.patches[17].object] = 25.0;
+    const std::size_t expected = hemirad::subdividedSize(source, edges);
+    REQUIRE(expected > loaded.size());
+    Image image;
+    const std::string log = runGuiAndCheckPicture("gui-mesh", "--samples 256 --select 17 --mesh-selected 25 --layer patch-id", false, &image);
+    CHECK(log.find("meshed 1 object(s) to edges <= 25: " + std::to_string(loaded.size()) + " -> " + std::to_string(expected) +
+                   " patches") != std::string::npos);
+    CHECK(log.find(", " + std::to_string(expected) + " rows in ") != std::string::npos);  // F for the new mesh
+    // The patch-id view shows the finer mesh: the tall block's face (left of centre) has many more
+    // distinct colours than a 60 mm face of the same size.
+    const auto distinct = [&](int x0, int y0, int x1, int y1) {
+        std::vector<int> seen;
+        for (int y = y0; y < y1; y += 2)
+            for (int x = x0; x < x1; x += 2) {
+                const unsigned char* c = image.at(x, y);
+                seen.push_back(c[0] << 16 | c[1] << 8 | c[2]);
+            }
+        std::sort(seen.begin(), seen.end());
+        return std::unique(seen.begin(), seen.end()) - seen.begin();
+    };
+    MESSAGE("distinct patch colours: tall block ", distinct(470, 350, 640, 600), ", short block ", distinct(640, 540, 820, 620));
+    CHECK(distinct(470, 350, 640, 600) > 2 * distinct(640, 540, 820, 620));
 }
