@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <sstream>
 
 namespace hemirad::ui {
@@ -163,6 +164,28 @@ FalseColourView AppState::falseColourView() const {
         view.error = e.what();
     }
     return view;
+}
+
+std::optional<PatchReadout> AppState::readout(PatchId j) const {
+    if (!hasScene() || j >= m_scene->size()) return std::nullopt;
+    const Patch& p = m_scene->patches[j];
+    PatchReadout r;
+    r.patch = j;
+    r.object = p.object < m_scene->objects.size() ? m_scene->objects[p.object] : std::string("?");
+    r.sourceLine = p.sourceLine;
+    r.area = p.area;
+    r.B = j < m_B.size() ? m_B[j] : p.emission;
+    for (int c = 0; c < 3; ++c)
+        r.H[c] = p.rho[c] > 0.0 ? (r.B[c] - p.emission[c]) / p.rho[c] : std::numeric_limits<double>::quiet_NaN();
+    r.emission = p.emission;
+    r.rho = p.rho;
+    r.specular = p.specular;
+    if (!m_selection.empty() && m_selection.front() != j) {
+        r.selected = m_selection.front();
+        // Only an F of this mesh: after meshing its ids are another mesh's.
+        if (m_F && m_F->size() == m_scene->size() && m_F->rowComputed(*r.selected)) r.fromSelected = m_F->at(*r.selected, j);
+    }
+    return r;
 }
 
 SelectionSummary AppState::selectionSummary() const {

@@ -86,6 +86,21 @@ struct MeshingPreview {
 /// hemirad-gui meshes interactively up to this many patches; larger meshes belong to the CLI.
 inline constexpr std::size_t kMaxGuiPatches = 2'000'000;
 
+/// The status bar's readout of one patch (the one under the cursor, else the selected one).
+struct PatchReadout {
+    PatchId patch = 0;
+    std::string object;
+    int sourceLine = 0;
+    double area = 0.0;                    ///< scene units squared
+    Rgb B = Rgb::Zero();                  ///< radiosity, W/m^2
+    Rgb H = Rgb::Zero();                  ///< irradiance (B - E) / rho, W/m^2; NaN in a channel with rho 0
+    Rgb emission = Rgb::Zero(), rho = Rgb::Zero();
+    double specular = 0.0;
+    /// F_ij from the (first) selected patch i to this one, when F holds row i and i is not this patch.
+    std::optional<PatchId> selected;
+    std::optional<double> fromSelected;
+};
+
 struct LogEntry {
     double seconds;  ///< since the application started
     std::string text;
@@ -133,6 +148,8 @@ public:
     const std::vector<PatchId>& selection() const { return m_selection; }
     SelectionMode selectionMode = SelectionMode::Patch;
     bool isSelected(PatchId id) const;
+    /// What the status bar shows for patch j; none when there is no such patch.
+    std::optional<PatchReadout> readout(PatchId j) const;
     /// Count, objects, total area and area-weighted means of the selection (empty: all zero).
     SelectionSummary selectionSummary() const;
 

@@ -38,6 +38,7 @@ struct GuiOptions {
     FalseColourScale falseColourScale = FalseColourScale::Linear;
     std::string screenshot;
     double subdivide = 0.0;
+    long hover = -1;             ///< --hover: the status bar reads this patch out (scripted runs)
     std::optional<Layer> layer;  ///< --layer: the view's layer at start
     double mesh = 0.0;          ///< --mesh L: the meshing panel's Apply for the whole scene
     double meshSelected = 0.0;  ///< --mesh-selected L: the same for the objects of --select
@@ -49,7 +50,7 @@ struct GuiOptions {
 const char* kUsage =
     "usage: hemirad-gui [SCENE.obj] [--subdivide L] [--method NAME] [back-end options, see 'hemirad help']\n"
     "                   [--mesh L | --select PATCH --mesh-selected L]\n"
-    "                   [--size WxH] [--select PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
+    "                   [--size WxH] [--select PATCH] [--hover PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
     "                   [--quit-after S] [--false-color Q [--scale linear|log]] [--layer NAME]\n"
     "  --run          compute form factors and solve after loading\n"
     "  --mesh L       mesh the scene to edges <= L as the Pipeline panel's Apply does (undoable);\n"
@@ -60,6 +61,7 @@ const char* kUsage =
     "  --quit-after S run interactively for S seconds, then quit as --exit does\n"
     "  --false-color Q  start in the false-colour view of Q (radiosity, irradiance, emission);\n"
     "                 --scale linear|log its scale\n"
+    "  --hover PATCH  read PATCH out in the status bar as if the cursor were on it (scripted runs)\n"
     "  --layer NAME   start in that view: radiosity, patch-id, emission, reflectance, specular, f-row\n"
     "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
     "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc select none,\n"
@@ -109,6 +111,11 @@ GuiOptions parse(int argc, char** argv) {
             char* end = nullptr;
             o.select = std::strtol(v.c_str(), &end, 10);
             if (v.empty() || *end || o.select < 0) throw Error("--select expects a patch id, got '" + v + "'");
+        } else if (a == "--hover") {
+            const std::string v = value(k, "--hover");
+            char* end = nullptr;
+            o.hover = std::strtol(v.c_str(), &end, 10);
+            if (v.empty() || *end || o.hover < 0) throw Error("--hover expects a patch id, got '" + v + "'");
         } else if (a == "--size") {
             const std::string v = value(k, "--size");
             if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 64 || o.height < 64)
@@ -226,6 +233,9 @@ int main(int argc, char** argv) {
                             std::to_string(app.scene().size()) + " patches");
             app.select(PatchId(options.select), false);
         }
+        if (options.hover >= 0 && (!app.hasScene() || std::size_t(options.hover) >= app.scene().size()))
+            throw Error("--hover " + std::to_string(options.hover) + ": the scene has " +
+                        std::to_string(app.hasScene() ? app.scene().size() : 0) + " patches");
         // Scripted meshing, as the panel's Apply (undoable): the whole scene, or the objects of --select.
         if (app.hasScene() && options.mesh > 0 && !app.mesh(options.mesh, MeshTarget::Scene))
             throw Error("--mesh: " + app.log().back().text);
@@ -322,7 +332,10 @@ int main(int argc, char** argv) {
                     panels.guarded(app, "quit", [&] { requests.quit = true; });
                 }
 
-                panels.draw(app, camera, inspector, viewer.exposure(), requests);
+                // Scripted runs read out --hover's patch as if the cursor were on it.
+                const std::optional<PatchId> readout =
+                    hovered ? hovered : options.hover >= 0 ? std::optional<PatchId>(PatchId(options.hover)) : std::nullopt;
+                panels.draw(app, camera, inspector, viewer.exposure(), requests, readout);
                 ImGui::Render();
                 gl::BindFramebuffer(GL_FRAMEBUFFER, 0);
                 gl::Viewport(0, 0, width, height);
@@ -374,6 +387,7 @@ int main(int argc, char** argv) {
                     std::printf("hemirad-gui: false colour: %s, %s scale %.9g .. %.9g\n", falseColourTitle(app.falseColour.quantity).c_str(),
                                 falseColourScaleName(view.range.scale), view.range.min, view.range.max);
                 }
+                std::printf("hemirad-gui: status: %s\n", panels.status().c_str());
                 for (const auto& [name, r] : panels.panelRects())
                     std::printf("hemirad-gui: panel %s at %.0f,%.0f size %.0fx%.0f\n", name.c_str(), r.x, r.y, r.width, r.height);
             }

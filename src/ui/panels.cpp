@@ -74,14 +74,17 @@ void Panels::open(AppState& app, OrbitCamera& camera, const std::string& path) {
 Panels::Layout Panels::layout(float width, float height) {
     // A column on each side of the view: Scene (and the material editor) left over the Log; Pipeline
     // over Selection on the right. Everything inside the window; panels scroll what does not fit.
-    constexpr float kMargin = 8.0f, kTop = 28.0f;
+    // The status bar runs along the bottom edge.
+    constexpr float kMargin = 8.0f, kTop = 28.0f, kStatus = 24.0f;
     Layout l;
     const float side = std::clamp(width * 0.27f, 260.0f, 420.0f);
     const float logHeight = std::clamp(height * 0.2f, 100.0f, 220.0f);
     const float right = width - side - kMargin;
-    const float column = height - kTop - kMargin;
+    const float bottom = height - kStatus;
+    const float column = bottom - kTop - kMargin;
+    l.status = {0.0f, bottom, width, kStatus};
     l.scene = {kMargin, kTop, side, std::min(column - logHeight - kMargin, 340.0f)};  // the editor fits
-    l.log = {kMargin, height - logHeight - kMargin, std::max(right - 2 * kMargin, side), logHeight};
+    l.log = {kMargin, bottom - logHeight - kMargin, std::max(right - 2 * kMargin, side), logHeight};
     l.pipeline = {right, kTop, side, std::floor(column * 0.5f) - kMargin / 2};
     l.selection = {right, kTop + std::floor(column * 0.5f) + kMargin / 2, side, column - std::floor(column * 0.5f) - kMargin / 2};
     l.legend = {2 * kMargin + side, kTop, 210.0f, std::min(column - logHeight - kMargin, 420.0f)};
@@ -98,7 +101,8 @@ bool Panels::beginPanel(const char* name, const Rect& rect, bool relayout) {
     return open;
 }
 
-void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, double viewExposure, LoopRequests& requests) {
+void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, double viewExposure, LoopRequests& requests,
+                  std::optional<PatchId> hovered) {
     menuBar(app, camera, requests);
     const float width = ImGui::GetIO().DisplaySize.x, height = ImGui::GetIO().DisplaySize.y;
     // The layout is applied at start and whenever the window's size changes; in between the user
@@ -133,7 +137,51 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
         if (ImGui::Begin("Objects", &m_showObjects)) objectsPanel(app);
         ImGui::End();
     }
+    statusBar(app, l.status, hovered, viewExposure);
     modals(app, camera, requests);
+}
+
+std::string Panels::statusText(const AppState& app, std::optional<PatchId> hovered, double viewExposure) {
+    if (!app.hasScene()) return "no scene";
+    const auto rgb = [](const Rgb& c) { return formatNumber(c[0]) + " " + formatNumber(c[1]) + " " + formatNumber(c[2]); };
+    std::string text;
+    // The patch under the cursor, else the (first) selected one.
+    const std::optional<PatchId> shown = hovered ? hovered : app.selection().empty() ? std::nullopt
+                                                                                      : std::optional<PatchId>(app.selection().front());
+    if (const auto r = shown ? app.readout(*shown) : std::nullopt) {
+        text += "patch " + std::to_string(r->patch) + " '" + r->object + "'";
+        text += " | B " + rgb(r->B) + " W/m^2 | H " + rgb(r->H) + " W/m^2 | E " + rgb(r->emission);
+        text += " | rho " + rgb(r->rho) + " s " + formatNumber(r->specular);
+        if (r->fromSelected)
+            text += " | F " + std::to_string(*r->selected) + "->" + std::to_string(r->patch) + " " + formatNumber(*r->fromSelected);
+    } else {
+        text += "hover a patch for its values";
+    }
+    char tail[96];
+    std::snprintf(tail, sizeof tail, " | exposure %+.1f EV", std::log2(std::max(viewExposure, 1e-300)));
+    text += tail;
+    if (const FormFactors* F = app.formFactors()) {
+        std::snprintf(tail, sizeof tail, " | F %.1f MiB", double(F->memoryBytes()) / 1048576.0);
+        text += tail;
+    }
+    return text;
+}
+
+void Panels::statusBar(AppState& app, const Rect& rect, std::optional<PatchId> hovered, double viewExposure) {
+    ImGui::SetNextWindowPos(ImVec2(rect.x, rect.y));
+    ImGui::SetNextWindowSize(ImVec2(rect.width, rect.height));
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings |
+                                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoBringToFrontOnFocus;
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(8.0f, 4.0f));
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowMinSize, ImVec2(1.0f, 1.0f));  // one line high, not ImGui's 32 px minimum
+    if (ImGui::Begin("Status", nullptr, flags)) {
+        m_status = statusText(app, hovered, viewExposure);
+        ImGui::TextUnformatted(m_status.c_str());
+        const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+        m_panelRects["Status"] = {pos.x, pos.y, size.x, size.y};
+    }
+    ImGui::End();
+    ImGui::PopStyleVar(2);
 }
 
 void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests) {

@@ -8,6 +8,7 @@
 #include <deque>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace hemirad::ui {
@@ -21,8 +22,15 @@ struct LoopRequests {
 class Panels {
 public:
     explicit Panels(std::string recentFilesPath);
-    /// Draws the menu bar and windows; `viewExposure` is the exposure the view is using.
-    void draw(AppState& app, OrbitCamera& camera, Inspector& inspector, double viewExposure, LoopRequests& requests);
+    /// Draws the menu bar and windows; `viewExposure` is the exposure the view is using, `hovered`
+    /// the patch under the cursor (the status bar reads it out).
+    void draw(AppState& app, OrbitCamera& camera, Inspector& inspector, double viewExposure, LoopRequests& requests,
+              std::optional<PatchId> hovered = std::nullopt);
+    /// The status bar's text: the hovered (else selected) patch's id, object, B, H, E, rho, s and F_ij
+    /// from the selected patch, the view's exposure, F's memory.
+    static std::string statusText(const AppState& app, std::optional<PatchId> hovered, double viewExposure);
+    /// The status bar's text in the last frame (scripted runs print it).
+    const std::string& status() const { return m_status; }
     /// Asks before an action that would drop unsaved edits (open, quit); runs it at once if none.
     void guarded(AppState& app, const std::string& what, std::function<void()> action);
     /// Opens a file (recent files updated); asks first when edits are unsaved.
@@ -37,7 +45,7 @@ public:
     const std::map<std::string, Rect>& panelRects() const { return m_panelRects; }
     /// The default layout for a window of this size.
     struct Layout {
-        Rect scene, pipeline, selection, log, legend;
+        Rect scene, pipeline, selection, log, legend, status;
     };
     static Layout layout(float width, float height);
 
@@ -51,6 +59,7 @@ private:
     /// The pipeline's first step: mesh the scene or the selected objects to a maximum edge length.
     void meshingSection(AppState& app);
     void logPanel(AppState& app);
+    void statusBar(AppState& app, const Rect& rect, std::optional<PatchId> hovered, double viewExposure);
     void legendPanel(AppState& app);
     void objectsPanel(AppState& app);
     void modals(AppState& app, OrbitCamera& camera, LoopRequests& requests);
@@ -83,6 +92,7 @@ private:
     const Scene* m_meshSource = nullptr;
     std::vector<double> m_meshEdgesSeen;  ///< the mesh's edge lengths the fields were last set from
     std::map<std::string, Rect> m_panelRects;
+    std::string m_status;
 };
 
 }  // namespace hemirad::ui

@@ -567,3 +567,33 @@ TEST_CASE("GUI state: coarsening merges patches edited apart, says so, and undo 
     CHECK((app.scene().patches[0].emission == Rgb::Constant(5.0)).all());
     CHECK((app.scene().patches[1].emission == fine.patches[1].emission).all());
 }
+
+TEST_CASE("GUI state: the readout of a patch gives B, H = (B - E) / rho, E, rho, s and F_ij from the selected patch") {
+    AppState app;
+    solvedCube(app);
+    const Scene& s = app.scene();
+    CHECK_FALSE(app.readout(PatchId(s.size())).has_value());
+    const auto r = app.readout(3);
+    REQUIRE(r.has_value());
+    CHECK(r->patch == 3);
+    CHECK(r->object == s.objects[s.patches[3].object]);
+    CHECK(r->area == doctest::Approx(1.0));
+    CHECK((r->B == app.radiosity()[3]).all());
+    for (int c = 0; c < 3; ++c) CHECK(r->H[c] == doctest::Approx((app.radiosity()[3][c] - s.patches[3].emission[c]) / s.patches[3].rho[c]));
+    CHECK_FALSE(r->selected.has_value());
+    // The floor emits (E = 1) and reflects: H is what it receives from the five walls.
+    const auto floor = app.readout(0);
+    REQUIRE(floor.has_value());
+    double received = 0.0;
+    for (PatchId j = 1; j < 6; ++j) received += app.formFactors()->at(0, j) * app.radiosity()[j][0];
+    CHECK(floor->H[0] == doctest::Approx(received).epsilon(1e-6));
+    // With a patch selected: F_ij from it to the read-out one.
+    app.select(0, false);
+    const auto toWall = app.readout(3);
+    REQUIRE(toWall->selected.has_value());
+    CHECK(*toWall->selected == 0);
+    REQUIRE(toWall->fromSelected.has_value());
+    CHECK(*toWall->fromSelected == app.formFactors()->at(0, 3));
+    CHECK(*toWall->fromSelected > 0.15);
+    CHECK_FALSE(app.readout(0)->selected.has_value());  // the selected patch itself
+}

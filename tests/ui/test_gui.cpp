@@ -6,6 +6,7 @@
 #include "ui/gui_run.hpp"
 
 #include <algorithm>
+#include <sstream>
 
 using namespace hemirad::test;
 
@@ -92,7 +93,7 @@ TEST_CASE("hemirad-gui's panels stay inside a 1280x800 window and apart, the Sel
     // over each other, hiding the F diagnostics and the inspector.
     const std::string log = runGuiAndCheckPicture("gui-layout", "--samples 256 --select 0", false);
     const std::vector<Panel> panels = panelsOf(log);
-    REQUIRE(panels.size() == 4);  // Scene, Pipeline, Selection, Log
+    REQUIRE(panels.size() == 5);  // Scene, Pipeline, Selection, Log, Status
     for (const Panel& p : panels) {
         CAPTURE(p.name);
         CHECK(p.x >= 0);
@@ -100,7 +101,12 @@ TEST_CASE("hemirad-gui's panels stay inside a 1280x800 window and apart, the Sel
         CHECK(p.x + p.w <= 1280);
         CHECK(p.y + p.h <= 800);
         CHECK(p.w >= 200);
-        CHECK(p.h >= 100);
+        if (p.name == "Status") {
+            CHECK(p.w == 1280);     // the status bar: the window's width, one line along the bottom edge
+            CHECK(p.y + p.h == 800);
+        } else {
+            CHECK(p.h >= 100);
+        }
     }
     for (std::size_t a = 0; a < panels.size(); ++a)
         for (std::size_t b = a + 1; b < panels.size(); ++b) {
@@ -179,4 +185,50 @@ TEST_CASE("hemirad-gui meshes a selected object as the Pipeline panel's Apply do
     };
     MESSAGE("distinct patch colours: tall block ", distinct(470, 350, 640, 600), ", short block ", distinct(640, 540, 820, 620));
     CHECK(distinct(470, 350, 640, 600) > 2 * distinct(640, 540, 820, 620));
+}
+
+TEST_CASE("hemirad-gui's status bar reads out a known patch: B, H, E, rho, s as the CLI's CSV, and F_ij from the selected patch") {
+    // Patch 200 of the 60 mm Cornell box is on the light; patch 0 (the floor) is selected.
+    const std::string log = runGuiAndCheckPicture("gui-readout", "--samples 256 --select 0 --hover 200", false);
+    const std::size_t at = log.find("hemirad-gui: status: patch 200 'light' | B ");
+    REQUIRE(at != std::string::npos);
+    double B[3], H[3], E[3], rho[3], s = -1, F = -1;
+    REQUIRE(std::sscanf(log.c_str() + at,
+                        "hemirad-gui: status: patch 200 'light' | B %lf %lf %lf W/m^2 | H %lf %lf %lf W/m^2 | E %lf %lf %lf | "
+                        "rho %lf %lf %lf s %lf | F 0->200 %lf",
+                        &B[0], &B[1], &B[2], &H[0], &H[1], &H[2], &E[0], &E[1], &E[2], &rho[0], &rho[1], &rho[2], &s, &F) == 14);
+    // The CLI's per-patch CSV and F for the same scene and settings.
+    const auto dir = tempDir("gui-readout-cli");
+    const std::string csv = (dir / "B.csv").string(), mtx = (dir / "F.mtx").string();
+    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256 ";
+    REQUIRE(runCommand(std::string(HEMIRAD_BINARY) + " solve " + scene + "-o " + csv + " 2>&1").status == 0);
+    REQUIRE(runCommand(std::string(HEMIRAD_BINARY) + " formfactors " + scene + "-o " + mtx + " 2>&1").status == 0);
+    std::istringstream rows(readText(csv));
+    std::string line;
+    bool found = false;
+    while (std::getline(rows, line))
+        if (line.rfind("200,", 0) == 0) {
+            double area, e[3], r[3], spec, b[3];
+            REQUIRE(std::sscanf(line.c_str(), "200,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &area, &e[0], &e[1], &e[2], &r[0],
+                                &r[1], &r[2], &spec, &b[0], &b[1], &b[2]) == 11);
+            for (int c = 0; c < 3; ++c) {
+                // The status bar prints 4 significant digits.
+                CHECK(B[c] == doctest::Approx(b[c]).epsilon(1e-3));
+                CHECK(E[c] == doctest::Approx(e[c]).epsilon(1e-3));
+                CHECK(rho[c] == doctest::Approx(r[c]).epsilon(1e-3));
+                CHECK(H[c] == doctest::Approx((b[c] - e[c]) / r[c]).epsilon(2e-3));
+            }
+            CHECK(s == spec);
+            found = true;
+        }
+    CHECK(found);
+    std::istringstream entries(readText(mtx));
+    double F02 = 0.0;  // Matrix Market: 1-based "row column value"
+    while (std::getline(entries, line)) {
+        long i = 0, j = 0;
+        double v = 0;
+        if (line[0] != '%' && std::sscanf(line.c_str(), "%ld %ld %lf", &i, &j, &v) == 3 && i == 1 && j == 201) F02 = v;
+    }
+    CHECK(F02 > 0.0);
+    CHECK(F == doctest::Approx(F02).epsilon(1e-3));
 }
