@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -65,7 +66,8 @@ const char* kUsage =
     "  --layer NAME   start in that view: radiosity, patch-id, emission, reflectance, specular, f-row\n"
     "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
     "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc select none,\n"
-    "       Ctrl+Z/Y undo/redo; View > Look from: the standard views\n";
+    "       Ctrl+Z/Y undo/redo, Ctrl+O open, Ctrl+S save (Shift: save as), Ctrl+Q quit;\n"
+    "       View > Look from: the standard views\n";
 
 GuiOptions parse(int argc, char** argv) {
     GuiOptions o;
@@ -135,7 +137,16 @@ struct Input {
     double lastX = 0, lastY = 0, pressX = 0, pressY = 0;
     int button = -1;
     std::vector<std::string> dropped;
+    /// Ctrl+key presses since the last frame, with their modifiers (GLFW_MOD_*): taken from GLFW's
+    /// key events, whose modifiers are reliable where ImGui 1.86's key-state polling can miss a short
+    /// press (synthetic input, a slow frame).
+    std::vector<std::pair<int, int>> shortcuts;
 };
+
+void onKey(GLFWwindow* window, int key, int, int action, int mods) {
+    auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
+    if (input && action == GLFW_PRESS && (mods & GLFW_MOD_CONTROL)) input->shortcuts.emplace_back(key, mods);
+}
 
 void onDrop(GLFWwindow* window, int count, const char** paths) {
     auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
@@ -203,6 +214,7 @@ int main(int argc, char** argv) {
         ImGui::CreateContext();
         ImGui::GetIO().IniFilename = nullptr;  // layouts are not persisted between runs
         ImGui::StyleColorsDark();
+        glfwSetKeyCallback(window, onKey);  // before ImGui's back end, which chains it
         ImGui_ImplGlfw_InitForOpenGL(window, true);
         ImGui_ImplOpenGL3_Init("#version 450");
 
@@ -253,6 +265,7 @@ int main(int argc, char** argv) {
             const auto started = std::chrono::steady_clock::now();
             const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
             long frames = 0;
+            std::string windowTitle = "Hemirad";
             int settleFrames = 3;
             while (!glfwWindowShouldClose(window) && !requests.quit) {
                 const bool scripted = !options.screenshot.empty() || options.exitAfter;
@@ -270,6 +283,14 @@ int main(int argc, char** argv) {
                     settleFrames = 2;
                 }
                 if (options.quitAfter > 0 && seconds() >= options.quitAfter) requests.quit = true;
+                // The title names the scene and says when it has unsaved edits.
+                const std::string title = app.hasScene() ? "Hemirad - " + std::filesystem::path(app.scenePath()).filename().string() +
+                                                               (app.dirty() ? " (edited)" : "")
+                                                         : std::string("Hemirad");
+                if (title != windowTitle) {
+                    windowTitle = title;
+                    glfwSetWindowTitle(window, title.c_str());
+                }
                 ++frames;
                 app.poll();
                 ImGui_ImplOpenGL3_NewFrame();
@@ -317,15 +338,23 @@ int main(int argc, char** argv) {
                         input.dragging = false;
                     }
                 }
-                if (!io.WantCaptureKeyboard && app.hasScene()) {
+                // Ctrl shortcuts: Open, Save (Shift: Save as), Undo, Redo, Quit; not while typing in a field.
+                for (const auto& [key, mods] : input.shortcuts) {
+                    if (io.WantCaptureKeyboard) break;
+                    if (key == GLFW_KEY_O) panels.browse("Open OBJ", app.hasScene() ? app.scenePath() : std::string());
+                    else if (key == GLFW_KEY_Q) panels.guarded(app, "quit", [&] { requests.quit = true; });
+                    else if (!app.hasScene()) continue;
+                    else if (key == GLFW_KEY_S && (mods & GLFW_MOD_SHIFT)) panels.browse("Save scene", app.scenePath());
+                    else if (key == GLFW_KEY_S) panels.save(app);
+                    else if (key == GLFW_KEY_Z) app.undo();
+                    else if (key == GLFW_KEY_Y) app.redo();
+                }
+                input.shortcuts.clear();
+                if (!io.WantCaptureKeyboard && app.hasScene() && !io.KeyCtrl) {
                     if (ImGui::IsKeyPressed(GLFW_KEY_F)) camera.frame(app.scene());
-                    if (!io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_S) && !app.selection().empty())
-                        camera.frameSelection(app.scene(), app.selection());
+                    if (ImGui::IsKeyPressed(GLFW_KEY_S) && !app.selection().empty()) camera.frameSelection(app.scene(), app.selection());
                     if (ImGui::IsKeyPressed(GLFW_KEY_C)) camera.useSceneCamera(app.scene());
                     if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) app.clearSelection();
-                    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Z)) app.undo();
-                    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Y)) app.redo();
-                    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Q)) panels.guarded(app, "quit", [&] { requests.quit = true; });
                 }
                 if (glfwWindowShouldClose(window) && app.dirty()) {
                     glfwSetWindowShouldClose(window, GLFW_FALSE);

@@ -10,6 +10,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -25,6 +26,20 @@ std::string formatNumber(double v) {
     char text[32];
     std::snprintf(text, sizeof text, "%.4g", v);
     return text;
+}
+
+std::string formatBytes(std::uintmax_t bytes) {
+    char text[32];
+    if (bytes < 1024) std::snprintf(text, sizeof text, "%ju B", bytes);
+    else if (bytes < 1024 * 1024) std::snprintf(text, sizeof text, "%.1f KiB", double(bytes) / 1024.0);
+    else std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / 1048576.0);
+    return text;
+}
+
+bool isObjPath(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".obj";
 }
 
 }  // namespace
@@ -69,6 +84,24 @@ void Panels::open(AppState& app, OrbitCamera& camera, const std::string& path) {
             camera.useSceneCamera(app.scene());
         }
     });
+}
+
+void Panels::browse(const std::string& purpose, const std::string& initial) {
+    static const std::map<std::string, std::pair<std::vector<std::string>, bool>> kinds = {
+        {"Open OBJ", {{".obj"}, true}},        {"Save scene", {{".obj"}, false}},
+        {"Import F", {{".hff", ".mtx"}, true}}, {"Export F", {{".hff", ".mtx"}, false}},
+        {"Export PNG", {{".png"}, false}},      {"Export PLY", {{".ply"}, false}},
+        {"Export object table", {{".csv"}, false}}};
+    const auto kind = kinds.at(purpose);
+    m_browser.start(purpose, kind.first, initial, kind.second);
+    std::snprintf(m_pathBuffer, sizeof m_pathBuffer, "%s", m_browser.typed.c_str());
+    m_openPathPrompt = true;
+}
+
+void Panels::save(AppState& app) {
+    if (!app.hasScene()) return;
+    if (isObjPath(app.scenePath())) app.saveScene(app.scenePath());
+    else browse("Save scene", "scene.obj");
 }
 
 Panels::Layout Panels::layout(float width, float height) {
@@ -186,21 +219,18 @@ void Panels::statusBar(AppState& app, const Rect& rect, std::optional<PatchId> h
 
 void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests) {
     if (!ImGui::BeginMainMenuBar()) return;
-    auto prompt = [this](const char* purpose, const std::string& initial) {
-        m_pathPurpose = purpose;
-        std::snprintf(m_pathBuffer, sizeof m_pathBuffer, "%s", initial.c_str());
-        m_openPathPrompt = true;
-    };
+    auto prompt = [this](const char* purpose, const std::string& initial) { browse(purpose, initial); };
     const std::string stem = app.hasScene() ? std::filesystem::path(app.scenePath()).replace_extension().string() : "scene";
     if (ImGui::BeginMenu("File")) {
-        if (ImGui::MenuItem("Open OBJ...")) prompt("Open OBJ", app.scenePath());
+        if (ImGui::MenuItem("Open OBJ...", "Ctrl+O")) prompt("Open OBJ", app.scenePath());
         if (ImGui::BeginMenu("Recent files", !m_recent.empty())) {
             for (const std::string& path : std::deque<std::string>(m_recent))
                 if (ImGui::MenuItem(path.c_str())) open(app, camera, path);
             ImGui::EndMenu();
         }
         ImGui::Separator();
-        if (ImGui::MenuItem("Save scene as OBJ + MTL...", nullptr, false, app.hasScene())) prompt("Save scene", stem + "_edited.obj");
+        if (ImGui::MenuItem("Save", "Ctrl+S", false, app.hasScene())) save(app);
+        if (ImGui::MenuItem("Save scene as OBJ + MTL...", "Ctrl+Shift+S", false, app.hasScene())) prompt("Save scene", stem + "_edited.obj");
         if (ImGui::MenuItem("Import F (.hff, .mtx)...", nullptr, false, app.hasScene())) prompt("Import F", stem + ".hff");
         if (ImGui::MenuItem("Export F (.hff, .mtx)...", nullptr, false, app.formFactors() != nullptr)) prompt("Export F", stem + ".hff");
         if (ImGui::MenuItem("Export PNG...", nullptr, false, app.hasScene())) prompt("Export PNG", stem + ".png");
@@ -634,27 +664,82 @@ void Panels::logPanel(AppState& app) {
 
 void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) {
     if (m_openPathPrompt) {
-        ImGui::OpenPopup("Path");
+        ImGui::OpenPopup("Files");
         m_openPathPrompt = false;
+        m_focusPath = true;
     }
-    if (ImGui::BeginPopupModal("Path", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-        ImGui::Text("%s:", m_pathPurpose.c_str());
-        ImGui::SetNextItemWidth(520);
-        const bool enter = ImGui::InputText("##path", m_pathBuffer, sizeof m_pathBuffer, ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::SetNextWindowSize(ImVec2(620, 0), ImGuiCond_Appearing);
+    if (ImGui::BeginPopupModal("Files", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        std::optional<std::string> chosen;
+        ImGui::Text("%s", m_browser.purpose().c_str());
+        ImGui::SameLine();
+        std::string filter;
+        for (const std::string& e : m_browser.extensions()) filter += (filter.empty() ? "*" : ", *") + e;
+        ImGui::TextDisabled("(%s)", filter.empty() ? "all files" : filter.c_str());
+        ImGui::TextWrapped("in %s", m_browser.directory().c_str());
+        const std::vector<std::string> folders = FileBrowser::recentFolders(m_recent);
+        if (!folders.empty() && ImGui::BeginCombo("Recent folders", folders.front().c_str())) {
+            for (const std::string& folder : folders)
+                if (ImGui::Selectable(folder.c_str())) m_browser.changeDirectory(folder);
+            ImGui::EndCombo();
+        }
+        ImGui::BeginChild("listing", ImVec2(600, 260), true);
+        std::optional<FileBrowser::Entry> picked;
+        bool doubleClicked = false;
+        for (const FileBrowser::Entry& e : m_browser.entries()) {
+            const std::string label = e.directory ? e.name + "/" : e.name;
+            if (ImGui::Selectable(label.c_str(), !e.directory && e.name == m_pathBuffer, ImGuiSelectableFlags_AllowDoubleClick)) {
+                picked = e;
+                doubleClicked = ImGui::IsMouseDoubleClicked(0);
+            }
+            if (!e.directory) {
+                ImGui::SameLine(480);
+                ImGui::TextDisabled("%s", formatBytes(e.size).c_str());
+            }
+        }
+        ImGui::EndChild();
+        if (picked) {
+            m_browser.pick(*picked);
+            std::snprintf(m_pathBuffer, sizeof m_pathBuffer, "%s", m_browser.typed.c_str());
+            if (!picked->directory && doubleClicked) chosen = m_browser.confirm(m_browser.typed);
+            m_focusPath = true;
+        }
+        if (!m_browser.error().empty()) {
+            ImGui::PushTextWrapPos(600);
+            ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "%s", m_browser.error().c_str());
+            ImGui::PopTextWrapPos();
+        }
+        // Typed paths (absolute, or relative to the folder shown); Enter confirms, a folder is entered.
+        if (m_focusPath) {
+            ImGui::SetKeyboardFocusHere();
+            m_focusPath = false;
+        }
+        ImGui::SetNextItemWidth(600);
+        const bool enter = ImGui::InputText("##path", m_pathBuffer, sizeof m_pathBuffer,
+                                            ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
         if (ImGui::Button("OK", ImVec2(100, 0)) || enter) {
-            const std::string path = m_pathBuffer;
-            ImGui::CloseCurrentPopup();
-            if (m_pathPurpose == "Open OBJ") open(app, camera, path);
-            else if (m_pathPurpose == "Save scene") {
-                if (app.saveScene(path)) remember(path);
-            } else if (m_pathPurpose == "Import F") app.importFormFactors(path);
-            else if (m_pathPurpose == "Export F") app.exportFormFactors(path);
-            else if (m_pathPurpose == "Export PNG") requests.exportImage = path;
-            else if (m_pathPurpose == "Export PLY") app.exportPly(path);
-            else if (m_pathPurpose == "Export object table") app.exportObjectTable(path);
+            chosen = m_browser.confirm(m_pathBuffer);
+            if (!chosen) {
+                std::snprintf(m_pathBuffer, sizeof m_pathBuffer, "%s", m_browser.typed.c_str());
+                m_focusPath = true;
+            }
         }
         ImGui::SameLine();
-        if (ImGui::Button("Cancel", ImVec2(100, 0))) ImGui::CloseCurrentPopup();
+        if (ImGui::Button("Cancel", ImVec2(100, 0)) || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape)))
+            ImGui::CloseCurrentPopup();
+        if (chosen) {
+            ImGui::CloseCurrentPopup();
+            const std::string& path = *chosen;
+            const std::string& purpose = m_browser.purpose();
+            if (purpose == "Open OBJ") open(app, camera, path);
+            else if (purpose == "Save scene") {
+                if (app.saveScene(path)) remember(path);
+            } else if (purpose == "Import F") app.importFormFactors(path);
+            else if (purpose == "Export F") app.exportFormFactors(path);
+            else if (purpose == "Export PNG") requests.exportImage = path;
+            else if (purpose == "Export PLY") app.exportPly(path);
+            else if (purpose == "Export object table") app.exportObjectTable(path);
+        }
         ImGui::EndPopup();
     }
     if (m_openConfirm) {
@@ -662,7 +747,19 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
         m_openConfirm = false;
     }
     if (ImGui::BeginPopupModal("Unsaved edits", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-        ImGui::Text("The scene has unsaved material edits. Discard them and %s?", m_confirmWhat.c_str());
+        ImGui::Text("The scene has unsaved edits. Save or discard them and %s?", m_confirmWhat.c_str());
+        const bool canSave = isObjPath(app.scenePath());
+        ImGui::BeginDisabled(!canSave);
+        if (ImGui::Button("Save", ImVec2(120, 0)) && app.saveScene(app.scenePath())) {
+            ImGui::CloseCurrentPopup();
+            auto action = std::move(m_confirmAction);
+            m_confirmAction = nullptr;
+            if (action) action();
+        }
+        ImGui::EndDisabled();
+        if (!canSave && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+            ImGui::SetTooltip("The scene has no .obj file to save to: use File > Save scene as");
+        ImGui::SameLine();
         if (ImGui::Button("Discard", ImVec2(120, 0))) {
             ImGui::CloseCurrentPopup();
             auto action = std::move(m_confirmAction);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "ui/app_state.hpp"
+#include "ui/file_browser.hpp"
 #include "ui/inspector.hpp"
 #include "ui/orbit_camera.hpp"
 
@@ -36,6 +37,11 @@ public:
     /// Opens a file (recent files updated); asks first when edits are unsaved.
     void open(AppState& app, OrbitCamera& camera, const std::string& path);
     const std::deque<std::string>& recentFiles() const { return m_recent; }
+    /// Opens the file browser for `purpose` ("Open OBJ", "Save scene", "Import F", "Export F",
+    /// "Export PNG", "Export PLY", "Export object table") at `initial`.
+    void browse(const std::string& purpose, const std::string& initial);
+    /// File > Save (Ctrl+S): over the scene's .obj, or through the browser when it has none.
+    void save(AppState& app);
 
     struct Rect {
         float x = 0, y = 0, width = 0, height = 0;
@@ -67,10 +73,11 @@ private:
 
     std::string m_recentPath;
     std::deque<std::string> m_recent;
-    // The path prompt (no native file dialogs): what it is for and the text being typed.
-    std::string m_pathPurpose;
+    // The file browser (no native file dialogs) and the path being typed in it.
+    FileBrowser m_browser;
     char m_pathBuffer[1024] = {};
     bool m_openPathPrompt = false;
+    bool m_focusPath = false;  ///< put the keyboard in the path field (on opening, after navigating)
     // Confirmation of an action that drops unsaved edits.
     std::string m_confirmWhat;
     std::function<void()> m_confirmAction;

@@ -232,3 +232,21 @@ TEST_CASE("hemirad-gui's status bar reads out a known patch: B, H, E, rho, s as 
     CHECK(F02 > 0.0);
     CHECK(F == doctest::Approx(F02).epsilon(1e-3));
 }
+
+TEST_CASE("hemirad-gui opens a file through the file browser by keyboard: Ctrl+O, a folder typed and entered, a file name typed and entered") {
+    REQUIRE_MESSAGE(std::system("command -v xvfb-run > /dev/null && command -v xdotool > /dev/null") == 0,
+                    "xvfb-run or xdotool is missing (scripts/install-deps.sh)");
+    const auto dir = tempDir("gui-keyboard");
+    const std::string log = (dir / "gui.log").string();
+    // The folder is typed first (the browser enters it), then the file name relative to it.
+    const CommandResult run = runCommand("ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 xvfb-run -a -s '-screen 0 1400x900x24' " +
+                                         sourcePath("tests/ui/keyboard_open.sh") + " " + HEMIRAD_GUI_BINARY + " " +
+                                         sourcePath("scenes") + " cornell_box.obj " + log + " 2>&1");
+    const std::string output = readText(log);
+    INFO(run.output);
+    INFO(output);
+    CHECK(run.status == 0);
+    CHECK(run.output.find("hemirad-gui exit 0") != std::string::npos);
+    CHECK(output.find("loaded " + sourcePath("scenes/cornell_box.obj") + ": 20 patches") != std::string::npos);
+    CHECK(run.output.find("title: Hemirad - cornell_box.obj") != std::string::npos);
+}
