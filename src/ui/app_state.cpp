@@ -362,46 +362,31 @@ void AppState::editMaterial(const MaterialEdit& edit) {
         }
     }
     step.after = snapshot(step.ids);
-    if (m_cleanDepth && *m_cleanDepth > m_undo.size()) m_cleanDepth.reset();  // the saved state was undone and is now gone
-    m_undo.push_back(std::move(step));
-    m_redo.clear();
+    pushUndo(std::move(step));
     materialsChanged(specularChanged);
 }
 
-void AppState::undo() {
-    if (m_undo.empty()) return;
-    UndoStep step = std::move(m_undo.back());
-    m_undo.pop_back();
-    if (step.meshBefore) {
-        const auto before = step.meshBefore;
-        m_redo.push_back(std::move(step));
-        info("undo meshing");
-        applyMesh(*before);
-        return;
-    }
-    restore(step.ids, step.before);
+void AppState::undo() { replay(m_undo, m_redo, true); }
+
+void AppState::redo() { replay(m_redo, m_undo, false); }
+
+void AppState::replay(std::vector<UndoStep>& from, std::vector<UndoStep>& to, bool undoing) {
+    if (from.empty()) return;
+    UndoStep step = std::move(from.back());
+    from.pop_back();
+    const std::shared_ptr<const Mesh> mesh = undoing ? step.meshBefore : step.meshAfter;
+    if (!mesh) restore(step.ids, undoing ? step.before : step.after);
     const bool specular = step.before.specular != step.after.specular;
-    m_redo.push_back(std::move(step));
-    info("undo material edit");
-    materialsChanged(specular);
+    to.push_back(std::move(step));
+    info(std::string(undoing ? "undo " : "redo ") + (mesh ? "meshing" : "material edit"));
+    if (mesh) applyMesh(*mesh);
+    else materialsChanged(specular);
 }
 
-void AppState::redo() {
-    if (m_redo.empty()) return;
-    UndoStep step = std::move(m_redo.back());
-    m_redo.pop_back();
-    if (step.meshAfter) {
-        const auto after = step.meshAfter;
-        m_undo.push_back(std::move(step));
-        info("redo meshing");
-        applyMesh(*after);
-        return;
-    }
-    restore(step.ids, step.after);
-    const bool specular = step.before.specular != step.after.specular;
+void AppState::pushUndo(UndoStep step) {
+    if (m_cleanDepth && *m_cleanDepth > m_undo.size()) m_cleanDepth.reset();  // the saved state was undone and is now gone
     m_undo.push_back(std::move(step));
-    info("redo material edit");
-    materialsChanged(specular);
+    m_redo.clear();
 }
 
 std::vector<double> AppState::meshEdgesFor(double maxEdge, MeshTarget target) const {
@@ -485,9 +470,7 @@ bool AppState::mesh(double maxEdge, MeshTarget target, bool asLoaded) {
     UndoStep step;
     step.meshBefore = std::make_shared<Mesh>(Mesh{*m_scene, m_meshEdges});
     step.meshAfter = next;
-    if (m_cleanDepth && *m_cleanDepth > m_undo.size()) m_cleanDepth.reset();
-    m_undo.push_back(std::move(step));
-    m_redo.clear();
+    pushUndo(std::move(step));
     info(msg.str());
     applyMesh(*next);
     return true;

@@ -279,6 +279,10 @@ private:
         Snapshot before, after;
         std::shared_ptr<const Mesh> meshBefore, meshAfter;
     };
+    /// Records a new step (the redo history goes).
+    void pushUndo(UndoStep step);
+    /// Moves the newest step of `from` to `to`, applying its before (undo) or after (redo) side.
+    void replay(std::vector<UndoStep>& from, std::vector<UndoStep>& to, bool undoing);
     /// Makes `next` the current mesh, carrying radiosity and the selection over.
     void applyMesh(const Mesh& next);
     /// The edge lengths per object meshing with (maxEdge, target) asks for.
