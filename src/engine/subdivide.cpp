@@ -8,6 +8,8 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
+#include <utility>
 
 namespace hemirad {
 namespace {
@@ -233,35 +235,110 @@ std::size_t subdividedSize(const Scene& in, const std::vector<double>& maxEdgeBy
     return total;
 }
 
+namespace {
+
+/// The pieces of one source polygon in a mesh, binned on the polygon's plane so that finding the
+/// piece under a point costs a few tests, not one per piece (a wall meshed into 10^4 patches).
+class PieceFinder {
+public:
+    PieceFinder(const Scene& scene, std::vector<PatchId> pieces) : m_scene(scene), m_pieces(std::move(pieces)) {
+        const Patch& first = scene.patches[m_pieces.front()];
+        m_origin = first.centroid;
+        m_u = first.normal.unitOrthogonal();
+        m_v = first.normal.cross(m_u);
+        double lo[2] = {kHuge, kHuge}, hi[2] = {-kHuge, -kHuge};
+        std::vector<std::array<double, 4>> boxes;
+        for (PatchId i : m_pieces) {
+            const Patch& p = scene.patches[i];
+            std::array<double, 4> box{kHuge, kHuge, -kHuge, -kHuge};
+            for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
+                const auto [x, y] = project(scene.corner(p, k));
+                box = {std::min(box[0], x), std::min(box[1], y), std::max(box[2], x), std::max(box[3], y)};
+            }
+            lo[0] = std::min(lo[0], box[0]), lo[1] = std::min(lo[1], box[1]);
+            hi[0] = std::max(hi[0], box[2]), hi[1] = std::max(hi[1], box[3]);
+            boxes.push_back(box);
+        }
+        m_bins = std::max<std::uint32_t>(1, std::uint32_t(std::sqrt(double(m_pieces.size()))));
+        for (int d = 0; d < 2; ++d) {
+            m_lo[d] = lo[d];
+            m_scale[d] = hi[d] > lo[d] ? m_bins / (hi[d] - lo[d]) : 0.0;
+        }
+        m_start.assign(std::size_t(m_bins) * m_bins + 1, 0);
+        std::vector<std::pair<std::uint32_t, PatchId>> entries;  // (bin, piece)
+        for (std::size_t n = 0; n < m_pieces.size(); ++n) {
+            const std::uint32_t x0 = bin(0, boxes[n][0]), y0 = bin(1, boxes[n][1]), x1 = bin(0, boxes[n][2]), y1 = bin(1, boxes[n][3]);
+            for (std::uint32_t y = y0; y <= y1; ++y)
+                for (std::uint32_t x = x0; x <= x1; ++x) entries.emplace_back(y * m_bins + x, m_pieces[n]);
+        }
+        std::sort(entries.begin(), entries.end());
+        for (const auto& e : entries) ++m_start[e.first + 1];
+        for (std::size_t k = 1; k < m_start.size(); ++k) m_start[k] += m_start[k - 1];
+        for (const auto& e : entries) m_members.push_back(e.second);
+    }
+
+    /// The piece whose polygon holds `point` (on the plane); else, at a rounding edge case, the one
+    /// with the nearest centroid.
+    PatchId find(const Vec3& point) const {
+        const auto [x, y] = project(point);
+        const std::uint32_t b = bin(1, y) * m_bins + bin(0, x);
+        if (const auto hit = nearest(point, &m_members[m_start[b]], &m_members[m_start[b + 1]])) return *hit;
+        return *nearest(point, m_pieces.data(), m_pieces.data() + m_pieces.size());
+    }
+
+private:
+    static constexpr double kHuge = std::numeric_limits<double>::infinity();
+
+    std::pair<double, double> project(const Vec3& p) const { return {(p - m_origin).dot(m_u), (p - m_origin).dot(m_v)}; }
+    std::uint32_t bin(int d, double t) const {
+        const double k = std::floor((t - m_lo[d]) * m_scale[d]);
+        return std::uint32_t(std::clamp(k, 0.0, double(m_bins - 1)));
+    }
+    /// The candidate holding the point (first found), else the nearest centroid; none without candidates.
+    std::optional<PatchId> nearest(const Vec3& point, const PatchId* begin, const PatchId* end) const {
+        std::optional<PatchId> best;
+        double bestDistance = kHuge;
+        for (const PatchId* it = begin; it != end; ++it) {
+            const Patch& p = m_scene.patches[*it];
+            bool inside = true;
+            for (std::uint32_t k = 0; k < p.cornerCount && inside; ++k) {
+                const Vec3 a = m_scene.corner(p, k), b = m_scene.corner(p, (k + 1) % p.cornerCount);
+                inside = (b - a).cross(point - a).dot(p.normal) >= -1e-12 * (b - a).squaredNorm();
+            }
+            if (inside) return *it;
+            const double distance = (p.centroid - point).squaredNorm();
+            if (distance < bestDistance) {
+                bestDistance = distance;
+                best = *it;
+            }
+        }
+        return best;
+    }
+
+    const Scene& m_scene;
+    std::vector<PatchId> m_pieces;
+    Vec3 m_origin, m_u, m_v;
+    std::uint32_t m_bins = 1;
+    double m_lo[2] = {0, 0}, m_scale[2] = {0, 0};
+    std::vector<std::uint32_t> m_start;  ///< CSR over bins into m_members
+    std::vector<PatchId> m_members;
+};
+
+}  // namespace
+
 std::vector<PatchId> coveringPatches(const Scene& from, const Scene& to) {
     // The patches of `from` by the source patch they were cut from.
     std::map<PatchId, std::vector<PatchId>> bySource;
     for (PatchId i = 0; i < from.size(); ++i) bySource[from.parents[from.patches[i].parent].sourcePatch].push_back(i);
+    std::map<PatchId, PieceFinder> finders;
+    for (auto& [source, pieces] : bySource) finders.emplace(source, PieceFinder(from, std::move(pieces)));
     std::vector<PatchId> covering(to.size());
     for (PatchId j = 0; j < to.size(); ++j) {
         const Patch& q = to.patches[j];
-        const auto it = bySource.find(to.parents[q.parent].sourcePatch);
-        if (it == bySource.end())
+        const auto it = finders.find(to.parents[q.parent].sourcePatch);
+        if (it == finders.end())
             throw Error("subdivide: patch " + std::to_string(j) + " comes from a source patch the other mesh lacks");
-        // The candidate whose polygon holds the centroid (all are coplanar pieces of one polygon);
-        // else, at a rounding edge case, the one with the nearest centroid.
-        PatchId best = it->second.front();
-        double bestDistance = std::numeric_limits<double>::infinity();
-        for (PatchId i : it->second) {
-            const Patch& p = from.patches[i];
-            bool inside = true;
-            for (std::uint32_t k = 0; k < p.cornerCount && inside; ++k) {
-                const Vec3 a = from.corner(p, k), b = from.corner(p, (k + 1) % p.cornerCount);
-                inside = (b - a).cross(q.centroid - a).dot(p.normal) >= -1e-12 * (b - a).squaredNorm();
-            }
-            const double distance = inside ? -1.0 : (p.centroid - q.centroid).squaredNorm();
-            if (distance < bestDistance) {
-                bestDistance = distance;
-                best = i;
-            }
-            if (inside) break;
-        }
-        covering[j] = best;
+        covering[j] = it->second.find(q.centroid);
     }
     return covering;
 }

@@ -481,11 +481,13 @@ void AppState::applyMesh(const Mesh& next) {
     wait();
     poll();
     const std::vector<PatchId> from = coveringPatches(*m_scene, next.scene);
+    std::vector<bool> wasSelected(m_scene->size(), false);
+    for (PatchId i : m_selection) wasSelected[i] = true;
     std::vector<Rgb> B(next.scene.size());
     std::vector<PatchId> selection;
     for (PatchId j = 0; j < next.scene.size(); ++j) {
         B[j] = from[j] < m_B.size() ? m_B[from[j]] : next.scene.patches[j].emission;
-        if (isSelected(from[j])) selection.push_back(j);
+        if (wasSelected[from[j]]) selection.push_back(j);
     }
     *m_scene = next.scene;
     m_meshEdges = next.edges;
