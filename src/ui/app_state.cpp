@@ -315,13 +315,15 @@ void AppState::materialsChanged(bool specularChanged) {
     if (m_F) m_fStale = m_scene->geometryHash() != m_fGeometryHash;
     m_bStale = true;
     if (specularChanged) info("mirror reflectance changed: form factors must be recomputed");
-    if (autoResolve && m_F && !m_fStale) {
-        bool rowsMissing = false;
-        for (PatchId i : neededRows(*m_scene, false)) rowsMissing |= !m_F->rowComputed(i);
-        if (m_job && !m_job->finished) m_pendingResolve = true;
-        else if (rowsMissing) runPipeline();
-        else resolve();
-    }
+    if (autoResolve && m_F && !m_fStale) refreshRadiosity();
+}
+
+void AppState::refreshRadiosity() {
+    bool rowsMissing = false;
+    for (PatchId i : neededRows(*m_scene, false)) rowsMissing |= !m_F->rowComputed(i);
+    if (m_job && !m_job->finished) m_pendingResolve = true;
+    else if (rowsMissing) runPipeline();
+    else resolve();
 }
 
 void AppState::editMaterial(const MaterialEdit& edit) {
@@ -630,6 +632,10 @@ bool AppState::poll() {
 
 bool AppState::importFormFactors(const std::string& path) {
     if (!hasScene()) return false;
+    // A running job would replace the imported F with its own.
+    cancel();
+    wait();
+    poll();
     try {
         auto F = std::make_shared<FormFactors>(loadFormFactors(path));
         checkFormFactorsMatch(*F, m_scene->geometryHash(), m_scene->size(), path);
@@ -641,6 +647,7 @@ bool AppState::importFormFactors(const std::string& path) {
         m_bStale = true;
         bump();
         info("imported form factors from " + path);
+        if (autoResolve) refreshRadiosity();  // the picture shows the imported F's radiosity
         return true;
     } catch (const std::exception& e) {
         error(e.what());

@@ -225,6 +225,7 @@ public:
     /// Blocks until the worker is idle (tests, --exit).
     void wait();
 
+    /// Imports F (checked against the scene) and, with autoResolve, solves with it at once.
     bool importFormFactors(const std::string& path);
     bool exportFormFactors(const std::string& path);
     bool exportPly(const std::string& path);
@@ -248,6 +249,8 @@ private:
     Snapshot snapshot(const std::vector<PatchId>& ids) const;
     void restore(const std::vector<PatchId>& ids, const Snapshot& s);
     void materialsChanged(bool specularChanged);
+    /// Re-solves with the current F (first computing the rows the materials need that it lacks).
+    void refreshRadiosity();
     void bump() { ++m_revision; }
 
     std::unique_ptr<Scene> m_scene;

@@ -183,7 +183,18 @@ TEST_CASE("GUI state: importing F checks that it belongs to the scene") {
     solvedCube(app);
     const auto dir = tempDir("gui-ff");
     REQUIRE(app.exportFormFactors((dir / "cube.hff").string()));
+    // Importing re-solves with the imported F: B is current again without pressing Run.
+    app.select(0, false);
+    MaterialEdit edit;
+    edit.emission = Rgb::Constant(3.0);
+    app.autoResolve = false;
+    app.editMaterial(edit);
+    CHECK(app.radiosityStale());
+    app.autoResolve = true;
     CHECK(app.importFormFactors((dir / "cube.hff").string()));
+    runToEnd(app);
+    CHECK_FALSE(app.radiosityStale());
+    CHECK(app.radiosity()[0][0] > 3.0);  // the new emission, solved
     // A sharded F (a manifest and its shards, as MPI ranks write it) imports as one F.
     const FormFactors exported = *app.formFactors();
     saveShardedFormFactors(exported, (dir / "sharded.hff").string(), 3);
