@@ -126,6 +126,8 @@ public:
     bool hasScene() const { return m_scene != nullptr; }
     const Scene& scene() const { return *m_scene; }
     const std::string& scenePath() const { return m_scenePath; }
+    /// Changes with every scene loaded or set (not with edits or meshing).
+    std::uint64_t sceneId() const { return m_sceneId; }
     /// The scene as loaded, before meshing: what the meshing panel subdivides.
     const Scene& sourceScene() const { return *m_source; }
     /// The maximum edge length each object was meshed to (scene units; 0 = as loaded).
@@ -256,6 +258,7 @@ private:
     std::unique_ptr<Scene> m_scene;
     std::unique_ptr<const Scene> m_source;  ///< the scene as loaded (meshing subdivides it)
     std::vector<double> m_meshEdges;        ///< per object, 0 = as loaded
+    std::uint64_t m_sceneId = 0;
     std::string m_scenePath;
     std::uint64_t m_revision = 1;
     std::shared_ptr<const FormFactors> m_F;

@@ -28,6 +28,9 @@ std::string formatNumber(double v) {
     return text;
 }
 
+/// The three channels of an RGB value, as formatNumber writes each.
+std::string formatRgb(const Rgb& c) { return formatNumber(c[0]) + " " + formatNumber(c[1]) + " " + formatNumber(c[2]); }
+
 std::string formatBytes(std::uintmax_t bytes) {
     char text[32];
     if (bytes < 1024) std::snprintf(text, sizeof text, "%ju B", bytes);
@@ -176,7 +179,7 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
 
 std::string Panels::statusText(const AppState& app, std::optional<PatchId> hovered, double viewExposure) {
     if (!app.hasScene()) return "no scene";
-    const auto rgb = [](const Rgb& c) { return formatNumber(c[0]) + " " + formatNumber(c[1]) + " " + formatNumber(c[2]); };
+    const auto rgb = formatRgb;
     std::string text;
     // The patch under the cursor, else the (first) selected one.
     const std::optional<PatchId> shown = hovered ? hovered : app.selection().empty() ? std::nullopt
@@ -349,12 +352,8 @@ void Panels::materialPanel(AppState& app) {
 }
 
 void Panels::selectionPanel(AppState& app, Inspector& inspector, double viewExposure) {
-    const Scene& s = app.scene();
     const PatchId id = app.selection().front();
-    const Patch& p = s.patches[id];
-    const auto rgb = [](const Rgb& c) {
-        return formatNumber(c[0]) + " " + formatNumber(c[1]) + " " + formatNumber(c[2]);
-    };
+    const auto rgb = formatRgb;
     if (app.selection().size() > 1) {
         // The whole selection first: count, total area, area-weighted means, the power leaving it.
         const SelectionSummary sum = app.selectionSummary();
@@ -368,15 +367,13 @@ void Panels::selectionPanel(AppState& app, Inspector& inspector, double viewExpo
         ImGui::Separator();
         ImGui::TextDisabled("first selected patch:");
     }
-    ImGui::Text("patch %u, object '%s', line %d", id, p.object < s.objects.size() ? s.objects[p.object].c_str() : "?",
-                p.sourceLine);
-    ImGui::Text("area %s", formatNumber(p.area).c_str());
-    ImGui::Text("E   %s %s %s", formatNumber(p.emission[0]).c_str(), formatNumber(p.emission[1]).c_str(),
-                formatNumber(p.emission[2]).c_str());
-    ImGui::Text("rho %s %s %s   s %s", formatNumber(p.rho[0]).c_str(), formatNumber(p.rho[1]).c_str(),
-                formatNumber(p.rho[2]).c_str(), formatNumber(p.specular).c_str());
-    const Rgb& B = app.radiosity()[id];
-    ImGui::Text("B   %s %s %s", formatNumber(B[0]).c_str(), formatNumber(B[1]).c_str(), formatNumber(B[2]).c_str());
+    const PatchReadout r = *app.readout(id);
+    ImGui::Text("patch %u, object '%s', line %d", id, r.object.c_str(), r.sourceLine);
+    ImGui::Text("area %s", formatNumber(r.area).c_str());
+    ImGui::Text("E   %s", rgb(r.emission).c_str());
+    ImGui::Text("rho %s   s %s", rgb(r.rho).c_str(), formatNumber(r.specular).c_str());
+    ImGui::Text("B   %s", rgb(r.B).c_str());
+    ImGui::Text("H   %s", rgb(r.H).c_str());
     if (const FormFactors* F = app.formFactors(); F && F->rowComputed(id))
         ImGui::Text("F row sum %s, %zu nonzeros", formatNumber(F->rowSum(id)).c_str(), std::size_t(F->rowEnd(id) - F->rowBegin(id)));
     else
@@ -409,9 +406,9 @@ void Panels::selectionPanel(AppState& app, Inspector& inspector, double viewExpo
 
 void Panels::meshingSection(AppState& app) {
     const Scene& source = app.sourceScene();
-    if (m_meshSource != &source) {
+    if (m_meshSceneId != app.sceneId()) {
         // A new scene: a first suggestion of about 20 steps along its bounds' diagonal, rounded to 1-2-5.
-        m_meshSource = &source;
+        m_meshSceneId = app.sceneId();
         const double raw = source.extent() / 20.0;
         const double decade = std::pow(10.0, std::floor(std::log10(raw)));
         m_meshEdge = raw >= 5 * decade ? 5 * decade : raw >= 2 * decade ? 2 * decade : decade;

@@ -96,7 +96,7 @@ private:
     // Meshing section: the edge length typed, whole scene or selected objects, for which scene.
     double m_meshEdge = 0.0;
     bool m_meshSelected = false;
-    const Scene* m_meshSource = nullptr;
+    std::uint64_t m_meshSceneId = 0;  ///< the scene the suggested edge length was made for
     std::vector<double> m_meshEdgesSeen;  ///< the mesh's edge lengths the fields were last set from
     std::map<std::string, Rect> m_panelRects;
     std::string m_status;
