@@ -430,15 +430,14 @@ bool AppState::mesh(double maxEdge, MeshTarget target, bool asLoaded) {
         error(preview.error);
         return false;
     }
-    if (meshEdgesFor(maxEdge, target) == m_meshEdges) {
+    std::vector<double> edges = meshEdgesFor(maxEdge, target);  // the preview's, which did not throw
+    if (edges == m_meshEdges) {
         info("the mesh already has these edge lengths: nothing to do");
         return true;
     }
-    cancel();
-    wait();
-    poll();
+    // A running job works on its own copy of the scene; applyMesh stops it before the switch.
     auto next = std::make_shared<Mesh>();
-    next->edges = meshEdgesFor(maxEdge, target);
+    next->edges = std::move(edges);
     next->scene = subdivide(*m_source, next->edges);
     // Material edits carry over: each new patch takes the values of the patch covering its centroid.
     // Coarsening can merge patches edited apart; those take the covering patch's values (undo keeps them).
