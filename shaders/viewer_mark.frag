@@ -1,7 +1,7 @@
 #version 450
-// Viewer mirror pass, marking: keeps the pixels showing a patch of one mirror plane (so the stencil
-// marks them) and resets their depth to the far plane for the reflected scene.
-layout(binding = 0) uniform usampler2D ids;
+// Viewer mirror pass, marking: keeps the pixels showing a front face of one mirror plane (so the
+// stencil marks them) and resets their depth to the far plane for the reflected scene.
+layout(binding = 0) uniform usampler2D ids;  // the level ids: front faces only, 0 elsewhere
 layout(std430, binding = 1) readonly buffer MirrorGroups { uint groupOfPatch[]; };
 uniform uint group;
 

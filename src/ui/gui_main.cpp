@@ -41,6 +41,7 @@ struct GuiOptions {
     double subdivide = 0.0;
     long hover = -1;             ///< --hover: the status bar reads this patch out (scripted runs)
     std::optional<Layer> layer;  ///< --layer: the view's layer at start
+    double exposure = 0.0;       ///< --exposure X: a fixed display scale (0: automatic)
     double mesh = 0.0;          ///< --mesh L: the meshing panel's Apply for the whole scene
     double meshSelected = 0.0;  ///< --mesh-selected L: the same for the objects of --select
     int width = 1280, height = 800;
@@ -50,10 +51,13 @@ struct GuiOptions {
 
 const char* kUsage =
     "usage: hemirad-gui [SCENE.obj] [--subdivide L] [--method NAME] [back-end options, see 'hemirad help']\n"
+    "                   [--max-depth D] [--exposure X]\n"
     "                   [--mesh L | --select PATCH --mesh-selected L]\n"
     "                   [--size WxH] [--select PATCH] [--hover PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
     "                   [--quit-after S] [--false-color Q [--scale linear|log]] [--layer NAME]\n"
     "  --run          compute form factors and solve after loading\n"
+    "  --max-depth D  mirror reflections followed by F and shown by the view (default 8, as hemirad)\n"
+    "  --exposure X   display scale of the view, as hemirad render's (default automatic)\n"
     "  --mesh L       mesh the scene to edges <= L as the Pipeline panel's Apply does (undoable);\n"
     "                 --mesh-selected L only the objects of --select\n"
     "  --screenshot   once the view shows the results, save the window (with the UI) as a PNG\n"
@@ -73,6 +77,7 @@ GuiOptions parse(int argc, char** argv) {
     GuiOptions o;
     std::string method = o.settings.formFactors.method;
     std::vector<std::pair<std::string, std::string>> backendFlags;  // applied once --method is known
+    std::optional<std::uint32_t> maxDepth;
     auto value = [&](int& k, const char* flag) -> std::string {
         if (k + 1 >= argc) throw Error(std::string(flag) + " needs a value");
         return argv[++k];
@@ -95,6 +100,7 @@ GuiOptions parse(int argc, char** argv) {
         else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
         else if (a == "--screenshot") o.screenshot = value(k, "--screenshot");
         else if (a == "--subdivide") o.subdivide = number(value(k, "--subdivide"), "--subdivide");
+        else if (a == "--exposure") o.exposure = number(value(k, "--exposure"), "--exposure");
         else if (a == "--layer") {
             const std::string v = value(k, "--layer");
             static const std::pair<const char*, Layer> layers[] = {
@@ -106,6 +112,13 @@ GuiOptions parse(int argc, char** argv) {
         } else if (a == "--mesh") o.mesh = number(value(k, "--mesh"), "--mesh");
         else if (a == "--mesh-selected") o.meshSelected = number(value(k, "--mesh-selected"), "--mesh-selected");
         else if (a == "--method") method = value(k, "--method");
+        else if (a == "--max-depth") {
+            const std::string v = value(k, "--max-depth");
+            char* end = nullptr;
+            const long d = std::strtol(v.c_str(), &end, 10);
+            if (v.empty() || *end || d < 0 || d > 254) throw Error("--max-depth expects 0 to 254, got '" + v + "'");
+            maxDepth = std::uint32_t(d);
+        }
         else if (const BackendOption* option = findBackendOption(a)) {
             backendFlags.emplace_back(a, option->kind == OptionKind::Switch ? "yes" : value(k, a.c_str()));
         } else if (a == "--select") {
@@ -128,6 +141,7 @@ GuiOptions parse(int argc, char** argv) {
     }
     o.settings.formFactors = defaultSettings(method);
     for (const auto& [flag, text] : backendFlags) setBackendOption(o.settings.formFactors, flag, text);
+    if (maxDepth) o.settings.formFactors.common.maxDepth = *maxDepth;
     return o;
 }
 
@@ -226,6 +240,10 @@ int main(int argc, char** argv) {
         }
         app.falseColour.scale = options.falseColourScale;
         if (options.layer) app.layer = *options.layer;
+        if (options.exposure > 0.0) {
+            app.autoExposure = false;
+            app.exposure = options.exposure;
+        }
         OrbitCamera camera;
         Panels panels(recentFilesPath());
         Input input;

@@ -1,4 +1,4 @@
-// The viewer's GL passes: scene into five layers, mirror reflections through the stencil, present.
+// The viewer's GL passes: scene into six layers, mirror reflections through the stencil, present.
 #include "ui/viewer.hpp"
 
 #include "engine/error.hpp"
@@ -23,13 +23,30 @@ struct PatchData {
     float reflectance[4];  // rho, s
 };
 
-const GLenum kLayerFormats[5] = {GL_R32UI, GL_RGBA16F, GL_RGBA16F, GL_RGBA8, GL_RGBA8};
+// 0 patch ids (picking), 1 radiance, 2 emission, 3 reflectance, 4 specular, 5 level ids (the deepest
+// mirror level drawn at each pixel: front faces only; the mirror passes read it).
+constexpr int kLayers = 6;
+const GLenum kLayerFormats[kLayers] = {GL_R32UI, GL_RGBA16F, GL_RGBA16F, GL_RGBA8, GL_RGBA8, GL_R32UI};
+constexpr GLenum kAllLayers[kLayers] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                        GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4, GL_COLOR_ATTACHMENT5};
+// A mirror pass adds to the radiance and records what it shows in the level ids; the other layers
+// keep the mirror's own values (picking selects the mirror, not what it shows).
+constexpr GLenum kMirrorLayers[kLayers] = {GL_NONE, GL_COLOR_ATTACHMENT1, GL_NONE, GL_NONE, GL_NONE, GL_COLOR_ATTACHMENT5};
+// The stencil bit of finished portals; depths use the bits below it, so the viewer follows at most
+// kRetired - 2 nested mirrors (F's --max-depth allows 254).
+constexpr GLint kRetired = 0x80;
+
+void colourWrites(bool on) {
+    for (int k = 0; k < kLayers; ++k) gl::ColorMaski(GLuint(k), on, on, on, on);
+}
 
 }  // namespace
 
 Viewer::Viewer() {
     m_scene = gl::buildProgram({"viewer_scene.vert", "viewer_scene.frag"});
     m_mark = gl::buildProgram({"viewer_present.vert", "viewer_mark.frag"});
+    m_survey = gl::buildProgram({"viewer_present.vert", "viewer_survey.frag"});
+    m_retire = gl::buildProgram({"viewer_present.vert", "viewer_retire.frag"});
     m_present = gl::buildProgram({"viewer_present.vert", "viewer_present.frag"});
     m_vao = gl::makeVertexArray();
     m_emptyVao = gl::makeVertexArray();
@@ -42,6 +59,7 @@ Viewer::Viewer() {
     gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_falseColours.id());
     gl::BufferData(GL_SHADER_STORAGE_BUFFER, 4, &none, GL_DYNAMIC_DRAW);
     m_mirrorGroups = gl::makeBuffer();
+    m_seenGroups = gl::makeBuffer();
     gl::BindVertexArray(m_vao.id());
     gl::BindBuffer(GL_ARRAY_BUFFER, m_vertices.id());
     gl::EnableVertexAttribArray(0);
@@ -62,17 +80,15 @@ void Viewer::resize(int width, int height) {
     m_height = height;
     m_fbo = gl::makeFramebuffer();
     gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
-    GLenum buffers[5];
-    for (int k = 0; k < 5; ++k) {
+    for (int k = 0; k < kLayers; ++k) {
         m_layers[k] = gl::makeTexture();
         gl::BindTexture(GL_TEXTURE_2D, m_layers[k].id());
         gl::TexStorage2D(GL_TEXTURE_2D, 1, kLayerFormats[k], width, height);
         gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        gl::FramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + k), GL_TEXTURE_2D, m_layers[k].id(), 0);
-        buffers[k] = GLenum(GL_COLOR_ATTACHMENT0 + k);
+        gl::FramebufferTexture2D(GL_FRAMEBUFFER, kAllLayers[k], GL_TEXTURE_2D, m_layers[k].id(), 0);
     }
-    gl::DrawBuffers(5, buffers);
+    gl::DrawBuffers(kLayers, kAllLayers);
     m_depth = gl::makeRenderbuffer();
     gl::BindRenderbuffer(GL_RENDERBUFFER, m_depth.id());
     gl::RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
@@ -138,6 +154,9 @@ void Viewer::upload(AppState& app) {
         gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_mirrorGroups.id());
         gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(std::max<std::size_t>(1, scene.size()) * 4),
                        m_groups.groupOfPatch.data(), GL_DYNAMIC_DRAW);
+        gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_seenGroups.id());
+        gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(std::max<std::size_t>(1, m_groups.representative.size()) * 4),
+                       nullptr, GL_DYNAMIC_DRAW);
         m_lastFlags.clear();
         m_lastRowPatch = -2;
     }
@@ -172,15 +191,107 @@ void Viewer::upload(AppState& app) {
 }
 
 void Viewer::drawScene(const Eigen::Matrix4f& viewProjection, const Eigen::Matrix4f& model, const Eigen::Vector4f& clip,
-                       bool gouraud) {
+                       bool gouraud, std::uint32_t skipGroup) {
     m_scene.use();
     gl::UniformMatrix4fv(m_scene.uniform("viewProjection"), 1, GL_FALSE, viewProjection.data());
     gl::UniformMatrix4fv(m_scene.uniform("model"), 1, GL_FALSE, model.data());
     gl::Uniform4f(m_scene.uniform("clipPlane"), clip[0], clip[1], clip[2], clip[3]);
     gl::Uniform1i(m_scene.uniform("gouraud"), gouraud ? 1 : 0);
+    gl::Uniform1ui(m_scene.uniform("skipGroup"), skipGroup);
     gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m_patchData.id());
+    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m_mirrorGroups.id());
     gl::BindVertexArray(m_vao.id());
     gl::DrawArrays(GL_TRIANGLES, 0, m_vertexCount);
+}
+
+void Viewer::fullScreen(const gl::Program& program) {
+    colourWrites(false);
+    program.use();
+    gl::ActiveTexture(GL_TEXTURE0);
+    gl::BindTexture(GL_TEXTURE_2D, m_idCopy.id());
+    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m_mirrorGroups.id());
+    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m_seenGroups.id());
+    gl::BindVertexArray(m_emptyVao.id());
+    gl::DrawArrays(GL_TRIANGLES, 0, 3);
+    colourWrites(true);
+}
+
+void Viewer::drawReflections(const AppState& app, const Eigen::Matrix4f& viewProjection, const Eigen::Matrix4d& model,
+                             double weight, std::uint32_t depth) {
+    // Which mirror planes show in this region (a pixel sees one thing, so the portals of one region
+    // are disjoint, and following them one after the other with one stencil value is exact).
+    const auto copyLevelIds = [this] {
+        gl::CopyImageSubData(m_layers[5].id(), GL_TEXTURE_2D, 0, 0, 0, 0, m_idCopy.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                             m_width, m_height, 1);
+    };
+    const std::size_t groups = m_groups.representative.size();
+    std::vector<std::uint32_t> seen(groups, 0);
+    copyLevelIds();
+    gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_seenGroups.id());
+    gl::BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(groups * 4), seen.data());
+    gl::StencilMask(0xff);
+    gl::StencilFunc(GL_EQUAL, GLint(depth - 1), 0xff);
+    gl::StencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    gl::DepthFunc(GL_ALWAYS);
+    gl::DepthMask(GL_FALSE);
+    fullScreen(m_survey);
+    gl::DepthMask(GL_TRUE);
+    gl::MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_seenGroups.id());
+    gl::GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(groups * 4), seen.data());
+
+    const Scene& scene = app.scene();
+    const std::uint32_t maxDepth = app.settings.formFactors.common.maxDepth;
+    const double minWeight = app.settings.formFactors.common.minWeight;
+    for (std::size_t g = 0; g < groups; ++g) {
+        if (!seen[g]) continue;
+        const Patch& mirror = scene.patches[m_groups.representative[g]];
+        const double w = weight * mirror.specular;
+        // hemirad render's limits: a chain stops past --max-depth or below the weight cut-off.
+        if (depth > std::min<std::uint32_t>(maxDepth, kRetired - 2) || w < minWeight) continue;
+        // Mark: in the region, the pixels showing this plane get stencil `depth` and far depth.
+        copyLevelIds();
+        gl::StencilFunc(GL_EQUAL, GLint(depth - 1), 0xff);
+        gl::StencilOp(GL_KEEP, GL_KEEP, GL_INCR);
+        gl::DepthFunc(GL_ALWAYS);
+        m_mark.use();
+        gl::Uniform1ui(m_mark.uniform("group"), GLuint(g));
+        fullScreen(m_mark);
+
+        // Show the scene reflected in the mirror's plane (n . x + d = 0 in scene-centred coordinates),
+        // only what lies in front of it, weighted by the chain's reflectance.
+        const Vec3 centre = mirror.centroid - m_centre;
+        const double d = -mirror.normal.dot(centre);
+        const Eigen::Matrix4d reflected = model * reflectionMatrix(mirror.normal, d);
+        gl::StencilFunc(GL_EQUAL, GLint(depth), 0xff);
+        gl::StencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+        gl::DepthFunc(GL_LESS);
+        gl::DrawBuffers(kLayers, kMirrorLayers);
+        gl::Enablei(GL_BLEND, 1);
+        gl::BlendFunci(1, GL_CONSTANT_COLOR, GL_ONE);
+        gl::BlendColor(float(w), float(w), float(w), 1.0f);
+        gl::FrontFace(depth % 2 == 1 ? GL_CW : GL_CCW);
+        drawScene(viewProjection, reflected.cast<float>(),
+                  Eigen::Vector4f(float(mirror.normal.x()), float(mirror.normal.y()), float(mirror.normal.z()), float(d)),
+                  app.gouraud, std::uint32_t(g + 1));
+        gl::FrontFace(GL_CCW);
+        gl::Disablei(GL_BLEND, 1);
+        gl::DrawBuffers(kLayers, kAllLayers);
+
+        drawReflections(app, viewProjection, reflected, w, depth + 1);
+
+        // Retire the portal and everything nested in it: set the top stencil bit where the lower
+        // bits are >= depth (this portal's subtree; earlier siblings are retired already), so no
+        // later test of a depth matches there.
+        gl::StencilMask(kRetired);
+        gl::StencilFunc(GL_LEQUAL, GLint(depth) | kRetired, kRetired - 1);
+        gl::StencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+        gl::DepthFunc(GL_ALWAYS);
+        gl::DepthMask(GL_FALSE);
+        fullScreen(m_retire);
+        gl::StencilMask(0xff);
+        gl::DepthMask(GL_TRUE);
+    }
 }
 
 void Viewer::render(AppState& app, const OrbitCamera& camera, int width, int height, std::optional<PatchId> hovered) {
@@ -197,6 +308,7 @@ void Viewer::render(AppState& app, const OrbitCamera& camera, int width, int hei
     const GLfloat background[4] = {0.0f, 0.0f, 0.0f, 1.0f};
     gl::ClearBufferuiv(GL_COLOR, 0, zeroId);
     for (int k = 1; k < 5; ++k) gl::ClearBufferfv(GL_COLOR, k, background);
+    gl::ClearBufferuiv(GL_COLOR, 5, zeroId);
     gl::ClearBufferfi(GL_DEPTH_STENCIL, 0, 1.0f, 0);
     if (m_vertexCount > 0) {
         gl::Enable(GL_DEPTH_TEST);
@@ -209,48 +321,12 @@ void Viewer::render(AppState& app, const OrbitCamera& camera, int width, int hei
         const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
         drawScene(viewProjection, identity, Eigen::Vector4f(0, 0, 0, 1), app.gouraud);
 
-        // Mirrors (one reflection in the viewer): mark each mirror plane's pixels in the stencil, reset
-        // their depth, and add s x the scene reflected in that plane to the radiance layer.
+        // Mirrors, to the pipeline's mirror depth: the stencil marks the pixels of each mirror plane
+        // seen, their depth is reset, and the scene reflected in that plane adds to the radiance
+        // weighted by the chain's reflectance; portals nest as in hemirad render's camera rays.
         if (app.showReflections && !m_groups.representative.empty()) {
-            gl::CopyImageSubData(m_layers[0].id(), GL_TEXTURE_2D, 0, 0, 0, 0, m_idCopy.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
-                                 width, height, 1);
-            const Scene& scene = app.scene();
             gl::Enable(GL_STENCIL_TEST);
-            for (std::size_t g = 0; g < m_groups.representative.size(); ++g) {
-                const Patch& mirror = scene.patches[m_groups.representative[g]];
-                const std::uint8_t stencil = std::uint8_t(1 + g % 254);
-                gl::StencilMask(0xff);
-                gl::StencilFunc(GL_ALWAYS, stencil, 0xff);
-                gl::StencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-                for (int k = 0; k < 5; ++k) gl::ColorMaski(GLuint(k), GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-                gl::DepthFunc(GL_ALWAYS);
-                m_mark.use();
-                gl::Uniform1ui(m_mark.uniform("group"), GLuint(g));
-                gl::ActiveTexture(GL_TEXTURE0);
-                gl::BindTexture(GL_TEXTURE_2D, m_idCopy.id());
-                gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m_mirrorGroups.id());
-                gl::BindVertexArray(m_emptyVao.id());
-                gl::DrawArrays(GL_TRIANGLES, 0, 3);
-
-                const Vec3 centre = mirror.centroid - m_centre;
-                const double d = -mirror.normal.dot(centre);
-                const Eigen::Matrix4f model = reflectionMatrix(mirror.normal, d).cast<float>();
-                gl::StencilFunc(GL_EQUAL, stencil, 0xff);
-                gl::StencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-                gl::DepthFunc(GL_LESS);
-                gl::ColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
-                gl::Enablei(GL_BLEND, 1);
-                gl::BlendFunci(1, GL_CONSTANT_COLOR, GL_ONE);
-                const float s = float(mirror.specular);
-                gl::BlendColor(s, s, s, 1.0f);
-                gl::FrontFace(GL_CW);
-                drawScene(viewProjection, model,
-                          Eigen::Vector4f(float(mirror.normal.x()), float(mirror.normal.y()), float(mirror.normal.z()), float(d)),
-                          app.gouraud);
-                gl::FrontFace(GL_CCW);
-                gl::Disablei(GL_BLEND, 1);
-                for (int k = 0; k < 5; ++k) gl::ColorMaski(GLuint(k), GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-            }
+            drawReflections(app, viewProjection, Eigen::Matrix4d::Identity(), 1.0, 1);
             gl::Disable(GL_STENCIL_TEST);
         }
         gl::Disable(GL_CLIP_DISTANCE0);

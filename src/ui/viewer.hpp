@@ -1,5 +1,6 @@
 // The 3D view: the scene drawn into a layered offscreen target (patch id, radiance, emission,
-// reflectances), mirrors showing their reflection through the stencil, one layer presented.
+// reflectances), mirrors showing their reflections through the stencil (mirrors in mirrors to the
+// pipeline's --max-depth, as hemirad render), one layer presented.
 #pragma once
 
 #include "gl/gl_objects.hpp"
@@ -29,13 +30,20 @@ private:
     void upload(AppState& app);
     void resize(int width, int height);
     void drawScene(const Eigen::Matrix4f& viewProjection, const Eigen::Matrix4f& model, const Eigen::Vector4f& clip,
-                   bool gouraud);
+                   bool gouraud, std::uint32_t skipGroup = 0);
+    /// The mirrors seen in the region of stencil value `depth - 1` (drawn with `model`, path weight
+    /// `weight`): each gets stencil `depth`, shows the scene reflected in its plane weighted by
+    /// weight x s, is followed in turn, then is retired (stencil 255).
+    void drawReflections(const AppState& app, const Eigen::Matrix4f& viewProjection, const Eigen::Matrix4d& model,
+                         double weight, std::uint32_t depth);
+    /// Fills a full-screen pass with `program` (colour writes off).
+    void fullScreen(const gl::Program& program);
 
-    gl::Program m_scene, m_mark, m_present;
+    gl::Program m_scene, m_mark, m_survey, m_retire, m_present;
     gl::VertexArray m_vao, m_emptyVao;
-    gl::Buffer m_vertices, m_patchData, m_flags, m_row, m_mirrorGroups, m_falseColours;
+    gl::Buffer m_vertices, m_patchData, m_flags, m_row, m_mirrorGroups, m_seenGroups, m_falseColours;
     gl::Framebuffer m_fbo;
-    gl::Texture m_layers[5];
+    gl::Texture m_layers[6];
     gl::Texture m_idCopy;
     gl::Renderbuffer m_depth;
     int m_width = 0, m_height = 0;

@@ -32,35 +32,49 @@ struct Image {
     }
 };
 
+/// A PNG's pixels as 8-bit RGB.
+inline Image loadImage(const std::string& png) {
+    Image image;
+    int channels = 0;
+    unsigned char* data = stbi_load(png.c_str(), &image.width, &image.height, &channels, 3);
+    REQUIRE_MESSAGE(data != nullptr, "cannot read " << png);
+    image.rgb.assign(data, data + std::size_t(image.width) * image.height * 3);
+    stbi_image_free(data);
+    return image;
+}
+
+/// Runs `hemirad-gui ARGUMENTS --screenshot ... --exit` under Xvfb (1280x800 window) and requires a
+/// clean exit. Returns the screenshot; the log goes to `log`.
+inline Image runGui(const std::string& name, const std::string& arguments, std::string& log) {
+    REQUIRE_MESSAGE(std::system("command -v xvfb-run > /dev/null") == 0, "xvfb-run is missing (scripts/install-deps.sh)");
+    const auto dir = tempDir(name);
+    const std::string png = (dir / "gui.png").string();
+    const std::string logPath = (dir / "log.txt").string();
+    // Under `make test-sanitize` the GUI process runs without LeakSanitizer: Mesa's driver is unloaded
+    // at exit and its allocations can no longer be attributed (or suppressed) by module name.
+    const std::string command = "ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 "
+                                "xvfb-run -a -s '-screen 0 1400x900x24' " + std::string(HEMIRAD_GUI_BINARY) + " " +
+                                arguments + " --screenshot " + png + " --exit > " + logPath + " 2>&1";
+    const int status = std::system(command.c_str());
+    log = readText(logPath);
+    INFO(log);
+    REQUIRE(WIFEXITED(status));
+    REQUIRE(WEXITSTATUS(status) == 0);
+    Image image = loadImage(png);
+    CHECK(image.width == 1280);
+    CHECK(image.height == 800);
+    return image;
+}
+
 /// Runs hemirad-gui on the subdivided Cornell box with `methodFlags`, then checks the screenshot:
 /// not blank, the red wall left and the green one right (`walls` false: not checked, for a selection
 /// panel over the right side or a false-colour view), ImGui's menu bar drawn. Returns the log; the
 /// screenshot goes to `picture` when given.
 inline std::string runGuiAndCheckPicture(const std::string& name, const std::string& methodFlags, bool walls = true,
                                          Image* picture = nullptr) {
-    REQUIRE_MESSAGE(std::system("command -v xvfb-run > /dev/null") == 0, "xvfb-run is missing (scripts/install-deps.sh)");
-    const auto dir = tempDir(name);
-    const std::string png = (dir / "gui.png").string();
-    const std::string log = (dir / "log.txt").string();
-    // Under `make test-sanitize` the GUI process runs without LeakSanitizer: Mesa's driver is unloaded
-    // at exit and its allocations can no longer be attributed (or suppressed) by module name.
-    const std::string command = "ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 "
-                                "xvfb-run -a -s '-screen 0 1400x900x24' " + std::string(HEMIRAD_GUI_BINARY) + " " +
-                                sourcePath("scenes/cornell_box.obj") + " --subdivide 60 " + methodFlags +
-                                " --run --screenshot " + png + " --exit > " + log + " 2>&1";
-    const int status = std::system(command.c_str());
-    const std::string output = readText(log);
+    std::string output;
+    Image image = runGui(name, sourcePath("scenes/cornell_box.obj") + " --subdivide 60 " + methodFlags + " --run", output);
     INFO(output);
-    REQUIRE(WIFEXITED(status));
-    REQUIRE(WEXITSTATUS(status) == 0);
-    Image image;
-    int channels = 0;
-    unsigned char* data = stbi_load(png.c_str(), &image.width, &image.height, &channels, 3);
-    REQUIRE(data != nullptr);
-    image.rgb.assign(data, data + std::size_t(image.width) * image.height * 3);
-    stbi_image_free(data);
-    CHECK(image.width == 1280);
-    CHECK(image.height == 800);
 
     // Not blank: the view has bright and dark pixels.
     const auto whole = image.mean(0, 0, image.width, image.height);

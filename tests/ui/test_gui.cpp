@@ -250,3 +250,55 @@ TEST_CASE("hemirad-gui opens a file through the file browser by keyboard: Ctrl+O
     CHECK(output.find("loaded " + sourcePath("scenes/cornell_box.obj") + ": 20 patches") != std::string::npos);
     CHECK(run.output.find("title: Hemirad - cornell_box.obj") != std::string::npos);
 }
+
+TEST_CASE("hemirad-gui shows mirrors in mirrors to --max-depth, pixel for pixel as hemirad render") {
+    // A corridor between two facing mirrors (s = 0.9, no diffuse part), a red far wall and a lit
+    // ceiling. The scene camera looks down it past the right mirror, which shows the red wall again
+    // and again: once through the left or the right mirror, then through both, and so on.
+    const auto dir = tempDir("gui-mirrors");
+    writeFile(dir / "corridor.mtl", "newmtl white\nKd 0.7 0.7 0.7\nnewmtl red\nKd 0.7 0.1 0.1\n"
+                                    "newmtl mirror\nKd 0 0 0\nKs 0.9 0.9 0.9\nillum 3\n"
+                                    "newmtl light\nKd 0.5 0.5 0.5\nKe 10 10 10\n");
+    const std::string scene = writeFile(dir / "corridor.obj",
+                                        "# hemirad camera 3 1.5 -4 1.2 1.2 6 50\nmtllib corridor.mtl\n"
+                                        "v 0 0 0\nv 4 0 0\nv 4 0 20\nv 0 0 20\nv 0 3 0\nv 4 3 0\nv 4 3 20\nv 0 3 20\n"
+                                        "o floor\nusemtl white\nf 1 4 3 2\no ceiling_light\nusemtl light\nf 5 6 7 8\n"
+                                        "o mirror_left\nusemtl mirror\nf 1 5 8 4\no mirror_right\nusemtl mirror\nf 2 3 7 6\n"
+                                        "o back\nusemtl red\nf 4 8 7 3\n");
+    struct Region {
+        const char* name;
+        int x0, y0, x1, y1;
+    };
+    // Rectangles clear of the panels at 1280x800.
+    const Region direct{"the red wall, direct", 470, 335, 570, 415};
+    const Region left1{"the red wall in the left mirror", 380, 335, 440, 415};
+    const Region right1{"the red wall in the right mirror", 600, 335, 720, 415};
+    const Region right2{"the red wall in the right mirror through both", 760, 335, 900, 415};
+    const Region floor{"the floor in the right mirror", 950, 450, 1050, 580};
+    for (const int depth : {0, 1, 8}) {
+        CAPTURE(depth);
+        const std::string flags = " --subdivide 1 --max-depth " + std::to_string(depth) + " --exposure 0.2";
+        std::string log;
+        const Image gui = runGui("gui-mirrors-" + std::to_string(depth), scene + flags + " --run", log);
+        const std::string png = (dir / ("cli" + std::to_string(depth) + ".png")).string();
+        const CommandResult cli =
+            runCommand(std::string(HEMIRAD_BINARY) + " render " + scene + flags + " --size 1280x800 -o " + png + " 2>&1");
+        INFO(cli.output);
+        REQUIRE(cli.status == 0);
+        const Image reference = loadImage(png);
+        REQUIRE(reference.width == gui.width);
+        REQUIRE(reference.height == gui.height);
+        for (const Region& r : {direct, left1, right1, right2, floor}) {
+            INFO(r.name);
+            const auto shown = gui.mean(r.x0, r.y0, r.x1, r.y1), expected = reference.mean(r.x0, r.y0, r.x1, r.y1);
+            // Same camera, exposure and sRGB mapping; the CLI averages 4 rays per pixel.
+            for (int c = 0; c < 3; ++c) CHECK(shown[c] == doctest::Approx(expected[c]).epsilon(0.004).scale(255.0));
+        }
+        // What each depth must show (red channel): mirrors without a diffuse part are black past the depth.
+        const auto red = [&gui](const Region& r) { return gui.mean(r.x0, r.y0, r.x1, r.y1)[0]; };
+        CHECK(red(direct) > 100.0);
+        CHECK((red(left1) > 100.0) == (depth >= 1));
+        CHECK((red(right1) > 100.0) == (depth >= 1));
+        CHECK((red(right2) > 100.0) == (depth >= 2));
+    }
+}
