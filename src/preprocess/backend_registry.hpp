@@ -32,6 +32,10 @@ struct BackendOption {
     std::function<void(MethodSettings&, const std::string&)> set;
     /// The field as text, in the form set() takes.
     std::function<std::string(const MethodSettings&)> get;
+    /// Empty when the option can change F for this scene and settings; else why it does not (e.g.
+    /// directions the analytic estimator never casts), for front ends to say so next to the field.
+    /// Unset: the option always matters.
+    std::function<std::string(const Scene&, const MethodSettings&)> unusedBecause;
 };
 
 /// What a run of a back end is, for the report and the bench (settings that change nothing, e.g.

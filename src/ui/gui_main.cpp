@@ -7,6 +7,7 @@
 #include "ui/app_state.hpp"
 #include "ui/inspector.hpp"
 #include "ui/orbit_camera.hpp"
+#include "ui/tooltip_check.hpp"
 #include "ui/panels.hpp"
 #include "ui/viewer.hpp"
 
@@ -22,6 +23,7 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -42,6 +44,7 @@ struct GuiOptions {
     long hover = -1;             ///< --hover: the status bar reads this patch out (scripted runs)
     std::optional<Layer> layer;  ///< --layer: the view's layer at start
     double exposure = 0.0;       ///< --exposure X: a fixed display scale (0: automatic)
+    bool checkTooltips = false;  ///< --check-tooltips: sweep the mouse over the panels, then exit
     double mesh = 0.0;          ///< --mesh L: the meshing panel's Apply for the whole scene
     double meshSelected = 0.0;  ///< --mesh-selected L: the same for the objects of --select
     int width = 1280, height = 800;
@@ -51,7 +54,7 @@ struct GuiOptions {
 
 const char* kUsage =
     "usage: hemirad-gui [SCENE.obj] [--subdivide L] [--method NAME] [back-end options, see 'hemirad help']\n"
-    "                   [--max-depth D] [--exposure X]\n"
+    "                   [--max-depth D] [--exposure X] [--check-tooltips]\n"
     "                   [--mesh L | --select PATCH --mesh-selected L]\n"
     "                   [--size WxH] [--select PATCH] [--hover PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
     "                   [--quit-after S] [--false-color Q [--scale linear|log]] [--layer NAME]\n"
@@ -64,6 +67,8 @@ const char* kUsage =
     "  --exit         quit after the screenshot (or at once without one), print the log,\n"
     "                 exit 1 if it holds an error\n"
     "  --quit-after S run interactively for S seconds, then quit as --exit does\n"
+    "  --check-tooltips  once the view is drawn, move the mouse over every panel and list the\n"
+    "                 controls that show no tooltip; exit as --exit does (1 if any)\n"
     "  --false-color Q  start in the false-colour view of Q (radiosity, irradiance, emission);\n"
     "                 --scale linear|log its scale\n"
     "  --hover PATCH  read PATCH out in the status bar as if the cursor were on it (scripted runs)\n"
@@ -95,6 +100,7 @@ GuiOptions parse(int argc, char** argv) {
             std::exit(0);
         } else if (a == "--run") o.run = true;
         else if (a == "--exit") o.exitAfter = true;
+        else if (a == "--check-tooltips") o.checkTooltips = o.exitAfter = true;
         else if (a == "--false-color") o.falseColour = parseFalseColourQuantity(value(k, "--false-color"));
         else if (a == "--scale") o.falseColourScale = parseFalseColourScale(value(k, "--scale"));
         else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
@@ -285,6 +291,7 @@ int main(int argc, char** argv) {
             long frames = 0;
             std::string windowTitle = "Hemirad";
             int settleFrames = 3;
+            TooltipCheck tooltips;
             while (!glfwWindowShouldClose(window) && !requests.quit) {
                 const bool scripted = !options.screenshot.empty() || options.exitAfter;
                 if (scripted) {
@@ -313,6 +320,7 @@ int main(int argc, char** argv) {
                 app.poll();
                 ImGui_ImplOpenGL3_NewFrame();
                 ImGui_ImplGlfw_NewFrame();
+                if (tooltips.planned()) tooltips.placeMouse();
                 ImGui::NewFrame();
                 ImGuiIO& io = ImGui::GetIO();
                 int width = 0, height = 0;
@@ -384,6 +392,12 @@ int main(int argc, char** argv) {
                     hovered ? hovered : options.hover >= 0 ? std::optional<PatchId>(PatchId(options.hover)) : std::nullopt;
                 panels.draw(app, camera, inspector, viewer.exposure(), requests, readout);
                 ImGui::Render();
+                if (tooltips.planned()) {
+                    // The tooltip sweep looks at ImGui's state only: nothing is drawn meanwhile.
+                    tooltips.observe();
+                    if (tooltips.finished()) requests.quit = true;
+                    continue;
+                }
                 gl::BindFramebuffer(GL_FRAMEBUFFER, 0);
                 gl::Viewport(0, 0, width, height);
                 gl::ClearColor(0.08f, 0.08f, 0.09f, 1.0f);
@@ -413,7 +427,9 @@ int main(int argc, char** argv) {
                         std::printf("hemirad-gui: wrote %s (%dx%d)\n", options.screenshot.c_str(), width, height);
                         options.screenshot.clear();
                     }
-                    if (options.exitAfter) requests.quit = true;
+                    // --check-tooltips: the sweep starts from the panels as drawn now, and ends the run.
+                    if (options.checkTooltips && !tooltips.planned()) tooltips.plan(panels.panelRects());
+                    if (options.exitAfter && !options.checkTooltips) requests.quit = true;
                 }
                 glfwSwapBuffers(window);
             }
@@ -435,6 +451,11 @@ int main(int argc, char** argv) {
                                 falseColourScaleName(view.range.scale), view.range.min, view.range.max);
                 }
                 std::printf("hemirad-gui: status: %s\n", panels.status().c_str());
+                if (options.checkTooltips) {
+                    std::istringstream lines(tooltips.report());
+                    for (std::string line; std::getline(lines, line);) std::printf("hemirad-gui: %s\n", line.c_str());
+                    if (tooltips.missing() > 0) status = 1;
+                }
                 for (const auto& [name, r] : panels.panelRects())
                     std::printf("hemirad-gui: panel %s at %.0f,%.0f size %.0fx%.0f\n", name.c_str(), r.x, r.y, r.width, r.height);
             }

@@ -39,6 +39,11 @@ std::string formatBytes(std::uintmax_t bytes) {
     return text;
 }
 
+/// The last control's tooltip (shown also when it is disabled, to say why).
+void tip(const char* text) {
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", text);
+}
+
 bool isObjPath(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -296,23 +301,34 @@ void Panels::scenePanel(AppState& app, OrbitCamera& camera) {
     ImGui::Text("Pick:");
     ImGui::SameLine();
     ImGui::RadioButton("patch", &mode, 0);
+    tip("A click in the view selects one patch (Ctrl/Shift + click adds)");
     ImGui::SameLine();
     ImGui::RadioButton("object", &mode, 1);
+    tip("A click in the view selects the whole object under the cursor");
     app.selectionMode = SelectionMode(mode);
     int layer = int(app.layer);
     ImGui::Combo("Layer", &layer, kLayerNames, kLayerCount);
+    tip("What the view shows: radiance (tone-mapped), patch ids, emission, reflectances,\n"
+        "F of the selected patch to every other (log colours), or false colour with a legend");
     app.layer = Layer(layer);
     ImGui::Checkbox("Gouraud", &app.gouraud);
+    tip("Smooth shading: radiosity interpolated from the vertices (creases at edges, emission and\n"
+        "material boundaries); off: each patch flat, its own value");
     ImGui::SameLine();
     ImGui::Checkbox("Reflections", &app.showReflections);
+    tip("Mirrors show what they reflect, mirrors in mirrors to the Pipeline's mirror depth");
     ImGui::Checkbox("Auto exposure", &app.autoExposure);
+    tip("Scale the view so that 95% of the lit patches are below 80% white; off: set it by hand");
     if (!app.autoExposure) {
         float ev = float(std::log2(std::max(app.exposure, 1e-30)));
         if (ImGui::SliderFloat("Exposure (EV)", &ev, -20.0f, 20.0f, "%.1f")) app.exposure = std::exp2(double(ev));
+        tip("Display scale in stops (EV): +1 doubles the brightness; Ctrl+click to type");
     }
     if (ImGui::Button("Frame scene")) camera.frame(s);
+    tip("Look at the whole scene from its camera's side, or its open side (key F)");
     ImGui::SameLine();
     if (ImGui::Button("Scene camera")) camera.useSceneCamera(s);
+    tip("The camera of the OBJ's '# hemirad camera' line (key C)");
 }
 
 void Panels::materialPanel(AppState& app) {
@@ -332,23 +348,34 @@ void Panels::materialPanel(AppState& app) {
         m_specular = p.specular;
     }
     // Numeric fields in double: a value is stored as typed, and untouched channels keep theirs.
-    const auto swatch = [](const char* id, const double c[3], double scale) {
+    const auto swatch = [](const char* id, const double c[3], double scale, const char* what) {
         const float k = float(scale > 0 ? 1.0 / scale : 0.0);
         ImGui::ColorButton(id, ImVec4(float(c[0]) * k, float(c[1]) * k, float(c[2]) * k, 1.0f), ImGuiColorEditFlags_NoTooltip);
+        tip(what);
         ImGui::SameLine();
     };
+    // The fields fill the panel's width up to their labels.
+    ImGui::PushItemWidth(-ImGui::CalcTextSize("Diffuse reflectance").x - ImGui::GetStyle().ItemInnerSpacing.x);
     MaterialEdit edit;
-    swatch("##emission", m_emission, std::max({m_emission[0], m_emission[1], m_emission[2]}));
+    swatch("##emission", m_emission, std::max({m_emission[0], m_emission[1], m_emission[2]}),
+           "The emission's colour (scaled to its largest channel)");
     ImGui::InputScalarN("Emission W/m^2", ImGuiDataType_Double, m_emission, 3, nullptr, nullptr, "%.6g");
     if (ImGui::IsItemDeactivatedAfterEdit()) edit.emission = Rgb(m_emission[0], m_emission[1], m_emission[2]);
-    swatch("##rho", m_rho, 1.0);
+    tip("Emitted radiosity E (W/m^2) per channel (MTL Ke) of the selected patches; re-solves at once");
+    swatch("##rho", m_rho, 1.0, "The diffuse reflectance's colour");
     ImGui::InputScalarN("Diffuse reflectance", ImGuiDataType_Double, m_rho, 3, nullptr, nullptr, "%.6g");
     if (ImGui::IsItemDeactivatedAfterEdit()) edit.rho = Rgb(m_rho[0], m_rho[1], m_rho[2]);
+    tip("Diffuse reflectance rho in [0, 1] per channel (MTL Kd); rho + s <= 1; re-solves at once");
     const double zero = 0.0, one = 1.0;
     ImGui::SliderScalar("Mirror reflectance", ImGuiDataType_Double, &m_specular, &zero, &one, "%.3f");
     if (ImGui::IsItemDeactivatedAfterEdit()) edit.specular = m_specular;
+    tip("Specular (mirror) reflectance s (MTL Ks, illum 3); changes F: Run computes it again.\n"
+        "Ctrl+click to type an exact value");
+    ImGui::PopItemWidth();
     if (edit.emission || edit.rho || edit.specular) app.editMaterial(edit);
+    ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("emission/diffuse edits re-solve with the current F; mirror edits need a new F");
+    ImGui::PopTextWrapPos();
 }
 
 void Panels::selectionPanel(AppState& app, Inspector& inspector, double viewExposure) {
@@ -379,6 +406,7 @@ void Panels::selectionPanel(AppState& app, Inspector& inspector, double viewExpo
     else
         ImGui::TextDisabled("F row not computed (black patch, or no F yet)");
     if (ImGui::Button("Colour by F of this patch")) app.layer = Layer::FormFactorRow;
+    tip("The view's F-row layer: every patch coloured by F from this patch to it (4 decades, log)");
     if (!rayCastingNotBuilt().empty()) {
         // The inspector's pictures are ray-cast; a build without Embree says so instead.
         ImGui::PushTextWrapPos(0.0f);
@@ -388,11 +416,14 @@ void Panels::selectionPanel(AppState& app, Inspector& inspector, double viewExpo
     }
     ImGui::SameLine();
     ImGui::Checkbox("Inspector", &m_showInspector);
+    tip("What this patch sees: its Nusselt disk (hemisphere, equal areas = equal F) or its hemicube");
     if (m_showInspector) {
         try {
             inspector.update(app, id, viewExposure);
             if (inspector.texture()) {
+                ImGui::PushTextWrapPos(0.0f);
                 ImGui::TextDisabled("%s", inspector.caption().c_str());
+                ImGui::PopTextWrapPos();
                 const float scale = std::min(300.0f, ImGui::GetContentRegionAvail().x) / float(std::max(inspector.width(), 1));
                 ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(inspector.texture())),
                              ImVec2(inspector.width() * scale, inspector.height() * scale));
@@ -428,14 +459,14 @@ void Panels::meshingSection(AppState& app) {
     if (meshed == 0) ImGui::TextDisabled("as loaded");
     else ImGui::TextDisabled("%zu of %zu objects meshed (%zu patches as loaded)", meshed, edges.size(), source.size());
     ImGui::InputDouble("Max edge", &m_meshEdge, 0.0, 0.0, "%.6g");
-    if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("Longest patch edge after meshing, in scene units (like --subdivide): quads become grids,\n"
-                          "triangles n x n triangles, always from the patches as loaded. 0: back to those.");
+    tip("Longest patch edge after meshing, in scene units (like --subdivide): quads become grids,\n"
+        "triangles n x n triangles, always from the patches as loaded. 0: back to those.");
     int target = m_meshSelected ? 1 : 0;
     ImGui::RadioButton("whole scene", &target, 0);
+    tip("Mesh every object to this edge length");
     ImGui::SameLine();
     ImGui::RadioButton("selected objects", &target, 1);
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("The objects of the selection (pick one patch of each); the rest keep their mesh");
+    tip("The objects of the selection (pick one patch of each); the rest keep their mesh");
     m_meshSelected = target == 1;
     const MeshTarget meshTarget = m_meshSelected ? MeshTarget::SelectedObjects : MeshTarget::Scene;
     const MeshingPreview preview = app.meshingPreview(m_meshEdge, meshTarget);
@@ -448,7 +479,7 @@ void Panels::meshingSection(AppState& app) {
         ImGui::BeginDisabled(app.job().running);
         if (ImGui::Button("Apply")) app.mesh(m_meshEdge, meshTarget);
         ImGui::EndDisabled();
-        if (ImGui::IsItemHovered()) ImGui::SetTooltip("Mesh now (undoable, Ctrl+Z); materials and edits are kept, F must be recomputed");
+        tip("Mesh now (undoable, Ctrl+Z); materials and edits are kept, F must be recomputed");
         ImGui::SameLine();
         ImGui::TextDisabled("-> %zu patches (now %zu)", preview.patches, app.scene().size());
     }
@@ -459,9 +490,13 @@ void Panels::meshingSection(AppState& app) {
 void Panels::pipelinePanel(AppState& app) {
     if (app.hasScene()) meshingSection(app);
     PipelineSettings& st = app.settings;
+    // The fields fill the panel's width up to their labels.
+    ImGui::PushItemWidth(-ImGui::CalcTextSize("log10 tolerance").x - ImGui::GetStyle().ItemInnerSpacing.x);
     // The back ends and their options come from the registry: a widget per option kind.
     const auto& backends = formFactorBackends();
-    if (ImGui::BeginCombo("Method", st.formFactors.method.c_str())) {
+    const bool methodOpen = ImGui::BeginCombo("Method", st.formFactors.method.c_str());
+    tip("--method: the form-factor back end (hemisphere: Embree rays or exact factors; hemicube: OpenGL)");
+    if (methodOpen) {
         for (const BackendDescriptor* d : backends)
             if (d->notBuilt.empty() && ImGui::Selectable(d->name.c_str(), d->name == st.formFactors.method) &&
                 d->name != st.formFactors.method) {
@@ -499,13 +534,21 @@ void Panels::pipelinePanel(AppState& app) {
         } catch (const std::exception& e) {
             app.error(e.what());
         }
-        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s: %s", option.flag.c_str(), option.help.c_str());
+        // An option this run does not use says so (e.g. directions the analytic estimator never casts).
+        const std::string unused = option.unusedBecause && app.hasScene() ? option.unusedBecause(app.scene(), st.formFactors) : "";
+        tip((option.flag + ": " + option.help + (unused.empty() ? "" : "\n" + unused)).c_str());
+        if (!unused.empty()) {
+            ImGui::PushTextWrapPos(0.0f);
+            ImGui::TextDisabled("%s", unused.c_str());
+            ImGui::PopTextWrapPos();
+        }
     }
     int depth = int(st.formFactors.common.maxDepth);
     if (ImGui::InputInt("Mirror depth", &depth)) st.formFactors.common.maxDepth = std::uint32_t(std::clamp(depth, 0, 254));
+    tip("--max-depth: mirror reflections followed by F, and shown by the view (0 to 254)");
     int threads = st.formFactors.common.threads;
     if (ImGui::InputInt("Threads", &threads)) st.formFactors.common.threads = std::clamp(threads, 0, 4096);
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("--threads: worker threads (GL contexts for the hemicube); 0 = all cores");
+    tip("--threads: worker threads (GL contexts for the hemicube); 0 = all cores");
     if (app.hasScene()) {
         // What Run will do, before it is pressed: the back end's description (what auto picks),
         // rows and work, the memory bound, and the time at the last run's rate.
@@ -522,11 +565,14 @@ void Panels::pipelinePanel(AppState& app) {
         }
         ImGui::PopTextWrapPos();
     }
-    if (ImGui::BeginCombo("Solver", st.solver.solver.c_str())) {
+    const bool solverOpen = ImGui::BeginCombo("Solver", st.solver.solver.c_str());
+    tip("--solver: per RGB channel; auto picks a direct factorisation for small scenes, else an iteration");
+    if (solverOpen) {
         if (ImGui::Selectable("auto", st.solver.solver == "auto")) st.solver.solver = "auto";
+        tip("The solver hemirad picks for the scene's size and F");
         for (const SolverDescriptor* d : solverRegistry()) {
             if (ImGui::Selectable(d->name.c_str(), st.solver.solver == d->name)) st.solver.solver = d->name;
-            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", d->summary.c_str());
+            tip(d->summary.c_str());
         }
         ImGui::EndCombo();
     }
@@ -536,18 +582,26 @@ void Panels::pipelinePanel(AppState& app) {
     float exponent = float(std::log10(st.solver.tolerance));
     if (ImGui::SliderFloat("log10 tolerance", &exponent, -12.0f, -2.0f, "%.0f")) st.solver.tolerance = std::pow(10.0, double(exponent));
     ImGui::EndDisabled();
+    tip(iterates ? "--tolerance: an iterative solver stops when the relative residual is below 10^this"
+                 : "A factorisation solves exactly: no tolerance");
     ImGui::Checkbox("Re-solve after edits", &app.autoResolve);
+    tip("Emission and diffuse edits solve again at once with the current F (warm start)");
+    ImGui::PopItemWidth();
 
     const JobStatus job = app.job();
     if (job.running) {
         ImGui::ProgressBar(float(job.progress), ImVec2(-1, 0), job.stage.c_str());
         if (ImGui::Button("Cancel")) app.cancel();
+        tip("Stop the running job; the scene and the last results stay");
     } else {
         if (ImGui::Button("Run", ImVec2(100, 0))) app.runPipeline();
+        tip("Compute F where it is missing, stale or made with other settings, then solve");
         ImGui::SameLine();
         if (ImGui::Button("Re-solve", ImVec2(100, 0))) app.resolve();
+        tip("Solve again with the current F (after edits or a solver change)");
         ImGui::SameLine();
         if (ImGui::Button("Recompute F")) app.recomputeFormFactors();
+        tip("Compute the whole F again with the settings above, even when it is current, then solve");
     }
     if (app.formFactors() && !app.formFactorsStale() && !app.formFactorsMatchSettings())
         ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "F was made with other settings: Run computes it again");
@@ -559,8 +613,8 @@ void Panels::pipelinePanel(AppState& app) {
         ImGui::Text("F: %zu of %zu rows, %zu nonzeros, %.1f MiB%s", F.computedRows(), F.size(), F.nonZeros(),
                     F.memoryBytes() / 1048576.0, app.formFactorsStale() ? "  STALE" : "");
         if (const auto& stats = app.formFactorStats()) {
-            ImGui::Text("row sums %.4f / %.4f / %.4f (min/mean/max)", stats->rowSumMin, stats->rowSumMean, stats->rowSumMax);
-            ImGui::Text("reciprocity: mean %.4f, max %.4f", stats->reciprocityMean, stats->reciprocityMax);
+            ImGui::TextWrapped("row sums %.4f / %.4f / %.4f (min/mean/max)", stats->rowSumMin, stats->rowSumMean, stats->rowSumMax);
+            ImGui::TextWrapped("reciprocity: mean %.4f, max %.4f", stats->reciprocityMean, stats->reciprocityMax);
         }
     }
     for (const auto& [stage, seconds] : app.timings()) ImGui::Text("%-26s %8.3f s", stage.c_str(), seconds);
@@ -575,19 +629,26 @@ void Panels::legendPanel(AppState& app) {
     static const char* kQuantities[] = {"radiosity B", "irradiance H", "emission E"};
     int quantity = int(fc.quantity);
     if (ImGui::Combo("##quantity", &quantity, kQuantities, 3)) fc.quantity = FalseColourQuantity(quantity);
+    tip("Radiosity B (what leaves), irradiance H = (B - E)/rho (what a meter on the surface reads),\n"
+        "or emission E; all in W/m^2 as luminance Y");
     int scale = int(fc.scale);
     ImGui::RadioButton("linear", &scale, 0);
+    tip("Colours evenly spaced in the value");
     ImGui::SameLine();
     ImGui::RadioButton("log", &scale, 1);
+    tip("Colours evenly spaced in the value's logarithm (for ranges over decades; values <= 0 show as the minimum)");
     fc.scale = FalseColourScale(scale);
     ImGui::Checkbox("automatic range", &fc.automatic);
+    tip("The range is the values' minimum and maximum; off: type min and max");
     const FalseColourView view = app.falseColourView();
     if (fc.automatic) {
         fc.min = view.range.min;  // the fields start from the data when switched to manual
         fc.max = view.range.max;
     } else {
         ImGui::InputDouble("max", &fc.max, 0.0, 0.0, "%.4g");
+        tip("The value at the top of the colour bar (W/m^2); larger values show its colour");
         ImGui::InputDouble("min", &fc.min, 0.0, 0.0, "%.4g");
+        tip("The value at the bottom of the colour bar (W/m^2); smaller values show its colour");
     }
     if (!view.error.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.4f, 1.0f));
@@ -675,7 +736,9 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
         ImGui::TextDisabled("(%s)", filter.empty() ? "all files" : filter.c_str());
         ImGui::TextWrapped("in %s", m_browser.directory().c_str());
         const std::vector<std::string> folders = FileBrowser::recentFolders(m_recent);
-        if (!folders.empty() && ImGui::BeginCombo("Recent folders", folders.front().c_str())) {
+        const bool foldersOpen = !folders.empty() && ImGui::BeginCombo("Recent folders", folders.front().c_str());
+        if (!folders.empty()) tip("The folders of the recent files");
+        if (foldersOpen) {
             for (const std::string& folder : folders)
                 if (ImGui::Selectable(folder.c_str())) m_browser.changeDirectory(folder);
             ImGui::EndCombo();
@@ -714,7 +777,10 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
         ImGui::SetNextItemWidth(600);
         const bool enter = ImGui::InputText("##path", m_pathBuffer, sizeof m_pathBuffer,
                                             ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
-        if (ImGui::Button("OK", ImVec2(100, 0)) || enter) {
+        tip("A file name or path (absolute, or relative to the folder shown); Enter confirms, a folder is entered");
+        const bool ok = ImGui::Button("OK", ImVec2(100, 0));
+        tip("Use the file typed (Enter does the same)");
+        if (ok || enter) {
             chosen = m_browser.confirm(m_pathBuffer);
             if (!chosen) {
                 std::snprintf(m_pathBuffer, sizeof m_pathBuffer, "%s", m_browser.typed.c_str());
@@ -722,8 +788,9 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
             }
         }
         ImGui::SameLine();
-        if (ImGui::Button("Cancel", ImVec2(100, 0)) || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape)))
-            ImGui::CloseCurrentPopup();
+        const bool cancel = ImGui::Button("Cancel", ImVec2(100, 0));
+        tip("Close the browser (Esc)");
+        if (cancel || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) ImGui::CloseCurrentPopup();
         if (chosen) {
             ImGui::CloseCurrentPopup();
             const std::string& path = *chosen;
@@ -754,17 +821,21 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
             if (action) action();
         }
         ImGui::EndDisabled();
-        if (!canSave && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
-            ImGui::SetTooltip("The scene has no .obj file to save to: use File > Save scene as");
+        tip(canSave ? "Save the scene over its .obj and .mtl, then go on"
+                    : "The scene has no .obj file to save to: use File > Save scene as");
         ImGui::SameLine();
-        if (ImGui::Button("Discard", ImVec2(120, 0))) {
+        const bool discard = ImGui::Button("Discard", ImVec2(120, 0));
+        tip("Drop the edits and go on");
+        if (discard) {
             ImGui::CloseCurrentPopup();
             auto action = std::move(m_confirmAction);
             m_confirmAction = nullptr;
             if (action) action();
         }
         ImGui::SameLine();
-        if (ImGui::Button("Keep editing", ImVec2(120, 0))) {
+        const bool keep = ImGui::Button("Keep editing", ImVec2(120, 0));
+        tip("Go back to the scene; nothing happens");
+        if (keep) {
             m_confirmAction = nullptr;
             ImGui::CloseCurrentPopup();
         }

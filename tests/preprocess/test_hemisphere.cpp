@@ -453,3 +453,34 @@ TEST_CASE("The far rule: C-11 unit squares 10 apart within C rho^-4 of the close
     CHECK(error <= FarRule::kErrorConstant * std::pow(ratio, -4.0));
     CHECK(rule.factor(geometry, 1, 0, 1.0) == doctest::Approx(rule.factor(geometry, 0, 1, 1.0)).epsilon(1e-14));
 }
+
+TEST_CASE("The hemisphere's options say when they change nothing: directions under the analytic estimator, its rule under rays") {
+    const Scene box = bundledScene("cornell_box.obj");  // 20 patches: auto picks the analytic estimator
+    const Scene mirror = bundledScene("cornell_mirror.obj");
+    const BackendDescriptor& d = findBackend("hemisphere");
+    const auto unused = [&d](const Scene& scene, const MethodSettings& s, const char* flag) {
+        const BackendOption* option = d.option(flag);
+        REQUIRE(option != nullptr);
+        REQUIRE(option->unusedBecause);
+        return option->unusedBecause(scene, s);
+    };
+    MethodSettings s = defaultSettings("hemisphere");
+    CHECK(unused(box, s, "--samples").find("only makes that choice") != std::string::npos);  // auto: it still chooses
+    CHECK(unused(box, s, "--fixed-directions").find("casts no directions") != std::string::npos);
+    CHECK(unused(box, s, "--pair-digits").empty());
+    CHECK(unused(box, s, "--mirror-estimator") == "unused: the scene has no mirrors");
+    CHECK(unused(mirror, s, "--mirror-estimator").empty());
+    CHECK(unused(mirror, s, "--samples").find("casts no directions") != std::string::npos);  // images: no chains by rays
+    setBackendOption(s, "--mirror-estimator", "rays");  // directions carry the mirror chains
+    CHECK(unused(mirror, s, "--samples").empty());
+    CHECK(unused(box, s, "--samples").find("casts no directions") != std::string::npos);
+    setBackendOption(s, "--estimator", "analytic");
+    CHECK(unused(box, s, "--samples") == "unused: the analytic estimator casts no directions");
+    setBackendOption(s, "--estimator", "rays");
+    CHECK(unused(box, s, "--samples").empty());
+    CHECK(unused(box, s, "--fixed-directions").empty());
+    CHECK(unused(box, s, "--pair-digits") == "unused: only the analytic estimator has a pair rule");
+    CHECK(unused(mirror, s, "--mirror-estimator") == "unused: the rays estimator follows its rays");
+    // Options without a rule always matter.
+    CHECK_FALSE(d.option("--origins")->unusedBecause);
+}

@@ -69,6 +69,33 @@ RunDescription describe(const Scene& scene, const MethodSettings& s) {
     return d;
 }
 
+// Why an option changes nothing in this run (empty: it matters), shown next to its field.
+
+bool castsNoDirections(const Scene& scene, const H& o) {
+    return usesAnalyticEstimator(o, scene.size()) && !(scene.hasMirrors() && !mirrorImages(scene, o));
+}
+
+std::string unusedSamples(const Scene& scene, const MethodSettings& s) {
+    const H& o = s.as<H>();
+    if (!castsNoDirections(scene, o)) return {};
+    return o.estimator == Estimator::Auto ? "unused: the analytic estimator casts no directions (auto picks it while "
+                                            "patches <= 5 x Directions: this only makes that choice)"
+                                          : "unused: the analytic estimator casts no directions";
+}
+
+std::string unusedFixedDirections(const Scene& scene, const MethodSettings& s) {
+    return castsNoDirections(scene, s.as<H>()) ? "unused: the analytic estimator casts no directions" : "";
+}
+
+std::string unusedPairDigits(const Scene& scene, const MethodSettings& s) {
+    return usesAnalyticEstimator(s.as<H>(), scene.size()) ? "" : "unused: only the analytic estimator has a pair rule";
+}
+
+std::string unusedMirrorTerms(const Scene& scene, const MethodSettings& s) {
+    if (!scene.hasMirrors()) return "unused: the scene has no mirrors";
+    return usesAnalyticEstimator(s.as<H>(), scene.size()) ? "" : "unused: the rays estimator follows its rays";
+}
+
 BackendDescriptor make() {
     BackendDescriptor d;
     d.name = H::kMethod;
@@ -105,6 +132,12 @@ BackendDescriptor make() {
                          "10^-(D+1) get the exact visible part past blockers instead of one shadow ray",
                          &H::pairDigits, 1, 8),
     };
+    for (BackendOption& option : d.options) {
+        if (option.flag == "--samples") option.unusedBecause = unusedSamples;
+        if (option.flag == "--fixed-directions") option.unusedBecause = unusedFixedDirections;
+        if (option.flag == "--pair-digits") option.unusedBecause = unusedPairDigits;
+        if (option.flag == "--mirror-estimator") option.unusedBecause = unusedMirrorTerms;
+    }
     d.defaults = [] { return std::any(H{}); };
     d.validate = [](const MethodSettings& s) {
         const H& o = s.as<H>();
