@@ -45,6 +45,7 @@ struct GuiOptions {
     std::optional<Layer> layer;  ///< --layer: the view's layer at start
     double exposure = 0.0;       ///< --exposure X: a fixed display scale (0: automatic)
     bool checkTooltips = false;  ///< --check-tooltips: sweep the mouse over the panels, then exit
+    bool help = false;           ///< --help-window: start with Help > Keyboard and mouse open
     double mesh = 0.0;          ///< --mesh L: the meshing panel's Apply for the whole scene
     double meshSelected = 0.0;  ///< --mesh-selected L: the same for the objects of --select
     int width = 1280, height = 800;
@@ -54,7 +55,7 @@ struct GuiOptions {
 
 const char* kUsage =
     "usage: hemirad-gui [SCENE.obj] [--subdivide L] [--method NAME] [back-end options, see 'hemirad help']\n"
-    "                   [--max-depth D] [--exposure X] [--check-tooltips]\n"
+    "                   [--max-depth D] [--exposure X] [--check-tooltips] [--help-window]\n"
     "                   [--mesh L | --select PATCH --mesh-selected L]\n"
     "                   [--size WxH] [--select PATCH] [--hover PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
     "                   [--quit-after S] [--false-color Q [--scale linear|log]] [--layer NAME]\n"
@@ -73,9 +74,10 @@ const char* kUsage =
     "                 --scale linear|log its scale\n"
     "  --hover PATCH  read PATCH out in the status bar as if the cursor were on it (scripted runs)\n"
     "  --layer NAME   start in that view: radiosity, patch-id, emission, reflectance, specular, f-row\n"
+    "  --help-window  start with Help > Keyboard and mouse open (F1)\n"
     "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
     "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc select none,\n"
-    "       Ctrl+Z/Y undo/redo, Ctrl+O open, Ctrl+S save (Shift: save as), Ctrl+Q quit;\n"
+    "       Ctrl+Z/Y undo/redo, Ctrl+O open, Ctrl+S save (Shift: save as), Ctrl+Q quit, F1 help;\n"
     "       View > Look from: the standard views\n";
 
 GuiOptions parse(int argc, char** argv) {
@@ -101,6 +103,7 @@ GuiOptions parse(int argc, char** argv) {
         } else if (a == "--run") o.run = true;
         else if (a == "--exit") o.exitAfter = true;
         else if (a == "--check-tooltips") o.checkTooltips = o.exitAfter = true;
+        else if (a == "--help-window") o.help = true;
         else if (a == "--false-color") o.falseColour = parseFalseColourQuantity(value(k, "--false-color"));
         else if (a == "--scale") o.falseColourScale = parseFalseColourScale(value(k, "--scale"));
         else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
@@ -252,6 +255,7 @@ int main(int argc, char** argv) {
         }
         OrbitCamera camera;
         Panels panels(recentFilesPath());
+        if (options.help) panels.toggleHelp();
         Input input;
         LoopRequests requests;
         glfwSetWindowUserPointer(window, &input);
@@ -376,6 +380,7 @@ int main(int argc, char** argv) {
                     else if (key == GLFW_KEY_Y) app.redo();
                 }
                 input.shortcuts.clear();
+                if (!io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F1)) panels.toggleHelp();
                 if (!io.WantCaptureKeyboard && app.hasScene() && !io.KeyCtrl) {
                     if (ImGui::IsKeyPressed(GLFW_KEY_F)) camera.frame(app.scene());
                     if (ImGui::IsKeyPressed(GLFW_KEY_S) && !app.selection().empty()) camera.frameSelection(app.scene(), app.selection());

@@ -22,6 +22,26 @@ const char* kLayerNames[] = {"Radiosity", "Patch id", "Emission", "Diffuse refle
                              "False colour"};
 constexpr int kLayerCount = int(sizeof kLayerNames / sizeof kLayerNames[0]);
 
+/// The help window's table: what to press, what it does.
+const std::pair<const char*, const char*> kMouseAndKeys[] = {
+    {"left drag", "orbit around the target"},
+    {"right or middle drag, Shift + left drag", "pan"},
+    {"wheel", "zoom"},
+    {"click", "select the patch (or, with Pick: object, its object)"},
+    {"Ctrl/Shift + click", "add to the selection"},
+    {"hover", "the status bar reads the patch out: B, H, E, rho, s, F from the selected patch"},
+    {"F", "frame the scene (from its camera's or its open side)"},
+    {"S", "frame the selection"},
+    {"C", "the scene's camera"},
+    {"Esc", "select none; close a dialog"},
+    {"Ctrl+O", "open an OBJ"},
+    {"Ctrl+S / Ctrl+Shift+S", "save the scene (OBJ + MTL) / save it as"},
+    {"Ctrl+Z / Ctrl+Y", "undo / redo a material edit or a meshing"},
+    {"Ctrl+Q", "quit (asks when edits are unsaved)"},
+    {"F1", "this window"},
+    {"Ctrl + click on a field", "type a value into a slider"},
+};
+
 std::string formatNumber(double v) {
     char text[32];
     std::snprintf(text, sizeof text, "%.4g", v);
@@ -178,6 +198,16 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
         if (ImGui::Begin("Objects", &m_showObjects)) objectsPanel(app);
         ImGui::End();
     }
+    if (m_showHelp) {
+        ImGui::SetNextWindowSize(ImVec2(560, 0), ImGuiCond_Appearing);
+        ImGui::SetNextWindowPos(ImVec2(width * 0.5f, height * 0.45f), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+        if (ImGui::Begin("Help", &m_showHelp, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings)) {
+            helpPanel();
+            const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+            m_panelRects["Help"] = {pos.x, pos.y, size.x, size.y};
+        }
+        ImGui::End();
+    }
     statusBar(app, l.status, hovered, viewExposure);
     modals(app, camera, requests);
 }
@@ -280,6 +310,10 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
             ImGui::EndMenu();
         }
         if (ImGui::MenuItem("Scene camera", "C", false, app.hasScene())) camera.useSceneCamera(app.scene());
+        ImGui::EndMenu();
+    }
+    if (ImGui::BeginMenu("Help")) {
+        ImGui::MenuItem("Keyboard and mouse", "F1", &m_showHelp);
         ImGui::EndMenu();
     }
     const JobStatus job = app.job();
@@ -708,6 +742,30 @@ void Panels::objectsPanel(AppState& app) {
         }
     }
     ImGui::EndTable();
+}
+
+void Panels::helpPanel() {
+    if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit)) {
+        for (const auto& [keys, action] : kMouseAndKeys) {
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(keys);
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(action);
+        }
+        ImGui::EndTable();
+    }
+    ImGui::Separator();
+    ImGui::PushTextWrapPos(540.0f);
+    ImGui::TextUnformatted("A session: File > Open OBJ; mesh it finer in the Pipeline panel (Max edge, Apply); choose the "
+                           "method and press Run (F, then the solve); look at the result in View > False colour with its "
+                           "legend, hover patches for their values, View > Object table for means per object; edit "
+                           "materials of a selection (the solve follows); File > Save, Export.");
+    ImGui::TextDisabled("Radiosity B, irradiance H and emission E are in W/m^2; rho and s are fractions; lengths and "
+                        "areas are in scene units (Scene panel: Unit).");
+    ImGui::TextDisabled("Every control explains itself in a tooltip. The same computations from the command line: "
+                        "hemirad help.");
+    ImGui::PopTextWrapPos();
 }
 
 void Panels::logPanel(AppState& app) {

@@ -42,6 +42,8 @@ public:
     void browse(const std::string& purpose, const std::string& initial);
     /// File > Save (Ctrl+S): over the scene's .obj, or through the browser when it has none.
     void save(AppState& app);
+    /// Help > Keyboard and mouse (F1): shows or hides the help window.
+    void toggleHelp() { m_showHelp = !m_showHelp; }
 
     struct Rect {
         float x = 0, y = 0, width = 0, height = 0;
@@ -68,6 +70,7 @@ private:
     void statusBar(AppState& app, const Rect& rect, std::optional<PatchId> hovered, double viewExposure);
     void legendPanel(AppState& app);
     void objectsPanel(AppState& app);
+    void helpPanel();
     void modals(AppState& app, OrbitCamera& camera, LoopRequests& requests);
     void remember(const std::string& path);
 
@@ -93,6 +96,7 @@ private:
     bool m_selectionHidden = true;                 ///< the Selection panel was not drawn last frame
     bool m_legendHidden = true;                    ///< the Legend panel was not drawn last frame
     bool m_showObjects = false;                    ///< View > Object table
+    bool m_showHelp = false;                       ///< Help > Keyboard and mouse (F1)
     // Meshing section: the edge length typed, whole scene or selected objects, for which scene.
     double m_meshEdge = 0.0;
     bool m_meshSelected = false;

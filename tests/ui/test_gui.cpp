@@ -327,3 +327,19 @@ TEST_CASE("hemirad-gui: every control of every panel shows a tooltip (the mouse 
         CHECK(log.find("no tooltip:") == std::string::npos);
     }
 }
+
+TEST_CASE("hemirad-gui's help window lists the mouse and the keys, inside the window (Help menu, F1, --help-window)") {
+    std::string log;
+    const Image image = runGui("gui-help", sourcePath("scenes/cornell_box.obj") + " --help-window", log);
+    const std::vector<Panel> panels = panelsOf(log);
+    const auto help = std::find_if(panels.begin(), panels.end(), [](const Panel& p) { return p.name == "Help"; });
+    REQUIRE(help != panels.end());
+    CHECK(help->x >= 0);
+    CHECK(help->y >= 20);
+    CHECK(help->x + help->w <= image.width);
+    CHECK(help->y + help->h <= image.height);
+    CHECK(help->h >= 300);  // a row per key or gesture, then the session's steps
+    // Without the flag it stays closed.
+    runGui("gui-help-closed", sourcePath("scenes/cornell_box.obj"), log);
+    CHECK(log.find("hemirad-gui: panel Help") == std::string::npos);
+}
