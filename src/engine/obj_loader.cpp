@@ -177,6 +177,17 @@ long parseFaceVertex(const TextReader& r, std::string_view token, long texcoords
     return parts[0];
 }
 
+void readUnit(const TextReader& r, Scene& scene) {
+    const auto& t = r.tokens();
+    if (t.size() != 4) r.fail("'# hemirad unit' needs one length unit (m, cm, mm, in or ft)");
+    try {
+        metresPerUnit(std::string(t[3]));
+    } catch (const Error&) {
+        r.fail("unknown length unit " + quote(t[3]) + " (m, cm, mm, in or ft)");
+    }
+    scene.unit = std::string(t[3]);
+}
+
 void readCamera(const TextReader& r, Scene& scene) {
     const auto& t = r.tokens();
     if (t.size() != 10) r.fail("'# hemirad camera' needs ex ey ez tx ty tz fov (7 numbers)");
@@ -242,6 +253,7 @@ Scene parseObj(const std::string& path, std::string_view text, MaterialSource& l
         const std::string_view key = t[0];
         if (key[0] == '#') {
             if (t.size() >= 3 && key == "#" && t[1] == "hemirad" && t[2] == "camera") readCamera(r, scene);
+            if (t.size() >= 3 && key == "#" && t[1] == "hemirad" && t[2] == "unit") readUnit(r, scene);
             continue;
         }
         if (key == "v") {

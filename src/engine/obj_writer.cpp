@@ -94,6 +94,7 @@ void saveObj(const Scene& scene, const std::string& path) {
     AtomicFile obj(path, false);
     std::ostream& out = obj.stream();
     out << "# Hemirad scene, " << scene.size() << " patches\n";
+    if (!scene.unit.empty()) out << "# hemirad unit " << scene.unit << '\n';
     if (scene.camera) {
         const Camera& c = *scene.camera;
         out << "# hemirad camera " << Shortest{c.eye.x()} << ' ' << Shortest{c.eye.y()} << ' ' << Shortest{c.eye.z()} << ' '

@@ -1,6 +1,7 @@
 // Scene bookkeeping: adding measured patches, bounds, and the geometry hash that keys stored F files.
 #include "engine/scene.hpp"
 
+#include "engine/error.hpp"
 #include "engine/hash.hpp"
 #include "engine/polygon.hpp"
 
@@ -130,6 +131,23 @@ MirrorGroups groupMirrors(const Scene& scene) {
         }
     }
     return g;
+}
+
+namespace {
+const double kMetres[] = {1.0, 0.01, 0.001, 0.0254, 0.3048};  // per lengthUnits() entry
+}  // namespace
+
+const std::vector<std::string>& lengthUnits() {
+    static const std::vector<std::string> units = {"m", "cm", "mm", "in", "ft"};
+    return units;
+}
+
+double metresPerUnit(const std::string& unit) {
+    if (unit.empty()) return 0.0;
+    const auto& units = lengthUnits();
+    for (std::size_t k = 0; k < units.size(); ++k)
+        if (unit == units[k]) return kMetres[k];
+    throw Error("unknown length unit '" + unit + "' (m, cm, mm, in or ft)");
 }
 
 }  // namespace hemirad

@@ -70,6 +70,7 @@ public:
     std::vector<std::uint32_t> parentCorners;
     std::vector<Parent> parents;
     std::optional<Camera> camera;           ///< "# hemirad camera ex ey ez tx ty tz fov" in the OBJ
+    std::string unit;                       ///< length unit, "# hemirad unit mm" in the OBJ ("": not stated)
 
     std::size_t size() const { return patches.size(); }
     Vec3 corner(const Patch& p, std::uint32_t k) const { return vertices[corners[p.firstCorner + k]]; }
@@ -92,6 +93,11 @@ public:
     /// Hash of what F depends on: patch geometry (corner positions) and specular reflectance.
     std::uint64_t geometryHash() const;
 };
+
+/// The length units a scene may state: "m", "cm", "mm", "in", "ft".
+const std::vector<std::string>& lengthUnits();
+/// Metres per `unit` (one of lengthUnits()); 0 for "" (not stated). Throws hemirad::Error otherwise.
+double metresPerUnit(const std::string& unit);
 
 /// Mirror patches grouped by plane and reflectance, so a whole (subdivided) mirror is handled as one
 /// planar reflector: groupOfPatch[i] = group + 1 (0 for non-mirrors), representative[g] = a patch of

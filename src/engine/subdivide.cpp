@@ -194,6 +194,7 @@ Scene subdivide(const Scene& in, const std::vector<double>& maxEdgeByObject) {
     out.materials = in.materials;
     out.objects = in.objects;
     out.camera = in.camera;
+    out.unit = in.unit;
     SubdivisionBuilder b(in, out);
     for (PatchId id = 0; id < in.size(); ++id) {
         const Patch& p = in.patches[id];

@@ -257,6 +257,21 @@ bool AppState::loadScene(const std::string& path) {
     }
 }
 
+void AppState::setUnit(const std::string& unit) {
+    if (!hasScene() || unit == m_scene->unit) return;
+    try {
+        metresPerUnit(unit);
+    } catch (const std::exception& e) {
+        error(e.what());
+        return;
+    }
+    m_scene->unit = unit;
+    auto source = std::make_unique<Scene>(*m_source);
+    source->unit = unit;
+    m_source = std::move(source);
+    info(unit.empty() ? std::string("scene unit: not stated") : "scene unit: " + unit + " (saved with the scene)");
+}
+
 bool AppState::saveScene(const std::string& path) {
     if (!hasScene()) return false;
     try {
@@ -491,7 +506,9 @@ void AppState::applyMesh(const Mesh& next) {
         B[j] = from[j] < m_B.size() ? m_B[from[j]] : next.scene.patches[j].emission;
         if (wasSelected[from[j]]) selection.push_back(j);
     }
+    const std::string unit = m_scene->unit;  // a setting of the scene, not of a mesh: undo keeps it
     *m_scene = next.scene;
+    m_scene->unit = unit;
     m_meshEdges = next.edges;
     m_B = std::move(B);
     m_selection = std::move(selection);

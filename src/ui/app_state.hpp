@@ -191,6 +191,10 @@ public:
     /// the meshing panel subdivides.
     void setScene(Scene scene, const std::string& path);
     bool saveScene(const std::string& path);
+    /// The scene's length unit ("" not stated, or one of lengthUnits()): how lengths and areas are
+    /// labelled, and power (sum A B) in W where it is known; written by the next save. Not an edit
+    /// of the results (nothing is recomputed) and not undone.
+    void setUnit(const std::string& unit);
 
     void select(PatchId id, bool additive);
     void clearSelection();

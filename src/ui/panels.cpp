@@ -6,6 +6,7 @@
 #include "preprocess/backend_registry.hpp"
 #include "rays/ray_scene.hpp"
 #include "solve/solver_registry.hpp"
+#include "ui/units.hpp"
 
 #include <imgui.h>
 
@@ -41,15 +42,6 @@ const std::pair<const char*, const char*> kMouseAndKeys[] = {
     {"F1", "this window"},
     {"Ctrl + click on a field", "type a value into a slider"},
 };
-
-std::string formatNumber(double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.4g", v);
-    return text;
-}
-
-/// The three channels of an RGB value, as formatNumber writes each.
-std::string formatRgb(const Rgb& c) { return formatNumber(c[0]) + " " + formatNumber(c[1]) + " " + formatNumber(c[2]); }
 
 std::string formatBytes(std::uintmax_t bytes) {
     char text[32];
@@ -221,7 +213,7 @@ std::string Panels::statusText(const AppState& app, std::optional<PatchId> hover
                                                                                       : std::optional<PatchId>(app.selection().front());
     if (const auto r = shown ? app.readout(*shown) : std::nullopt) {
         text += "patch " + std::to_string(r->patch) + " '" + r->object + "'";
-        text += " | B " + rgb(r->B) + " W/m^2 | H " + rgb(r->H) + " W/m^2 | E " + rgb(r->emission);
+        text += " | B " + rgb(r->B) + " W/m^2 | H " + rgb(r->H) + " W/m^2 | E " + rgb(r->emission) + " W/m^2";
         text += " | rho " + rgb(r->rho) + " s " + formatNumber(r->specular);
         if (r->fromSelected)
             text += " | F " + std::to_string(*r->selected) + "->" + std::to_string(r->patch) + " " + formatNumber(*r->fromSelected);
@@ -331,6 +323,19 @@ void Panels::scenePanel(AppState& app, OrbitCamera& camera) {
     const Scene& s = app.scene();
     ImGui::TextWrapped("%s%s", app.scenePath().c_str(), app.dirty() ? "  (edited)" : "");
     ImGui::Text("%zu patches, %zu objects%s", s.size(), s.objects.size(), s.hasMirrors() ? ", mirrors" : "");
+    const std::string unitShown = s.unit.empty() ? "not stated" : s.unit;
+    const bool unitOpen = ImGui::BeginCombo("Unit", unitShown.c_str());
+    tip("The scene's length unit (OBJ: '# hemirad unit mm'): labels lengths and areas, gives a selection's\n"
+        "power in W; saved with the scene. Radiosity, irradiance and emission are W/m^2 whatever the unit.");
+    if (unitOpen) {
+        if (ImGui::Selectable("not stated", s.unit.empty())) app.setUnit("");
+        tip("Lengths and areas in scene units; power as W/m^2 x scene units^2");
+        for (const std::string& u : lengthUnits()) {
+            if (ImGui::Selectable(u.c_str(), s.unit == u)) app.setUnit(u);
+            tip(("The scene's coordinates are in " + u).c_str());
+        }
+        ImGui::EndCombo();
+    }
     int mode = int(app.selectionMode);
     ImGui::Text("Pick:");
     ImGui::SameLine();
@@ -418,23 +423,24 @@ void Panels::selectionPanel(AppState& app, Inspector& inspector, double viewExpo
     if (app.selection().size() > 1) {
         // The whole selection first: count, total area, area-weighted means, the power leaving it.
         const SelectionSummary sum = app.selectionSummary();
-        ImGui::Text("%zu patches in %zu object%s, total area %s", sum.patches, sum.objects, sum.objects == 1 ? "" : "s",
-                    formatNumber(sum.area).c_str());
+        const std::string& unit = app.scene().unit;
+        ImGui::TextWrapped("%zu patches in %zu object%s, total area %s", sum.patches, sum.objects, sum.objects == 1 ? "" : "s",
+                           formatArea(sum.area, unit).c_str());
         ImGui::Text("area-weighted means:");
-        ImGui::Text("  E   %s", rgb(sum.emission).c_str());
+        ImGui::Text("  E   %s W/m^2", rgb(sum.emission).c_str());
         ImGui::Text("  rho %s   s %s", rgb(sum.rho).c_str(), formatNumber(sum.specular).c_str());
-        ImGui::Text("  B   %s", rgb(sum.radiosity).c_str());
-        ImGui::Text("power leaving (sum A B) %s", rgb(sum.power).c_str());
+        ImGui::Text("  B   %s W/m^2", rgb(sum.radiosity).c_str());
+        ImGui::TextWrapped("power leaving (sum A B) %s", formatPower(sum.power, unit).c_str());
         ImGui::Separator();
         ImGui::TextDisabled("first selected patch:");
     }
     const PatchReadout r = *app.readout(id);
     ImGui::Text("patch %u, object '%s', line %d", id, r.object.c_str(), r.sourceLine);
-    ImGui::Text("area %s", formatNumber(r.area).c_str());
-    ImGui::Text("E   %s", rgb(r.emission).c_str());
+    ImGui::Text("area %s", formatArea(r.area, app.scene().unit).c_str());
+    ImGui::Text("E   %s W/m^2", rgb(r.emission).c_str());
     ImGui::Text("rho %s   s %s", rgb(r.rho).c_str(), formatNumber(r.specular).c_str());
-    ImGui::Text("B   %s", rgb(r.B).c_str());
-    ImGui::Text("H   %s", rgb(r.H).c_str());
+    ImGui::Text("B   %s W/m^2", rgb(r.B).c_str());
+    ImGui::Text("H   %s W/m^2", rgb(r.H).c_str());
     if (const FormFactors* F = app.formFactors(); F && F->rowComputed(id))
         ImGui::Text("F row sum %s, %zu nonzeros", formatNumber(F->rowSum(id)).c_str(), std::size_t(F->rowEnd(id) - F->rowBegin(id)));
     else
@@ -492,8 +498,9 @@ void Panels::meshingSection(AppState& app) {
     ImGui::Text("Mesh: %zu patches", app.scene().size());
     if (meshed == 0) ImGui::TextDisabled("as loaded");
     else ImGui::TextDisabled("%zu of %zu objects meshed (%zu patches as loaded)", meshed, edges.size(), source.size());
-    ImGui::InputDouble("Max edge", &m_meshEdge, 0.0, 0.0, "%.6g");
-    tip("Longest patch edge after meshing, in scene units (like --subdivide): quads become grids,\n"
+    const std::string edgeLabel = "Max edge (" + lengthUnitLabel(app.scene().unit) + ")###maxedge";
+    ImGui::InputDouble(edgeLabel.c_str(), &m_meshEdge, 0.0, 0.0, "%.6g");
+    tip("Longest patch edge after meshing, in the scene's unit (like --subdivide): quads become grids,\n"
         "triangles n x n triangles, always from the patches as loaded. 0: back to those.");
     int target = m_meshSelected ? 1 : 0;
     ImGui::RadioButton("whole scene", &target, 0);
@@ -727,7 +734,8 @@ void Panels::objectsPanel(AppState& app) {
     const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY | ImGuiTableFlags_Resizable;
     if (!ImGui::BeginTable("objects", 8, flags)) return;
     ImGui::TableSetupScrollFreeze(0, 1);
-    for (const char* h : {"object", "patches", "area", "B mean", "B min", "B max", "H mean", "H max"}) ImGui::TableSetupColumn(h);
+    const std::string area = "area (" + lengthUnitLabel(app.scene().unit) + "^2)";
+    for (const char* h : {"object", "patches", area.c_str(), "B mean", "B min", "B max", "H mean", "H max"}) ImGui::TableSetupColumn(h);
     ImGui::TableHeadersRow();
     for (const ObjectSummary& o : app.objectTable()) {
         ImGui::TableNextRow();

@@ -244,3 +244,20 @@ TEST_CASE("OBJ and MTL numbers are written in the shortest form that reads back 
     CHECK(mtl.find("Kd 0.73 0.73 0.73\n") != std::string::npos);
     CHECK(mtl.find("Ke 0.3333333333333333 2e-300 123456789.125\n") != std::string::npos);
 }
+
+TEST_CASE("OBJ: a hemirad unit line states the length unit, an unknown one names file, line and value, saving keeps it") {
+    Warnings w = quietWarnings();
+    CHECK(bundledScene("cornell_box.obj").unit == "mm");
+    CHECK(loadText("none.obj", kTriangleHead + "f 1 2 3\n", kMtl, w).unit.empty());
+    const Scene s = loadText("cm.obj", "# hemirad unit cm\n" + kTriangleHead + "f 1 2 3\n", kMtl, w);
+    CHECK(s.unit == "cm");
+    CHECK(metresPerUnit(s.unit) == 0.01);
+    CHECK(metresPerUnit("") == 0.0);
+    CHECK_THROWS_WITH_AS(loadText("pc.obj", kTriangleHead + "# hemirad unit parsec\nf 1 2 3\n", kMtl, w),
+                         doctest::Contains("pc.obj:6: unknown length unit 'parsec' (m, cm, mm, in or ft)"), Error);
+    CHECK_THROWS_WITH_AS(loadText("two.obj", "# hemirad unit m mm\n" + kTriangleHead, kMtl, w),
+                         doctest::Contains("two.obj:1: '# hemirad unit' needs one length unit"), Error);
+    const auto dir = tempDir("unit");
+    saveObj(s, (dir / "copy.obj").string());
+    CHECK(loadObj((dir / "copy.obj").string(), w).unit == "cm");
+}

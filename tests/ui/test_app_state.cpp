@@ -608,3 +608,29 @@ TEST_CASE("GUI state: the readout of a patch gives B, H = (B - E) / rho, E, rho,
     CHECK(*toWall->fromSelected > 0.15);
     CHECK_FALSE(app.readout(0)->selected.has_value());  // the selected patch itself
 }
+
+TEST_CASE("GUI state: the scene's unit comes from the OBJ, is set from the panel, survives meshing and its undo, and is saved") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/cornell_box.obj")));
+    CHECK(app.scene().unit == "mm");
+    app.setUnit("furlong");  // refused with a message, nothing changes
+    CHECK(logged(app, "unknown length unit 'furlong'"));
+    CHECK(app.scene().unit == "mm");
+    app.setUnit("m");
+    CHECK(app.scene().unit == "m");
+    CHECK(app.sourceScene().unit == "m");
+    REQUIRE(app.mesh(100.0, ui::MeshTarget::Scene));
+    CHECK(app.scene().unit == "m");  // meshing starts from the source scene, which has it too
+    app.setUnit("cm");
+    app.undo();                       // back to the mesh as loaded: the unit is the scene's setting, not the mesh's
+    CHECK(app.scene().size() == 20);
+    CHECK(app.scene().unit == "cm");
+    const auto dir = tempDir("gui-unit");
+    REQUIRE(app.saveScene((dir / "cm.obj").string()));
+    AppState reopened;
+    REQUIRE(reopened.loadScene((dir / "cm.obj").string()));
+    CHECK(reopened.scene().unit == "cm");
+    reopened.setUnit("");
+    REQUIRE(reopened.saveScene((dir / "none.obj").string()));
+    CHECK(readText(dir / "none.obj").find("# hemirad unit") == std::string::npos);
+}

@@ -194,7 +194,7 @@ TEST_CASE("hemirad-gui's status bar reads out a known patch: B, H, E, rho, s as 
     REQUIRE(at != std::string::npos);
     double B[3], H[3], E[3], rho[3], s = -1, F = -1;
     REQUIRE(std::sscanf(log.c_str() + at,
-                        "hemirad-gui: status: patch 200 'light' | B %lf %lf %lf W/m^2 | H %lf %lf %lf W/m^2 | E %lf %lf %lf | "
+                        "hemirad-gui: status: patch 200 'light' | B %lf %lf %lf W/m^2 | H %lf %lf %lf W/m^2 | E %lf %lf %lf W/m^2 | "
                         "rho %lf %lf %lf s %lf | F 0->200 %lf",
                         &B[0], &B[1], &B[2], &H[0], &H[1], &H[2], &E[0], &E[1], &E[2], &rho[0], &rho[1], &rho[2], &s, &F) == 14);
     // The CLI's per-patch CSV and F for the same scene and settings.

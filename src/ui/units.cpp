@@ -1,0 +1,34 @@
+// Formatting of the panels' values and units.
+#include "ui/units.hpp"
+
+#include "engine/scene.hpp"
+
+#include <cstdio>
+
+namespace hemirad::ui {
+
+std::string formatNumber(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4g", v);
+    return text;
+}
+
+std::string formatRgb(const Rgb& c) { return formatNumber(c[0]) + " " + formatNumber(c[1]) + " " + formatNumber(c[2]); }
+
+std::string lengthUnitLabel(const std::string& unit) { return unit.empty() ? "scene units" : unit; }
+
+std::string formatArea(double area, const std::string& unit) {
+    if (unit.empty()) return formatNumber(area) + " (scene units^2)";
+    const double metres = metresPerUnit(unit);
+    std::string text = formatNumber(area) + " " + unit + "^2";
+    if (unit != "m") text += " (" + formatNumber(area * metres * metres) + " m^2)";
+    return text;
+}
+
+std::string formatPower(const Rgb& areaTimesB, const std::string& unit) {
+    if (unit.empty()) return formatRgb(areaTimesB) + " W/m^2 x scene units^2";
+    const double metres = metresPerUnit(unit);
+    return formatRgb(areaTimesB * (metres * metres)) + " W";
+}
+
+}  // namespace hemirad::ui
