@@ -718,8 +718,10 @@ void Panels::legendPanel(AppState& app) {
         draw->AddText(ImVec2(x0 + barWidth + 9, y - 7), IM_COL32(230, 230, 230, 255), formatNumber(v).c_str());
     }
     ImGui::Dummy(ImVec2(barWidth + 80, barHeight + 12));
+    ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("%s scale%s", falseColourScaleName(view.range.scale),
                         view.range.automatic ? ", the values' extremes" : "");
+    ImGui::PopTextWrapPos();
     if (view.noData) {
         ImGui::ColorButton("##nodata", ImVec4(0.5f, 0.5f, 0.5f, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
         ImGui::SameLine();
