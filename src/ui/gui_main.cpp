@@ -22,6 +22,8 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <cerrno>
+#include <climits>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -95,6 +97,15 @@ GuiOptions parse(int argc, char** argv) {
         if (text.empty() || *end || !(v > 0)) throw Error(std::string(flag) + " expects a positive number, got '" + text + "'");
         return v;
     };
+    // A whole number in [0, hi]; `expects` says what in the error.
+    auto integer = [](const std::string& text, const char* flag, long hi, const char* expects) {
+        char* end = nullptr;
+        errno = 0;
+        const long v = std::strtol(text.c_str(), &end, 10);
+        if (text.empty() || *end || errno || v < 0 || v > hi)
+            throw Error(std::string(flag) + " expects " + expects + ", got '" + text + "'");
+        return v;
+    };
     for (int k = 1; k < argc; ++k) {
         const std::string a = argv[k];
         if (a == "--help" || a == "-h") {
@@ -121,26 +132,12 @@ GuiOptions parse(int argc, char** argv) {
         } else if (a == "--mesh") o.mesh = number(value(k, "--mesh"), "--mesh");
         else if (a == "--mesh-selected") o.meshSelected = number(value(k, "--mesh-selected"), "--mesh-selected");
         else if (a == "--method") method = value(k, "--method");
-        else if (a == "--max-depth") {
-            const std::string v = value(k, "--max-depth");
-            char* end = nullptr;
-            const long d = std::strtol(v.c_str(), &end, 10);
-            if (v.empty() || *end || d < 0 || d > 254) throw Error("--max-depth expects 0 to 254, got '" + v + "'");
-            maxDepth = std::uint32_t(d);
-        }
+        else if (a == "--max-depth") maxDepth = std::uint32_t(integer(value(k, "--max-depth"), "--max-depth", 254, "0 to 254"));
         else if (const BackendOption* option = findBackendOption(a)) {
             backendFlags.emplace_back(a, option->kind == OptionKind::Switch ? "yes" : value(k, a.c_str()));
-        } else if (a == "--select") {
-            const std::string v = value(k, "--select");
-            char* end = nullptr;
-            o.select = std::strtol(v.c_str(), &end, 10);
-            if (v.empty() || *end || o.select < 0) throw Error("--select expects a patch id, got '" + v + "'");
-        } else if (a == "--hover") {
-            const std::string v = value(k, "--hover");
-            char* end = nullptr;
-            o.hover = std::strtol(v.c_str(), &end, 10);
-            if (v.empty() || *end || o.hover < 0) throw Error("--hover expects a patch id, got '" + v + "'");
-        } else if (a == "--size") {
+        } else if (a == "--select") o.select = integer(value(k, "--select"), "--select", LONG_MAX, "a patch id");
+        else if (a == "--hover") o.hover = integer(value(k, "--hover"), "--hover", LONG_MAX, "a patch id");
+        else if (a == "--size") {
             const std::string v = value(k, "--size");
             if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 64 || o.height < 64)
                 throw Error("--size expects WxH (at least 64x64), got '" + v + "'");
