@@ -224,6 +224,9 @@ void Viewer::drawReflections(const AppState& app, const Eigen::Matrix4f& viewPro
         gl::CopyImageSubData(m_layers[5].id(), GL_TEXTURE_2D, 0, 0, 0, 0, m_idCopy.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
                              m_width, m_height, 1);
     };
+    // Past the depth no portal is followed: no survey (and no read-back) for this region.
+    const std::uint32_t maxDepth = std::min<std::uint32_t>(app.settings.formFactors.common.maxDepth, kRetired - 2);
+    if (depth > maxDepth) return;
     const std::size_t groups = m_groups.representative.size();
     std::vector<std::uint32_t> seen(groups, 0);
     copyLevelIds();
@@ -241,14 +244,13 @@ void Viewer::drawReflections(const AppState& app, const Eigen::Matrix4f& viewPro
     gl::GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(groups * 4), seen.data());
 
     const Scene& scene = app.scene();
-    const std::uint32_t maxDepth = app.settings.formFactors.common.maxDepth;
     const double minWeight = app.settings.formFactors.common.minWeight;
     for (std::size_t g = 0; g < groups; ++g) {
         if (!seen[g]) continue;
         const Patch& mirror = scene.patches[m_groups.representative[g]];
         const double w = weight * mirror.specular;
-        // hemirad render's limits: a chain stops past --max-depth or below the weight cut-off.
-        if (depth > std::min<std::uint32_t>(maxDepth, kRetired - 2) || w < minWeight) continue;
+        // hemirad render's weight cut-off (its --max-depth is checked on entry).
+        if (w < minWeight) continue;
         // Mark: in the region, the pixels showing this plane get stencil `depth` and far depth.
         copyLevelIds();
         gl::StencilFunc(GL_EQUAL, GLint(depth - 1), 0xff);
