@@ -211,6 +211,7 @@ def main():
     md += script_section("auto_solver.md", "bash bench/auto_solver.sh build")
     md += script_section("mpi_street_tiled.md", "bash bench/mpi_street_tiled.sh build 3072")
     md += script_section("python_overhead.md", "bash bench/python_overhead.sh build")
+    md += script_section("exact_factors.md", "/usr/bin/python3 bench/exact_factors.py build")
 
     def total_seconds(path):
         try:

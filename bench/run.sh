@@ -89,6 +89,9 @@ sed -i 's/^Ke 17 12 4/Ke 8.5 6 2/' "$scenes/cornell13k_edit.mtl"   # a material-
 "$hemirad" solve "$scenes/cornell13k_edit.obj" --ff "$cache/cornell13k_edit.hff" -o "$cache/B_after.csv" \
     | tee "$results/reuse_second.txt"
 
+step "exact form factors against closed forms (issue 16): the subdivided cube, plates past a blocker, Cornell at 60 mm"
+/usr/bin/python3 bench/exact_factors.py "$build" | tee "$results/exact_factors.md"
+
 step "numerical stress"
 "./$build/bench_stress" | tee "$results/stress.md"
 
