@@ -57,8 +57,6 @@ def timed(hemirad, scene, out, extra, threads=1):
 
 
 def read_f(path):
-    sys.path.insert(0, PYTHONPATH)
-    import hemirad
     return hemirad.read_form_factors(path).astype(np.float64)
 
 
@@ -77,10 +75,10 @@ def polygons(obj):
     return [vertices[f] for f in faces]
 
 
-def cube_errors(obj, F):
-    """Worst |opposite - C-11| and |adjacent - C-14| over the cube's wall pairs."""
+def cube_errors(faces, F):
+    """Worst |opposite - C-11| and |adjacent - C-14| over the cube's wall pairs (faces: polygons())."""
     wall = []
-    for p in polygons(obj):
+    for p in faces:
         c = p.mean(axis=0)
         axis = int(np.argmax(np.ptp(p, axis=0) < 1e-12))
         wall.append(2 * axis + int(c[axis] > 0.5))
@@ -183,9 +181,11 @@ def fmt(x):
 
 
 def main():
-    global HEMIRAD, PYTHONPATH
+    global HEMIRAD, hemirad
     build = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else "build")
-    HEMIRAD, PYTHONPATH = os.path.join(build, "hemirad"), os.path.join(build, "python")
+    HEMIRAD = os.path.join(build, "hemirad")
+    sys.path.insert(0, os.path.join(build, "python"))
+    import hemirad
     cases = sys.argv[2:] or ["cube8", "cube16", "cube32", "plates4", "plates16", "plates32", "cornell60"]
     work = tempfile.mkdtemp()
     f_path = os.path.join(work, "F.hff")
@@ -213,13 +213,13 @@ def main():
                             "--max-edge", str(n), "--quiet"], check=True)
             timed(HEMIRAD, scene, f_path, ["--pair-digits", "5", "--origins", "64"], os.cpu_count())
             F_ref = read_f(f_path)
-        patches = len(polygons(scene))
+        faces = polygons(scene)
         for label, extra in SETTINGS:
             seconds, peak = timed(HEMIRAD, scene, f_path, extra)
             F = read_f(f_path)
             f_mib = (F.nnz * 8 + (F.shape[0] + 1) * 8) / 2**20  # float values, 32-bit columns, row offsets
             if kind == "cube":
-                errors = "%s / %s" % tuple(fmt(e) for e in cube_errors(scene, F))
+                errors = "%s / %s" % tuple(fmt(e) for e in cube_errors(faces, F))
             elif kind == "plates":
                 errors = "%s / %s" % tuple(fmt(e) for e in plates_errors(n, F, reference_plates))
             else:
@@ -228,7 +228,7 @@ def main():
             if kind == "cube" and n in VIEW3D:
                 view3d = ["%.2f s, %.1e / %.1e" % v for v in VIEW3D[n]]
             print("| %s | %d | %s | %.2f | %s | %.0f | %.2f | %.1f | %s | %s |" %
-                  (case, patches, label, seconds, errors, peak, f_mib, peak / f_mib, view3d[0], view3d[1]))
+                  (case, len(faces), label, seconds, errors, peak, f_mib, peak / f_mib, view3d[0], view3d[1]))
             sys.stdout.flush()
 
 
