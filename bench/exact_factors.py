@@ -187,18 +187,19 @@ def main():
     sys.path.insert(0, os.path.join(build, "python"))
     import hemirad
     cases = sys.argv[2:] or ["cube8", "cube16", "cube32", "plates4", "plates16", "plates32", "cornell60"]
-    work = tempfile.mkdtemp()
+    folder = tempfile.TemporaryDirectory()  # F files of up to 250 MB: removed at exit
+    work = folder.name
+    reference_plates = plates_reference()
     f_path = os.path.join(work, "F.hff")
     print("# Exact form factors against closed forms (issue 16)\n")
     print("`hemirad formfactors SCENE -o F.hff --threads 1` per row, a whole process each (load, F, write):")
     print("wall seconds, its own peak RSS (GNU time) and F's size in memory (8 bytes per nonzero and per row); %d cores, %s." %
           (os.cpu_count(), time.strftime("%Y-%m-%d", time.gmtime())))
     print("Errors: cube, worst opposite / adjacent wall-to-wall factor against C-11 / C-14; plates, the")
-    print("plate-to-plate factor both ways against superposition (%.10f); Cornell, mean per-row" % plates_reference())
+    print("plate-to-plate factor both ways against superposition (%.10f); Cornell, mean per-row" % reference_plates)
     print("sum |F - F_ref| against --pair-digits 5 --origins 64. View3D: issue 16's figures.\n")
     print("| case | patches | setting | seconds | errors | peak MiB | F MiB | peak / F | View3D default | View3D eps=1e-5 |")
     print("|---|---|---|---|---|---|---|---|---|---|")
-    reference_plates = None
     for case in cases:
         kind, n = re.match(r"([a-z]+)(\d+)", case).groups()
         n = int(n)
@@ -206,7 +207,6 @@ def main():
             scene = write_cube(work, n)
         elif kind == "plates":
             scene = write_plates(work, n)
-            reference_plates = reference_plates or plates_reference()
         else:
             scene = os.path.join(work, "cornell%d.obj" % n)
             subprocess.run([HEMIRAD, "subdivide", os.path.join(ROOT, "scenes/cornell_box.obj"), "-o", scene,
