@@ -6,6 +6,7 @@
 #include "gl/gl_api.hpp"
 #include "ui/app_state.hpp"
 #include "ui/inspector.hpp"
+#include "ui/key_taps.hpp"
 #include "ui/orbit_camera.hpp"
 #include "ui/tooltip_check.hpp"
 #include "ui/panels.hpp"
@@ -16,6 +17,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -161,11 +163,20 @@ struct Input {
     /// key events, whose modifiers are reliable where ImGui 1.86's key-state polling can miss a short
     /// press (synthetic input, a slow frame).
     std::vector<std::pair<int, int>> shortcuts;
+    KeyTaps taps;                  // a tap shorter than a frame still reaches ImGui
+    GLFWkeyfun imguiKey = nullptr;  // ImGui's key callback (which chains onKey)
 };
 
 void onKey(GLFWwindow* window, int key, int, int action, int mods) {
     auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
     if (input && action == GLFW_PRESS && (mods & GLFW_MOD_CONTROL)) input->shortcuts.emplace_back(key, mods);
+}
+
+/// Installed in front of ImGui's key callback: a release the current frame has not seen pressed waits.
+void onKeyTap(GLFWwindow* window, int key, int scancode, int action, int mods) {
+    auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
+    if (input && input->imguiKey && input->taps.pass({key, scancode, action, mods}))
+        input->imguiKey(window, key, scancode, action, mods);
 }
 
 void onDrop(GLFWwindow* window, int count, const char** paths) {
@@ -256,6 +267,7 @@ int main(int argc, char** argv) {
         Input input;
         LoopRequests requests;
         glfwSetWindowUserPointer(window, &input);
+        input.imguiKey = glfwSetKeyCallback(window, onKeyTap);
         glfwSetDropCallback(window, onDrop);
         glfwSetCursorPosCallback(window, onCursor);  // ImGui 1.86's GLFW back end polls the cursor itself
         if (!options.scene.empty()) {
@@ -300,9 +312,9 @@ int main(int argc, char** argv) {
                 } else if (app.job().running) {
                     glfwWaitEventsTimeout(1.0 / 30.0);
                     settleFrames = 3;
-                } else if (settleFrames > 0) {
+                } else if (settleFrames > 0 || input.taps.pending()) {
                     glfwPollEvents();
-                    --settleFrames;
+                    settleFrames = std::max(settleFrames - 1, 0);
                 } else {
                     const double limit = options.quitAfter > 0 ? std::max(options.quitAfter - seconds(), 1e-3) : 2.0;
                     glfwWaitEventsTimeout(std::min(2.0, limit));
@@ -394,6 +406,8 @@ int main(int argc, char** argv) {
                     hovered ? hovered : options.hover >= 0 ? std::optional<PatchId>(PatchId(options.hover)) : std::nullopt;
                 panels.draw(app, camera, inspector, viewer.exposure(), requests, readout);
                 ImGui::Render();
+                // Held-back key releases, for the next frame (inside a frame they would change its modifiers).
+                for (const KeyEvent& e : input.taps.frameEnded()) input.imguiKey(window, e.key, e.scancode, e.action, e.mods);
                 if (tooltips.planned()) {
                     // The tooltip sweep looks at ImGui's state only: nothing is drawn meanwhile.
                     tooltips.observe();

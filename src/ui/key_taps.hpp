@@ -1,0 +1,41 @@
+// Key taps that outlast a frame: ImGui 1.86 reads key state once a frame (io.KeysDown), so a key pressed
+// and released between two frames (a quick tap while a frame is slow: a big scene, a software
+// renderer, a sanitizer build) is never seen. KeyTaps holds such a release back until a frame has
+// seen the press, and gives each key at most one change of state per frame.
+#pragma once
+
+#include <deque>
+#include <map>
+#include <set>
+#include <vector>
+
+namespace hemirad::ui {
+
+/// One key event as GLFW reports it (action: 0 release, 1 press, 2 repeat).
+struct KeyEvent {
+    int key = 0;
+    int scancode = 0;
+    int action = 0;
+    int mods = 0;
+};
+
+/// Not thread-safe: called from the thread that polls the window's events.
+class KeyTaps {
+public:
+    static constexpr int kRelease = 0;
+    static constexpr int kPress = 1;
+
+    /// True when the event goes on to ImGui now; false when it is held back for frameEnded().
+    bool pass(const KeyEvent& event);
+    /// Call once a frame after ImGui::Render, never between NewFrame and Render (ImGui asserts that the
+    /// modifiers do not change within a frame): the held-back events to deliver now, at most one per key.
+    std::vector<KeyEvent> frameEnded();
+    /// True while events are held back (the event loop should draw another frame without waiting).
+    bool pending() const { return !m_heldBack.empty(); }
+
+private:
+    std::set<int> m_pressedSinceFrame;              ///< keys pressed since the last frame ended: no frame saw it yet
+    std::map<int, std::deque<KeyEvent>> m_heldBack;  ///< per key, in the order they arrived
+};
+
+}  // namespace hemirad::ui
