@@ -52,6 +52,9 @@ struct HemisphereBackend::Workspace {
     std::vector<double> termWeights;
     std::vector<float> origins;
     std::vector<std::uint8_t> blocked;
+    std::vector<PatchId> far;  // the far rule's receivers with a shadow ray from the centroid
+    std::vector<double> farFactors;
+    std::vector<std::uint8_t> farBlocked;
     std::vector<std::uint32_t> rayOf;  // per reversed term: its shadow ray, or kNoRay (shadow polygons)
     // One point's receivers with exact visibility: their visible and whole factors.
     std::vector<PatchId> exact;
@@ -292,7 +295,10 @@ double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& co
         ws.byOrder[m].push_back(j);
         ws.ruled[j] = 1;
     }
-    direct += addFarPairs(i, ws, counts);
+    // The far rule's shadow rays from the centroid; their terms are added by the centroid pass,
+    // once it has the statuses of its own receivers for the silhouette test (the far rule exists
+    // with one origin only, where the centroid pass does too).
+    castFarRays(i, ws, counts);
     // The accumulator holds ray units (take() scales by 1 / (origins samples)): F = value / unit.
     const double unit = double(m_options.origins) * m_options.samples;
     const PatchShape& emitter = m_geometry.shapes[i];
@@ -322,15 +328,12 @@ void HemisphereBackend::emitterRule(PatchId e, int m, Workspace& ws) const {
                       ws.quadWeights);
 }
 
-double HemisphereBackend::addFarPairs(PatchId i, Workspace& ws, RayCounts& counts) const {
-    const std::vector<PatchId>& pairs = ws.byOrder[0];
-    if (pairs.empty()) return 0.0;
-    const double unit = double(m_options.origins) * m_options.samples;
+void HemisphereBackend::castFarRays(PatchId i, Workspace& ws, RayCounts& counts) const {
     const double offset = m_rays->originOffset();
-    ws.candidates.clear();  // the pairs with a shadow ray
-    ws.factors.clear();
+    ws.far.clear();  // the pairs with a shadow ray
+    ws.farFactors.clear();
     ws.targets.clear();
-    for (const PatchId j : pairs) {
+    for (const PatchId j : ws.byOrder[0]) {
         const double f = m_far.factor(m_geometry, i, j, m_scene->patches[j].area);
         if (f > m_exactAbove) {  // too large for one shadow ray: the rule's points with exact visibility
             const int m = ruleOrder(i, j);
@@ -340,32 +343,34 @@ double HemisphereBackend::addFarPairs(PatchId i, Workspace& ws, RayCounts& count
                 ws.byOrder[std::size_t(m)].push_back(j);
             continue;
         }
-        ws.candidates.push_back(j);
-        ws.factors.push_back(f);
+        ws.far.push_back(j);
+        ws.farFactors.push_back(f);
         float local[3];
         const Vec3 aim = aimPoint(m_geometry.polygon(j), m_geometry.shapes[j].count, i, j, 0, 0);
         m_rays->toLocal(aim + offset * m_geometry.shapes[j].normal, local);
         ws.targets.insert(ws.targets.end(), local, local + 3);
     }
-    ws.blocked.assign(ws.candidates.size(), 0);
-    if (m_visibility && !ws.candidates.empty()) {
+    ws.farBlocked.assign(ws.far.size(), 0);
+    if (m_visibility && !ws.far.empty()) {
         float origin[3];
         m_rays->toLocal(m_geometry.shapes[i].centroid + offset * m_geometry.shapes[i].normal, origin);
-        m_rays->occludedSegments(origin, ws.targets.data(), ws.candidates.size(), ws.blocked.data());
-        counts.rays += ws.candidates.size();
+        m_rays->occludedSegments(origin, ws.targets.data(), ws.far.size(), ws.farBlocked.data());
+        counts.rays += ws.far.size();
     }
-    for (std::size_t k = 0; k < ws.candidates.size(); ++k) ws.status[ws.candidates[k]] = ws.blocked[k] ? 2 : 1;
+    for (std::size_t k = 0; k < ws.far.size(); ++k) ws.status[ws.far[k]] = ws.farBlocked[k] ? 2 : 1;
+}
+
+double HemisphereBackend::addFarPairs(double weight, Workspace& ws) const {
     double sum = 0.0;
-    for (std::size_t k = 0; k < ws.candidates.size(); ++k) {
-        const PatchId j = ws.candidates[k];
-        // A receiver on a silhouette goes to the centroid pass, which splits it.
-        if (m_geometry.onSilhouette(j, ws.status)) {
-            ws.ruled[j] = 0;
+    for (std::size_t k = 0; k < ws.far.size(); ++k) {
+        const PatchId j = ws.far[k];
+        if (m_geometry.onSilhouette(j, ws.status)) {  // split by the centroid pass, as its own receivers
+            ws.split.push_back(j);
             continue;
         }
-        if (ws.blocked[k] || !(ws.factors[k] > 0.0)) continue;
-        ws.row.addWeight(j, ws.factors[k] * unit);
-        sum += ws.factors[k] * unit;
+        if (ws.farBlocked[k] || !(ws.farFactors[k] > 0.0)) continue;
+        ws.row.addWeight(j, ws.farFactors[k] * weight);
+        sum += ws.farFactors[k] * weight;
     }
     return sum;
 }
@@ -564,6 +569,7 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_
             sum += ws.factors[k] * weight;
         }
     }
+    if (!candidates) sum += addFarPairs(weight, ws);  // the centroid stands for the far rule's point too
     for (const PatchId j : ws.candidates) ws.status[j] = 0;
     for (const PatchId j : ws.exact) ws.status[j] = 0;
     if (ws.split.empty()) return sum;

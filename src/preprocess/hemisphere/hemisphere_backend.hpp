@@ -74,8 +74,12 @@ private:
     /// The points and weights (summing to 1) of the m x m rule over patch e into ws.quadPoints and
     /// ws.quadWeights: one function for both rows of a pair, so that their terms agree bit for bit.
     void emitterRule(PatchId e, int m, Workspace& ws) const;
-    /// Row i's entries for the receivers of the far rule (pairOrder 0); sets their status.
-    double addFarPairs(PatchId i, Workspace& ws, RayCounts& counts) const;
+    /// The far rule's receivers of row i (pairOrder 0): those too large for one shadow ray go to
+    /// their rule; the rest get a shadow ray from the centroid, which sets their status.
+    void castFarRays(PatchId i, Workspace& ws, RayCounts& counts) const;
+    /// Their entries, scaled by `weight`, once the centroid pass has set its statuses too (the
+    /// silhouette test reads the neighbours of both); those on a silhouette join ws.split.
+    double addFarPairs(double weight, Workspace& ws) const;
     bool emitsFor(PatchId e, PatchId r) const {
         const double a = m_scene->patches[e].area, b = m_scene->patches[r].area;
         return a < b || (a == b && e < r);
