@@ -118,7 +118,7 @@ long parseFlagInteger(const std::string& flag, const std::string& text, long lo,
 template <class T, class M>
 BackendOption integerOption(std::string flag, std::string label, std::string placeholder, std::string help,
                             M T::*field, long min, long max, bool even = false) {
-    BackendOption o{flag, std::move(label), std::move(placeholder), std::move(help), OptionKind::Integer, {}, min, max, even, {}, {}};
+    BackendOption o{flag, std::move(label), std::move(placeholder), std::move(help), OptionKind::Integer, {}, min, max, even, {}, {}, {}};
     o.set = [=](MethodSettings& s, const std::string& text) {
         const long v = parseFlagInteger(flag, text, min, max);
         if (even && v % 2) throw Error(flag + " must be even, got " + text);
@@ -131,7 +131,7 @@ BackendOption integerOption(std::string flag, std::string label, std::string pla
 /// A flag without a value that sets `field` to `given`; the GUI shows it as a checkbox.
 template <class T>
 BackendOption switchOption(std::string flag, std::string label, std::string help, bool T::*field, bool given) {
-    BackendOption o{flag, std::move(label), "", std::move(help), OptionKind::Switch, {}, 0, 0, false, {}, {}};
+    BackendOption o{flag, std::move(label), "", std::move(help), OptionKind::Switch, {}, 0, 0, false, {}, {}, {}};
     o.set = [=](MethodSettings& s, const std::string& text) {
         if (text != "yes" && text != "no") throw Error(flag + " is a switch (yes or no), got '" + text + "'");
         s.as<T>().*field = text == "yes" ? given : !given;
@@ -148,7 +148,7 @@ BackendOption choiceOption(std::string flag, std::string label, std::string help
     for (const auto& n : names) choices.push_back(n.first);
     std::string placeholder;
     for (const auto& c : choices) placeholder += (placeholder.empty() ? "" : "|") + c;
-    BackendOption o{flag, std::move(label), placeholder, std::move(help), OptionKind::Choice, choices, 0, 0, false, {}, {}};
+    BackendOption o{flag, std::move(label), placeholder, std::move(help), OptionKind::Choice, choices, 0, 0, false, {}, {}, {}};
     o.set = [=](MethodSettings& s, const std::string& text) {
         for (const auto& [name, value] : names)
             if (name == text) {
