@@ -129,12 +129,13 @@ FormFactorStats computeStats(const FormFactors& F, const Scene& scene) {
     FormFactorStats s;
     s.rows = F.size();
     s.nonZeros = F.nonZeros();
-    const TransposedFormFactors Ft = transpose(F);
     double lo = std::numeric_limits<double>::infinity(), hi = -lo, sum = 0.0, violation = 0.0, exchanged = 0.0;
     double worst = 0.0;
     std::size_t computed = 0, self = 0;
     const auto n = static_cast<std::ptrdiff_t>(F.size());
-    // Each pair is visited from both of its rows: sums double, ratios do not change.
+    // F_ji by binary search in row j, not through F^T: no second copy of F (F^T is F's size again).
+    // A pair with both entries is visited from each of its rows; one with a single entry only from
+    // that row, so it counts twice there: the sums are those of a walk over rows and columns.
 #pragma omp parallel for schedule(dynamic, 64) reduction(min : lo) reduction(max : hi, worst) \
     reduction(+ : sum, violation, exchanged, computed, self)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
@@ -145,18 +146,22 @@ FormFactorStats computeStats(const FormFactors& F, const Scene& scene) {
         hi = std::max(hi, r);
         sum += r;
         const double Ai = scene.patches[i].area;
-        mergeRowAndColumn(F, Ft, i, [&](std::uint32_t j, double fij, double fji) {
-            if (j == i) {
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
+            const std::uint32_t j = F.columns()[k];
+            const double fij = F.values()[k];
+            if (j == std::uint32_t(i)) {
                 self += fij > 0.0;
-                return;
+                continue;
             }
-            if (!F.rowComputed(j)) return;
+            if (!F.rowComputed(j) || !(fij > 0.0)) continue;
+            const double fji = F.at(j, std::size_t(i));
             const double a = Ai * fij, b = scene.patches[j].area * fji;
+            const double visits = fji > 0.0 ? 1.0 : 2.0;
             const double diff = std::abs(a - b);
             worst = std::max(worst, diff / std::max(a, b));
-            violation += diff;
-            exchanged += a + b;
-        });
+            violation += visits * diff;
+            exchanged += visits * (a + b);
+        }
     }
     s.computedRows = computed;
     s.selfFactors = self;

@@ -136,3 +136,27 @@ TEST_CASE("Rows not computed keep their entries, and computed rows stay reciproc
         for (PatchId j = 0; j < 5; ++j) CHECK(F.at(i, j) == doctest::Approx(F.at(j, i)).epsilon(2e-7));
     }
 }
+
+TEST_CASE("F diagnostics: row sums, reciprocity over pairs with one or two entries, self factors, rows not computed") {
+    Scene s = unitCube();  // six unit faces; areas set below
+    const double area[6] = {1.0, 2.0, 4.0, 1.0, 1.0, 1.0};
+    for (PatchId i = 0; i < 6; ++i) s.patches[i].area = area[i];
+    std::vector<std::vector<FormFactors::Entry>> rows(6);
+    rows[0] = {{1, 0.4f}, {2, 0.5f}};  // pair (0,1): 0.4 against 2 x 0.2 = 0.4; pair (0,2): one entry only
+    rows[1] = {{0, 0.2f}, {1, 0.1f}};  // a self factor
+    rows[2] = {{3, 0.25f}};            // pair (2,3) against row 3, which was not computed
+    std::vector<std::uint8_t> computed = {1, 1, 1, 0, 1, 1};
+    FormFactors F = FormFactors::fromRows(std::move(rows), computed);
+    const FormFactorStats st = computeStats(F, s);
+    CHECK(st.rows == 6);
+    CHECK(st.computedRows == 5);
+    CHECK(st.nonZeros == 5);
+    CHECK(st.selfFactors == 1);
+    CHECK(st.rowSumMin == doctest::Approx(0.0));
+    CHECK(st.rowSumMax == doctest::Approx(0.9));
+    CHECK(st.rowSumMean == doctest::Approx((0.9 + 0.3 + 0.25) / 5));
+    // (0,2) is the only violation: A_0 F_02 = 0.5 against 0, so the worst is 1. Each pair counts from
+    // both of its rows: (0,1) adds 2 x (0.4 + 0.4) exchanged, (0,2) adds 2 x 0.5 violation and exchange.
+    CHECK(st.reciprocityMax == doctest::Approx(1.0));
+    CHECK(st.reciprocityMean == doctest::Approx(1.0 / (1.6f + 1.0)).epsilon(1e-6));
+}
