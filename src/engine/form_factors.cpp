@@ -5,6 +5,9 @@
 #include "engine/scene.hpp"
 
 #include <omp.h>
+#ifdef __GLIBC__
+#include <malloc.h>  // malloc_trim
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -43,15 +46,25 @@ FormFactors FormFactors::fromRows(std::vector<std::vector<Entry>>&& rows, std::v
         nnz += rows[i].size();
     }
     F.m_rowStart[rows.size()] = nnz;
-    F.m_columns.resize(nnz);
-    F.m_values.resize(nnz);
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        std::uint64_t k = F.m_rowStart[i];
-        for (const Entry& e : rows[i]) {
-            F.m_columns[k] = e.column;
-            F.m_values[k++] = e.value;
+    // Reserved, not resized: the arrays' pages are touched only as rows move in, while the rows
+    // move out and their pages go back to the system, so the peak stays near one copy of F
+    // rather than two (freed rows stay in the allocator's heap until trimmed).
+    F.m_columns.reserve(nnz);
+    F.m_values.reserve(nnz);
+    std::size_t freed = 0;
+    for (std::vector<Entry>& row : rows) {
+        for (const Entry& e : row) {
+            F.m_columns.push_back(e.column);
+            F.m_values.push_back(e.value);
         }
-        std::vector<Entry>().swap(rows[i]);  // release as we go: peak memory stays near one copy
+        freed += row.capacity() * sizeof(Entry);
+        std::vector<Entry>().swap(row);
+#ifdef __GLIBC__
+        if (freed >= (std::size_t(32) << 20)) {
+            malloc_trim(0);
+            freed = 0;
+        }
+#endif
     }
     F.m_computed = std::move(computed);
     return F;
