@@ -1,37 +1,19 @@
 // hemirad: command-line entry point; the only place (with the GUI) that catches hemirad::Error.
 #include "cli/commands.hpp"
+#include "cli/mpi_launch.hpp"
 #include "engine/atomic_file.hpp"
 #include "engine/threads.hpp"
-#ifdef HEMIRAD_WITH_MPI
-#include "mpi/mpi_context.hpp"
-#include "mpi/mpi_driver.hpp"
-#endif
 
-#include <csignal>
-#include <cstring>
 #include <iostream>
 #include <new>
-#include <unistd.h>
-
-namespace {
-
-extern "C" void onInterrupt(int signal) {
-    // No partial output: temporaries are removed, finished files were renamed atomically.
-    hemirad::AtomicFile::removePendingFiles();
-    const char message[] = "\nhemirad: interrupted; no partial output was written\n";
-    [[maybe_unused]] auto n = ::write(STDERR_FILENO, message, sizeof message - 1);
-    ::_exit(128 + signal);
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
     using namespace hemirad;
-    std::signal(SIGINT, onInterrupt);
-    std::signal(SIGTERM, onInterrupt);
+    AtomicFile::removePendingFilesOnInterrupt();
 #ifdef HEMIRAD_WITH_MPI
-    // Started by mpirun: the command runs as one rank of the job (src/mpi); otherwise MPI stays out.
-    if (mpi::launchedByMpiLauncher()) return mpi::runUnderMpi(argc, argv);
+    // Started by mpirun: the command runs as one rank of the job (src/mpi, a module loaded only
+    // then); otherwise MPI stays out.
+    if (cli::launchedByMpiLauncher()) return cli::runMpiModule(argc, argv);
 #endif
     try {
         const Options options = parseOptions(argc, argv);

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -145,6 +146,23 @@ void AtomicFile::commit() {
 void AtomicFile::removePendingFiles() noexcept {
     for (int k = 0; k < kMaxPending; ++k)
         if (g_used[k].load()) ::unlink(g_pending[k]);
+}
+
+namespace {
+
+extern "C" void removePendingAndExit(int signal) {
+    // No partial output: temporaries are removed, finished files were renamed atomically.
+    AtomicFile::removePendingFiles();
+    const char message[] = "\nhemirad: interrupted; no partial output was written\n";
+    [[maybe_unused]] auto n = ::write(STDERR_FILENO, message, sizeof message - 1);
+    ::_exit(128 + signal);
+}
+
+}  // namespace
+
+void AtomicFile::removePendingFilesOnInterrupt() {
+    std::signal(SIGINT, removePendingAndExit);
+    std::signal(SIGTERM, removePendingAndExit);
 }
 
 }  // namespace hemirad

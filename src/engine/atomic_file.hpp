@@ -57,6 +57,10 @@ public:
 
     /// Deletes every temporary file not yet committed; async-signal-safe (for SIGINT handlers).
     static void removePendingFiles() noexcept;
+    /// Installs SIGINT and SIGTERM handlers that delete them, say "interrupted; no partial output
+    /// was written" on stderr and exit with 128 + the signal. Per copy of this library: hemirad and
+    /// its MPI module (which carries its own) each install theirs.
+    static void removePendingFilesOnInterrupt();
 
 private:
     std::string m_shown;  ///< the path as given, for messages

@@ -1,4 +1,4 @@
-// MPI context: launcher detection, MPI and PETSc start-up, the failure agreement, chunked transfers.
+// MPI context: MPI and PETSc start-up, the failure agreement, chunked transfers.
 #include "mpi/mpi_context.hpp"
 
 #include "cli/options.hpp"
@@ -26,12 +26,6 @@ void check(int code, const char* what) {
 }
 
 }  // namespace
-
-bool launchedByMpiLauncher() {
-    for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE", "MPI_LOCALNRANKS"})
-        if (std::getenv(name)) return true;
-    return false;
-}
 
 Context::Context() {
     int provided = 0;

@@ -11,10 +11,6 @@
 
 namespace hemirad::mpi {
 
-/// True when an MPI launcher started this process (Open MPI, MPICH/Hydra, PMIx or Slurm's PMI set
-/// its environment). hemirad run without a launcher never initialises MPI.
-bool launchedByMpiLauncher();
-
 /// An error every rank agreed on: rank 0 prints it once; every rank exits with `status`.
 class AgreedFailure : public Error {
 public:

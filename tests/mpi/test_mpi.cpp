@@ -323,3 +323,27 @@ TEST_CASE("Options that cannot run across ranks are usage errors on every rank, 
     CHECK(count(r.output, "unknown option '--bogus'") == 1);
     CHECK_FALSE(std::filesystem::exists(dir / "F.hff"));
 }
+
+TEST_CASE("A plain hemirad run loads no MPI or PETSc library; under a launcher without its MPI module it says so, once, and fails") {
+    // MPI and PETSc come in through hemirad-mpi.so, loaded only under a launcher (~100 libraries).
+    const Run needed = runCommand("readelf -d " + std::string(HEMIRAD_BINARY) + " 2>&1");
+    REQUIRE(needed.status == 0);
+    CHECK(needed.output.find("libmpi") == std::string::npos);
+    CHECK(needed.output.find("libpetsc") == std::string::npos);
+    CHECK(std::filesystem::exists(std::filesystem::path(HEMIRAD_BINARY).parent_path() / "hemirad-mpi.so"));
+    // A copy of hemirad without the module beside it, started as rank 0 and as rank 1 of a launcher.
+    const auto dir = tempDir("mpi-no-module");
+    std::filesystem::copy_file(HEMIRAD_BINARY, dir / "hemirad");
+    const std::string plain = "cd '" + dir.string() + "' && ./hemirad help 2>&1";
+    CHECK(runCommand(plain).status == 0);  // no launcher: no module needed
+    for (const char* rank : {"0", "1"}) {
+        CAPTURE(rank);
+        const Run r = runCommand("cd '" + dir.string() + "' && OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=" + rank +
+                                 " ./hemirad help 2>&1");
+        CHECK(r.status == 1);
+        const bool speaks = std::string(rank) == "0";
+        CHECK((r.output.find("hemirad: error: started by an MPI launcher, but its MPI module " +
+                             (dir / "hemirad-mpi.so").string() + " cannot be used") != std::string::npos) == speaks);
+        CHECK((r.output.empty()) == !speaks);
+    }
+}

@@ -1,0 +1,61 @@
+// Launcher detection and the MPI module's loading (see mpi_launch.hpp).
+#include "cli/mpi_launch.hpp"
+
+#include <dlfcn.h>
+#include <unistd.h>
+
+#include <climits>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <string>
+
+namespace hemirad::cli {
+namespace {
+
+constexpr const char* kModule = "hemirad-mpi.so";
+
+/// This process's rank as the launcher set it, or null where it set none we know.
+const char* launcherRank() {
+    for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
+        if (const char* rank = std::getenv(name)) return rank;
+    return nullptr;
+}
+
+/// The folder of the running executable (from /proc/self/exe), with a trailing '/'; empty if unknown.
+std::string executableFolder() {
+    char path[PATH_MAX];
+    const ssize_t n = ::readlink("/proc/self/exe", path, sizeof path - 1);
+    if (n <= 0) return "";
+    const std::string exe(path, std::size_t(n));
+    const std::size_t slash = exe.rfind('/');
+    return slash == std::string::npos ? "" : exe.substr(0, slash + 1);
+}
+
+}  // namespace
+
+bool launchedByMpiLauncher() {
+    for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE", "MPI_LOCALNRANKS"})
+        if (std::getenv(name)) return true;
+    return false;
+}
+
+int runMpiModule(int argc, char** argv) {
+    const std::string path = executableFolder() + kModule;
+    // RTLD_LOCAL: the module's copy of hemirad stays its own (it binds to itself, -Bsymbolic).
+    void* module = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    using Entry = int (*)(int, char**);
+    Entry entry = module ? reinterpret_cast<Entry>(::dlsym(module, "hemirad_mpi_main")) : nullptr;
+    if (!entry) {
+        const char* rank = launcherRank();
+        const char* why = ::dlerror();
+        if (!rank || std::strcmp(rank, "0") == 0)
+            std::cerr << "hemirad: error: started by an MPI launcher, but its MPI module " << path
+                      << " cannot be used: " << (why ? why : "unknown reason")
+                      << " (build with HEMIRAD_WITH_MPI=ON, and keep hemirad-mpi.so next to hemirad)\n";
+        return 1;
+    }
+    return entry(argc, argv);
+}
+
+}  // namespace hemirad::cli
