@@ -56,6 +56,11 @@ struct HemisphereBackend::Workspace {
     std::vector<double> farFactors;
     std::vector<std::uint8_t> farBlocked;
     std::vector<std::uint32_t> rayOf;  // per reversed term: its shadow ray, or kNoRay (shadow polygons)
+    std::vector<Vec3> termPoint;       // per reversed term: the emitter's point
+    std::vector<std::uint32_t> termIndex;  // and its index in the emitter's rule (aimPoint's `point`)
+    std::vector<double> reversedTerm;  // per reversed emitter: its entry for this row, in ray units
+    std::vector<std::uint32_t> pieceOf;  // per silhouette piece ray: its reversed emitter
+    std::vector<double> pieceValue;      // and its term (factor times the point's weight)
     // One point's receivers with exact visibility: their visible and whole factors.
     std::vector<PatchId> exact;
     std::vector<double> exactVisible, exactWhole;
@@ -377,8 +382,9 @@ double HemisphereBackend::addFarPairs(double weight, Workspace& ws) const {
 
 double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& counts) const {
     // For every j that emits for i, the terms row j sums for i (addAnalyticFrom with j's rule, in
-    // j's order, the same shadow rays), so that A_i F_ij = A_j F_ji to rounding wherever row j does
-    // not split i on a silhouette.
+    // j's order, the same shadow rays), so that A_i F_ij = A_j F_ji to rounding wherever the two
+    // rows agree about a silhouette (row j splits i where i's neighbours disagree, seen from j; this
+    // row splits where j's neighbours disagree, seen from i).
     const PatchShape& receiver = m_geometry.shapes[i];
     const double unit = double(m_options.origins) * m_options.samples;
     const double offset = m_rays->originOffset();
@@ -389,6 +395,8 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
     ws.origins.clear();
     ws.targets.clear();
     ws.rayOf.clear();
+    ws.termPoint.clear();
+    ws.termIndex.clear();
     std::uint32_t rays = 0;
     for (PatchId j = 0; j < m_geometry.shapes.size(); ++j) {
         if (j == i || !emitsFor(j, i)) continue;
@@ -407,6 +415,8 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
             ws.factors.push_back(f);
             ws.rayOf.push_back(rays++);
             ws.termWeights.push_back(unit);
+            ws.termPoint.push_back(emitter.centroid);
+            ws.termIndex.push_back(0);
             float local[3];
             m_rays->toLocal(emitter.centroid + offset * emitter.normal, local);
             ws.origins.insert(ws.origins.end(), local, local + 3);
@@ -424,6 +434,8 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
             const double f = pointFactor(i, ws.quadPoints[q], emitter.normal, ws.clipped, polygon, corners);
             if (f <= 0.0) continue;
             ws.termWeights.push_back(unit * ws.quadWeights[q]);  // as row j weighs it (the centroid's weight is 1)
+            ws.termPoint.push_back(ws.quadPoints[q]);
+            ws.termIndex.push_back(std::uint32_t(q));
             if (f > m_exactAbove) {  // as addAnalyticFrom: the visible part from shadow polygons
                 ws.factors.push_back(
                     m_shadows.visibleFactor(ws.quadPoints[q], emitter.normal, polygon, corners, j, i, f, ws.shadow));
@@ -448,24 +460,89 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
         m_rays->occludedSegmentPairs(ws.origins.data(), ws.targets.data(), rays, ws.blocked.data());
         counts.rays += rays;
     }
+    ws.reversedTerm.assign(ws.reversed.size(), 0.0);
+    for (std::size_t p = 0; p < ws.reversed.size(); ++p) {
+        bool visible = false;  // row j's entry for i, summed in row j's order
+        for (std::uint32_t t = ws.termStart[p]; t < ws.termStart[p + 1]; ++t) {
+            if (ws.rayOf[t] == kNoRay ? !(ws.factors[t] > 0.0) : ws.blocked[ws.rayOf[t]] != 0) continue;
+            ws.reversedTerm[p] += ws.factors[t] * ws.termWeights[t];
+            visible = true;
+        }
+        ws.status[ws.reversed[p]] = visible ? 1 : 2;
+    }
+    if (m_visibility) splitReversedSilhouettes(i, ws, counts);
     double sum = 0.0;
     const double Ai = m_scene->patches[i].area;
     for (std::size_t p = 0; p < ws.reversed.size(); ++p) {
+        if (!(ws.reversedTerm[p] > 0.0)) continue;
         const PatchId j = ws.reversed[p];
-        double term = 0.0;  // row j's entry for i, summed in row j's order
-        bool visible = false;
-        for (std::uint32_t t = ws.termStart[p]; t < ws.termStart[p + 1]; ++t) {
-            if (ws.rayOf[t] == kNoRay ? !(ws.factors[t] > 0.0) : ws.blocked[ws.rayOf[t]] != 0) continue;
-            term += ws.factors[t] * ws.termWeights[t];
-            visible = true;
-        }
-        ws.status[j] = visible ? 1 : 2;
-        if (!visible) continue;
-        const double value = term * (m_scene->patches[j].area / Ai);
+        const double value = ws.reversedTerm[p] * (m_scene->patches[j].area / Ai);
         ws.row.addWeight(j, value);
         sum += value;
     }
     return sum;
+}
+
+void HemisphereBackend::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCounts& counts) const {
+    // An emitter j whose mesh neighbours disagree with it about i sees i past a silhouette, which
+    // moves across i as the point on j moves: each of its ray terms takes i in pieces, each with
+    // its own factor and shadow ray, as row j does where it finds i on a silhouette (the same
+    // pieces, aims and rays: equal values where both rows split). Exact terms stay as they are.
+    const PatchShape& receiver = m_geometry.shapes[i];
+    const double offset = m_rays->originOffset();
+    ws.origins.clear();
+    ws.targets.clear();
+    ws.pieceOf.clear();
+    ws.pieceValue.clear();
+    for (std::size_t p = 0; p < ws.reversed.size(); ++p) {
+        const PatchId j = ws.reversed[p];
+        if (!m_geometry.onSilhouette(j, ws.status)) continue;
+        const Vec3& n = m_geometry.shapes[j].normal;
+        bool split = false;
+        for (std::uint32_t t = ws.termStart[p]; t < ws.termStart[p + 1]; ++t) {
+            if (ws.rayOf[t] == kNoRay) continue;
+            if (!split) {  // the exact terms are kept; the ray terms are replaced by their pieces
+                ws.reversedTerm[p] = 0.0;
+                for (std::uint32_t u = ws.termStart[p]; u < ws.termStart[p + 1]; ++u)
+                    if (ws.rayOf[u] == kNoRay && ws.factors[u] > 0.0) ws.reversedTerm[p] += ws.factors[u] * ws.termWeights[u];
+                split = true;
+            }
+            const Vec3& x = ws.termPoint[t];
+            const Vec3* polygon;
+            const std::size_t corners = polygonAbove(i, x, n, ws.clipped, polygon);
+            piecesOf(polygon, corners, ws);
+            float origin[3];
+            m_rays->toLocal(x + offset * n, origin);
+            for (std::size_t q = 0; q < ws.pieces.size(); q += 4) {
+                const double f = pointToPolygonFactor(x, n, &ws.pieces[q], 4);
+                if (!(f > 0.0)) continue;
+                float local[3];
+                m_rays->toLocal(aimPoint(&ws.pieces[q], 4, j, i, ws.termIndex[t], std::uint32_t(q / 4 + 1)) +
+                                    offset * receiver.normal,
+                                local);
+                ws.origins.insert(ws.origins.end(), origin, origin + 3);
+                ws.targets.insert(ws.targets.end(), local, local + 3);
+                ws.pieceOf.push_back(std::uint32_t(p));
+                ws.pieceValue.push_back(f * ws.termWeights[t]);
+            }
+        }
+    }
+    if (ws.pieceOf.empty()) return;
+    ws.blocked.assign(ws.pieceOf.size(), 0);
+    m_rays->occludedSegmentPairs(ws.origins.data(), ws.targets.data(), ws.pieceOf.size(), ws.blocked.data());
+    counts.rays += ws.pieceOf.size();
+    for (std::size_t k = 0; k < ws.pieceOf.size(); ++k)
+        if (!ws.blocked[k]) ws.reversedTerm[ws.pieceOf[k]] += ws.pieceValue[k];
+}
+
+void HemisphereBackend::piecesOf(const Vec3* polygon, std::size_t corners, Workspace& ws) const {
+    ws.pieces.clear();
+    splitPolygon(polygon, corners, ws.pieces);
+    for (int level = 1; level < m_splitLevels; ++level) {
+        ws.finer.clear();
+        for (std::size_t q = 0; q < ws.pieces.size(); q += 4) splitPolygon(&ws.pieces[q], 4, ws.finer);
+        ws.pieces.swap(ws.finer);
+    }
 }
 
 std::size_t HemisphereBackend::polygonAbove(PatchId j, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer,
@@ -579,13 +656,7 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_
     for (const PatchId j : ws.split) {
         const Vec3* polygon;
         const std::size_t corners = polygonAbove(j, x, n, ws.clipped, polygon);
-        ws.pieces.clear();
-        splitPolygon(polygon, corners, ws.pieces);
-        for (int level = 1; level < m_splitLevels; ++level) {
-            ws.finer.clear();
-            for (std::size_t q = 0; q < ws.pieces.size(); q += 4) splitPolygon(&ws.pieces[q], 4, ws.finer);
-            ws.pieces.swap(ws.finer);
-        }
+        piecesOf(polygon, corners, ws);
         for (std::size_t q = 0; q < ws.pieces.size(); q += 4) {
             const double f = pointToPolygonFactor(x, n, &ws.pieces[q], 4);
             if (f > 0.0) aim(aimPoint(&ws.pieces[q], 4, i, j, point, std::uint32_t(q / 4 + 1)), j, f);

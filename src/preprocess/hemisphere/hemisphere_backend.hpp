@@ -56,6 +56,12 @@ private:
     /// Row i's entries for the patches that emit for i: the terms each of their rows sums for i,
     /// scaled by A_j / A_i; sets their visibility status. Returns their sum (row fraction).
     double addReversedPairs(PatchId i, Workspace& ws, RayCounts& counts) const;
+    /// Of those, the emitters on a silhouette seen from i (a mesh neighbour's status differs): their
+    /// ray terms again with i split into pieces, each with its own shadow ray, into ws.reversedTerm.
+    void splitReversedSilhouettes(PatchId i, Workspace& ws, RayCounts& counts) const;
+    /// A silhouette receiver's polygon (as seen from one point) in pieces of 4 corners, into
+    /// ws.pieces: one split, two with --jitter. Both rows of a pair split alike.
+    void piecesOf(const Vec3* polygon, std::size_t corners, Workspace& ws) const;
 
     /// Which patch of a pair integrates the pair's factor over its points (the other is exact): the
     /// smaller one, the lower id on a tie. Both rows of the pair use its terms, so the analytic F is

@@ -52,6 +52,24 @@ void PatchGeometry::buildNeighbours(const Scene& scene) {
         neighbours.insert(neighbours.end(), list.begin(), list.end());
         neighbourStart.push_back(static_cast<std::uint32_t>(neighbours.size()));
     }
+    // An edge is shared when a neighbour has corners at both of its ends.
+    auto hasCorner = [&](PatchId o, const Vec3& p) {
+        for (std::uint32_t k = 0; k < shapes[o].count; ++k)
+            if ((corners[shapes[o].first + k] - p).norm() <= tolerance) return true;
+        return false;
+    };
+    openEdge.assign(scene.size(), 0);
+    for (PatchId j = 0; j < scene.size(); ++j) {
+        const std::uint32_t count = shapes[j].count;
+        for (std::uint32_t k = 0; k < count && !openEdge[j]; ++k) {
+            const Vec3& a = corners[shapes[j].first + k];
+            const Vec3& b = corners[shapes[j].first + (k + 1) % count];
+            bool shared = false;
+            for (std::uint32_t e = neighbourStart[j]; e < neighbourStart[j + 1] && !shared; ++e)
+                shared = hasCorner(neighbours[e], a) && hasCorner(neighbours[e], b);
+            openEdge[j] = !shared;
+        }
+    }
 }
 
 }  // namespace hemirad

@@ -20,6 +20,7 @@ struct PatchGeometry {
     std::vector<Vec3> corners;  ///< corner positions in patch order
     std::vector<std::uint32_t> neighbourStart;  ///< CSR: patches sharing a corner position with patch j
     std::vector<PatchId> neighbours;
+    std::vector<std::uint8_t> openEdge;  ///< per patch: some edge of it is no other patch's edge
 
     void build(const Scene& scene) {
         shapes.resize(scene.size());
@@ -37,12 +38,16 @@ struct PatchGeometry {
     const Vec3* polygon(PatchId j) const { return &corners[shapes[j].first]; }
 
     /// Fills neighbourStart and neighbours: patches sharing a corner position within 1e-9 of the
-    /// scene's size (generators compute shared corners by different float expressions). After build().
+    /// scene's size (generators compute shared corners by different float expressions), and
+    /// openEdge. After build().
     void buildNeighbours(const Scene& scene);
 
-    /// Whether a mesh neighbour of j has a visibility status (0 = not aimed at) other than j's:
-    /// j sits on a silhouette and is split into pieces.
+    /// Whether a mesh neighbour of j has a visibility status (0 = not aimed at) other than j's, or j
+    /// is hidden (2) and has an open edge (no neighbour there to tell: the strip along a plate's rim
+    /// can show past a blocker while its centre and its neighbours are hidden): j sits on a
+    /// silhouette and is split into pieces.
     bool onSilhouette(PatchId j, const std::vector<std::uint8_t>& status) const {
+        if (status[j] == 2 && openEdge[j]) return true;
         for (std::uint32_t e = neighbourStart[j]; e < neighbourStart[j + 1]; ++e) {
             const std::uint8_t other = status[neighbours[e]];
             if (other != 0 && other != status[j]) return true;
