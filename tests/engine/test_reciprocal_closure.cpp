@@ -160,3 +160,44 @@ TEST_CASE("F diagnostics: row sums, reciprocity over pairs with one or two entri
     CHECK(st.reciprocityMax == doctest::Approx(1.0));
     CHECK(st.reciprocityMean == doctest::Approx(1.0 / (1.6f + 1.0)).epsilon(1e-6));
 }
+
+TEST_CASE("F diagnostics agree with the definition on a random sparse F (rows of every length, some not computed)") {
+    // 400 patches of random areas; row i holds each column with probability growing with i, so the
+    // threads' blocks (split by nonzeros) cut the rows unevenly.
+    Scene s;
+    std::uint64_t state = 12345;
+    auto next = [&] {
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        return double(state >> 11) / double(1ULL << 53);
+    };
+    const std::uint32_t n = 400;
+    s.patches.resize(n);
+    for (Patch& p : s.patches) p.area = 0.5 + next();
+    std::vector<std::vector<FormFactors::Entry>> rows(n);
+    std::vector<std::uint8_t> computed(n, 1);
+    for (std::uint32_t i = 0; i < n; ++i) {
+        computed[i] = next() < 0.9;
+        if (!computed[i]) continue;
+        for (std::uint32_t j = 0; j < n; ++j)
+            if (next() < 0.02 + 0.5 * i / n) rows[i].push_back({j, float(next() / n)});
+    }
+    const FormFactors F = FormFactors::fromRows(std::move(rows), computed);
+    double worst = 0.0, violation = 0.0, exchanged = 0.0;
+    std::size_t self = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        if (!computed[i]) continue;
+        self += F.at(i, i) > 0.0;
+        for (std::uint32_t j = 0; j < n; ++j) {
+            if (j == i || !computed[j]) continue;
+            const double a = s.patches[i].area * F.at(i, j), b = s.patches[j].area * F.at(j, i);
+            if (a == 0.0 && b == 0.0) continue;
+            worst = std::max(worst, std::abs(a - b) / std::max(a, b));
+            violation += std::abs(a - b);
+            exchanged += a + b;
+        }
+    }
+    const FormFactorStats st = computeStats(F, s);
+    CHECK(st.selfFactors == self);
+    CHECK(st.reciprocityMax == doctest::Approx(worst).epsilon(1e-12));
+    CHECK(st.reciprocityMean == doctest::Approx(violation / exchanged).epsilon(1e-12));
+}
