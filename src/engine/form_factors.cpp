@@ -53,9 +53,14 @@ FormFactors FormFactors::fromRows(std::vector<std::vector<Entry>>&& rows, std::v
     F.m_values.reserve(nnz);
     std::size_t freed = 0;
     for (std::vector<Entry>& row : rows) {
-        for (const Entry& e : row) {
-            F.m_columns.push_back(e.column);
-            F.m_values.push_back(e.value);
+        const std::size_t at = F.m_columns.size();  // within the capacity reserved: no reallocation
+        F.m_columns.resize(at + row.size());
+        F.m_values.resize(at + row.size());
+        std::uint32_t* columns = F.m_columns.data() + at;
+        float* values = F.m_values.data() + at;
+        for (std::size_t k = 0; k < row.size(); ++k) {
+            columns[k] = row[k].column;
+            values[k] = row[k].value;
         }
         freed += row.capacity() * sizeof(Entry);
         std::vector<Entry>().swap(row);
