@@ -38,8 +38,9 @@ double expectedWorkPerRow(const Scene& scene, const MethodSettings& settings) {
 }
 
 namespace {
-// While rows are built, each exists twice (row lists, then CSR): 2 x 8 bytes per nonzero.
-constexpr double kBytesPerNonzero = 16.0;
+// F is 8 bytes per nonzero; while it is built the row lists are released (and trimmed) as the CSR
+// arrays fill (FormFactors::fromRows): the cube n = 32 peaked at 1.29 x F, so 1.5 x F with margin.
+constexpr double kBytesPerNonzero = 12.0;
 double fixedBytes(const Scene& scene) { return 9.0 * double(scene.size()); }
 }  // namespace
 
