@@ -324,7 +324,7 @@ TEST_CASE("Options that cannot run across ranks are usage errors on every rank, 
     CHECK_FALSE(std::filesystem::exists(dir / "F.hff"));
 }
 
-TEST_CASE("A plain hemirad run loads no MPI or PETSc library; under a launcher without its MPI module it says so, once, and fails") {
+TEST_CASE("A plain hemirad run loads no MPI or PETSc library, and under a launcher without its MPI module it says so, once, and fails") {
     // MPI and PETSc come in through hemirad-mpi.so, loaded only under a launcher (~100 libraries).
     const Run needed = runCommand("readelf -d " + std::string(HEMIRAD_BINARY) + " 2>&1");
     REQUIRE(needed.status == 0);
