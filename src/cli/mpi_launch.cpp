@@ -48,10 +48,11 @@ int runMpiModule(int argc, char** argv) {
     Entry entry = module ? reinterpret_cast<Entry>(::dlsym(module, "hemirad_mpi_main")) : nullptr;
     if (!entry) {
         const char* rank = launcherRank();
-        const char* why = ::dlerror();
+        const std::string why = module ? std::string("no hemirad_mpi_main in it") : std::string(::dlerror());
+        if (module) ::dlclose(module);
         if (!rank || std::strcmp(rank, "0") == 0)
             std::cerr << "hemirad: error: started by an MPI launcher, but its MPI module " << path
-                      << " cannot be used: " << (why ? why : "unknown reason")
+                      << " cannot be used: " << why
                       << " (build with HEMIRAD_WITH_MPI=ON, and keep hemirad-mpi.so next to hemirad)\n";
         return 1;
     }

@@ -1,4 +1,4 @@
-// KeyTaps: holds back a key's release until a frame has seen its press.
+// KeyTaps: holds back a key's second change until a frame has seen the first.
 #include "ui/key_taps.hpp"
 
 #include <iterator>
@@ -12,22 +12,23 @@ bool KeyTaps::pass(const KeyEvent& event) {
         queued->second.push_back(event);
         return false;
     }
-    if (event.action == kRelease && m_pressedSinceFrame.count(event.key)) {
+    // A second change before a frame has seen the first (a release after a press, or a press after
+    // a release) waits: the frame would see no change at all.
+    if (m_changedSinceFrame.count(event.key)) {
         m_heldBack[event.key].push_back(event);
         return false;
     }
-    if (event.action == kPress) m_pressedSinceFrame.insert(event.key);
+    m_changedSinceFrame.insert(event.key);
     return true;
 }
 
 std::vector<KeyEvent> KeyTaps::frameEnded() {
-    m_pressedSinceFrame.clear();
+    m_changedSinceFrame.clear();
     std::vector<KeyEvent> now;
     for (auto it = m_heldBack.begin(); it != m_heldBack.end();) {
-        const KeyEvent event = it->second.front();
+        now.push_back(it->second.front());
         it->second.pop_front();
-        now.push_back(event);
-        if (event.action == kPress) m_pressedSinceFrame.insert(event.key);  // its release waits a frame
+        m_changedSinceFrame.insert(it->first);  // its next change waits a frame
         it = it->second.empty() ? m_heldBack.erase(it) : std::next(it);
     }
     return now;

@@ -1,7 +1,9 @@
 // Key taps that outlast a frame: ImGui 1.86 reads key state once a frame (io.KeysDown), so a key pressed
 // and released between two frames (a quick tap while a frame is slow: a big scene, a software
-// renderer, a sanitizer build) is never seen. KeyTaps holds such a release back until a frame has
-// seen the press, and gives each key at most one change of state per frame.
+// renderer, a sanitizer build) is never seen, nor is a second tap of a key whose release a frame has
+// not seen. KeyTaps holds a key's second change back until a frame has seen the first: at most one
+// change of state per key per frame. (Keys are ordered per key only: a held-back modifier release
+// does not hold back other keys.)
 #pragma once
 
 #include <deque>
@@ -34,7 +36,7 @@ public:
     bool pending() const { return !m_heldBack.empty(); }
 
 private:
-    std::set<int> m_pressedSinceFrame;              ///< keys pressed since the last frame ended: no frame saw it yet
+    std::set<int> m_changedSinceFrame;              ///< keys whose last change no frame has seen yet
     std::map<int, std::deque<KeyEvent>> m_heldBack;  ///< per key, in the order they arrived
 };
 

@@ -9,6 +9,9 @@
 #include "solve/solver_registry.hpp"
 
 #include <doctest/doctest.h>
+#include <omp.h>
+
+#include <algorithm>
 
 using namespace hemirad;
 using namespace hemirad::test;
@@ -196,8 +199,21 @@ TEST_CASE("F diagnostics agree with the definition on a random sparse F (rows of
             exchanged += a + b;
         }
     }
-    const FormFactorStats st = computeStats(F, s);
-    CHECK(st.selfFactors == self);
-    CHECK(st.reciprocityMax == doctest::Approx(worst).epsilon(1e-12));
-    CHECK(st.reciprocityMean == doctest::Approx(violation / exchanged).epsilon(1e-12));
+    // Any number of threads, more than rows too: the blocks (split by nonzeros) cover every row once.
+    const int threads = omp_get_max_threads();
+    for (const int t : {1, 2, 3, 7, 512}) {
+        CAPTURE(t);
+        omp_set_num_threads(t);
+        const FormFactorStats st = computeStats(F, s);
+        CHECK(st.computedRows == std::size_t(std::count(computed.begin(), computed.end(), 1)));
+        CHECK(st.selfFactors == self);
+        CHECK(st.reciprocityMax == doctest::Approx(worst).epsilon(1e-12));
+        CHECK(st.reciprocityMean == doctest::Approx(violation / exchanged).epsilon(1e-12));
+        const FormFactorStats empty = computeStats(FormFactors::fromRows(std::vector<std::vector<FormFactors::Entry>>(n), computed), s);
+        CHECK(empty.nonZeros == 0);
+        CHECK(empty.computedRows == st.computedRows);
+        CHECK(empty.rowSumMax == 0.0);
+        CHECK(empty.reciprocityMean == 0.0);
+    }
+    omp_set_num_threads(threads);
 }

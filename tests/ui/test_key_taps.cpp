@@ -23,11 +23,32 @@ TEST_CASE("GUI key taps: a press and release between two frames reach ImGui on t
     CHECK(later[0].key == kEnter);
     CHECK(later[0].action == KeyTaps::kRelease);
     CHECK_FALSE(taps.pending());
+    // A second tap before the frame that sees that release: its press waits for the next frame.
+    CHECK_FALSE(taps.pass(press(kEnter)));
+    CHECK_FALSE(taps.pass(release(kEnter)));
+    std::vector<KeyEvent> now = taps.frameEnded();
+    REQUIRE(now.size() == 1);
+    CHECK(now[0].action == KeyTaps::kPress);
+    now = taps.frameEnded();
+    REQUIRE(now.size() == 1);
+    CHECK(now[0].action == KeyTaps::kRelease);
+    CHECK(taps.frameEnded().empty());
     // A press a frame has seen is released at once; repeats are never held.
     CHECK(taps.pass(press(kEnter)));
     CHECK(taps.frameEnded().empty());
     CHECK(taps.pass({kEnter, 0, 2, 0}));
     CHECK(taps.pass(release(kEnter)));
+}
+
+TEST_CASE("GUI key taps: a release then a press of a held key between two frames keep the break for a frame") {
+    KeyTaps taps;
+    CHECK(taps.pass(press(kO)));
+    CHECK(taps.frameEnded().empty());  // a frame sees O down
+    CHECK(taps.pass(release(kO)));     // the release goes on ...
+    CHECK_FALSE(taps.pass(press(kO)));  // ... the new press waits, or the next frame would see no change
+    const std::vector<KeyEvent> now = taps.frameEnded();
+    REQUIRE(now.size() == 1);
+    CHECK(now[0].action == KeyTaps::kPress);
 }
 
 TEST_CASE("GUI key taps: two taps of one key within a frame give two presses, one change per frame, other keys unaffected") {

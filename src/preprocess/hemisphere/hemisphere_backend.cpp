@@ -369,11 +369,12 @@ double HemisphereBackend::addFarPairs(double weight, Workspace& ws) const {
     double sum = 0.0;
     for (std::size_t k = 0; k < ws.far.size(); ++k) {
         const PatchId j = ws.far[k];
+        if (!(ws.farFactors[k] > 0.0)) continue;  // facing away: nothing to split either
         if (m_geometry.onSilhouette(j, ws.status)) {  // split by the centroid pass, as its own receivers
             ws.split.push_back(j);
             continue;
         }
-        if (ws.farBlocked[k] || !(ws.farFactors[k] > 0.0)) continue;
+        if (ws.farBlocked[k]) continue;
         ws.row.addWeight(j, ws.farFactors[k] * weight);
         sum += ws.farFactors[k] * weight;
     }
