@@ -172,7 +172,7 @@ void onKey(GLFWwindow* window, int key, int, int action, int mods) {
     if (input && action == GLFW_PRESS && (mods & GLFW_MOD_CONTROL)) input->shortcuts.emplace_back(key, mods);
 }
 
-/// Installed in front of ImGui's key callback: a release the current frame has not seen pressed waits.
+/// Installed in front of ImGui's key callback: a key's second change before a frame has seen its first waits.
 void onKeyTap(GLFWwindow* window, int key, int scancode, int action, int mods) {
     auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
     if (input && input->imguiKey && input->taps.pass({key, scancode, action, mods}))
