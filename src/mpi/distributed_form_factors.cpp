@@ -18,6 +18,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <deque>
+#include <memory>
 #include <exception>
 #include <future>
 #include <mutex>
@@ -36,7 +37,7 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 /// The rows a rank's back end pulls: blocks pushed by the main thread; next() waits for one.
 class QueueSource final : public RowSource {
 public:
-    explicit QueueSource(std::size_t hint) : m_hint(hint) {}
+    QueueSource(std::size_t hint, std::size_t patches) : m_hint(hint), m_queued(new std::atomic<std::uint8_t>[patches]()) {}
     bool next(PatchId& row) override {
         std::unique_lock<std::mutex> lock(m_mutex);
         m_ready.wait(lock, [&] { return !m_rows.empty() || m_closed; });
@@ -46,7 +47,9 @@ public:
         return true;
     }
     std::size_t sizeHint() const override { return m_hint; }
+    bool mayHandOut(PatchId row) const override { return m_queued[row].load(std::memory_order_relaxed) != 0; }
     void push(const PatchId* begin, const PatchId* end) {
+        for (const PatchId* row = begin; row != end; ++row) m_queued[*row].store(1, std::memory_order_relaxed);
         {
             std::lock_guard<std::mutex> lock(m_mutex);
             m_rows.insert(m_rows.end(), begin, end);
@@ -67,6 +70,7 @@ public:
 
 private:
     std::size_t m_hint;
+    std::unique_ptr<std::atomic<std::uint8_t>[]> m_queued;  ///< per patch: pushed to this rank
     mutable std::mutex m_mutex;
     std::condition_variable m_ready;
     std::deque<PatchId> m_rows;
@@ -153,7 +157,7 @@ std::size_t reserveRows(const FormFactorBuilder& builder, Clock::time_point star
 }  // namespace
 
 DistributedFormFactors computeDistributed(const Context& context, const Scene& scene, const MethodSettings& settings,
-                                          const std::vector<PatchId>& rows, const ProgressCallback& progress) {
+                                          const std::vector<PatchId>& listed, const ProgressCallback& progress) {
     const int K = context.size();
     std::unique_ptr<FormFactorBackend> backend;
     auto t0 = Clock::now();
@@ -162,9 +166,11 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
         backend->prepare(scene);
     });
     double prepareSeconds = since(t0);
+    std::vector<PatchId> rows(listed);  // in the back end's order (the same on every rank)
+    backend->orderRows(rows);
 
     FormFactorBuilder builder(scene.size());
-    QueueSource queue(rows.size());
+    QueueSource queue(rows.size(), scene.size());
     const std::size_t threads = std::size_t(resolveThreads(settings.common.threads));
     const std::size_t minRows = 4 * threads;
     std::vector<std::int32_t> owner(scene.size(), -1);

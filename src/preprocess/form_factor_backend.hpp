@@ -98,12 +98,20 @@ public:
     virtual bool next(PatchId& row) = 0;
     /// Rows this source will hand out at most (sizes per-worker scratch; may over-estimate).
     virtual std::size_t sizeHint() const = 0;
+    /// Whether next() may still hand out `row` (or has handed it out): a back end keeps work done
+    /// for later rows only for these. False where the source cannot tell. Thread-safe.
+    virtual bool mayHandOut(PatchId) const { return false; }
 };
 
 /// A fixed list of rows, handed out in order.
 class RowList final : public RowSource {
 public:
-    explicit RowList(const std::vector<PatchId>& rows) : m_rows(rows) {}
+    explicit RowList(const std::vector<PatchId>& rows) : m_rows(rows) {
+        for (const PatchId row : rows) {
+            if (row >= m_listed.size()) m_listed.resize(std::size_t(row) + 1, 0);
+            m_listed[row] = 1;
+        }
+    }
     bool next(PatchId& row) override {
         const std::size_t k = m_next.fetch_add(1, std::memory_order_relaxed);
         if (k >= m_rows.size()) return false;
@@ -111,9 +119,11 @@ public:
         return true;
     }
     std::size_t sizeHint() const override { return m_rows.size(); }
+    bool mayHandOut(PatchId row) const override { return row < m_listed.size() && m_listed[row]; }
 
 private:
     const std::vector<PatchId>& m_rows;
+    std::vector<std::uint8_t> m_listed;  ///< per patch: in the list
     std::atomic<std::size_t> m_next{0};
 };
 
@@ -127,11 +137,16 @@ public:
     /// Fills every row `rows` hands out (parallel inside), until it has none left or the builder is
     /// cancelled. Throws hemirad::Error.
     virtual void computeRows(RowSource& rows, FormFactorBuilder& builder) = 0;
-    /// Fills the listed rows.
+    /// Fills the listed rows, in orderRows()'s order.
     void computeRows(const std::vector<PatchId>& rows, FormFactorBuilder& builder) {
-        RowList list(rows);
+        std::vector<PatchId> ordered(rows);
+        orderRows(ordered);
+        RowList list(ordered);
         computeRows(list, builder);
     }
+    /// Puts `rows` in the order this back end computes them fastest; the default keeps it. Valid
+    /// after prepare(); the same on every MPI rank.
+    virtual void orderRows(std::vector<PatchId>&) const {}
     /// Relative cost of row i against the back end's average row (1): what a scheduler that spreads
     /// rows over processes weighs them by. Valid after prepare().
     virtual double rowCost(PatchId) const { return 1.0; }

@@ -46,9 +46,10 @@ struct HemisphereBackend::Workspace {
     std::vector<PatchId> candidates;
     std::vector<double> factors;
     std::vector<float> targets;
-    // Pairs emitted by the other patch: their patches, terms (CSR), weights and segment origins.
+    // Pairs emitted by the other patch: their patches, the range of their terms, the terms' weights
+    // and segment origins.
     std::vector<PatchId> reversed;
-    std::vector<std::uint32_t> termStart;
+    std::vector<std::uint32_t> termBegin, termEnd;
     std::vector<double> termWeights;
     std::vector<float> origins;
     std::vector<std::uint8_t> blocked;
@@ -58,9 +59,18 @@ struct HemisphereBackend::Workspace {
     std::vector<std::uint32_t> rayOf;  // per reversed term: its shadow ray, or kNoRay (shadow polygons)
     std::vector<Vec3> termPoint;       // per reversed term: the emitter's point
     std::vector<std::uint32_t> termIndex;  // and its index in the emitter's rule (aimPoint's `point`)
-    std::vector<double> reversedTerm;  // per reversed emitter: its entry for this row, in ray units
+    std::vector<double> reversedTerm;  // per reversed emitter: its terms for this row, in ray units
+    std::vector<float> handed;  // and its entry as the exchange hands it over (-1: split here, use the terms)
+    std::vector<std::uint32_t> silhouette;  // the reversed emitters on a silhouette seen from this row
     std::vector<std::uint32_t> pieceOf;  // per silhouette piece ray: its reversed emitter
     std::vector<double> pieceValue;      // and its term (factor times the point's weight)
+    // Pairs handed between rows: the exchange, this row's entries from it and for it, per patch the
+    // entry of its row for this one (-1: none), and per receiver this row's unsplit sum (-1: no term).
+    PairExchange* exchange = nullptr;
+    std::vector<PairExchange::Entry> taken, outgoing;
+    std::vector<float> published;
+    std::vector<double> unsplit;
+    std::vector<PatchId> touched;
     // One point's receivers with exact visibility: their visible and whole factors.
     std::vector<PatchId> exact;
     std::vector<double> exactVisible, exactWhole;
@@ -74,6 +84,20 @@ struct HemisphereBackend::Workspace {
     std::vector<PatchId> hits;
     std::vector<float> distances;
 };
+
+namespace {
+
+/// This row's term for receiver r (its value when visible, 0 when hidden) into the sum that row r
+/// recomputes in addReversedPairs, added in the same order, so that the exchange hands over equal bits.
+void keepTerm(std::vector<double>& unsplit, std::vector<PatchId>& touched, PatchId r, double visibleValue) {
+    if (unsplit[r] < 0.0) {
+        unsplit[r] = 0.0;
+        touched.push_back(r);
+    }
+    if (visibleValue > 0.0) unsplit[r] += visibleValue;
+}
+
+}  // namespace
 
 HemisphereBackend::HemisphereBackend(const HemisphereOptions& options, const CommonOptions& common)
     : m_options(options), m_common(common) {
@@ -173,6 +197,9 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
     // (reading the exception_ptr while another thread writes it was a data race).
     std::exception_ptr failure;
     std::atomic<bool> failed{false};
+    // Each pair is computed by its emitting row and handed to the other row (pair_exchange.hpp),
+    // kept for the rows this source may still hand out.
+    PairExchange exchange(m_scene->size(), [&rows](PatchId r) { return rows.mayHandOut(r); });
 #pragma omp parallel num_threads(threads)
     {
         Workspace ws(m_scene->size(), m_mirrors || m_analytic);
@@ -181,6 +208,9 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
             ws.ruled.assign(m_scene->size(), 0);
             ws.byOrder.resize(std::size_t(m_orders.highest()) + 1);  // [0]: the far rule
             ws.status.assign(m_scene->size(), 0);
+            ws.exchange = &exchange;
+            ws.published.assign(m_scene->size(), -1.0f);
+            ws.unsplit.assign(m_scene->size(), -1.0);
         }
         ws.dirs.resize(m_directions.size());
         ws.hits.resize(m_options.samples);
@@ -218,6 +248,10 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
         builder.addCounts(counts);
     }
     if (failure) std::rethrow_exception(failure);
+}
+
+void HemisphereBackend::orderRows(std::vector<PatchId>& rows) const {
+    if (m_analytic) std::sort(rows.begin(), rows.end(), [this](PatchId a, PatchId b) { return emitsFor(a, b); });
 }
 
 template <bool Mirrors, bool Direct>
@@ -318,6 +352,13 @@ double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& co
     }
     for (const PatchId j : ws.byOrder[0]) ws.ruled[j] = ws.status[j] = 0;
     for (const PatchId j : ws.reversed) ws.status[j] = 0;
+    ws.outgoing.clear();
+    for (const PatchId j : ws.touched) {
+        ws.outgoing.push_back({j, handedValue(ws.unsplit[j], i, j)});
+        ws.unsplit[j] = -1.0;
+    }
+    ws.exchange->publish(i, ws.outgoing);
+    ws.touched.clear();
     return direct / unit;
 }
 
@@ -370,6 +411,7 @@ double HemisphereBackend::addFarPairs(double weight, Workspace& ws) const {
     for (std::size_t k = 0; k < ws.far.size(); ++k) {
         const PatchId j = ws.far[k];
         if (!(ws.farFactors[k] > 0.0)) continue;  // facing away: nothing to split either
+        keepTerm(ws.unsplit, ws.touched, j, ws.farBlocked[k] ? 0.0 : ws.farFactors[k] * weight);
         if (m_geometry.onSilhouette(j, ws.status)) {  // split by the centroid pass, as its own receivers
             ws.split.push_back(j);
             continue;
@@ -385,12 +427,15 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
     // For every j that emits for i, the terms row j sums for i (addAnalyticFrom with j's rule, in
     // j's order, the same shadow rays), so that A_i F_ij = A_j F_ji to rounding wherever the two
     // rows agree about a silhouette (row j splits i where i's neighbours disagree, seen from j; this
-    // row splits where j's neighbours disagree, seen from i).
-    const PatchShape& receiver = m_geometry.shapes[i];
-    const double unit = double(m_options.origins) * m_options.samples;
-    const double offset = m_rays->originOffset();
+    // row splits where j's neighbours disagree, seen from i). Row j hands them over through the
+    // exchange when it finished first; the rest are recomputed here.
+    const std::uint64_t ticket = ws.exchange->open(i, ws.taken);
+    for (const PairExchange::Entry& entry : ws.taken) ws.published[entry.patch] = entry.value;
     ws.reversed.clear();
-    ws.termStart.assign(1, 0);
+    ws.reversedTerm.clear();
+    ws.handed.clear();
+    ws.termBegin.clear();
+    ws.termEnd.clear();
     ws.factors.clear();
     ws.termWeights.clear();
     ws.origins.clear();
@@ -398,90 +443,108 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
     ws.rayOf.clear();
     ws.termPoint.clear();
     ws.termIndex.clear();
-    std::uint32_t rays = 0;
     for (PatchId j = 0; j < m_geometry.shapes.size(); ++j) {
         if (j == i || !emitsFor(j, i)) continue;
-        const PatchShape& emitter = m_geometry.shapes[j];
-        // No point of j has a term when all of i lies below j's plane or all of j behind i's (with
-        // a margin of j's radius for the points off its centroid's plane).
-        if (emitter.normal.dot(receiver.centroid - emitter.centroid) <= -receiver.radius - emitter.radius ||
-            receiver.normal.dot(emitter.centroid - receiver.centroid) + emitter.radius <= 0.0)
-            continue;
-        int m = pairOrder(j, i);
-        const double far = m == 0 ? m_far.factor(m_geometry, j, i, m_scene->patches[i].area) : 0.0;
-        if (far > m_exactAbove) m = ruleOrder(j, i);  // as addFarPairs: the rule with exact visibility
-        if (m == 0) {  // the far rule: one term, one shadow ray from j's centroid (as addFarPairs)
-            const double f = far;
-            if (!(f > 0.0)) continue;
-            ws.factors.push_back(f);
-            ws.rayOf.push_back(rays++);
-            ws.termWeights.push_back(unit);
-            ws.termPoint.push_back(emitter.centroid);
-            ws.termIndex.push_back(0);
-            float local[3];
-            m_rays->toLocal(emitter.centroid + offset * emitter.normal, local);
-            ws.origins.insert(ws.origins.end(), local, local + 3);
-            m_rays->toLocal(aimPoint(m_geometry.polygon(i), receiver.count, j, i, 0, 0) + offset * receiver.normal, local);
-            ws.targets.insert(ws.targets.end(), local, local + 3);
-            ws.reversed.push_back(j);
-            ws.termStart.push_back(std::uint32_t(ws.factors.size()));
-            continue;
+        const std::uint32_t begin = std::uint32_t(ws.factors.size());
+        if (ws.published[j] >= 0.0f) {
+            ws.handed.push_back(ws.published[j]);
+        } else if (ws.exchange->finished(j, ticket) || !reversedTerms(j, i, true, ws, counts)) {
+            continue;  // no point of j has a term for i
+        } else {
+            ws.handed.push_back(-1.0f);  // from the terms below
         }
-        emitterRule(j, m, ws);
-        const std::size_t before = ws.factors.size();
-        for (std::size_t q = 0; q < ws.quadPoints.size(); ++q) {
-            const Vec3* polygon;
-            std::size_t corners;
-            const double f = pointFactor(i, ws.quadPoints[q], emitter.normal, ws.clipped, polygon, corners);
-            if (f <= 0.0) continue;
-            ws.termWeights.push_back(unit * ws.quadWeights[q]);  // as row j weighs it (the centroid's weight is 1)
-            ws.termPoint.push_back(ws.quadPoints[q]);
-            ws.termIndex.push_back(std::uint32_t(q));
-            if (f > m_exactAbove) {  // as addAnalyticFrom: the visible part from shadow polygons
-                ws.factors.push_back(
-                    m_shadows.visibleFactor(ws.quadPoints[q], emitter.normal, polygon, corners, j, i, f, ws.shadow));
-                ws.rayOf.push_back(kNoRay);
-                ++counts.shadowTerms;
-                continue;
-            }
-            ws.factors.push_back(f);
-            ws.rayOf.push_back(rays++);
-            float local[3];
-            m_rays->toLocal(ws.quadPoints[q] + offset * emitter.normal, local);
-            ws.origins.insert(ws.origins.end(), local, local + 3);
-            m_rays->toLocal(aimPoint(polygon, corners, j, i, std::uint32_t(q), 0) + offset * receiver.normal, local);
-            ws.targets.insert(ws.targets.end(), local, local + 3);
-        }
-        if (ws.factors.size() == before) continue;
+        ws.reversedTerm.push_back(0.0);
         ws.reversed.push_back(j);
-        ws.termStart.push_back(std::uint32_t(ws.factors.size()));
+        ws.termBegin.push_back(begin);
+        ws.termEnd.push_back(std::uint32_t(ws.factors.size()));
     }
+    for (const PairExchange::Entry& entry : ws.taken) ws.published[entry.patch] = -1.0f;
+    const std::size_t rays = ws.origins.size() / 3;
     ws.blocked.assign(rays, 0);
     if (m_visibility && rays > 0) {
         m_rays->occludedSegmentPairs(ws.origins.data(), ws.targets.data(), rays, ws.blocked.data());
         counts.rays += rays;
     }
-    ws.reversedTerm.assign(ws.reversed.size(), 0.0);
     for (std::size_t p = 0; p < ws.reversed.size(); ++p) {
-        bool visible = false;  // row j's entry for i, summed in row j's order
-        for (std::uint32_t t = ws.termStart[p]; t < ws.termStart[p + 1]; ++t) {
-            if (ws.rayOf[t] == kNoRay ? !(ws.factors[t] > 0.0) : ws.blocked[ws.rayOf[t]] != 0) continue;
-            ws.reversedTerm[p] += ws.factors[t] * ws.termWeights[t];
-            visible = true;
+        if (ws.handed[p] < 0.0f) {
+            for (std::uint32_t t = ws.termBegin[p]; t < ws.termEnd[p]; ++t) {  // row j's sum for i, in row j's order
+                if (ws.rayOf[t] == kNoRay ? !(ws.factors[t] > 0.0) : ws.blocked[ws.rayOf[t]] != 0) continue;
+                ws.reversedTerm[p] += ws.factors[t] * ws.termWeights[t];
+            }
+            ws.handed[p] = handedValue(ws.reversedTerm[p], ws.reversed[p], i);
         }
-        ws.status[ws.reversed[p]] = visible ? 1 : 2;
+        ws.status[ws.reversed[p]] = ws.handed[p] > 0.0f ? 1 : 2;
     }
     if (m_visibility) splitReversedSilhouettes(i, ws, counts);
     double sum = 0.0;
     const double Ai = m_scene->patches[i].area;
+    const double unit = double(m_options.origins) * m_options.samples;
     for (std::size_t p = 0; p < ws.reversed.size(); ++p) {
-        if (!(ws.reversedTerm[p] > 0.0)) continue;
         const PatchId j = ws.reversed[p];
-        const double value = ws.reversedTerm[p] * (m_scene->patches[j].area / Ai);
+        // The handed-over entry in ray units (exact: a float times an integer below 2^29), or the
+        // terms of a pair split here.
+        const double value =
+            ws.handed[p] >= 0.0f ? double(ws.handed[p]) * unit : ws.reversedTerm[p] * (m_scene->patches[j].area / Ai);
+        if (!(value > 0.0)) continue;
         ws.row.addWeight(j, value);
         sum += value;
     }
     return sum;
+}
+
+bool HemisphereBackend::reversedTerms(PatchId j, PatchId i, bool rays, Workspace& ws, RayCounts& counts) const {
+    const PatchShape& receiver = m_geometry.shapes[i];
+    const PatchShape& emitter = m_geometry.shapes[j];
+    // No point of j has a term when all of i lies below j's plane or all of j behind i's (with a
+    // margin of j's radius for the points off its centroid's plane).
+    if (emitter.normal.dot(receiver.centroid - emitter.centroid) <= -receiver.radius - emitter.radius ||
+        receiver.normal.dot(emitter.centroid - receiver.centroid) + emitter.radius <= 0.0)
+        return false;
+    const double unit = double(m_options.origins) * m_options.samples;
+    const double offset = m_rays->originOffset();
+    auto addTerm = [&](const Vec3& x, std::uint32_t q, double f, double weight, bool exact, const Vec3& aim) {
+        ws.factors.push_back(f);
+        ws.termWeights.push_back(weight);
+        ws.termPoint.push_back(x);
+        ws.termIndex.push_back(q);
+        if (exact) {
+            ws.rayOf.push_back(kNoRay);
+            return;
+        }
+        ws.rayOf.push_back(std::uint32_t(ws.origins.size() / 3));
+        if (!rays) return;  // the split replaces the ray terms: their verdicts are not needed
+        float local[3];
+        m_rays->toLocal(x + offset * emitter.normal, local);
+        ws.origins.insert(ws.origins.end(), local, local + 3);
+        m_rays->toLocal(aim + offset * receiver.normal, local);
+        ws.targets.insert(ws.targets.end(), local, local + 3);
+    };
+    int m = pairOrder(j, i);
+    const double far = m == 0 ? m_far.factor(m_geometry, j, i, m_scene->patches[i].area) : 0.0;
+    if (far > m_exactAbove) m = ruleOrder(j, i);  // as castFarRays: the rule with exact visibility
+    if (m == 0) {  // the far rule: one term, one shadow ray from j's centroid (as addFarPairs)
+        if (!(far > 0.0)) return false;
+        addTerm(emitter.centroid, 0, far, unit, false, aimPoint(m_geometry.polygon(i), receiver.count, j, i, 0, 0));
+        return true;
+    }
+    emitterRule(j, m, ws);
+    const std::size_t before = ws.factors.size();
+    for (std::size_t q = 0; q < ws.quadPoints.size(); ++q) {
+        const Vec3* polygon;
+        std::size_t corners;
+        const Vec3& x = ws.quadPoints[q];
+        const double f = pointFactor(i, x, emitter.normal, ws.clipped, polygon, corners);
+        if (f <= 0.0) continue;
+        const double weight = unit * ws.quadWeights[q];  // as row j weighs it (the centroid's weight is 1)
+        if (f > m_exactAbove) {  // as addAnalyticFrom: the visible part from shadow polygons
+            ++counts.shadowTerms;
+            addTerm(x, std::uint32_t(q), m_shadows.visibleFactor(x, emitter.normal, polygon, corners, j, i, f, ws.shadow),
+                    weight, true, x);
+            continue;
+        }
+        addTerm(x, std::uint32_t(q), f, weight, false, aimPoint(polygon, corners, j, i, std::uint32_t(q), 0));
+    }
+    return ws.factors.size() > before;
 }
 
 void HemisphereBackend::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCounts& counts) const {
@@ -491,20 +554,30 @@ void HemisphereBackend::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCo
     // pieces, aims and rays: equal values where both rows split). Exact terms stay as they are.
     const PatchShape& receiver = m_geometry.shapes[i];
     const double offset = m_rays->originOffset();
+    ws.silhouette.clear();
+    for (std::size_t p = 0; p < ws.reversed.size(); ++p) {
+        if (!m_geometry.onSilhouette(ws.reversed[p], ws.status)) continue;
+        ws.silhouette.push_back(std::uint32_t(p));
+        if (ws.termBegin[p] != ws.termEnd[p]) continue;
+        // Handed over by row j as a sum: its terms again, without shadow rays.
+        ws.termBegin[p] = std::uint32_t(ws.factors.size());
+        reversedTerms(ws.reversed[p], i, false, ws, counts);
+        ws.termEnd[p] = std::uint32_t(ws.factors.size());
+    }
     ws.origins.clear();
     ws.targets.clear();
     ws.pieceOf.clear();
     ws.pieceValue.clear();
-    for (std::size_t p = 0; p < ws.reversed.size(); ++p) {
+    for (const std::uint32_t p : ws.silhouette) {
         const PatchId j = ws.reversed[p];
-        if (!m_geometry.onSilhouette(j, ws.status)) continue;
         const Vec3& n = m_geometry.shapes[j].normal;
         bool split = false;
-        for (std::uint32_t t = ws.termStart[p]; t < ws.termStart[p + 1]; ++t) {
+        for (std::uint32_t t = ws.termBegin[p]; t < ws.termEnd[p]; ++t) {
             if (ws.rayOf[t] == kNoRay) continue;
             if (!split) {  // the exact terms are kept; the ray terms are replaced by their pieces
+                ws.handed[p] = -1.0f;
                 ws.reversedTerm[p] = 0.0;
-                for (std::uint32_t u = ws.termStart[p]; u < ws.termStart[p + 1]; ++u)
+                for (std::uint32_t u = ws.termBegin[p]; u < ws.termEnd[p]; ++u)
                     if (ws.rayOf[u] == kNoRay && ws.factors[u] > 0.0) ws.reversedTerm[p] += ws.factors[u] * ws.termWeights[u];
                 split = true;
             }
@@ -523,7 +596,7 @@ void HemisphereBackend::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCo
                                 local);
                 ws.origins.insert(ws.origins.end(), origin, origin + 3);
                 ws.targets.insert(ws.targets.end(), local, local + 3);
-                ws.pieceOf.push_back(std::uint32_t(p));
+                ws.pieceOf.push_back(p);
                 ws.pieceValue.push_back(f * ws.termWeights[t]);
             }
         }
@@ -633,6 +706,7 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_
     double sum = 0.0;
     for (std::size_t k = 0; k < ws.exact.size(); ++k) {
         ws.status[ws.exact[k]] = ws.exactVisible[k] >= 0.5 * ws.exactWhole[k] ? 1 : 2;  // as its centre's ray would say
+        keepTerm(ws.unsplit, ws.touched, ws.exact[k], ws.exactVisible[k] > 0.0 ? ws.exactVisible[k] * weight : 0.0);
         if (!(ws.exactVisible[k] > 0.0)) continue;
         ws.row.addWeight(ws.exact[k], ws.exactVisible[k] * weight);
         sum += ws.exactVisible[k] * weight;
@@ -640,6 +714,7 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_
     ws.split.clear();
     for (std::size_t k = 0; k < ws.candidates.size(); ++k) {
         const PatchId j = ws.candidates[k];
+        keepTerm(ws.unsplit, ws.touched, j, ws.blocked[k] ? 0.0 : ws.factors[k] * weight);
         if (m_geometry.onSilhouette(j, ws.status)) {
             ws.split.push_back(j);
         } else if (!ws.blocked[k]) {

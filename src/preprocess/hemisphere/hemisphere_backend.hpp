@@ -7,6 +7,7 @@
 #include "preprocess/hemisphere/far_rule.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
 #include "preprocess/hemisphere/mirror_images.hpp"
+#include "preprocess/hemisphere/pair_exchange.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
 #include "preprocess/hemisphere/shadow_polygons.hpp"
@@ -38,6 +39,9 @@ public:
     void prepare(const Scene& scene) override;
     using FormFactorBackend::computeRows;
     void computeRows(RowSource& rows, FormFactorBuilder& builder) override;
+    /// The analytic estimator: emitting patches first (ascending area), so that a row finds most of
+    /// its pairs handed over by rows that finished before it (pair_exchange.hpp).
+    void orderRows(std::vector<PatchId>& rows) const override;
     FormFactorProvenance provenance() const override;
     std::map<std::string, std::string> parameters() const override;
 
@@ -53,9 +57,13 @@ private:
     /// i emits for, scaled by `weight`.
     double addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_t point, const std::vector<PatchId>* candidates,
                            double weight, Workspace& ws, RayCounts& counts) const;
-    /// Row i's entries for the patches that emit for i: the terms each of their rows sums for i,
-    /// scaled by A_j / A_i; sets their visibility status. Returns their sum (row fraction).
+    /// Row i's entries for the patches that emit for i: the terms each of their rows sums for i
+    /// (handed over by the exchange or recomputed), scaled by A_j / A_i; sets their visibility
+    /// status. Returns their sum (row fraction).
     double addReversedPairs(PatchId i, Workspace& ws, RayCounts& counts) const;
+    /// The terms row j sums for receiver i, appended to ws's term arrays (with `rays`, a shadow ray
+    /// per ray term into ws.origins/targets); false when j has no term for i.
+    bool reversedTerms(PatchId j, PatchId i, bool rays, Workspace& ws, RayCounts& counts) const;
     /// Of those, the emitters on a silhouette seen from i (a mesh neighbour's status differs): their
     /// ray terms again with i split into pieces, each with its own shadow ray, into ws.reversedTerm.
     void splitReversedSilhouettes(PatchId i, Workspace& ws, RayCounts& counts) const;
@@ -86,6 +94,12 @@ private:
     /// Their entries, scaled by `weight`, once the centroid pass has set its statuses too (the
     /// silhouette test reads the neighbours of both); those on a silhouette join ws.split.
     double addFarPairs(double weight, Workspace& ws) const;
+    /// F_re from the sum of the pair's terms over e's points (ray units), rounded to F's float as
+    /// the exchange hands it over: both rows of the pair round it alike.
+    float handedValue(double terms, PatchId e, PatchId r) const {
+        return float(terms * (m_scene->patches[e].area / m_scene->patches[r].area) /
+                     (double(m_options.origins) * m_options.samples));
+    }
     bool emitsFor(PatchId e, PatchId r) const {
         const double a = m_scene->patches[e].area, b = m_scene->patches[r].area;
         return a < b || (a == b && e < r);

@@ -1,0 +1,59 @@
+// Pair terms handed from the row that computes them to the row of the pair's other patch.
+#include "preprocess/hemisphere/pair_exchange.hpp"
+
+namespace hemirad {
+
+PairExchange::PairExchange(std::size_t patches, std::function<bool(PatchId)> wanted)
+    : m_wanted(std::move(wanted)),
+      m_entries(patches),
+      m_state(patches, 0),
+      m_finishedAt(new std::atomic<std::uint64_t>[patches]()),
+      m_stripes(new std::mutex[kStripes]) {}
+
+std::uint64_t PairExchange::open(PatchId receiver, std::vector<Entry>& entries) {
+    // The clock is read before the row closes: an emitter stamped at or before this reading had
+    // appended its entry (if it had one) before the close below.
+    const std::uint64_t ticket = m_clock.load(std::memory_order_acquire);
+    bool complete;
+    {
+        std::lock_guard<std::mutex> lock(stripeOf(receiver));
+        m_state[receiver] |= kClosed;  // nobody appends again: the list's memory leaves with it
+        complete = !(m_state[receiver] & kSkipped);
+        entries = std::move(m_entries[receiver]);
+        m_entries[receiver] = {};
+    }
+    m_held.fetch_sub(entries.size(), std::memory_order_relaxed);
+    // An emitter that skipped this row (not wanted then) finished without its entry: no absence
+    // can be trusted, so no emitter counts as finished.
+    return complete ? ticket : 0;
+}
+
+void PairExchange::publish(PatchId emitter, const std::vector<Entry>& entries) {
+    // One lock per run of receivers in the same stripe.
+    std::mutex* held = nullptr;
+    std::size_t added = 0;
+    for (const Entry& entry : entries) {
+        const PatchId r = entry.patch;
+        std::mutex* stripe = &stripeOf(r);
+        if (stripe != held) {
+            if (held) held->unlock();
+            stripe->lock();
+            held = stripe;
+        }
+        if (m_state[r] & kClosed) continue;
+        if (m_entries[r].empty() && !m_wanted(r)) {  // asked while the row's list is empty
+            m_state[r] |= kSkipped;
+            continue;
+        }
+        m_entries[r].push_back({emitter, entry.value});
+        ++added;
+    }
+    if (held) held->unlock();
+    m_held.fetch_add(added, std::memory_order_relaxed);
+    const std::uint64_t tick = m_clock.fetch_add(1, std::memory_order_acq_rel) + 1;
+    m_finishedAt[emitter].store(tick, std::memory_order_release);
+}
+
+std::size_t PairExchange::held() const { return m_held.load(std::memory_order_relaxed); }
+
+}  // namespace hemirad

@@ -1,0 +1,70 @@
+// Pair terms handed from the row that computes them to the row of the pair's other patch.
+#pragma once
+
+#include "engine/scene.hpp"
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+namespace hemirad {
+
+/// The analytic estimator computes a pair (e, r) from the points of its emitting patch e (the
+/// smaller one). Row e publishes, per receiver r, what row r needs of the pair: F_re from the
+/// pair's terms before row e's silhouette split, 0 for a pair hidden from every point. Row r takes
+/// it instead of recomputing the pair when row e had finished before row r opened; otherwise (row e
+/// in flight on another thread, on another MPI rank, or later in the row order) row r recomputes it
+/// from the same points and shadow rays, equal bit for bit, so F does not depend on which rows
+/// finished first. Each pair's work is then done once wherever the emitting row comes first.
+///
+///     emitter e: publish(e, entries) -> each appended to its open receiver's list, then e is
+///                stamped with the next tick of a clock
+///     receiver r: open(r) -> ticket = the clock's reading, r closed, its list moved out;
+///                an emitter absent from the list had no term for r iff finished(e, ticket)
+///
+/// Entries go only to rows the source says it may still hand out; a row that some emitter skipped
+/// (an MPI rank's row pushed after that emitter finished) gets ticket 0: every absent pair is
+/// recomputed.
+///
+/// An entry takes 8 bytes (F's own size per nonzero); a row's entries wait from its first emitter's
+/// end to its own start. Thread-safe: rows on any threads, each row opened and published once.
+class PairExchange {
+public:
+    struct Entry {
+        PatchId patch;  ///< the pair's other patch: the receiver in publish(), the emitter in open()
+        float value;    ///< F_re as row e computed it before its split, >= 0 (0: hidden from every point)
+    };
+    /// `patches` rows; entries are kept only for receivers `wanted` says may still be opened here.
+    PairExchange(std::size_t patches, std::function<bool(PatchId)> wanted);
+    /// Closes row `receiver` to further entries and moves its entries into `entries`; returns the
+    /// ticket for finished() (0 when an emitter skipped the row).
+    std::uint64_t open(PatchId receiver, std::vector<Entry>& entries);
+    /// Whether row `emitter` had published all its entries before the row holding `ticket` opened.
+    bool finished(PatchId emitter, std::uint64_t ticket) const {
+        const std::uint64_t stamp = m_finishedAt[emitter].load(std::memory_order_acquire);
+        return stamp != 0 && stamp <= ticket;
+    }
+    /// Row `emitter`'s entries, one per receiver (mostly ascending: runs share a lock).
+    void publish(PatchId emitter, const std::vector<Entry>& entries);
+    /// Entries held now (for tests and the memory report).
+    std::size_t held() const;
+
+private:
+    std::mutex& stripeOf(PatchId receiver) const { return m_stripes[receiver >> kStripeShift & (kStripes - 1)]; }
+    static constexpr unsigned kStripeShift = 6;  ///< 64 consecutive rows share a lock
+    static constexpr std::size_t kStripes = 256;
+
+    std::function<bool(PatchId)> m_wanted;
+    std::vector<std::vector<Entry>> m_entries;  ///< per receiver, guarded by its stripe
+    enum : std::uint8_t { kClosed = 1, kSkipped = 2 };
+    std::vector<std::uint8_t> m_state;          ///< per receiver, guarded by its stripe
+    std::unique_ptr<std::atomic<std::uint64_t>[]> m_finishedAt;  ///< per emitter: its tick, 0 = not finished
+    std::atomic<std::uint64_t> m_clock{0};
+    std::atomic<std::size_t> m_held{0};
+    mutable std::unique_ptr<std::mutex[]> m_stripes;
+};
+
+}  // namespace hemirad

@@ -1,0 +1,136 @@
+// Each pair computed once: the exchange that hands a pair's terms from its emitting row to the
+// other row, and F equal bit for bit whichever rows found their terms handed over.
+#include "support.hpp"
+
+#include "engine/subdivide.hpp"
+#include "preprocess/backend_registry.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
+#include "preprocess/hemisphere/pair_exchange.hpp"
+
+#include <doctest/doctest.h>
+
+#include <thread>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+TEST_CASE("Pair exchange: an emitter's entries reach rows opened after it finished, and no others") {
+    PairExchange exchange(6, [](PatchId r) { return r != 5; });
+    std::vector<PairExchange::Entry> entries;
+    // Row 3 opens before emitter 0 finishes: nothing for it, and 0 does not count as finished.
+    const std::uint64_t early = exchange.open(3, entries);
+    CHECK(entries.empty());
+    CHECK_FALSE(exchange.finished(0, early));
+    exchange.publish(0, {{2, 0.25f}, {3, 0.0f}, {4, 0.5f}, {5, 0.75f}});  // 3 is closed, 5 is not wanted here
+    CHECK(exchange.held() == 2);
+    CHECK_FALSE(exchange.finished(0, early));
+    const std::uint64_t later = exchange.open(4, entries);
+    REQUIRE(entries.size() == 1);
+    CHECK(entries[0].patch == 0);
+    CHECK(entries[0].value == 0.5f);
+    CHECK(exchange.finished(0, later));
+    CHECK_FALSE(exchange.finished(1, later));  // never published
+    // A hidden pair (value 0) is an entry too: row 2 learns that 0 had a term for it.
+    exchange.publish(1, {{2, 0.0f}});
+    exchange.open(2, entries);
+    REQUIRE(entries.size() == 2);
+    CHECK(entries[0].value == 0.25f);
+    CHECK(entries[1].patch == 1);
+    CHECK(entries[1].value == 0.0f);
+    CHECK(exchange.held() == 0);
+    // Row 5 was not wanted when 0 published: 0's absence from its list says nothing.
+    CHECK(exchange.open(5, entries) == 0);
+    CHECK(entries.empty());
+    CHECK_FALSE(exchange.finished(0, 0));
+}
+
+TEST_CASE("Pair exchange: a row the source hands out only later is not taken for one without terms") {
+    // An MPI rank's queue: row 1 is pushed after row 0 finished, so row 0 kept nothing for it.
+    bool pushed = false;
+    PairExchange exchange(2, [&pushed](PatchId r) { return r == 0 || pushed; });
+    std::vector<PairExchange::Entry> entries;
+    exchange.open(0, entries);
+    exchange.publish(0, {{1, 0.5f}});
+    pushed = true;
+    const std::uint64_t ticket = exchange.open(1, entries);
+    CHECK(entries.empty());
+    CHECK_FALSE(exchange.finished(0, ticket));  // row 1 recomputes the pair
+}
+
+TEST_CASE("Pair exchange: rows published and opened on several threads lose no entry") {
+    const PatchId n = 400;
+    PairExchange exchange(n, [](PatchId) { return true; });
+    std::vector<int> seen(std::size_t(n) * n, 0);  // [receiver][emitter]: 1 handed over, 2 finished without entry
+    auto work = [&](PatchId first) {
+        std::vector<PairExchange::Entry> entries;
+        std::vector<PairExchange::Entry> receivers;
+        for (PatchId e = first; e < n; e += 2) {
+            const std::uint64_t ticket = exchange.open(e, entries);
+            for (const auto& entry : entries) {
+                CHECK(entry.value == float(entry.patch) + 0.5f);
+                seen[std::size_t(e) * n + entry.patch] = 1;
+            }
+            for (PatchId j = 0; j < e; ++j)
+                if (exchange.finished(j, ticket) && !seen[std::size_t(e) * n + j]) seen[std::size_t(e) * n + j] = 2;
+            receivers.clear();
+            for (PatchId r = e + 1; r < n; ++r) receivers.push_back({r, float(e) + 0.5f});  // every later row
+            exchange.publish(e, receivers);
+        }
+    };
+    std::thread a(work, 0), b(work, 1);
+    a.join();
+    b.join();
+    // An emitter that counted as finished had published to every later row: none is missing.
+    int handed = 0;
+    for (std::size_t k = 0; k < seen.size(); ++k) {
+        CHECK(seen[k] != 2);
+        handed += seen[k] == 1;
+    }
+    MESSAGE(handed << " of " << n * (n - 1) / 2 << " pairs handed over");
+    CHECK(handed > n * (n - 1) / 4);
+}
+
+namespace {
+
+/// F of the hemisphere back end's analytic estimator with the rows in one list (pairs handed over)
+/// or one row per call (every row recomputes the pairs its row did not hand over).
+FormFactors analyticRows(const Scene& scene, int threads, bool rowByRow, RayCounts& counts) {
+    HemisphereOptions o;
+    o.estimator = Estimator::Analytic;
+    CommonOptions common;
+    common.threads = threads;
+    auto backend = makeBackend(MethodSettings::of(o, common));
+    backend->prepare(scene);
+    FormFactorBuilder builder(scene.size());
+    std::vector<PatchId> rows(scene.size());
+    for (PatchId i = 0; i < scene.size(); ++i) rows[i] = i;
+    if (rowByRow) {
+        for (const PatchId i : rows) backend->computeRows(std::vector<PatchId>{i}, builder);
+    } else {
+        backend->computeRows(rows, builder);
+    }
+    counts = builder.counts();
+    return builder.finish();
+}
+
+}  // namespace
+
+TEST_CASE("Each pair once: F with pairs handed between rows equals F with every pair computed by both rows, bit for bit") {
+    // The closed Cornell box with its blocks (shadow rays, exact visible parts and silhouette splits
+    // both ways), 1 and 2 threads.
+    const Scene s = subdivide(bundledScene("cornell_closed.obj"), 150.0);
+    RayCounts separate, once, twoThreads;
+    const FormFactors reference = analyticRows(s, 1, true, separate);
+    const FormFactors F = analyticRows(s, 1, false, once);
+    const FormFactors F2 = analyticRows(s, 2, false, twoThreads);
+    MESSAGE(s.size() << " patches; shadow rays " << separate.rays << " row by row, " << once.rays << " with pairs handed over ("
+                     << twoThreads.rays << " on 2 threads); exact terms " << separate.shadowTerms << " / " << once.shadowTerms);
+    CHECK(F.rowStarts() == reference.rowStarts());
+    CHECK(F.columnVector() == reference.columnVector());
+    CHECK(F.valueVector() == reference.valueVector());  // float == float: bit for bit but for -0 and NaN
+    CHECK(F2.columnVector() == reference.columnVector());
+    CHECK(F2.valueVector() == reference.valueVector());
+    // The work the exchange saves: row by row, each pair's rays are cast by both of its rows.
+    CHECK(double(once.rays) < 0.7 * double(separate.rays));
+    CHECK(double(once.shadowTerms) < 0.7 * double(separate.shadowTerms));
+}
