@@ -391,6 +391,7 @@ void HemisphereBackend::castFarRays(PatchId i, Workspace& ws, RayCounts& counts)
         }
         ws.far.push_back(j);
         ws.farFactors.push_back(f);
+        if (!m_visibility) continue;  // no shadow ray: no target
         float local[3];
         const Vec3 aim = aimPoint(m_geometry.polygon(j), m_geometry.shapes[j].count, i, j, 0, 0);
         m_rays->toLocal(aim + offset * m_geometry.shapes[j].normal, local);
@@ -658,12 +659,14 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_
                                           RayCounts& counts) const {
     const Vec3& n = m_geometry.shapes[i].normal;
     const double offset = m_rays->originOffset();
-    auto aim = [&](const Vec3& target, PatchId j, double f) {
-        float local[3];
-        m_rays->toLocal(target + offset * m_geometry.shapes[j].normal, local);  // lifted off j towards x
-        ws.targets.insert(ws.targets.end(), local, local + 3);
+    auto aim = [&](const Vec3* polygon, std::size_t corners, std::uint32_t piece, PatchId j, double f) {
         ws.candidates.push_back(j);
         ws.factors.push_back(f);
+        if (!m_visibility) return;  // no shadow ray: no target
+        float local[3];
+        m_rays->toLocal(aimPoint(polygon, corners, i, j, point, piece) + offset * m_geometry.shapes[j].normal,
+                        local);  // lifted off j towards x
+        ws.targets.insert(ws.targets.end(), local, local + 3);
     };
     float origin[3];
     m_rays->toLocal(x + offset * n, origin);
@@ -697,7 +700,7 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_
             ++counts.shadowTerms;
             continue;
         }
-        aim(aimPoint(polygon, corners, i, j, point, 0), j, f);
+        aim(polygon, corners, 0, j, f);
     }
     shoot();
     // Visibility of each patch from its shadow ray; a patch whose mesh neighbours disagree with it
@@ -735,7 +738,7 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_
         piecesOf(polygon, corners, ws);
         for (std::size_t q = 0; q < ws.pieces.size(); q += 4) {
             const double f = pointToPolygonFactor(x, n, &ws.pieces[q], 4);
-            if (f > 0.0) aim(aimPoint(&ws.pieces[q], 4, i, j, point, std::uint32_t(q / 4 + 1)), j, f);
+            if (f > 0.0) aim(&ws.pieces[q], 4, std::uint32_t(q / 4 + 1), j, f);
         }
     }
     shoot();
