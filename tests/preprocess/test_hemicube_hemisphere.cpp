@@ -94,6 +94,7 @@ TEST_CASE("Every back end handles a mesh refined per object (T-junctions): facto
         MethodSettings method;
         double tolerance;
         bool sameId = false;  ///< compare only rows whose patch keeps its id (the ray pattern is seeded by it)
+        double rowSlack = 1e-6;  ///< how far a row may sum above 1
     };
     HemicubeOptions parents, triangles;
     parents.resolution = triangles.resolution = 128;
@@ -106,10 +107,12 @@ TEST_CASE("Every back end handles a mesh refined per object (T-junctions): facto
     // the same picture (float sums only); its triangles meet at T-junctions, where rasterisation may
     // leave a pixel; the analytic estimator resolves partial visibility per receiver polygon, so a
     // refined receiver's shadow is resolved finer (the worst pair: the tall block's shadow on the
-    // short block); rays from the same origin hit the same surfaces, T-junctions or not.
+    // short block); rays from the same origin hit the same surfaces, T-junctions or not. A row whose
+    // hemisphere the room closes (a block face turned to the back wall) sums to 1 within the
+    // analytic estimator's quadrature error: 1 + 1.4e-6 measured.
     for (const Case& c : {Case{"hemicube, parent polygons", MethodSettings::of(parents), 1e-6},
                           Case{"hemicube, patch triangles", MethodSettings::of(triangles), 1e-4},
-                          Case{"hemisphere, analytic", MethodSettings::of(analytic), 1e-3},
+                          Case{"hemisphere, analytic", MethodSettings::of(analytic), 1e-3, false, 1e-5},
                           Case{"hemisphere, rays", MethodSettings::of(rays), 1e-8, true}}) {
         CAPTURE(c.name);
         const FormFactorRun whole = computeFormFactors(s, c.method, neededRows(s, true));
@@ -117,7 +120,7 @@ TEST_CASE("Every back end handles a mesh refined per object (T-junctions): facto
         double worst = 0.0;
         std::size_t rows = 0;
         for (PatchId j = 0; j < t.size(); ++j) {
-            CHECK(refined.F.rowSum(j) <= 1.0 + 1e-6);
+            CHECK_MESSAGE(refined.F.rowSum(j) <= 1.0 + c.rowSlack, "row " << j << " sum - 1 = " << refined.F.rowSum(j) - 1.0);
             if (t.parents[t.patches[j].parent].kind != GridKind::Single || (c.sameId && j != sourceOf(j))) continue;
             // Row of a patch both meshes share: the same factors, summed over each source polygon.
             std::vector<double> bySource(s.size(), 0.0);
