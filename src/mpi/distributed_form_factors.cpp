@@ -14,13 +14,15 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
+#include <cstdint>
 #include <deque>
-#include <memory>
 #include <exception>
 #include <future>
+#include <memory>
 #include <mutex>
 #include <thread>
 

@@ -42,6 +42,8 @@ TEST_CASE("Pair exchange: an emitter's entries reach rows opened after it finish
     CHECK(exchange.open(5, entries) == 0);
     CHECK(entries.empty());
     CHECK_FALSE(exchange.finished(0, 0));
+    // A row opened again (listed twice) trusts no absence either.
+    CHECK(exchange.open(4, entries) == 0);
 }
 
 TEST_CASE("Pair exchange: a row the source hands out only later is not taken for one without terms") {

@@ -205,7 +205,9 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
     std::atomic<bool> failed{false};
     // Each pair is computed by its emitting row and handed to the other row (pair_exchange.hpp),
     // kept for the rows this source may still hand out.
-    PairExchange exchange(m_scene->size(), [&rows](PatchId r) { return rows.mayHandOut(r); });
+    std::unique_ptr<PairExchange> exchange;
+    if (m_analytic)
+        exchange = std::make_unique<PairExchange>(m_scene->size(), [&rows](PatchId r) { return rows.mayHandOut(r); });
 #pragma omp parallel num_threads(threads)
     {
         Workspace ws(m_scene->size(), m_mirrors || m_analytic);
@@ -214,7 +216,7 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
             ws.ruled.assign(m_scene->size(), 0);
             ws.byOrder.resize(std::size_t(m_orders.highest()) + 1);  // [0]: the far rule
             ws.status.assign(m_scene->size(), 0);
-            ws.exchange = &exchange;
+            ws.exchange = exchange.get();
             ws.published.assign(m_scene->size(), -1.0f);
             ws.unsplit.assign(m_scene->size(), -1.0);
         }

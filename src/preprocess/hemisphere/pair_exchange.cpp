@@ -1,6 +1,8 @@
 // Pair terms handed from the row that computes them to the row of the pair's other patch.
 #include "preprocess/hemisphere/pair_exchange.hpp"
 
+#include <algorithm>
+
 namespace hemirad {
 
 PairExchange::PairExchange(std::size_t patches, std::function<bool(PatchId)> wanted)
@@ -17,12 +19,13 @@ std::uint64_t PairExchange::open(PatchId receiver, std::vector<Entry>& entries) 
     bool complete;
     {
         std::lock_guard<std::mutex> lock(stripeOf(receiver));
+        // Opened before (a row listed twice): emitters that finished since kept nothing for it.
+        complete = !(m_state[receiver] & (kSkipped | kClosed));
         m_state[receiver] |= kClosed;  // nobody appends again: the list's memory leaves with it
-        complete = !(m_state[receiver] & kSkipped);
         entries = std::move(m_entries[receiver]);
         m_entries[receiver] = {};
     }
-    m_held.fetch_sub(entries.size(), std::memory_order_relaxed);
+    m_held.fetch_sub(std::int64_t(entries.size()), std::memory_order_relaxed);
     // An emitter that skipped this row (not wanted then) finished without its entry: no absence
     // can be trusted, so no emitter counts as finished.
     return complete ? ticket : 0;
@@ -49,11 +52,11 @@ void PairExchange::publish(PatchId emitter, const std::vector<Entry>& entries) {
         ++added;
     }
     if (held) held->unlock();
-    m_held.fetch_add(added, std::memory_order_relaxed);
+    m_held.fetch_add(std::int64_t(added), std::memory_order_relaxed);
     const std::uint64_t tick = m_clock.fetch_add(1, std::memory_order_acq_rel) + 1;
     m_finishedAt[emitter].store(tick, std::memory_order_release);
 }
 
-std::size_t PairExchange::held() const { return m_held.load(std::memory_order_relaxed); }
+std::size_t PairExchange::held() const { return std::size_t(std::max<std::int64_t>(0, m_held.load(std::memory_order_relaxed))); }
 
 }  // namespace hemirad

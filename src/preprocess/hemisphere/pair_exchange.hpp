@@ -29,8 +29,9 @@ namespace hemirad {
 /// (an MPI rank's row pushed after that emitter finished) gets ticket 0: every absent pair is
 /// recomputed.
 ///
-/// An entry takes 8 bytes (F's own size per nonzero); a row's entries wait from its first emitter's
-/// end to its own start. Thread-safe: rows on any threads, each row opened and published once.
+/// An entry takes 8 bytes (F's own size per nonzero; up to twice that with a list's growth); a
+/// row's entries wait from its first emitter's end to its own start. Thread-safe: rows on any
+/// threads, each row published once; a row opened again gets ticket 0.
 class PairExchange {
 public:
     struct Entry {
@@ -49,7 +50,7 @@ public:
     }
     /// Row `emitter`'s entries, one per receiver (mostly ascending: runs share a lock).
     void publish(PatchId emitter, const std::vector<Entry>& entries);
-    /// Entries held now (for tests and the memory report).
+    /// Entries held now (for tests; momentarily low while a row opens during a publish).
     std::size_t held() const;
 
 private:
@@ -63,7 +64,7 @@ private:
     std::vector<std::uint8_t> m_state;          ///< per receiver, guarded by its stripe
     std::unique_ptr<std::atomic<std::uint64_t>[]> m_finishedAt;  ///< per emitter: its tick, 0 = not finished
     std::atomic<std::uint64_t> m_clock{0};
-    std::atomic<std::size_t> m_held{0};
+    std::atomic<std::int64_t> m_held{0};  ///< signed: a row may take entries before their publish counts them
     mutable std::unique_ptr<std::mutex[]> m_stripes;
 };
 
