@@ -33,6 +33,7 @@ struct Options {
     MethodSettings formFactors;
     bool allRows = false;
     bool enforceReciprocity = false;
+    double dropBelow = 0.0;  ///< --drop-below EPS (0: keep every pair)
     bool normalizeRows = false;
     bool memoryCheck = true;             ///< --no-memory-check turns the F memory estimate off
     std::string ffPath;                  ///< --ff: stored F to reuse (or to create)

@@ -10,6 +10,7 @@ RadiosityPipeline makePipeline(const Options& options, Timings& timings, const R
     policy.backend = options.formFactors;
     policy.allRows = options.allRows;
     policy.enforceReciprocity = options.enforceReciprocity;
+    policy.dropBelow = options.dropBelow;
     policy.normalizeRows = options.normalizeRows;
     policy.memoryCheck = options.memoryCheck;
     PipelineEvents events;

@@ -239,18 +239,34 @@ std::string describe(const ReciprocityReport& report) {
 
 namespace {
 
-/// S for every row of F, built in parallel; F^T lives only while it is built.
-SymmetricRows symmetricRowsOf(const FormFactors& F, const Scene& scene) {
+/// S for every row of F, built in parallel; F^T lives only while it is built. Pairs whose entries
+/// are both below `dropBelow` (0: none) are left out, their weight per row into `droppedWeight`.
+SymmetricRows symmetricRowsOf(const FormFactors& F, const Scene& scene, double dropBelow = 0.0,
+                              std::vector<double>* droppedWeight = nullptr) {
     const std::size_t n = F.size();
     const TransposedFormFactors Ft = transpose(F);
     SymmetricRows S;
     S.scales = F.computedFlags();
+    // A pair is dropped whole (both rows), so that S stays symmetric; an entry whose column's row
+    // was not computed is fixed and kept.
+    // A row's largest entry stays, so that every row keeps something to scale.
+    std::vector<float> largest(dropBelow > 0.0 ? n : 0, 0.0f);
+    for (std::size_t i = 0; i < largest.size(); ++i)
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) largest[i] = std::max(largest[i], F.values()[k]);
+    auto dropped = [&](std::ptrdiff_t i, std::uint32_t j, double fij, double fji) {
+        return j != std::uint32_t(i) && F.rowComputed(j) && fij < dropBelow && fji < dropBelow &&
+               fij < largest[std::size_t(i)] && fji < largest[j];
+    };
+    if (droppedWeight) droppedWeight->assign(n, 0.0);
     // Two passes over the merged row and column of each computed row, in parallel: count, then fill.
     S.start.assign(n + 1, 0);
     const auto count = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel for schedule(dynamic, 64)
     for (std::ptrdiff_t i = 0; i < count; ++i)
-        if (F.rowComputed(i)) mergeRowAndColumn(F, Ft, i, [&](std::uint32_t, double, double) { ++S.start[i + 1]; });
+        if (F.rowComputed(i))
+            mergeRowAndColumn(F, Ft, i, [&](std::uint32_t j, double fij, double fji) {
+                if (!dropped(i, j, fij, fji)) ++S.start[i + 1];
+            });
     for (std::size_t i = 0; i < n; ++i) S.start[i + 1] += S.start[i];
     S.columns.resize(S.start[n]);
     S.values.resize(S.start[n]);
@@ -260,6 +276,10 @@ SymmetricRows symmetricRowsOf(const FormFactors& F, const Scene& scene) {
         const double Ai = scene.patches[i].area;
         std::uint64_t e = S.start[i];
         mergeRowAndColumn(F, Ft, i, [&](std::uint32_t j, double fij, double fji) {
+            if (dropped(i, j, fij, fji)) {
+                if (droppedWeight) (*droppedWeight)[std::size_t(i)] += fij;
+                return;
+            }
             S.columns[e] = j;
             S.values[e++] = static_cast<float>(
                 SymmetricRows::pairMean(i, j, Ai, fij, scene.patches[j].area * fji, F.rowComputed(j)));
@@ -275,10 +295,9 @@ SymmetricRows symmetricRowsOf(const FormFactors& F, const Scene& scene) {
     return S;
 }
 
-}  // namespace
-
-ReciprocityReport enforceReciprocity(FormFactors& F, const Scene& scene) {
-    SymmetricRows S = symmetricRowsOf(F, scene);
+/// F replaced by the closure of S (the targets from S's estimated sums); F's hash, provenance and
+/// parameters kept, "reciprocity" set.
+ReciprocityReport closeFrom(SymmetricRows S, FormFactors& F, const Scene& scene) {
     ReciprocityReport report;
     chooseTargets(scene, estimatedNearOne(S), report);
     const std::vector<double> x = closureScaling(scene, S, report.closedTargets, singleProcess(), report);
@@ -293,6 +312,38 @@ ReciprocityReport enforceReciprocity(FormFactors& F, const Scene& scene) {
     F.parameters = std::move(params);
     F.parameters["reciprocity"] = report.closedTargets ? "enforced, rows closed to 1" : "enforced, estimated row sums kept";
     return report;
+}
+
+}  // namespace
+
+ReciprocityReport enforceReciprocity(FormFactors& F, const Scene& scene) { return closeFrom(symmetricRowsOf(F, scene), F, scene); }
+
+SparsifyReport dropBelow(FormFactors& F, const Scene& scene, double threshold) {
+    SparsifyReport report;
+    report.threshold = threshold;
+    report.nonzerosBefore = F.nonZeros();
+    report.bytesBefore = F.memoryBytes();
+    std::vector<double> droppedWeight;
+    SymmetricRows S = symmetricRowsOf(F, scene, threshold, &droppedWeight);
+    for (const double w : droppedWeight) report.largestDroppedRow = std::max(report.largestDroppedRow, w);
+    report.closure = closeFrom(std::move(S), F, scene);
+    report.nonzerosAfter = F.nonZeros();
+    report.bytesAfter = F.memoryBytes();
+    char text[96];
+    std::snprintf(text, sizeof text, "pairs below %g dropped (%zu of %zu nonzeros), rows rebalanced", threshold,
+                  report.nonzerosBefore - std::min(report.nonzerosBefore, report.nonzerosAfter), report.nonzerosBefore);
+    F.parameters["sparsified"] = text;
+    return report;
+}
+
+std::string describe(const SparsifyReport& report) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "pairs with both entries below %g dropped: %zu -> %zu nonzeros (%.1f -> %.1f MiB), at most %.3g of a "
+                  "row's weight; ",
+                  report.threshold, report.nonzerosBefore, report.nonzerosAfter, double(report.bytesBefore) / 1048576.0,
+                  double(report.bytesAfter) / 1048576.0, report.largestDroppedRow);
+    return text + describe(report.closure);
 }
 
 }  // namespace hemirad

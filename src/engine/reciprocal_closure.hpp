@@ -89,4 +89,22 @@ std::string describe(const ReciprocityReport& report);
 /// summing to its target (chooseTargets). Rows of F not computed are left as they are.
 ReciprocityReport enforceReciprocity(FormFactors& F, const Scene& scene);
 
+/// What --drop-below did: F's size before and after, and what the rows lost before rebalancing.
+struct SparsifyReport {
+    double threshold = 0.0;
+    std::size_t nonzerosBefore = 0, nonzerosAfter = 0;
+    std::size_t bytesBefore = 0, bytesAfter = 0;
+    double largestDroppedRow = 0.0;  ///< the most weight a row lost to dropped entries, before rebalancing
+    ReciprocityReport closure;       ///< the rebalancing
+};
+
+/// --drop-below in one process: drops every pair whose entries F_ij and F_ji are both below
+/// `threshold` (entries whose column's row was not computed are kept), then closes the rest as
+/// enforceReciprocity does, toward each row's sum before dropping (1 in a closed scene): the dropped
+/// weight goes to the row's other entries by symmetric scaling, so rows and reciprocity stay intact.
+SparsifyReport dropBelow(FormFactors& F, const Scene& scene, double threshold);
+
+/// One line for the run's report: the sizes, the largest loss, then the closure's line.
+std::string describe(const SparsifyReport& report);
+
 }  // namespace hemirad

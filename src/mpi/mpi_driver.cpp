@@ -316,6 +316,10 @@ int runUnderMpi(int argc, char** argv) {
                 throw UsageError("-o - under mpirun: mpirun forwards standard output, which cannot be checked for a "
                                  "terminal, so the binary ." + outputFormat(options) + " needs -o FILE (text .mtx "
                                  "and .csv may go to '-')");
+            if (options.dropBelow > 0.0)
+                throw UsageError("--drop-below runs in one process, not yet across MPI ranks: store F with "
+                                 "'mpirun ... hemirad formfactors SCENE -o F.hff', then run 'hemirad solve SCENE --ff "
+                                 "F.hff --drop-below EPS' without mpirun");
         });
         const std::string& command = options.command;
         if (command == "formfactors" || command == "solve" || command == "render") {

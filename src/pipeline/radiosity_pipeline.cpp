@@ -115,11 +115,18 @@ void RadiosityPipeline::refreshStats(const Scene& scene, FormFactorUpdate& updat
 }
 
 void RadiosityPipeline::postProcess(const Scene& scene, FormFactorUpdate& update) const {
-    if (m_policy.enforceReciprocity) {
+    if (m_policy.enforceReciprocity || m_policy.dropBelow > 0.0) {
+        // Dropping pairs ends with the same closure, toward the row sums from before.
         const auto t0 = Clock::now();
-        const ReciprocityReport report = enforceReciprocity(update.F, scene);
-        timing("enforce reciprocity", since(t0));
-        message("form factors: " + describe(report));
+        if (m_policy.dropBelow > 0.0) {
+            const SparsifyReport report = dropBelow(update.F, scene, m_policy.dropBelow);
+            timing("drop below", since(t0));
+            message("form factors: " + describe(report));
+        } else {
+            const ReciprocityReport report = enforceReciprocity(update.F, scene);
+            timing("enforce reciprocity", since(t0));
+            message("form factors: " + describe(report));
+        }
         refreshStats(scene, update, bool(m_events.formFactorsChanged));
         if (m_events.formFactorsChanged) m_events.formFactorsChanged(*update.stats, update.F.memoryBytes());
         update.changed = true;

@@ -24,6 +24,7 @@ struct FormFactorPolicy {
     bool allRows = false;             ///< also rows of black patches (skipped by default: B = E there)
     bool enforceReciprocity = false;  ///< A_i F_ij = A_j F_ji by the pair's area-weighted mean
     bool normalizeRows = false;       ///< every row to sum 1 (closed scenes without mirrors)
+    double dropBelow = 0.0;           ///< pairs with both entries below this dropped, rows rebalanced (0: none)
     bool memoryCheck = true;          ///< refuse an F that would not fit the available memory
     /// Keep FormFactorUpdate::stats current after merging and post-processing (a pass over F and its
     /// transpose: the GUI shows them; the CLI reports only what it computed).

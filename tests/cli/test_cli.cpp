@@ -64,6 +64,12 @@ TEST_CASE("Usage errors exit with status 2 and say what is wrong") {
     r = runHemirad("solve " + scene("unit_cube.obj") + " -o x.csv --solver magic");
     CHECK(r.status == 2);
     CHECK(r.output.find("unknown solver 'magic'") != std::string::npos);
+    r = runHemirad("formfactors " + scene("unit_cube.obj") + " -o F.hff --drop-below 0");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("--drop-below 0 is out of range") != std::string::npos);
+    r = runHemirad("bench " + scene("unit_cube.obj") + " -o x.csv --drop-below 1e-3");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("'--drop-below' does not apply to 'bench'") != std::string::npos);
     CHECK(runHemirad("help").status == 0);
 }
 

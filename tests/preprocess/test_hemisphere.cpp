@@ -312,6 +312,52 @@ TEST_CASE("Analytic estimator with --mirror-estimator rays: rays carry only the 
     CHECK(r.F.at(0, 2) == doctest::Approx(direct.F.at(0, 2)).epsilon(1e-6));
 }
 
+TEST_CASE("--drop-below drops the pairs whose entries are both below EPS, keeps each row's sum and reciprocity, and says what it saved") {
+    // The open Cornell box: the rows' targets are their sums before dropping.
+    const Scene s = subdivide(bundledScene("cornell_box.obj"), 150.0);
+    HemisphereOptions o;
+    o.estimator = Estimator::Analytic;
+    FormFactors F = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true)).F;
+    const FormFactors original = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true)).F;
+    const double eps = 1e-3;
+    const SparsifyReport report = dropBelow(F, s, eps);
+    MESSAGE(describe(report));
+    CHECK_FALSE(report.closure.closedTargets);
+    CHECK(report.closure.converged);
+    CHECK(F.nonZeros() == report.nonzerosAfter);
+    CHECK(report.nonzerosAfter < report.nonzerosBefore);
+    CHECK(report.bytesAfter < report.bytesBefore);
+    CHECK(report.largestDroppedRow > 0.0);
+    std::vector<float> largest(s.size(), 0.0f);
+    for (PatchId i = 0; i < s.size(); ++i)
+        for (std::uint64_t k = original.rowBegin(i); k < original.rowEnd(i); ++k)
+            largest[i] = std::max(largest[i], original.values()[k]);
+    std::size_t dropped = 0;
+    double worstSum = 0.0, worstPair = 0.0, largestPair = 0.0;
+    for (PatchId i = 0; i < s.size(); ++i) {
+        // Each row keeps its sum (without the rebalancing a row loses up to report.largestDroppedRow).
+        worstSum = std::max(worstSum, std::abs(F.rowSum(i) - original.rowSum(i)));
+        for (PatchId j = 0; j < s.size(); ++j) {
+            const double fij = original.at(i, j), fji = original.at(j, i);
+            const bool small = i != j && fij < eps && fji < eps && fij < largest[i] && fji < largest[j];
+            if (small && fij > 0.0) {
+                ++dropped;
+                CHECK(F.at(i, j) == 0.0);
+            } else if (fij > 0.0) {
+                CHECK(F.at(i, j) > 0.0);
+            }
+            const double a = s.patches[i].area * F.at(i, j), b = s.patches[j].area * F.at(j, i);
+            worstPair = std::max(worstPair, std::abs(a - b));
+            largestPair = std::max(largestPair, a);
+        }
+    }
+    CHECK(dropped == report.nonzerosBefore - report.nonzerosAfter);
+    CHECK(worstSum <= 1e-5);
+    CHECK(worstPair / largestPair <= 1e-6);
+    CHECK(report.largestDroppedRow > 10.0 * 1e-5);  // the rebalancing is what keeps the sums
+    CHECK(F.parameters.count("sparsified") == 1);
+}
+
 TEST_CASE("Analytic and ray estimators agree on the closed Cornell box, and analytic rows stay <= 1 + 1e-3") {
     const Scene s = subdivide(bundledScene("cornell_closed.obj"), 100.0);
     const FormFactorRun rays = run(s, 3072, 16);
