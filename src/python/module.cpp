@@ -191,7 +191,9 @@ py::dict provenanceDict(const FormFactors& F) {
 
 py::tuple formFactors(const ScenePtr& scene, const std::string& method, const std::map<std::string, std::string>& options,
                       std::uint32_t maxDepth, int threads, bool allRows, bool enforceReciprocity, bool normalizeRows,
-                      bool memoryCheck, const py::object& progress) {
+                      double dropBelow, bool memoryCheck, const py::object& progress) {
+    if (!(dropBelow >= 0.0 && dropBelow <= 0.5))
+        throw Error("drop_below: expected 0 (keep every pair) or a threshold in (0, 0.5], got " + std::to_string(dropBelow));
     FormFactorPolicy policy;
     policy.backend = defaultSettings(method);
     for (const auto& [flag, value] : options) setBackendOption(policy.backend, flag, value);
@@ -200,6 +202,7 @@ py::tuple formFactors(const ScenePtr& scene, const std::string& method, const st
     policy.allRows = allRows;
     policy.enforceReciprocity = enforceReciprocity;
     policy.normalizeRows = normalizeRows;
+    policy.dropBelow = dropBelow;
     policy.memoryCheck = memoryCheck;
     policy.statistics = true;
     WorkerLink link;

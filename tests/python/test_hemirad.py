@@ -236,3 +236,15 @@ def test_the_example_runs(tmp_path):
     assert run.returncode == 0, run.stderr
     assert "floor -> ceiling" in run.stdout
     assert (tmp_path / "room_radiosity.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_drop_below_keeps_row_sums_and_reciprocity_with_fewer_nonzeros(cornell):
+    F, _ = hemirad.form_factors(cornell, threads=1, estimator="analytic")
+    G, report = hemirad.form_factors(cornell, threads=1, estimator="analytic", drop_below=1e-3)
+    assert G.nnz < F.nnz
+    assert report["provenance"]["parameters"]["sparsified"].startswith("pairs below 0.001 dropped")
+    assert np.max(np.abs(np.asarray(G.sum(axis=1)).ravel() - np.asarray(F.sum(axis=1)).ravel())) < 1e-5
+    AG = scipy.sparse.diags(np.asarray(cornell.area)) @ G.astype(np.float64)
+    assert abs(AG - AG.T).max() <= 1e-6 * AG.max()
+    with pytest.raises(hemirad.Error, match="drop_below"):
+        hemirad.form_factors(cornell, threads=1, drop_below=-1.0)

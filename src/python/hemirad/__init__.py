@@ -139,8 +139,8 @@ def _check_scene(scene, name="scene"):
 
 
 def form_factors(scene, method=None, *, max_depth=8, threads=0, all_rows=False,
-                 enforce_reciprocity=False, normalize_rows=False, memory_check=True, progress=None,
-                 **options):
+                 enforce_reciprocity=False, normalize_rows=False, drop_below=0.0, memory_check=True,
+                 progress=None, **options):
     """Computes the form-factor matrix F of ``scene``.
 
     method: a back end of :func:`methods` ("hemisphere", "hemicube"; None: the default, the
@@ -149,7 +149,8 @@ def form_factors(scene, method=None, *, max_depth=8, threads=0, all_rows=False,
     hemicube ``resolution=256, ...``; an option the method does not take raises TypeError.
     max_depth: mirror reflections followed; threads: worker threads (0: all cores);
     all_rows: also rows of black patches (skipped by default: their B is their E);
-    enforce_reciprocity, normalize_rows: as the command line's flags; memory_check: refuse an F
+    enforce_reciprocity, normalize_rows, drop_below: as the command line's flags (drop_below=0: keep
+    every pair); memory_check: refuse an F
     that would not fit in memory; progress: ``progress(rows_done, rows_total, seconds)``.
 
     Returns ``(F, report)``: F a ``scipy.sparse.csr_array`` of float32 (row i = emitter, F[i, j] the
@@ -166,7 +167,8 @@ def form_factors(scene, method=None, *, max_depth=8, threads=0, all_rows=False,
     if progress is not None and not callable(progress):
         raise TypeError("progress: expected a callable progress(done, total, seconds)")
     arrays, report = _hemirad._form_factors(scene, method, flags, int(max_depth), int(threads), bool(all_rows),
-                                            bool(enforce_reciprocity), bool(normalize_rows), bool(memory_check),
+                                            bool(enforce_reciprocity), bool(normalize_rows), float(drop_below),
+                                            bool(memory_check),
                                             progress)
     report["computed"] = arrays[3]
     return _csr(arrays, len(scene)), report
