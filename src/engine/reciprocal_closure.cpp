@@ -249,13 +249,13 @@ SymmetricRows symmetricRowsOf(const FormFactors& F, const Scene& scene, double d
     S.scales = F.computedFlags();
     // A pair is dropped whole (both rows), so that S stays symmetric; an entry whose column's row
     // was not computed is fixed and kept.
-    // A row's largest entry stays, so that every row keeps something to scale.
-    std::vector<float> largest(dropBelow > 0.0 ? n : 0, 0.0f);
-    for (std::size_t i = 0; i < largest.size(); ++i)
-        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) largest[i] = std::max(largest[i], F.values()[k]);
+    // Each row gives up at most kDropBudget of its sum (dropCut).
+    std::vector<double> cut(dropBelow > 0.0 ? n : 0, 0.0);
+    std::vector<float> scratch;
+    for (std::size_t i = 0; i < cut.size(); ++i)
+        cut[i] = dropCut(F.values() + F.rowBegin(i), F.rowEnd(i) - F.rowBegin(i), dropBelow, scratch);
     auto dropped = [&](std::ptrdiff_t i, std::uint32_t j, double fij, double fji) {
-        return j != std::uint32_t(i) && F.rowComputed(j) && fij < dropBelow && fji < dropBelow &&
-               fij < largest[std::size_t(i)] && fji < largest[j];
+        return dropBelow > 0.0 && j != std::uint32_t(i) && F.rowComputed(j) && fij < cut[std::size_t(i)] && fji < cut[j];
     };
     if (droppedWeight) droppedWeight->assign(n, 0.0);
     // Two passes over the merged row and column of each computed row, in parallel: count, then fill.
@@ -329,11 +329,31 @@ SparsifyReport dropBelow(FormFactors& F, const Scene& scene, double threshold) {
     report.closure = closeFrom(std::move(S), F, scene);
     report.nonzerosAfter = F.nonZeros();
     report.bytesAfter = F.memoryBytes();
+    markSparsified(F, report);
+    return report;
+}
+
+double dropCut(const float* values, std::size_t count, double threshold, std::vector<float>& scratch) {
+    scratch.clear();
+    double sum = 0.0;
+    for (std::size_t k = 0; k < count; ++k) {
+        sum += values[k];
+        if (values[k] < threshold) scratch.push_back(values[k]);
+    }
+    std::sort(scratch.begin(), scratch.end());
+    double taken = 0.0;
+    for (const float v : scratch) {
+        taken += v;
+        if (taken > kDropBudget * sum) return v;  // this entry and larger ones stay
+    }
+    return threshold;
+}
+
+void markSparsified(FormFactors& F, const SparsifyReport& report) {
     char text[96];
-    std::snprintf(text, sizeof text, "pairs below %g dropped (%zu of %zu nonzeros), rows rebalanced", threshold,
+    std::snprintf(text, sizeof text, "pairs below %g dropped (%zu of %zu nonzeros), rows rebalanced", report.threshold,
                   report.nonzerosBefore - std::min(report.nonzerosBefore, report.nonzerosAfter), report.nonzerosBefore);
     F.parameters["sparsified"] = text;
-    return report;
 }
 
 std::string describe(const SparsifyReport& report) {

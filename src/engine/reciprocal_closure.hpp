@@ -89,6 +89,16 @@ std::string describe(const ReciprocityReport& report);
 /// summing to its target (chooseTargets). Rows of F not computed are left as they are.
 ReciprocityReport enforceReciprocity(FormFactors& F, const Scene& scene);
 
+/// --drop-below takes from a row at most this fraction of its sum: rows that hold only small entries
+/// (a small patch that sees much of the scene) keep most of them, and the closure scales each row by
+/// little.
+constexpr double kDropBudget = 0.05;
+
+/// --drop-below's cut for one row: its entries below `threshold`, smallest first, while their sum
+/// stays within kDropBudget of the row's sum; returns the value below which its entries may go
+/// (`threshold` when all of them fit). `scratch` is reused.
+double dropCut(const float* values, std::size_t count, double threshold, std::vector<float>& scratch);
+
 /// What --drop-below did: F's size before and after, and what the rows lost before rebalancing.
 struct SparsifyReport {
     double threshold = 0.0;
@@ -98,13 +108,16 @@ struct SparsifyReport {
     ReciprocityReport closure;       ///< the rebalancing
 };
 
-/// --drop-below in one process: drops every pair whose entries F_ij and F_ji are both below
-/// `threshold` (entries whose column's row was not computed are kept), then closes the rest as
+/// --drop-below in one process: drops every pair whose entries F_ij and F_ji are both below their
+/// rows' cuts (dropCut; entries whose column's row was not computed are kept), then closes the rest as
 /// enforceReciprocity does, toward each row's sum before dropping (1 in a closed scene): the dropped
 /// weight goes to the row's other entries by symmetric scaling, so rows and reciprocity stay intact.
 SparsifyReport dropBelow(FormFactors& F, const Scene& scene, double threshold);
 
 /// One line for the run's report: the sizes, the largest loss, then the closure's line.
 std::string describe(const SparsifyReport& report);
+
+/// Records what was dropped in F's parameters ("sparsified"), with the totals of `report`.
+void markSparsified(FormFactors& F, const SparsifyReport& report);
 
 }  // namespace hemirad

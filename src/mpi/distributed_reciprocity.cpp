@@ -12,8 +12,11 @@ namespace hemirad::mpi {
 namespace {
 
 /// The rows of S = (G + G^T) / 2 this rank holds (layout.mine), merged by column as
-/// enforceReciprocity merges them in one process.
-SymmetricRows symmetricRows(const Scene& scene, const DistributedFormFactors& F, const Layout& layout) {
+/// enforceReciprocity merges them in one process. With `cut` (per patch, dropCut), pairs whose
+/// entries are both below their rows' cuts are left out as dropBelow leaves them out, their weight
+/// per held row into `droppedWeight`.
+SymmetricRows symmetricRows(const Scene& scene, const DistributedFormFactors& F, const Layout& layout,
+                            const std::vector<double>* cut = nullptr, std::vector<double>* droppedWeight = nullptr) {
     const std::size_t n = scene.size();
     // Row j of G holds A_j F_jk, computed as one process computes it; row i of G^T is column i of G.
     OwnedMat Gt;
@@ -51,6 +54,14 @@ SymmetricRows symmetricRows(const Scene& scene, const DistributedFormFactors& F,
                 const std::uint32_t j = std::min(ja, jb);
                 const double fij = ja == j ? double(F.local.values()[a++]) : 0.0;
                 const double ajfji = jb == j ? column[b++].second : 0.0;
+                if (cut && j != i && F.owner[j] >= 0) {
+                    // F_ji tested as A_j F_ji, the product G^T holds (A_j times the float F_ji), so
+                    // that an F_ji equal to its row's cut compares equal, as in one process.
+                    if (fij < (*cut)[i] && ajfji < scene.patches[j].area * (*cut)[j]) {
+                        if (droppedWeight) (*droppedWeight)[i] += fij;
+                        continue;
+                    }
+                }
                 S.add(j, SymmetricRows::pairMean(i, j, Ai, fij, ajfji, F.owner[j] >= 0));
             }
         }
@@ -93,13 +104,10 @@ double maxOverRanks(double value) {
     return out;
 }
 
-}  // namespace
-
-ReciprocityReport enforceReciprocityDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F) {
+/// The closure of S over the ranks into F.local (see enforceReciprocityDistributed).
+ReciprocityReport closeDistributed(const Scene& scene, const SymmetricRows& S, const Layout& layout, VectorSharing& sharing,
+                                   DistributedFormFactors& F) {
     const std::size_t n = scene.size();
-    const Layout layout = layoutOf(context, F.owner);
-    const SymmetricRows S = symmetricRows(scene, F, layout);
-    VectorSharing sharing(layout);
     const RowExchange exchange{[&](std::vector<double>& v) { sharing.share(v); }, maxOverRanks};
 
     ReciprocityReport report;
@@ -122,6 +130,43 @@ ReciprocityReport enforceReciprocityDistributed(const Context& context, const Sc
     MPI_Allreduce(&changed, &total, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
     report.changed = std::size_t(total);
     report.largestChange = maxOverRanks(report.largestChange);
+    return report;
+}
+
+std::size_t sumOverRanks(std::size_t value) {
+    std::uint64_t mine = value, total = 0;
+    MPI_Allreduce(&mine, &total, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    return std::size_t(total);
+}
+
+}  // namespace
+
+ReciprocityReport enforceReciprocityDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F) {
+    const Layout layout = layoutOf(context, F.owner);
+    VectorSharing sharing(layout);
+    return closeDistributed(scene, symmetricRows(scene, F, layout), layout, sharing, F);
+}
+
+SparsifyReport dropBelowDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F, double threshold) {
+    SparsifyReport report;
+    report.threshold = threshold;
+    report.nonzerosBefore = sumOverRanks(F.local.nonZeros());
+    report.bytesBefore = sumOverRanks(F.local.memoryBytes());
+    const Layout layout = layoutOf(context, F.owner);
+    VectorSharing sharing(layout);
+    // Each row's cut, shared: a pair's test reads both rows'.
+    std::vector<double> cut(scene.size(), 0.0), dropped(scene.size(), 0.0);
+    std::vector<float> scratch;
+    for (const PatchId i : layout.mine)
+        cut[i] = dropCut(F.local.values() + F.local.rowBegin(i), F.local.rowEnd(i) - F.local.rowBegin(i), threshold, scratch);
+    sharing.share(cut);
+    const SymmetricRows S = symmetricRows(scene, F, layout, &cut, &dropped);
+    for (const double w : dropped) report.largestDroppedRow = std::max(report.largestDroppedRow, w);
+    report.largestDroppedRow = maxOverRanks(report.largestDroppedRow);
+    report.closure = closeDistributed(scene, S, layout, sharing, F);
+    report.nonzerosAfter = sumOverRanks(F.local.nonZeros());
+    report.bytesAfter = sumOverRanks(F.local.memoryBytes());
+    markSparsified(F.local, report);
     return report;
 }
 

@@ -13,4 +13,8 @@ namespace hemirad::mpi {
 /// all ranks) is the same on every rank. Collective.
 ReciprocityReport enforceReciprocityDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F);
 
+/// dropBelow (engine/reciprocal_closure.hpp) over the ranks' rows: the same pairs dropped (each
+/// row's largest entry shared across ranks), then the same closure. Collective.
+SparsifyReport dropBelowDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F, double threshold);
+
 }  // namespace hemirad::mpi

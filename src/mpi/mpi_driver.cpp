@@ -145,14 +145,19 @@ void obtainFormFactors(Job& job, const std::string& reusePath) {
     job.computed = true;
 }
 
-/// --enforce-reciprocity: pairs of rows on any two ranks, scaled to closure as one process scales them.
+/// --enforce-reciprocity (or --drop-below, which ends with it): pairs of rows on any two ranks,
+/// scaled to closure as one process scales them.
 void reciprocity(Job& job) {
-    if (!job.options.enforceReciprocity) return;
+    if (!job.options.enforceReciprocity && !(job.options.dropBelow > 0.0)) return;
     const auto t0 = std::chrono::steady_clock::now();
-    ReciprocityReport report;
-    job.context.collectively([&] { report = enforceReciprocityDistributed(job.context, job.scene, job.F); });
-    job.timings.add("enforce reciprocity", secondsSince(t0));
-    job.reporter.line("form factors: " + describe(report));
+    std::string line;
+    job.context.collectively([&] {
+        line = job.options.dropBelow > 0.0
+                   ? describe(dropBelowDistributed(job.context, job.scene, job.F, job.options.dropBelow))
+                   : describe(enforceReciprocityDistributed(job.context, job.scene, job.F));
+    });
+    job.timings.add(job.options.dropBelow > 0.0 ? "drop below" : "enforce reciprocity", secondsSince(t0));
+    job.reporter.line("form factors: " + line);
     job.computed = true;
 }
 
@@ -316,10 +321,6 @@ int runUnderMpi(int argc, char** argv) {
                 throw UsageError("-o - under mpirun: mpirun forwards standard output, which cannot be checked for a "
                                  "terminal, so the binary ." + outputFormat(options) + " needs -o FILE (text .mtx "
                                  "and .csv may go to '-')");
-            if (options.dropBelow > 0.0)
-                throw UsageError("--drop-below runs in one process, not yet across MPI ranks: store F with "
-                                 "'mpirun ... hemirad formfactors SCENE -o F.hff', then run 'hemirad solve SCENE --ff "
-                                 "F.hff --drop-below EPS' without mpirun");
         });
         const std::string& command = options.command;
         if (command == "formfactors" || command == "solve" || command == "render") {

@@ -94,6 +94,9 @@ TEST_CASE("F from 2 MPI ranks is byte-identical to one process: reciprocity enfo
     checkSameF("cornell_box.obj", "--subdivide 80 --samples 256 --enforce-reciprocity --normalize-rows");
     // A closed box: rows scaled to 1, the Newton steps' sums taken in one order on every rank.
     const std::string closed = checkSameF("unit_cube.obj", "--subdivide 0.2 --enforce-reciprocity");
+    // --drop-below: the same pairs dropped on every rank (each row's cut shared), the same closure.
+    const std::string dropped = checkSameF("cornell_box.obj", "--subdivide 80 --drop-below 1e-3");
+    CHECK(dropped.find("pairs with both entries below 0.001 dropped") != std::string::npos);
     CHECK(closed.find("rows sum to 1 (a closed scene") != std::string::npos);
 }
 
