@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hemirad {
 namespace {
@@ -21,7 +22,7 @@ Vec3 reflectDirection(const Reflector& r, const Vec3& d) { return d - 2.0 * r.no
 struct BallCone {
     bool all = false;
     Vec3 apex, axis;
-    double angle = 0.0;
+    double sine = 0.0, cosine = 1.0;  ///< of the half-angle
 
     BallCone(const Vec3& c1, double r1, const Vec3& c2, double r2) {
         const Vec3 d = c2 - c1;
@@ -32,16 +33,19 @@ struct BallCone {
         }
         axis = d / length;
         apex = c1 + d * (r1 / (r1 + r2));
-        angle = std::asin((r1 + r2) / length);
+        sine = (r1 + r2) / length;
+        cosine = std::sqrt(std::max(0.0, 1.0 - sine * sine));
     }
-    /// Whether the ball (c, r) can meet the cone.
+    /// Whether the ball (c, r) can meet the cone: the angle between the axis and c is at most the
+    /// half-angle plus the ball's angular radius asin(r / |c - apex|) (both below pi / 2, so the
+    /// cosines compare; the 1e-12 keeps the test conservative under rounding).
     bool meets(const Vec3& c, double r) const {
         if (all) return true;
         const Vec3 d = c - apex;
-        const double distance = d.norm();
-        if (distance <= r) return true;
-        const double off = std::acos(std::clamp(d.dot(axis) / distance, -1.0, 1.0));
-        return off <= angle + std::asin(std::min(1.0, r / distance));
+        const double distance2 = d.squaredNorm();
+        if (distance2 <= r * r) return true;
+        const double distance = std::sqrt(distance2);
+        return d.dot(axis) >= cosine * std::sqrt(distance2 - r * r) - sine * r - 1e-12 * distance;
     }
 };
 
@@ -123,7 +127,47 @@ std::string findReflectors(const Scene& scene, std::vector<Reflector>& out) {
 MirrorImages::MirrorImages(const Scene& scene, const PatchGeometry& geometry, std::vector<Reflector> reflectors,
                            const RayScene& rays, const Settings& settings)
     : m_scene(scene), m_geometry(geometry), m_reflectors(std::move(reflectors)), m_rays(rays), m_settings(settings),
-      m_lowest(farOrder(settings.origins)), m_near(nearOrder(settings.origins)) {}
+      m_lowest(farOrder(settings.origins)), m_near(nearOrder(settings.origins)) {
+    m_ballPatches.resize(geometry.shapes.size());
+    for (PatchId j = 0; j < m_ballPatches.size(); ++j) m_ballPatches[j] = j;
+    if (!m_ballPatches.empty()) buildBalls(0, std::uint32_t(m_ballPatches.size()));
+}
+
+void MirrorImages::buildBalls(std::uint32_t first, std::uint32_t last) {
+    constexpr std::uint32_t kLeaf = 8;
+    Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity()), high = -low;
+    for (std::uint32_t k = first; k < last; ++k) {
+        low = low.cwiseMin(m_geometry.shapes[m_ballPatches[k]].centroid);
+        high = high.cwiseMax(m_geometry.shapes[m_ballPatches[k]].centroid);
+    }
+    const std::size_t index = m_balls.size();
+    m_balls.emplace_back();
+    Ball ball;
+    ball.centre = 0.5 * (low + high);
+    for (std::uint32_t k = first; k < last; ++k) {
+        const PatchShape& t = m_geometry.shapes[m_ballPatches[k]];
+        ball.radius = std::max(ball.radius, (t.centroid - ball.centre).norm() + t.radius);
+    }
+    ball.radius *= 1.0 + 1e-12;
+    if (last - first <= kLeaf) {
+        ball.first = first;
+        ball.count = last - first;
+        m_balls[index] = ball;
+        return;
+    }
+    int axis = 0;
+    (high - low).maxCoeff(&axis);
+    const std::uint32_t middle = first + (last - first) / 2;
+    std::nth_element(m_ballPatches.begin() + first, m_ballPatches.begin() + middle, m_ballPatches.begin() + last,
+                     [&](PatchId a, PatchId b) {
+                         const double ca = m_geometry.shapes[a].centroid[axis], cb = m_geometry.shapes[b].centroid[axis];
+                         return ca < cb || (ca == cb && a < b);
+                     });
+    buildBalls(first, middle);
+    ball.right = std::uint32_t(m_balls.size());
+    buildBalls(middle, last);
+    m_balls[index] = ball;
+}
 
 MirrorImages::~MirrorImages() = default;
 
@@ -163,14 +207,27 @@ void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
         const Reflector& m = m_reflectors[node.reflector];
         const BallCone cone(node.image, r, m.centre, m.radius);
         ws.nodes[q].first = static_cast<std::uint32_t>(ws.receivers.size());
-        for (PatchId j = 0; j < m_geometry.shapes.size(); ++j) {
-            const PatchShape& t = m_geometry.shapes[j];
-            if (m.normal.dot(t.centroid) - m.offset <= -t.radius) continue;   // behind the mirror
-            if (t.normal.dot(node.image - t.centroid) <= -r) continue;         // faces away from every image point
-            if (!cone.meets(t.centroid, t.radius)) continue;
-            const double ratio = std::max(0.0, (t.centroid - node.image).norm() - t.radius) / r;
-            ws.receivers.push_back(j);
-            ws.orders.push_back(static_cast<std::uint8_t>(emitterOrder(ratio, m_settings.tolerance, m_lowest, m_near)));
+        ws.stack.assign(1, 0);
+        while (!ws.stack.empty()) {
+            const Ball& ball = m_balls[ws.stack.back()];
+            const std::uint32_t at = ws.stack.back();
+            ws.stack.pop_back();
+            if (m.normal.dot(ball.centre) - m.offset <= -ball.radius || !cone.meets(ball.centre, ball.radius)) continue;
+            if (ball.count == 0) {
+                ws.stack.push_back(ball.right);
+                ws.stack.push_back(at + 1);
+                continue;
+            }
+            for (std::uint32_t k = ball.first; k < ball.first + ball.count; ++k) {
+                const PatchId j = m_ballPatches[k];
+                const PatchShape& t = m_geometry.shapes[j];
+                if (m.normal.dot(t.centroid) - m.offset <= -t.radius) continue;  // behind the mirror
+                if (t.normal.dot(node.image - t.centroid) <= -r) continue;        // faces away from every image point
+                if (!cone.meets(t.centroid, t.radius)) continue;
+                const double ratio = std::max(0.0, (t.centroid - node.image).norm() - t.radius) / r;
+                ws.receivers.push_back(j);
+                ws.orders.push_back(static_cast<std::uint8_t>(emitterOrder(ratio, m_settings.tolerance, m_lowest, m_near)));
+            }
         }
         ws.nodes[q].count = static_cast<std::uint32_t>(ws.receivers.size()) - ws.nodes[q].first;
         for (std::uint32_t k = 0; k < m_reflectors.size(); ++k) {

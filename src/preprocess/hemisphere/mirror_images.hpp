@@ -61,6 +61,7 @@ public:
         std::vector<Node> nodes;
         std::vector<PatchId> receivers;
         std::vector<std::uint8_t> orders;  // emitter rule per (node, receiver)
+        std::vector<std::uint32_t> stack;  // balls still to visit
         // Per emitter point: each node's image of the point and of the normal, and its aperture.
         std::vector<Vec3> apex, axis;
         std::vector<std::vector<Vec3>> apertures;
@@ -91,8 +92,20 @@ private:
     /// Receiver j's part seen through node q's aperture (into ws.clipped); false when empty.
     bool clipReceiver(std::size_t q, PatchId j, Workspace& ws) const;
 
+    /// A ball tree over the patches (median splits, preorder): a chain's receivers are found by
+    /// descending where a ball can be in front of the mirror and meet the chain's cone.
+    struct Ball {
+        Vec3 centre = Vec3::Zero();
+        double radius = 0.0;
+        std::uint32_t first = 0, count = 0;  ///< leaf: patches in m_ballPatches; inner: count 0
+        std::uint32_t right = 0;             ///< inner: the second child (the first follows this ball)
+    };
+    void buildBalls(std::uint32_t first, std::uint32_t last);
+
     const Scene& m_scene;
     const PatchGeometry& m_geometry;
+    std::vector<Ball> m_balls;
+    std::vector<PatchId> m_ballPatches;
     std::vector<Reflector> m_reflectors;
     const RayScene& m_rays;
     Settings m_settings;
