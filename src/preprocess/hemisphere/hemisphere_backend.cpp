@@ -190,7 +190,7 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
                                        : std::string(", no shadow rays (no patch can obstruct: a convex scene)"));
     if (m_analytic && m_mirrors)
         p["mirror_terms"] = m_images ? "virtual images through " + std::to_string(m_images->reflectorCount()) +
-                                           " planar mirrors, emitter rule per chain and receiver"
+                                           " planar mirrors, emitter rule per chain and receiver, a path and its reverse computed once"
                         : m_imagesRefused.empty() ? std::string("rays along the directions (--mirror-estimator rays)")
                                                   : "rays along the directions: " + m_imagesRefused;
     return p;
@@ -205,9 +205,11 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
     std::atomic<bool> failed{false};
     // Each pair is computed by its emitting row and handed to the other row (pair_exchange.hpp),
     // kept for the rows this source may still hand out.
-    std::unique_ptr<PairExchange> exchange;
+    std::unique_ptr<PairExchange> exchange, imageExchange;  // direct pairs; pairs through mirrors
     if (m_analytic)
         exchange = std::make_unique<PairExchange>(m_scene->size(), [&rows](PatchId r) { return rows.mayHandOut(r); });
+    if (m_images)
+        imageExchange = std::make_unique<PairExchange>(m_scene->size(), [&rows](PatchId r) { return rows.mayHandOut(r); });
 #pragma omp parallel num_threads(threads)
     {
         Workspace ws(m_scene->size(), m_mirrors || m_analytic);
@@ -238,7 +240,8 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
                         ws.row.scaleWeights(1.0 / direct);
                         ++counts.rescaledRows;
                     }
-                    if (m_images) m_images->addRow(i, ws.row, double(m_options.origins) * m_options.samples, *imageSpace, counts);
+                    if (m_images) m_images->addRow(i, ws.row, double(m_options.origins) * m_options.samples, *imageExchange, *imageSpace,
+                                                  counts);
                     else if (m_mirrors) castRays<true, false>(i, ws, counts);
                 } else if (m_mirrors) {
                     castRays<true, true>(i, ws, counts);

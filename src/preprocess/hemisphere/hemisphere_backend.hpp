@@ -97,13 +97,9 @@ private:
     /// F_re from the sum of the pair's terms over e's points (ray units), rounded to F's float as
     /// the exchange hands it over: both rows of the pair round it alike.
     float handedValue(double terms, PatchId e, PatchId r) const {
-        return float(terms * (m_scene->patches[e].area / m_scene->patches[r].area) /
-                     (double(m_options.origins) * m_options.samples));
+        return handOver(*m_scene, terms, e, r, double(m_options.origins) * m_options.samples);
     }
-    bool emitsFor(PatchId e, PatchId r) const {
-        const double a = m_scene->patches[e].area, b = m_scene->patches[r].area;
-        return a < b || (a == b && e < r);
-    }
+    bool emitsFor(PatchId e, PatchId r) const { return hemirad::emitsFor(*m_scene, e, r); }
     /// Lambert's factor from x (normal n) to the part of receiver r above that plane, 0 when x lies
     /// behind r; `polygon` and `corners` say which part (for the shadow ray's aim).
     double pointFactor(PatchId r, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer, const Vec3*& polygon,

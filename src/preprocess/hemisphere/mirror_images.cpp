@@ -17,38 +17,6 @@ namespace {
 Vec3 reflectPoint(const Reflector& r, const Vec3& p) { return p - 2.0 * (r.normal.dot(p) - r.offset) * r.normal; }
 Vec3 reflectDirection(const Reflector& r, const Vec3& d) { return d - 2.0 * r.normal.dot(d) * r.normal; }
 
-/// Where lines through two balls (an emitter image and an aperture) can go beyond the second: the
-/// cone from their inner homothety centre through the second ball. `all` when the balls overlap.
-struct BallCone {
-    bool all = false;
-    Vec3 apex, axis;
-    double sine = 0.0, cosine = 1.0;  ///< of the half-angle
-
-    BallCone(const Vec3& c1, double r1, const Vec3& c2, double r2) {
-        const Vec3 d = c2 - c1;
-        const double length = d.norm();
-        if (!(r1 + r2 < length)) {
-            all = true;
-            return;
-        }
-        axis = d / length;
-        apex = c1 + d * (r1 / (r1 + r2));
-        sine = (r1 + r2) / length;
-        cosine = std::sqrt(std::max(0.0, 1.0 - sine * sine));
-    }
-    /// Whether the ball (c, r) can meet the cone: the angle between the axis and c is at most the
-    /// half-angle plus the ball's angular radius asin(r / |c - apex|) (both below pi / 2, so the
-    /// cosines compare; the 1e-12 keeps the test conservative under rounding).
-    bool meets(const Vec3& c, double r) const {
-        if (all) return true;
-        const Vec3 d = c - apex;
-        const double distance2 = d.squaredNorm();
-        if (distance2 <= r * r) return true;
-        const double distance = std::sqrt(distance2);
-        return d.dot(axis) >= cosine * std::sqrt(distance2 - r * r) - sine * r - 1e-12 * distance;
-    }
-};
-
 /// Clips `polygon` to the cone from `apex` through the convex `aperture`; the result in `out`.
 void clipToCone(const Vec3& apex, const std::vector<Vec3>& aperture, std::vector<Vec3>& polygon,
                 std::vector<Vec3>& scratch) {
@@ -73,6 +41,38 @@ bool partlyInFront(const Reflector& m, const std::vector<Vec3>& polygon) {
 }
 
 }  // namespace
+
+/// Where lines through two balls (an emitter image and an aperture) can go beyond the second: the
+/// cone from their inner homothety centre through the second ball. `all` when the balls overlap.
+struct MirrorImages::Cone {
+    bool all = false;
+    Vec3 apex, axis;
+    double sine = 0.0, cosine = 1.0;  ///< of the half-angle
+
+    Cone(const Vec3& c1, double r1, const Vec3& c2, double r2) {
+        const Vec3 d = c2 - c1;
+        const double length = d.norm();
+        if (!(r1 + r2 < length)) {
+            all = true;
+            return;
+        }
+        axis = d / length;
+        apex = c1 + d * (r1 / (r1 + r2));
+        sine = (r1 + r2) / length;
+        cosine = std::sqrt(std::max(0.0, 1.0 - sine * sine));
+    }
+    /// Whether the ball (c, r) can meet the cone: the angle between the axis and c is at most the
+    /// half-angle plus the ball's angular radius asin(r / |c - apex|) (both below pi / 2, so the
+    /// cosines compare; the 1e-12 keeps the test conservative under rounding).
+    bool meets(const Vec3& c, double r) const {
+        if (all) return true;
+        const Vec3 d = c - apex;
+        const double distance2 = d.squaredNorm();
+        if (distance2 <= r * r) return true;
+        const double distance = std::sqrt(distance2);
+        return d.dot(axis) >= cosine * std::sqrt(distance2 - r * r) - sine * r - 1e-12 * distance;
+    }
+};
 
 std::string findReflectors(const Scene& scene, std::vector<Reflector>& out) {
     out.clear();
@@ -174,7 +174,43 @@ MirrorImages::~MirrorImages() = default;
 std::unique_ptr<MirrorImages::Workspace> MirrorImages::workspace() const {
     auto ws = std::make_unique<Workspace>();
     ws->status.assign(m_geometry.shapes.size(), 0);
+    ws->summed.assign(m_geometry.shapes.size(), 0);
+    ws->sums.assign(m_geometry.shapes.size(), 0.0);
+    ws->published.assign(m_geometry.shapes.size(), -1.0f);
     return ws;
+}
+
+MirrorImages::Node MirrorImages::makeNode(std::int32_t parent, std::uint32_t k, std::uint32_t depth, double weight,
+                                          const Vec3& from) const {
+    Node node{parent, k, depth, weight, reflectPoint(m_reflectors[k], from)};
+    node.cutoff = depth > m_settings.limits.maxDepth || weight < m_settings.limits.minWeight;
+    return node;
+}
+
+bool MirrorImages::seesFromEmitter(const PatchShape& e, std::uint32_t k) const {
+    // Partly above the emitter's plane, the emitter partly in front.
+    const Reflector& m = m_reflectors[k];
+    if (m.normal.dot(e.centroid) - m.offset <= -e.radius) return false;
+    for (const Vec3& p : m.polygon)
+        if (e.normal.dot(p - e.centroid) > 0.0) return true;
+    return false;
+}
+
+bool MirrorImages::reaches(const Node& node, double r, const Cone& cone, std::uint32_t k) const {
+    const Reflector& next = m_reflectors[k];
+    if (k == node.reflector || !partlyInFront(m_reflectors[node.reflector], next.polygon)) return false;
+    if (next.normal.dot(node.image) - next.offset <= -r) return false;
+    return cone.meets(next.centre, next.radius);
+}
+
+int MirrorImages::receiverOrder(const Node& node, double r, const Cone& cone, PatchId j) const {
+    const Reflector& m = m_reflectors[node.reflector];
+    const PatchShape& t = m_geometry.shapes[j];
+    if (m.normal.dot(t.centroid) - m.offset <= -t.radius) return -1;  // behind the mirror
+    if (t.normal.dot(node.image - t.centroid) <= -r) return -1;        // faces away from every image point
+    if (!cone.meets(t.centroid, t.radius)) return -1;
+    const double ratio = std::max(0.0, (t.centroid - node.image).norm() - t.radius) / r;
+    return emitterOrder(ratio, m_settings.tolerance, m_lowest, m_near);
 }
 
 void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
@@ -183,34 +219,26 @@ void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
     ws.nodes.clear();
     ws.receivers.clear();
     ws.orders.clear();
-    auto push = [&](std::int32_t parent, std::uint32_t k, std::uint32_t depth, double weight, const Vec3& from) {
+    auto push = [&](const Node& node) {
         if (ws.nodes.size() >= m_settings.maxChains)
             throw Error("mirror images: patch " + std::to_string(i) + " sees more than " +
                         std::to_string(m_settings.maxChains) +
                         " chains of mirrors; lower --max-depth or raise --min-weight, or use --mirror-estimator rays");
-        const Reflector& m = m_reflectors[k];
-        Node node{parent, k, depth, weight, reflectPoint(m, from)};
-        node.cutoff = depth > m_settings.limits.maxDepth || weight < m_settings.limits.minWeight;
         ws.nodes.push_back(node);
     };
-    // Reflectors some point of the emitter sees: partly above its plane, the emitter partly in front.
-    for (std::uint32_t k = 0; k < m_reflectors.size(); ++k) {
-        const Reflector& m = m_reflectors[k];
-        if (m.normal.dot(e.centroid) - m.offset <= -r) continue;
-        bool above = false;
-        for (const Vec3& p : m.polygon) above = above || e.normal.dot(p - e.centroid) > 0.0;
-        if (above) push(-1, k, 1, m.specular, e.centroid);
-    }
+    // Breadth first, children by reflector: pairTerms rebuilds a part of this order.
+    for (std::uint32_t k = 0; k < m_reflectors.size(); ++k)
+        if (seesFromEmitter(e, k)) push(makeNode(-1, k, 1, m_reflectors[k].specular, e.centroid));
     for (std::size_t q = 0; q < ws.nodes.size(); ++q) {
         if (ws.nodes[q].cutoff) continue;
         const Node node = ws.nodes[q];
         const Reflector& m = m_reflectors[node.reflector];
-        const BallCone cone(node.image, r, m.centre, m.radius);
+        const Cone cone(node.image, r, m.centre, m.radius);
         ws.nodes[q].first = static_cast<std::uint32_t>(ws.receivers.size());
         ws.stack.assign(1, 0);
         while (!ws.stack.empty()) {
-            const Ball& ball = m_balls[ws.stack.back()];
             const std::uint32_t at = ws.stack.back();
+            const Ball& ball = m_balls[at];
             ws.stack.pop_back();
             if (m.normal.dot(ball.centre) - m.offset <= -ball.radius || !cone.meets(ball.centre, ball.radius)) continue;
             if (ball.count == 0) {
@@ -220,23 +248,16 @@ void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
             }
             for (std::uint32_t k = ball.first; k < ball.first + ball.count; ++k) {
                 const PatchId j = m_ballPatches[k];
-                const PatchShape& t = m_geometry.shapes[j];
-                if (m.normal.dot(t.centroid) - m.offset <= -t.radius) continue;  // behind the mirror
-                if (t.normal.dot(node.image - t.centroid) <= -r) continue;        // faces away from every image point
-                if (!cone.meets(t.centroid, t.radius)) continue;
-                const double ratio = std::max(0.0, (t.centroid - node.image).norm() - t.radius) / r;
+                const int order = receiverOrder(node, r, cone, j);
+                if (order < 0) continue;
                 ws.receivers.push_back(j);
-                ws.orders.push_back(static_cast<std::uint8_t>(emitterOrder(ratio, m_settings.tolerance, m_lowest, m_near)));
+                ws.orders.push_back(static_cast<std::uint8_t>(order));
             }
         }
         ws.nodes[q].count = static_cast<std::uint32_t>(ws.receivers.size()) - ws.nodes[q].first;
-        for (std::uint32_t k = 0; k < m_reflectors.size(); ++k) {
-            const Reflector& next = m_reflectors[k];
-            if (k == node.reflector || !partlyInFront(m, next.polygon)) continue;
-            if (next.normal.dot(node.image) - next.offset <= -r) continue;
-            if (!cone.meets(next.centre, next.radius)) continue;
-            push(std::int32_t(q), k, node.depth + 1, node.weight * next.specular, node.image);
-        }
+        for (std::uint32_t k = 0; k < m_reflectors.size(); ++k)
+            if (reaches(node, r, cone, k))
+                push(makeNode(std::int32_t(q), k, node.depth + 1, node.weight * m_reflectors[k].specular, node.image));
     }
 }
 
@@ -267,8 +288,7 @@ bool MirrorImages::pathBlocked(std::size_t node, const Vec3& emitterPoint, const
     return blocked(emitterPoint, emitterNormal, to, toNormal);
 }
 
-void MirrorImages::evaluate(PatchId i, int order, RowAccumulator& row, double unit, Workspace& ws,
-                            RayCounts& counts) const {
+void MirrorImages::evaluate(PatchId i, int order, PatchId only, double unit, Workspace& ws, RayCounts& counts) const {
     const PatchShape& e = m_geometry.shapes[i];
     ws.points.clear();
     ws.weights.clear();
@@ -305,7 +325,7 @@ void MirrorImages::evaluate(PatchId i, int order, RowAccumulator& row, double un
             }
             if (aperture.empty()) continue;
             if (node.cutoff) {  // the power reaching this mirror and reflected on is cut off
-                if (order == m_lowest)
+                if (order == m_lowest && only == kEveryReceiver)
                     counts.cutoffWeight += w * node.weight * pointToPolygonFactor(from, fromAxis, aperture.data(), aperture.size());
                 continue;
             }
@@ -318,7 +338,7 @@ void MirrorImages::evaluate(PatchId i, int order, RowAccumulator& row, double un
             ws.factors.clear();
             ws.blocked.clear();
             for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
-                if (ws.orders[k] != order || !clipReceiver(q, ws.receivers[k], ws)) continue;
+                if (ws.orders[k] != order || !ws.mine[k] || !clipReceiver(q, ws.receivers[k], ws)) continue;
                 const PatchId j = ws.receivers[k];
                 const double f = pointToPolygonFactor(ws.apex[q], ws.axis[q], ws.clipped.data(), ws.clipped.size());
                 if (!(f > 0.0)) continue;
@@ -332,6 +352,7 @@ void MirrorImages::evaluate(PatchId i, int order, RowAccumulator& row, double un
                 for (std::size_t b = 0; b < ws.batch.size(); ++b) ws.status[ws.batch[b]] = ws.blocked[b] ? 2 : 1;
             for (std::size_t b = 0; b < ws.batch.size(); ++b) {
                 const PatchId j = ws.batch[b];
+                if (only != kEveryReceiver && j != only) continue;  // its status only
                 if (m_settings.visibility && m_geometry.onSilhouette(j, ws.status)) {
                     clipReceiver(q, j, ws);
                     ws.pieces.clear();
@@ -340,10 +361,10 @@ void MirrorImages::evaluate(PatchId i, int order, RowAccumulator& row, double un
                         const double f = pointToPolygonFactor(ws.apex[q], ws.axis[q], &ws.pieces[p], 4);
                         const Vec3 aim = vertexMean(&ws.pieces[p], 4);
                         if (f > 0.0 && !pathBlocked(q, x, e.normal, aim, m_geometry.shapes[j].normal, ws, counts))
-                            row.addWeight(j, scale * f);
+                            addTerm(j, scale * f, ws);
                     }
                 } else if (!ws.blocked[b]) {
-                    row.addWeight(j, scale * ws.factors[b]);
+                    addTerm(j, scale * ws.factors[b], ws);
                 }
                 counts.bounces += node.depth;
             }
@@ -362,14 +383,133 @@ bool MirrorImages::clipReceiver(std::size_t q, PatchId j, Workspace& ws) const {
     return !ws.clipped.empty();
 }
 
-void MirrorImages::addRow(PatchId i, RowAccumulator& row, double unit, Workspace& ws, RayCounts& counts) const {
+void MirrorImages::addRow(PatchId i, RowAccumulator& row, double unit, PairExchange& exchange, Workspace& ws,
+                          RayCounts& counts) const {
     enumerate(i, ws);
-    if (ws.nodes.empty()) return;
-    // One pass per emitter rule in use; the lowest always runs (it counts what is cut off).
-    std::uint32_t used = 1u << m_lowest;
-    for (const std::uint8_t o : ws.orders) used |= 1u << o;
+    const std::uint64_t ticket = exchange.open(i, ws.taken);
+    // The pairs i emits for (and i seen in a mirror): one pass per emitter rule in use; the lowest
+    // always runs (it counts what is cut off).
+    if (!ws.nodes.empty()) {
+        ws.mine.resize(ws.receivers.size());
+        std::uint32_t used = 1u << m_lowest;
+        for (std::size_t k = 0; k < ws.receivers.size(); ++k) {
+            const PatchId r = ws.receivers[k];
+            ws.mine[k] = r == i || emitsFor(m_scene, i, r);
+            if (ws.mine[k]) used |= 1u << ws.orders[k];
+        }
+        for (int order = m_lowest; order <= 31; ++order)
+            if (used & (1u << order)) evaluate(i, order, kEveryReceiver, unit, ws, counts);
+    }
+    ws.outgoing.clear();
+    for (const PatchId r : ws.touched) {
+        ws.summed[r] = 0;
+        if (!(ws.sums[r] > 0.0)) continue;
+        row.addWeight(r, ws.sums[r]);
+        if (r != i) ws.outgoing.push_back({r, handOver(m_scene, ws.sums[r], i, r, unit)});
+    }
+    ws.touched.clear();
+    exchange.publish(i, ws.outgoing);
+    // The pairs emitted for i: handed over, or absent from an emitter that had finished (no term),
+    // or recomputed from the emitter along the chains by which i sees it, reversed.
+    for (const PairExchange::Entry& entry : ws.taken) {
+        ws.published[entry.patch] = entry.value;
+        if (entry.value > 0.0f) row.addWeight(entry.patch, double(entry.value) * unit);
+    }
+    ws.pending.clear();
+    for (std::uint32_t q = 0; q < ws.nodes.size(); ++q)
+        for (std::uint32_t k = ws.nodes[q].first; k < ws.nodes[q].first + ws.nodes[q].count; ++k) {
+            const PatchId e = ws.receivers[k];
+            if (e != i && !ws.mine[k] && ws.published[e] < 0.0f && !exchange.finished(e, ticket)) ws.pending.push_back({e, q});
+        }
+    for (const PairExchange::Entry& entry : ws.taken) ws.published[entry.patch] = -1.0f;
+    std::sort(ws.pending.begin(), ws.pending.end());
+    ws.pending.erase(std::unique(ws.pending.begin(), ws.pending.end()), ws.pending.end());
+    if (!ws.pair && !ws.pending.empty()) ws.pair = workspace();
+    for (std::size_t p = 0; p < ws.pending.size();) {
+        const PatchId e = ws.pending[p].first;
+        ws.chains.clear();
+        for (; p < ws.pending.size() && ws.pending[p].first == e; ++p) {
+            ws.chains.emplace_back();
+            for (std::int32_t q = std::int32_t(ws.pending[p].second); q >= 0; q = ws.nodes[q].parent)
+                ws.chains.back().push_back(ws.nodes[q].reflector);  // the last mirror first: e's side
+        }
+        const float value = handOver(m_scene, pairTerms(e, i, ws, unit, *ws.pair, counts), e, i, unit);
+        if (value > 0.0f) row.addWeight(e, double(value) * unit);
+    }
+}
+
+double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, double unit, Workspace& ws,
+                               RayCounts& counts) const {
+    // e's nodes on these chains, in enumerate's order (breadth first, then by reflector: the
+    // chains' prefixes by length, then lexicographically), each checked as enumerate checks it.
+    std::vector<std::vector<std::uint32_t>> prefixes;
+    for (const std::vector<std::uint32_t>& chain : from.chains)
+        for (std::size_t length = 1; length <= chain.size(); ++length)
+            prefixes.emplace_back(chain.begin(), chain.begin() + std::ptrdiff_t(length));
+    std::sort(prefixes.begin(), prefixes.end(), [](const auto& a, const auto& b) {
+        return a.size() != b.size() ? a.size() < b.size() : a < b;
+    });
+    prefixes.erase(std::unique(prefixes.begin(), prefixes.end()), prefixes.end());
+    const PatchShape& emitter = m_geometry.shapes[e];
+    const double radius = emitter.radius;
+    ws.nodes.clear();
+    ws.receivers.clear();
+    ws.orders.clear();
+    std::vector<std::int32_t> nodeOf(prefixes.size(), -1);  // per prefix: its node, -1 when e has none
+    std::uint32_t used = 0;
+    for (std::size_t p = 0; p < prefixes.size(); ++p) {
+        const std::vector<std::uint32_t>& chain = prefixes[p];
+        const std::uint32_t k = chain.back();
+        Node node;
+        if (chain.size() == 1) {
+            if (!seesFromEmitter(emitter, k)) continue;
+            node = makeNode(-1, k, 1, m_reflectors[k].specular, emitter.centroid);
+        } else {
+            // The parent is an earlier prefix (shorter): found by binary search.
+            const std::vector<std::uint32_t> parentChain(chain.begin(), chain.end() - 1);
+            const auto at = std::lower_bound(prefixes.begin(), prefixes.begin() + std::ptrdiff_t(p), parentChain,
+                                             [](const auto& a, const auto& b) {
+                                                 return a.size() != b.size() ? a.size() < b.size() : a < b;
+                                             });
+            const std::int32_t parent = nodeOf[std::size_t(at - prefixes.begin())];
+            if (parent < 0 || ws.nodes[parent].cutoff) continue;
+            const Node& up = ws.nodes[parent];
+            const Reflector& m = m_reflectors[up.reflector];
+            if (!reaches(up, radius, Cone(up.image, radius, m.centre, m.radius), k)) continue;
+            node = makeNode(parent, k, up.depth + 1, up.weight * m_reflectors[k].specular, up.image);
+        }
+        nodeOf[p] = std::int32_t(ws.nodes.size());
+        // Its receivers: r, and r's mesh neighbours for the silhouette test (those e emits for).
+        node.first = std::uint32_t(ws.receivers.size());
+        if (!node.cutoff) {
+            const Reflector& m = m_reflectors[k];
+            const Cone cone(node.image, radius, m.centre, m.radius);
+            auto consider = [&](PatchId j) {
+                if (j != e && !emitsFor(m_scene, e, j)) return;
+                const int order = receiverOrder(node, radius, cone, j);
+                if (order < 0) return;
+                ws.receivers.push_back(j);
+                ws.orders.push_back(static_cast<std::uint8_t>(order));
+                if (j == r) used |= 1u << order;
+            };
+            consider(r);
+            if (m_settings.visibility)  // statuses matter only with shadow rays
+                for (std::uint32_t n = m_geometry.neighbourStart[r]; n < m_geometry.neighbourStart[r + 1]; ++n)
+                    if (m_geometry.neighbours[n] != r) consider(m_geometry.neighbours[n]);
+        }
+        node.count = std::uint32_t(ws.receivers.size()) - node.first;
+        ws.nodes.push_back(node);
+    }
+    ws.mine.assign(ws.receivers.size(), 1);
     for (int order = m_lowest; order <= 31; ++order)
-        if (used & (1u << order)) evaluate(i, order, row, unit, ws, counts);
+        if (used & (1u << order)) evaluate(e, order, r, unit, ws, counts);
+    double terms = 0.0;
+    for (const PatchId j : ws.touched) {
+        if (j == r) terms = ws.sums[j];
+        ws.summed[j] = 0;
+    }
+    ws.touched.clear();
+    return terms;
 }
 
 }  // namespace hemirad

@@ -3,12 +3,14 @@
 #pragma once
 
 #include "preprocess/form_factor_backend.hpp"
+#include "preprocess/hemisphere/pair_exchange.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
 #include "preprocess/row_accumulator.hpp"
 #include "rays/mirror_chain.hpp"
 #include "rays/ray_scene.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,6 +37,12 @@ std::string findReflectors(const Scene& scene, std::vector<Reflector>& out);
 /// falls below --min-weight, the power still travelling reported as cut off). Shadow rays follow
 /// the reflected path leg by leg where some patch can obstruct. The emitter rule is chosen per
 /// receiver and chain from the distance of the receiver to the emitter's image (emitter_rule.hpp).
+///
+/// A path through mirrors and its reverse are one pair: the pair's emitting patch (pair_exchange.hpp)
+/// sums its terms through every chain toward the receiver, and the receiver's row takes that sum,
+/// scaled by the areas, through an exchange of its own: handed over when the emitting row finished
+/// first, else recomputed from the emitter's side along the reversed chains by which this row sees
+/// the emitter, equal bit for bit. The image terms are reciprocal to F's rounding.
 class MirrorImages {
 public:
     struct Settings {
@@ -72,21 +80,57 @@ public:
         std::vector<double> factors;
         std::vector<std::uint8_t> blocked, status;
         std::vector<double> weights, nodes1, weights1;
+        // The pairs: per (node, receiver) entry whether this row computes it; per patch this row's
+        // terms (ray units, `summed` marks them); the exchange's entries for and from this row.
+        std::vector<std::uint8_t> mine, summed;
+        std::vector<double> sums;
+        std::vector<PatchId> touched;
+        std::vector<float> published;
+        std::vector<PairExchange::Entry> taken, outgoing;
+        std::vector<std::pair<PatchId, std::uint32_t>> pending;  // (emitter, this row's node seeing it)
+        std::vector<std::vector<std::uint32_t>> chains;          // an emitter's chains (reflectors) toward this row
+        std::unique_ptr<Workspace> pair;  // a pair recomputed from its emitter
     };
 
     MirrorImages(const Scene& scene, const PatchGeometry& geometry, std::vector<Reflector> reflectors,
                  const RayScene& rays, const Settings& settings);
     ~MirrorImages();
 
-    /// Adds emitter i's factors through every chain of reflectors to `row`, `unit` per unit of F.
-    void addRow(PatchId i, RowAccumulator& row, double unit, Workspace& ws, RayCounts& counts) const;
+    /// Adds row i's factors through every chain of reflectors to `row`, `unit` per unit of F: the
+    /// pairs i emits for from i's points (published to `exchange`), the others from the exchange or
+    /// recomputed from their emitter.
+    void addRow(PatchId i, RowAccumulator& row, double unit, PairExchange& exchange, Workspace& ws,
+                RayCounts& counts) const;
 
     std::unique_ptr<Workspace> workspace() const;
     std::size_t reflectorCount() const { return m_reflectors.size(); }
 
 private:
+    static constexpr PatchId kEveryReceiver = ~PatchId(0);
+    struct Cone;  ///< where lines through a node's image ball and its aperture can go on
     void enumerate(PatchId i, Workspace& ws) const;
-    void evaluate(PatchId i, int order, RowAccumulator& row, double unit, Workspace& ws, RayCounts& counts) const;
+    /// Whether emitter e (radius r) can see reflector k at the root of a chain.
+    bool seesFromEmitter(const PatchShape& e, std::uint32_t k) const;
+    /// Whether the chain ending at `node` (its cone) can reach reflector k next.
+    bool reaches(const Node& node, double r, const Cone& cone, std::uint32_t k) const;
+    /// The node from `parent` (-1: the emitter at `from`) through reflector k.
+    Node makeNode(std::int32_t parent, std::uint32_t k, std::uint32_t depth, double weight, const Vec3& from) const;
+    /// Receiver j's rule order through `node` when j can be seen through it, else -1.
+    int receiverOrder(const Node& node, double r, const Cone& cone, PatchId j) const;
+    /// Adds the terms from emitter i's points of `order` to ws.sums (every receiver marked mine, or
+    /// `only`); the power cut off is counted for every receiver's pass only.
+    void evaluate(PatchId i, int order, PatchId only, double unit, Workspace& ws, RayCounts& counts) const;
+    /// Emitter e's terms for receiver r (ray units), as row e sums them, along the chains in
+    /// `from.chains` (each from e's side); `ws` is scratch.
+    double pairTerms(PatchId e, PatchId r, const Workspace& from, double unit, Workspace& ws, RayCounts& counts) const;
+    void addTerm(PatchId j, double value, Workspace& ws) const {
+        if (!ws.summed[j]) {
+            ws.summed[j] = 1;
+            ws.sums[j] = 0.0;
+            ws.touched.push_back(j);
+        }
+        ws.sums[j] += value;
+    }
     bool pathBlocked(std::size_t node, const Vec3& emitterPoint, const Vec3& emitterNormal, const Vec3& target,
                      const Vec3& targetNormal, Workspace& ws, RayCounts& counts) const;
     /// Receiver j's part seen through node q's aperture (into ws.clipped); false when empty.

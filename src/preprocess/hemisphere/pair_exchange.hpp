@@ -32,6 +32,18 @@ namespace hemirad {
 /// An entry takes 8 bytes (F's own size per nonzero; up to twice that with a list's growth); a
 /// row's entries wait from its first emitter's end to its own start. Thread-safe: rows on any
 /// threads, each row published once; a row opened again gets ticket 0.
+/// Which patch of a pair computes it: the smaller one (then the lower index).
+inline bool emitsFor(const Scene& scene, PatchId e, PatchId r) {
+    const double a = scene.patches[e].area, b = scene.patches[r].area;
+    return a < b || (a == b && e < r);
+}
+
+/// Row e's terms for receiver r, in `unit`s per unit of F_er, as the entry F_re that row r takes
+/// (A_e F_er / A_r, rounded to F's float).
+inline float handOver(const Scene& scene, double terms, PatchId e, PatchId r, double unit) {
+    return float(terms * (scene.patches[e].area / scene.patches[r].area) / unit);
+}
+
 class PairExchange {
 public:
     struct Entry {
