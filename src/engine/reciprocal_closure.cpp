@@ -13,6 +13,10 @@ namespace hemirad {
 namespace {
 
 constexpr double kTolerance = 1e-12;  ///< max |row sum - target| / target at which Newton stops
+/// Rows whose target sum is below this are judged absolutely: their miss counts against this sum,
+/// not against their own (a floor patch under a block sums to 1.6e-17, whose rounding alone is a
+/// relative miss of 6e-6).
+constexpr double kSmallestJudgedSum = 1e-9;
 constexpr int kMaxNewtonSteps = 50;
 constexpr int kMaxCgIterations = 2000;  ///< per Newton step
 constexpr int kMaxHalvings = 20;        ///< line search steps per Newton step
@@ -107,7 +111,7 @@ std::vector<double> closureScaling(const Scene& scene, const SymmetricRows& S, b
         return orderedSum(terms);
     };
 
-    std::vector<double> target(m), y(m);
+    std::vector<double> target(m), judged(m), y(m);  // judged: what a row's miss is measured against
     std::vector<std::uint8_t> active(m);
     multiply(x, y);
     for (std::size_t k = 0; k < m; ++k) {
@@ -117,13 +121,14 @@ std::vector<double> closureScaling(const Scene& scene, const SymmetricRows& S, b
             if (!S.scales[S.columns[e]]) fixedPart += double(S.values[e]);
         target[k] = scene.patches[i].area * ((closed ? 1.0 : S.estimated[k]) - fixedPart);
         active[k] = S.computed[k] && target[k] > 0.0 && y[k] > 0.0;
+        judged[k] = std::max(target[k], scene.patches[i].area * kSmallestJudgedSum);
     }
 
     std::vector<double> r(m), g(m), u(m), res(m), p(m), q(m), Sw(m), trial(m);
-    // sum over rows of (r_i / t_i)^2 for x and y = S x, in one order.
+    // sum over rows of (r_i / t_i)^2 (t_i at least A_i kSmallestJudgedSum) for x and y = S x, in one order.
     auto merit = [&](const std::vector<double>& xs, const std::vector<double>& ys) {
         std::vector<double> rel(m);
-        for (std::size_t k = 0; k < m; ++k) rel[k] = active[k] ? (target[k] - xs[S.rows[k]] * ys[k]) / target[k] : 0.0;
+        for (std::size_t k = 0; k < m; ++k) rel[k] = active[k] ? (target[k] - xs[S.rows[k]] * ys[k]) / judged[k] : 0.0;
         return dot(rel, rel);
     };
     report.converged = false;
@@ -132,7 +137,7 @@ std::vector<double> closureScaling(const Scene& scene, const SymmetricRows& S, b
         double worst = 0.0;
         for (std::size_t k = 0; k < m; ++k) {
             r[k] = active[k] ? target[k] - x[S.rows[k]] * y[k] : 0.0;
-            if (active[k]) worst = std::max(worst, std::abs(r[k]) / target[k]);
+            if (active[k]) worst = std::max(worst, std::abs(r[k]) / judged[k]);
         }
         report.residual = exchange.max(worst);
         if (report.residual <= kTolerance) {

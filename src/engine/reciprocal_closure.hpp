@@ -48,7 +48,7 @@ RowExchange singleProcess();
 struct ReciprocityReport {
     bool closedTargets = false;  ///< rows aimed at 1 (a closed scene), else at their estimated sums
     std::string why;             ///< why those targets, for people
-    double residual = 0.0;       ///< max |row sum - target| / target over the rows it could aim
+    double residual = 0.0;       ///< max |row sum - target| / max(target, 1e-9) over the rows it could aim
     int newtonSteps = 0, cgIterations = 0;
     bool converged = false;
     std::size_t changed = 0;     ///< entries whose float value changed (all processes)
