@@ -36,10 +36,15 @@ enum : std::uint64_t { kGoOn = 0, kNoRowsLeft = 1, kAbort = 2 };
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-/// The rows a rank's back end pulls: blocks pushed by the main thread; next() waits for one.
+/// The rows a rank's back end pulls: blocks of the ordered row list (granted in the list's order,
+/// the same on every rank) pushed by the main thread; next() waits for one.
 class QueueSource final : public RowSource {
 public:
-    QueueSource(std::size_t hint, std::size_t patches) : m_hint(hint), m_queued(new std::atomic<std::uint8_t>[patches]()) {}
+    QueueSource(const std::vector<PatchId>& ordered, std::size_t patches)
+        : m_ordered(ordered.data()), m_hint(ordered.size()), m_queued(new std::atomic<std::uint8_t>[patches]()),
+          m_position(patches, kUnlisted) {
+        for (std::size_t k = 0; k < ordered.size(); ++k) m_position[ordered[k]] = std::uint32_t(k);
+    }
     bool next(PatchId& row) override {
         std::unique_lock<std::mutex> lock(m_mutex);
         m_ready.wait(lock, [&] { return !m_rows.empty() || m_closed; });
@@ -49,9 +54,20 @@ public:
         return true;
     }
     std::size_t sizeHint() const override { return m_hint; }
-    bool mayHandOut(PatchId row) const override { return m_queued[row].load(std::memory_order_relaxed) != 0; }
+    /// Rows pushed here, and rows past every block pushed here (not granted to any rank yet, as far
+    /// as this rank knows): work kept for them pays when their block comes here. Rows before the
+    /// latest block that are not here went to other ranks. The frontier is read first: a row pushed
+    /// with it is seen as pushed.
+    bool mayHandOut(PatchId row) const override {
+        const std::size_t frontier = m_frontier.load(std::memory_order_acquire);
+        const std::uint32_t position = m_position[row];
+        if (position != kUnlisted && position >= frontier) return true;
+        return m_queued[row].load(std::memory_order_relaxed) != 0;
+    }
+    /// Pushes the block [begin, end) of the ordered list.
     void push(const PatchId* begin, const PatchId* end) {
         for (const PatchId* row = begin; row != end; ++row) m_queued[*row].store(1, std::memory_order_relaxed);
+        m_frontier.store(std::size_t(end - m_ordered), std::memory_order_release);
         {
             std::lock_guard<std::mutex> lock(m_mutex);
             m_rows.insert(m_rows.end(), begin, end);
@@ -71,8 +87,12 @@ public:
     }
 
 private:
+    static constexpr std::uint32_t kUnlisted = ~std::uint32_t(0);
+    const PatchId* m_ordered;
     std::size_t m_hint;
     std::unique_ptr<std::atomic<std::uint8_t>[]> m_queued;  ///< per patch: pushed to this rank
+    std::vector<std::uint32_t> m_position;                  ///< per patch: its place in the ordered list
+    std::atomic<std::size_t> m_frontier{0};                 ///< the end of the latest block pushed here
     mutable std::mutex m_mutex;
     std::condition_variable m_ready;
     std::deque<PatchId> m_rows;
@@ -172,7 +192,7 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
     backend->orderRows(rows);
 
     FormFactorBuilder builder(scene.size());
-    QueueSource queue(rows.size(), scene.size());
+    QueueSource queue(rows, scene.size());
     const std::size_t threads = std::size_t(resolveThreads(settings.common.threads));
     const std::size_t minRows = 4 * threads;
     std::vector<std::int32_t> owner(scene.size(), -1);

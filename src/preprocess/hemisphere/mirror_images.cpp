@@ -261,17 +261,15 @@ void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
     }
 }
 
-bool MirrorImages::pathBlocked(std::size_t node, const Vec3& emitterPoint, const Vec3& emitterNormal, const Vec3& target,
-                               const Vec3& targetNormal, Workspace& ws, RayCounts& counts) const {
+void MirrorImages::appendPath(std::size_t node, const Vec3& emitterPoint, const Vec3& emitterNormal, const Vec3& target,
+                              const Vec3& targetNormal, Workspace& ws) const {
     const double offset = m_rays.originOffset();
-    auto blocked = [&](const Vec3& from, const Vec3& fromNormal, const Vec3& to, const Vec3& toNormal) {
+    auto leg = [&](const Vec3& from, const Vec3& fromNormal, const Vec3& to, const Vec3& toNormal) {
         float a[3], b[3];
         m_rays.toLocal(from + offset * fromNormal, a);
         m_rays.toLocal(to + offset * toNormal, b);
-        std::uint8_t hit = 0;
-        m_rays.occludedSegments(a, b, 1, &hit);
-        ++counts.rays;
-        return hit != 0;
+        ws.legFrom.insert(ws.legFrom.end(), a, a + 3);
+        ws.legTo.insert(ws.legTo.end(), b, b + 3);
     };
     // Back along the chain: the leg into `to` comes from the mirror point where the line from the
     // chain's image to `to` crosses the mirror.
@@ -281,14 +279,31 @@ bool MirrorImages::pathBlocked(std::size_t node, const Vec3& emitterPoint, const
         const Vec3& image = ws.apex[q];
         const double along = (m.offset - m.normal.dot(image)) / m.normal.dot(to - image);
         const Vec3 onMirror = image + along * (to - image);
-        if (blocked(onMirror, m.normal, to, toNormal)) return true;
+        leg(onMirror, m.normal, to, toNormal);
         to = onMirror;
         toNormal = m.normal;
     }
-    return blocked(emitterPoint, emitterNormal, to, toNormal);
+    leg(emitterPoint, emitterNormal, to, toNormal);
 }
 
-void MirrorImages::evaluate(PatchId i, int order, PatchId only, double unit, Workspace& ws, RayCounts& counts) const {
+void MirrorImages::castPaths(Workspace& ws, RayCounts& counts) const {
+    const std::size_t legs = ws.legFrom.size() / 3;
+    ws.legBlocked.assign(legs, 0);
+    if (legs > 0) m_rays.occludedSegmentPairs(ws.legFrom.data(), ws.legTo.data(), legs, ws.legBlocked.data());
+    counts.rays += legs;
+    ws.legFrom.clear();
+    ws.legTo.clear();
+}
+
+bool MirrorImages::pathBlocked(std::size_t node, const Vec3& emitterPoint, const Vec3& emitterNormal, const Vec3& target,
+                               const Vec3& targetNormal, Workspace& ws, RayCounts& counts) const {
+    appendPath(node, emitterPoint, emitterNormal, target, targetNormal, ws);
+    castPaths(ws, counts);
+    return std::find(ws.legBlocked.begin(), ws.legBlocked.end(), 1) != ws.legBlocked.end();
+}
+
+void MirrorImages::evaluate(PatchId i, int order, PatchId only, bool countCutoff, double unit, Workspace& ws,
+                            RayCounts& counts) const {
     const PatchShape& e = m_geometry.shapes[i];
     ws.points.clear();
     ws.weights.clear();
@@ -325,7 +340,7 @@ void MirrorImages::evaluate(PatchId i, int order, PatchId only, double unit, Wor
             }
             if (aperture.empty()) continue;
             if (node.cutoff) {  // the power reaching this mirror and reflected on is cut off
-                if (order == m_lowest && only == kEveryReceiver)
+                if (order == m_lowest && countCutoff)
                     counts.cutoffWeight += w * node.weight * pointToPolygonFactor(from, fromAxis, aperture.data(), aperture.size());
                 continue;
             }
@@ -336,7 +351,7 @@ void MirrorImages::evaluate(PatchId i, int order, PatchId only, double unit, Wor
             // sit on a silhouette (seen through this aperture) and are split into pieces.
             ws.batch.clear();
             ws.factors.clear();
-            ws.blocked.clear();
+            ws.legStart.clear();
             for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
                 if (ws.orders[k] != order || !ws.mine[k] || !clipReceiver(q, ws.receivers[k], ws)) continue;
                 const PatchId j = ws.receivers[k];
@@ -344,9 +359,16 @@ void MirrorImages::evaluate(PatchId i, int order, PatchId only, double unit, Wor
                 if (!(f > 0.0)) continue;
                 ws.batch.push_back(j);
                 ws.factors.push_back(f);
-                ws.blocked.push_back(m_settings.visibility && pathBlocked(q, x, e.normal, vertexMean(ws.clipped.data(), ws.clipped.size()),
-                                                                          m_geometry.shapes[j].normal, ws, counts));
+                ws.legStart.push_back(std::uint32_t(ws.legFrom.size() / 3));
+                if (m_settings.visibility)
+                    appendPath(q, x, e.normal, vertexMean(ws.clipped.data(), ws.clipped.size()), m_geometry.shapes[j].normal, ws);
             }
+            // Every leg of the batch's paths in one cast; a path is blocked where any leg is.
+            ws.legStart.push_back(std::uint32_t(ws.legFrom.size() / 3));
+            castPaths(ws, counts);
+            ws.blocked.assign(ws.batch.size(), 0);
+            for (std::size_t b = 0; b < ws.batch.size(); ++b)
+                for (std::uint32_t l = ws.legStart[b]; l < ws.legStart[b + 1] && !ws.blocked[b]; ++l) ws.blocked[b] = ws.legBlocked[l];
             const double scale = unit * w * node.weight;
             if (m_settings.visibility)
                 for (std::size_t b = 0; b < ws.batch.size(); ++b) ws.status[ws.batch[b]] = ws.blocked[b] ? 2 : 1;
@@ -383,34 +405,44 @@ bool MirrorImages::clipReceiver(std::size_t q, PatchId j, Workspace& ws) const {
     return !ws.clipped.empty();
 }
 
-void MirrorImages::addRow(PatchId i, RowAccumulator& row, double unit, PairExchange& exchange, Workspace& ws,
-                          RayCounts& counts) const {
+void MirrorImages::ownTerms(PatchId i, bool countCutoff, double unit, Workspace& ws, RayCounts& counts) const {
     enumerate(i, ws);
-    const std::uint64_t ticket = exchange.open(i, ws.taken);
-    // The pairs i emits for (and i seen in a mirror): one pass per emitter rule in use; the lowest
-    // always runs (it counts what is cut off).
-    if (!ws.nodes.empty()) {
-        ws.mine.resize(ws.receivers.size());
-        std::uint32_t used = 1u << m_lowest;
-        for (std::size_t k = 0; k < ws.receivers.size(); ++k) {
-            const PatchId r = ws.receivers[k];
-            ws.mine[k] = r == i || emitsFor(m_scene, i, r);
-            if (ws.mine[k]) used |= 1u << ws.orders[k];
-        }
-        for (int order = m_lowest; order <= 31; ++order)
-            if (used & (1u << order)) evaluate(i, order, kEveryReceiver, unit, ws, counts);
+    if (ws.nodes.empty()) return;
+    // One pass per emitter rule in use; the lowest always runs (it counts what is cut off).
+    ws.mine.resize(ws.receivers.size());
+    std::uint32_t used = 1u << m_lowest;
+    for (std::size_t k = 0; k < ws.receivers.size(); ++k) {
+        const PatchId r = ws.receivers[k];
+        ws.mine[k] = r == i || emitsFor(m_scene, i, r);
+        if (ws.mine[k]) used |= 1u << ws.orders[k];
     }
+    for (int order = m_lowest; order <= 31; ++order)
+        if (used & (1u << order)) evaluate(i, order, kEveryReceiver, countCutoff, unit, ws, counts);
+}
+
+double MirrorImages::collect(PatchId i, PatchId r, RowAccumulator* row, double unit, Workspace& ws) const {
+    double terms = 0.0;
     ws.outgoing.clear();
-    for (const PatchId r : ws.touched) {
-        ws.summed[r] = 0;
-        if (!(ws.sums[r] > 0.0)) continue;
-        row.addWeight(r, ws.sums[r]);
-        if (r != i) ws.outgoing.push_back({r, handOver(m_scene, ws.sums[r], i, r, unit)});
+    for (const PatchId j : ws.touched) {
+        ws.summed[j] = 0;
+        if (!(ws.sums[j] > 0.0)) continue;
+        if (j == r) terms = ws.sums[j];
+        if (row) row->addWeight(j, ws.sums[j]);
+        if (j != i) ws.outgoing.push_back({j, handOver(m_scene, ws.sums[j], i, j, unit)});
     }
     ws.touched.clear();
+    return terms;
+}
+
+void MirrorImages::addRow(PatchId i, RowAccumulator& row, double unit, PairExchange& exchange, Workspace& ws,
+                          RayCounts& counts) const {
+    // The pairs i emits for (and i seen in a mirror), published for their other rows.
+    ownTerms(i, true, unit, ws, counts);
+    collect(i, i, &row, unit, ws);
     exchange.publish(i, ws.outgoing);
     // The pairs emitted for i: handed over, or absent from an emitter that had finished (no term),
     // or recomputed from the emitter along the chains by which i sees it, reversed.
+    const std::uint64_t ticket = exchange.open(i, ws.taken);
     for (const PairExchange::Entry& entry : ws.taken) {
         ws.published[entry.patch] = entry.value;
         if (entry.value > 0.0f) row.addWeight(entry.patch, double(entry.value) * unit);
@@ -419,7 +451,8 @@ void MirrorImages::addRow(PatchId i, RowAccumulator& row, double unit, PairExcha
     for (std::uint32_t q = 0; q < ws.nodes.size(); ++q)
         for (std::uint32_t k = ws.nodes[q].first; k < ws.nodes[q].first + ws.nodes[q].count; ++k) {
             const PatchId e = ws.receivers[k];
-            if (e != i && !ws.mine[k] && ws.published[e] < 0.0f && !exchange.finished(e, ticket)) ws.pending.push_back({e, q});
+            if (e != i && !ws.mine[k] && ws.published[e] < 0.0f && !exchange.finished(e, ticket))
+                ws.pending.push_back({e, q});
         }
     for (const PairExchange::Entry& entry : ws.taken) ws.published[entry.patch] = -1.0f;
     std::sort(ws.pending.begin(), ws.pending.end());
@@ -433,7 +466,8 @@ void MirrorImages::addRow(PatchId i, RowAccumulator& row, double unit, PairExcha
             for (std::int32_t q = std::int32_t(ws.pending[p].second); q >= 0; q = ws.nodes[q].parent)
                 ws.chains.back().push_back(ws.nodes[q].reflector);  // the last mirror first: e's side
         }
-        const float value = handOver(m_scene, pairTerms(e, i, ws, unit, *ws.pair, counts), e, i, unit);
+        const double terms = pairTerms(e, i, ws, unit, *ws.pair, counts);
+        const float value = handOver(m_scene, terms, e, i, unit);
         if (value > 0.0f) row.addWeight(e, double(value) * unit);
     }
 }
@@ -502,7 +536,7 @@ double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, doub
     }
     ws.mine.assign(ws.receivers.size(), 1);
     for (int order = m_lowest; order <= 31; ++order)
-        if (used & (1u << order)) evaluate(e, order, r, unit, ws, counts);
+        if (used & (1u << order)) evaluate(e, order, r, false, unit, ws, counts);
     double terms = 0.0;
     for (const PatchId j : ws.touched) {
         if (j == r) terms = ws.sums[j];

@@ -79,6 +79,9 @@ public:
         std::vector<PatchId> batch;
         std::vector<double> factors;
         std::vector<std::uint8_t> blocked, status;
+        std::vector<float> legFrom, legTo;      // the batch's path legs
+        std::vector<std::uint8_t> legBlocked;
+        std::vector<std::uint32_t> legStart;    // per batch receiver: its first leg
         std::vector<double> weights, nodes1, weights1;
         // The pairs: per (node, receiver) entry whether this row computes it; per patch this row's
         // terms (ray units, `summed` marks them); the exchange's entries for and from this row.
@@ -97,7 +100,7 @@ public:
     ~MirrorImages();
 
     /// Adds row i's factors through every chain of reflectors to `row`, `unit` per unit of F: the
-    /// pairs i emits for from i's points (published to `exchange`), the others from the exchange or
+    /// pairs i emits for from i's points (published to `exchange`), the others handed over or
     /// recomputed from their emitter.
     void addRow(PatchId i, RowAccumulator& row, double unit, PairExchange& exchange, Workspace& ws,
                 RayCounts& counts) const;
@@ -118,8 +121,14 @@ private:
     /// Receiver j's rule order through `node` when j can be seen through it, else -1.
     int receiverOrder(const Node& node, double r, const Cone& cone, PatchId j) const;
     /// Adds the terms from emitter i's points of `order` to ws.sums (every receiver marked mine, or
-    /// `only`); the power cut off is counted for every receiver's pass only.
-    void evaluate(PatchId i, int order, PatchId only, double unit, Workspace& ws, RayCounts& counts) const;
+    /// `only`); the power cut off is counted when `countCutoff` (the row's own pass).
+    void evaluate(PatchId i, int order, PatchId only, bool countCutoff, double unit, Workspace& ws,
+                  RayCounts& counts) const;
+    /// Emitter i's terms for the receivers it emits for (and itself) into ws.sums / ws.touched.
+    void ownTerms(PatchId i, bool countCutoff, double unit, Workspace& ws, RayCounts& counts) const;
+    /// ws.sums as the entries the exchange hands over (ws.outgoing), added to `row` when given;
+    /// returns receiver r's terms; clears the sums.
+    double collect(PatchId i, PatchId r, RowAccumulator* row, double unit, Workspace& ws) const;
     /// Emitter e's terms for receiver r (ray units), as row e sums them, along the chains in
     /// `from.chains` (each from e's side); `ws` is scratch.
     double pairTerms(PatchId e, PatchId r, const Workspace& from, double unit, Workspace& ws, RayCounts& counts) const;
@@ -131,6 +140,12 @@ private:
         }
         ws.sums[j] += value;
     }
+    /// The legs of the reflected path from the emitter point to `target` through node's chain,
+    /// appended to ws.legFrom / ws.legTo (ray-scene coordinates, lifted off their surfaces).
+    void appendPath(std::size_t node, const Vec3& emitterPoint, const Vec3& emitterNormal, const Vec3& target,
+                    const Vec3& targetNormal, Workspace& ws) const;
+    /// Casts the appended legs into ws.legBlocked and clears them.
+    void castPaths(Workspace& ws, RayCounts& counts) const;
     bool pathBlocked(std::size_t node, const Vec3& emitterPoint, const Vec3& emitterNormal, const Vec3& target,
                      const Vec3& targetNormal, Workspace& ws, RayCounts& counts) const;
     /// Receiver j's part seen through node q's aperture (into ws.clipped); false when empty.

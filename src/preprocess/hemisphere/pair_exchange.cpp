@@ -44,8 +44,12 @@ void PairExchange::publish(PatchId emitter, const std::vector<Entry>& entries) {
             held = stripe;
         }
         if (m_state[r] & kClosed) continue;
-        if (m_entries[r].empty() && !m_wanted(r)) {  // asked while the row's list is empty
+        if (!m_wanted(r)) {  // not to be opened here (or not known to be): its list is freed
             m_state[r] |= kSkipped;
+            if (!m_entries[r].empty()) {
+                m_held.fetch_sub(std::int64_t(m_entries[r].size()), std::memory_order_relaxed);
+                m_entries[r] = {};
+            }
             continue;
         }
         m_entries[r].push_back({emitter, entry.value});

@@ -25,9 +25,10 @@ namespace hemirad {
 ///     receiver r: open(r) -> ticket = the clock's reading, r closed, its list moved out;
 ///                an emitter absent from the list had no term for r iff finished(e, ticket)
 ///
-/// Entries go only to rows the source says it may still hand out; a row that some emitter skipped
-/// (an MPI rank's row pushed after that emitter finished) gets ticket 0: every absent pair is
-/// recomputed.
+/// Entries go only to rows the source says it may still hand out (an MPI rank: rows pushed to it
+/// and rows past its latest block, not granted yet); a row that some emitter skipped (one that
+/// went to another rank, whose list is then freed, or a source that could not tell) gets ticket 0:
+/// every absent pair is recomputed.
 ///
 /// An entry takes 8 bytes (F's own size per nonzero; up to twice that with a list's growth); a
 /// row's entries wait from its first emitter's end to its own start. Thread-safe: rows on any
