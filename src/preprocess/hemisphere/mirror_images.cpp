@@ -127,7 +127,7 @@ std::string findReflectors(const Scene& scene, std::vector<Reflector>& out) {
 MirrorImages::MirrorImages(const Scene& scene, const PatchGeometry& geometry, std::vector<Reflector> reflectors,
                            const RayScene& rays, const Settings& settings)
     : m_scene(scene), m_geometry(geometry), m_reflectors(std::move(reflectors)), m_rays(rays), m_settings(settings),
-      m_lowest(farOrder(settings.origins)), m_near(nearOrder(settings.origins)) {
+      m_lowest(farOrder(settings.origins)), m_near(nearOrder(settings.origins)), m_flat(1e-9 * scene.extent()) {
     m_ballPatches.resize(geometry.shapes.size());
     for (PatchId j = 0; j < m_ballPatches.size(); ++j) m_ballPatches[j] = j;
     if (!m_ballPatches.empty()) buildBalls(0, std::uint32_t(m_ballPatches.size()));
@@ -188,11 +188,18 @@ MirrorImages::Node MirrorImages::makeNode(std::int32_t parent, std::uint32_t k, 
 }
 
 bool MirrorImages::seesFromEmitter(const PatchShape& e, std::uint32_t k) const {
-    // Partly above the emitter's plane, the emitter partly in front.
+    // Partly above the emitter's plane, the emitter partly in front, each by more than rounding: a
+    // mirror in the emitter's own plane (another pane of its facade) reflects nothing to it (with
+    // a tolerance of 0, a normal 1e-17 off made such panes "seen", and their images, on the
+    // emitter itself, sent 0.8 of its hemisphere a second time).
     const Reflector& m = m_reflectors[k];
     if (m.normal.dot(e.centroid) - m.offset <= -e.radius) return false;
+    bool inFront = false;
+    for (std::uint32_t c = 0; c < e.count && !inFront; ++c)
+        inFront = m.normal.dot(m_geometry.corners[e.first + c]) - m.offset > m_flat;
+    if (!inFront) return false;
     for (const Vec3& p : m.polygon)
-        if (e.normal.dot(p - e.centroid) > 0.0) return true;
+        if (e.normal.dot(p - e.centroid) > m_flat) return true;
     return false;
 }
 
@@ -302,8 +309,7 @@ bool MirrorImages::pathBlocked(std::size_t node, const Vec3& emitterPoint, const
     return std::find(ws.legBlocked.begin(), ws.legBlocked.end(), 1) != ws.legBlocked.end();
 }
 
-void MirrorImages::evaluate(PatchId i, int order, PatchId only, bool countCutoff, double unit, Workspace& ws,
-                            RayCounts& counts) const {
+void MirrorImages::evaluate(PatchId i, int order, PatchId only, double unit, Workspace& ws, RayCounts& counts) const {
     const PatchShape& e = m_geometry.shapes[i];
     ws.points.clear();
     ws.weights.clear();
@@ -329,7 +335,7 @@ void MirrorImages::evaluate(PatchId i, int order, PatchId only, bool countCutoff
             const Vec3& from = node.parent < 0 ? x : ws.apex[node.parent];
             const Vec3& fromAxis = node.parent < 0 ? e.normal : ws.axis[node.parent];
             if (node.parent >= 0 && !ws.alive[node.parent]) continue;
-            if (m.normal.dot(from) - m.offset <= 0.0) continue;  // the (image) source is behind this mirror
+            if (m.normal.dot(from) - m.offset <= m_flat) continue;  // the (image) source is behind this mirror, or on it
             std::vector<Vec3>& aperture = ws.apertures[q];
             if (node.parent < 0) {
                 clipAbovePlane(x, e.normal, m.polygon.data(), m.polygon.size(), aperture);
@@ -340,7 +346,7 @@ void MirrorImages::evaluate(PatchId i, int order, PatchId only, bool countCutoff
             }
             if (aperture.empty()) continue;
             if (node.cutoff) {  // the power reaching this mirror and reflected on is cut off
-                if (order == m_lowest && countCutoff)
+                if (order == m_lowest && only == kEveryReceiver)
                     counts.cutoffWeight += w * node.weight * pointToPolygonFactor(from, fromAxis, aperture.data(), aperture.size());
                 continue;
             }
@@ -405,7 +411,7 @@ bool MirrorImages::clipReceiver(std::size_t q, PatchId j, Workspace& ws) const {
     return !ws.clipped.empty();
 }
 
-void MirrorImages::ownTerms(PatchId i, bool countCutoff, double unit, Workspace& ws, RayCounts& counts) const {
+void MirrorImages::ownTerms(PatchId i, double unit, Workspace& ws, RayCounts& counts) const {
     enumerate(i, ws);
     if (ws.nodes.empty()) return;
     // One pass per emitter rule in use; the lowest always runs (it counts what is cut off).
@@ -417,28 +423,25 @@ void MirrorImages::ownTerms(PatchId i, bool countCutoff, double unit, Workspace&
         if (ws.mine[k]) used |= 1u << ws.orders[k];
     }
     for (int order = m_lowest; order <= 31; ++order)
-        if (used & (1u << order)) evaluate(i, order, kEveryReceiver, countCutoff, unit, ws, counts);
+        if (used & (1u << order)) evaluate(i, order, kEveryReceiver, unit, ws, counts);
 }
 
-double MirrorImages::collect(PatchId i, PatchId r, RowAccumulator* row, double unit, Workspace& ws) const {
-    double terms = 0.0;
+void MirrorImages::collect(PatchId i, RowAccumulator& row, double unit, Workspace& ws) const {
     ws.outgoing.clear();
     for (const PatchId j : ws.touched) {
         ws.summed[j] = 0;
         if (!(ws.sums[j] > 0.0)) continue;
-        if (j == r) terms = ws.sums[j];
-        if (row) row->addWeight(j, ws.sums[j]);
+        row.addWeight(j, ws.sums[j]);
         if (j != i) ws.outgoing.push_back({j, handOver(m_scene, ws.sums[j], i, j, unit)});
     }
     ws.touched.clear();
-    return terms;
 }
 
 void MirrorImages::addRow(PatchId i, RowAccumulator& row, double unit, PairExchange& exchange, Workspace& ws,
                           RayCounts& counts) const {
     // The pairs i emits for (and i seen in a mirror), published for their other rows.
-    ownTerms(i, true, unit, ws, counts);
-    collect(i, i, &row, unit, ws);
+    ownTerms(i, unit, ws, counts);
+    collect(i, row, unit, ws);
     exchange.publish(i, ws.outgoing);
     // The pairs emitted for i: handed over, or absent from an emitter that had finished (no term),
     // or recomputed from the emitter along the chains by which i sees it, reversed.
@@ -536,7 +539,7 @@ double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, doub
     }
     ws.mine.assign(ws.receivers.size(), 1);
     for (int order = m_lowest; order <= 31; ++order)
-        if (used & (1u << order)) evaluate(e, order, r, false, unit, ws, counts);
+        if (used & (1u << order)) evaluate(e, order, r, unit, ws, counts);
     double terms = 0.0;
     for (const PatchId j : ws.touched) {
         if (j == r) terms = ws.sums[j];

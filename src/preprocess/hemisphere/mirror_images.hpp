@@ -121,14 +121,12 @@ private:
     /// Receiver j's rule order through `node` when j can be seen through it, else -1.
     int receiverOrder(const Node& node, double r, const Cone& cone, PatchId j) const;
     /// Adds the terms from emitter i's points of `order` to ws.sums (every receiver marked mine, or
-    /// `only`); the power cut off is counted when `countCutoff` (the row's own pass).
-    void evaluate(PatchId i, int order, PatchId only, bool countCutoff, double unit, Workspace& ws,
-                  RayCounts& counts) const;
+    /// `only`); the power cut off is counted for every receiver's pass only (the row's own).
+    void evaluate(PatchId i, int order, PatchId only, double unit, Workspace& ws, RayCounts& counts) const;
     /// Emitter i's terms for the receivers it emits for (and itself) into ws.sums / ws.touched.
-    void ownTerms(PatchId i, bool countCutoff, double unit, Workspace& ws, RayCounts& counts) const;
-    /// ws.sums as the entries the exchange hands over (ws.outgoing), added to `row` when given;
-    /// returns receiver r's terms; clears the sums.
-    double collect(PatchId i, PatchId r, RowAccumulator* row, double unit, Workspace& ws) const;
+    void ownTerms(PatchId i, double unit, Workspace& ws, RayCounts& counts) const;
+    /// ws.sums added to `row` and as the entries the exchange hands over (ws.outgoing); clears them.
+    void collect(PatchId i, RowAccumulator& row, double unit, Workspace& ws) const;
     /// Emitter e's terms for receiver r (ray units), as row e sums them, along the chains in
     /// `from.chains` (each from e's side); `ws` is scratch.
     double pairTerms(PatchId e, PatchId r, const Workspace& from, double unit, Workspace& ws, RayCounts& counts) const;
@@ -169,6 +167,7 @@ private:
     const RayScene& m_rays;
     Settings m_settings;
     int m_lowest, m_near;
+    double m_flat;  ///< 1e-9 of the scene's size: nearer a plane than this is on it
 };
 
 }  // namespace hemirad
