@@ -59,8 +59,4 @@ private:
     std::vector<double> m_threshold;  ///< the smallest ratio order lowest + k is good for
 };
 
-inline int emitterOrder(double ratio, double tolerance, int lowest, int near) {
-    return EmitterOrders(tolerance, lowest, near)(ratio);
-}
-
 }  // namespace hemirad

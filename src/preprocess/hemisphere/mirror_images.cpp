@@ -127,46 +127,85 @@ std::string findReflectors(const Scene& scene, std::vector<Reflector>& out) {
 MirrorImages::MirrorImages(const Scene& scene, const PatchGeometry& geometry, std::vector<Reflector> reflectors,
                            const RayScene& rays, const Settings& settings)
     : m_scene(scene), m_geometry(geometry), m_reflectors(std::move(reflectors)), m_rays(rays), m_settings(settings),
-      m_lowest(farOrder(settings.origins)), m_near(nearOrder(settings.origins)), m_flat(1e-9 * scene.extent()) {
-    m_ballPatches.resize(geometry.shapes.size());
-    for (PatchId j = 0; j < m_ballPatches.size(); ++j) m_ballPatches[j] = j;
-    if (!m_ballPatches.empty()) buildBalls(0, std::uint32_t(m_ballPatches.size()));
+      m_lowest(farOrder(settings.origins)), m_near(nearOrder(settings.origins)),
+      m_orders(settings.tolerance, m_lowest, m_near), m_flat(1e-9 * scene.extent()) {
+    m_ruleNodes.resize(std::size_t(m_orders.highest()) + 1);
+    m_ruleWeights.resize(m_ruleNodes.size());
+    for (int m = std::max(2, m_lowest); m <= m_orders.highest(); ++m) gaussLegendre(m, m_ruleNodes[m], m_ruleWeights[m]);
+    std::vector<Vec3> centres;
+    std::vector<double> radii;
+    for (const PatchShape& t : geometry.shapes) {
+        centres.push_back(t.centroid);
+        radii.push_back(t.radius);
+    }
+    m_patchTree.build(centres, radii);
+    centres.clear();
+    radii.clear();
+    for (const Reflector& r : m_reflectors) {
+        centres.push_back(r.centre);
+        radii.push_back(r.radius);
+    }
+    m_reflectorTree.build(centres, radii);
 }
 
-void MirrorImages::buildBalls(std::uint32_t first, std::uint32_t last) {
+void MirrorImages::BallTree::build(const std::vector<Vec3>& centres, const std::vector<double>& radii) {
+    balls.clear();
+    items.resize(centres.size());
+    for (std::uint32_t k = 0; k < items.size(); ++k) items[k] = k;
+    if (!items.empty()) split(centres, radii, 0, std::uint32_t(items.size()));
+}
+
+void MirrorImages::BallTree::split(const std::vector<Vec3>& centres, const std::vector<double>& radii,
+                                   std::uint32_t first, std::uint32_t last) {
     constexpr std::uint32_t kLeaf = 8;
     Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity()), high = -low;
     for (std::uint32_t k = first; k < last; ++k) {
-        low = low.cwiseMin(m_geometry.shapes[m_ballPatches[k]].centroid);
-        high = high.cwiseMax(m_geometry.shapes[m_ballPatches[k]].centroid);
+        low = low.cwiseMin(centres[items[k]]);
+        high = high.cwiseMax(centres[items[k]]);
     }
-    const std::size_t index = m_balls.size();
-    m_balls.emplace_back();
+    const std::size_t index = balls.size();
+    balls.emplace_back();
     Ball ball;
     ball.centre = 0.5 * (low + high);
-    for (std::uint32_t k = first; k < last; ++k) {
-        const PatchShape& t = m_geometry.shapes[m_ballPatches[k]];
-        ball.radius = std::max(ball.radius, (t.centroid - ball.centre).norm() + t.radius);
-    }
+    for (std::uint32_t k = first; k < last; ++k)
+        ball.radius = std::max(ball.radius, (centres[items[k]] - ball.centre).norm() + radii[items[k]]);
     ball.radius *= 1.0 + 1e-12;
     if (last - first <= kLeaf) {
         ball.first = first;
         ball.count = last - first;
-        m_balls[index] = ball;
+        balls[index] = ball;
         return;
     }
     int axis = 0;
     (high - low).maxCoeff(&axis);
     const std::uint32_t middle = first + (last - first) / 2;
-    std::nth_element(m_ballPatches.begin() + first, m_ballPatches.begin() + middle, m_ballPatches.begin() + last,
-                     [&](PatchId a, PatchId b) {
-                         const double ca = m_geometry.shapes[a].centroid[axis], cb = m_geometry.shapes[b].centroid[axis];
+    std::nth_element(items.begin() + first, items.begin() + middle, items.begin() + last,
+                     [&](std::uint32_t a, std::uint32_t b) {
+                         const double ca = centres[a][axis], cb = centres[b][axis];
                          return ca < cb || (ca == cb && a < b);
                      });
-    buildBalls(first, middle);
-    ball.right = std::uint32_t(m_balls.size());
-    buildBalls(middle, last);
-    m_balls[index] = ball;
+    split(centres, radii, first, middle);
+    ball.right = std::uint32_t(balls.size());
+    split(centres, radii, middle, last);
+    balls[index] = ball;
+}
+
+template <class Keep, class Visit>
+void MirrorImages::BallTree::query(std::vector<std::uint32_t>& stack, Keep keep, Visit visit) const {
+    if (balls.empty()) return;
+    stack.assign(1, 0);
+    while (!stack.empty()) {
+        const std::uint32_t at = stack.back();
+        const Ball& ball = balls[at];
+        stack.pop_back();
+        if (!keep(ball.centre, ball.radius)) continue;
+        if (ball.count == 0) {
+            stack.push_back(ball.right);
+            stack.push_back(at + 1);
+            continue;
+        }
+        for (std::uint32_t k = ball.first; k < ball.first + ball.count; ++k) visit(items[k]);
+    }
 }
 
 MirrorImages::~MirrorImages() = default;
@@ -217,7 +256,7 @@ int MirrorImages::receiverOrder(const Node& node, double r, const Cone& cone, Pa
     if (t.normal.dot(node.image - t.centroid) <= -r) return -1;        // faces away from every image point
     if (!cone.meets(t.centroid, t.radius)) return -1;
     const double ratio = std::max(0.0, (t.centroid - node.image).norm() - t.radius) / r;
-    return emitterOrder(ratio, m_settings.tolerance, m_lowest, m_near);
+    return m_orders(ratio);
 }
 
 void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
@@ -242,29 +281,25 @@ void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
         const Reflector& m = m_reflectors[node.reflector];
         const Cone cone(node.image, r, m.centre, m.radius);
         ws.nodes[q].first = static_cast<std::uint32_t>(ws.receivers.size());
-        ws.stack.assign(1, 0);
-        while (!ws.stack.empty()) {
-            const std::uint32_t at = ws.stack.back();
-            const Ball& ball = m_balls[at];
-            ws.stack.pop_back();
-            if (m.normal.dot(ball.centre) - m.offset <= -ball.radius || !cone.meets(ball.centre, ball.radius)) continue;
-            if (ball.count == 0) {
-                ws.stack.push_back(ball.right);
-                ws.stack.push_back(at + 1);
-                continue;
-            }
-            for (std::uint32_t k = ball.first; k < ball.first + ball.count; ++k) {
-                const PatchId j = m_ballPatches[k];
-                const int order = receiverOrder(node, r, cone, j);
-                if (order < 0) continue;
-                ws.receivers.push_back(j);
-                ws.orders.push_back(static_cast<std::uint8_t>(order));
-            }
-        }
+        // Balls wholly behind the mirror or off the cone hold no receiver.
+        auto ahead = [&](const Vec3& c, double radius) {
+            return m.normal.dot(c) - m.offset > -radius && cone.meets(c, radius);
+        };
+        m_patchTree.query(ws.stack, ahead, [&](std::uint32_t j) {
+            const int order = receiverOrder(node, r, cone, j);
+            if (order < 0) return;
+            ws.receivers.push_back(j);
+            ws.orders.push_back(static_cast<std::uint8_t>(order));
+        });
         ws.nodes[q].count = static_cast<std::uint32_t>(ws.receivers.size()) - ws.nodes[q].first;
-        for (std::uint32_t k = 0; k < m_reflectors.size(); ++k)
-            if (reaches(node, r, cone, k))
-                push(makeNode(std::int32_t(q), k, node.depth + 1, node.weight * m_reflectors[k].specular, node.image));
+        // The next reflectors, in index order (pairTerms rebuilds this order).
+        ws.next.clear();
+        m_reflectorTree.query(ws.stack, ahead, [&](std::uint32_t k) {
+            if (reaches(node, r, cone, k)) ws.next.push_back(k);
+        });
+        std::sort(ws.next.begin(), ws.next.end());
+        for (const std::uint32_t k : ws.next)
+            push(makeNode(std::int32_t(q), k, node.depth + 1, node.weight * m_reflectors[k].specular, node.image));
     }
 }
 
@@ -317,8 +352,7 @@ void MirrorImages::evaluate(PatchId i, int order, PatchId only, double unit, Wor
         ws.points.push_back(e.centroid);
         ws.weights.push_back(1.0);
     } else {
-        gaussLegendre(order, ws.nodes1, ws.weights1);
-        polygonQuadrature(m_geometry.polygon(i), e.count, ws.nodes1, ws.weights1, ws.points, ws.weights);
+        polygonQuadrature(m_geometry.polygon(i), e.count, m_ruleNodes[order], m_ruleWeights[order], ws.points, ws.weights);
     }
     const std::size_t count = ws.nodes.size();
     ws.apex.resize(count);

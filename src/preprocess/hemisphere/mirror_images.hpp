@@ -3,6 +3,7 @@
 #pragma once
 
 #include "preprocess/form_factor_backend.hpp"
+#include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/pair_exchange.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
 #include "preprocess/row_accumulator.hpp"
@@ -70,6 +71,7 @@ public:
         std::vector<PatchId> receivers;
         std::vector<std::uint8_t> orders;  // emitter rule per (node, receiver)
         std::vector<std::uint32_t> stack;  // balls still to visit
+        std::vector<std::uint32_t> next;   // a node's next reflectors
         // Per emitter point: each node's image of the point and of the normal, and its aperture.
         std::vector<Vec3> apex, axis;
         std::vector<std::vector<Vec3>> apertures;
@@ -82,7 +84,7 @@ public:
         std::vector<float> legFrom, legTo;      // the batch's path legs
         std::vector<std::uint8_t> legBlocked;
         std::vector<std::uint32_t> legStart;    // per batch receiver: its first leg
-        std::vector<double> weights, nodes1, weights1;
+        std::vector<double> weights;
         // The pairs: per (node, receiver) entry whether this row computes it; per patch this row's
         // terms (ray units, `summed` marks them); the exchange's entries for and from this row.
         std::vector<std::uint8_t> mine, summed;
@@ -149,24 +151,38 @@ private:
     /// Receiver j's part seen through node q's aperture (into ws.clipped); false when empty.
     bool clipReceiver(std::size_t q, PatchId j, Workspace& ws) const;
 
-    /// A ball tree over the patches (median splits, preorder): a chain's receivers are found by
-    /// descending where a ball can be in front of the mirror and meet the chain's cone.
-    struct Ball {
-        Vec3 centre = Vec3::Zero();
-        double radius = 0.0;
-        std::uint32_t first = 0, count = 0;  ///< leaf: patches in m_ballPatches; inner: count 0
-        std::uint32_t right = 0;             ///< inner: the second child (the first follows this ball)
+    /// Balls around items (patches, reflectors) in a tree (median splits, preorder): a chain's
+    /// receivers and next reflectors are found by descending where a ball can be in front of the
+    /// mirror and meet the chain's cone.
+    struct BallTree {
+        struct Ball {
+            Vec3 centre = Vec3::Zero();
+            double radius = 0.0;
+            std::uint32_t first = 0, count = 0;  ///< leaf: its items; inner: count 0
+            std::uint32_t right = 0;             ///< inner: the second child (the first follows this ball)
+        };
+        std::vector<Ball> balls;
+        std::vector<std::uint32_t> items;
+        void build(const std::vector<Vec3>& centres, const std::vector<double>& radii);
+        /// Calls visit(item) for every item in a leaf whose ball `keep(centre, radius)` accepts
+        /// (and all its ancestors').
+        template <class Keep, class Visit>
+        void query(std::vector<std::uint32_t>& stack, Keep keep, Visit visit) const;
+
+    private:
+        void split(const std::vector<Vec3>& centres, const std::vector<double>& radii, std::uint32_t first,
+                   std::uint32_t last);
     };
-    void buildBalls(std::uint32_t first, std::uint32_t last);
 
     const Scene& m_scene;
     const PatchGeometry& m_geometry;
-    std::vector<Ball> m_balls;
-    std::vector<PatchId> m_ballPatches;
+    BallTree m_patchTree, m_reflectorTree;
     std::vector<Reflector> m_reflectors;
     const RayScene& m_rays;
     Settings m_settings;
     int m_lowest, m_near;
+    EmitterOrders m_orders;  ///< per (chain, receiver), from the distance to the emitter's image
+    std::vector<std::vector<double>> m_ruleNodes, m_ruleWeights;  ///< Gauss-Legendre per order
     double m_flat;  ///< 1e-9 of the scene's size: nearer a plane than this is on it
 };
 
