@@ -219,8 +219,17 @@ std::unique_ptr<MirrorImages::Workspace> MirrorImages::workspace() const {
     return ws;
 }
 
-MirrorImages::Node MirrorImages::makeNode(std::int32_t parent, std::uint32_t k, std::uint32_t depth, double weight,
+MirrorImages::Node MirrorImages::makeNode(const std::vector<Node>& nodes, std::int32_t parent, std::uint32_t k,
                                           const Vec3& from) const {
+    // The product of the s met, multiplied smallest first: the same bits for the chain and its
+    // reverse, so that both rows of a pair cut it off alike at --min-weight.
+    thread_local std::vector<double> s;
+    s.assign(1, m_reflectors[k].specular);
+    for (std::int32_t q = parent; q >= 0; q = nodes[q].parent) s.push_back(m_reflectors[nodes[q].reflector].specular);
+    std::sort(s.begin(), s.end());
+    double weight = 1.0;
+    for (const double factor : s) weight *= factor;
+    const std::uint32_t depth = parent < 0 ? 1 : nodes[parent].depth + 1;
     Node node{parent, k, depth, weight, reflectPoint(m_reflectors[k], from)};
     node.cutoff = depth > m_settings.limits.maxDepth || weight < m_settings.limits.minWeight;
     return node;
@@ -274,7 +283,7 @@ void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
     };
     // Breadth first, children by reflector: pairTerms rebuilds a part of this order.
     for (std::uint32_t k = 0; k < m_reflectors.size(); ++k)
-        if (seesFromEmitter(e, k)) push(makeNode(-1, k, 1, m_reflectors[k].specular, e.centroid));
+        if (seesFromEmitter(e, k)) push(makeNode(ws.nodes, -1, k, e.centroid));
     for (std::size_t q = 0; q < ws.nodes.size(); ++q) {
         if (ws.nodes[q].cutoff) continue;
         const Node node = ws.nodes[q];
@@ -299,7 +308,7 @@ void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
         });
         std::sort(ws.next.begin(), ws.next.end());
         for (const std::uint32_t k : ws.next)
-            push(makeNode(std::int32_t(q), k, node.depth + 1, node.weight * m_reflectors[k].specular, node.image));
+            push(makeNode(ws.nodes, std::int32_t(q), k, node.image));
     }
 }
 
@@ -534,7 +543,7 @@ double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, doub
         Node node;
         if (chain.size() == 1) {
             if (!seesFromEmitter(emitter, k)) continue;
-            node = makeNode(-1, k, 1, m_reflectors[k].specular, emitter.centroid);
+            node = makeNode(ws.nodes, -1, k, emitter.centroid);
         } else {
             // The parent is an earlier prefix (shorter): found by binary search.
             const std::vector<std::uint32_t> parentChain(chain.begin(), chain.end() - 1);
@@ -547,7 +556,7 @@ double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, doub
             const Node& up = ws.nodes[parent];
             const Reflector& m = m_reflectors[up.reflector];
             if (!reaches(up, radius, Cone(up.image, radius, m.centre, m.radius), k)) continue;
-            node = makeNode(parent, k, up.depth + 1, up.weight * m_reflectors[k].specular, up.image);
+            node = makeNode(ws.nodes, parent, k, up.image);
         }
         nodeOf[p] = std::int32_t(ws.nodes.size());
         // Its receivers: r, and r's mesh neighbours for the silhouette test (those e emits for).

@@ -114,12 +114,13 @@ private:
     static constexpr PatchId kEveryReceiver = ~PatchId(0);
     struct Cone;  ///< where lines through a node's image ball and its aperture can go on
     void enumerate(PatchId i, Workspace& ws) const;
-    /// Whether emitter e (radius r) can see reflector k at the root of a chain.
+    /// Whether emitter e can see reflector k at the root of a chain.
     bool seesFromEmitter(const PatchShape& e, std::uint32_t k) const;
     /// Whether the chain ending at `node` (its cone) can reach reflector k next.
     bool reaches(const Node& node, double r, const Cone& cone, std::uint32_t k) const;
-    /// The node from `parent` (-1: the emitter at `from`) through reflector k.
-    Node makeNode(std::int32_t parent, std::uint32_t k, std::uint32_t depth, double weight, const Vec3& from) const;
+    /// The node from `parent` in `nodes` (-1: the emitter) through reflector k; `from` is the
+    /// parent's image (the emitter's centroid at the root).
+    Node makeNode(const std::vector<Node>& nodes, std::int32_t parent, std::uint32_t k, const Vec3& from) const;
     /// Receiver j's rule order through `node` when j can be seen through it, else -1.
     int receiverOrder(const Node& node, double r, const Cone& cone, PatchId j) const;
     /// Adds the terms from emitter i's points of `order` to ws.sums (every receiver marked mine, or

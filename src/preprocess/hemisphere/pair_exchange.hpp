@@ -12,6 +12,18 @@
 
 namespace hemirad {
 
+/// Which patch of a pair computes it: the smaller one (then the lower index).
+inline bool emitsFor(const Scene& scene, PatchId e, PatchId r) {
+    const double a = scene.patches[e].area, b = scene.patches[r].area;
+    return a < b || (a == b && e < r);
+}
+
+/// Row e's terms for receiver r, in `unit`s per unit of F_er, as the entry F_re that row r takes
+/// (A_e F_er / A_r, rounded to F's float).
+inline float handOver(const Scene& scene, double terms, PatchId e, PatchId r, double unit) {
+    return float(terms * (scene.patches[e].area / scene.patches[r].area) / unit);
+}
+
 /// The analytic estimator computes a pair (e, r) from the points of its emitting patch e (the
 /// smaller one). Row e publishes, per receiver r, what row r needs of the pair: F_re from the
 /// pair's terms before row e's silhouette split, 0 for a pair hidden from every point. Row r takes
@@ -31,25 +43,15 @@ namespace hemirad {
 /// every absent pair is recomputed.
 ///
 /// An entry takes 8 bytes (F's own size per nonzero; up to twice that with a list's growth); a
-/// row's entries wait from its first emitter's end to its own start. Thread-safe: rows on any
+/// row's entries wait from its first emitter's end to its own start (on an MPI rank, entries for a
+/// row that went to another rank wait until an emitter publishes for it again, or the end). Thread-safe: rows on any
 /// threads, each row published once; a row opened again gets ticket 0.
-/// Which patch of a pair computes it: the smaller one (then the lower index).
-inline bool emitsFor(const Scene& scene, PatchId e, PatchId r) {
-    const double a = scene.patches[e].area, b = scene.patches[r].area;
-    return a < b || (a == b && e < r);
-}
-
-/// Row e's terms for receiver r, in `unit`s per unit of F_er, as the entry F_re that row r takes
-/// (A_e F_er / A_r, rounded to F's float).
-inline float handOver(const Scene& scene, double terms, PatchId e, PatchId r, double unit) {
-    return float(terms * (scene.patches[e].area / scene.patches[r].area) / unit);
-}
-
 class PairExchange {
 public:
     struct Entry {
         PatchId patch;  ///< the pair's other patch: the receiver in publish(), the emitter in open()
-        float value;    ///< F_re as row e computed it before its split, >= 0 (0: hidden from every point)
+        float value;    ///< F_re as row e computed it (direct pairs: before its silhouette split, 0 when
+                        ///< hidden from every point; image pairs: their sum, only when positive)
     };
     /// `patches` rows; entries are kept only for receivers `wanted` says may still be opened here.
     PairExchange(std::size_t patches, std::function<bool(PatchId)> wanted);
