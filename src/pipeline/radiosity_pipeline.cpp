@@ -118,15 +118,11 @@ void RadiosityPipeline::postProcess(const Scene& scene, FormFactorUpdate& update
     if (m_policy.enforceReciprocity || m_policy.dropBelow > 0.0) {
         // Dropping pairs ends with the same closure, toward the row sums from before.
         const auto t0 = Clock::now();
-        if (m_policy.dropBelow > 0.0) {
-            const SparsifyReport report = dropBelow(update.F, scene, m_policy.dropBelow);
-            timing("drop below", since(t0));
-            message("form factors: " + describe(report));
-        } else {
-            const ReciprocityReport report = enforceReciprocity(update.F, scene);
-            timing("enforce reciprocity", since(t0));
-            message("form factors: " + describe(report));
-        }
+        const bool dropping = m_policy.dropBelow > 0.0;
+        const std::string line = dropping ? describe(dropBelow(update.F, scene, m_policy.dropBelow))
+                                          : describe(enforceReciprocity(update.F, scene));
+        timing(dropping ? "drop below" : "enforce reciprocity", since(t0));
+        message("form factors: " + line);
         refreshStats(scene, update, bool(m_events.formFactorsChanged));
         if (m_events.formFactorsChanged) m_events.formFactorsChanged(*update.stats, update.F.memoryBytes());
         update.changed = true;

@@ -205,11 +205,10 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
     std::atomic<bool> failed{false};
     // Each pair is computed by its emitting row and handed to the other row (pair_exchange.hpp),
     // kept for the rows this source may still hand out.
+    const auto wanted = [&rows](PatchId r) { return rows.mayHandOut(r); };
     std::unique_ptr<PairExchange> exchange, imageExchange;  // direct pairs; pairs through mirrors
-    if (m_analytic)
-        exchange = std::make_unique<PairExchange>(m_scene->size(), [&rows](PatchId r) { return rows.mayHandOut(r); });
-    if (m_images)
-        imageExchange = std::make_unique<PairExchange>(m_scene->size(), [&rows](PatchId r) { return rows.mayHandOut(r); });
+    if (m_analytic) exchange = std::make_unique<PairExchange>(m_scene->size(), wanted);
+    if (m_images) imageExchange = std::make_unique<PairExchange>(m_scene->size(), wanted);
 #pragma omp parallel num_threads(threads)
     {
         Workspace ws(m_scene->size(), m_mirrors || m_analytic);

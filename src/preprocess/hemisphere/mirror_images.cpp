@@ -522,13 +522,14 @@ double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, doub
                                RayCounts& counts) const {
     // e's nodes on these chains, in enumerate's order (breadth first, then by reflector: the
     // chains' prefixes by length, then lexicographically), each checked as enumerate checks it.
+    const auto shorterOrBefore = [](const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
+        return a.size() != b.size() ? a.size() < b.size() : a < b;
+    };
     std::vector<std::vector<std::uint32_t>> prefixes;
     for (const std::vector<std::uint32_t>& chain : from.chains)
         for (std::size_t length = 1; length <= chain.size(); ++length)
             prefixes.emplace_back(chain.begin(), chain.begin() + std::ptrdiff_t(length));
-    std::sort(prefixes.begin(), prefixes.end(), [](const auto& a, const auto& b) {
-        return a.size() != b.size() ? a.size() < b.size() : a < b;
-    });
+    std::sort(prefixes.begin(), prefixes.end(), shorterOrBefore);
     prefixes.erase(std::unique(prefixes.begin(), prefixes.end()), prefixes.end());
     const PatchShape& emitter = m_geometry.shapes[e];
     const double radius = emitter.radius;
@@ -547,10 +548,7 @@ double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, doub
         } else {
             // The parent is an earlier prefix (shorter): found by binary search.
             const std::vector<std::uint32_t> parentChain(chain.begin(), chain.end() - 1);
-            const auto at = std::lower_bound(prefixes.begin(), prefixes.begin() + std::ptrdiff_t(p), parentChain,
-                                             [](const auto& a, const auto& b) {
-                                                 return a.size() != b.size() ? a.size() < b.size() : a < b;
-                                             });
+            const auto at = std::lower_bound(prefixes.begin(), prefixes.begin() + std::ptrdiff_t(p), parentChain, shorterOrBefore);
             const std::int32_t parent = nodeOf[std::size_t(at - prefixes.begin())];
             if (parent < 0 || ws.nodes[parent].cutoff) continue;
             const Node& up = ws.nodes[parent];
