@@ -8,14 +8,16 @@ layout(local_size_x = 16, local_size_y = 16) in;
 layout(binding = 0, r32ui) readonly uniform uimage2DArray ids;
 layout(std430, binding = 1) readonly buffer Weights { float weight[]; };
 layout(std430, binding = 2) buffer Accumulator { uint accumulator[]; };  // [layer][patch]
-// Per layer a header of 5 counters, all headers first, then the touched lists [layer][capacity]:
+// Per layer a header of 5 counters, the atlas's headers first (whatever the pass's layer count,
+// so a smaller pass leaves nothing where a larger one keeps headers), then the touched lists
+// [layer][capacity]:
 //   count | missed (pixels that saw nothing) | backfaces | lost (fixed-point weight of those) |
 //   roundedLost (pixels below one unit, in units of 1 / (fixedScale * roundedScale))
 layout(std430, binding = 3) buffer Touched { uint touched[]; };
 
 uniform uvec2 size;
 uniform uint patches;        // row length
-uniform uint layers;         // layers in the batch (header block size / 5)
+uniform uint atlasLayers;    // layers of the atlas (header block size / 5)
 uniform uint capacity;       // touched-list length per layer
 uniform float fixedScale;    // fixed-point units per unit of form factor
 uniform float roundedScale;  // finer units for sub-unit weights (< 0.5 unit each, so no overflow)
@@ -39,5 +41,5 @@ void main() {
         return;
     }
     if (atomicAdd(accumulator[p.z * patches + id - 1u], value) == 0u)
-        touched[5u * layers + p.z * capacity + atomicAdd(touched[header], 1u)] = id - 1u;
+        touched[5u * atlasLayers + p.z * capacity + atomicAdd(touched[header], 1u)] = id - 1u;
 }

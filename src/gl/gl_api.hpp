@@ -19,11 +19,12 @@ namespace hemirad::gl {
     X(BindRenderbuffer, PFNGLBINDRENDERBUFFERPROC)                                                   \
     X(BindTexture, PFNGLBINDTEXTUREPROC)                                                             \
     X(BindVertexArray, PFNGLBINDVERTEXARRAYPROC)                                                     \
+    X(BlendColor, PFNGLBLENDCOLORPROC)                                                               \
     X(BlendFunc, PFNGLBLENDFUNCPROC)                                                                 \
-    X(BlendColor, PFNGLBLENDCOLORPROC)                                                          \
-    X(BlendFunci, PFNGLBLENDFUNCIPROC)                                                          \
+    X(BlendFunci, PFNGLBLENDFUNCIPROC)                                                               \
     X(BlitFramebuffer, PFNGLBLITFRAMEBUFFERPROC)                                                     \
     X(BufferData, PFNGLBUFFERDATAPROC)                                                               \
+    X(BufferStorage, PFNGLBUFFERSTORAGEPROC)                                                         \
     X(BufferSubData, PFNGLBUFFERSUBDATAPROC)                                                         \
     X(CheckFramebufferStatus, PFNGLCHECKFRAMEBUFFERSTATUSPROC)                                       \
     X(Clear, PFNGLCLEARPROC)                                                                         \
@@ -35,42 +36,48 @@ namespace hemirad::gl {
     X(ClearColor, PFNGLCLEARCOLORPROC)                                                               \
     X(ClearDepth, PFNGLCLEARDEPTHPROC)                                                               \
     X(ClearStencil, PFNGLCLEARSTENCILPROC)                                                           \
+    X(ClientWaitSync, PFNGLCLIENTWAITSYNCPROC)                                                       \
     X(ClipControl, PFNGLCLIPCONTROLPROC)                                                             \
     X(ColorMask, PFNGLCOLORMASKPROC)                                                                 \
-    X(ColorMaski, PFNGLCOLORMASKIPROC)                                                          \
-    X(CopyImageSubData, PFNGLCOPYIMAGESUBDATAPROC)                                              \
+    X(ColorMaski, PFNGLCOLORMASKIPROC)                                                               \
     X(CompileShader, PFNGLCOMPILESHADERPROC)                                                         \
+    X(CopyImageSubData, PFNGLCOPYIMAGESUBDATAPROC)                                                   \
     X(CreateProgram, PFNGLCREATEPROGRAMPROC)                                                         \
     X(CreateShader, PFNGLCREATESHADERPROC)                                                           \
     X(CullFace, PFNGLCULLFACEPROC)                                                                   \
     X(DeleteBuffers, PFNGLDELETEBUFFERSPROC)                                                         \
     X(DeleteFramebuffers, PFNGLDELETEFRAMEBUFFERSPROC)                                               \
     X(DeleteProgram, PFNGLDELETEPROGRAMPROC)                                                         \
+    X(DeleteQueries, PFNGLDELETEQUERIESPROC)                                                         \
     X(DeleteRenderbuffers, PFNGLDELETERENDERBUFFERSPROC)                                             \
     X(DeleteShader, PFNGLDELETESHADERPROC)                                                           \
+    X(DeleteSync, PFNGLDELETESYNCPROC)                                                               \
     X(DeleteTextures, PFNGLDELETETEXTURESPROC)                                                       \
     X(DeleteVertexArrays, PFNGLDELETEVERTEXARRAYSPROC)                                               \
     X(DepthFunc, PFNGLDEPTHFUNCPROC)                                                                 \
     X(DepthMask, PFNGLDEPTHMASKPROC)                                                                 \
     X(Disable, PFNGLDISABLEPROC)                                                                     \
+    X(Disablei, PFNGLDISABLEIPROC)                                                                   \
     X(DispatchCompute, PFNGLDISPATCHCOMPUTEPROC)                                                     \
+    X(DispatchComputeIndirect, PFNGLDISPATCHCOMPUTEINDIRECTPROC)                                     \
     X(DrawArrays, PFNGLDRAWARRAYSPROC)                                                               \
     X(DrawArraysInstanced, PFNGLDRAWARRAYSINSTANCEDPROC)                                             \
     X(DrawBuffers, PFNGLDRAWBUFFERSPROC)                                                             \
     X(DrawElements, PFNGLDRAWELEMENTSPROC)                                                           \
     X(Enable, PFNGLENABLEPROC)                                                                       \
-    X(Enablei, PFNGLENABLEIPROC)                                                                \
-    X(Disablei, PFNGLDISABLEIPROC)                                                              \
     X(EnableVertexAttribArray, PFNGLENABLEVERTEXATTRIBARRAYPROC)                                     \
+    X(Enablei, PFNGLENABLEIPROC)                                                                     \
+    X(FenceSync, PFNGLFENCESYNCPROC)                                                                 \
     X(Finish, PFNGLFINISHPROC)                                                                       \
     X(Flush, PFNGLFLUSHPROC)                                                                         \
     X(FramebufferRenderbuffer, PFNGLFRAMEBUFFERRENDERBUFFERPROC)                                     \
+    X(FramebufferTexture, PFNGLFRAMEBUFFERTEXTUREPROC)                                               \
     X(FramebufferTexture2D, PFNGLFRAMEBUFFERTEXTURE2DPROC)                                           \
     X(FramebufferTextureLayer, PFNGLFRAMEBUFFERTEXTURELAYERPROC)                                     \
-    X(FramebufferTexture, PFNGLFRAMEBUFFERTEXTUREPROC)                                               \
     X(FrontFace, PFNGLFRONTFACEPROC)                                                                 \
     X(GenBuffers, PFNGLGENBUFFERSPROC)                                                               \
     X(GenFramebuffers, PFNGLGENFRAMEBUFFERSPROC)                                                     \
+    X(GenQueries, PFNGLGENQUERIESPROC)                                                               \
     X(GenRenderbuffers, PFNGLGENRENDERBUFFERSPROC)                                                   \
     X(GenTextures, PFNGLGENTEXTURESPROC)                                                             \
     X(GenVertexArrays, PFNGLGENVERTEXARRAYSPROC)                                                     \
@@ -79,6 +86,7 @@ namespace hemirad::gl {
     X(GetIntegerv, PFNGLGETINTEGERVPROC)                                                             \
     X(GetProgramInfoLog, PFNGLGETPROGRAMINFOLOGPROC)                                                 \
     X(GetProgramiv, PFNGLGETPROGRAMIVPROC)                                                           \
+    X(GetQueryObjectui64v, PFNGLGETQUERYOBJECTUI64VPROC)                                             \
     X(GetShaderInfoLog, PFNGLGETSHADERINFOLOGPROC)                                                   \
     X(GetShaderiv, PFNGLGETSHADERIVPROC)                                                             \
     X(GetString, PFNGLGETSTRINGPROC)                                                                 \
@@ -86,9 +94,11 @@ namespace hemirad::gl {
     X(GetTextureSubImage, PFNGLGETTEXTURESUBIMAGEPROC)                                               \
     X(GetUniformLocation, PFNGLGETUNIFORMLOCATIONPROC)                                               \
     X(LinkProgram, PFNGLLINKPROGRAMPROC)                                                             \
+    X(MapBufferRange, PFNGLMAPBUFFERRANGEPROC)                                                       \
     X(MemoryBarrier, PFNGLMEMORYBARRIERPROC)                                                         \
     X(PixelStorei, PFNGLPIXELSTOREIPROC)                                                             \
     X(PolygonOffset, PFNGLPOLYGONOFFSETPROC)                                                         \
+    X(QueryCounter, PFNGLQUERYCOUNTERPROC)                                                           \
     X(ReadBuffer, PFNGLREADBUFFERPROC)                                                               \
     X(ReadPixels, PFNGLREADPIXELSPROC)                                                               \
     X(RenderbufferStorage, PFNGLRENDERBUFFERSTORAGEPROC)                                             \

@@ -17,6 +17,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <string>
 #include <sys/wait.h>
@@ -171,12 +172,107 @@ TEST_CASE("Hemicubes per pass: by renderer, within the driver's layers and the m
     CHECK(hemicubeLayers(gpu, 0, 128, 10000000, true, 1, 2048) == 6);    // the GPU's dense rows for 10M patches
     CHECK(hemicubeLayers(llvmpipe, 8, 128, 13000, false, 1, 2048) == 8); // --batch
     CHECK(hemicubeLayers(gpu, 1, 128, 13000, false, 16, 2048) == 1);     // --batch 1: row by row
-    // A scene with mirrors goes row by row whatever --batch says, and the run says so.
+    // Three passes in flight keep three read-back copies (CPU reduction) or three pair buffers.
+    CHECK(hemicubeLayers(gpu, 0, 1024, 13000, false, 1, 2048, 3) == 4);  // 20 bytes a pixel: 62.9 MB per layer
+    // In a scene with mirrors the rows that may see one go row by row whatever --batch says, and
+    // the run says how many: mirror_pair's two plates face the mirror, the mirror sees neither's front.
     HemicubeOptions o;
     o.resolution = 16;
     o.batch = 8;
     const Scene mirrors = bundledScene("mirror_pair.obj");
-    CHECK(computeFormFactors(mirrors, MethodSettings::of(o), {0}).F.parameters.at("batch") == "1 (mirrors: row by row)");
+    CHECK(computeFormFactors(mirrors, MethodSettings::of(o), {0}).F.parameters.at("batch") ==
+          "8 (2 of 3 rows may see a mirror: row by row)");
+}
+
+TEST_CASE("--reduce and --in-flight by renderer: the CPU and one pass on llvmpipe, the GPU and three passes on a GPU") {
+    const char* llvmpipe = "llvmpipe (LLVM 15.0.6, 256 bits)";
+    const char* gpu = "NVIDIA H100 80GB HBM3/PCIe/SSE2";
+    CHECK(hemicubeReduction(llvmpipe, Reduction::Auto) == Reduction::Cpu);
+    CHECK(hemicubeReduction(gpu, Reduction::Auto) == Reduction::Gpu);
+    CHECK(hemicubeReduction(gpu, Reduction::Cpu) == Reduction::Cpu);
+    CHECK(hemicubeReduction(llvmpipe, Reduction::Gpu) == Reduction::Gpu);
+    CHECK(hemicubeInFlight(llvmpipe, 0) == 1);
+    CHECK(hemicubeInFlight(gpu, 0) == 3);
+    CHECK(hemicubeInFlight(gpu, 1) == 1);
+    CHECK(hemicubeInFlight(llvmpipe, 2) == 2);
+    // The run reports the resolved choices.
+    HemicubeOptions o;
+    o.resolution = 16;
+    const FormFactorRun r = computeFormFactors(unitCube(), MethodSettings::of(o), {0});
+    CHECK(r.F.parameters.at("reduce") == "cpu (by renderer)");
+    CHECK(r.F.parameters.at("in_flight") == "1");
+    CHECK(r.device.find("1 in flight, reduction on the CPU") != std::string::npos);
+    o.reduce = Reduction::Gpu;
+    o.inFlight = 2;
+    const FormFactorRun g = computeFormFactors(unitCube(), MethodSettings::of(o), {0});
+    CHECK(g.F.parameters.at("reduce") == "gpu");
+    CHECK(g.F.parameters.at("in_flight") == "2");
+}
+
+TEST_CASE("Passes in flight (read back or reduced while later passes draw) give the F of one pass at a time, bit for bit") {
+    const Scene s = subdivide(bundledScene("cornell_box.obj"), 100.0);
+    auto run = [&](Reduction reduce, std::uint32_t batch, std::uint32_t inFlight) {
+        HemicubeOptions o;
+        o.resolution = 32;
+        o.reduce = reduce;
+        o.batch = batch;
+        o.inFlight = inFlight;
+        return computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
+    };
+    for (const Reduction reduce : {Reduction::Cpu, Reduction::Gpu})
+        for (const std::uint32_t batch : {1u, 7u}) {
+            CAPTURE(int(reduce));
+            CAPTURE(batch);
+            const FormFactorRun one = run(reduce, batch, 1);
+            const FormFactorRun three = run(reduce, batch, 3);
+            CHECK(three.F.parameters.at("in_flight") == "3");
+            std::size_t differing = 0;
+            for (PatchId i = 0; i < s.size(); ++i)
+                for (PatchId j = 0; j < s.size(); ++j) differing += one.F.at(i, j) != three.F.at(i, j);
+            CHECK(differing == 0);
+            CHECK(three.counts.misses == one.counts.misses);
+            CHECK(three.counts.lostWeight == one.counts.lostWeight);
+            CHECK(three.counts.rays == one.counts.rays);
+        }
+}
+
+TEST_CASE("In a mirror scene, rows that cannot see a mirror are batched and give the row-by-row F, and rows that can keep their portals") {
+    // The mirror Cornell box: the mirror's own wall, the back of its blocks and the like cannot see it.
+    const Scene s = subdivide(bundledScene("cornell_mirror.obj"), 120.0);
+    const std::vector<bool> maySee = rowsThatMaySeeMirrors(s, HemicubeGeometry::build(s, true).extent);
+    const auto batched = std::size_t(std::count(maySee.begin(), maySee.end(), false));
+    CHECK(batched > 0);
+    CHECK(batched < s.size());
+    for (const Reduction reduce : {Reduction::Cpu, Reduction::Gpu}) {
+        CAPTURE(int(reduce));
+        HemicubeOptions o;
+        o.resolution = 32;
+        o.reduce = reduce;
+        o.batch = 1;
+        o.inFlight = 1;
+        const FormFactorRun rowByRow = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
+        o.batch = 16;
+        o.inFlight = 2;
+        const FormFactorRun mixed = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
+        CHECK(mixed.F.parameters.at("batch").rfind("16 (", 0) == 0);
+        double worst = 0.0;
+        for (PatchId i = 0; i < s.size(); ++i)
+            for (PatchId j = 0; j < s.size(); ++j) worst = std::max(worst, std::abs(rowByRow.F.at(i, j) - mixed.F.at(i, j)));
+        CHECK(worst < 1e-7);
+        CHECK(mixed.counts.bounces == rowByRow.counts.bounces);  // the same portal passes
+        CHECK(mixed.counts.bounces > 0);
+    }
+    // The conservative test itself: a patch that can see a mirror is never batched. Every pixel
+    // that lands on a mirror in the row-by-row run belongs to a row marked as maybe seeing one.
+    HemicubeOptions o;
+    o.resolution = 32;
+    o.batch = 1;
+    const FormFactorRun r = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
+    std::size_t unmarked = 0;
+    for (PatchId i = 0; i < s.size(); ++i)
+        for (PatchId j = 0; j < s.size(); ++j)
+            if (s.patches[j].specular > 0.0 && r.F.at(i, j) > 0.0 && !maySee[i]) ++unmarked;
+    CHECK(unmarked == 0);
 }
 
 TEST_CASE("Subdivided closed cube: rows sum to 1 and face-to-face factors match the closed forms") {

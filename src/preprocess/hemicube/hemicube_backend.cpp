@@ -21,8 +21,9 @@
 namespace hemirad {
 namespace {
 
-/// Hemicubes per pass on a software renderer (llvmpipe): see bench/BENCHMARKS.md.
+/// Hemicubes per pass and passes in flight on a software renderer (llvmpipe): see bench/BENCHMARKS.md.
 constexpr std::uint32_t kSoftwareLayers = 1;
+constexpr std::uint32_t kSoftwareInFlight = 1;
 
 }  // namespace
 
@@ -37,17 +38,78 @@ int hemicubeWorkers(std::string_view renderer, int requested, int cores) {
     return isSoftwareRenderer(renderer) ? std::max(1, cores) : 1;
 }
 
+Reduction hemicubeReduction(std::string_view renderer, Reduction requested) {
+    if (requested != Reduction::Auto) return requested;
+    return isSoftwareRenderer(renderer) ? Reduction::Cpu : Reduction::Gpu;
+}
+
+std::uint32_t hemicubeInFlight(std::string_view renderer, std::uint32_t requested) {
+    if (requested > 0) return requested;
+    return isSoftwareRenderer(renderer) ? kSoftwareInFlight : 3u;
+}
+
 std::uint32_t hemicubeLayers(std::string_view renderer, std::uint32_t requested, std::uint32_t resolution,
-                             std::size_t patches, bool gpuReduction, std::uint32_t points, std::uint32_t maxLayers) {
+                             std::size_t patches, bool gpuReduction, std::uint32_t points, std::uint32_t maxLayers,
+                             std::uint32_t inFlight) {
     const std::uint32_t wanted = requested > 0 ? requested : isSoftwareRenderer(renderer) ? kSoftwareLayers : 256u;
     if (wanted <= 1) return 1;
-    // Per layer: ids and depth, the read-back copy; the GPU reduction's dense row, touched list and pairs.
+    // Per layer: ids and depth; per pass in flight the read-back ids (CPU reduction) or the pairs
+    // and header (GPU reduction, which also keeps a dense row and a touched list per layer).
     const double pixels = 3.0 * resolution * resolution;
     const double capacity = std::min(double(patches), pixels);
-    const double bytes = 12.0 * pixels + (gpuReduction ? 4.0 * double(patches) + 12.0 * capacity + 20.0 : 0.0);
+    const double slots = std::max(1u, inFlight);
+    const double bytes = 8.0 * pixels + (gpuReduction ? 4.0 * double(patches) + 4.0 * capacity + 20.0 +
+                                                             slots * (8.0 * capacity + 24.0)
+                                                       : slots * 4.0 * pixels);
     const auto fit = std::uint32_t(std::clamp(256.0 * 1024 * 1024 / bytes, 1.0, 65536.0));
     const std::uint32_t layers = std::min({wanted, fit, std::max(1u, maxLayers)});
     return layers <= 1 ? 1 : std::max(layers, points);
+}
+
+std::vector<bool> rowsThatMaySeeMirrors(const Scene& scene, double extent) {
+    std::vector<bool> rows(scene.size(), false);
+    if (!scene.hasMirrors()) return rows;
+    const MirrorGroups groups = groupMirrors(scene);
+    // Per group: its plane (the representative's) and the bounding box of its members' corners.
+    struct Group {
+        Vec3 normal, point, low, high;
+    };
+    std::vector<Group> boxes(groups.representative.size());
+    for (std::size_t g = 0; g < boxes.size(); ++g) {
+        const Patch& m = scene.patches[groups.representative[g]];
+        boxes[g] = {m.normal, m.centroid, Vec3::Constant(1e300), Vec3::Constant(-1e300)};
+    }
+    for (PatchId j = 0; j < scene.size(); ++j) {
+        if (!groups.groupOfPatch[j]) continue;
+        Group& g = boxes[groups.groupOfPatch[j] - 1];
+        const Patch& p = scene.patches[j];
+        for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
+            g.low = g.low.cwiseMin(scene.corner(p, k));
+            g.high = g.high.cwiseMax(scene.corner(p, k));
+        }
+    }
+    // The draw drops triangles within 1e-6 x extent of a hemicube's plane (float); group members
+    // are coplanar within 1e-6 x extent.
+    const double above = 0.5e-6 * extent, front = -2e-6 * extent;
+    for (PatchId i = 0; i < scene.size(); ++i) {
+        const Patch& p = scene.patches[i];
+        for (const Group& g : boxes) {
+            double height = -1e300;
+            for (int c = 0; c < 8; ++c) {
+                const Vec3 x((c & 1 ? g.high : g.low).x(), (c & 2 ? g.high : g.low).y(), (c & 4 ? g.high : g.low).z());
+                height = std::max(height, p.normal.dot(x - p.centroid));
+            }
+            if (height <= above) continue;
+            bool inFront = false;
+            for (std::uint32_t k = 0; k < p.cornerCount && !inFront; ++k)
+                inFront = g.normal.dot(scene.corner(p, k) - g.point) > front;
+            if (inFront) {
+                rows[i] = true;
+                break;
+            }
+        }
+    }
+    return rows;
 }
 
 HemicubeBackend::HemicubeBackend(const HemicubeOptions& options, const CommonOptions& common)
@@ -71,11 +133,14 @@ void HemicubeBackend::prepare(const Scene& scene) {
     gl::GetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
     context->release();
     m_workers = hemicubeWorkers(m_renderer, m_common.threads, resolveThreads(0));
+    m_reduction = hemicubeReduction(m_renderer, m_options.reduce);
+    m_inFlight = hemicubeInFlight(m_renderer, m_options.inFlight);
     m_points = originPoints(m_options.origins);
-    // Mirrors go row by row: their portal passes depend on what each hemicube saw.
-    m_layers = scene.hasMirrors() ? 1
-                                  : hemicubeLayers(m_renderer, m_options.batch, m_options.resolution, scene.size(),
-                                                   m_options.reduce == Reduction::Gpu, m_points, std::uint32_t(maxLayers));
+    m_layers = hemicubeLayers(m_renderer, m_options.batch, m_options.resolution, scene.size(),
+                              m_reduction == Reduction::Gpu, m_points, std::uint32_t(maxLayers), m_inFlight);
+    // Rows that may see a mirror go row by row: their portal passes depend on what each hemicube saw.
+    m_mirrorRows = rowsThatMaySeeMirrors(scene, m_geometry.extent);
+    m_mirrorRowCount = std::size_t(std::count(m_mirrorRows.begin(), m_mirrorRows.end(), true));
 }
 
 FormFactorProvenance HemicubeBackend::provenance() const {
@@ -93,8 +158,13 @@ std::map<std::string, std::string> HemicubeBackend::parameters() const {
             {"min_weight", std::to_string(m_common.minWeight)},
             {"resolution", std::to_string(m_options.resolution)},
             {"origins", std::to_string(m_points)},
-            {"batch", std::to_string(m_layers) + (m_layers == 1 && m_scene->hasMirrors() ? " (mirrors: row by row)" : "")},
-            {"reduce", text("--reduce")},
+            {"batch", std::to_string(m_layers) +
+                          (m_mirrorRowCount ? " (" + std::to_string(m_mirrorRowCount) + " of " +
+                                                  std::to_string(m_scene->size()) + " rows may see a mirror: row by row)"
+                                            : "")},
+            {"in_flight", std::to_string(m_inFlight)},
+            {"reduce", std::string(m_reduction == Reduction::Gpu ? "gpu" : "cpu") +
+                           (m_options.reduce == Reduction::Auto ? " (by renderer)" : "")},
             {"gl", text("--gl")},
             {"gl_renderer", m_renderer},
             {"parent_polygons", m_geometry.patchesInParents ? "yes" : "no"},
@@ -106,12 +176,13 @@ std::string HemicubeBackend::device() const {
            (m_common.threads > 0                ? " (--threads)"
             : isSoftwareRenderer(m_renderer) ? " (software renderer: one per core)"
                                              : " (GPU: one context)") +
-           ", " + std::to_string(m_layers) + (m_layers == 1 ? " hemicube per pass" : " hemicubes per pass");
+           ", " + std::to_string(m_layers) + (m_layers == 1 ? " hemicube per pass, " : " hemicubes per pass, ") +
+           std::to_string(m_inFlight) + " in flight, reduction on the " + (m_reduction == Reduction::Gpu ? "GPU" : "CPU");
 }
 
 void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
     if (!m_scene) throw Error("hemicube back end: prepare() was not called");
-    const Reduction reduction = m_options.reduce;
+    const Reduction reduction = m_reduction;
     const GlApiKind api = m_options.gl;
     std::exception_ptr failure;
     std::mutex failureMutex;
@@ -123,7 +194,7 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
             context->makeCurrent();
             {
                 const MirrorLimits limits{m_common.maxDepth, m_common.minWeight, m_rays.get()};
-                HemicubeRenderer renderer(*m_scene, m_geometry, *m_layout, reduction, limits, m_layers);
+                HemicubeRenderer renderer(*m_scene, m_geometry, *m_layout, reduction, limits, m_layers, m_inFlight);
                 RowAccumulator row(m_scene->size(), RowAccumulator::Mode::Weights);
                 HemicubeStats stats;
                 auto rowDone = [&](PatchId i) {
@@ -151,36 +222,27 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
                     std::lock_guard<std::mutex> lock(failureMutex);
                     return failure || builder.cancelled();
                 };
+                // Whole rows into passes of up to m_layers hemicubes, several passes in flight; a row
+                // that may see a mirror, or has more hemicubes than a pass, is drawn at once, point by point.
+                std::vector<HemicubeItem> batch;
                 PatchId i = 0;
-                if (m_layers == 1) {  // row by row; scenes with mirrors take this path
-                    while (!stopped() && rows.next(i)) {
-                        origins(i);
+                while (!stopped() && rows.next(i)) {
+                    origins(i);
+                    if (m_mirrorRows[i] || points.size() > m_layers) {
                         for (std::size_t k = 0; k < points.size(); ++k)
                             renderer.computeRow(i, points[k], weights[k], row, stats);
                         rowDone(i);
+                        continue;
                     }
-                } else {
-                    // Whole rows into passes of up to m_layers hemicubes (m_layers >= a row's points);
-                    // a row that does not fit waits for the next pass.
-                    std::vector<HemicubeItem> batch;
-                    bool pending = false, more = true;
-                    while (!stopped() && (more || pending)) {
+                    if (batch.size() + points.size() > m_layers) {
+                        renderer.computeBatch(batch, row, rowDone, stats);
                         batch.clear();
-                        for (;;) {
-                            if (!pending) {
-                                if (!(more = more && rows.next(i))) break;
-                                origins(i);
-                                pending = true;
-                            }
-                            if (batch.size() + points.size() > m_layers) break;
-                            for (std::size_t k = 0; k < points.size(); ++k) batch.push_back({i, points[k], weights[k]});
-                            pending = false;
-                        }
-                        if (batch.empty() && pending)
-                            throw Error("internal: a row's " + std::to_string(points.size()) + " hemicubes exceed a pass of " +
-                                        std::to_string(m_layers));
-                        if (!batch.empty()) renderer.computeBatch(batch, row, rowDone, stats);
                     }
+                    for (std::size_t k = 0; k < points.size(); ++k) batch.push_back({i, points[k], weights[k]});
+                }
+                if (!stopped()) {
+                    if (!batch.empty()) renderer.computeBatch(batch, row, rowDone, stats);
+                    renderer.drain(row, rowDone, stats);
                 }
                 std::lock_guard<std::mutex> lock(totalMutex);
                 total += stats;
@@ -208,6 +270,11 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
     builder.addStageSeconds("hemicube render", total.render);
     builder.addStageSeconds("hemicube readback", total.readback);
     builder.addStageSeconds("hemicube reduce", total.reduce);
+    if (total.gpuDraw + total.gpuFinish > 0) {  // passes filled while others drew: waited for and timed
+        builder.addStageSeconds("hemicube wait", total.wait);
+        builder.addStageSeconds("hemicube gpu draw", total.gpuDraw);
+        builder.addStageSeconds("hemicube gpu results", total.gpuFinish);
+    }
     builder.addStageSeconds("row collect", total.collect);
     if (m_scene->hasMirrors())
         builder.addStageSeconds(m_options.mirrors == HemicubeMirrors::Rays ? "mirror rays" : "mirror portals", total.mirrors);

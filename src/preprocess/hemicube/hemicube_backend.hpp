@@ -23,12 +23,29 @@ bool isSoftwareRenderer(std::string_view renderer);
 /// an H100: 4.0 s with one context, 6.0 s with two, 35 s with sixteen for a 13k-patch box).
 int hemicubeWorkers(std::string_view renderer, int requested, int cores);
 
+/// Where pixels are summed (--reduce): `requested` unless Auto; else on the CPU with a software
+/// renderer (its compute shaders run on the same cores, and reading the atlas costs a memcpy) and
+/// on the GPU otherwise (only a row's nonzeros cross the bus: at R = 256 the atlas is 768 KiB a row).
+Reduction hemicubeReduction(std::string_view renderer, Reduction requested);
+
+/// Passes in flight (--in-flight): `requested` when given (> 0); else 1 on a software renderer
+/// (its contexts, one per core, already overlap each other's work) and 3 on a GPU (it draws two
+/// passes ahead while the CPU copies one pass's rows).
+std::uint32_t hemicubeInFlight(std::string_view renderer, std::uint32_t requested);
+
 /// Hemicubes drawn per pass (--batch): `requested` when given (> 0), else by renderer (software: see
 /// the definition; GPU: up to 256, so that one round trip serves many rows); at most `maxLayers` (the
-/// driver's array layers) and what fits in 256 MiB of atlas and reduction buffers; when batching,
-/// at least a row's `points` hemicubes.
+/// driver's array layers) and what fits in 256 MiB of atlas, reduction and `inFlight` result
+/// buffers; when batching, at least a row's `points` hemicubes.
 std::uint32_t hemicubeLayers(std::string_view renderer, std::uint32_t requested, std::uint32_t resolution,
-                             std::size_t patches, bool gpuReduction, std::uint32_t points, std::uint32_t maxLayers);
+                             std::size_t patches, bool gpuReduction, std::uint32_t points, std::uint32_t maxLayers,
+                             std::uint32_t inFlight = 1);
+
+/// Per patch, whether a hemicube on it may see a mirror's front (then its row goes row by row, with
+/// portals): some corner of the mirror's group (its bounding box) above the patch's plane, and some
+/// corner of the patch in front of the group's plane, with margins wider than the draw's own
+/// plane test and float rounding. Conservative: false only where no hemicube pixel can land on a mirror.
+std::vector<bool> rowsThatMaySeeMirrors(const Scene& scene, double extent);
 
 /// Cohen & Greenberg (1985): each pixel of the hemicube atlas carries its delta form factor;
 /// F_ij sums the pixels that see patch j's front. One GL context per worker thread (headless EGL
@@ -57,6 +74,10 @@ private:
     std::vector<double> m_nodes, m_nodeWeights;  ///< the Gauss-Legendre rule on [0, 1] for --origins
     std::uint32_t m_points = 1;  ///< hemicubes per row
     std::uint32_t m_layers = 1;  ///< hemicubes per pass
+    std::uint32_t m_inFlight = 1;  ///< passes in flight
+    Reduction m_reduction = Reduction::Cpu;  ///< --reduce, resolved by renderer
+    std::vector<bool> m_mirrorRows;  ///< rows that go row by row (rowsThatMaySeeMirrors)
+    std::size_t m_mirrorRowCount = 0;
     std::string m_renderer;  ///< GL_RENDERER of the context prepare() made
 };
 

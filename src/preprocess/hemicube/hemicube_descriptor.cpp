@@ -36,8 +36,10 @@ BackendDescriptor make() {
     d.options = {
         integerOption<C>("--resolution", "Resolution", "R", "top face R x R pixels, sides R x R/2 (even, default 128)",
                          &C::resolution, 2, 8192, true),
-        choiceOption<C, Reduction>("--reduce", "Reduction", "sum pixels into rows on the CPU (default) or in a compute shader",
-                                   &C::reduce, {{"cpu", Reduction::Cpu}, {"gpu", Reduction::Gpu}}),
+        choiceOption<C, Reduction>("--reduce", "Reduction",
+                                   "sum pixels into rows on the CPU or in a compute shader (default auto: the CPU on "
+                                   "llvmpipe, the GPU on a GPU)",
+                                   &C::reduce, {{"auto", Reduction::Auto}, {"cpu", Reduction::Cpu}, {"gpu", Reduction::Gpu}}),
         choiceOption<C, GlApiKind>("--gl", "OpenGL", "headless OpenGL API (default auto: EGL, then OSMesa)", &C::gl,
                                    {{"auto", GlApiKind::Auto}, {"egl", GlApiKind::Egl}, {"osmesa", GlApiKind::OSMesa}}),
         choiceOption<C, HemicubeMirrors>("--mirrors", "Mirrors",
@@ -49,8 +51,12 @@ BackendDescriptor make() {
                          &C::origins, 1, 1024),
         integerOption<C>("--batch", "Batch", "B",
                          "hemicubes per pass, one instanced draw into B atlas layers (default 0 = by renderer: 1 on "
-                         "llvmpipe, up to 256 on a GPU); scenes with mirrors go row by row",
+                         "llvmpipe, up to 256 on a GPU); rows that may see a mirror go row by row",
                          &C::batch, 0, 4096),
+        integerOption<C>("--in-flight", "Passes in flight", "N",
+                         "passes read back or reduced while the next ones draw (default 0 = by renderer: 1 on "
+                         "llvmpipe, 3 on a GPU)",
+                         &C::inFlight, 0, 8),
         switchOption<C>("--no-parents", "Draw every patch",
                         "draw every patch, not subdivided parents whole (reference path)", &C::parentPolygons, false),
     };

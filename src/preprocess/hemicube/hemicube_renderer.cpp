@@ -15,8 +15,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-/// A layer's header in the GPU reduction's touched buffer (hemicube_reduce.comp), all layers'
-/// headers first, then their lists:  | count | missed | backfaces | lost | roundedLost |
+/// A layer's header in the GPU reduction's touched buffer (hemicube_reduce.comp): the headers of
+/// all the atlas's layers first (whatever a pass draws), then the lists.
+///   | count | missed | backfaces | lost | roundedLost |
 constexpr std::size_t kTouchedHeader = 5;
 /// roundedLost counts in units of 1 / (fixedScale x this): a rounded pixel adds at most 32 of them,
 /// so even all 3 x 4096^2 pixels of the largest common atlas stay below 2^32.
@@ -25,10 +26,12 @@ constexpr double kRoundedScale = 64.0;
 }  // namespace
 
 HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& geometry, const HemicubeLayout& layout,
-                                   Reduction reduction, const MirrorLimits& mirrors, std::uint32_t layers)
+                                   Reduction reduction, const MirrorLimits& mirrors, std::uint32_t layers,
+                                   std::uint32_t inFlight)
     : m_scene(scene), m_geometry(geometry), m_layout(layout), m_reduction(reduction), m_layers(std::max(1u, layers)),
       m_limits(mirrors), m_mirrors(scene.hasMirrors()), m_near(1e-6 * geometry.extent) {
     if (m_limits.maxDepth > 254) throw Error("hemicube: --max-depth is limited to 254 (8-bit stencil)");
+    if (reduction == Reduction::Auto) throw Error("internal: the hemicube renderer needs a resolved --reduce");
     {
         MirrorGroups groups = groupMirrors(scene);
         m_groupOfPatch = std::move(groups.groupOfPatch);
@@ -94,8 +97,8 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
         gl::ViewportIndexedf(GLuint(f), float(v.x), float(v.y), float(v.width), float(v.height));
         gl::ScissorIndexed(GLuint(f), v.x, v.y, v.width, v.height);
     }
-    // The read-back atlas: every layer for the CPU reduction, layer 0 for portals after a GPU one.
-    m_pixels.resize(std::size_t(W) * std::size_t(H) * (reduction == Reduction::Cpu ? m_layers : 1u));
+    // Portals after a GPU reduction read layer 0 back.
+    if (reduction == Reduction::Gpu && m_mirrors) m_pixels.resize(std::size_t(W) * std::size_t(H));
     if (m_mirrors) {
         m_portal = gl::buildProgram({"hemicube_portal.vert", "hemicube_portal.frag"});
         m_groups = gl::makeBuffer();
@@ -130,16 +133,52 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
         gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr((kTouchedHeader + m_capacity) * m_layers * 4), nullptr,
                        GL_DYNAMIC_COPY);
         gl::ClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-        m_values = gl::makeBuffer();
-        gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_values.id());
-        gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(m_capacity * m_layers * 8), nullptr, GL_DYNAMIC_COPY);
+        m_plan = gl::buildProgram({"hemicube_plan.comp"});
+        m_layoutBuffer = gl::makeBuffer();
+        gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_layoutBuffer.id());
+        gl::BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr((3 + 2 * std::size_t(m_layers)) * 4), nullptr, GL_DYNAMIC_COPY);
         // Fixed point: a row sums to at most 1 (no mirrors), so 2^31 units per 1 cannot overflow.
         m_fixedScale = 2147483648.0;
     }
+    // With one pass in flight nothing overlaps: the CPU reduction then reads into plain memory
+    // (Mesa's read-back into a buffer object costs llvmpipe 0.37 ms a row at R = 256, 8x the plain one).
+    m_slots.resize(std::max(1u, inFlight));
+    for (Slot& slot : m_slots) makeSlot(slot, m_layers, m_slots.size() > 1);
+    makeSlot(m_rowSlot, 1, false);
     gl::check("setting up the hemicube renderer");
 }
 
-HemicubeRenderer::~HemicubeRenderer() = default;
+HemicubeRenderer::~HemicubeRenderer() {
+    for (Slot& slot : m_slots) releaseSlot(slot);
+    releaseSlot(m_rowSlot);
+}
+
+void HemicubeRenderer::makeSlot(Slot& slot, std::uint32_t layers, bool overlapped) {
+    if (m_reduction == Reduction::Cpu && !overlapped) {
+        slot.host.resize(layers * m_layout.weights().size());
+        slot.data = slot.host.data();
+        return;
+    }
+    const std::size_t words = m_reduction == Reduction::Cpu ? layers * m_layout.weights().size()
+                                                             : 6 * std::size_t(layers) + 1 + 2 * m_capacity * layers;
+    const auto bytes = GLsizeiptr(words * 4);
+    slot.buffer = gl::makeBuffer();
+    gl::BindBuffer(GL_COPY_WRITE_BUFFER, slot.buffer.id());
+    // Host memory the GPU writes into (client storage), mapped once: no copy, no map per pass.
+    const GLbitfield access = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+    gl::BufferStorage(GL_COPY_WRITE_BUFFER, bytes, nullptr, access | GL_CLIENT_STORAGE_BIT);
+    slot.data = static_cast<const std::uint32_t*>(gl::MapBufferRange(GL_COPY_WRITE_BUFFER, 0, bytes, access));
+    if (!slot.data) throw Error("hemicube: cannot map a " + std::to_string(bytes) + "-byte result buffer");
+    gl::GenQueries(3, slot.queries);
+    gl::BindBuffer(GL_COPY_WRITE_BUFFER, 0);
+}
+
+void HemicubeRenderer::releaseSlot(Slot& slot) {
+    if (slot.fence) gl::DeleteSync(slot.fence);
+    slot.fence = nullptr;
+    if (slot.queries[0]) gl::DeleteQueries(3, slot.queries);
+    slot.queries[0] = 0;
+}
 
 void HemicubeRenderer::clearAtlas() {
     gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
@@ -208,11 +247,16 @@ void HemicubeRenderer::drawInstances(const Pass& pass) {
     }
 }
 
-void HemicubeRenderer::drawBatch(const std::vector<HemicubeItem>& items, HemicubeStats& stats) {
-    if (items.size() > m_layers) throw Error("internal: a hemicube batch of " + std::to_string(items.size()) +
-                                             " exceeds the atlas's " + std::to_string(m_layers) + " layers");
-    if (m_mirrors) throw Error("internal: hemicube batches are for scenes without mirrors");
+void HemicubeRenderer::submit(const std::vector<HemicubeItem>& items, HemicubeStats& stats) {
+    if (items.size() > m_layers || items.empty())
+        throw Error("internal: a hemicube pass of " + std::to_string(items.size()) + " hemicubes for an atlas of " +
+                    std::to_string(m_layers) + " layers");
+    if (m_busy == m_slots.size()) throw Error("internal: every hemicube pass slot is in flight");
     const auto t0 = Clock::now();
+    Slot& slot = m_slots[(m_first + m_busy) % m_slots.size()];
+    ++m_busy;
+    slot.items = items;
+    if (slot.queries[0]) gl::QueryCounter(slot.queries[0], GL_TIMESTAMP);
     clearAtlas();
     m_instances.resize(items.size());
     for (std::size_t k = 0; k < items.size(); ++k) {
@@ -221,12 +265,12 @@ void HemicubeRenderer::drawBatch(const std::vector<HemicubeItem>& items, Hemicub
         m_instances[k].skipCode = m_geometry.codeOfPatch[i];
     }
     drawInstances(Pass{});
-    gl::Finish();
     stats.render += since(t0);
-    finishPass(items.size(), stats);
+    startResults(slot, items.size(), stats);
+    ++stats.passes;
     stats.hemicubes += items.size();
     stats.pixels += items.size() * m_layout.weights().size();
-    gl::check("computing a batch of hemicubes");
+    gl::check("drawing a pass of hemicubes");
 }
 
 void HemicubeRenderer::readPixels(std::vector<std::uint32_t>& ids, HemicubeStats& stats) {
@@ -242,27 +286,33 @@ void HemicubeRenderer::readPixels(std::vector<std::uint32_t>& ids, HemicubeStats
 void HemicubeRenderer::computeRow(PatchId i, const Vec3& origin, double weight, RowAccumulator& row,
                                   HemicubeStats& stats) {
     auto t0 = Clock::now();
+    if (m_rowSlot.queries[0]) gl::QueryCounter(m_rowSlot.queries[0], GL_TIMESTAMP);
     beginRow(i, origin, weight);
     Pass direct;
     direct.skipCode = m_geometry.codeOfPatch[i];
     draw(direct);
-    gl::Finish();
     stats.render += since(t0);
-    finishPass(1, stats);
-    reduceLayer(0, m_weight, row, stats);
+    startResults(m_rowSlot, 1, stats);
+    await(m_rowSlot, stats);
+    reduceLayer(m_rowSlot, 0, 1, m_weight, row, stats);
+    ++stats.passes;
     ++stats.hemicubes;
     stats.pixels += m_layout.weights().size();
     if (m_mirrors) {
         // Portals only run for rows that see a mirror (Sillion & Puech extended form factors).
         t0 = Clock::now();
-        if (m_reduction == Reduction::Gpu) readPixels(m_pixels, stats);
+        const std::size_t n = m_layout.weights().size();
+        const std::uint32_t* ids = m_rowSlot.data;
+        if (m_reduction == Reduction::Gpu) {
+            readPixels(m_pixels, stats);
+            ids = m_pixels.data();
+        }
         if (m_limits.rays) {
-            traceMirrorPixels(i, row, stats);
+            traceMirrorPixels(i, ids, row, stats);
         } else {
-            const std::size_t n = m_layout.weights().size();
             std::vector<std::uint32_t> everything(n);
             for (std::size_t k = 0; k < n; ++k) everything[k] = static_cast<std::uint32_t>(k);
-            const std::vector<std::uint32_t> levelIds(m_pixels.begin(), m_pixels.begin() + std::ptrdiff_t(n));
+            const std::vector<std::uint32_t> levelIds(ids, ids + n);
             traversePortals(1, levelIds, everything, Eigen::Matrix4d::Identity(), m_weight, row, stats);
         }
         stats.mirrors += since(t0);
@@ -270,7 +320,8 @@ void HemicubeRenderer::computeRow(PatchId i, const Vec3& origin, double weight, 
     gl::check("computing a hemicube");
 }
 
-void HemicubeRenderer::traceMirrorPixels(PatchId i, RowAccumulator& row, HemicubeStats& stats) {
+void HemicubeRenderer::traceMirrorPixels(PatchId i, const std::uint32_t* ids, RowAccumulator& row,
+                                         HemicubeStats& stats) {
     const Patch& patch = m_scene.patches[i];
     const Vec3 origin = m_eye + m_geometry.centre + m_limits.rays->originOffset() * patch.normal;
     const float* w = m_layout.weights().data();
@@ -281,7 +332,7 @@ void HemicubeRenderer::traceMirrorPixels(PatchId i, RowAccumulator& row, Hemicub
         for (int py = 0; py < v.height; ++py)
             for (int px = 0; px < v.width; ++px) {
                 const std::size_t k = std::size_t(v.y + py) * m_layout.width() + std::size_t(v.x + px);
-                const std::uint32_t id = m_pixels[k];
+                const std::uint32_t id = ids[k];
                 if (id - 1u >= 0xfffffffeu || !m_groupOfPatch[id - 1u]) continue;
                 // The pixel centre's direction: x in [-1, 1] across; top face y in [-1, 1], sides
                 // elevation z in [0, 1] (physics.md §3 conventions).
@@ -386,78 +437,99 @@ void HemicubeRenderer::traversePortals(int depth, const std::vector<std::uint32_
     }
 }
 
-void HemicubeRenderer::finishPass(std::size_t count, HemicubeStats& stats) {
+void HemicubeRenderer::startResults(Slot& slot, std::size_t count, HemicubeStats& stats) {
+    auto t0 = Clock::now();  // issuing commands counts as render, a read that waits as readback
     const auto W = GLuint(m_layout.width()), H = GLuint(m_layout.height());
-    const std::size_t layerPixels = m_layout.weights().size();
+    if (slot.queries[0]) gl::QueryCounter(slot.queries[1], GL_TIMESTAMP);
     if (m_reduction == Reduction::Cpu) {
-        const auto t0 = Clock::now();
+        // The layers' ids into the slot: a pixel-pack buffer (the call returns before the copy
+        // runs), or plain memory (after a Finish, so the draw is render's time and the copy readback's).
         gl::PixelStorei(GL_PACK_ALIGNMENT, 4);
-        gl::GetTextureSubImage(m_ids.id(), 0, 0, 0, 0, GLsizei(W), GLsizei(H), GLsizei(count), GL_RED_INTEGER,
-                               GL_UNSIGNED_INT, GLsizei(count * layerPixels * 4), m_pixels.data());
-        stats.readback += since(t0);
-        return;
+        const auto bytes = GLsizei(count * m_layout.weights().size() * 4);
+        if (slot.host.empty()) {
+            gl::BindBuffer(GL_PIXEL_PACK_BUFFER, slot.buffer.id());
+            gl::GetTextureSubImage(m_ids.id(), 0, 0, 0, 0, GLsizei(W), GLsizei(H), GLsizei(count), GL_RED_INTEGER,
+                                   GL_UNSIGNED_INT, bytes, nullptr);
+            gl::BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+        } else {
+            gl::Finish();
+            stats.render += since(t0);
+            t0 = Clock::now();
+            gl::GetTextureSubImage(m_ids.id(), 0, 0, 0, 0, GLsizei(W), GLsizei(H), GLsizei(count), GL_RED_INTEGER,
+                                   GL_UNSIGNED_INT, bytes, slot.host.data());
+            stats.readback += since(t0);
+            return;  // read at once: nothing left to wait for, nothing timed
+        }
+    } else {
+        // Reduce every layer into its dense fixed-point row and touched list; plan where each
+        // layer's pairs go; gather them into the slot. No result comes back before the fence.
+        const auto layers = GLuint(count);
+        const auto patches = GLuint(std::max<std::size_t>(1, m_scene.size()));
+        gl::BindImageTexture(0, m_ids.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32UI);
+        gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m_weights.id());
+        gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m_accumulator.id());
+        gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, m_touched.id());
+        gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, slot.buffer.id());
+        gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m_layoutBuffer.id());
+        gl::MemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        m_reduce.use();
+        gl::Uniform2ui(m_reduce.uniform("size"), W, H);
+        gl::Uniform1ui(m_reduce.uniform("patches"), patches);
+        gl::Uniform1ui(m_reduce.uniform("atlasLayers"), GLuint(m_layers));
+        gl::Uniform1ui(m_reduce.uniform("capacity"), GLuint(m_capacity));
+        gl::Uniform1f(m_reduce.uniform("fixedScale"), float(m_fixedScale));
+        gl::Uniform1f(m_reduce.uniform("roundedScale"), float(kRoundedScale));
+        gl::DispatchCompute((W + 15) / 16, (H + 15) / 16, layers);
+        gl::MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        m_plan.use();
+        gl::Uniform1ui(m_plan.uniform("layers"), layers);
+        gl::DispatchCompute(1, 1, 1);
+        gl::MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+        m_collect.use();
+        gl::Uniform1ui(m_collect.uniform("layers"), layers);
+        gl::Uniform1ui(m_collect.uniform("atlasLayers"), GLuint(m_layers));
+        gl::Uniform1ui(m_collect.uniform("patches"), patches);
+        gl::Uniform1ui(m_collect.uniform("capacity"), GLuint(m_capacity));
+        gl::BindBuffer(GL_DISPATCH_INDIRECT_BUFFER, m_layoutBuffer.id());
+        gl::DispatchComputeIndirect(0);
+        gl::BindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+        gl::MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
     }
-    auto t0 = Clock::now();
-    const auto layers = GLuint(count);
-    gl::BindImageTexture(0, m_ids.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32UI);
-    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m_weights.id());
-    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m_accumulator.id());
-    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, m_touched.id());
-    gl::BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m_values.id());
-    gl::MemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-    const auto patches = GLuint(std::max<std::size_t>(1, m_scene.size()));
-    m_reduce.use();
-    gl::Uniform2ui(m_reduce.uniform("size"), W, H);
-    gl::Uniform1ui(m_reduce.uniform("patches"), patches);
-    gl::Uniform1ui(m_reduce.uniform("layers"), layers);
-    gl::Uniform1ui(m_reduce.uniform("capacity"), GLuint(m_capacity));
-    gl::Uniform1f(m_reduce.uniform("fixedScale"), float(m_fixedScale));
-    gl::Uniform1f(m_reduce.uniform("roundedScale"), float(kRoundedScale));
-    gl::DispatchCompute((W + 15) / 16, (H + 15) / 16, layers);
-    gl::MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    m_headers.resize(kTouchedHeader * count);
-    gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_touched.id());
-    gl::GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(m_headers.size() * 4), m_headers.data());
-    // Each layer's pairs go to its place in one output block: one read-back for the whole pass.
-    m_pairStart.assign(count + 1, 0);
-    for (std::size_t k = 0; k < count; ++k) m_pairStart[k + 1] = m_pairStart[k] + m_headers[kTouchedHeader * k];
-    m_collect.use();
-    gl::Uniform1ui(m_collect.uniform("layers"), layers);
-    gl::Uniform1ui(m_collect.uniform("patches"), patches);
-    gl::Uniform1ui(m_collect.uniform("capacity"), GLuint(m_capacity));
-    for (std::size_t k = 0; k < count; ++k) {
-        const auto n = GLuint(m_headers[kTouchedHeader * k]);
-        if (n == 0) continue;
-        gl::Uniform1ui(m_collect.uniform("layer"), GLuint(k));
-        gl::Uniform1ui(m_collect.uniform("offset"), GLuint(m_pairStart[k]));
-        gl::Uniform1ui(m_collect.uniform("count"), n);
-        gl::DispatchCompute((n + 63) / 64, 1, 1);
-    }
-    gl::MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    stats.reduce += since(t0);
-    t0 = Clock::now();
-    m_pairs.resize(2 * m_pairStart[count]);
-    if (!m_pairs.empty()) {
-        gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_values.id());
-        gl::GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(m_pairs.size() * 4), m_pairs.data());
-    }
-    const GLuint zero = 0;  // the headers, for the next pass (the accumulator was cleared by collect)
-    gl::BindBuffer(GL_SHADER_STORAGE_BUFFER, m_touched.id());
-    gl::ClearBufferSubData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, 0, GLsizeiptr(m_headers.size() * 4), GL_RED_INTEGER,
-                           GL_UNSIGNED_INT, &zero);
-    stats.readback += since(t0);
+    gl::QueryCounter(slot.queries[2], GL_TIMESTAMP);
+    if (slot.fence) gl::DeleteSync(slot.fence);
+    slot.fence = gl::FenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    gl::Flush();  // the pass starts now, not when the CPU next waits
+    stats.render += since(t0);
 }
 
-void HemicubeRenderer::reduceLayer(std::size_t k, double weight, RowAccumulator& row, HemicubeStats& stats) {
+void HemicubeRenderer::await(Slot& slot, HemicubeStats& stats) {
+    const auto t0 = Clock::now();
+    while (slot.fence) {
+        const GLenum status = gl::ClientWaitSync(slot.fence, GL_SYNC_FLUSH_COMMANDS_BIT, 1000000000ull);
+        if (status == GL_ALREADY_SIGNALED || status == GL_CONDITION_SATISFIED) break;
+        if (status == GL_WAIT_FAILED) throw Error("hemicube: waiting for a pass failed (" + gl::describeContext() + ")");
+    }
+    if (slot.fence) gl::DeleteSync(slot.fence);
+    slot.fence = nullptr;
+    stats.wait += since(t0);
+    if (!slot.queries[0]) return;
+    GLuint64 t[3] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k) gl::GetQueryObjectui64v(slot.queries[k], GL_QUERY_RESULT, &t[k]);
+    stats.gpuDraw += 1e-9 * double(t[1] - t[0]);
+    stats.gpuFinish += 1e-9 * double(t[2] - t[1]);
+}
+
+void HemicubeRenderer::reduceLayer(const Slot& slot, std::size_t k, std::size_t count, double weight,
+                                   RowAccumulator& row, HemicubeStats& stats) {
     if (m_reduction == Reduction::Cpu) {
-        reduceIds(m_pixels.data() + k * m_layout.weights().size(), weight, row, stats);
+        reduceIds(slot.data + k * m_layout.weights().size(), weight, row, stats);
         return;
     }
     const auto t0 = Clock::now();
     const double unit = weight / m_fixedScale;
-    for (std::size_t e = m_pairStart[k]; e < m_pairStart[k + 1]; ++e)
-        row.addWeight(m_pairs[2 * e], m_pairs[2 * e + 1] * unit);
-    const std::uint32_t* header = &m_headers[kTouchedHeader * k];
+    const std::uint32_t* header = slot.data + kTouchedHeader * k;
+    const std::uint32_t* pairs = slot.data + 6 * count + 1 + 2 * std::size_t(slot.data[kTouchedHeader * count + k]);
+    for (std::uint32_t e = 0; e < header[0]; ++e) row.addWeight(pairs[2 * e], pairs[2 * e + 1] * unit);
     stats.missed += header[1];
     stats.backfaces += header[2];
     stats.lostWeight += (header[3] + header[4] / kRoundedScale) * unit;

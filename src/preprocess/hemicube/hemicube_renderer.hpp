@@ -15,13 +15,19 @@ namespace hemirad {
 
 /// Per-stage seconds and pixel counts of the hemicubes a renderer drew.
 struct HemicubeStats {
-    double render = 0, readback = 0, reduce = 0, collect = 0, mirrors = 0;
-    std::uint64_t hemicubes = 0, pixels = 0, missed = 0, backfaces = 0, portals = 0;
+    /// CPU seconds: issuing a pass's commands (render), synchronous read-backs (readback), waiting
+    /// for a pass in flight (wait), summing into rows (reduce), handing rows over (collect), mirrors.
+    double render = 0, readback = 0, wait = 0, reduce = 0, collect = 0, mirrors = 0;
+    /// GPU seconds of the passes (timestamps): drawing, and reading back or reducing.
+    double gpuDraw = 0, gpuFinish = 0;
+    std::uint64_t hemicubes = 0, pixels = 0, missed = 0, backfaces = 0, portals = 0, passes = 0;
     double lostWeight = 0;    ///< sum over rows of the row fraction that saw nothing or a back face
     double cutoffWeight = 0;  ///< sum over rows of the fraction still travelling at the depth/weight limit
     HemicubeStats& operator+=(const HemicubeStats& o) {
-        render += o.render, readback += o.readback, reduce += o.reduce, collect += o.collect, mirrors += o.mirrors;
-        hemicubes += o.hemicubes, pixels += o.pixels, missed += o.missed, backfaces += o.backfaces, portals += o.portals;
+        render += o.render, readback += o.readback, wait += o.wait, reduce += o.reduce, collect += o.collect,
+            mirrors += o.mirrors, gpuDraw += o.gpuDraw, gpuFinish += o.gpuFinish;
+        hemicubes += o.hemicubes, pixels += o.pixels, missed += o.missed, backfaces += o.backfaces, portals += o.portals,
+            passes += o.passes;
         lostWeight += o.lostWeight, cutoffWeight += o.cutoffWeight;
         return *this;
     }
@@ -49,10 +55,14 @@ struct HemicubeItem {
 /// Requires a current GL 4.5 context for its whole life (construction, use, destruction).
 class HemicubeRenderer {
 public:
-    /// `layers`: hemicubes drawn per pass (the atlas is an array of that many layers).
+    /// `layers`: hemicubes drawn per pass (the atlas is an array of that many layers); `inFlight`:
+    /// passes that may be read back or reduced while the next ones draw.
     HemicubeRenderer(const Scene& scene, const HemicubeGeometry& geometry, const HemicubeLayout& layout,
-                     Reduction reduction, const MirrorLimits& mirrors = {}, std::uint32_t layers = 1);
+                     Reduction reduction, const MirrorLimits& mirrors = {}, std::uint32_t layers = 1,
+                     std::uint32_t inFlight = 1);
     ~HemicubeRenderer();
+    HemicubeRenderer(const HemicubeRenderer&) = delete;
+    HemicubeRenderer& operator=(const HemicubeRenderer&) = delete;
 
     std::uint32_t layers() const { return m_layers; }
 
@@ -61,20 +71,25 @@ public:
     void computeRow(PatchId i, RowAccumulator& row, HemicubeStats& stats) {
         computeRow(i, m_scene.patches[i].centroid, 1.0, row, stats);
     }
-    /// The same from the point `origin` of patch i, its deposits times `weight`. Follows mirrors.
+    /// The same from the point `origin` of patch i, its deposits times `weight`, at once (passes in
+    /// flight stay so). Follows mirrors.
     void computeRow(PatchId i, const Vec3& origin, double weight, RowAccumulator& row, HemicubeStats& stats);
 
-    /// Draws up to layers() hemicubes in one instanced pass and reduces them all (no mirrors: a scene
-    /// with mirrors goes row by row). A row's items must be consecutive; after its last one,
-    /// rowDone(patch) is called with its deposits in `row` (take them there).
+    /// Queues up to layers() hemicubes as one instanced pass whose reduction runs on while later
+    /// passes draw; when all passes in flight are taken, the oldest is finished first. Mirrors are
+    /// drawn as plain patches: only hemicubes that cannot see one belong here. A row's items must be
+    /// consecutive and in one pass; after a row's last one is reduced, rowDone(patch) is called
+    /// with its deposits in `row` (take them there).
     template <class RowDone>
     void computeBatch(const std::vector<HemicubeItem>& items, RowAccumulator& row, RowDone&& rowDone,
                       HemicubeStats& stats) {
-        drawBatch(items, stats);
-        for (std::size_t k = 0; k < items.size(); ++k) {
-            reduceLayer(k, items[k].weight, row, stats);
-            if (k + 1 == items.size() || items[k + 1].patch != items[k].patch) rowDone(items[k].patch);
-        }
+        if (m_busy == m_slots.size()) finishOldest(row, rowDone, stats);
+        submit(items, stats);
+    }
+    /// Finishes every pass in flight (computeBatch's rows all handed over).
+    template <class RowDone>
+    void drain(RowAccumulator& row, RowDone&& rowDone, HemicubeStats& stats) {
+        while (m_busy) finishOldest(row, rowDone, stats);
     }
 
 private:
@@ -92,6 +107,23 @@ private:
         bool mirrored = false;   ///< an odd number of reflections flips the winding
         bool planeTest = true;   ///< drop triangles behind the patch plane (direct pass only)
     };
+    /// Where a pass's results land: a host-visible buffer, mapped for the renderer's life, that the
+    /// GPU fills after the pass (CPU reduction: the atlas layers' ids; GPU reduction: per layer its
+    /// header and the offset of its (patch, value) pairs, then the pairs), with the fence that says
+    /// it is filled and timestamps around the draw. A CPU reduction that overlaps nothing reads
+    /// into `host` instead, at once, without fence or timestamps (on llvmpipe each costs about as
+    /// much as the read-back itself).
+    struct Slot {
+        gl::Buffer buffer;
+        std::vector<std::uint32_t> host;
+        const std::uint32_t* data = nullptr;
+        GLsync fence = nullptr;
+        GLuint queries[3] = {0, 0, 0};  ///< GL_TIMESTAMP: pass started, drawn, results written (mapped slots)
+        std::vector<HemicubeItem> items;
+    };
+    /// `overlapped`: filled while later passes draw (else the CPU reduction reads into plain memory).
+    void makeSlot(Slot& slot, std::uint32_t layers, bool overlapped);
+    void releaseSlot(Slot& slot);
     void beginRow(PatchId i, const Vec3& origin, double weight);
     void clearAtlas();
     /// World -> patch frame of a hemicube at `eye` (scene-centred) with axis `normal`.
@@ -99,20 +131,37 @@ private:
     void draw(const Pass& pass);
     /// Draws the uploaded instances (m_instances) with the pass's clip plane and winding.
     void drawInstances(const Pass& pass);
-    void drawBatch(const std::vector<HemicubeItem>& items, HemicubeStats& stats);
+    /// Draws a pass of `items` into the next free slot's layers and starts its results.
+    void submit(const std::vector<HemicubeItem>& items, HemicubeStats& stats);
+    /// After the atlas's first `count` layers are drawn: the commands that fill `slot` (read-back
+    /// or GPU reduction), its timestamps and its fence; returns at once (a `host` slot: once read).
+    void startResults(Slot& slot, std::size_t count, HemicubeStats& stats);
+    /// Blocks until `slot` is filled; adds its GPU times.
+    void await(Slot& slot, HemicubeStats& stats);
+    template <class RowDone>
+    void finishOldest(RowAccumulator& row, RowDone& rowDone, HemicubeStats& stats) {
+        Slot& slot = m_slots[m_first];
+        await(slot, stats);
+        const std::vector<HemicubeItem>& items = slot.items;
+        for (std::size_t k = 0; k < items.size(); ++k) {
+            reduceLayer(slot, k, items.size(), items[k].weight, row, stats);
+            if (k + 1 == items.size() || items[k + 1].patch != items[k].patch) rowDone(items[k].patch);
+        }
+        m_first = (m_first + 1) % m_slots.size();
+        --m_busy;
+    }
     void readPixels(std::vector<std::uint32_t>& ids, HemicubeStats& stats);
-    /// Layer k of the last pass into `row`, times weight: from the read-back atlas (CPU) or the
-    /// GPU's compacted rows.
-    void reduceLayer(std::size_t k, double weight, RowAccumulator& row, HemicubeStats& stats);
+    /// Layer k of a filled slot's `count` into `row`, times weight: from the read-back atlas (CPU)
+    /// or the GPU's compacted rows.
+    void reduceLayer(const Slot& slot, std::size_t k, std::size_t count, double weight, RowAccumulator& row,
+                     HemicubeStats& stats);
     void reduceIds(const std::uint32_t* ids, double weight, RowAccumulator& row, HemicubeStats& stats);
-    /// Reads back the first `count` layers (CPU reduction) or reduces them on the GPU.
-    void finishPass(std::size_t count, HemicubeStats& stats);
     /// Portal rendering (stencil) for the mirrors seen in `region` of `levelIds`, recursively.
     void traversePortals(int depth, const std::vector<std::uint32_t>& levelIds, const std::vector<std::uint32_t>& region,
                          const Eigen::Matrix4d& transform, double factor, RowAccumulator& row, HemicubeStats& stats);
     void markPortal(std::uint32_t group, int depth, const std::vector<std::uint32_t>& levelIds);
-    /// The hybrid variant: every pixel that sees a mirror is traced onwards with Embree.
-    void traceMirrorPixels(PatchId i, RowAccumulator& row, HemicubeStats& stats);
+    /// The hybrid variant: every pixel of `ids` (the direct pass) that sees a mirror is traced onwards with Embree.
+    void traceMirrorPixels(PatchId i, const std::uint32_t* ids, RowAccumulator& row, HemicubeStats& stats);
 
     const Scene& m_scene;
     const HemicubeGeometry& m_geometry;
@@ -121,16 +170,18 @@ private:
     std::uint32_t m_layers = 1;
     std::size_t m_capacity = 0;  ///< GPU reduction: touched-list length per layer
     gl::Program m_draw[4];  ///< one per HemicubeGeometry::Kind (empty when the scene has none)
-    gl::Program m_reduce, m_collect, m_portal;
+    gl::Program m_reduce, m_plan, m_collect, m_portal;
     gl::VertexArray m_vao;
-    gl::Buffer m_vertices, m_parents, m_weights, m_accumulator, m_touched, m_values, m_instanceBuffer;
+    /// m_layoutBuffer: the GPU reduction's per-layer (count, offset) and its indirect dispatch (device only).
+    gl::Buffer m_vertices, m_parents, m_weights, m_accumulator, m_touched, m_layoutBuffer, m_instanceBuffer;
     gl::Texture m_ids, m_depth, m_levelIds;
     gl::Framebuffer m_fbo;
     std::vector<Instance> m_instances;
-    std::vector<std::uint32_t> m_pixels;  ///< the read-back atlas layers (CPU reduction, portals)
-    /// GPU reduction of the last pass: per layer its header and where its pairs start in m_pairs.
-    std::vector<std::uint32_t> m_headers, m_pairs;
-    std::vector<std::size_t> m_pairStart;
+    /// Passes in flight: a ring of slots, m_busy of them taken from m_first on (submission order).
+    std::vector<Slot> m_slots;
+    std::size_t m_first = 0, m_busy = 0;
+    Slot m_rowSlot;  ///< computeRow's one layer, finished at once
+    std::vector<std::uint32_t> m_pixels;  ///< layer 0 read back for portals after a GPU reduction
     double m_fixedScale = 0;
     MirrorLimits m_limits;
     bool m_mirrors = false;
