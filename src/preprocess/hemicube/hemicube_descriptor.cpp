@@ -19,7 +19,7 @@ RunDescription describe(const Scene&, const MethodSettings& s) {
                  (points == 1 ? std::string("one hemicube at the centroid")
                               : std::to_string(points) + " hemicubes per patch at Gauss-Legendre points (--origins " +
                                     std::to_string(o.origins) + ")") +
-                 ", reduction on the " + reduce;
+                 (o.reduce == Reduction::Auto ? ", reduction by renderer" : ", reduction on the " + reduce);
     d.record = {{"resolution", std::to_string(o.resolution)},
                 {"reduce", reduce},
                 {"origins", std::to_string(points)},
