@@ -184,7 +184,7 @@ TEST_CASE("Hemicubes per pass: by renderer, within the driver's layers and the m
           "8 (2 of 3 rows may see a mirror: row by row)");
 }
 
-TEST_CASE("--reduce and --in-flight by renderer: the CPU and one pass on llvmpipe, the GPU and three passes on a GPU") {
+TEST_CASE("By renderer: the CPU reduction with one pass in flight and no row threads on llvmpipe and the GPU reduction with three and the spare cores on a GPU") {
     const char* llvmpipe = "llvmpipe (LLVM 15.0.6, 256 bits)";
     const char* gpu = "NVIDIA H100 80GB HBM3/PCIe/SSE2";
     CHECK(hemicubeReduction(llvmpipe, Reduction::Auto) == Reduction::Cpu);
@@ -195,6 +195,12 @@ TEST_CASE("--reduce and --in-flight by renderer: the CPU and one pass on llvmpip
     CHECK(hemicubeInFlight(gpu, 0) == 3);
     CHECK(hemicubeInFlight(gpu, 1) == 1);
     CHECK(hemicubeInFlight(llvmpipe, 2) == 2);
+    // Row threads: none beside llvmpipe's context per core; on a GPU the cores its context leaves.
+    CHECK(hemicubeRowThreads(llvmpipe, -1, 16, 16) == 0);
+    CHECK(hemicubeRowThreads(gpu, -1, 16, 1) == 15);
+    CHECK(hemicubeRowThreads(gpu, -1, 1, 1) == 0);
+    CHECK(hemicubeRowThreads(gpu, 0, 16, 1) == 0);
+    CHECK(hemicubeRowThreads(llvmpipe, 3, 16, 16) == 3);
     // The run reports the resolved choices.
     HemicubeOptions o;
     o.resolution = 16;
@@ -209,30 +215,38 @@ TEST_CASE("--reduce and --in-flight by renderer: the CPU and one pass on llvmpip
     CHECK(g.F.parameters.at("in_flight") == "2");
 }
 
-TEST_CASE("Passes in flight (read back or reduced while later passes draw) give the F of one pass at a time, bit for bit") {
+TEST_CASE("Passes in flight and row threads (rows summed beside the GL thread) give the F of one pass at a time, bit for bit") {
     const Scene s = subdivide(bundledScene("cornell_box.obj"), 100.0);
-    auto run = [&](Reduction reduce, std::uint32_t batch, std::uint32_t inFlight) {
+    auto run = [&](Reduction reduce, std::uint32_t batch, std::uint32_t inFlight, int rowThreads) {
         HemicubeOptions o;
         o.resolution = 32;
         o.reduce = reduce;
         o.batch = batch;
         o.inFlight = inFlight;
-        return computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
+        o.rowThreads = rowThreads;
+        CommonOptions one;
+        one.threads = 1;  // one GL context: the GPU's arrangement
+        return computeFormFactors(s, MethodSettings::of(o, one), neededRows(s, true));
     };
     for (const Reduction reduce : {Reduction::Cpu, Reduction::Gpu})
         for (const std::uint32_t batch : {1u, 7u}) {
             CAPTURE(int(reduce));
             CAPTURE(batch);
-            const FormFactorRun one = run(reduce, batch, 1);
-            const FormFactorRun three = run(reduce, batch, 3);
-            CHECK(three.F.parameters.at("in_flight") == "3");
-            std::size_t differing = 0;
-            for (PatchId i = 0; i < s.size(); ++i)
-                for (PatchId j = 0; j < s.size(); ++j) differing += one.F.at(i, j) != three.F.at(i, j);
-            CHECK(differing == 0);
-            CHECK(three.counts.misses == one.counts.misses);
-            CHECK(three.counts.lostWeight == one.counts.lostWeight);
-            CHECK(three.counts.rays == one.counts.rays);
+            const FormFactorRun one = run(reduce, batch, 1, 0);
+            for (const auto& [inFlight, rowThreads] : {std::pair<std::uint32_t, int>{3, 0}, {3, 2}, {1, 3}}) {
+                CAPTURE(inFlight);
+                CAPTURE(rowThreads);
+                const FormFactorRun other = run(reduce, batch, inFlight, rowThreads);
+                CHECK(other.F.parameters.at("in_flight") == std::to_string(inFlight));
+                CHECK(other.F.parameters.at("row_threads") == std::to_string(rowThreads));
+                std::size_t differing = 0;
+                for (PatchId i = 0; i < s.size(); ++i)
+                    for (PatchId j = 0; j < s.size(); ++j) differing += one.F.at(i, j) != other.F.at(i, j);
+                CHECK(differing == 0);
+                CHECK(other.counts.misses == one.counts.misses);
+                CHECK(other.counts.lostWeight == doctest::Approx(one.counts.lostWeight).epsilon(1e-12));
+                CHECK(other.counts.rays == one.counts.rays);
+            }
         }
 }
 
@@ -253,6 +267,7 @@ TEST_CASE("In a mirror scene, rows that cannot see a mirror are batched and give
         const FormFactorRun rowByRow = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
         o.batch = 16;
         o.inFlight = 2;
+        o.rowThreads = 2;
         const FormFactorRun mixed = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
         CHECK(mixed.F.parameters.at("batch").rfind("16 (", 0) == 0);
         double worst = 0.0;

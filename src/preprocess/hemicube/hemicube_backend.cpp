@@ -7,6 +7,7 @@
 #include "gl/gl_api.hpp"
 #include "gl/gl_context.hpp"
 #include "preprocess/hemicube/hemicube_renderer.hpp"
+#include "preprocess/hemicube/hemicube_row_pool.hpp"
 #include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/point_polygon.hpp"
 #include "preprocess/row_accumulator.hpp"
@@ -46,6 +47,11 @@ Reduction hemicubeReduction(std::string_view renderer, Reduction requested) {
 std::uint32_t hemicubeInFlight(std::string_view renderer, std::uint32_t requested) {
     if (requested > 0) return requested;
     return isSoftwareRenderer(renderer) ? kSoftwareInFlight : 3u;
+}
+
+int hemicubeRowThreads(std::string_view renderer, int requested, int cores, int workers) {
+    if (requested >= 0) return requested;
+    return isSoftwareRenderer(renderer) ? 0 : std::max(0, cores - workers);
 }
 
 std::uint32_t hemicubeLayers(std::string_view renderer, std::uint32_t requested, std::uint32_t resolution,
@@ -135,6 +141,7 @@ void HemicubeBackend::prepare(const Scene& scene) {
     m_workers = hemicubeWorkers(m_renderer, m_common.threads, resolveThreads(0));
     m_reduction = hemicubeReduction(m_renderer, m_options.reduce);
     m_inFlight = hemicubeInFlight(m_renderer, m_options.inFlight);
+    m_rowThreads = hemicubeRowThreads(m_renderer, m_options.rowThreads, resolveThreads(0), m_workers);
     m_points = originPoints(m_options.origins);
     m_layers = hemicubeLayers(m_renderer, m_options.batch, m_options.resolution, scene.size(),
                               m_reduction == Reduction::Gpu, m_points, std::uint32_t(maxLayers), m_inFlight);
@@ -163,6 +170,7 @@ std::map<std::string, std::string> HemicubeBackend::parameters() const {
                                                   std::to_string(m_scene->size()) + " rows may see a mirror: row by row)"
                                             : "")},
             {"in_flight", std::to_string(m_inFlight)},
+            {"row_threads", std::to_string(m_rowThreads)},
             {"reduce", std::string(m_reduction == Reduction::Gpu ? "gpu" : "cpu") +
                            (m_options.reduce == Reduction::Auto ? " (by renderer)" : "")},
             {"gl", text("--gl")},
@@ -177,7 +185,8 @@ std::string HemicubeBackend::device() const {
             : isSoftwareRenderer(m_renderer) ? " (software renderer: one per core)"
                                              : " (GPU: one context)") +
            ", " + std::to_string(m_layers) + (m_layers == 1 ? " hemicube per pass, " : " hemicubes per pass, ") +
-           std::to_string(m_inFlight) + " in flight, reduction on the " + (m_reduction == Reduction::Gpu ? "GPU" : "CPU");
+           std::to_string(m_inFlight) + " in flight, reduction on the " + (m_reduction == Reduction::Gpu ? "GPU" : "CPU") +
+           (m_rowThreads > 0 ? ", " + std::to_string(m_rowThreads) + " row threads" : "");
 }
 
 void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
@@ -222,6 +231,18 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
                     std::lock_guard<std::mutex> lock(failureMutex);
                     return failure || builder.cancelled();
                 };
+                // Declared after the renderer: destroyed (joined) before it, as its slots' memory goes.
+                std::unique_ptr<HemicubeRowPool> pool;
+                if (m_rowThreads > 0) {
+                    pool = std::make_unique<HemicubeRowPool>(
+                        std::size_t(m_rowThreads), m_scene->size(),
+                        [&builder](PatchId i, RowAccumulator& r, HemicubeStats& s) {
+                            const auto t0 = std::chrono::steady_clock::now();
+                            builder.setRow(i, r.take(1.0));
+                            s.collect += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                        });
+                    renderer.useRowPool(pool.get());
+                }
                 // Whole rows into passes of up to m_layers hemicubes, several passes in flight; a row
                 // that may see a mirror, or has more hemicubes than a pass, is drawn at once, point by point.
                 std::vector<HemicubeItem> batch;
@@ -243,6 +264,10 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
                 if (!stopped()) {
                     if (!batch.empty()) renderer.computeBatch(batch, row, rowDone, stats);
                     renderer.drain(row, rowDone, stats);
+                    if (pool) {
+                        pool->drain();
+                        stats += pool->stats();
+                    }
                 }
                 std::lock_guard<std::mutex> lock(totalMutex);
                 total += stats;

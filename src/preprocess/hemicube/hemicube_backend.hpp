@@ -33,6 +33,11 @@ Reduction hemicubeReduction(std::string_view renderer, Reduction requested);
 /// passes ahead while the CPU copies one pass's rows).
 std::uint32_t hemicubeInFlight(std::string_view renderer, std::uint32_t requested);
 
+/// CPU threads that sum finished passes into rows (--row-threads): `requested` when given (>= 0);
+/// else none on a software renderer (its `workers` contexts rasterise on every core) and the
+/// `cores` the workers leave on a GPU (its single GL thread would otherwise copy every row itself).
+int hemicubeRowThreads(std::string_view renderer, int requested, int cores, int workers);
+
 /// Hemicubes drawn per pass (--batch): `requested` when given (> 0), else by renderer (software: see
 /// the definition; GPU: up to 256, so that one round trip serves many rows); at most `maxLayers` (the
 /// driver's array layers) and what fits in 256 MiB of atlas, reduction and `inFlight` result
@@ -75,6 +80,7 @@ private:
     std::uint32_t m_points = 1;  ///< hemicubes per row
     std::uint32_t m_layers = 1;  ///< hemicubes per pass
     std::uint32_t m_inFlight = 1;  ///< passes in flight
+    int m_rowThreads = 0;  ///< CPU threads summing finished passes, beside the GL contexts
     Reduction m_reduction = Reduction::Cpu;  ///< --reduce, resolved by renderer
     std::vector<bool> m_mirrorRows;  ///< rows that go row by row (rowsThatMaySeeMirrors)
     std::size_t m_mirrorRowCount = 0;

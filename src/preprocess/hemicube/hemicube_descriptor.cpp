@@ -57,6 +57,11 @@ BackendDescriptor make() {
                          "passes read back or reduced while the next ones draw (default 0 = by renderer: 1 on "
                          "llvmpipe, 3 on a GPU)",
                          &C::inFlight, 0, 8),
+        integerOption<C>("--row-threads", "Row threads", "N",
+                         "CPU threads that sum finished passes into rows beside the GL contexts (default -1 = by "
+                         "renderer: none on llvmpipe, whose contexts take every core; on a GPU the cores the "
+                         "contexts leave; 0 = the GL thread sums them)",
+                         &C::rowThreads, -1, 1024),
         switchOption<C>("--no-parents", "Draw every patch",
                         "draw every patch, not subdivided parents whole (reference path)", &C::parentPolygons, false),
     };

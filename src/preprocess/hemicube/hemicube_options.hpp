@@ -30,6 +30,9 @@ struct HemicubeOptions {
     /// Passes in flight (read back or reduced while the next ones draw); 0 = by renderer
     /// (hemicubeInFlight). 1 = each pass finished before the next starts.
     std::uint32_t inFlight = 0;
+    /// CPU threads that sum finished passes into rows beside the GL contexts; -1 = by renderer
+    /// (hemicubeRowThreads), 0 = the GL thread does it.
+    int rowThreads = -1;
 };
 
 }  // namespace hemirad

@@ -3,6 +3,7 @@
 
 #include "engine/error.hpp"
 #include "gl/shader_library.hpp"
+#include "preprocess/hemicube/hemicube_row_pool.hpp"
 #include "preprocess/form_factor_backend.hpp"
 #include "rays/mirror_chain.hpp"
 
@@ -252,8 +253,13 @@ void HemicubeRenderer::submit(const std::vector<HemicubeItem>& items, HemicubeSt
         throw Error("internal: a hemicube pass of " + std::to_string(items.size()) + " hemicubes for an atlas of " +
                     std::to_string(m_layers) + " layers");
     if (m_busy == m_slots.size()) throw Error("internal: every hemicube pass slot is in flight");
-    const auto t0 = Clock::now();
     Slot& slot = m_slots[(m_first + m_busy) % m_slots.size()];
+    if (m_pool && slot.rowsLeft->load(std::memory_order_acquire) != 0) {
+        const auto t0 = Clock::now();
+        m_pool->waitFor([&slot] { return slot.rowsLeft->load(std::memory_order_acquire) == 0; });
+        stats.wait += since(t0);
+    }
+    const auto t0 = Clock::now();
     ++m_busy;
     slot.items = items;
     if (slot.queries[0]) gl::QueryCounter(slot.queries[0], GL_TIMESTAMP);
@@ -271,6 +277,25 @@ void HemicubeRenderer::submit(const std::vector<HemicubeItem>& items, HemicubeSt
     stats.hemicubes += items.size();
     stats.pixels += items.size() * m_layout.weights().size();
     gl::check("drawing a pass of hemicubes");
+}
+
+void HemicubeRenderer::handToPool(Slot& slot) {
+    const std::vector<HemicubeItem>& items = slot.items;
+    std::size_t rows = 0;
+    for (std::size_t k = 0; k < items.size(); ++k) rows += k + 1 == items.size() || items[k + 1].patch != items[k].patch;
+    slot.rowsLeft->store(rows, std::memory_order_release);
+    for (std::size_t first = 0; first < items.size();) {
+        std::size_t last = first + 1;
+        while (last < items.size() && items[last].patch == items[first].patch) ++last;
+        m_pool->post([this, &slot, first, last](RowAccumulator& row, HemicubeStats& stats) {
+            const std::size_t count = slot.items.size();
+            const PatchId patch = slot.items[first].patch;
+            for (std::size_t k = first; k < last; ++k) reduceLayer(slot, k, count, slot.items[k].weight, row, stats);
+            slot.rowsLeft->fetch_sub(1, std::memory_order_acq_rel);  // the slot is not read after this
+            return patch;
+        });
+        first = last;
+    }
 }
 
 void HemicubeRenderer::readPixels(std::vector<std::uint32_t>& ids, HemicubeStats& stats) {
@@ -520,7 +545,7 @@ void HemicubeRenderer::await(Slot& slot, HemicubeStats& stats) {
 }
 
 void HemicubeRenderer::reduceLayer(const Slot& slot, std::size_t k, std::size_t count, double weight,
-                                   RowAccumulator& row, HemicubeStats& stats) {
+                                   RowAccumulator& row, HemicubeStats& stats) const {
     if (m_reduction == Reduction::Cpu) {
         reduceIds(slot.data + k * m_layout.weights().size(), weight, row, stats);
         return;
@@ -536,7 +561,8 @@ void HemicubeRenderer::reduceLayer(const Slot& slot, std::size_t k, std::size_t 
     stats.reduce += since(t0);
 }
 
-void HemicubeRenderer::reduceIds(const std::uint32_t* ids, double weight, RowAccumulator& row, HemicubeStats& stats) {
+void HemicubeRenderer::reduceIds(const std::uint32_t* ids, double weight, RowAccumulator& row,
+                                 HemicubeStats& stats) const {
     const auto t0 = Clock::now();
     // Neighbouring pixels mostly see the same patch: sum runs in a register, touch memory per run.
     const float* w = m_layout.weights().data();

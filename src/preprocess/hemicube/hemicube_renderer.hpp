@@ -8,7 +8,9 @@
 #include "preprocess/hemicube/hemicube_options.hpp"
 #include "preprocess/row_accumulator.hpp"
 
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace hemirad {
@@ -34,6 +36,7 @@ struct HemicubeStats {
 };
 
 class RayScene;
+class HemicubeRowPool;
 
 /// Mirror handling: portals (stencil, reflected views) or, with `rays`, the reference system's
 /// hybrid: pixels that see a mirror continue as Embree rays. Chains stop after maxDepth
@@ -65,6 +68,10 @@ public:
     HemicubeRenderer& operator=(const HemicubeRenderer&) = delete;
 
     std::uint32_t layers() const { return m_layers; }
+    /// Finished passes' rows go to `pool`'s threads (their rowDone) instead of computeBatch's
+    /// rowDone; the pool must outlive the renderer's last drain() and be drained before it is
+    /// destroyed. computeRow stays on the calling thread.
+    void useRowPool(HemicubeRowPool* pool) { m_pool = pool; }
 
     /// Draws patch i's hemicube at its centroid and deposits each pixel's delta form factor on the
     /// patch it sees (weights in `row` relative to 1 = the whole row).
@@ -120,6 +127,8 @@ private:
         GLsync fence = nullptr;
         GLuint queries[3] = {0, 0, 0};  ///< GL_TIMESTAMP: pass started, drawn, results written (mapped slots)
         std::vector<HemicubeItem> items;
+        /// Rows of this slot a pool thread has not summed yet (the slot is not written before 0).
+        std::unique_ptr<std::atomic<std::size_t>> rowsLeft = std::make_unique<std::atomic<std::size_t>>(0);
     };
     /// `overlapped`: filled while later passes draw (else the CPU reduction reads into plain memory).
     void makeSlot(Slot& slot, std::uint32_t layers, bool overlapped);
@@ -142,6 +151,12 @@ private:
     void finishOldest(RowAccumulator& row, RowDone& rowDone, HemicubeStats& stats) {
         Slot& slot = m_slots[m_first];
         await(slot, stats);
+        if (m_pool) {
+            handToPool(slot);
+            m_first = (m_first + 1) % m_slots.size();
+            --m_busy;
+            return;
+        }
         const std::vector<HemicubeItem>& items = slot.items;
         for (std::size_t k = 0; k < items.size(); ++k) {
             reduceLayer(slot, k, items.size(), items[k].weight, row, stats);
@@ -150,12 +165,14 @@ private:
         m_first = (m_first + 1) % m_slots.size();
         --m_busy;
     }
+    /// Posts a filled slot's rows to the pool; the slot is written again only once they are done.
+    void handToPool(Slot& slot);
     void readPixels(std::vector<std::uint32_t>& ids, HemicubeStats& stats);
     /// Layer k of a filled slot's `count` into `row`, times weight: from the read-back atlas (CPU)
-    /// or the GPU's compacted rows.
+    /// or the GPU's compacted rows. Reads the slot only: pool threads call it at once.
     void reduceLayer(const Slot& slot, std::size_t k, std::size_t count, double weight, RowAccumulator& row,
-                     HemicubeStats& stats);
-    void reduceIds(const std::uint32_t* ids, double weight, RowAccumulator& row, HemicubeStats& stats);
+                     HemicubeStats& stats) const;
+    void reduceIds(const std::uint32_t* ids, double weight, RowAccumulator& row, HemicubeStats& stats) const;
     /// Portal rendering (stencil) for the mirrors seen in `region` of `levelIds`, recursively.
     void traversePortals(int depth, const std::vector<std::uint32_t>& levelIds, const std::vector<std::uint32_t>& region,
                          const Eigen::Matrix4d& transform, double factor, RowAccumulator& row, HemicubeStats& stats);
@@ -181,6 +198,7 @@ private:
     std::vector<Slot> m_slots;
     std::size_t m_first = 0, m_busy = 0;
     Slot m_rowSlot;  ///< computeRow's one layer, finished at once
+    HemicubeRowPool* m_pool = nullptr;
     std::vector<std::uint32_t> m_pixels;  ///< layer 0 read back for portals after a GPU reduction
     double m_fixedScale = 0;
     MirrorLimits m_limits;
