@@ -14,11 +14,13 @@ uniform uint layers, atlasLayers, patches, capacity;
 
 void main() {
     const uint layer = gl_WorkGroupID.y;
-    const uint k = gl_GlobalInvocationID.x;
-    if (k >= plan[3u + 2u * layer]) return;
-    const uint j = touched[5u * atlasLayers + layer * capacity + k];
-    const uint pair = 6u * layers + 1u + 2u * (plan[4u + 2u * layer] + k);
-    outputWords[pair] = j;
-    outputWords[pair + 1u] = accumulator[layer * patches + j];
-    accumulator[layer * patches + j] = 0u;
+    const uint count = plan[3u + 2u * layer], offset = plan[4u + 2u * layer];
+    // Strided: a list longer than 65535 groups of 64 (the dispatch's guaranteed limit) still ends.
+    for (uint k = gl_GlobalInvocationID.x; k < count; k += gl_NumWorkGroups.x * 64u) {
+        const uint j = touched[5u * atlasLayers + layer * capacity + k];
+        const uint pair = 6u * layers + 1u + 2u * (offset + k);
+        outputWords[pair] = j;
+        outputWords[pair + 1u] = accumulator[layer * patches + j];
+        accumulator[layer * patches + j] = 0u;
+    }
 }

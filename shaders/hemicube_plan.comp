@@ -6,7 +6,7 @@
 layout(local_size_x = 256) in;
 
 layout(std430, binding = 3) buffer Touched { uint touched[]; };  // headers first (5 per layer)
-// [0..2]: the gather's dispatch (groups x = ceil(longest / 64), y = layers, 1); then per layer
+// [0..2]: the gather's dispatch (groups x = ceil(longest / 64) up to 65535, y = layers, 1); then per layer
 // (count, offset).
 layout(std430, binding = 6) writeonly buffer Plan { uint plan[]; };
 // The pass's host-visible output: headers (5 per layer), offsets (layers + 1), then the pairs.
@@ -28,6 +28,7 @@ void main() {
     }
     partial[t] = sum;
     longest[t] = most;
+    memoryBarrierShared();
     barrier();
     // Inclusive scan of the chunk sums (Hillis & Steele), and the longest list.
     for (uint step = 1u; step < 256u; step <<= 1) {
@@ -36,6 +37,7 @@ void main() {
         barrier();
         partial[t] += add;
         longest[t] = max(longest[t], other);
+        memoryBarrierShared();
         barrier();
     }
     uint offset = partial[t] - sum;
@@ -52,7 +54,7 @@ void main() {
     }
     if (t == 255u) outputWords[6u * layers] = offset;
     if (t == 0u) {
-        plan[0] = (longest[0] + 63u) / 64u;
+        plan[0] = min((longest[0] + 63u) / 64u, 65535u);  // the minimum limit; the gather strides beyond
         plan[1] = layers;
         plan[2] = 1u;
     }

@@ -33,6 +33,7 @@ namespace hemirad::gl {
     X(ClearBufferfi, PFNGLCLEARBUFFERFIPROC)                                                         \
     X(ClearBufferfv, PFNGLCLEARBUFFERFVPROC)                                                         \
     X(ClearBufferuiv, PFNGLCLEARBUFFERUIVPROC)                                                       \
+    X(ClearTexSubImage, PFNGLCLEARTEXSUBIMAGEPROC)                                                   \
     X(ClearColor, PFNGLCLEARCOLORPROC)                                                               \
     X(ClearDepth, PFNGLCLEARDEPTHPROC)                                                               \
     X(ClearStencil, PFNGLCLEARSTENCILPROC)                                                           \
@@ -83,6 +84,7 @@ namespace hemirad::gl {
     X(GenVertexArrays, PFNGLGENVERTEXARRAYSPROC)                                                     \
     X(GetBufferSubData, PFNGLGETBUFFERSUBDATAPROC)                                                   \
     X(GetError, PFNGLGETERRORPROC)                                                                   \
+    X(GetInteger64v, PFNGLGETINTEGER64VPROC)                                                         \
     X(GetIntegerv, PFNGLGETINTEGERVPROC)                                                             \
     X(GetProgramInfoLog, PFNGLGETPROGRAMINFOLOGPROC)                                                 \
     X(GetProgramiv, PFNGLGETPROGRAMIVPROC)                                                           \

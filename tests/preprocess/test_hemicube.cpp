@@ -174,6 +174,12 @@ TEST_CASE("Hemicubes per pass: by renderer, within the driver's layers and the m
     CHECK(hemicubeLayers(gpu, 1, 128, 13000, false, 16, 2048) == 1);     // --batch 1: row by row
     // Three passes in flight keep three read-back copies (CPU reduction) or three pair buffers.
     CHECK(hemicubeLayers(gpu, 0, 1024, 13000, false, 1, 2048, 3) == 4);  // 20 bytes a pixel: 62.9 MB per layer
+    CHECK(hemicubeLayers(gpu, 0, 1024, 13000, false, 1, 2048, 3, true) == 3);  // a mirror scene's stencil: 24 bytes
+    // The GPU reduction's buffers within the driver's largest storage block (here 128 MiB):
+    // 10M patches' dense rows are 40 MB a layer.
+    CHECK(hemicubeLayers(gpu, 0, 128, 10000000, true, 1, 2048, 1, false, 134217728.0) == 3);
+    CHECK(hemicubeLayers(gpu, 0, 128, 13000, true, 64, 2048, 1, false, 134217728.0) == 256);
+    CHECK(hemicubeLayers(gpu, 0, 128, 10000000, true, 16, 2048, 1, false, 134217728.0) == 3);  // points go one by one
     // In a scene with mirrors the rows that may see one go row by row whatever --batch says, and
     // the run says how many: mirror_pair's two plates face the mirror, the mirror sees neither's front.
     HemicubeOptions o;
@@ -201,6 +207,7 @@ TEST_CASE("By renderer: the CPU reduction with one pass in flight and no row thr
     CHECK(hemicubeRowThreads(gpu, -1, 1, 1) == 0);
     CHECK(hemicubeRowThreads(gpu, 0, 16, 1) == 0);
     CHECK(hemicubeRowThreads(llvmpipe, 3, 16, 16) == 3);
+    CHECK(hemicubeRowThreads(gpu, -1, 16, 3) == 4);  // --threads 3: the 13 spare cores shared
     // The run reports the resolved choices.
     HemicubeOptions o;
     o.resolution = 16;

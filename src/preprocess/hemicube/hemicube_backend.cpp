@@ -51,25 +51,37 @@ std::uint32_t hemicubeInFlight(std::string_view renderer, std::uint32_t requeste
 
 int hemicubeRowThreads(std::string_view renderer, int requested, int cores, int workers) {
     if (requested >= 0) return requested;
-    return isSoftwareRenderer(renderer) ? 0 : std::max(0, cores - workers);
+    return isSoftwareRenderer(renderer) ? 0 : std::max(0, cores - workers) / std::max(1, workers);
 }
 
 std::uint32_t hemicubeLayers(std::string_view renderer, std::uint32_t requested, std::uint32_t resolution,
                              std::size_t patches, bool gpuReduction, std::uint32_t points, std::uint32_t maxLayers,
-                             std::uint32_t inFlight) {
+                             std::uint32_t inFlight, bool stencil, double maxBlockBytes) {
     const std::uint32_t wanted = requested > 0 ? requested : isSoftwareRenderer(renderer) ? kSoftwareLayers : 256u;
     if (wanted <= 1) return 1;
-    // Per layer: ids and depth; per pass in flight the read-back ids (CPU reduction) or the pairs
-    // and header (GPU reduction, which also keeps a dense row and a touched list per layer).
+    // Per layer: ids and depth (with the mirrors' stencil, 8 bytes); per pass in flight the
+    // read-back ids (CPU reduction) or the pairs and header (GPU reduction, which also keeps a
+    // dense row and a touched list per layer).
     const double pixels = 3.0 * resolution * resolution;
     const double capacity = std::min(double(patches), pixels);
     const double slots = std::max(1u, inFlight);
-    const double bytes = 8.0 * pixels + (gpuReduction ? 4.0 * double(patches) + 4.0 * capacity + 20.0 +
-                                                             slots * (8.0 * capacity + 24.0)
-                                                       : slots * 4.0 * pixels);
+    const double bytes = (stencil ? 12.0 : 8.0) * pixels +
+                         (gpuReduction ? 4.0 * double(patches) + 4.0 * capacity + 28.0 + slots * (8.0 * capacity + 24.0)
+                                       : slots * 4.0 * pixels);
     const auto fit = std::uint32_t(std::clamp(256.0 * 1024 * 1024 / bytes, 1.0, 65536.0));
-    const std::uint32_t layers = std::min({wanted, fit, std::max(1u, maxLayers)});
-    return layers <= 1 ? 1 : std::max(layers, points);
+    // No shader storage block may exceed the driver's limit: the GPU reduction's dense rows, touched
+    // lists and each slot are one block each (the CPU reduction's slots are read-back buffers).
+    const double block = gpuReduction ? std::max({4.0 * double(patches), 4.0 * (5.0 + capacity), 8.0 * capacity + 24.0})
+                                      : 0.0;
+    const auto blockFit = block > 0.0 && maxBlockBytes > 0.0
+                              ? std::uint32_t(std::clamp(maxBlockBytes / block, 1.0, 65536.0))
+                              : 65536u;
+    const std::uint32_t hardLimit = std::min(std::max(1u, maxLayers), blockFit);
+    const std::uint32_t layers = std::min({wanted, fit, hardLimit});
+    if (layers <= 1) return 1;
+    // A row's points in one pass when the driver allows it (the budget is a soft limit); else its
+    // rows go point by point.
+    return points > layers && points <= hardLimit ? points : layers;
 }
 
 std::vector<bool> rowsThatMaySeeMirrors(const Scene& scene, double extent) {
@@ -94,16 +106,21 @@ std::vector<bool> rowsThatMaySeeMirrors(const Scene& scene, double extent) {
             g.high = g.high.cwiseMax(scene.corner(p, k));
         }
     }
-    // The draw drops triangles within 1e-6 x extent of a hemicube's plane (float); group members
-    // are coplanar within 1e-6 x extent.
-    const double above = 0.5e-6 * extent, front = -2e-6 * extent;
+    // The draw drops triangles within 1e-6 x extent of a hemicube's plane (float). Group members
+    // are coplanar with the representative within 1e-6 x extent and their normals within 1e-9 in
+    // cosine (4.5e-5 rad), so an eye up to 4.5e-5 x extent behind the representative's plane may
+    // still see a member's front. A hemicube's eye is any point of the patch (--origins): heights
+    // are taken from the patch's lowest corner.
+    const double above = 0.5e-6 * extent, front = -5e-5 * extent;
     for (PatchId i = 0; i < scene.size(); ++i) {
         const Patch& p = scene.patches[i];
+        double lowest = 1e300;
+        for (std::uint32_t k = 0; k < p.cornerCount; ++k) lowest = std::min(lowest, p.normal.dot(scene.corner(p, k)));
         for (const Group& g : boxes) {
             double height = -1e300;
             for (int c = 0; c < 8; ++c) {
                 const Vec3 x((c & 1 ? g.high : g.low).x(), (c & 2 ? g.high : g.low).y(), (c & 4 ? g.high : g.low).z());
-                height = std::max(height, p.normal.dot(x - p.centroid));
+                height = std::max(height, p.normal.dot(x) - lowest);
             }
             if (height <= above) continue;
             bool inFront = false;
@@ -137,14 +154,24 @@ void HemicubeBackend::prepare(const Scene& scene) {
     m_renderer = renderer ? renderer : "unknown";
     GLint maxLayers = 1;
     gl::GetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+    GLint64 maxBlock = 0;
+    gl::GetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
     context->release();
     m_workers = hemicubeWorkers(m_renderer, m_common.threads, resolveThreads(0));
     m_reduction = hemicubeReduction(m_renderer, m_options.reduce);
     m_inFlight = hemicubeInFlight(m_renderer, m_options.inFlight);
     m_rowThreads = hemicubeRowThreads(m_renderer, m_options.rowThreads, resolveThreads(0), m_workers);
     m_points = originPoints(m_options.origins);
+    if (m_reduction == Reduction::Gpu && 4.0 * double(scene.size()) > double(maxBlock)) {
+        if (m_options.reduce != Reduction::Auto)
+            throw Error("--reduce gpu: a row of " + std::to_string(scene.size()) + " patches (" +
+                        std::to_string(4 * scene.size() >> 20) + " MiB) exceeds the driver's largest shader storage block (" +
+                        std::to_string(std::int64_t(maxBlock) >> 20) + " MiB, " + m_renderer + "); use --reduce cpu");
+        m_reduction = Reduction::Cpu;
+    }
     m_layers = hemicubeLayers(m_renderer, m_options.batch, m_options.resolution, scene.size(),
-                              m_reduction == Reduction::Gpu, m_points, std::uint32_t(maxLayers), m_inFlight);
+                              m_reduction == Reduction::Gpu, m_points, std::uint32_t(maxLayers), m_inFlight,
+                              scene.hasMirrors(), double(maxBlock));
     // Rows that may see a mirror go row by row: their portal passes depend on what each hemicube saw.
     m_mirrorRows = rowsThatMaySeeMirrors(scene, m_geometry.extent);
     m_mirrorRowCount = std::size_t(std::count(m_mirrorRows.begin(), m_mirrorRows.end(), true));
@@ -244,15 +271,15 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
                     renderer.useRowPool(pool.get());
                 }
                 // Whole rows into passes of up to m_layers hemicubes, several passes in flight; a row
-                // that may see a mirror, or has more hemicubes than a pass, is drawn at once, point by point.
+                // that may see a mirror, or has more hemicubes than a pass, is drawn at once, point by
+                // point, after the passes (each waits for everything drawn before it).
                 std::vector<HemicubeItem> batch;
+                std::vector<PatchId> oneByOne;
                 PatchId i = 0;
                 while (!stopped() && rows.next(i)) {
                     origins(i);
                     if (m_mirrorRows[i] || points.size() > m_layers) {
-                        for (std::size_t k = 0; k < points.size(); ++k)
-                            renderer.computeRow(i, points[k], weights[k], row, stats);
-                        rowDone(i);
+                        oneByOne.push_back(i);
                         continue;
                     }
                     if (batch.size() + points.size() > m_layers) {
@@ -264,6 +291,13 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
                 if (!stopped()) {
                     if (!batch.empty()) renderer.computeBatch(batch, row, rowDone, stats);
                     renderer.drain(row, rowDone, stats);
+                    for (const PatchId r : oneByOne) {
+                        if (stopped()) break;
+                        origins(r);
+                        for (std::size_t k = 0; k < points.size(); ++k)
+                            renderer.computeRow(r, points[k], weights[k], row, stats);
+                        rowDone(r);
+                    }
                     if (pool) {
                         pool->drain();
                         stats += pool->stats();

@@ -33,18 +33,21 @@ Reduction hemicubeReduction(std::string_view renderer, Reduction requested);
 /// passes ahead while the CPU copies one pass's rows).
 std::uint32_t hemicubeInFlight(std::string_view renderer, std::uint32_t requested);
 
-/// CPU threads that sum finished passes into rows (--row-threads): `requested` when given (>= 0);
-/// else none on a software renderer (its `workers` contexts rasterise on every core) and the
-/// `cores` the workers leave on a GPU (its single GL thread would otherwise copy every row itself).
+/// CPU threads per GL context that sum finished passes into rows (--row-threads): `requested` when
+/// given (>= 0); else none on a software renderer (its `workers` contexts rasterise on every core)
+/// and on a GPU the `cores` the workers leave, shared among them (a single GL thread would
+/// otherwise copy every row itself).
 int hemicubeRowThreads(std::string_view renderer, int requested, int cores, int workers);
 
 /// Hemicubes drawn per pass (--batch): `requested` when given (> 0), else by renderer (software: see
 /// the definition; GPU: up to 256, so that one round trip serves many rows); at most `maxLayers` (the
-/// driver's array layers) and what fits in 256 MiB of atlas, reduction and `inFlight` result
-/// buffers; when batching, at least a row's `points` hemicubes.
+/// driver's array layers), what keeps each GPU-reduction buffer within `maxBlockBytes` (the largest
+/// shader storage block; 0 = no limit), and what fits in 256 MiB of atlas (`stencil`: a mirror
+/// scene's), reduction and `inFlight` result buffers; when batching, at least a row's `points`
+/// hemicubes where the driver's limits allow.
 std::uint32_t hemicubeLayers(std::string_view renderer, std::uint32_t requested, std::uint32_t resolution,
                              std::size_t patches, bool gpuReduction, std::uint32_t points, std::uint32_t maxLayers,
-                             std::uint32_t inFlight = 1);
+                             std::uint32_t inFlight = 1, bool stencil = false, double maxBlockBytes = 0);
 
 /// Per patch, whether a hemicube on it may see a mirror's front (then its row goes row by row, with
 /// portals): some corner of the mirror's group (its bounding box) above the patch's plane, and some

@@ -58,9 +58,9 @@ BackendDescriptor make() {
                          "llvmpipe, 3 on a GPU)",
                          &C::inFlight, 0, 8),
         integerOption<C>("--row-threads", "Row threads", "N",
-                         "CPU threads that sum finished passes into rows beside the GL contexts (default -1 = by "
-                         "renderer: none on llvmpipe, whose contexts take every core; on a GPU the cores the "
-                         "contexts leave; 0 = the GL thread sums them)",
+                         "CPU threads per GL context that sum finished passes into rows (default -1 = by renderer: "
+                         "none on llvmpipe, whose contexts take every core; on a GPU the cores the contexts leave; "
+                         "0 = the GL thread sums them)",
                          &C::rowThreads, -1, 1024),
         switchOption<C>("--no-parents", "Draw every patch",
                         "draw every patch, not subdivided parents whole (reference path)", &C::parentPolygons, false),

@@ -143,7 +143,8 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
     }
     // With one pass in flight nothing overlaps: the CPU reduction then reads into plain memory
     // (Mesa's read-back into a buffer object costs llvmpipe 0.37 ms a row at R = 256, 8x the plain one).
-    m_slots.resize(std::max(1u, inFlight));
+    m_inFlight = std::max(1u, inFlight);
+    m_slots.resize(m_inFlight);
     for (Slot& slot : m_slots) makeSlot(slot, m_layers, m_slots.size() > 1);
     makeSlot(m_rowSlot, 1, false);
     gl::check("setting up the hemicube renderer");
@@ -181,7 +182,28 @@ void HemicubeRenderer::releaseSlot(Slot& slot) {
     slot.queries[0] = 0;
 }
 
-void HemicubeRenderer::clearAtlas() {
+void HemicubeRenderer::clearAtlas(std::size_t count) {
+    if (m_reduction == Reduction::Gpu) gl::MemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT);  // after the last pass's image loads
+    if (count < m_layers) {
+        // Only the layers this pass draws (a mirror row's hemicube, a last short pass): the whole
+        // array would be 3 R^2 x 12 bytes a layer.
+        const GLuint zero = 0;
+        gl::ClearTexSubImage(m_ids.id(), 0, 0, 0, 0, GLsizei(m_layout.width()), GLsizei(m_layout.height()),
+                             GLsizei(count), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        if (m_mirrors) {
+            const struct {
+                float depth;
+                std::uint32_t stencil;
+            } farStencil{0.0f, 0};
+            gl::ClearTexSubImage(m_depth.id(), 0, 0, 0, 0, GLsizei(m_layout.width()), GLsizei(m_layout.height()),
+                                 GLsizei(count), GL_DEPTH_STENCIL, GL_FLOAT_32_UNSIGNED_INT_24_8_REV, &farStencil);
+        } else {
+            const GLfloat farDepth = 0.0f;
+            gl::ClearTexSubImage(m_depth.id(), 0, 0, 0, 0, GLsizei(m_layout.width()), GLsizei(m_layout.height()),
+                                 GLsizei(count), GL_DEPTH_COMPONENT, GL_FLOAT, &farDepth);
+        }
+        return;
+    }
     gl::BindFramebuffer(GL_FRAMEBUFFER, m_fbo.id());
     const GLuint zero[4] = {0, 0, 0, 0};
     gl::Disable(GL_SCISSOR_TEST);
@@ -204,7 +226,7 @@ void HemicubeRenderer::beginRow(PatchId i, const Vec3& origin, double weight) {
     orthonormalBasis(p.normal, t, b);
     // Top face: symmetric 90-degree frustum; sides: the upper half (elevation 0..45 degrees).
     m_faces = hemicubeFaces(p.normal, t, b);
-    clearAtlas();
+    clearAtlas(1);
 }
 
 Eigen::Matrix4d HemicubeRenderer::frameOf(const Vec3& eye, const Vec3& normal) const {
@@ -252,7 +274,7 @@ void HemicubeRenderer::submit(const std::vector<HemicubeItem>& items, HemicubeSt
     if (items.size() > m_layers || items.empty())
         throw Error("internal: a hemicube pass of " + std::to_string(items.size()) + " hemicubes for an atlas of " +
                     std::to_string(m_layers) + " layers");
-    if (m_busy == m_slots.size()) throw Error("internal: every hemicube pass slot is in flight");
+    if (m_busy == m_inFlight) throw Error("internal: every hemicube pass slot is in flight");
     Slot& slot = m_slots[(m_first + m_busy) % m_slots.size()];
     if (m_pool && slot.rowsLeft->load(std::memory_order_acquire) != 0) {
         const auto t0 = Clock::now();
@@ -263,7 +285,7 @@ void HemicubeRenderer::submit(const std::vector<HemicubeItem>& items, HemicubeSt
     ++m_busy;
     slot.items = items;
     if (slot.queries[0]) gl::QueryCounter(slot.queries[0], GL_TIMESTAMP);
-    clearAtlas();
+    clearAtlas(items.size());
     m_instances.resize(items.size());
     for (std::size_t k = 0; k < items.size(); ++k) {
         const PatchId i = items[k].patch;
@@ -277,6 +299,15 @@ void HemicubeRenderer::submit(const std::vector<HemicubeItem>& items, HemicubeSt
     stats.hemicubes += items.size();
     stats.pixels += items.size() * m_layout.weights().size();
     gl::check("drawing a pass of hemicubes");
+}
+
+void HemicubeRenderer::useRowPool(HemicubeRowPool* pool) {
+    if (m_busy) throw Error("internal: a row pool joins a hemicube renderer with passes in flight");
+    if (pool && !m_pool) {
+        m_slots.emplace_back();
+        makeSlot(m_slots.back(), m_layers, m_slots.front().host.empty());
+    }
+    m_pool = pool;
 }
 
 void HemicubeRenderer::handToPool(Slot& slot) {

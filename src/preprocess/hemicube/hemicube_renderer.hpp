@@ -70,8 +70,9 @@ public:
     std::uint32_t layers() const { return m_layers; }
     /// Finished passes' rows go to `pool`'s threads (their rowDone) instead of computeBatch's
     /// rowDone; the pool must outlive the renderer's last drain() and be drained before it is
-    /// destroyed. computeRow stays on the calling thread.
-    void useRowPool(HemicubeRowPool* pool) { m_pool = pool; }
+    /// destroyed. computeRow stays on the calling thread. Adds a slot, so that the one the pool
+    /// sums is not the next one drawn into.
+    void useRowPool(HemicubeRowPool* pool);
 
     /// Draws patch i's hemicube at its centroid and deposits each pixel's delta form factor on the
     /// patch it sees (weights in `row` relative to 1 = the whole row).
@@ -90,7 +91,7 @@ public:
     template <class RowDone>
     void computeBatch(const std::vector<HemicubeItem>& items, RowAccumulator& row, RowDone&& rowDone,
                       HemicubeStats& stats) {
-        if (m_busy == m_slots.size()) finishOldest(row, rowDone, stats);
+        if (m_busy == m_inFlight) finishOldest(row, rowDone, stats);
         submit(items, stats);
     }
     /// Finishes every pass in flight (computeBatch's rows all handed over).
@@ -134,7 +135,8 @@ private:
     void makeSlot(Slot& slot, std::uint32_t layers, bool overlapped);
     void releaseSlot(Slot& slot);
     void beginRow(PatchId i, const Vec3& origin, double weight);
-    void clearAtlas();
+    /// Clears the first `count` layers of the atlas (ids, depth, stencil).
+    void clearAtlas(std::size_t count);
     /// World -> patch frame of a hemicube at `eye` (scene-centred) with axis `normal`.
     Eigen::Matrix4d frameOf(const Vec3& eye, const Vec3& normal) const;
     void draw(const Pass& pass);
@@ -197,6 +199,7 @@ private:
     /// Passes in flight: a ring of slots, m_busy of them taken from m_first on (submission order).
     std::vector<Slot> m_slots;
     std::size_t m_first = 0, m_busy = 0;
+    std::size_t m_inFlight = 1;  ///< passes the GPU may hold (the ring has one more with a pool)
     Slot m_rowSlot;  ///< computeRow's one layer, finished at once
     HemicubeRowPool* m_pool = nullptr;
     std::vector<std::uint32_t> m_pixels;  ///< layer 0 read back for portals after a GPU reduction

@@ -7,7 +7,17 @@ HemicubeRowPool::HemicubeRowPool(std::size_t threads, std::size_t patches, RowDo
     : m_rowDone(std::move(rowDone)), m_stats(threads) {
     m_rows.reserve(threads);
     for (std::size_t t = 0; t < threads; ++t) m_rows.emplace_back(patches, RowAccumulator::Mode::Weights);
-    for (std::size_t t = 0; t < threads; ++t) m_threads.emplace_back([this, t] { run(t); });
+    try {
+        for (std::size_t t = 0; t < threads; ++t) m_threads.emplace_back([this, t] { run(t); });
+    } catch (...) {
+        {
+            std::lock_guard<std::mutex> lock(m_mutex);
+            m_stop = true;
+        }
+        m_work.notify_all();
+        for (std::thread& t : m_threads) t.join();
+        throw;
+    }
 }
 
 HemicubeRowPool::~HemicubeRowPool() {
