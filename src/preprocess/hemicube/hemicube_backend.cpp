@@ -174,7 +174,6 @@ void HemicubeBackend::prepare(const Scene& scene) {
                               scene.hasMirrors(), double(maxBlock));
     // Rows that may see a mirror go row by row: their portal passes depend on what each hemicube saw.
     m_mirrorRows = rowsThatMaySeeMirrors(scene, m_geometry.extent);
-    m_mirrorRowCount = std::size_t(std::count(m_mirrorRows.begin(), m_mirrorRows.end(), true));
 }
 
 FormFactorProvenance HemicubeBackend::provenance() const {
@@ -187,13 +186,14 @@ FormFactorProvenance HemicubeBackend::provenance() const {
 std::map<std::string, std::string> HemicubeBackend::parameters() const {
     const MethodSettings settings = MethodSettings::of(m_options, m_common);
     auto text = [&](const char* flag) { return hemicubeDescriptor().option(flag)->get(settings); };
+    const auto mirrorRows = std::size_t(std::count(m_mirrorRows.begin(), m_mirrorRows.end(), true));
     return {{"max_depth", std::to_string(m_common.maxDepth)},
             {"mirrors", text("--mirrors")},
             {"min_weight", std::to_string(m_common.minWeight)},
             {"resolution", std::to_string(m_options.resolution)},
             {"origins", std::to_string(m_points)},
             {"batch", std::to_string(m_layers) +
-                          (m_mirrorRowCount ? " (" + std::to_string(m_mirrorRowCount) + " of " +
+                          (mirrorRows ? " (" + std::to_string(mirrorRows) + " of " +
                                                   std::to_string(m_scene->size()) + " rows may see a mirror: row by row)"
                                             : "")},
             {"in_flight", std::to_string(m_inFlight)},
@@ -233,11 +233,13 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
                 HemicubeRenderer renderer(*m_scene, m_geometry, *m_layout, reduction, limits, m_layers, m_inFlight);
                 RowAccumulator row(m_scene->size(), RowAccumulator::Mode::Weights);
                 HemicubeStats stats;
-                auto rowDone = [&](PatchId i) {
+                // A summed row into F (the GL thread's, or a row thread's with its own accumulator).
+                auto handOver = [&builder](PatchId i, RowAccumulator& r, HemicubeStats& s) {
                     const auto t0 = std::chrono::steady_clock::now();
-                    builder.setRow(i, row.take(1.0));
-                    stats.collect += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                    builder.setRow(i, r.take(1.0));
+                    s.collect += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
                 };
+                auto rowDone = [&](PatchId i) { handOver(i, row, stats); };
                 std::vector<Vec3> corners, points;
                 std::vector<double> weights;
                 // The hemicubes of row i: its centroid, or the --origins rule's points.
@@ -261,13 +263,7 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
                 // Declared after the renderer: destroyed (joined) before it, as its slots' memory goes.
                 std::unique_ptr<HemicubeRowPool> pool;
                 if (m_rowThreads > 0) {
-                    pool = std::make_unique<HemicubeRowPool>(
-                        std::size_t(m_rowThreads), m_scene->size(),
-                        [&builder](PatchId i, RowAccumulator& r, HemicubeStats& s) {
-                            const auto t0 = std::chrono::steady_clock::now();
-                            builder.setRow(i, r.take(1.0));
-                            s.collect += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-                        });
+                    pool = std::make_unique<HemicubeRowPool>(std::size_t(m_rowThreads), m_scene->size(), handOver);
                     renderer.useRowPool(pool.get());
                 }
                 // Whole rows into passes of up to m_layers hemicubes, several passes in flight; a row

@@ -86,7 +86,6 @@ private:
     int m_rowThreads = 0;  ///< CPU threads summing finished passes, beside the GL contexts
     Reduction m_reduction = Reduction::Cpu;  ///< --reduce, resolved by renderer
     std::vector<bool> m_mirrorRows;  ///< rows that go row by row (rowsThatMaySeeMirrors)
-    std::size_t m_mirrorRowCount = 0;
     std::string m_renderer;  ///< GL_RENDERER of the context prepare() made
 };
 

@@ -295,7 +295,6 @@ void HemicubeRenderer::submit(const std::vector<HemicubeItem>& items, HemicubeSt
     drawInstances(Pass{});
     stats.render += since(t0);
     startResults(slot, items.size(), stats);
-    ++stats.passes;
     stats.hemicubes += items.size();
     stats.pixels += items.size() * m_layout.weights().size();
     gl::check("drawing a pass of hemicubes");
@@ -311,22 +310,17 @@ void HemicubeRenderer::useRowPool(HemicubeRowPool* pool) {
 }
 
 void HemicubeRenderer::handToPool(Slot& slot) {
-    const std::vector<HemicubeItem>& items = slot.items;
     std::size_t rows = 0;
-    for (std::size_t k = 0; k < items.size(); ++k) rows += k + 1 == items.size() || items[k + 1].patch != items[k].patch;
+    forEachRow(slot.items, [&rows](std::size_t, std::size_t) { ++rows; });
     slot.rowsLeft->store(rows, std::memory_order_release);
-    for (std::size_t first = 0; first < items.size();) {
-        std::size_t last = first + 1;
-        while (last < items.size() && items[last].patch == items[first].patch) ++last;
+    forEachRow(slot.items, [this, &slot](std::size_t first, std::size_t last) {
         m_pool->post([this, &slot, first, last](RowAccumulator& row, HemicubeStats& stats) {
-            const std::size_t count = slot.items.size();
             const PatchId patch = slot.items[first].patch;
-            for (std::size_t k = first; k < last; ++k) reduceLayer(slot, k, count, slot.items[k].weight, row, stats);
+            reduceRow(slot, first, last, row, stats);
             slot.rowsLeft->fetch_sub(1, std::memory_order_acq_rel);  // the slot is not read after this
             return patch;
         });
-        first = last;
-    }
+    });
 }
 
 void HemicubeRenderer::readPixels(std::vector<std::uint32_t>& ids, HemicubeStats& stats) {
@@ -351,7 +345,6 @@ void HemicubeRenderer::computeRow(PatchId i, const Vec3& origin, double weight, 
     startResults(m_rowSlot, 1, stats);
     await(m_rowSlot, stats);
     reduceLayer(m_rowSlot, 0, 1, m_weight, row, stats);
-    ++stats.passes;
     ++stats.hemicubes;
     stats.pixels += m_layout.weights().size();
     if (m_mirrors) {

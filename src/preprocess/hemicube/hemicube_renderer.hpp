@@ -22,14 +22,13 @@ struct HemicubeStats {
     double render = 0, readback = 0, wait = 0, reduce = 0, collect = 0, mirrors = 0;
     /// GPU seconds of the passes (timestamps): drawing, and reading back or reducing.
     double gpuDraw = 0, gpuFinish = 0;
-    std::uint64_t hemicubes = 0, pixels = 0, missed = 0, backfaces = 0, portals = 0, passes = 0;
+    std::uint64_t hemicubes = 0, pixels = 0, missed = 0, backfaces = 0, portals = 0;
     double lostWeight = 0;    ///< sum over rows of the row fraction that saw nothing or a back face
     double cutoffWeight = 0;  ///< sum over rows of the fraction still travelling at the depth/weight limit
     HemicubeStats& operator+=(const HemicubeStats& o) {
         render += o.render, readback += o.readback, wait += o.wait, reduce += o.reduce, collect += o.collect,
             mirrors += o.mirrors, gpuDraw += o.gpuDraw, gpuFinish += o.gpuFinish;
-        hemicubes += o.hemicubes, pixels += o.pixels, missed += o.missed, backfaces += o.backfaces, portals += o.portals,
-            passes += o.passes;
+        hemicubes += o.hemicubes, pixels += o.pixels, missed += o.missed, backfaces += o.backfaces, portals += o.portals;
         lostWeight += o.lostWeight, cutoffWeight += o.cutoffWeight;
         return *this;
     }
@@ -155,17 +154,29 @@ private:
         await(slot, stats);
         if (m_pool) {
             handToPool(slot);
-            m_first = (m_first + 1) % m_slots.size();
-            --m_busy;
-            return;
-        }
-        const std::vector<HemicubeItem>& items = slot.items;
-        for (std::size_t k = 0; k < items.size(); ++k) {
-            reduceLayer(slot, k, items.size(), items[k].weight, row, stats);
-            if (k + 1 == items.size() || items[k + 1].patch != items[k].patch) rowDone(items[k].patch);
+        } else {
+            forEachRow(slot.items, [&](std::size_t first, std::size_t last) {
+                reduceRow(slot, first, last, row, stats);
+                rowDone(slot.items[first].patch);
+            });
         }
         m_first = (m_first + 1) % m_slots.size();
         --m_busy;
+    }
+    /// Calls f(first, last) for each row's run [first, last) of consecutive items.
+    template <class F>
+    static void forEachRow(const std::vector<HemicubeItem>& items, F&& f) {
+        for (std::size_t first = 0; first < items.size();) {
+            std::size_t last = first + 1;
+            while (last < items.size() && items[last].patch == items[first].patch) ++last;
+            f(first, last);
+            first = last;
+        }
+    }
+    /// Items [first, last) of a filled slot (one row's hemicubes) into `row`.
+    void reduceRow(const Slot& slot, std::size_t first, std::size_t last, RowAccumulator& row,
+                   HemicubeStats& stats) const {
+        for (std::size_t k = first; k < last; ++k) reduceLayer(slot, k, slot.items.size(), slot.items[k].weight, row, stats);
     }
     /// Posts a filled slot's rows to the pool; the slot is written again only once they are done.
     void handToPool(Slot& slot);
