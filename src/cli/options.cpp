@@ -18,7 +18,7 @@
 namespace hemirad {
 namespace {
 
-const std::set<std::string> kCommands = {"formfactors", "solve", "render", "info", "subdivide", "bench", "bench-run", "help"};
+const std::set<std::string> kCommands = {"formfactors", "solve", "render", "info", "subdivide", "check", "bench", "bench-run", "help"};
 const std::set<std::string> kComputing = {"formfactors", "solve", "render", "bench", "bench-run"};
 const std::set<std::string> kSolving = {"solve", "render", "bench", "bench-run"};
 const std::set<std::string> kBench = {"bench"};
@@ -247,13 +247,19 @@ const std::map<std::string, Flag>& flags() {
                                        o.referenceEstimator = v;
                                    }}},
         {"--cache", {kBench, true, [](Options& o, const std::string&, const std::string& v) { o.cacheDir = v; }}},
-        {"--json", {kBench, true, [](Options& o, const std::string&, const std::string& v) { o.jsonPath = v; }}},
+        {"--json", {{"bench", "check"}, true, [](Options& o, const std::string&, const std::string& v) { o.jsonPath = v; }}},
         {"--label", {{"bench", "bench-run"}, true, [](Options& o, const std::string&, const std::string& v) { o.label = v; }}},
         {"--reference", {{"bench-run"}, true, [](Options& o, const std::string&, const std::string& v) { o.referencePath = v; }}},
         {"--reference-radiosity",
          {{"bench-run"}, true, [](Options& o, const std::string&, const std::string& v) { o.referenceRadiosityPath = v; }}},
         {"--max-edge", {{"subdivide"}, true,
                         [](Options& o, const std::string& f, const std::string& v) { o.maxEdge = parseNumber(f, v, 1e-12, 1e300); }}},
+        {"--sliver-ratio", {{"check"}, true,
+                            [](Options& o, const std::string& f, const std::string& v) { o.sliverRatio = parseNumber(f, v, 1, 1e12); }}},
+        {"--relative-tolerance", {{"check"}, true,
+                                  [](Options& o, const std::string& f, const std::string& v) {
+                                      o.relativeTolerance = parseNumber(f, v, 1e-12, 1e-2);
+                                  }}},
     };
     return table;
 }
@@ -484,6 +490,9 @@ commands:
   info F.hff|F.mtx                       check an F file (or a shard manifest and its shards) and
                                          describe it
   subdivide SCENE.obj -o OUT.obj --max-edge L   split patches until no edge exceeds L
+  check SCENE.obj                        diagnose the mesh: T-junctions, coinciding, flipped and sliver
+                                         patches, open and non-manifold edges, closed or not; what each
+                                         does to F (exit 1 only where F would be meaningless)
   bench SCENE.obj -o RESULTS.csv         time against error over a sweep of methods and sample counts
   help                                   this text
 
@@ -537,6 +546,11 @@ bench:
   --cache DIR            where reference F and B are kept (default bench/cache)
   --json FILE            also write the results as JSON
   --label NAME           scene name in the results (default: the file name)
+check:
+  --sliver-ratio R       a sliver's longest edge / minimum width exceeds R (default 20)
+  --relative-tolerance R positions within R x the scene extent are one point (default 1e-6)
+  --json FILE            also write the report as JSON (schema in README; - for standard output,
+                         the text report then goes to standard error)
 output (formfactors, solve, render, bench):
   -o -                   standard output; the report then goes to standard error. Text (.mtx,
                          .csv) always, binary (.hff, .ply, .png) into a pipe or file only, never

@@ -20,7 +20,7 @@ public:
 };
 
 struct Options {
-    std::string command;                 ///< formfactors, solve, render, info, subdivide, bench, help
+    std::string command;                 ///< formfactors, solve, render, info, subdivide, check, bench, help
     std::vector<std::string> inputs;     ///< positional arguments
     std::string output;                  ///< -o ("-": standard output)
     std::string format;                  ///< --format: for an -o without an extension to tell it
@@ -57,6 +57,10 @@ struct Options {
 
     // subdivide command.
     double maxEdge = 0.0;
+
+    // check command (the mesh diagnosis).
+    double sliverRatio = 20.0;           ///< --sliver-ratio: longest edge / minimum width above which a patch is a sliver
+    double relativeTolerance = 1e-6;     ///< --relative-tolerance: welding distance as a fraction of the scene extent
 
     // bench command: the sweep and its reference.
     /// bench: one settings per --methods entry; back-end flags go to every method that takes them.

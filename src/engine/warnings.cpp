@@ -15,6 +15,7 @@ Warnings::Sink Warnings::stderrSink() {
 void Warnings::add(const std::string& kind, const std::string& message) {
     std::size_t& n = ++m_counts[kind];
     ++m_total;
+    m_first.emplace(kind, message);
     if (!m_sink) return;
     if (n <= m_printedPerKind) m_sink(message);
     if (n == m_printedPerKind + 1) m_sink("(further " + kind + " are counted, not printed)");
@@ -24,12 +25,18 @@ void Warnings::add(const std::string& kind, const std::string& message, std::siz
     if (n == 0) return;
     m_counts[kind] += n;
     m_total += n;
+    m_first.emplace(kind, message);
     if (m_sink) m_sink(message);
 }
 
 std::size_t Warnings::count(const std::string& kind) const {
     auto it = m_counts.find(kind);
     return it == m_counts.end() ? 0 : it->second;
+}
+
+std::string Warnings::firstMessage(const std::string& kind) const {
+    auto it = m_first.find(kind);
+    return it == m_first.end() ? std::string() : it->second;
 }
 
 std::string Warnings::summary() const {

@@ -22,6 +22,8 @@ public:
 
     std::size_t count() const { return m_total; }
     std::size_t count(const std::string& kind) const;
+    /// The first message recorded for `kind` ("" when none): where a count needs its example.
+    std::string firstMessage(const std::string& kind) const;
     /// "3 warnings: 2 non-planar patches, 1 materials with rho + s > 1" or "" when there were none.
     std::string summary() const;
 
@@ -32,6 +34,7 @@ private:
     std::size_t m_printedPerKind;
     std::size_t m_total = 0;
     std::map<std::string, std::size_t> m_counts;
+    std::map<std::string, std::string> m_first;
 };
 
 }  // namespace hemirad

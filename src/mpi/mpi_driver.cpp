@@ -333,7 +333,7 @@ int runUnderMpi(int argc, char** argv) {
             Job job(context, quiet);
             runBenchRun(job);
         } else {
-            // help, info, subdivide: one process's work, done by rank 0.
+            // help, info, subdivide, check: one process's work, done by rank 0.
             int status = 0;
             context.collectively([&] {
                 if (command == "bench")
@@ -343,6 +343,7 @@ int runUnderMpi(int argc, char** argv) {
                 if (command == "help") std::cout << usageText();
                 else if (command == "info") status = runInfo(options);
                 else if (command == "subdivide") status = runSubdivide(options);
+                else if (command == "check") status = runCheck(options);
                 else throw UsageError("unknown command '" + command + "'");
             });
             MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
