@@ -10,7 +10,7 @@
 #include "engine/error_metrics.hpp"
 #include "engine/form_factor_file.hpp"
 #include "engine/hash.hpp"
-#include "engine/obj_loader.hpp"
+#include "engine/scene_loader.hpp"
 #include "engine/reciprocal_closure.hpp"
 #include "engine/subdivide.hpp"
 #include "solve/solver_registry.hpp"
@@ -85,7 +85,7 @@ std::vector<Rgb> loadRadiosity(const std::string& path, std::size_t expected) {
 
 Scene loadBenchScene(const Options& o) {
     Warnings warnings(nullptr);
-    Scene scene = loadObj(o.inputs.at(0), warnings);
+    Scene scene = loadScene(o.inputs.at(0), warnings, {o.materials});
     if (o.subdivide > 0) scene = subdivide(scene, o.subdivide);
     return scene;
 }
@@ -318,6 +318,7 @@ int runBench(const Options& o) {
                 std::snprintf(length, sizeof length, "%.17g", o.subdivide);
                 a.insert(a.end(), {"--subdivide", length});
             }
+            if (!o.materials.empty()) a.insert(a.end(), {"--materials", o.materials});
             if (run.common.threads > 0) a.insert(a.end(), {"--threads", std::to_string(run.common.threads)});
             // The back end's options where they differ from its defaults.
             for (const BackendOption& option : backend.options) {

@@ -3,7 +3,7 @@
 #include "cli/report.hpp"
 #include "engine/atomic_file.hpp"
 #include "engine/mesh_check.hpp"
-#include "engine/obj_loader.hpp"
+#include "engine/scene_loader.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -135,7 +135,7 @@ int runCheck(const Options& options) {
     Timings timings;
     const std::string& path = options.inputs.at(0);
     timings.start("load scene");
-    const Scene scene = loadObj(path, warnings);  // the one place the scene is read
+    const Scene scene = loadScene(path, warnings, {options.materials});  // the one place the scene is read
     timings.start("check mesh");
     MeshCheckOptions settings;
     settings.relativeTolerance = options.relativeTolerance;

@@ -1,8 +1,8 @@
-// `hemirad subdivide in.obj -o out.obj --max-edge L`.
+// `hemirad subdivide in.obj|in.stl -o out.obj --max-edge L [--materials M.mtl]`.
 #include "cli/commands.hpp"
 #include "cli/report.hpp"
-#include "engine/obj_loader.hpp"
 #include "engine/obj_writer.hpp"
+#include "engine/scene_loader.hpp"
 #include "engine/subdivide.hpp"
 
 #include <iostream>
@@ -14,7 +14,7 @@ int runSubdivide(const Options& options) {
     Warnings warnings;
     Timings timings;
     timings.start("load scene");
-    const Scene scene = loadObj(options.inputs.at(0), warnings);
+    const Scene scene = loadScene(options.inputs.at(0), warnings, {options.materials});
     timings.start("subdivide");
     const Scene out = subdivide(scene, options.maxEdge);
     timings.start("write OBJ");

@@ -120,6 +120,11 @@ const std::map<std::string, Flag>& flags() {
         {"--quiet", {{}, false, [](Options& o, const std::string&, const std::string&) { o.quiet = true; }}},
         {"--subdivide", {kComputing, true,
                          [](Options& o, const std::string& f, const std::string& v) { o.subdivide = parseNumber(f, v, 1e-12, 1e300); }}},
+        {"--materials", {{"formfactors", "solve", "render", "subdivide", "check", "bench", "bench-run"}, true,
+                         [](Options& o, const std::string& f, const std::string& v) {
+                             if (v.empty()) throw UsageError(f + " expects an MTL file name");
+                             o.materials = v;
+                         }}},
         {"--max-depth", {kComputing, true,
                          [](Options& o, const std::string& f, const std::string& v) {
                              o.formFactors.common.maxDepth = static_cast<std::uint32_t>(parseInteger(f, v, 0, 1000));
@@ -484,20 +489,27 @@ std::string usageText() {
 usage: hemirad COMMAND INPUT [options]
 
 commands:
-  formfactors SCENE.obj -o F.hff|F.mtx   compute the form-factor matrix F and store it
-  solve SCENE.obj -o B.csv|B.ply         compute (or reuse with --ff) F and solve radiosity
-  render SCENE.obj -o IMAGE.png          compute, solve and render an image
+  formfactors SCENE -o F.hff|F.mtx       compute the form-factor matrix F and store it
+  solve SCENE -o B.csv|B.ply             compute (or reuse with --ff) F and solve radiosity
+  render SCENE -o IMAGE.png              compute, solve and render an image
   info F.hff|F.mtx                       check an F file (or a shard manifest and its shards) and
                                          describe it
-  subdivide SCENE.obj -o OUT.obj --max-edge L   split patches until no edge exceeds L
-  check SCENE.obj                        diagnose the mesh: T-junctions, coinciding, flipped and sliver
+  subdivide SCENE -o OUT.obj --max-edge L   split patches until no edge exceeds L
+  check SCENE                            diagnose the mesh: T-junctions, coinciding, flipped and sliver
                                          patches, open and non-manifold edges, closed or not; what each
                                          does to F (exit 1 only where F would be meaningless)
-  bench SCENE.obj -o RESULTS.csv         time against error over a sweep of methods and sample counts
+  bench SCENE -o RESULTS.csv             time against error over a sweep of methods and sample counts
   help                                   this text
 
-scene:
+scene: SCENE is an .obj (with the .mtl libraries it names) or an .stl (binary or ASCII: each
+  triangle a patch, each ASCII solid an object named by it, a binary file one object named by the
+  file; no materials, no units)
   --subdivide L          subdivide patches (edges <= L scene units) before computing
+  --materials FILE.mtl   (formfactors, solve, render, subdivide, check, bench) materials by object name:
+                         each object (STL solid, OBJ o/g name) takes FILE's material of its name
+                         (newmtl NAME), over an OBJ's own; a material named 'default' goes to the
+                         objects without a match that have no material; objects left without one,
+                         and FILE's names that match no object, are warned
 form factors (formfactors, solve, render):
   --method NAME          the form-factor back end: )" + methodNames + R"( (options of each below)
   --max-depth D          mirror reflections followed (default 8)

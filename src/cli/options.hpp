@@ -28,6 +28,7 @@ struct Options {
 
     // Scene.
     double subdivide = 0.0;              ///< --subdivide L: max edge length, 0 = off
+    std::string materials;               ///< --materials FILE.mtl: materials by object name ("" = none)
 
     // Form factors: --method and its back end's options (flags from the back-end registry).
     MethodSettings formFactors;

@@ -29,7 +29,8 @@ RadiosityPipeline makePipeline(const Options& options, Timings& timings, const R
 }
 
 Scene loadScene(const Options& options, Timings& timings, const Reporter& reporter, Warnings& warnings) {
-    return makePipeline(options, timings, reporter).load(options.inputs.at(0), options.subdivide, warnings);
+    return makePipeline(options, timings, reporter)
+        .load(options.inputs.at(0), options.subdivide, warnings, {options.materials});
 }
 
 FormFactors obtainFormFactors(const Scene& scene, const Options& options, Timings& timings, const Reporter& reporter,

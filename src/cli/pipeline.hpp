@@ -12,7 +12,8 @@ namespace hemirad {
 /// The pipeline for these options, reporting through `reporter` and timing into `timings`.
 RadiosityPipeline makePipeline(const Options& options, Timings& timings, const Reporter& reporter);
 
-/// Loads the scene named by options.inputs[0] and subdivides it when --subdivide is given.
+/// Loads the scene named by options.inputs[0] (OBJ or STL, --materials by object name) and
+/// subdivides it when --subdivide is given.
 Scene loadScene(const Options& options, Timings& timings, const Reporter& reporter, Warnings& warnings);
 
 /// Computes F for the rows a solve needs (all rows with --all-rows), or reuses --ff FILE when its

@@ -225,12 +225,19 @@ private:
 
 }  // namespace
 
-Scene loadObj(const std::string& path, Warnings& warnings) {
-    FileMaterials libraries(path);
-    return parseObj(path, readTextFile(path), libraries, warnings);
+Material defaultMaterial() {
+    Material grey;
+    grey.name = kDefaultMaterialName;
+    return grey;
 }
 
-Scene parseObj(const std::string& path, std::string_view text, MaterialSource& libraries, Warnings& warnings) {
+Scene loadObj(const std::string& path, Warnings& warnings, bool materialsByObject) {
+    FileMaterials libraries(path);
+    return parseObj(path, readTextFile(path), libraries, warnings, materialsByObject);
+}
+
+Scene parseObj(const std::string& path, std::string_view text, MaterialSource& libraries, Warnings& warnings,
+               bool materialsByObject) {
     rejectBinary(path, text);
     Scene scene;
     scene.path = path;
@@ -352,7 +359,7 @@ Scene parseObj(const std::string& path, std::string_view text, MaterialSource& l
     if (faces.empty())
         throw Error(path, 0, ignoredElements ? "no faces: only lines, points or curves" : "no faces: nothing to compute");
 
-    std::uint32_t defaultMaterial = UINT32_MAX;
+    std::uint32_t defaultId = UINT32_MAX;
     std::size_t withoutMaterial = 0;
     std::size_t degenerate = 0, nonPlanar = 0, duplicates = 0;
     double worstDeviation = 0.0, worstEdge = 0.0;
@@ -394,13 +401,11 @@ Scene parseObj(const std::string& path, std::string_view text, MaterialSource& l
         }
         std::uint32_t materialId;
         if (face.material.empty()) {
-            if (defaultMaterial == UINT32_MAX) {
-                defaultMaterial = static_cast<std::uint32_t>(scene.materials.size());
-                Material grey;
-                grey.name = "hemirad_default";
-                scene.materials.push_back(grey);
+            if (defaultId == UINT32_MAX) {
+                defaultId = static_cast<std::uint32_t>(scene.materials.size());
+                scene.materials.push_back(defaultMaterial());
             }
-            materialId = defaultMaterial;
+            materialId = defaultId;
             ++withoutMaterial;
         } else {
             auto it = materialIds.find(face.material);
@@ -427,7 +432,7 @@ Scene parseObj(const std::string& path, std::string_view text, MaterialSource& l
             << " from the plane (longest edge " << worstEdge << ")";
         warnings.add("non-planar patches", msg.str(), nonPlanar);
     }
-    if (withoutMaterial)
+    if (withoutMaterial && !materialsByObject)
         warnings.add("patches without a material",
                      path + ": " + std::to_string(withoutMaterial) +
                          " face(s) before any usemtl get the default material (Kd 0.5, no emission)",

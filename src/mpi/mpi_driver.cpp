@@ -60,7 +60,7 @@ void reportBalance(Job& job, const DistributedFormFactors& F) {
 /// Loads the scene on every rank and checks what can be checked before any row is computed.
 void loadScene(Job& job, const RadiosityPipeline& pipeline) {
     job.context.collectively([&] {
-        job.scene = pipeline.load(job.options.inputs.at(0), job.options.subdivide, job.warnings);
+        job.scene = pipeline.load(job.options.inputs.at(0), job.options.subdivide, job.warnings, {job.options.materials});
         try {
             pipeline.checkBeforeComputing(job.scene);
         } catch (const Error& e) {

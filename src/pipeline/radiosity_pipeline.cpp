@@ -4,7 +4,6 @@
 #include "engine/error.hpp"
 #include "engine/form_factor_file.hpp"
 #include "engine/form_factor_shards.hpp"
-#include "engine/obj_loader.hpp"
 #include "engine/reciprocal_closure.hpp"
 #include "engine/subdivide.hpp"
 
@@ -41,13 +40,15 @@ void RadiosityPipeline::timing(const std::string& stage, double seconds) const {
     if (m_events.timing) m_events.timing(stage, seconds);
 }
 
-Scene RadiosityPipeline::load(const std::string& path, double subdivideEdge, Warnings& warnings) const {
+Scene RadiosityPipeline::load(const std::string& path, double subdivideEdge, Warnings& warnings,
+                              const SceneLoadOptions& loading) const {
     auto t0 = Clock::now();
-    Scene scene = loadObj(path, warnings);
+    Scene scene = loadScene(path, warnings, loading);
     timing("load scene", since(t0));
     std::ostringstream out;
     out << "scene: " << path << ", " << scene.size() << " patches, " << scene.vertices.size() << " vertices"
-        << (scene.hasMirrors() ? ", with mirrors" : "");
+        << (scene.hasMirrors() ? ", with mirrors" : "")
+        << (loading.materials.empty() ? "" : ", materials by object name from " + loading.materials);
     if (subdivideEdge > 0) {
         t0 = Clock::now();
         scene = subdivide(scene, subdivideEdge);

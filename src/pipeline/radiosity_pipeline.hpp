@@ -5,6 +5,7 @@
 
 #include "engine/form_factors.hpp"
 #include "engine/scene.hpp"
+#include "engine/scene_loader.hpp"
 #include "solve/solver.hpp"
 #include "engine/warnings.hpp"
 #include "preprocess/backend_registry.hpp"
@@ -75,8 +76,9 @@ public:
 
     const FormFactorPolicy& policy() const { return m_policy; }
 
-    /// Loads an OBJ (+MTL) and subdivides it to edges <= `subdivide` (0 = not at all). Throws hemirad::Error.
-    Scene load(const std::string& path, double subdivide, Warnings& warnings) const;
+    /// Loads a scene (loadScene: OBJ + MTL or STL, materials by object name from `loading`) and
+    /// subdivides it to edges <= `subdivide` (0 = not at all). Throws hemirad::Error.
+    Scene load(const std::string& path, double subdivide, Warnings& warnings, const SceneLoadOptions& loading = {}) const;
 
     /// Rows the solve of `scene` needs (all with allRows) that `current` lacks (all without it).
     std::vector<PatchId> missingRows(const Scene& scene, const FormFactors* current) const;

@@ -421,14 +421,14 @@ PYBIND11_MODULE(_hemirad, m) {
         .def("_set", &setPatchValues)
         .def("_save", [](const Scene& s, const std::string& path) { saveObj(s, path); });
 
-    m.def("_load", [](const std::string& path, double subdivide) {
+    m.def("_load", [](const std::string& path, double subdivide, const std::string& materials) {
         std::vector<std::string> warnings;
         Warnings sink([&warnings](const std::string& text) { warnings.push_back(text); });
         ScenePtr scene;
         {
             py::gil_scoped_release release;
             const RadiosityPipeline pipeline(FormFactorPolicy{}, PipelineEvents{});
-            scene = std::make_shared<Scene>(pipeline.load(path, subdivide, sink));
+            scene = std::make_shared<Scene>(pipeline.load(path, subdivide, sink, {materials}));
         }
         return py::make_tuple(scene, warnings);
     });

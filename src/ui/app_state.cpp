@@ -6,6 +6,7 @@
 #include "engine/obj_loader.hpp"
 #include "engine/obj_writer.hpp"
 #include "engine/result_writer.hpp"
+#include "engine/scene_loader.hpp"
 #include "engine/subdivide.hpp"
 #include "engine/tone_map.hpp"
 #include "engine/vertex_radiosity.hpp"
@@ -243,7 +244,7 @@ bool AppState::loadScene(const std::string& path) {
     try {
         std::vector<std::string> warnings;
         Warnings sink([&](const std::string& m) { warnings.push_back(m); });
-        Scene scene = loadObj(path, sink);
+        Scene scene = hemirad::loadScene(path, sink, loading);
         setScene(std::move(scene), path);
         for (const std::string& w : warnings) addLog("warning: " + w, false);
         std::ostringstream msg;

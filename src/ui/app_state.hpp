@@ -6,6 +6,7 @@
 #include "engine/form_factors.hpp"
 #include "engine/object_table.hpp"
 #include "engine/scene.hpp"
+#include "engine/scene_loader.hpp"
 #include "render/false_colour.hpp"
 #include "solve/solver.hpp"
 #include "preprocess/backend_registry.hpp"
@@ -164,6 +165,8 @@ public:
     bool canRedo() const { return !m_redo.empty(); }
 
     PipelineSettings settings;
+    /// hemirad-gui --materials: an MTL library assigned by object name to every scene loaded ("" none).
+    SceneLoadOptions loading;
     /// Re-solve by itself after material edits (warm start, F kept).
     bool autoResolve = true;
 
@@ -185,7 +188,8 @@ public:
     JobStatus job() const;
 
     // --- Actions -----------------------------------------------------------------------------
-    /// Loads an OBJ (+MTL); on error the current scene stays and the error is logged. Returns success.
+    /// Loads an OBJ (+MTL) or an STL with `loading`; on error the current scene stays and the error
+    /// is logged. Returns success.
     bool loadScene(const std::string& path);
     /// Replaces the scene (tests, generators); F and radiosity are dropped. It becomes the source
     /// the meshing panel subdivides.

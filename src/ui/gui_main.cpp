@@ -45,6 +45,7 @@ struct GuiOptions {
     FalseColourScale falseColourScale = FalseColourScale::Linear;
     std::string screenshot;
     double subdivide = 0.0;
+    std::string materials;       ///< --materials FILE.mtl: materials by object name
     long hover = -1;             ///< --hover: the status bar reads this patch out (scripted runs)
     std::optional<Layer> layer;  ///< --layer: the view's layer at start
     double exposure = 0.0;       ///< --exposure X: a fixed display scale (0: automatic)
@@ -58,12 +59,14 @@ struct GuiOptions {
 };
 
 const char* kUsage =
-    "usage: hemirad-gui [SCENE.obj] [--subdivide L] [--method NAME] [back-end options, see 'hemirad help']\n"
+    "usage: hemirad-gui [SCENE.obj|SCENE.stl] [--materials FILE.mtl] [--subdivide L] [--method NAME]\n"
+    "                   [back-end options, see 'hemirad help']\n"
     "                   [--max-depth D] [--exposure X] [--check-tooltips] [--help-window]\n"
     "                   [--mesh L | --select PATCH --mesh-selected L]\n"
     "                   [--size WxH] [--select PATCH] [--hover PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
     "                   [--quit-after S] [--false-color Q [--scale linear|log]] [--layer NAME]\n"
     "  --run          compute form factors and solve after loading\n"
+    "  --materials FILE.mtl  materials by object name for every scene opened, as hemirad's\n"
     "  --max-depth D  mirror reflections followed by F and shown by the view (default 8, as hemirad)\n"
     "  --exposure X   display scale of the view, as hemirad render's (default automatic)\n"
     "  --mesh L       mesh the scene to edges <= L as the Pipeline panel's Apply does (undoable);\n"
@@ -122,6 +125,7 @@ GuiOptions parse(int argc, char** argv) {
         else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
         else if (a == "--screenshot") o.screenshot = value(k, "--screenshot");
         else if (a == "--subdivide") o.subdivide = number(value(k, "--subdivide"), "--subdivide");
+        else if (a == "--materials") o.materials = value(k, "--materials");
         else if (a == "--exposure") o.exposure = number(value(k, "--exposure"), "--exposure");
         else if (a == "--layer") {
             const std::string v = value(k, "--layer");
@@ -251,6 +255,7 @@ int main(int argc, char** argv) {
 
         AppState app;
         app.settings = options.settings;
+        app.loading.materials = options.materials;
         if (options.falseColour) {
             app.layer = Layer::FalseColour;
             app.falseColour.quantity = *options.falseColour;

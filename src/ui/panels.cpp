@@ -108,7 +108,7 @@ void Panels::open(AppState& app, OrbitCamera& camera, const std::string& path) {
 
 void Panels::browse(const std::string& purpose, const std::string& initial) {
     static const std::map<std::string, std::pair<std::vector<std::string>, bool>> kinds = {
-        {"Open OBJ", {{".obj"}, true}},        {"Save scene", {{".obj"}, false}},
+        {"Open OBJ", {{".obj", ".stl"}, true}},        {"Save scene", {{".obj"}, false}},
         {"Import F", {{".hff", ".mtx"}, true}}, {"Export F", {{".hff", ".mtx"}, false}},
         {"Export PNG", {{".png"}, false}},      {"Export PLY", {{".ply"}, false}},
         {"Export object table", {{".csv"}, false}}};

@@ -1,4 +1,5 @@
 // The `hemirad` command end to end: exit statuses, messages, files, and F reuse across material edits.
+#include "stl_files.hpp"
 #include "support.hpp"
 
 #include "preprocess/backend_registry.hpp"
@@ -8,7 +9,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sys/wait.h>
 
@@ -38,6 +41,16 @@ std::string copyScene(const std::filesystem::path& dir, const char* name, const 
     }
     writeFile(dir / (base + ".mtl"), mtl);
     return (dir / (base + ".obj")).string();
+}
+
+/// What an .hff file says about F itself: N, nnz, scene hash and the arrays (src/engine/
+/// form_factor_file.cpp), without the parameter text and the checksum that covers it.
+std::string hffMatrix(const std::string& bytes) {
+    REQUIRE(bytes.size() >= 48);
+    std::uint32_t parameterBytes = 0;
+    std::memcpy(&parameterBytes, bytes.data() + 12, 4);
+    REQUIRE(bytes.size() >= 48 + parameterBytes);
+    return bytes.substr(16, 24) + bytes.substr(40 + parameterBytes, bytes.size() - 48 - parameterBytes);
 }
 
 }  // namespace
@@ -250,4 +263,63 @@ TEST_CASE("Ctrl-C leaves the previous output intact and no temporary files") {
     int files = 0;
     for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir)) ++files;
     CHECK(files == 1);
+}
+
+TEST_CASE("formfactors gives the same F bit for bit from an STL with --materials as from the OBJ of its triangles") {
+    const auto dir = tempDir("cli-stl");
+    // A closed box of 12 triangles with float-exact corners (binary STL stores float32): floor, walls.
+    const std::vector<StlTriangle> t = stlTriangles(boxScene(Vec3(0, 0, 0), Vec3(1.5, 1, 0.75)));
+    REQUIRE(t.size() == 12);
+    const std::vector<StlSolid> solids = {{"floor", {t[4], t[5]}},
+                                          {"walls", {t[0], t[1], t[2], t[3], t[6], t[7], t[8], t[9], t[10], t[11]}}};
+    const std::string materials = "newmtl floor\nKd 0.3\nKe 1 1 1\nnewmtl walls\nKd 0.6 0.5 0.4\n";
+    writeFile(dir / "box.mtl", materials);
+    const std::string obj = writeFile(dir / "box.obj", objText(solids, "box.mtl"));
+    const std::string ascii = writeFile(dir / "box.stl", asciiStl(solids));
+    const std::string byName = writeFile(dir / "by_name.mtl", materials);
+    // A binary STL is one object: its material comes as 'default'.
+    writeFile(dir / "grey.mtl", "newmtl grey\nKd 0.5\n");
+    const std::string greyObj = writeFile(dir / "grey.obj", objText({{"grey", t}}, "grey.mtl"));
+    const std::string binary = writeFile(dir / "grey_binary.stl", binaryStl(t));
+    const std::string fallback = writeFile(dir / "fallback.mtl", "newmtl default\nKd 0.5\n");
+
+    auto formFactors = [&](const std::string& input, const std::string& extra, const std::string& out) {
+        const Result r = runHemirad("formfactors " + input + extra + " -o " + (dir / out).string() + " --threads 1");
+        CAPTURE(r.output);
+        CHECK(r.status == 0);
+        CHECK(r.output.find("warning") == std::string::npos);
+        return readText(dir / out);
+    };
+    const std::string fromObj = formFactors(obj, "", "obj.hff");
+    const std::string fromAscii = formFactors(ascii, " --materials " + byName, "ascii.hff");
+    REQUIRE(fromObj.size() > 48);
+    CHECK(hffMatrix(fromAscii) == hffMatrix(fromObj));
+    const std::string fromGreyObj = formFactors(greyObj, "", "grey_obj.hff");
+    const std::string fromBinary = formFactors(binary, " --materials " + fallback, "binary.hff");
+    CHECK(hffMatrix(fromBinary) == hffMatrix(fromGreyObj));
+    // The same geometry and mirrors: one scene hash, so each route's F serves the other's --ff.
+    const Result reuse = runHemirad("solve " + obj + " --ff " + (dir / "ascii.hff").string() + " -o " +
+                                    (dir / "B.csv").string());
+    CHECK(reuse.status == 0);
+    CHECK(reuse.output.find("form factors: reused") != std::string::npos);
+}
+
+TEST_CASE("--materials is in the help, taken by the commands that load a scene and refused by info") {
+    const Result help = runHemirad("help");
+    CHECK(help.output.find("--materials FILE.mtl   (formfactors, solve, render, subdivide, bench) materials by object name") !=
+          std::string::npos);
+    CHECK(help.output.find("SCENE is an .obj (with the .mtl libraries it names) or an .stl") != std::string::npos);
+    const Result info = runHemirad("info F.hff --materials m.mtl");
+    CHECK(info.status == 2);
+    CHECK(info.output.find("option '--materials' does not apply to 'info'") != std::string::npos);
+    const auto dir = tempDir("cli-stl-subdivide");
+    const std::vector<StlTriangle> t = stlTriangles(unitCube());
+    const std::string stl = writeFile(dir / "cube.stl", asciiStl({{"floor", {t[0], t[1]}}, {"rest", {t[2], t[3]}}}));
+    const std::string mtl = writeFile(dir / "m.mtl", "newmtl floor\nKe 2 2 2\nnewmtl flor\n");
+    const Result r = runHemirad("subdivide " + stl + " --materials " + mtl + " --max-edge 0.5 -o " + (dir / "out.obj").string());
+    CHECK(r.status == 0);
+    CHECK(r.output.find("1 material(s) name no object of " + stl + ": 'flor'") != std::string::npos);
+    CHECK(r.output.find("1 object(s) match no material, and there is no 'default': 'rest'") != std::string::npos);
+    CHECK(readText(dir / "out.mtl").find("newmtl floor\n") != std::string::npos);
+    CHECK(readText(dir / "out.obj").find("o floor\n") != std::string::npos);
 }

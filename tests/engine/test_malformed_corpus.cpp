@@ -1,9 +1,11 @@
 // The committed corpus of malformed scenes (tests/data/malformed): each file gives a clear error
-// naming file:line and the value, or a counted warning where loading can go on, and never a crash.
+// naming file:line (a binary STL: file and triangle) and the value, or a counted warning where
+// loading can go on, and never a crash. Files are read through loadScene, as every front end reads them.
 #include "support.hpp"
 
 #include "engine/error.hpp"
 #include "engine/obj_loader.hpp"
+#include "engine/scene_loader.hpp"
 
 #include <doctest/doctest.h>
 
@@ -16,13 +18,13 @@ std::string corpus(const std::string& name) { return sourcePath("tests/data/malf
 
 void expectError(const std::string& file, const std::string& message) {
     Warnings w = quietWarnings();
-    CHECK_THROWS_WITH_AS(loadObj(corpus(file), w), doctest::Contains(message.c_str()), Error);
+    CHECK_THROWS_WITH_AS(loadScene(corpus(file), w), doctest::Contains(message.c_str()), Error);
 }
 
 void expectWarning(const std::string& file, const std::string& kind, const std::string& message, std::size_t patches) {
     std::vector<std::string> printed;
     Warnings w([&](const std::string& m) { printed.push_back(m); });
-    const Scene s = loadObj(corpus(file), w);
+    const Scene s = loadScene(corpus(file), w);
     CHECK(s.size() == patches);
     CHECK(w.count(kind) == 1);
     bool found = false;
@@ -66,6 +68,22 @@ MALFORMED_WARNING("duplicate_faces.obj", "duplicate patches", "duplicate_faces.o
 MALFORMED_WARNING("zero_area.obj", "degenerate patches skipped", "zero_area.obj:7: 1 zero-area face(s) skipped", 1)
 MALFORMED_WARNING("non_planar.obj", "non-planar patches", "non_planar.obj:7: 1 non-planar patch(es); worst deviation", 1)
 
+// STL (tests/data/make_malformed_stl.py writes these): binary errors name the triangle, ASCII ones the line.
+MALFORMED_ERROR("stl_empty.stl", "stl_empty.stl: empty file: no triangles")
+MALFORMED_ERROR("stl_truncated.stl",
+                "stl_truncated.stl: truncated in triangle 1: the header announces 2 triangles (184 bytes), the file has 164")
+MALFORMED_ERROR("stl_wrong_count.stl",
+                "stl_wrong_count.stl: triangle count does not match the file size: the header announces 2 triangles "
+                "(184 bytes), the file has 234 (3 triangles and 0 bytes)")
+MALFORMED_ERROR("stl_nan_vertex.stl", "stl_nan_vertex.stl: triangle 1: third vertex x = nan is not a finite number")
+MALFORMED_ERROR("stl_solid_header_truncated.stl",
+                "stl_solid_header_truncated.stl: truncated in triangle 1: the header announces 2 triangles")
+MALFORMED_ERROR("stl_facet_not_closed.stl",
+                "stl_facet_not_closed.stl:8: the facet of line 2 is not closed: expected 'endfacet', found 'endsolid'")
+MALFORMED_ERROR("stl_four_vertices.stl", "stl_four_vertices.stl:7: a 4th vertex in the loop of the facet of line 2")
+MALFORMED_WARNING("stl_zero_area.stl", "degenerate patches skipped",
+                  "stl_zero_area.stl:9: triangle 1: 1 zero-area triangle(s) skipped", 1)
+
 TEST_CASE("Malformed corpus: CRLF, tabs, odd whitespace and a trailing continuation load cleanly") {
     for (const char* file : {"crlf_whitespace.obj", "continuation_at_end.obj"}) {
         CAPTURE(file);
@@ -85,8 +103,11 @@ TEST_CASE("Malformed corpus: a missing path and a directory are refused by name"
 
 TEST_CASE("Malformed corpus: every file of the corpus is covered by a test above") {
     // A new corpus file needs its expected message here too.
-    std::size_t files = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(sourcePath("tests/data/malformed")))
-        files += entry.path().extension() == ".obj";
-    CHECK(files == 29);
+    std::size_t obj = 0, stl = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(sourcePath("tests/data/malformed"))) {
+        obj += entry.path().extension() == ".obj";
+        stl += entry.path().extension() == ".stl";
+    }
+    CHECK(obj == 29);
+    CHECK(stl == 8);
 }

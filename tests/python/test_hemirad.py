@@ -132,6 +132,29 @@ def test_scene_arrays_edits_and_save(tmp_path):
     assert len(sub) == 344 and set(sub.parent.tolist()) == set(range(20))
 
 
+def test_stl_with_materials_by_object_name(tmp_path):
+    # Two triangles facing each other (z = 0 up, z = 1 down), one ASCII solid each.
+    def solid(name, normal, vertices):
+        rows = "".join(f"      vertex {x} {y} {z}\n" for x, y, z in vertices)
+        return (f"solid {name}\n  facet normal {normal}\n    outer loop\n{rows}    endloop\n  endfacet\n"
+                f"endsolid {name}\n")
+    (tmp_path / "pair.stl").write_text(solid("lamp", "0 0 1", [(0, 0, 0), (1, 0, 0), (0, 1, 0)]) +
+                                       solid("plate", "0 0 -1", [(0, 0, 1), (0, 1, 1), (1, 0, 1)]))
+    (tmp_path / "m.mtl").write_text("newmtl lamp\nKd 0\nKe 10 10 10\nnewmtl plaet\nKd 0.8\n")
+    with pytest.warns(UserWarning) as caught:
+        scene = hemirad.load(tmp_path / "pair.stl", materials=tmp_path / "m.mtl")
+    messages = [str(w.message) for w in caught]
+    assert any("name no object" in m and "'plaet'" in m for m in messages), messages
+    assert any("match no material" in m and "'plate'" in m for m in messages), messages
+    assert scene.object_names == ["lamp", "plate"] and scene.material_names == ["lamp", "hemirad_default"]
+    assert scene.emission[0].tolist() == [10, 10, 10] and scene.rho[1].tolist() == [0.5, 0.5, 0.5]
+    (tmp_path / "bad.mtl").write_text("newmtl lamp\nKe 1 x 1\n")
+    with pytest.raises(hemirad.Error, match=r"bad\.mtl:2: Ke 'x' is not a number"):
+        hemirad.load(tmp_path / "pair.stl", materials=tmp_path / "bad.mtl")
+    with pytest.raises(hemirad.Error, match=r"pair\.ply: unknown scene file type '\.ply'"):
+        hemirad.load(tmp_path / "pair.ply")
+
+
 def test_bad_arguments_name_themselves(cornell):
     with pytest.raises(hemirad.Error, match=r"face_garbage_index\.obj:6: face vertex '3x' is not an index"):
         hemirad.load(os.path.join(SOURCE, "tests", "data", "malformed", "face_garbage_index.obj"))

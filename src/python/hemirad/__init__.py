@@ -39,17 +39,23 @@ def solvers():
     return _hemirad._solvers()
 
 
-def load(path, subdivide=0.0):
-    """Loads a Wavefront OBJ (+MTL) scene; every face is a patch.
+def load(path, subdivide=0.0, materials=None):
+    """Loads a scene, a Wavefront OBJ (+MTL) or an STL (binary or ASCII); every face is a patch.
 
     subdivide: split patches until no edge exceeds this length (scene units; 0 = as modelled).
-    Returns a :class:`Scene`. Warnings of the loader (e.g. non-planar faces) go to
-    ``warnings.warn``. Raises :class:`Error` naming file and line for a malformed file.
+    materials: an MTL file whose materials go to the objects of their name (STL solids, OBJ o/g
+    names; over an OBJ's own), ``default`` to the objects without one: the CLI's --materials.
+    Returns a :class:`Scene`. Warnings of the loader (e.g. non-planar faces, objects left without
+    a material) go to ``warnings.warn``. Raises :class:`Error` naming the file and the line (or
+    the STL triangle) for a malformed file.
     """
     subdivide = float(subdivide)
     if not subdivide >= 0 or subdivide != subdivide or subdivide == float("inf"):
         raise ValueError(f"subdivide: expected a finite length >= 0, got {subdivide!r}")
-    scene, messages = _hemirad._load(_os.fspath(path), subdivide)
+    materials = "" if materials is None else _os.fspath(materials)
+    if not isinstance(materials, str):
+        raise TypeError(f"materials: expected a path, got {type(materials).__name__}")
+    scene, messages = _hemirad._load(_os.fspath(path), subdivide, materials)
     if messages:
         import warnings
         for message in messages:
