@@ -12,6 +12,10 @@ namespace hemirad {
 
 namespace {
 
+/// A visible part below this fraction of the whole factor is the rounding of the cuts (pieces of
+/// shadows that meet edge to edge), not a view: 0.
+constexpr double kDust = 1e-9;
+
 /// Twice the signed area of the 2D polygon xy[0..2k).
 double doubleArea(const double* xy, std::size_t k) {
     double a = 0.0;
@@ -240,6 +244,18 @@ std::uint32_t ShadowPolygons::buildNode(std::uint32_t first, std::uint32_t count
     return index;
 }
 
+bool ShadowPolygons::outsideSomePlane(std::uint32_t b, const Vec3* m, const double* d, std::size_t planes,
+                                      double tolerance) const {
+    const Vec3* corners = &m_corners[m_first[b]];
+    const std::uint32_t cornerCount = m_first[b + 1] - m_first[b];
+    for (std::size_t k = 0; k < planes; ++k) {
+        bool away = true;  // all corners outside plane k
+        for (std::uint32_t c = 0; c < cornerCount && away; ++c) away = m[k].dot(corners[c]) - d[k] <= tolerance;
+        if (away) return true;
+    }
+    return false;
+}
+
 template <class Visit>
 void ShadowPolygons::traverse(const Vec3* m, const double* d, std::size_t planes, double tolerance, PatchId e, PatchId r,
                               Scratch& s, Visit visit) const {
@@ -261,20 +277,34 @@ void ShadowPolygons::traverse(const Vec3* m, const double* d, std::size_t planes
         for (std::uint32_t item = node.first; item < node.first + node.count; ++item) {
             const std::uint32_t b = m_items[item];
             if (m_owner[b] == e || m_owner[b] == r) continue;
-            const Vec3* corners = &m_corners[m_first[b]];
-            const std::uint32_t cornerCount = m_first[b + 1] - m_first[b];
-            bool away = false;  // all corners outside one plane
-            for (std::size_t k = 0; k < planes && !away; ++k) {
-                away = true;
-                for (std::uint32_t c = 0; c < cornerCount && away; ++c) away = m[k].dot(corners[c]) - d[k] <= tolerance;
-            }
-            if (!away && !visit(corners, cornerCount)) return;
+            if (!outsideSomePlane(b, m, d, planes, tolerance) && !visit(b)) return;
         }
     }
 }
 
+bool ShadowPolygons::reaches(const Vec3* m, const double* d, std::size_t planes, double tolerance, PatchId e, PatchId r,
+                             Scratch& s) const {
+    if (m_items.empty()) return false;
+    bool found = false;
+    traverse(m, d, planes, tolerance, e, r, s, [&found](std::uint32_t) {
+        found = true;
+        return false;
+    });
+    return found;
+}
+
+void ShadowPolygons::collect(const Vec3* m, const double* d, std::size_t planes, double tolerance, PatchId e, PatchId r,
+                             std::vector<std::uint32_t>& blockers, Scratch& s) const {
+    blockers.clear();
+    if (m_items.empty()) return;
+    traverse(m, d, planes, tolerance, e, r, s, [&blockers](std::uint32_t b) {
+        blockers.push_back(b);
+        return true;
+    });
+}
+
 double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t count, PatchId e,
-                                     PatchId r, double whole, Scratch& s) const {
+                                     PatchId r, double whole, Scratch& s, const std::vector<std::uint32_t>* within) const {
     s.shadows = 0;
     if (m_items.empty() || count < 3) return whole;
     const Vec3& normal = m_geometry->shapes[r].normal;
@@ -286,23 +316,25 @@ double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p
 
     // The cone from x through the polygon: a plane through x and each edge (normals inward), and
     // the receiver's plane, lifted by the tolerance so that nothing lying on it casts a shadow.
-    constexpr std::size_t kMaxPlanes = 64;
-    std::array<Vec3, kMaxPlanes> m;
-    std::array<double, kMaxPlanes> d;
-    std::size_t planes = 0;
-    for (std::size_t k = 0; k < count && planes + 2 < kMaxPlanes; ++k) {
+    // As many planes as the polygon has edges (a fixed array dropped planes past 62 corners).
+    std::vector<Vec3>& m = s.planeNormals;
+    std::vector<double>& d = s.planeOffsets;
+    m.clear();
+    d.clear();
+    for (std::size_t k = 0; k < count; ++k) {
         Vec3 side = (p[k] - x).cross(p[(k + 1) % count] - x);
         const double length = side.norm();
         if (!(length > 0.0)) continue;
         side /= length;
         if (side.dot(middle - x) < 0.0) side = -side;
-        m[planes] = side;
-        d[planes++] = side.dot(x);
+        m.push_back(side);
+        d.push_back(side.dot(x));
     }
-    m[planes] = normal;
-    d[planes++] = offset + tolerance;
-    m[planes] = n;  // and the emitter's: what lies in x's own plane casts no shadow either
-    d[planes++] = n.dot(x) + tolerance;
+    m.push_back(normal);
+    d.push_back(offset + tolerance);
+    m.push_back(n);  // and the emitter's: what lies in x's own plane casts no shadow either
+    d.push_back(n.dot(x) + tolerance);
+    const std::size_t planes = m.size();
 
     // 2D coordinates in the receiver's plane (origin p[0]); the receiver itself, counter-clockwise,
     // becomes the first clear piece when the first shadow falls (most cones hold no blocker).
@@ -312,7 +344,9 @@ double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p
     double smallest = 0.0;  // pieces below this area are dropped; 0 until the receiver is set up
 
     bool clear = true;  // some of the receiver still clear
-    traverse(m.data(), d.data(), planes, tolerance, e, r, s, [&](const Vec3* corners, std::uint32_t cornerCount) {
+    const auto shade = [&](std::uint32_t b) {
+            const Vec3* corners = &m_corners[m_first[b]];
+            const std::uint32_t cornerCount = m_first[b + 1] - m_first[b];
             // The blocker's part inside the cone, projected from x onto the receiver's plane.
             s.cut.assign(corners, corners + cornerCount);
             for (std::size_t k = 0; k < planes && s.cut.size() >= 3; ++k) {
@@ -357,11 +391,17 @@ double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p
             subtract(s.shadow.data(), sides, smallest, s);
             clear = !s.pieces.empty();
             return clear;
-    });
+    };
+    if (!within) {
+        traverse(m.data(), d.data(), planes, tolerance, e, r, s, shade);
+    } else {
+        for (const std::uint32_t b : *within)
+            if (!outsideSomePlane(b, m.data(), d.data(), planes, tolerance) && !shade(b)) break;
+    }
     if (s.shadows == 0) return whole;
     if (s.shadows == 1) {
         const double visible = whole - pointToPolygonFactor(x, n, s.first.data(), s.first.size());
-        return visible > 1e-12 * whole ? visible : 0.0;
+        return visible > kDust * whole ? visible : 0.0;
     }
     double factor = 0.0;
     for (std::size_t at = 0; at < s.pieces.size();) {
@@ -372,7 +412,7 @@ double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p
         factor += pointToPolygonFactor(x, n, s.lifted.data(), k);
         at += 1 + 2 * k;
     }
-    return factor;
+    return factor > kDust * whole ? factor : 0.0;
 }
 
 }  // namespace hemirad

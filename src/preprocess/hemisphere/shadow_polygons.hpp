@@ -26,6 +26,8 @@ public:
         std::vector<double> shadow, firstShadow, inside, outside, rest;
         std::vector<Vec3> image, first;           // the shadow's corners on the receiver (3D)
         std::vector<Vec3> lifted;
+        std::vector<Vec3> planeNormals;           // the cone's planes (inward normals and offsets)
+        std::vector<double> planeOffsets;
         std::size_t shadows = 0;                  // shadows met by the last call
     };
 
@@ -40,12 +42,23 @@ public:
     /// Lambert's factor from x (unit normal n) to the part of the convex polygon p[0..count) that no
     /// blocker other than patches e and r hides from x. p is receiver r's polygon or its part above
     /// x's plane; `whole` is its unobstructed factor, returned unchanged when no shadow falls on it.
+    /// `within` (optional): the blockers to consider, from collect() over a region that holds every
+    /// cone this is asked for (a pair's shaft), instead of a search of the tree.
     double visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t count, PatchId e, PatchId r,
-                         double whole, Scratch& scratch) const;
+                         double whole, Scratch& scratch, const std::vector<std::uint32_t>* within = nullptr) const;
+
+    /// Whether some blocker other than patches e and r may reach into the convex region where
+    /// m_k . y - d_k > tolerance for every plane k (conservative: a blocker that no single plane
+    /// leaves wholly outside counts). A pair's shaft test (contact_pairs.hpp).
+    bool reaches(const Vec3* m, const double* d, std::size_t planes, double tolerance, PatchId e, PatchId r,
+                 Scratch& scratch) const;
+    /// The blockers (indices for visibleFactor's `within`) that reaches() would find, all of them.
+    void collect(const Vec3* m, const double* d, std::size_t planes, double tolerance, PatchId e, PatchId r,
+                 std::vector<std::uint32_t>& blockers, Scratch& scratch) const;
 
 private:
-    /// Calls visit(corners, count) for each blocker other than e and r that no plane (m, d) leaves
-    /// entirely outside (m . y - d <= tolerance), until visit returns false.
+    /// Calls visit(b) for each blocker b other than e and r that no plane (m, d) leaves entirely
+    /// outside (m . y - d <= tolerance), until visit returns false.
     template <class Visit>
     void traverse(const Vec3* m, const double* d, std::size_t planes, double tolerance, PatchId e, PatchId r,
                   Scratch& s, Visit visit) const;
@@ -54,6 +67,8 @@ private:
         std::uint32_t first = 0, count = 0;  ///< items of a leaf (count > 0)
         std::uint32_t right = 0;             ///< an inner node's second child (the first follows it)
     };
+    /// Whether blocker b's corners all lie outside one of the planes (m . y - d <= tolerance).
+    bool outsideSomePlane(std::uint32_t b, const Vec3* m, const double* d, std::size_t planes, double tolerance) const;
     std::uint32_t buildNode(std::uint32_t first, std::uint32_t count);
     void addBlocker(const Vec3* corners, std::size_t count, PatchId owner);
 
