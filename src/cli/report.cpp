@@ -1,6 +1,8 @@
 // Console reporting.
 #include "cli/report.hpp"
 
+#include "preprocess/hemisphere/emitter_rule.hpp"
+
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
@@ -103,6 +105,16 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
         out << "\n  point-to-patch terms whose visible part came from shadow polygons (exact partial visibility, no "
                "shadow ray): "
             << c.shadowTerms;
+    if (c.contactPairs)
+        out << "\n  close pairs (within " << int(kNearDistance) << " radii) exact by contour integrals: " << c.contactPairs
+            << "; with a blocker in their shaft: " << c.contactShafts << " (hidden part adaptive, "
+            << c.contactEvaluations << " visible-part evaluations)";
+    if (run.emittedPairs.changed)
+        out << "\n  pairs whose two rows disagreed (a receiver split on a silhouette by one row only), set from "
+               "the emitting row: "
+            << run.emittedPairs.changed << " of " << run.emittedPairs.pairs << " (" << run.emittedPairs.added
+            << " added, " << run.emittedPairs.removed << " removed; largest change " << std::setprecision(6)
+            << run.emittedPairs.largestChange << ")";
     if (c.bounces) {
         out << "\n  mirror bounces " << c.bounces << "; power cut off by --max-depth " << settings.common.maxDepth
             << " / weight < " << settings.common.minWeight << ": " << std::setprecision(5)

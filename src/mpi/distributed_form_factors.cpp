@@ -7,6 +7,7 @@
 //   0 -> r  kTagReply  {begin, end, state}         rows[begin, end) (may be empty); state 0 go on,
 //                                                  1 no rows left, 2 abort (a rank failed)
 #include "mpi/distributed_form_factors.hpp"
+#include "mpi/distributed_reciprocity.hpp"
 
 #include "engine/threads.hpp"
 #include "preprocess/backend_registry.hpp"
@@ -319,10 +320,12 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
 
     // Bookkeeping to rank 0: counts summed (the largest direct sum taken), stage times, per-rank load.
     const RayCounts mine = builder.counts();
-    std::uint64_t integers[6] = {mine.rays, mine.bounces, mine.misses, mine.backfaces, mine.rescaledRows, mine.shadowTerms},
-                  integerSums[6];
+    std::uint64_t integers[9] = {mine.rays,         mine.bounces,     mine.misses,
+                                 mine.backfaces,    mine.rescaledRows, mine.shadowTerms,
+                                 mine.contactPairs, mine.contactShafts, mine.contactEvaluations},
+                  integerSums[9];
     double reals[2] = {mine.lostWeight, mine.cutoffWeight}, realSums[2];
-    MPI_Reduce(integers, integerSums, 6, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    MPI_Reduce(integers, integerSums, 9, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
     MPI_Reduce(reals, realSums, 2, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
     double largest = 0;
     MPI_Reduce(&mine.largestDirectSum, &largest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
@@ -346,12 +349,14 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
         RayCounts& c = result.counts;
         c.rays = integerSums[0], c.bounces = integerSums[1], c.misses = integerSums[2], c.backfaces = integerSums[3];
         c.rescaledRows = integerSums[4], c.shadowTerms = integerSums[5];
+        c.contactPairs = integerSums[6], c.contactShafts = integerSums[7], c.contactEvaluations = integerSums[8];
         c.lostWeight = realSums[0], c.cutoffWeight = realSums[1];
         c.largestDirectSum = largest;
     }
     result.computeSeconds = computeSeconds;
     result.rowsComputed = rows.size();
     result.device = backend->device();
+    if (backend->pairsFromEmitters()) result.emittedPairs = takePairsFromEmittersDistributed(context, scene, result);
     return result;
 }
 

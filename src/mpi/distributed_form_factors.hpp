@@ -25,6 +25,7 @@ struct DistributedFormFactors {
     std::vector<std::uint64_t> rowsPerRank;
     std::vector<double> busySeconds;       ///< per rank: from its first row to its worker's end
     std::size_t rowsComputed = 0;
+    EmittedPairsReport emittedPairs;      ///< receiver entries taken from their emitting rows (summed)
 };
 
 /// Computes `rows` (the same list on every rank) with `settings`: every rank prepares its own back

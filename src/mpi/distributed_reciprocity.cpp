@@ -1,4 +1,5 @@
-// --enforce-reciprocity across MPI ranks, through PETSc's parallel transpose and shared vectors.
+// Pairs of rows on two ranks through PETSc's parallel transpose: --enforce-reciprocity and
+// --drop-below (shared vectors), and each pair from its emitting row.
 #include "mpi/distributed_reciprocity.hpp"
 
 #include "mpi/petsc_rows.hpp"
@@ -167,6 +168,75 @@ SparsifyReport dropBelowDistributed(const Context& context, const Scene& scene, 
     report.nonzerosAfter = sumOverRanks(F.local.nonZeros());
     report.bytesAfter = sumOverRanks(F.local.memoryBytes());
     markSparsified(F.local, report);
+    return report;
+}
+
+EmittedPairsReport takePairsFromEmittersDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F) {
+    const std::size_t n = scene.size();
+    const Layout layout = layoutOf(context, F.owner);
+    OwnedMat Gt;
+    {
+        OwnedMat G(areaWeightedRows(scene, F, layout, preallocationOf(F, layout)));
+        check(MatTranspose(G.mat, MAT_INITIAL_MATRIX, &Gt.mat), "MatTranspose");
+    }
+    std::vector<PatchId> patchOf(n);
+    for (std::size_t i = 0; i < n; ++i) patchOf[std::size_t(layout.perm[i])] = PatchId(i);
+    const auto fromEmitter = [&](PatchId e, PatchId r) { return e != r && emitsFor(scene, e, r) && F.owner[e] >= 0; };
+
+    EmittedPairsReport report;
+    std::vector<std::vector<FormFactors::Entry>> rows(n);
+    std::vector<std::pair<PatchId, double>> column;  // (e, A_e F_er) for this row r, by e
+    for (std::size_t k = 0; k < layout.mine.size(); ++k) {
+        const PatchId r = layout.mine[k];
+        if (F.owner[r] != context.rank()) continue;
+        PetscInt count = 0;
+        const PetscInt* columns = nullptr;
+        const PetscScalar* values = nullptr;
+        const PetscInt row = layout.begin + PetscInt(k);
+        check(MatGetRow(Gt.mat, row, &count, &columns, &values), "MatGetRow");
+        column.clear();
+        for (PetscInt t = 0; t < count; ++t) column.emplace_back(patchOf[std::size_t(columns[t])], double(values[t]));
+        check(MatRestoreRow(Gt.mat, row, &count, &columns, &values), "MatRestoreRow");
+        std::sort(column.begin(), column.end());
+        // Row r's own entries merged with its emitters' (as takePairsFromEmitters sets them).
+        std::vector<FormFactors::Entry>& out = rows[r];
+        std::uint64_t a = F.local.rowBegin(r);
+        const std::uint64_t aEnd = F.local.rowEnd(r);
+        std::size_t b = 0;
+        while (a < aEnd || b < column.size()) {
+            const PatchId ja = a < aEnd ? F.local.columns()[a] : UINT32_MAX;
+            const PatchId jb = b < column.size() ? column[b].first : UINT32_MAX;
+            const PatchId j = std::min(ja, jb);
+            const bool own = ja == j;
+            const float mine = own ? F.local.values()[a++] : 0.0f;
+            const double emitted = jb == j ? column[b++].second : 0.0;
+            if (!fromEmitter(j, r)) {
+                if (own) out.push_back({j, mine});
+                continue;
+            }
+            const float value = float(emitted / scene.patches[r].area);
+            if (!own && !(value > 0.0f)) continue;
+            const double change = std::abs(double(value) - double(mine));
+            ++report.pairs;
+            if (change > 1e-6 * std::max(double(value), double(mine))) ++report.changed;
+            report.largestChange = std::max(report.largestChange, change);
+            if (value > 0.0f) {
+                if (!own) ++report.added;
+                out.push_back({j, value});
+            } else if (own) {
+                ++report.removed;
+            }
+        }
+    }
+    FormFactors updated = FormFactors::fromRows(std::move(rows), F.local.computedFlags());
+    updated.sceneHash = F.local.sceneHash;
+    updated.provenance = F.local.provenance;
+    updated.parameters = F.local.parameters;
+    F.local = std::move(updated);
+    std::uint64_t mine[4] = {report.pairs, report.changed, report.added, report.removed}, total[4];
+    MPI_Allreduce(mine, total, 4, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    report.pairs = total[0], report.changed = total[1], report.added = total[2], report.removed = total[3];
+    report.largestChange = maxOverRanks(report.largestChange);
     return report;
 }
 

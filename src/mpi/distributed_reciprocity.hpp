@@ -2,6 +2,7 @@
 // transpose of G = diag(A) F brings column i of G to the rank that holds row i.
 #pragma once
 
+#include "engine/emitted_pairs.hpp"
 #include "engine/reciprocal_closure.hpp"
 #include "mpi/distributed_form_factors.hpp"
 
@@ -16,5 +17,10 @@ ReciprocityReport enforceReciprocityDistributed(const Context& context, const Sc
 /// dropBelow (engine/reciprocal_closure.hpp) over the ranks' rows: the same pairs dropped (each
 /// row's largest entry shared across ranks), then the same closure. Collective.
 SparsifyReport dropBelowDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F, double threshold);
+
+/// takePairsFromEmitters (engine/emitted_pairs.hpp) over the ranks' rows: each receiver entry
+/// from its emitting row on any rank, through G^T (G = diag(A) F), with one process's arithmetic,
+/// so that F is bit for bit one process's. The report is summed over the ranks. Collective.
+EmittedPairsReport takePairsFromEmittersDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F);
 
 }  // namespace hemirad::mpi

@@ -131,6 +131,7 @@ void obtainFormFactors(Job& job, const std::string& reusePath) {
         run.rowsSkipped = n - rows.size();
         run.stageSeconds = added.stageSeconds;
         run.device = added.device;
+        run.emittedPairs = added.emittedPairs;
         job.reporter.line("form factors: " + std::to_string(rows.size()) + " rows on " + std::to_string(context.size()) +
                           " MPI ranks");
         // The one-process summary; the statistics follow, from every rank's rows (reportStatistics).

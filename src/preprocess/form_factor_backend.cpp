@@ -18,6 +18,9 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
     cutoffWeight += o.cutoffWeight;
     rescaledRows += o.rescaledRows;
     shadowTerms += o.shadowTerms;
+    contactPairs += o.contactPairs;
+    contactShafts += o.contactShafts;
+    contactEvaluations += o.contactEvaluations;
     largestDirectSum = std::max(largestDirectSum, o.largestDirectSum);
     return *this;
 }

@@ -58,6 +58,9 @@ struct RayCounts {
     std::uint64_t rescaledRows = 0;  ///< analytic estimator: rows whose direct factors summed above 1.001, scaled to 1
     std::uint64_t shadowTerms = 0;   ///< analytic estimator: point-to-patch terms whose visibility came from shadow polygons
     double largestDirectSum = 0;     ///< analytic estimator: the largest direct row sum before that scaling
+    std::uint64_t contactPairs = 0;  ///< analytic estimator: close pairs computed whole (contact_pairs.hpp)
+    std::uint64_t contactShafts = 0; ///< of those, pairs with a blocker in their shaft
+    std::uint64_t contactEvaluations = 0;  ///< visible-part evaluations of their hidden parts
     RayCounts& operator+=(const RayCounts& o);
 };
 
@@ -157,6 +160,9 @@ public:
     /// What computed the rows, for the run's report (e.g. the GL renderer and its contexts); not
     /// recorded with F, which must not depend on how many processes or threads made it.
     virtual std::string device() const { return {}; }
+    /// Whether each pair's value is the one its emitting row computes (emitsFor, engine/emitted_pairs.hpp):
+    /// then the other row's entry is taken from it once the rows are done (takePairsFromEmitters).
+    virtual bool pairsFromEmitters() const { return false; }
 };
 
 /// The largest row sum of an extended F (Sillion & Puech): a ray or pixel deposits its weight on

@@ -1,6 +1,7 @@
 // Running a back end over the rows a solve needs, with progress, cancellation, timing and diagnostics.
 #pragma once
 
+#include "engine/emitted_pairs.hpp"
 #include "preprocess/form_factor_backend.hpp"
 
 #include <atomic>
@@ -18,6 +19,7 @@ struct FormFactorRun {
     std::size_t rowsComputed = 0, rowsSkipped = 0;
     std::map<std::string, double> stageSeconds;  ///< back-end stages, thread-seconds (see FormFactorBuilder)
     std::string device;                          ///< FormFactorBackend::device() (rank 0's under MPI)
+    EmittedPairsReport emittedPairs;             ///< pairs whose receiver entry came from the emitting row
 };
 
 /// (rows done, rows total, seconds so far); called about 10 times a second from the calling thread.

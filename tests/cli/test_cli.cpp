@@ -306,7 +306,7 @@ TEST_CASE("formfactors gives the same F bit for bit from an STL with --materials
 
 TEST_CASE("--materials is in the help, taken by the commands that load a scene and refused by info") {
     const Result help = runHemirad("help");
-    CHECK(help.output.find("--materials FILE.mtl   (formfactors, solve, render, subdivide, bench) materials by object name") !=
+    CHECK(help.output.find("--materials FILE.mtl   (formfactors, solve, render, subdivide, check, bench) materials by object name") !=
           std::string::npos);
     CHECK(help.output.find("SCENE is an .obj (with the .mtl libraries it names) or an .stl") != std::string::npos);
     const Result info = runHemirad("info F.hff --materials m.mtl");

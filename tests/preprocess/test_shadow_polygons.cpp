@@ -84,6 +84,32 @@ TEST_CASE("Shadow polygons: what lies behind the receiver, behind the point or o
     CHECK(s.shadows.visibleFactor(x, n, s.geometry.polygon(receiver), 4, emitter, receiver, whole, scratch) == 0.0);
 }
 
+TEST_CASE("Shadow polygons: a receiver of 64 corners keeps every side of its cone, so a blocker beside it casts nothing") {
+    // A 64-gon of radius 1 at z = 1 seen from the origin: at z = 0.5 its cone reaches radius 0.5 at a
+    // corner. A fixed array of 64 planes left out the sides through its last two edges, and the cone
+    // then reached 0.5049 there: a small plate between 0.5012 and 0.504 towards the last corner cast
+    // a shadow outside the receiver, subtracted from its factor (issue 35 #4).
+    for (const int corners : {62, 64}) {
+        CAPTURE(corners);
+        SceneBuilder b;
+        const PatchId emitter = b.rectangle(2, 0, -0.01, 0.01, -0.01, 0.01, true);
+        const PatchId receiver = b.disk(Vec3(0, 0, 1), 1.0, corners, false);
+        const double angle = 2 * kPi / corners;  // corner corners - 1 (the disk winds clockwise)
+        const Vec3 u(std::cos(angle), std::sin(angle), 0), v(-std::sin(angle), std::cos(angle), 0), z(0, 0, 0.5);
+        b.polygon({z + 0.5012 * u - 0.0015 * v, z + 0.504 * u - 0.0015 * v, z + 0.504 * u + 0.0015 * v,
+                   z + 0.5012 * u + 0.0015 * v});
+        Setup s;
+        s.scene = b.scene;
+        s.finish();
+        const Vec3 x(0, 0, 0), n(0, 0, 1);
+        ShadowPolygons::Scratch scratch;
+        const Vec3* polygon = s.geometry.polygon(receiver);
+        const double whole = pointToPolygonFactor(x, n, polygon, std::size_t(corners));
+        CHECK(s.shadows.visibleFactor(x, n, polygon, std::size_t(corners), emitter, receiver, whole, scratch) == whole);
+        CHECK(scratch.shadows == 0);
+    }
+}
+
 TEST_CASE("Shadow polygons: a partition from the emitter's edge to the receiver's middle hides exactly the far half") {
     // Emitter [0, 1]^2 at z = 0, receiver [0, 2] x [0, 1] at z = 1, a wall x = 1 between them: from
     // every point of the emitter the receiver's part x > 1 is hidden, whatever the point.

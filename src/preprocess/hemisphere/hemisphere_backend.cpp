@@ -46,7 +46,9 @@ struct HemisphereBackend::Workspace {
     // Analytic estimator: receivers by the order of their emitter rule, and the visible-candidate
     // batch of one point.
     std::vector<std::vector<PatchId>> byOrder;
-    std::vector<std::uint8_t> ruled;  // per patch: in byOrder (not in the centroid pass)
+    std::vector<std::uint8_t> ruled;  // per patch: in byOrder or a close pair (not in the centroid pass)
+    std::vector<PatchId> contacts;    // this row's close pairs (contactPair)
+    ContactPairs::Scratch contactScratch;
     std::vector<Vec3> quadPoints;  // a quadrature rule over the emitter
     std::vector<double> quadWeights;
     std::vector<PatchId> candidates;
@@ -142,6 +144,7 @@ void HemisphereBackend::prepare(const Scene& scene) {
     // Exact partial visibility where one shadow ray's verdict could move the pair by more than a
     // tenth of the pair tolerance in absolute terms (each row sums to at most 1).
     m_shadows.build(m_geometry, blocks);
+    m_contacts.build(m_geometry, m_shadows, m_visibility);
     m_exactAbove = m_visibility ? 0.1 * tolerance : std::numeric_limits<double>::infinity();
     if (m_mirrors && m_options.mirrorEstimator == MirrorEstimator::Images) {
         std::vector<Reflector> reflectors;
@@ -179,8 +182,9 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
                          "m x m Gauss-Legendre points over the smaller patch of each pair (the centroid for m = 1, m >= " +
                          std::to_string(m_orders.lowest()) + "), m chosen from the pair's distance and size for an estimated relative error of " +
                          "1e-" + std::to_string(m_options.pairDigits) + " / 2, the 2 x 2 x 2 x 2 point rule for pairs far from each other's horizon, " +
-                         std::to_string(m_orders.highest()) + " within " + std::to_string(int(kNearDistance)) +
-                         " radii, each pair computed once for both rows (reciprocal, handed from the emitting row to the other)" +
+                         "pairs within " + std::to_string(int(kNearDistance)) +
+                         " radii exact by contour integrals (touching or not) less their hidden part (adaptive over the emitter)" +
+                         ", each pair computed once for both rows (reciprocal: the other row takes the emitting row's value)" +
                          (m_visibility ? ", the exact visible part (shadow polygons of the " + std::to_string(m_shadows.size()) +
                                              " patches that can obstruct) where a point's factor exceeds 1e-" +
                                              std::to_string(m_options.pairDigits + 1) + ", elsewhere shadow rays to " +
@@ -337,8 +341,14 @@ double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& co
     // Receivers by the order of their rule over i (0: the far rule); order 1 (the centroid) takes
     // the rest in one pass.
     for (auto& list : ws.byOrder) list.clear();
+    ws.contacts.clear();
     for (PatchId j = 0; j < m_geometry.shapes.size(); ++j) {
         if (j == i || !emitsFor(i, j)) continue;
+        if (contactPair(i, j)) {  // computed as a whole below
+            ws.contacts.push_back(j);
+            ws.ruled[j] = 1;
+            continue;
+        }
         const int m = pairOrder(i, j);
         if (m == 1) continue;
         ws.byOrder[m].push_back(j);
@@ -360,6 +370,16 @@ double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& co
                                       counts);
         for (const PatchId j : ws.byOrder[m]) ws.ruled[j] = 0;
     }
+    for (const PatchId j : ws.contacts) {
+        bool viewed = false;
+        const double value = contactValue(i, j, ws, counts, viewed);
+        ws.ruled[j] = 0;
+        if (!viewed) continue;  // as the other row finds it: no term
+        keepTerm(ws.unsplit, ws.touched, j, value);
+        if (!(value > 0.0)) continue;
+        ws.row.addWeight(j, value);
+        direct += value;
+    }
     for (const PatchId j : ws.byOrder[0]) ws.ruled[j] = ws.status[j] = 0;
     for (const PatchId j : ws.reversed) ws.status[j] = 0;
     ws.outgoing.clear();
@@ -370,6 +390,17 @@ double HemisphereBackend::addAnalyticRow(PatchId i, Workspace& ws, RayCounts& co
     ws.exchange->publish(i, ws.outgoing);
     ws.touched.clear();
     return direct / unit;
+}
+
+double HemisphereBackend::contactValue(PatchId e, PatchId r, Workspace& ws, RayCounts& counts, bool& viewed) const {
+    ContactPairs::Cost cost;
+    double unoccluded = 0.0;
+    const double exchange = m_contacts.exchange(e, r, ws.contactScratch, cost, unoccluded);
+    viewed = unoccluded > 0.0;
+    ++counts.contactPairs;
+    counts.contactShafts += cost.shafts;
+    counts.contactEvaluations += cost.evaluations;
+    return exchange / m_scene->patches[e].area * (double(m_options.origins) * m_options.samples);
 }
 
 void HemisphereBackend::emitterRule(PatchId e, int m, Workspace& ws) const {
@@ -457,14 +488,22 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
     for (PatchId j = 0; j < m_geometry.shapes.size(); ++j) {
         if (j == i || !emitsFor(j, i)) continue;
         const std::uint32_t begin = std::uint32_t(ws.factors.size());
+        double contact = 0.0;  // a close pair's value, computed here (no terms)
         if (ws.published[j] >= 0.0f) {
             ws.handed.push_back(ws.published[j]);
-        } else if (ws.exchange->finished(j, ticket) || !reversedTerms(j, i, true, ws, counts)) {
+        } else if (ws.exchange->finished(j, ticket)) {
+            continue;  // row j had no term for i
+        } else if (contactPair(j, i)) {
+            bool viewed = false;
+            contact = contactValue(j, i, ws, counts, viewed);
+            if (!viewed) continue;  // no term (as row j publishes none)
+            ws.handed.push_back(handedValue(contact, j, i));
+        } else if (!reversedTerms(j, i, true, ws, counts)) {
             continue;  // no point of j has a term for i
         } else {
             ws.handed.push_back(-1.0f);  // from the terms below
         }
-        ws.reversedTerm.push_back(0.0);
+        ws.reversedTerm.push_back(contact);
         ws.reversed.push_back(j);
         ws.termBegin.push_back(begin);
         ws.termEnd.push_back(std::uint32_t(ws.factors.size()));
@@ -506,6 +545,7 @@ double HemisphereBackend::addReversedPairs(PatchId i, Workspace& ws, RayCounts& 
 bool HemisphereBackend::reversedTerms(PatchId j, PatchId i, bool rays, Workspace& ws, RayCounts& counts) const {
     const PatchShape& receiver = m_geometry.shapes[i];
     const PatchShape& emitter = m_geometry.shapes[j];
+    if (contactPair(j, i)) return false;  // a close pair is computed whole, without terms
     // No point of j has a term when all of i lies below j's plane or all of j behind i's (with a
     // margin of j's radius for the points off its centroid's plane).
     if (emitter.normal.dot(receiver.centroid - emitter.centroid) <= -receiver.radius - emitter.radius ||

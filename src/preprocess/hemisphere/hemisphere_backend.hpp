@@ -3,6 +3,7 @@
 
 #include "preprocess/form_factor_backend.hpp"
 #include "rays/ray_scene.hpp"
+#include "preprocess/hemisphere/contact_pairs.hpp"
 #include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/far_rule.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
@@ -43,6 +44,8 @@ public:
     /// its pairs handed over by rows that finished before it (pair_exchange.hpp).
     void orderRows(std::vector<PatchId>& rows) const override;
     FormFactorProvenance provenance() const override;
+    /// The analytic estimator: each pair from its emitting row (its silhouette split included).
+    bool pairsFromEmitters() const override { return m_analytic; }
     std::map<std::string, std::string> parameters() const override;
 
     const RayScene& rayScene() const { return *m_rays; }
@@ -80,11 +83,20 @@ private:
         return ruleOrder(e, r);
     }
     /// The order of the m x m rule alone (a far pair whose factor needs exact visibility takes it).
-    int ruleOrder(PatchId e, PatchId r) const {
+    int ruleOrder(PatchId e, PatchId r) const { return m_orders(ruleRatio(e, r)); }
+    /// r's nearest possible point from e's centroid, in e's radii.
+    double ruleRatio(PatchId e, PatchId r) const {
         const PatchShape& a = m_geometry.shapes[e];
         const PatchShape& b = m_geometry.shapes[r];
-        return m_orders(((b.centroid - a.centroid).norm() - b.radius) / a.radius);
+        return ((b.centroid - a.centroid).norm() - b.radius) / a.radius;
     }
+    /// Whether (e, r) is a close pair (within kNearDistance, where the factor varies fastest over e
+    /// and the patches may touch): computed as a whole by m_contacts, not by e's rules.
+    bool contactPair(PatchId e, PatchId r) const { return !(ruleRatio(e, r) >= kNearDistance); }
+    /// A close pair's value in ray units of row e (A_e F_er / A_e x unit): a function of the pair
+    /// alone; `viewed` says whether it has a view at all (unoccluded value above 0: a term, visible
+    /// or hidden, for the silhouette statuses).
+    double contactValue(PatchId e, PatchId r, Workspace& ws, RayCounts& counts, bool& viewed) const;
     /// The points and weights (summing to 1) of the m x m rule over patch e into ws.quadPoints and
     /// ws.quadWeights: one function for both rows of a pair, so that their terms agree bit for bit.
     void emitterRule(PatchId e, int m, Workspace& ws) const;
@@ -126,6 +138,7 @@ private:
     std::string m_imagesRefused;  ///< why images were not used although asked for (rays carry the chains)
     bool m_visibility = true;  ///< analytic estimator: some patch can obstruct (obstructingPatches)
     ShadowPolygons m_shadows;  ///< the patches that can obstruct, for exact partial visibility
+    ContactPairs m_contacts;   ///< close pairs, exact (contactPair)
     double m_exactAbove = 0.0;  ///< point factors above this get shadow polygons instead of a shadow ray
     PatchGeometry m_geometry;  ///< analytic estimator only
     EmitterOrders m_orders{1.0, 1, 1};  ///< the emitter rule's order per pair (emitter_rule.hpp)

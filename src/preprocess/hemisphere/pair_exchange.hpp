@@ -1,6 +1,7 @@
 // Pair terms handed from the row that computes them to the row of the pair's other patch.
 #pragma once
 
+#include "engine/emitted_pairs.hpp"
 #include "engine/scene.hpp"
 
 #include <atomic>
@@ -11,12 +12,6 @@
 #include <vector>
 
 namespace hemirad {
-
-/// Which patch of a pair computes it: the smaller one (then the lower index).
-inline bool emitsFor(const Scene& scene, PatchId e, PatchId r) {
-    const double a = scene.patches[e].area, b = scene.patches[r].area;
-    return a < b || (a == b && e < r);
-}
 
 /// Row e's terms for receiver r, in `unit`s per unit of F_er, as the entry F_re that row r takes
 /// (A_e F_er / A_r, rounded to F's float).

@@ -1,0 +1,35 @@
+// Pairs of F computed once: which patch of a pair computes it, and F's entries of the other patch
+// taken from that computation (A_i F_ij = A_j F_ji to F's float rounding).
+#pragma once
+
+#include "engine/form_factors.hpp"
+#include "engine/scene.hpp"
+
+#include <cstddef>
+
+namespace hemirad {
+
+/// Which patch of a pair computes it (the analytic estimator's emitting patch): the smaller one,
+/// then the lower index.
+inline bool emitsFor(const Scene& scene, PatchId e, PatchId r) {
+    const double a = scene.patches[e].area, b = scene.patches[r].area;
+    return a < b || (a == b && e < r);
+}
+
+/// What takePairsFromEmitters changed.
+struct EmittedPairsReport {
+    std::size_t pairs = 0;     ///< receiver entries set from their emitting row (changed or not)
+    std::size_t changed = 0;   ///< of those, entries that changed beyond float rounding (1e-6 relative)
+    std::size_t added = 0;     ///< entries the receiver's row lacked
+    std::size_t removed = 0;   ///< entries the emitting row has not
+    double largestChange = 0;  ///< the largest |change| of an entry (F units)
+};
+
+/// For every pair (e, r) with emitsFor(e, r) whose rows were both computed: F_re = A_e F_er / A_r, so
+/// that each pair's value is the one its emitting row computed, whichever row met it first, on any
+/// thread (the analytic estimator's rows agree bit for bit where both rows evaluated the pair alike;
+/// where one row split a receiver on a silhouette and the other did not, the emitting row's value
+/// stands). Rows whose emitting partner was not computed keep their own value. Threads: OpenMP.
+EmittedPairsReport takePairsFromEmitters(FormFactors& F, const Scene& scene);
+
+}  // namespace hemirad

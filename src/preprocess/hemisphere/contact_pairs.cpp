@@ -1,0 +1,175 @@
+// Close pairs: the exact unoccluded exchange area, a shaft test, and the adaptive hidden part.
+#include "preprocess/hemisphere/contact_pairs.hpp"
+
+#include "preprocess/hemisphere/point_polygon.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace hemirad {
+
+namespace {
+
+/// Dunavant's degree-5 rule on a triangle: barycentric points (a, b, b) in 3 rotations, weights
+/// summing to 1.
+struct TriangleRule {
+    std::array<std::array<double, 3>, 7> point;
+    std::array<double, 7> weight;
+};
+const TriangleRule& dunavant5() {
+    static const TriangleRule rule = [] {
+        TriangleRule t;
+        const double a1 = 0.059715871789770, b1 = 0.470142064105115, w1 = 0.132394152788506;
+        const double a2 = 0.797426985353087, b2 = 0.101286507323456, w2 = 0.125939180544827;
+        t.point[0] = {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
+        t.weight[0] = 0.225;
+        for (int k = 0; k < 3; ++k) {
+            std::array<double, 3> p1 = {b1, b1, b1}, p2 = {b2, b2, b2};
+            p1[k] = a1;
+            p2[k] = a2;
+            t.point[1 + k] = p1;
+            t.weight[1 + k] = w1;
+            t.point[4 + k] = p2;
+            t.weight[4 + k] = w2;
+        }
+        return t;
+    }();
+    return rule;
+}
+
+/// The planes of the convex hull of two planar convex polygons, inward: each polygon's own plane
+/// and every plane through an edge of one and a corner of the other that has all corners of both
+/// on its inner side (the hull's bridge faces).
+void hullPlanes(const std::vector<Vec3>& a, const Vec3& normalA, const std::vector<Vec3>& b, const Vec3& normalB,
+                double tolerance, std::vector<Vec3>& normals, std::vector<double>& offsets) {
+    normals.clear();
+    offsets.clear();
+    normals.push_back(normalA);
+    offsets.push_back(normalA.dot(a[0]));
+    normals.push_back(normalB);
+    offsets.push_back(normalB.dot(b[0]));
+    const auto bridges = [&](const std::vector<Vec3>& p, const std::vector<Vec3>& q) {
+        for (std::size_t k = 0; k < p.size(); ++k) {
+            const Vec3& p0 = p[k];
+            const Vec3 edge = p[(k + 1) % p.size()] - p0;
+            for (const Vec3& v : q) {
+                Vec3 m = edge.cross(v - p0);
+                const double length = m.norm();
+                if (!(length > 0.0)) continue;
+                m /= length;
+                double low = 0.0, high = 0.0;
+                for (const auto* set : {&p, &q})
+                    for (const Vec3& y : *set) {
+                        const double h = m.dot(y - p0);
+                        low = std::min(low, h);
+                        high = std::max(high, h);
+                    }
+                if (low >= -tolerance) {
+                    normals.push_back(m);
+                    offsets.push_back(m.dot(p0));
+                } else if (high <= tolerance) {
+                    normals.push_back(-m);
+                    offsets.push_back(-m.dot(p0));
+                }
+            }
+        }
+    };
+    bridges(a, b);
+    bridges(b, a);
+}
+
+double triangleArea(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * (b - a).cross(c - a).norm(); }
+
+}  // namespace
+
+double ContactPairs::exchange(PatchId e, PatchId r, Scratch& s, Cost& cost, double& unoccluded) const {
+    const PatchShape& a = m_geometry->shapes[e];
+    const PatchShape& b = m_geometry->shapes[r];
+    const double exact =
+        exchangeArea(m_geometry->polygon(e), a.count, a.normal, m_geometry->polygon(r), b.count, b.normal, s.exchange);
+    unoccluded = exact;
+    if (!(exact > 0.0) || !m_visibility) return exact;
+    return std::max(0.0, exact - hidden(e, r, exact, s, cost));
+}
+
+double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost& cost) const {
+    // The parts of e and r in front of each other (exchangeArea's clipping).
+    s.emitter = s.exchange.e;
+    s.receiver = s.exchange.r;
+    const Vec3& n = m_geometry->shapes[e].normal;
+    const Vec3& normalR = m_geometry->shapes[r].normal;
+    double size = 0.0;
+    for (const Vec3& y : s.emitter) size = std::max(size, (y - s.receiver[0]).norm());
+    const double tolerance = 1e-9 * size;
+    hullPlanes(s.emitter, n, s.receiver, normalR, tolerance, s.hullNormals, s.hullOffsets);
+    m_shadows->collect(s.hullNormals.data(), s.hullOffsets.data(), s.hullNormals.size(), tolerance, e, r, s.blockers,
+                       s.shadow);
+    if (s.blockers.empty()) return 0.0;
+    ++cost.shafts;
+
+    // sum over the emitter part of (f - visible) dA, globally adaptive on triangles from its fan:
+    // the triangle whose children disagree most with it is split next (QUADPACK's strategy), until
+    // the disagreements sum below the tolerance or the budget is spent; the children's sums are the
+    // estimate. Deterministic: both rows of a pair get the same bits.
+    const TriangleRule& rule = dunavant5();
+    const Vec3* receiver = s.receiver.data();
+    const std::size_t corners = s.receiver.size();
+    std::uint32_t evaluations = 0;
+    const auto estimate = [&](const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+        double sum = 0.0;
+        for (std::size_t k = 0; k < rule.weight.size(); ++k) {
+            const Vec3 x = rule.point[k][0] * p0 + rule.point[k][1] * p1 + rule.point[k][2] * p2;
+            const double f = pointToPolygonFactor(x, n, receiver, corners);
+            if (!(f > 0.0)) continue;
+            const double visible = m_shadows->visibleFactor(x, n, receiver, corners, e, r, f, s.shadow, &s.blockers);
+            sum += rule.weight[k] * (f - visible);
+        }
+        evaluations += std::uint32_t(rule.weight.size());
+        return sum * triangleArea(p0, p1, p2);
+    };
+    // A cell: a triangle, its rule's value and its four children's (corner-midpoint split).
+    const auto open = [&](const Vec3& p0, const Vec3& p1, const Vec3& p2, double coarse) {
+        ContactCell c{{p0, p1, p2}, coarse, {}, 0.0, 0.0};
+        const Vec3 m01 = 0.5 * (p0 + p1), m12 = 0.5 * (p1 + p2), m20 = 0.5 * (p2 + p0);
+        c.child = {estimate(p0, m01, m20), estimate(m01, p1, m12), estimate(m20, m12, p2), estimate(m12, m20, m01)};
+        c.fine = c.child[0] + c.child[1] + c.child[2] + c.child[3];
+        c.error = std::abs(c.fine - c.coarse);
+        return c;
+    };
+    const auto larger = [](const ContactCell& a, const ContactCell& b) { return a.error < b.error; };
+    s.cells.clear();
+    double error = 0.0, area = 0.0;
+    for (std::size_t k = 1; k + 1 < s.emitter.size(); ++k) {
+        const Vec3 &p0 = s.emitter[0], &p1 = s.emitter[k], &p2 = s.emitter[k + 1];
+        area += triangleArea(p0, p1, p2);
+        s.cells.push_back(open(p0, p1, p2, estimate(p0, p1, p2)));
+        error += s.cells.back().error;
+        std::push_heap(s.cells.begin(), s.cells.end(), larger);
+    }
+    // The budget shrinks with the blockers in the shaft (each evaluation meets them all): a big
+    // patch's pairs in a cluttered scene get one refinement, a touching pair past one blocker 2000.
+    const double allowed = std::max(kHiddenTolerance * exact, kHiddenFloor * area);
+    const std::uint32_t budget =
+        std::max<std::uint32_t>(kLeastEvaluations, kBudget / std::uint32_t(std::max<std::size_t>(s.blockers.size(), 1)));
+    while (error > allowed && evaluations < budget) {
+        std::pop_heap(s.cells.begin(), s.cells.end(), larger);
+        const ContactCell worst = s.cells.back();
+        s.cells.pop_back();
+        error -= worst.error;
+        const Vec3 &p0 = worst.corner[0], &p1 = worst.corner[1], &p2 = worst.corner[2];
+        const Vec3 m01 = 0.5 * (p0 + p1), m12 = 0.5 * (p1 + p2), m20 = 0.5 * (p2 + p0);
+        const std::array<std::array<Vec3, 3>, 4> children = {{{p0, m01, m20}, {m01, p1, m12}, {m20, m12, p2}, {m12, m20, m01}}};
+        for (std::size_t c = 0; c < 4; ++c) {
+            s.cells.push_back(open(children[c][0], children[c][1], children[c][2], worst.child[c]));
+            error += s.cells.back().error;
+            std::push_heap(s.cells.begin(), s.cells.end(), larger);
+        }
+    }
+    double sum = 0.0;
+    for (const ContactCell& c : s.cells) sum += c.fine;
+    cost.evaluations += evaluations;
+    return sum;
+}
+
+}  // namespace hemirad

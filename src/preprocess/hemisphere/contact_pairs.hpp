@@ -1,0 +1,83 @@
+// Pairs of patches close to each other (touching or within a few radii): one computation per pair,
+// exact where nothing lies between them, adaptive where something does.
+#pragma once
+
+#include "preprocess/hemisphere/exchange_area.hpp"
+#include "preprocess/hemisphere/patch_geometry.hpp"
+#include "preprocess/hemisphere/shadow_polygons.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace hemirad {
+
+/// A triangle of a close pair's hidden-part integral: its rule's value, its four children's, and
+/// their disagreement (the error estimate by which the next triangle to split is chosen).
+struct ContactCell {
+    std::array<Vec3, 3> corner;
+    double coarse = 0.0;
+    std::array<double, 4> child{};
+    double fine = 0.0, error = 0.0;
+};
+
+/// A close pair's exchange area A_e F_er as a function of the pair alone, so that whichever row,
+/// thread or rank meets it computes the same bits (the rows of a pair agree without being told):
+///   - the unoccluded part exactly, by the double contour integral (exchange_area.hpp), whatever
+///     the contact: shared or partly shared edges, a corner on the other's edge (T-junctions);
+///   - nothing more where no patch that can obstruct reaches into the pair's shaft (the convex
+///     hull of the parts of e and r in front of each other; Haines & Wallace 1994's shaft culling);
+///   - otherwise minus the hidden part, sum over e of (f - visible) with Lambert's factor f and
+///     the visible part from shadow polygons at each point, integrated by an adaptive rule over e
+///     (a degree-5 seven-point rule on triangles, the one whose four children disagree most with
+///     it split next) to kHiddenTolerance of the exact value, within a budget of evaluations.
+/// Far pairs keep the analytic estimator's rules: their factor varies slowly over the emitter.
+class ContactPairs {
+public:
+    /// The hidden part is refined until its triangles' disagreements sum below this fraction of the
+    /// pair's unoccluded value, or below kHiddenFloor of F (whichever is larger). The disagreement
+    /// overstates the error: a touching pair past an occluder comes within 6e-6 relative
+    /// (test_contact_pairs.cpp).
+    static constexpr double kHiddenTolerance = 1e-4;
+    static constexpr double kHiddenFloor = 1e-5;
+    /// Visible-part evaluations one pair's hidden part may take, divided by the blockers in its
+    /// shaft (each evaluation meets them all), and the least: the first split of each triangle.
+    static constexpr std::uint32_t kBudget = 2000;
+    static constexpr std::uint32_t kLeastEvaluations = 35;
+
+    struct Scratch {
+        ExchangeAreaScratch exchange;
+        std::vector<Vec3> emitter, receiver;  // the parts in front of each other
+        std::vector<Vec3> hullNormals;        // the shaft's planes (inward normals and offsets)
+        std::vector<double> hullOffsets;
+        std::vector<std::uint32_t> blockers;  // the blockers reaching into the shaft
+        std::vector<ContactCell> cells;       // the hidden part's triangles, a heap by error
+        ShadowPolygons::Scratch shadow;
+    };
+    /// What the pair took, for the run's report.
+    struct Cost {
+        std::uint64_t shafts = 0;       ///< pairs whose shaft held a blocker
+        std::uint64_t evaluations = 0;  ///< visible-part evaluations of those pairs
+    };
+
+    /// The geometry and the blockers (both outlive this); `visibility` false: nothing can obstruct.
+    void build(const PatchGeometry& geometry, const ShadowPolygons& shadows, bool visibility) {
+        m_geometry = &geometry;
+        m_shadows = &shadows;
+        m_visibility = visibility && !shadows.empty();
+    }
+
+    /// A_e F_er (area units of the scene) past the blockers, and in `unoccluded` without them (0: the
+    /// pair has no view at all, not even a hidden one). Thread-safe with one Scratch per thread.
+    double exchange(PatchId e, PatchId r, Scratch& s, Cost& cost, double& unoccluded) const;
+
+private:
+    /// The hidden part of the exchange, sum over the emitter part of (f - visible).
+    double hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost& cost) const;
+
+    const PatchGeometry* m_geometry = nullptr;
+    const ShadowPolygons* m_shadows = nullptr;
+    bool m_visibility = false;
+};
+
+}  // namespace hemirad

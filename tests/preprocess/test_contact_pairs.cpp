@@ -1,0 +1,255 @@
+// Touching pairs as non-conforming meshes bring them (T-junctions, a corner on the other's edge, a
+// shared corner, coplanar neighbours), with and without an occluder, against a reference computed
+// here: Lambert's point-to-polygon factor integrated over the emitter by adaptive subdivision, the
+// occluder's part cut out of the receiver by its cone from each point. Nothing of the production
+// path is used for the reference.
+#include "support.hpp"
+
+#include "preprocess/form_factor_job.hpp"
+#include "preprocess/hemisphere/exchange_area.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
+
+#include <doctest/doctest.h>
+
+#include <array>
+#include <cmath>
+#include <functional>
+#include <optional>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+namespace {
+
+using Polygon = std::vector<Vec3>;
+
+Vec3 newell(const Polygon& p) {
+    Vec3 n = Vec3::Zero();
+    for (std::size_t k = 0; k < p.size(); ++k) n += p[k].cross(p[(k + 1) % p.size()]);
+    return n.normalized();
+}
+
+double area(const Polygon& p) {
+    Vec3 n = Vec3::Zero();
+    for (std::size_t k = 0; k < p.size(); ++k) n += p[k].cross(p[(k + 1) % p.size()]);
+    return 0.5 * n.norm();
+}
+
+Vec3 centre(const Polygon& p) {
+    Vec3 c = Vec3::Zero();
+    for (const Vec3& y : p) c += y;
+    return c / double(p.size());
+}
+
+/// The polygon wound so that its normal faces the other's centre.
+Polygon facing(Polygon p, const Polygon& other) {
+    if (newell(p).dot(centre(other) - centre(p)) < 0.0) std::reverse(p.begin(), p.end());
+    return p;
+}
+
+/// Lambert's factor from x (normal n) to a polygon above x's plane, in the arc-cosine form.
+double lambert(const Vec3& x, const Vec3& n, const Polygon& p) {
+    double sum = 0.0;
+    for (std::size_t k = 0; k < p.size(); ++k) {
+        const Vec3 a = (p[k] - x).normalized(), b = (p[(k + 1) % p.size()] - x).normalized();
+        const Vec3 c = a.cross(b);
+        const double s = c.norm();
+        if (s < 1e-300) continue;
+        sum += std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * n.dot(c) / s;
+    }
+    return std::abs(sum) / (2.0 * kPi);
+}
+
+/// The part of p with m . (y - o) >= 0.
+Polygon clip(const Polygon& p, const Vec3& o, const Vec3& m) {
+    Polygon out;
+    for (std::size_t k = 0; k < p.size(); ++k) {
+        const Vec3 &a = p[k], &b = p[(k + 1) % p.size()];
+        const double ha = m.dot(a - o), hb = m.dot(b - o);
+        if (ha >= 0.0) out.push_back(a);
+        if ((ha > 0.0 && hb < 0.0) || (ha < 0.0 && hb > 0.0)) out.push_back(a + (ha / (ha - hb)) * (b - a));
+    }
+    return out.size() >= 3 ? out : Polygon{};
+}
+
+/// F from emitter e to receiver r: the integral over e of Lambert's factor to r's part above e's
+/// plane (zero where x is behind r's plane) less, with an occluder o lying between them, the factor
+/// of r's part inside the cone from x through o; adaptive 4-way subdivision of e's fan triangles
+/// with Dunavant's degree-5 rule until a triangle and its children agree within `tolerance` x its
+/// share of e's area (so that F is within about `tolerance`).
+double referenceFactor(const Polygon& e, const Polygon& r, const std::optional<Polygon>& o, double tolerance) {
+    const Vec3 ne = newell(e), nr = newell(r);
+    const Polygon above = clip(r, e[0], ne);
+    auto integrand = [&](const Vec3& x) {
+        if (nr.dot(x - r[0]) <= 0.0 || above.empty()) return 0.0;
+        double f = lambert(x, ne, above);
+        if (o) {
+            Polygon shadow = above;
+            const Vec3 oc = centre(*o);
+            for (std::size_t k = 0; k < o->size() && !shadow.empty(); ++k) {
+                Vec3 m = ((*o)[k] - x).cross((*o)[(k + 1) % o->size()] - x);
+                if (m.dot(oc - x) < 0.0) m = -m;
+                shadow = clip(shadow, x, m);
+            }
+            if (!shadow.empty()) f -= lambert(x, ne, shadow);
+        }
+        return f;
+    };
+    static const double a1 = 0.059715871789770, b1 = 0.470142064105115, w1 = 0.132394152788506;
+    static const double a2 = 0.797426985353087, b2 = 0.101286507323456, w2 = 0.125939180544827;
+    auto rule = [&](const Vec3& p, const Vec3& q, const Vec3& s) {
+        double sum = 0.225 * integrand((p + q + s) / 3.0);
+        sum += w1 * (integrand(a1 * p + b1 * q + b1 * s) + integrand(b1 * p + a1 * q + b1 * s) + integrand(b1 * p + b1 * q + a1 * s));
+        sum += w2 * (integrand(a2 * p + b2 * q + b2 * s) + integrand(b2 * p + a2 * q + b2 * s) + integrand(b2 * p + b2 * q + a2 * s));
+        return sum * 0.5 * (q - p).cross(s - p).norm();
+    };
+    const double total = area(e);
+    std::function<double(const Vec3&, const Vec3&, const Vec3&, double, int)> adapt =
+        [&](const Vec3& p, const Vec3& q, const Vec3& s, double coarse, int depth) {
+            const Vec3 pq = 0.5 * (p + q), qs = 0.5 * (q + s), sp = 0.5 * (s + p);
+            const std::array<double, 4> fine = {rule(p, pq, sp), rule(pq, q, qs), rule(sp, qs, s), rule(pq, qs, sp)};
+            const double sum = fine[0] + fine[1] + fine[2] + fine[3];
+            if (depth >= 24 || std::abs(sum - coarse) <= tolerance * 0.5 * (q - p).cross(s - p).norm()) return sum;
+            return adapt(p, pq, sp, fine[0], depth + 1) + adapt(pq, q, qs, fine[1], depth + 1) +
+                   adapt(sp, qs, s, fine[2], depth + 1) + adapt(pq, qs, sp, fine[3], depth + 1);
+        };
+    double sum = 0.0;
+    for (std::size_t k = 1; k + 1 < e.size(); ++k) sum += adapt(e[0], e[k], e[k + 1], rule(e[0], e[k], e[k + 1]), 0);
+    return sum / total;
+}
+
+struct Pair {
+    Polygon emitter, receiver;
+};
+
+/// The four touching pairs of issue 34's table (an urban district's triangulation, z up, metres),
+/// wound to face each other.
+std::vector<Pair> districtPairs() {
+    const std::vector<Pair> raw = {
+        {{{30, 56, 0}, {30, 31, 0}, {31, 31, 0}}, {{30, 51, 0}, {30, 41, 10}, {30, 41, 0}}},   // part of an edge shared
+        {{{30, 56, 0}, {30, 31, 0}, {31, 31, 0}}, {{30, 41, 10}, {30, 31, 10}, {30, 41, 0}}},  // a corner on the other's edge
+        {{{31, 31, 0}, {31, 56, 0}, {30, 56, 0}}, {{30, 56, 0}, {30, 51, 10}, {30, 51, 0}}},   // one shared corner
+        {{{94, 99, 0}, {79, 103, 0}, {79, 99, 0}}, {{89, 99, 10}, {89, 99, 0}, {79, 99, 10}}}, // a corner on the other's edge
+    };
+    std::vector<Pair> pairs;
+    for (const Pair& p : raw) pairs.push_back({facing(p.emitter, p.receiver), facing(p.receiver, p.emitter)});
+    return pairs;
+}
+
+/// F of a scene of the given polygons with default flags (the analytic estimator), every row.
+FormFactors defaultF(const std::vector<Polygon>& polygons) {
+    SceneBuilder b;
+    for (const Polygon& p : polygons) b.polygon(p);
+    return computeFormFactors(b.scene, MethodSettings::of(HemisphereOptions{}), neededRows(b.scene, true)).F;
+}
+
+double exchange(const Polygon& e, const Polygon& r) {
+    ExchangeAreaScratch scratch;
+    return exchangeArea(e.data(), e.size(), newell(e), r.data(), r.size(), newell(r), scratch);
+}
+
+/// |A_e F_er - A_r F_re| / max of the two, from F's floats.
+double reciprocity(const FormFactors& F, const std::vector<Polygon>& polygons, PatchId e, PatchId r) {
+    const double a = area(polygons[e]) * F.at(e, r), b = area(polygons[r]) * F.at(r, e);
+    return std::abs(a - b) / std::max(a, b);
+}
+
+/// The occluder of the occluded cases: a horizontal square at z = 1 between the ground and the wall
+/// x = 30 (it touches neither), so that from every ground point it lies between the point and the
+/// wall's part it hides.
+Polygon occluder() { return {{30.1, 40, 1}, {30.9, 40, 1}, {30.9, 50, 1}, {30.1, 50, 1}}; }
+
+}  // namespace
+
+TEST_CASE("Exchange areas by the contour integral: plates, perpendicular plates and the cube to closed forms, either way round") {
+    const Polygon floor = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    const Polygon ceiling = {{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}};
+    const Polygon tall = {{0, 0, 0}, {0, 1, 0}, {0, 1, 2}, {0, 0, 2}};  // x = 0, facing +x, sharing the floor's edge
+    const Polygon wall = {{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}};
+    CHECK(exchange(floor, ceiling) == doctest::Approx(c11(1, 1, 1)).epsilon(1e-12));
+    CHECK(exchange(floor, tall) == doctest::Approx(c14(1, 2, 1)).epsilon(1e-11));
+    CHECK(exchange(tall, floor) == doctest::Approx(c14(1, 2, 1)).epsilon(1e-11));
+    CHECK(exchange(floor, wall) == doctest::Approx(kCubeAdjacent).epsilon(1e-10));
+    // Coplanar neighbours and back-to-back patches exchange nothing.
+    CHECK(exchange(floor, {{1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}}) == 0.0);
+    CHECK(exchange(floor, {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}}) == 0.0);
+}
+
+TEST_CASE("Contact classes are told apart: overlapping edges, a corner on an edge, a shared corner, a corner on a patch, coplanar") {
+    const auto classify = [](const Polygon& a, const Polygon& b) {
+        return classifyContact(a.data(), a.size(), newell(a), b.data(), b.size(), newell(b), 1e-9);
+    };
+    const std::vector<Pair> pairs = districtPairs();
+    CHECK(classify(pairs[0].emitter, pairs[0].receiver) == PairContact::EdgeOverlap);
+    CHECK(classify(pairs[1].emitter, pairs[1].receiver) == PairContact::CornerOnEdge);
+    CHECK(classify(pairs[2].emitter, pairs[2].receiver) == PairContact::SharedCorner);
+    CHECK(classify(pairs[3].emitter, pairs[3].receiver) == PairContact::CornerOnEdge);
+    const Polygon ground = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}};
+    CHECK(classify(ground, {{2, 2, 0}, {3, 2, 1}, {2, 3, 1}}) == PairContact::CornerOnPatch);
+    CHECK(classify(ground, {{4, 0, 0}, {5, 0, 0}, {5, 4, 0}}) == PairContact::Coplanar);
+    CHECK(classify(ground, {{6, 0, 1}, {7, 0, 1}, {7, 1, 2}}) == PairContact::None);
+    CHECK(std::string(contactName(PairContact::EdgeOverlap)) == "overlapping edges");
+}
+
+TEST_CASE("Touching pairs of a non-conforming district (issue 34's table) are exact to 1e-6 with default flags, and reciprocal") {
+    const std::vector<Pair> pairs = districtPairs();
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        CAPTURE(k);
+        const Pair& p = pairs[k];
+        const double expected = referenceFactor(p.emitter, p.receiver, std::nullopt, 1e-10);
+        const FormFactors F = defaultF({p.emitter, p.receiver});
+        CHECK(F.at(0, 1) == doctest::Approx(expected).epsilon(1e-6));
+        CHECK(reciprocity(F, {p.emitter, p.receiver}, 0, 1) < 2.5e-7);  // F's float rounding
+        CHECK(exchange(p.emitter, p.receiver) / area(p.emitter) == doctest::Approx(expected).epsilon(1e-9));
+    }
+}
+
+TEST_CASE("A shared corner's tilted neighbour, a corner on a patch and a patch coplanar with its neighbour, with default flags") {
+    const Polygon ground = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}};
+    const Polygon onCorner = facing({{4, 4, 0}, {5, 3, 2}, {3, 5, 2}}, ground);   // touches the corner (4, 4, 0)
+    const Polygon inside = facing({{2, 2, 0}, {3, 2, 1.5}, {2, 3, 1}}, ground);  // a corner on the ground's interior
+    const Polygon beside = {{4, 0, 0}, {6, 0, 0}, {6, 4, 0}, {4, 4, 0}};           // coplanar neighbour
+    for (const Polygon& other : {onCorner, inside}) {
+        const FormFactors F = defaultF({ground, other});
+        CHECK(F.at(0, 1) == doctest::Approx(referenceFactor(ground, other, std::nullopt, 1e-8)).epsilon(1e-6));
+        CHECK(F.at(1, 0) == doctest::Approx(referenceFactor(other, ground, std::nullopt, 1e-8)).epsilon(1e-6));
+    }
+    const FormFactors F = defaultF({ground, beside});
+    CHECK(F.nonZeros() == 0);
+}
+
+TEST_CASE("A T-junction chain: a wall's bottom edge covered by three ground triangles sums to the whole ground's closed form") {
+    // Ground [0, 1] x [0, 3] on z = 0 as triangles whose corners on the wall's edge (x = 0) sit at
+    // y = 0, 1.3, 3: none of them is a corner of the wall's two triangles (split along their diagonal).
+    const std::vector<Polygon> ground = {
+        {{0, 0, 0}, {1, 0, 0}, {0, 1.3, 0}},   {{1, 0, 0}, {1, 3, 0}, {0, 1.3, 0}},
+        {{0, 1.3, 0}, {1, 3, 0}, {0, 3, 0}},
+    };
+    const std::vector<Polygon> wall = {{{0, 0, 0}, {0, 3, 0}, {0, 3, 2}}, {{0, 0, 0}, {0, 3, 2}, {0, 0, 2}}};
+    std::vector<Polygon> all = ground;
+    all.insert(all.end(), wall.begin(), wall.end());
+    const FormFactors F = defaultF(all);
+    double exchangeSum = 0.0;
+    for (PatchId g = 0; g < 3; ++g)
+        for (PatchId w = 3; w < 5; ++w) {
+            exchangeSum += area(all[g]) * F.at(g, w);
+            CHECK(reciprocity(F, all, g, w) < 2.5e-7);
+        }
+    // Howell C-14: emitter 1 (deep) x 3 (along the edge), receiver 2 high.
+    CHECK(exchangeSum == doctest::Approx(3.0 * c14(1, 2, 3)).epsilon(1e-6));
+}
+
+TEST_CASE("Touching pairs past an occluder between them are within 1e-5 of the occluded reference, with default flags") {
+    const std::vector<Pair> pairs = districtPairs();
+    for (std::size_t k = 0; k < 2; ++k) {  // the partly shared edge and the corner on an edge
+        CAPTURE(k);
+        const Pair& p = pairs[k];
+        const Polygon o = occluder();
+        const double expected = referenceFactor(p.emitter, p.receiver, o, 1e-7);
+        const double unoccluded = exchange(p.emitter, p.receiver) / area(p.emitter);
+        CHECK(expected < 0.95 * unoccluded);  // the occluder matters
+        const FormFactors F = defaultF({p.emitter, p.receiver, o});
+        CHECK(F.at(0, 1) == doctest::Approx(expected).epsilon(1e-5));
+        CHECK(reciprocity(F, {p.emitter, p.receiver, o}, 0, 1) < 2.5e-7);
+    }
+}
