@@ -107,15 +107,25 @@ void obtainFormFactors(Job& job, const std::string& reusePath) {
     for (PatchId i : neededRows(job.scene, options.allRows))
         if (job.F.owner[i] < 0) rows.push_back(i);
     if (rows.empty()) return;
-    const MethodSettings& method = options.formFactors;
+    // This rank's share of the rows against its share of the node's memory; --estimator auto
+    // decides on the smallest share of any rank, so that every rank decides alike.
+    std::vector<PatchId> share;
+    for (std::size_t k = std::size_t(context.rank()); k < rows.size(); k += std::size_t(context.size()))
+        share.push_back(rows[k]);
+    std::uint64_t myMemory = availableMemory() / std::size_t(context.ranksOnNode()), leastMemory = 0;
+    MPI_Allreduce(&myMemory, &leastMemory, 1, MPI_UINT64_T, MPI_MIN, MPI_COMM_WORLD);
+    MethodSettings method;
+    std::string note;
     context.collectively([&] {
+        std::vector<PatchId> largestShare;  // rank 0's share is the largest: the same list on every rank
+        for (std::size_t k = 0; k < rows.size(); k += std::size_t(context.size())) largestShare.push_back(rows[k]);
+        // Unknown on some rank: as one process with unknown memory (the exact estimator).
+        const std::size_t budget = leastMemory ? std::size_t(leastMemory) : std::size_t(1) << 62;
+        method = resolveSettings(job.scene, options.formFactors, largestShare, note, budget);
         if (!options.memoryCheck) return;
-        // This rank's share of the rows against its share of the node's memory.
-        std::vector<PatchId> share;
-        for (std::size_t k = std::size_t(context.rank()); k < rows.size(); k += std::size_t(context.size()))
-            share.push_back(rows[k]);
-        checkFormFactorMemory(job.scene, method, share, availableMemory() / std::size_t(context.ranksOnNode()));
+        checkFormFactorMemory(job.scene, method, share, std::size_t(myMemory));
     });
+    if (context.root() && !note.empty()) job.reporter.line("form factors: " + note);
     const BackendDescriptor& backend = findBackend(method.method);
     const ProgressCallback progress =
         job.reporter.progress("form factors", backend.workPerRow(job.scene, method), backend.workUnit);

@@ -80,7 +80,10 @@ FormFactorUpdate RadiosityPipeline::computeMissingRows(const Scene& scene, FormF
     const std::vector<PatchId> rows = missingRows(scene, haveCurrent ? &current : nullptr);
     FormFactorUpdate update;
     if (!rows.empty()) {
-        const MethodSettings& method = m_policy.backend;
+        // What the back end leaves to the scene and the machine (--estimator auto), decided once.
+        std::string note;
+        const MethodSettings method = resolveSettings(scene, m_policy.backend, rows, note);
+        if (!note.empty()) message("form factors: " + note);
         if (m_policy.memoryCheck) checkFormFactorMemory(scene, method, rows);
         const BackendDescriptor& backend = findBackend(method.method);
         const double workPerRow = backend.workPerRow(scene, method);

@@ -40,6 +40,15 @@ struct BackendOption {
 
 /// What a run of a back end is, for the report and the bench (settings that change nothing, e.g.
 /// directions the analytic estimator never casts, are left out, so equal text means an equal run).
+/// F's predicted size for a set of rows (form_factor_job.hpp): a cheap upper bound, or sample rows
+/// computed and extrapolated.
+struct MemoryPrediction {
+    double bytes = 0;             ///< while F is built
+    double nonzerosPerRow = 0;    ///< the bound's, or the samples' mean
+    std::size_t sampledRows = 0;  ///< 0: the bound alone
+    double secondsPerRow = 0;     ///< the samples' compute time per row (0 without samples)
+};
+
 struct RunDescription {
     std::string settings;           ///< "3072 directions x 1 origin (centroid)", ...
     bool lossFromRays = true;       ///< misses and back faces counted ray by ray (else 1 - row sum)
@@ -66,6 +75,13 @@ struct BackendDescriptor {
     /// Rays (or pixels) one row costs, for progress rates and the memory estimate.
     std::function<double(const Scene&, const MethodSettings&)> workPerRow;
     std::function<RunDescription(const Scene&, const MethodSettings&)> describe;
+    /// Optional: settings the back end leaves to the scene and the machine (the hemisphere's
+    /// --estimator auto) made definite in place, with a note for the report saying what was chosen
+    /// and why; `predict` gives F's size for settings (form_factor_job.hpp), `budget` the bytes F
+    /// may take (0: unknown). Must decide alike on every MPI rank for the same budget.
+    std::function<std::string(const Scene&, MethodSettings&, const std::function<MemoryPrediction(const MethodSettings&)>& predict,
+                              double budget)>
+        resolve;
 
     /// The option with this flag, or null.
     const BackendOption* option(std::string_view flag) const;

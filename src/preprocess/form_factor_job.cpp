@@ -52,29 +52,53 @@ double formFactorMemoryBound(const Scene& scene, const MethodSettings& settings,
     return fixedBytes(scene) + kBytesPerNonzero * double(rows) * std::min(double(scene.size()), raysPerRow * chain);
 }
 
+MemoryPrediction predictFormFactorMemory(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
+                                         double budget) {
+    MemoryPrediction p;
+    p.bytes = formFactorMemoryBound(scene, settings, rows.size());
+    p.nonzerosPerRow = rows.empty() ? 0.0 : (p.bytes - fixedBytes(scene)) / kBytesPerNonzero / double(rows.size());
+    if (p.bytes <= budget) return p;
+    // The bound is loose (rays hit the same patches, walls hide most of a city): measure 64 rows
+    // spread over the list.
+    std::vector<PatchId> sample;
+    const std::size_t step = std::max<std::size_t>(1, rows.size() / 64);
+    for (std::size_t k = 0; k < rows.size() && sample.size() < 64; k += step) sample.push_back(rows[k]);
+    const FormFactorRun probe = computeFormFactors(scene, settings, sample);
+    p.sampledRows = sample.size();
+    p.nonzerosPerRow = sample.empty() ? 0.0 : double(probe.F.nonZeros()) / double(sample.size());
+    p.secondsPerRow = sample.empty() ? 0.0 : probe.computeSeconds / double(sample.size());
+    p.bytes = fixedBytes(scene) + 1.1 * kBytesPerNonzero * p.nonzerosPerRow * double(rows.size());
+    return p;
+}
+
+MethodSettings resolveSettings(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
+                               std::string& note, std::size_t available) {
+    note.clear();
+    MethodSettings resolved = settings;
+    const BackendDescriptor& backend = findBackend(settings.method);
+    if (!backend.resolve) return resolved;
+    if (!available) available = availableMemory();
+    const double budget = 0.8 * double(available);
+    note = backend.resolve(
+        scene, resolved, [&](const MethodSettings& s) { return predictFormFactorMemory(scene, s, rows, budget); }, budget);
+    return resolved;
+}
+
 std::size_t checkFormFactorMemory(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
                                   std::size_t available) {
     if (!available) available = availableMemory();
     if (!available) return 0;  // unknown: nothing to compare with
     const double budget = 0.8 * double(available);
-    const double bound = formFactorMemoryBound(scene, settings, rows.size());
-    if (bound <= budget) return std::size_t(bound);
-    // The bound is loose (rays hit the same patches): measure 64 rows spread over the list.
-    std::vector<PatchId> sample;
-    const std::size_t step = std::max<std::size_t>(1, rows.size() / 64);
-    for (std::size_t k = 0; k < rows.size() && sample.size() < 64; k += step) sample.push_back(rows[k]);
-    const FormFactorRun probe = computeFormFactors(scene, settings, sample);
-    const double perRow = sample.empty() ? 0.0 : double(probe.F.nonZeros()) / double(sample.size());
-    const double estimate = fixedBytes(scene) + 1.1 * kBytesPerNonzero * perRow * double(rows.size());
-    if (estimate > budget) {
+    const MemoryPrediction p = predictFormFactorMemory(scene, settings, rows, budget);
+    if (p.bytes > budget) {
         char perRowText[32];
-        std::snprintf(perRowText, sizeof perRowText, "%.0f", perRow);
-        throw Error("form factors: F for " + std::to_string(rows.size()) + " rows needs about " + gib(estimate) +
+        std::snprintf(perRowText, sizeof perRowText, "%.0f", p.nonzerosPerRow);
+        throw Error("form factors: F for " + std::to_string(rows.size()) + " rows needs about " + gib(p.bytes) +
                     " while it is built (" + perRowText + " nonzeros per row, measured on " +
-                    std::to_string(sample.size()) + " rows), more than the " + gib(budget) +
+                    std::to_string(p.sampledRows) + " rows), more than the " + gib(budget) +
                     " available; lower --samples/--origins/--resolution, subdivide less, or pass --no-memory-check");
     }
-    return std::size_t(estimate);
+    return std::size_t(p.bytes);
 }
 
 FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "engine/emitted_pairs.hpp"
+#include "preprocess/backend_registry.hpp"
 #include "preprocess/form_factor_backend.hpp"
 
 #include <atomic>
@@ -31,6 +32,18 @@ std::vector<PatchId> neededRows(const Scene& scene, bool allRows);
 /// An upper bound of the bytes F for `rows` takes while it is built (each nonzero twice, 8 bytes each;
 /// at most one nonzero per ray or pixel and chain step, and per patch). No row is computed.
 double formFactorMemoryBound(const Scene& scene, const MethodSettings& settings, std::size_t rows);
+
+/// F's size for `rows`: the cheap bound (formFactorMemoryBound) when it is within `budget` bytes,
+/// else 64 sample rows spread over the list computed and extrapolated (their nonzeros and time).
+MemoryPrediction predictFormFactorMemory(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
+                                         double budget);
+
+/// The settings to run `rows` with: the back end's choices left to the scene and the machine made
+/// (BackendDescriptor::resolve, e.g. --estimator auto: the exact estimator wherever its F fits in
+/// 0.8 x `available` bytes, 0 = the machine's available memory), and a note saying what was chosen
+/// and why ("" when nothing was left open).
+MethodSettings resolveSettings(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
+                               std::string& note, std::size_t available = 0);
 
 /// Refuses (hemirad::Error with the estimate and how to proceed) when F for `rows` may not fit in
 /// `available` bytes (0 = the machine's available memory). A cheap upper bound first (rays per

@@ -9,7 +9,7 @@
 using namespace hemirad;
 using namespace hemirad::test;
 
-TEST_CASE("Receiver entries take their emitting row's value: replaced, added, removed; uncomputed emitters leave them") {
+TEST_CASE("Receiver entries take their emitting row's value (replaced, added, removed), and rows without a computed emitter keep theirs") {
     // Areas 1 < 2 < 4 < 8: patch 0 emits for all, 1 for 2 and 3, 2 for 3.
     SceneBuilder b;
     b.rectangle(2, 0, 0, 1, 0, 1, true);

@@ -144,7 +144,7 @@ FormFactors defaultF(const std::vector<Polygon>& polygons) {
     return computeFormFactors(b.scene, MethodSettings::of(HemisphereOptions{}), neededRows(b.scene, true)).F;
 }
 
-double exchange(const Polygon& e, const Polygon& r) {
+double exchangeOf(const Polygon& e, const Polygon& r) {
     ExchangeAreaScratch scratch;
     return exchangeArea(e.data(), e.size(), newell(e), r.data(), r.size(), newell(r), scratch);
 }
@@ -167,13 +167,13 @@ TEST_CASE("Exchange areas by the contour integral: plates, perpendicular plates 
     const Polygon ceiling = {{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}};
     const Polygon tall = {{0, 0, 0}, {0, 1, 0}, {0, 1, 2}, {0, 0, 2}};  // x = 0, facing +x, sharing the floor's edge
     const Polygon wall = {{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}};
-    CHECK(exchange(floor, ceiling) == doctest::Approx(c11(1, 1, 1)).epsilon(1e-12));
-    CHECK(exchange(floor, tall) == doctest::Approx(c14(1, 2, 1)).epsilon(1e-11));
-    CHECK(exchange(tall, floor) == doctest::Approx(c14(1, 2, 1)).epsilon(1e-11));
-    CHECK(exchange(floor, wall) == doctest::Approx(kCubeAdjacent).epsilon(1e-10));
+    CHECK(exchangeOf(floor, ceiling) == doctest::Approx(c11(1, 1, 1)).epsilon(1e-12));
+    CHECK(exchangeOf(floor, tall) == doctest::Approx(c14(1, 2, 1)).epsilon(1e-11));
+    CHECK(exchangeOf(tall, floor) == doctest::Approx(c14(1, 2, 1)).epsilon(1e-11));
+    CHECK(exchangeOf(floor, wall) == doctest::Approx(kCubeAdjacent).epsilon(1e-10));
     // Coplanar neighbours and back-to-back patches exchange nothing.
-    CHECK(exchange(floor, {{1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}}) == 0.0);
-    CHECK(exchange(floor, {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}}) == 0.0);
+    CHECK(exchangeOf(floor, {{1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}}) == 0.0);
+    CHECK(exchangeOf(floor, {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}}) == 0.0);
 }
 
 TEST_CASE("Contact classes are told apart: overlapping edges, a corner on an edge, a shared corner, a corner on a patch, coplanar") {
@@ -201,7 +201,7 @@ TEST_CASE("Touching pairs of a non-conforming district (issue 34's table) are ex
         const FormFactors F = defaultF({p.emitter, p.receiver});
         CHECK(F.at(0, 1) == doctest::Approx(expected).epsilon(1e-6));
         CHECK(reciprocity(F, {p.emitter, p.receiver}, 0, 1) < 2.5e-7);  // F's float rounding
-        CHECK(exchange(p.emitter, p.receiver) / area(p.emitter) == doctest::Approx(expected).epsilon(1e-9));
+        CHECK(exchangeOf(p.emitter, p.receiver) / area(p.emitter) == doctest::Approx(expected).epsilon(1e-9));
     }
 }
 
@@ -247,7 +247,7 @@ TEST_CASE("Touching pairs past an occluder between them are within 1e-5 of the o
         const Pair& p = pairs[k];
         const Polygon o = occluder();
         const double expected = referenceFactor(p.emitter, p.receiver, o, 1e-7);
-        const double unoccluded = exchange(p.emitter, p.receiver) / area(p.emitter);
+        const double unoccluded = exchangeOf(p.emitter, p.receiver) / area(p.emitter);
         CHECK(expected < 0.95 * unoccluded);  // the occluder matters
         const FormFactors F = defaultF({p.emitter, p.receiver, o});
         CHECK(F.at(0, 1) == doctest::Approx(expected).epsilon(1e-5));

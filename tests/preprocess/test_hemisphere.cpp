@@ -503,6 +503,36 @@ TEST_CASE("The far rule: C-11 unit squares 10 apart within C rho^-4 of the close
     CHECK(rule.factor(geometry, 1, 0, 1.0) == doctest::Approx(rule.factor(geometry, 0, 1, 1.0)).epsilon(1e-14));
 }
 
+TEST_CASE("--estimator auto is the exact estimator wherever its F fits, the rays where it would not, and says why") {
+    const Scene box = subdivide(bundledScene("cornell_box.obj"), 150.0);
+    const std::vector<PatchId> rows = neededRows(box, false);
+    std::string note;
+    MethodSettings s = defaultSettings("hemisphere");
+    // Plenty of memory: the bound (one entry per patch and row) fits.
+    MethodSettings resolved = resolveSettings(box, s, rows, note, std::size_t(1) << 34);
+    CHECK(resolved.as<HemisphereOptions>().estimator == Estimator::Analytic);
+    CHECK(note.find("analytic (exact factors)") != std::string::npos);
+    CHECK(note.find("at most one entry per patch") != std::string::npos);
+    // A budget between the analytic F's measured size and its bound: the sample rows decide.
+    const double bound = formFactorMemoryBound(box, s, rows.size());
+    const MemoryPrediction measured = predictFormFactorMemory(box, s, rows, 0.0);  // a budget of 0 forces the samples
+    REQUIRE(measured.sampledRows == 64);
+    REQUIRE(measured.bytes < 0.9 * bound);  // the shadows of the blocks: fewer entries than the bound's
+    resolved = resolveSettings(box, s, rows, note, std::size_t(0.5 * (measured.bytes + bound) / 0.8));
+    CHECK(resolved.as<HemisphereOptions>().estimator == Estimator::Analytic);
+    CHECK(note.find("measured on 64 rows") != std::string::npos);
+    // Too little: the rays, with both figures.
+    resolved = resolveSettings(box, s, rows, note, 4096);
+    CHECK(resolved.as<HemisphereOptions>().estimator == Estimator::Rays);
+    CHECK(note.find("rays, because the exact F would need about") != std::string::npos);
+    CHECK(note.find("--estimator analytic insists") != std::string::npos);
+    // A named estimator is left as it is, without a note.
+    setBackendOption(s, "--estimator", "rays");
+    resolved = resolveSettings(box, s, rows, note, std::size_t(1) << 34);
+    CHECK(resolved.as<HemisphereOptions>().estimator == Estimator::Rays);
+    CHECK(note.empty());
+}
+
 TEST_CASE("The hemisphere's options say when they change nothing: directions under the analytic estimator, its rule under rays") {
     const Scene box = bundledScene("cornell_box.obj");  // 20 patches: auto picks the analytic estimator
     const Scene mirror = bundledScene("cornell_mirror.obj");
@@ -514,7 +544,7 @@ TEST_CASE("The hemisphere's options say when they change nothing: directions und
         return option->unusedBecause(scene, s);
     };
     MethodSettings s = defaultSettings("hemisphere");
-    CHECK(unused(box, s, "--samples").find("only makes that choice") != std::string::npos);  // auto: it still chooses
+    CHECK(unused(box, s, "--samples").find("would not fit in memory") != std::string::npos);  // auto: the rays' fallback
     CHECK(unused(box, s, "--fixed-directions").find("casts no directions") != std::string::npos);
     CHECK(unused(box, s, "--pair-digits").empty());
     CHECK(unused(box, s, "--mirror-estimator") == "unused: the scene has no mirrors");

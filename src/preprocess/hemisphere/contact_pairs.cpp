@@ -115,7 +115,7 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
     const TriangleRule& rule = dunavant5();
     const Vec3* receiver = s.receiver.data();
     const std::size_t corners = s.receiver.size();
-    std::uint32_t evaluations = 0;
+    std::uint32_t evaluations = 0, hiddenPoints = 0, visiblePoints = 0;
     const auto estimate = [&](const Vec3& p0, const Vec3& p1, const Vec3& p2) {
         double sum = 0.0;
         for (std::size_t k = 0; k < rule.weight.size(); ++k) {
@@ -123,6 +123,8 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
             const double f = pointToPolygonFactor(x, n, receiver, corners);
             if (!(f > 0.0)) continue;
             const double visible = m_shadows->visibleFactor(x, n, receiver, corners, e, r, f, s.shadow, &s.blockers);
+            hiddenPoints += visible < f;
+            visiblePoints += visible > 0.0;
             sum += rule.weight[k] * (f - visible);
         }
         evaluations += std::uint32_t(rule.weight.size());
@@ -137,13 +139,24 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
         c.error = std::abs(c.fine - c.coarse);
         return c;
     };
-    const auto larger = [](const ContactCell& a, const ContactCell& b) { return a.error < b.error; };
-    s.cells.clear();
-    double error = 0.0, area = 0.0;
+    // First the rule alone on each fan triangle: where every point sees the receiver whole, or
+    // none sees any of it, the pair is taken as wholly visible or hidden (a blocker that the shaft
+    // test found beside the view, or one covering it) at the cost of these points.
+    s.coarse.clear();
+    double area = 0.0;
     for (std::size_t k = 1; k + 1 < s.emitter.size(); ++k) {
         const Vec3 &p0 = s.emitter[0], &p1 = s.emitter[k], &p2 = s.emitter[k + 1];
         area += triangleArea(p0, p1, p2);
-        s.cells.push_back(open(p0, p1, p2, estimate(p0, p1, p2)));
+        s.coarse.push_back(estimate(p0, p1, p2));
+    }
+    if (hiddenPoints == 0) return 0.0;
+    if (visiblePoints == 0) return exact;
+    const auto larger = [](const ContactCell& a, const ContactCell& b) { return a.error < b.error; };
+    s.cells.clear();
+    double error = 0.0;
+    for (std::size_t k = 1; k + 1 < s.emitter.size(); ++k) {
+        const Vec3 &p0 = s.emitter[0], &p1 = s.emitter[k], &p2 = s.emitter[k + 1];
+        s.cells.push_back(open(p0, p1, p2, s.coarse[k - 1]));
         error += s.cells.back().error;
         std::push_heap(s.cells.begin(), s.cells.end(), larger);
     }

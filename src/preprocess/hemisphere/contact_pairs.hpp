@@ -51,6 +51,7 @@ public:
         std::vector<Vec3> hullNormals;        // the shaft's planes (inward normals and offsets)
         std::vector<double> hullOffsets;
         std::vector<std::uint32_t> blockers;  // the blockers reaching into the shaft
+        std::vector<double> coarse;           // the rule's hidden part per fan triangle
         std::vector<ContactCell> cells;       // the hidden part's triangles, a heap by error
         ShadowPolygons::Scratch shadow;
     };

@@ -4,12 +4,12 @@
 #include "preprocess/hemisphere/hemisphere_backend.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 namespace hemirad {
 
-bool usesAnalyticEstimator(const HemisphereOptions& options, std::size_t patches) {
-    if (options.estimator == Estimator::Analytic) return true;
-    return options.estimator == Estimator::Auto && double(patches) <= kAnalyticRaysFactor * double(options.samples);
+bool usesAnalyticEstimator(const HemisphereOptions& options, std::size_t) {
+    return options.estimator != Estimator::Rays;  // auto: the exact estimator unless resolveAuto chose rays
 }
 
 namespace {
@@ -78,8 +78,8 @@ bool castsNoDirections(const Scene& scene, const H& o) {
 std::string unusedSamples(const Scene& scene, const MethodSettings& s) {
     const H& o = s.as<H>();
     if (!castsNoDirections(scene, o)) return {};
-    return o.estimator == Estimator::Auto ? "unused: the analytic estimator casts no directions (auto picks it while "
-                                            "patches <= 5 x Directions: this only makes that choice)"
+    return o.estimator == Estimator::Auto ? "unused: the analytic estimator casts no directions (auto falls back to the "
+                                            "rays, which cast them, only where the exact F would not fit in memory)"
                                           : "unused: the analytic estimator casts no directions";
 }
 
@@ -94,6 +94,36 @@ std::string unusedPairDigits(const Scene& scene, const MethodSettings& s) {
 std::string unusedMirrorTerms(const Scene& scene, const MethodSettings& s) {
     if (!scene.hasMirrors()) return "unused: the scene has no mirrors";
     return usesAnalyticEstimator(s.as<H>(), scene.size()) ? "" : "unused: the rays estimator follows its rays";
+}
+
+std::string sizeText(double bytes) {
+    char text[32];
+    if (bytes >= double(1ull << 30)) std::snprintf(text, sizeof text, "%.2f GiB", bytes / double(1ull << 30));
+    else std::snprintf(text, sizeof text, "%.1f MiB", bytes / double(1ull << 20));
+    return text;
+}
+
+/// --estimator auto: the exact (analytic) estimator wherever its F fits in the memory budget, from
+/// the bound or, when that is too loose, 64 sample rows; the rays only where it would not fit.
+std::string resolveAuto(const Scene& scene, MethodSettings& s, const std::function<MemoryPrediction(const MethodSettings&)>& predict,
+                        double budget) {
+    H& o = s.as<H>();
+    if (o.estimator != Estimator::Auto) return {};
+    o.estimator = Estimator::Analytic;
+    if (!(budget > 0.0)) return "estimator auto: analytic (exact factors; the available memory is unknown)";
+    const MemoryPrediction p = predict(s);
+    char perRow[64];
+    std::snprintf(perRow, sizeof perRow, "%.0f nonzeros per row", p.nonzerosPerRow);
+    const std::string basis = p.sampledRows ? std::string(perRow) + " measured on " + std::to_string(p.sampledRows) + " rows"
+                                            : std::string("at most one entry per patch");
+    if (p.bytes <= budget)
+        return "estimator auto: analytic (exact factors): F needs about " + sizeText(p.bytes) + " (" + basis +
+               ") of the " + sizeText(budget) + " available";
+    o.estimator = Estimator::Rays;
+    const MemoryPrediction rays = predict(s);
+    return "estimator auto: rays, because the exact F would need about " + sizeText(p.bytes) + " (" + basis +
+           "), more than the " + sizeText(budget) + " available (the rays' F: about " + sizeText(rays.bytes) +
+           "); --estimator analytic insists";
 }
 
 BackendDescriptor make() {
@@ -116,7 +146,9 @@ BackendDescriptor make() {
                         &H::jitter, true),
         choiceOption<H, Estimator>("--estimator", "Estimator",
                                    "direct factors from ray counts, or Lambert's exact point-to-polygon factor for each "
-                                   "patch a shadow ray finds visible; auto (default): analytic when patches <= 5 x samples",
+                                   "patch a shadow ray finds visible; auto (default): analytic wherever its F fits in "
+                                   "memory (predicted from 64 sample rows when the bound is too loose), rays only where "
+                                   "it would not (the report says which and why)",
                                    &H::estimator,
                                    {{"auto", Estimator::Auto}, {"rays", Estimator::Rays}, {"analytic", Estimator::Analytic}}),
         choiceOption<H, MirrorEstimator>("--mirror-estimator", "Mirror terms",
@@ -149,6 +181,7 @@ BackendDescriptor make() {
     };
     d.workPerRow = workPerRow;
     d.describe = describe;
+    d.resolve = resolveAuto;
     return d;
 }
 

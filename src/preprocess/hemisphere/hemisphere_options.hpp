@@ -7,7 +7,7 @@
 namespace hemirad {
 
 /// Direct factors from ray counts, Lambert's exact point-to-polygon factor for every patch a shadow
-/// ray finds visible, or automatic (analytic while patches <= kAnalyticRaysFactor x samples).
+/// ray finds visible, or automatic (analytic wherever its F fits in memory: resolveSettings).
 enum class Estimator { Auto, Rays, Analytic };
 
 /// The analytic estimator's terms through mirrors: exact by virtual images (planar convex mirrors),
@@ -27,14 +27,8 @@ struct HemisphereOptions {
     std::uint32_t pairDigits = 2;
 };
 
-/// "auto" picks the analytic estimator while the patch count is at most this many times the
-/// samples. Per origin it casts about one shadow ray per patch where the rays cast `samples`, so its
-/// cost stays within ~5x the rays' (3.9x measured on cornell13k: 12,922 patches, 3072 samples),
-/// and there the rays give fewer than one ray to an average patch, so the analytic per-entry error
-/// is 1-2 orders of magnitude lower at equal time. Larger scenes (street64k) keep the rays.
-constexpr double kAnalyticRaysFactor = 5.0;
-
-/// Whether the hemisphere back end uses the analytic estimator for a scene of `patches` patches.
+/// Whether the hemisphere back end uses the analytic estimator (auto counts as analytic until
+/// resolveSettings has decided, from the memory F would take).
 bool usesAnalyticEstimator(const HemisphereOptions& options, std::size_t patches);
 
 }  // namespace hemirad
