@@ -115,6 +115,10 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
             << run.emittedPairs.changed << " of " << run.emittedPairs.pairs << " (" << run.emittedPairs.added
             << " added, " << run.emittedPairs.removed << " removed; largest change " << std::setprecision(6)
             << run.emittedPairs.largestChange << ")";
+    if (run.emittedPairs.rescaledRows)
+        out << "\n  rows above their bound + 1e-3 with their emitters' values (largest " << std::setprecision(4)
+            << run.emittedPairs.largestRowSum << "), scaled to the bound: " << run.emittedPairs.rescaledRows
+            << " (their pairs' reciprocity gives way)";
     if (c.bounces) {
         out << "\n  mirror bounces " << c.bounces << "; power cut off by --max-depth " << settings.common.maxDepth
             << " / weight < " << settings.common.minWeight << ": " << std::setprecision(5)

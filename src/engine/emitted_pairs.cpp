@@ -73,7 +73,10 @@ EmittedPairsReport takePairsFromEmitters(FormFactors& F, const Scene& scene) {
     report.removed = zeroed;
     for (const Insertion& add : insertions) largest = std::max(largest, double(add.value));
     report.largestChange = largest;
-    if (insertions.empty() && zeroed == 0) return report;
+    if (insertions.empty() && zeroed == 0) {
+        scaleRowsAboveBound(F, report);
+        return report;
+    }
 
     // Rebuild the CSR with the insertions and without the zeros.
     std::sort(insertions.begin(), insertions.end(),
@@ -111,7 +114,21 @@ EmittedPairsReport takePairsFromEmitters(FormFactors& F, const Scene& scene) {
     rebuilt.provenance = F.provenance;
     rebuilt.parameters = F.parameters;
     F = std::move(rebuilt);
+    scaleRowsAboveBound(F, report);
     return report;
+}
+
+void scaleRowsAboveBound(FormFactors& F, EmittedPairsReport& report) {
+    const double bound = F.provenance.rowSumBound;
+    for (std::size_t i = 0; i < F.size(); ++i) {
+        if (!F.rowComputed(i)) continue;
+        const double sum = F.rowSum(i);
+        if (!(sum > bound + kRowSumExcess)) continue;
+        const double scale = bound / sum;
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) F.values()[k] = float(F.values()[k] * scale);
+        ++report.rescaledRows;
+        report.largestRowSum = std::max(report.largestRowSum, sum);
+    }
 }
 
 }  // namespace hemirad

@@ -233,10 +233,13 @@ EmittedPairsReport takePairsFromEmittersDistributed(const Context& context, cons
     updated.provenance = F.local.provenance;
     updated.parameters = F.local.parameters;
     F.local = std::move(updated);
-    std::uint64_t mine[4] = {report.pairs, report.changed, report.added, report.removed}, total[4];
-    MPI_Allreduce(mine, total, 4, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    scaleRowsAboveBound(F.local, report);  // each rank's own rows, as one process scales them
+    std::uint64_t mine[5] = {report.pairs, report.changed, report.added, report.removed, report.rescaledRows}, total[5];
+    MPI_Allreduce(mine, total, 5, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
     report.pairs = total[0], report.changed = total[1], report.added = total[2], report.removed = total[3];
+    report.rescaledRows = total[4];
     report.largestChange = maxOverRanks(report.largestChange);
+    report.largestRowSum = maxOverRanks(report.largestRowSum);
     return report;
 }
 

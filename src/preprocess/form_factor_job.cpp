@@ -138,7 +138,10 @@ FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& setti
     run.stageSeconds = builder.stageSeconds();
     run.device = backend->device();
     run.F = builder.finish();
-    if (backend->pairsFromEmitters()) run.emittedPairs = takePairsFromEmitters(run.F, scene);
+    if (backend->pairsFromEmitters()) {
+        run.F.provenance = backend->provenance();  // the row-sum bound the pass keeps
+        run.emittedPairs = takePairsFromEmitters(run.F, scene);
+    }
     run.F.sceneHash = scene.geometryHash();
     run.F.provenance = backend->provenance();
     run.F.parameters = backend->parameters();

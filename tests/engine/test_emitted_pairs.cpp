@@ -54,3 +54,21 @@ TEST_CASE("Receiver entries take their emitting row's value (replaced, added, re
     CHECK(G.at(1, 0) == 0.11f);
     CHECK(G.at(2, 0) == 0.02f);
 }
+
+TEST_CASE("A row that its emitters' values carry above the row-sum bound is scaled to it, and counted") {
+    SceneBuilder b;
+    b.rectangle(2, 0, 0, 1, 0, 1, true);   // area 1, emits for patch 1
+    b.rectangle(2, 1, 0, 2, 0, 1, false);  // area 2
+    using E = FormFactors::Entry;
+    // Row 0 says F_01 = 0.9, so F_10 = 0.45; row 1 had 0.3 and 0.6 elsewhere: 1.05 after the pass.
+    std::vector<std::vector<E>> rows = {{{1, 0.9f}}, {{0, 0.3f}, {1, 0.6f}}};
+    FormFactors F = FormFactors::fromRows(std::move(rows), {1, 1});
+    F.provenance.rowSumBound = 1.0;
+    const EmittedPairsReport report = takePairsFromEmitters(F, b.scene);
+    CHECK(report.rescaledRows == 1);
+    CHECK(report.largestRowSum == doctest::Approx(1.05).epsilon(1e-6));
+    CHECK(F.rowSum(1) == doctest::Approx(1.0).epsilon(1e-6));
+    CHECK(F.at(1, 0) == doctest::Approx(0.45 / 1.05).epsilon(1e-6));
+    CHECK(F.rowSum(0) == doctest::Approx(0.9).epsilon(1e-7));  // within the bound: untouched
+    validateFormFactors(F, 2, "test", rowSumBound(F));           // F files accept it
+}
