@@ -516,7 +516,8 @@ form factors (formfactors, solve, render):
   --all-rows             also compute rows of black patches (rho = 0; skipped by default)
   --enforce-reciprocity  make A_i F_ij = A_j F_ji keeping each row's sum (1 in a closed scene)
   --drop-below EPS       (formfactors, solve, render) drop the pairs whose F_ij and F_ji are both
-                         below EPS (at most 5 % of a row) and rebalance: reciprocal, rows keep their sums
+                         below EPS (at most 5 % of a row; never a pair with an emitting patch) and
+                         rebalance: reciprocal, rows keep their sums
   --normalize-rows       rescale every row to sum 1 (closed scenes without mirrors; after reciprocity)
   --no-memory-check      compute F even when its estimated size exceeds the available memory
   --ff FILE              (solve, render) reuse F from FILE when its scene hash matches;

@@ -253,14 +253,15 @@ SymmetricRows symmetricRowsOf(const FormFactors& F, const Scene& scene, double d
     SymmetricRows S;
     S.scales = F.computedFlags();
     // A pair is dropped whole (both rows), so that S stays symmetric; an entry whose column's row
-    // was not computed is fixed and kept.
+    // was not computed is fixed and kept, and so is a pair with an emitter (keptFromDropping).
     // Each row gives up at most kDropBudget of its sum (dropCut).
     std::vector<double> cut(dropBelow > 0.0 ? n : 0, 0.0);
     std::vector<float> scratch;
     for (std::size_t i = 0; i < cut.size(); ++i)
         cut[i] = dropCut(F.values() + F.rowBegin(i), F.rowEnd(i) - F.rowBegin(i), dropBelow, scratch);
     auto dropped = [&](std::ptrdiff_t i, std::uint32_t j, double fij, double fji) {
-        return dropBelow > 0.0 && j != std::uint32_t(i) && F.rowComputed(j) && fij < cut[std::size_t(i)] && fji < cut[j];
+        return dropBelow > 0.0 && j != std::uint32_t(i) && F.rowComputed(j) && fij < cut[std::size_t(i)] && fji < cut[j] &&
+               !keptFromDropping(scene, PatchId(i), j);
     };
     if (droppedWeight) droppedWeight->assign(n, 0.0);
     // Two passes over the merged row and column of each computed row, in parallel: count, then fill.
@@ -336,6 +337,10 @@ SparsifyReport dropBelow(FormFactors& F, const Scene& scene, double threshold) {
     report.bytesAfter = F.memoryBytes();
     markSparsified(F, report);
     return report;
+}
+
+bool keptFromDropping(const Scene& scene, PatchId i, PatchId j) {
+    return (scene.patches[i].emission > 0.0).any() || (scene.patches[j].emission > 0.0).any();
 }
 
 double dropCut(const float* values, std::size_t count, double threshold, std::vector<float>& scratch) {

@@ -108,8 +108,15 @@ struct SparsifyReport {
     ReciprocityReport closure;       ///< the rebalancing
 };
 
+/// Whether --drop-below must keep the pair (i, j) whatever its entries: one of the two patches emits
+/// (E > 0 in some channel). F_ij with E_j > 0 carries row i's power from the light; dropping it and
+/// rebalancing the row moved that weight onto other patches (a patch that saw the light through one
+/// small entry lost it and 43 % of its B, issue 35 #3).
+bool keptFromDropping(const Scene& scene, PatchId i, PatchId j);
+
 /// --drop-below in one process: drops every pair whose entries F_ij and F_ji are both below their
-/// rows' cuts (dropCut; entries whose column's row was not computed are kept), then closes the rest as
+/// rows' cuts (dropCut; entries whose column's row was not computed, and pairs with an emitting
+/// patch, keptFromDropping, are kept), then closes the rest as
 /// enforceReciprocity does, toward each row's sum before dropping (1 in a closed scene): the dropped
 /// weight goes to the row's other entries by symmetric scaling, so rows and reciprocity stay intact.
 SparsifyReport dropBelow(FormFactors& F, const Scene& scene, double threshold);
