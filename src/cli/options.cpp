@@ -521,7 +521,8 @@ form factors (formfactors, solve, render):
   --normalize-rows       rescale every row to sum 1 (closed scenes without mirrors; after reciprocity)
   --no-memory-check      compute F even when its estimated size exceeds the available memory
   --ff FILE              (solve, render) reuse F from FILE when its scene hash matches;
-                         create FILE when it does not exist
+                         create FILE when it does not exist (stored post-processed; a reuse applies
+                         only the post-processing the file does not record)
   --recompute-ff         (solve, render) recompute F and overwrite FILE
   --shards               store F as shard files (one per MPI rank, one in one process), each
                          written by its rank alone, plus a small manifest at the F path that

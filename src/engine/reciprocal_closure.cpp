@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <unordered_map>
 
 namespace hemirad {
@@ -359,11 +361,29 @@ double dropCut(const float* values, std::size_t count, double threshold, std::ve
     return threshold;
 }
 
+namespace {
+constexpr const char* kSparsifiedPrefix = "pairs below ";
+}  // namespace
+
 void markSparsified(FormFactors& F, const SparsifyReport& report) {
-    char text[96];
-    std::snprintf(text, sizeof text, "pairs below %g dropped (%zu of %zu nonzeros), rows rebalanced", report.threshold,
+    // The threshold in its shortest exact form: sparsifiedThreshold reads it back.
+    char threshold[32];
+    *std::to_chars(threshold, threshold + sizeof threshold - 1, report.threshold).ptr = '\0';
+    char text[128];
+    std::snprintf(text, sizeof text, "%s%s dropped (%zu of %zu nonzeros), rows rebalanced", kSparsifiedPrefix, threshold,
                   report.nonzerosBefore - std::min(report.nonzerosBefore, report.nonzerosAfter), report.nonzerosBefore);
     F.parameters["sparsified"] = text;
+}
+
+std::optional<double> sparsifiedThreshold(const FormFactors& F) {
+    const auto it = F.parameters.find("sparsified");
+    if (it == F.parameters.end() || it->second.rfind(kSparsifiedPrefix, 0) != 0) return std::nullopt;
+    const std::string& text = it->second;
+    double threshold = 0.0;
+    const char* begin = text.data() + std::strlen(kSparsifiedPrefix);
+    const auto [end, error] = std::from_chars(begin, text.data() + text.size(), threshold);
+    if (error != std::errc() || end == begin || !(threshold > 0.0)) return std::nullopt;
+    return threshold;
 }
 
 std::string describe(const SparsifyReport& report) {

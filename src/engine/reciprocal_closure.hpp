@@ -6,6 +6,7 @@
 #include "engine/form_factors.hpp"
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -124,7 +125,11 @@ SparsifyReport dropBelow(FormFactors& F, const Scene& scene, double threshold);
 /// One line for the run's report: the sizes, the largest loss, then the closure's line.
 std::string describe(const SparsifyReport& report);
 
-/// Records what was dropped in F's parameters ("sparsified"), with the totals of `report`.
+/// Records what was dropped in F's parameters ("sparsified": "pairs below EPS dropped ..."), with the
+/// totals of `report`; a stored F keeps the record, so that a reuse does not drop again.
 void markSparsified(FormFactors& F, const SparsifyReport& report);
+
+/// The EPS F's "sparsified" record names (exactly as dropped), or none when F was not dropped.
+std::optional<double> sparsifiedThreshold(const FormFactors& F);
 
 }  // namespace hemirad

@@ -61,6 +61,58 @@ struct FormFactorUpdate {
 void mergeAddedRows(FormFactors& current, const FormFactors& added, std::size_t rows, const Scene& scene,
                     const MethodSettings& method);
 
+/// The post-processing of F a run applies (FormFactorPolicy's steps).
+struct PostProcessing {
+    double dropBelow = 0.0;           ///< drop pairs below this and close (0: not)
+    bool enforceReciprocity = false;  ///< close without dropping (when dropBelow is 0)
+    bool normalizeRows = false;       ///< then rows to sum 1
+    bool any() const { return dropBelow > 0.0 || enforceReciprocity || normalizeRows; }
+};
+
+/// The post-processing `policy` asks of F less what F's parameters record as done (issue 35 #2: a
+/// stored F was dropped again on every reuse): no drop when "sparsified" names the same EPS (a drop
+/// ends with the closure), no closure when "reciprocity" is recorded, no normalisation when "rows"
+/// says normalised and nothing before it changes F.
+PostProcessing pendingPostProcessing(const FormFactorPolicy& policy, const FormFactors& F);
+
+/// F's record of its post-processing for people ("pairs below 0.01 dropped ...; reciprocity
+/// enforced, ...; rows normalised to sum 1"), "" when it has none.
+std::string recordedPostProcessing(const FormFactors& F);
+
+/// The rule for an F kept in a file between runs (--ff), one for the pipeline and the MPI driver:
+///   - a new F (no file yet, or --recompute-ff) is stored once post-processed; its parameters
+///     record each step (pendingPostProcessing);
+///   - a reused F gets only the steps it does not record, and its file stays as it is, except when
+///     rows it lacked were computed: then it is stored with them, before any step;
+///   - a reused F that records post-processing and lacks rows is computed again whole: its entries
+///     were changed by the steps, and new rows cannot join them.
+class StoredFormFactorRule {
+public:
+    /// F computed whole: stored after post-processing when there is a file (`path` not empty).
+    static StoredFormFactorRule computed(const std::string& path);
+    /// The F read from `path` (already checked against the scene, checkStoredFormFactors), holding
+    /// `rows` computed rows and lacking `missing` rows the run needs.
+    static StoredFormFactorRule reused(const FormFactors& F, std::size_t rows, std::size_t missing, const std::string& path);
+
+    /// Whether the file's F is used (else F is computed whole and stored).
+    bool reuse() const { return m_reuse; }
+    /// What the front end tells about the file (reused, rows to compute, its post-processing, or why
+    /// it is computed again).
+    const std::vector<std::string>& lines() const { return m_lines; }
+    /// Store F once its missing rows are added, before post-processing.
+    bool storeBeforePostProcessing(bool rowsAdded) const { return m_reuse && rowsAdded; }
+    /// Store F after post-processing.
+    bool storeAfterPostProcessing() const { return m_store && !m_reuse; }
+
+private:
+    bool m_reuse = false, m_store = false;
+    std::vector<std::string> m_lines;
+};
+
+/// Checks an F read from `path` for `scene`: the scene hash and size (checkFormFactorsMatch; a file
+/// without a hash is counted in `warnings` as unverified). Throws hemirad::Error.
+void checkStoredFormFactors(const FormFactors& F, const Scene& scene, const std::string& path, Warnings& warnings);
+
 /// Where F is kept between runs (--ff).
 struct StoredFormFactors {
     std::string path;        ///< "" = none
@@ -88,13 +140,16 @@ public:
     void checkBeforeComputing(const Scene& scene) const;
 
     /// Brings F up to date for `scene`: computes the missing rows (memory check first), merges them
-    /// into `current` (taken over; empty = none), then applies reciprocity and normalisation.
+    /// into `current` (taken over; empty = none), then applies the post-processing F does not record
+    /// (pendingPostProcessing). A `current` that records post-processing and lacks rows is computed
+    /// again whole (see StoredFormFactorRule).
     /// `current` must belong to `scene` (checkFormFactorsMatch). Throws hemirad::Error.
     FormFactorUpdate updateFormFactors(const Scene& scene, FormFactors current = {}) const;
 
     /// updateFormFactors with a stored F: reuses `file.path` when it exists and belongs to the scene
-    /// (unless `file.recompute`), stores the result there when it changed or did not exist. Files
-    /// without a Hemirad scene hash (foreign .mtx) are checked by size only and counted in `warnings`.
+    /// (unless `file.recompute`; checkStoredFormFactors), and stores F there as
+    /// StoredFormFactorRule says. Files without a Hemirad scene hash (foreign .mtx) are checked by
+    /// size only and counted in `warnings`.
     FormFactorUpdate formFactorsWithFile(const Scene& scene, const StoredFormFactors& file, Warnings& warnings) const;
 
     /// Solves (I - R F) B = E per channel; `initial` warm-starts iterative solvers. "auto" picks the
@@ -105,7 +160,7 @@ public:
 private:
     /// The missing rows merged into `current` (no post-processing).
     FormFactorUpdate computeMissingRows(const Scene& scene, FormFactors current) const;
-    /// Reciprocity and normalisation as the policy asks.
+    /// Reciprocity (or the drop) and normalisation as the policy asks, less what F records.
     void postProcess(const Scene& scene, FormFactorUpdate& update) const;
     /// Recomputes update.stats (timed as "F diagnostics") when the policy keeps statistics or `needed`.
     void refreshStats(const Scene& scene, FormFactorUpdate& update, bool needed = false) const;

@@ -323,3 +323,35 @@ TEST_CASE("--materials is in the help, taken by the commands that load a scene a
     CHECK(readText(dir / "out.mtl").find("newmtl floor\n") != std::string::npos);
     CHECK(readText(dir / "out.obj").find("o floor\n") != std::string::npos);
 }
+
+TEST_CASE("solve --ff --drop-below drops once: the stored F is reused as stored, the same nonzeros and B every time") {
+    // issue 35 #2: the dropped F was stored, then dropped again on each reuse.
+    const auto dir = tempDir("cli-drop-reuse");
+    const std::string ff = (dir / "F.hff").string();
+    const std::string common = "solve " + scene("cornell_box.obj") + " --subdivide 150 --ff " + ff + " --drop-below 0.01 -o ";
+    const Result first = runHemirad(common + (dir / "B1.csv").string());
+    REQUIRE_MESSAGE(first.status == 0, first.output);
+    CHECK(first.output.find("pairs with both entries below 0.01 dropped") != std::string::npos);
+    const std::string stored = readText(ff);
+    const Result info = runHemirad("info " + ff);
+    CHECK(info.output.find("sparsified = pairs below 0.01 dropped") != std::string::npos);
+    for (const char* name : {"B2.csv", "B3.csv"}) {
+        const Result again = runHemirad(common + (dir / name).string());
+        REQUIRE_MESSAGE(again.status == 0, again.output);
+        CHECK(again.output.find("form factors: reused") != std::string::npos);
+        CHECK(again.output.find("dropped:") == std::string::npos);  // no second drop
+        CHECK(readText(ff) == stored);
+        CHECK(readText(dir / name) == readText(dir / "B1.csv"));
+    }
+    // A stored F without the drop gets it on each reuse (the file stays as computed): the same B each time.
+    const std::string plain = (dir / "plain.hff").string();
+    REQUIRE(runHemirad("formfactors " + scene("cornell_box.obj") + " --subdivide 150 -o " + plain + " --quiet").status == 0);
+    const std::string reuse = "solve " + scene("cornell_box.obj") + " --subdivide 150 --ff " + plain + " --drop-below 0.01 -o ";
+    const Result p1 = runHemirad(reuse + (dir / "P1.csv").string());
+    const Result p2 = runHemirad(reuse + (dir / "P2.csv").string());
+    REQUIRE(p1.status == 0);
+    REQUIRE(p2.status == 0);
+    CHECK(p2.output.find("pairs with both entries below 0.01 dropped") != std::string::npos);
+    CHECK(readText(dir / "P1.csv") == readText(dir / "P2.csv"));
+    CHECK(readText(dir / "P1.csv") == readText(dir / "B1.csv"));
+}

@@ -209,6 +209,52 @@ TEST_CASE("A reused F gains the rows it lacks on 2 ranks, and the updated file i
     CHECK(readText(dir / "two.hff").find("rows_added=") != std::string::npos);
 }
 
+TEST_CASE("--ff --drop-below on 2 ranks drops once and keeps every pair with the light, as one process does") {
+    // issue 35 #2 and #3: a stored F dropped again on each reuse; a patch's only entry to the light dropped.
+    const auto dir = tempDir("mpi-drop");
+    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 150 --drop-below 0.01 --tolerance 1e-13";
+    const Run one = runHemirad(dir, 0, "solve " + scene + " --ff one.hff -o one.csv --quiet");
+    REQUIRE_MESSAGE(one.status == 0, one.output);
+    const Run two = runHemirad(dir, 2, "solve " + scene + " --ff two.hff -o two.csv --threads 1");
+    REQUIRE_MESSAGE(two.status == 0, two.output);
+    CHECK(two.output.find("pairs with both entries below 0.01 dropped") != std::string::npos);
+    CHECK(bytes(dir / "two.hff") == bytes(dir / "one.hff"));
+    // Reused on 2 ranks, the file of either: stored as dropped, not dropped again.
+    for (const char* file : {"two.hff", "one.hff"}) {
+        CAPTURE(file);
+        const std::string stored = bytes(dir / file);
+        const Run again = runHemirad(dir, 2, "solve " + scene + " --ff " + file + " -o again.csv --threads 1");
+        REQUIRE_MESSAGE(again.status == 0, again.output);
+        CHECK(again.output.find("form factors: reused") != std::string::npos);
+        CHECK(again.output.find("dropped:") == std::string::npos);
+        CHECK(bytes(dir / file) == stored);
+        // The rows spread over the ranks otherwise: the same B to the solve's tolerance.
+        CHECK(largestRelativeDifference(radiosityColumns(dir / "again.csv"), radiosityColumns(dir / "two.csv")) < 1e-8);
+    }
+    // Every patch that saw the light before the drop still sees it.
+    const hemirad::FormFactors F = hemirad::loadFormFactors((dir / "two.hff").string());
+    const std::string full = sourcePath("scenes/cornell_box.obj") + " --subdivide 150";
+    REQUIRE(runHemirad(dir, 0, "formfactors " + full + " -o full.hff --quiet").status == 0);
+    const hemirad::FormFactors undropped = hemirad::loadFormFactors((dir / "full.hff").string());
+    std::vector<std::uint32_t> lights;
+    {
+        std::ifstream in(dir / "one.csv");
+        std::string line;
+        std::getline(in, line);
+        for (std::uint32_t i = 0; std::getline(in, line); ++i)
+            if (std::stod(line.substr(line.find(',', line.find(',') + 1) + 1)) > 0) lights.push_back(i);
+    }
+    REQUIRE_FALSE(lights.empty());
+    std::size_t kept = 0;
+    for (std::uint32_t i = 0; i < F.size(); ++i)
+        for (const std::uint32_t light : lights)
+            if (undropped.at(i, light) > 0) {
+                CHECK(F.at(i, light) > 0);
+                ++kept;
+            }
+    CHECK(kept > 100);
+}
+
 TEST_CASE("A sharded F from 2 ranks round-trips through info and solve --ff, in one process and on 2 or 3 ranks") {
     const auto dir = tempDir("mpi-shards");
     const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 80 --samples 256";

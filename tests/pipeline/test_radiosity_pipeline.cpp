@@ -5,6 +5,7 @@
 
 #include "engine/error.hpp"
 #include "engine/subdivide.hpp"
+#include "engine/reciprocal_closure.hpp"
 #include "engine/tone_map.hpp"
 #include "pipeline/radiosity_pipeline.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
@@ -212,4 +213,55 @@ TEST_CASE("--drop-below keeps every pair with an emitter: a patch keeps its entr
     CHECK(lit > 100);
     CHECK(worst < 0.05);
     CHECK(change(83) < 0.03);  // 0.43 when its entry to the light was dropped
+}
+
+TEST_CASE("An F given again is post-processed only where its record lacks a step: dropped once, closed once, normalised once") {
+    // issue 35 #2: a stored F dropped at EPS was dropped again on every reuse.
+    const Scene s = subdivide(bundledScene("cornell_box.obj"), 150);
+    const FormFactorUpdate full = RadiosityPipeline(FormFactorPolicy{}, {}).updateFormFactors(s);
+    CHECK(pendingPostProcessing(FormFactorPolicy{}, full.F).any() == false);
+    FormFactorPolicy drop;
+    drop.dropBelow = 0.01;
+    const RadiosityPipeline dropping(drop, {});
+    const FormFactorUpdate dropped = dropping.updateFormFactors(s, full.F);
+    CHECK(dropped.changed);
+    CHECK(*sparsifiedThreshold(dropped.F) == 0.01);
+    const FormFactorUpdate again = dropping.updateFormFactors(s, dropped.F);
+    CHECK_FALSE(again.changed);
+    CHECK(again.F.nonZeros() == dropped.F.nonZeros());
+    CHECK(again.F.valueVector() == dropped.F.valueVector());
+    // Another EPS drops again; reciprocity is recorded by the drop's closure; normalising is new.
+    FormFactorPolicy other = drop;
+    other.dropBelow = 0.02;
+    CHECK(pendingPostProcessing(other, dropped.F).dropBelow == 0.02);
+    FormFactorPolicy closeAndNormalise;
+    closeAndNormalise.enforceReciprocity = true;
+    closeAndNormalise.normalizeRows = true;
+    const PostProcessing pending = pendingPostProcessing(closeAndNormalise, dropped.F);
+    CHECK_FALSE(pending.enforceReciprocity);
+    CHECK(pending.normalizeRows);
+    FormFactors normalised = dropped.F;
+    normalizeRows(normalised);
+    CHECK_FALSE(pendingPostProcessing(closeAndNormalise, normalised).any());
+    // A post-processed F that lacks rows cannot take new ones: it is computed again whole.
+    const PatchId black = 5;
+    std::vector<std::vector<FormFactors::Entry>> rows(s.size());
+    std::vector<std::uint8_t> computed = full.F.computedFlags();
+    for (PatchId i = 0; i < s.size(); ++i)
+        if (i != black)
+            for (std::uint64_t k = dropped.F.rowBegin(i); k < dropped.F.rowEnd(i); ++k)
+                rows[i].push_back({dropped.F.columns()[k], dropped.F.values()[k]});
+    computed[black] = 0;
+    FormFactors partial = FormFactors::fromRows(std::move(rows), computed);
+    partial.sceneHash = dropped.F.sceneHash;
+    partial.provenance = dropped.F.provenance;
+    partial.parameters = dropped.F.parameters;
+    Recorder recorder;
+    const FormFactorUpdate whole = RadiosityPipeline(drop, recorder.events()).updateFormFactors(s, std::move(partial));
+    CHECK(whole.rowsComputed == s.size());
+    CHECK(whole.F.valueVector() == dropped.F.valueVector());
+    const StoredFormFactorRule rule = StoredFormFactorRule::reused(dropped.F, s.size() - 1, 1, "F.hff");
+    CHECK_FALSE(rule.reuse());
+    CHECK(rule.storeAfterPostProcessing());
+    CHECK(rule.lines().at(0).find("computing F again whole") != std::string::npos);
 }
