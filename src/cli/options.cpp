@@ -146,6 +146,7 @@ const std::map<std::string, Flag>& flags() {
         {"--shards", {{"formfactors", "solve", "render"}, false,
                       [](Options& o, const std::string&, const std::string&) { o.shards = true; }}},
         {"--recompute-ff", {{"solve", "render"}, false, [](Options& o, const std::string&, const std::string&) { o.recomputeFf = true; }}},
+        {"--reuse-ff-anyway", {{"solve", "render"}, false, [](Options& o, const std::string&, const std::string&) { o.reuseFfAnyway = true; }}},
         {"--solver", {kSolving, true,
                       [](Options& o, const std::string& f, const std::string& v) {
                           try {
@@ -428,6 +429,9 @@ Options parseOptions(int argc, const char* const* argv) {
         throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F, or --objects T.csv)");
     if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
     if (o.recomputeFf && o.ffPath.empty()) throw UsageError("--recompute-ff needs --ff FILE");
+    if (o.reuseFfAnyway && o.ffPath.empty()) throw UsageError("--reuse-ff-anyway needs --ff FILE");
+    if (o.reuseFfAnyway && o.recomputeFf)
+        throw UsageError("--reuse-ff-anyway and --recompute-ff contradict each other: reuse FILE, or compute F again");
     if (isStandardOutput(o.ffPath))
         throw UsageError("--ff names a file that F is read from or stored in; standard output ('-') cannot be either");
     if (o.command == "subdivide" && isStandardOutput(o.output))
@@ -520,10 +524,13 @@ form factors (formfactors, solve, render):
                          rebalance: reciprocal, rows keep their sums
   --normalize-rows       rescale every row to sum 1 (closed scenes without mirrors; after reciprocity)
   --no-memory-check      compute F even when its estimated size exceeds the available memory
-  --ff FILE              (solve, render) reuse F from FILE when its scene hash matches;
+  --ff FILE              (solve, render) reuse F from FILE when its scene hash and form-factor
+                         settings match (a file made with other settings is refused, naming them);
                          create FILE when it does not exist (stored post-processed; a reuse applies
                          only the post-processing the file does not record)
   --recompute-ff         (solve, render) recompute F and overwrite FILE
+  --reuse-ff-anyway      (solve, render) reuse FILE although it was made with other settings
+                         (--method, its options, --max-depth): the difference is warned
   --shards               store F as shard files (one per MPI rank, one in one process), each
                          written by its rank alone, plus a small manifest at the F path that
                          info, solve --ff and the GUI read (an F larger than one machine's memory)

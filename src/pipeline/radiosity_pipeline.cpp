@@ -86,11 +86,27 @@ StoredFormFactorRule StoredFormFactorRule::reused(const FormFactors& F, std::siz
     return rule;
 }
 
-void checkStoredFormFactors(const FormFactors& F, const Scene& scene, const std::string& path, Warnings& warnings) {
+void checkStoredFormFactors(const FormFactors& F, const Scene& scene, const MethodSettings& settings, bool otherSettings,
+                            const std::string& path, Warnings& warnings) {
     checkFormFactorsMatch(F, scene.geometryHash(), scene.size(), path);
-    if (!F.provenance.sceneHashKnown)
+    if (!F.provenance.sceneHashKnown) {
         warnings.add("unverified F files", path + ": has no Hemirad scene hash; only its size (" +
                                                std::to_string(F.size()) + " patches) could be checked");
+        return;  // nor settings: a foreign file
+    }
+    const auto made = F.parameters.find("settings");
+    if (made == F.parameters.end()) {
+        warnings.add("F files without their settings", path + ": records no form-factor settings (written before they were "
+                                                              "recorded, or not by Hemirad): reused without comparing them");
+        return;
+    }
+    const std::string difference = formFactorSettingsDifference(made->second, settings);
+    if (difference.empty()) return;
+    if (!otherSettings)
+        throw Error(path + " was computed with other form-factor settings: " + difference +
+                    "; compute F again with --recompute-ff, or reuse it as it is with --reuse-ff-anyway");
+    warnings.add("F files reused with other settings",
+                 path + " was computed with other form-factor settings: " + difference + "; reused as it is (--reuse-ff-anyway)");
 }
 
 RadiosityPipeline::RadiosityPipeline(FormFactorPolicy policy, PipelineEvents events)
@@ -223,7 +239,7 @@ FormFactorUpdate RadiosityPipeline::formFactorsWithFile(const Scene& scene, cons
         const auto t0 = Clock::now();
         current = loadFormFactors(path);
         timing("load F", since(t0));
-        checkStoredFormFactors(current, scene, path, warnings);
+        checkStoredFormFactors(current, scene, m_policy.backend, file.otherSettings, path, warnings);
         rule = StoredFormFactorRule::reused(current, current.computedRows(), missingRows(scene, &current).size(), path);
         for (const std::string& line : rule.lines()) message(line);
         if (!rule.reuse()) current = FormFactors();

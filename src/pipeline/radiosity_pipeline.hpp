@@ -109,14 +109,22 @@ private:
     std::vector<std::string> m_lines;
 };
 
-/// Checks an F read from `path` for `scene`: the scene hash and size (checkFormFactorsMatch; a file
-/// without a hash is counted in `warnings` as unverified). Throws hemirad::Error.
-void checkStoredFormFactors(const FormFactors& F, const Scene& scene, const std::string& path, Warnings& warnings);
+/// Checks an F read from `path` for `scene` and `settings`, in one process and on MPI ranks: the
+/// scene hash and size (checkFormFactorsMatch; a file without a hash is counted in `warnings` as
+/// unverified), then the form-factor settings it records against `settings` by the GUI's rule
+/// (sameFormFactorSettings; issue 35 #22: an F of --max-depth 0 --samples 512 was reused for
+/// --max-depth 8 --samples 4096 without a word). Other settings throw hemirad::Error naming the
+/// difference and the ways on (--recompute-ff, --reuse-ff-anyway); with `otherSettings`
+/// (--reuse-ff-anyway) they are a warning. A file that records no settings (older files, foreign
+/// .mtx) is counted in `warnings`.
+void checkStoredFormFactors(const FormFactors& F, const Scene& scene, const MethodSettings& settings, bool otherSettings,
+                            const std::string& path, Warnings& warnings);
 
 /// Where F is kept between runs (--ff).
 struct StoredFormFactors {
     std::string path;        ///< "" = none
     bool recompute = false;  ///< recompute F and overwrite the file
+    bool otherSettings = false;  ///< reuse the file although it records other settings (a warning)
     /// Store it as a shard manifest with its shard (form_factor_shards.hpp); a manifest already at
     /// `path` stays one.
     bool sharded = false;
@@ -147,7 +155,7 @@ public:
     FormFactorUpdate updateFormFactors(const Scene& scene, FormFactors current = {}) const;
 
     /// updateFormFactors with a stored F: reuses `file.path` when it exists and belongs to the scene
-    /// (unless `file.recompute`; checkStoredFormFactors), and stores F there as
+    /// and the policy's settings (unless `file.recompute`; checkStoredFormFactors), and stores F there as
     /// StoredFormFactorRule says. Files without a Hemirad scene hash (foreign .mtx) are checked by
     /// size only and counted in `warnings`.
     FormFactorUpdate formFactorsWithFile(const Scene& scene, const StoredFormFactors& file, Warnings& warnings) const;

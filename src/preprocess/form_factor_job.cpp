@@ -118,6 +118,7 @@ FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& setti
     run.F.sceneHash = scene.geometryHash();
     run.F.provenance = backend->provenance();
     run.F.parameters = backend->parameters();
+    run.F.parameters["settings"] = formFactorSettingsText(settings);  // what a reuse compares
     run.rowsComputed = rows.size();
     run.rowsSkipped = scene.size() - rows.size();
     const auto t2 = Clock::now();

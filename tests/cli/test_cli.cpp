@@ -355,3 +355,32 @@ TEST_CASE("solve --ff --drop-below drops once: the stored F is reused as stored,
     CHECK(readText(dir / "P1.csv") == readText(dir / "P2.csv"));
     CHECK(readText(dir / "P1.csv") == readText(dir / "B1.csv"));
 }
+
+TEST_CASE("solve --ff refuses an F made with other form-factor settings, naming them; --reuse-ff-anyway takes it") {
+    // issue 35 #22: an F of --max-depth 0 --samples 512 was reused for --max-depth 8 --samples 4096.
+    const auto dir = tempDir("cli-ff-settings");
+    const std::string ff = (dir / "F.hff").string();
+    const std::string solve = "solve " + scene("mirror_pair.obj") + " --ff " + ff + " -o " + (dir / "B.csv").string();
+    REQUIRE(runHemirad(solve + " --max-depth 0 --samples 512").status == 0);
+    const std::string stored = readText(ff);
+    Result r = runHemirad(solve + " --max-depth 8 --samples 4096");
+    CHECK(r.status == 1);
+    CHECK(r.output.find("was computed with other form-factor settings: --max-depth 0 (the file) against 8 (this run), "
+                        "--samples 512 against 4096") != std::string::npos);
+    CHECK(r.output.find("--recompute-ff") != std::string::npos);
+    CHECK(r.output.find("--reuse-ff-anyway") != std::string::npos);
+    CHECK(readText(ff) == stored);
+    r = runHemirad(solve + " --max-depth 8 --samples 4096 --reuse-ff-anyway");
+    CHECK(r.status == 0);
+    CHECK(r.output.find("form factors: reused") != std::string::npos);
+    CHECK(r.output.find("--max-depth 0 (the file) against 8 (this run)") != std::string::npos);  // said, and counted
+    CHECK(r.output.find("1 F files reused with other settings") != std::string::npos);
+    r = runHemirad(solve + " --samples 512 --max-depth 0");  // the same settings: reused without a word
+    CHECK(r.status == 0);
+    CHECK(r.output.find("form factors: reused") != std::string::npos);
+    CHECK(r.output.find("warning") == std::string::npos);
+    CHECK(runHemirad("help").output.find("--reuse-ff-anyway") != std::string::npos);
+    r = runHemirad("solve " + scene("mirror_pair.obj") + " -o B.csv --reuse-ff-anyway");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("--reuse-ff-anyway needs --ff FILE") != std::string::npos);
+}
