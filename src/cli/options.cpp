@@ -493,7 +493,8 @@ std::string usageText() {
 usage: hemirad COMMAND INPUT [options]
 
 commands:
-  formfactors SCENE -o F.hff|F.mtx       compute the form-factor matrix F and store it
+  formfactors SCENE -o F.hff|F.mtx       compute the form-factor matrix F and store it: the rows of
+                                         the patches that reflect (rho > 0; --all-rows: every row)
   solve SCENE -o B.csv|B.ply             compute (or reuse with --ff) F and solve radiosity
   render SCENE -o IMAGE.png              compute, solve and render an image
   info F.hff|F.mtx                       check an F file (or a shard manifest and its shards) and
@@ -517,7 +518,8 @@ scene: SCENE is an .obj (with the .mtl libraries it names) or an .stl (binary or
 form factors (formfactors, solve, render):
   --method NAME          the form-factor back end: )" + methodNames + R"( (options of each below)
   --max-depth D          mirror reflections followed (default 8)
-  --all-rows             also compute rows of black patches (rho = 0; skipped by default)
+  --all-rows             also compute rows of black patches (rho = 0; skipped by default: B = E
+                         there, and F marks their rows as not computed)
   --enforce-reciprocity  make A_i F_ij = A_j F_ji keeping each row's sum (1 in a closed scene)
   --drop-below EPS       (formfactors, solve, render) drop the pairs whose F_ij and F_ji are both
                          below EPS (at most 5 % of a row; never a pair with an emitting patch) and

@@ -77,8 +77,10 @@ StoredFormFactorRule obtainFormFactors(Job& job, const std::string& reusePath, c
     const Options& options = job.options;
     const std::size_t n = job.scene.size();
     StoredFormFactorRule rule = StoredFormFactorRule::computed(storePath);
+    // No row held yet: N x N with the scene's hash and settings, as one process records it (a scene
+    // that needs no row keeps it; issue 35 #18: it had hash 0 and could not serve --ff).
     job.F.owner.assign(n, -1);
-    job.F.local = FormFactors(n);
+    job.F.local = formFactorsWithoutRows(job.scene, options.formFactors);
     if (!reusePath.empty()) {
         const auto t0 = std::chrono::steady_clock::now();
         const bool sharded = context.rootDecides(context.root() && isShardManifest(reusePath));
@@ -110,13 +112,16 @@ StoredFormFactorRule obtainFormFactors(Job& job, const std::string& reusePath, c
         if (sharded && rule.reuse()) job.reporter.line("form factors: each rank reading its own shards of " + reusePath);
         if (!rule.reuse()) {
             job.F.owner.assign(n, -1);
-            job.F.local = FormFactors(n);
+            job.F.local = formFactorsWithoutRows(job.scene, options.formFactors);
         }
     }
     std::vector<PatchId> rows;
     for (PatchId i : neededRows(job.scene, options.allRows))
         if (job.F.owner[i] < 0) rows.push_back(i);
-    if (rows.empty()) return rule;
+    if (rows.empty()) {
+        if (!rule.reuse()) job.reporter.line(kNoRowsNeeded);
+        return rule;
+    }
     const MethodSettings& method = options.formFactors;
     context.collectively([&] {
         if (!options.memoryCheck) return;

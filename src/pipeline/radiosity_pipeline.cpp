@@ -184,8 +184,15 @@ FormFactorUpdate RadiosityPipeline::computeMissingRows(const Scene& scene, FormF
             update.F = std::move(run.F);
             update.stats = run.stats;
         }
-    } else {
+    } else if (haveCurrent) {
         update.F = std::move(current);
+        refreshStats(scene, update);
+    } else {
+        // No row needed and none held (issue 35 #6, #18: an F of 0 x 0 could be neither solved nor read
+        // back): N x N with the scene's hash, every row marked not computed.
+        update.F = formFactorsWithoutRows(scene, m_policy.backend);
+        update.changed = true;
+        message(kNoRowsNeeded);
         refreshStats(scene, update);
     }
     return update;

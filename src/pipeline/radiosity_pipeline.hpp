@@ -61,6 +61,10 @@ struct FormFactorUpdate {
 void mergeAddedRows(FormFactors& current, const FormFactors& added, std::size_t rows, const Scene& scene,
                     const MethodSettings& method);
 
+/// What a front end says when a scene needs no row of F (formFactorsWithoutRows).
+inline constexpr const char* kNoRowsNeeded =
+    "form factors: no row needed: every patch is black (rho = 0, so B = E); F holds none (--all-rows computes them)";
+
 /// The post-processing of F a run applies (FormFactorPolicy's steps).
 struct PostProcessing {
     double dropBelow = 0.0;           ///< drop pairs below this and close (0: not)

@@ -77,6 +77,14 @@ std::size_t checkFormFactorMemory(const Scene& scene, const MethodSettings& sett
     return std::size_t(estimate);
 }
 
+FormFactors formFactorsWithoutRows(const Scene& scene, const MethodSettings& settings) {
+    FormFactors F(scene.size());
+    F.sceneHash = scene.geometryHash();
+    F.provenance.method = settings.method;
+    F.parameters["settings"] = formFactorSettingsText(settings);
+    return F;
+}
+
 FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
                                  const ProgressCallback& progress, const std::atomic<bool>* cancel) {
     using Clock = std::chrono::steady_clock;

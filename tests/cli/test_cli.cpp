@@ -324,6 +324,27 @@ TEST_CASE("--materials is in the help, taken by the commands that load a scene a
     CHECK(readText(dir / "out.obj").find("o floor\n") != std::string::npos);
 }
 
+namespace {
+
+/// B_r, B_g, B_b per patch from a solve CSV.
+std::vector<std::array<double, 3>> csvRadiosity(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    std::string line;
+    std::getline(in, line);  // header
+    std::vector<std::array<double, 3>> B;
+    while (std::getline(in, line)) {
+        double v[12];
+        REQUIRE(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3],
+                            &v[4], &v[5], &v[6], &v[7], &v[8], &v[9], &v[10], &v[11]) == 12);
+        B.push_back({v[9], v[10], v[11]});
+    }
+    return B;
+}
+
+std::string blackPair() { return sourcePath("tests/data/black/black_pair.obj"); }
+
+}  // namespace
+
 TEST_CASE("solve --ff --drop-below drops once: the stored F is reused as stored, the same nonzeros and B every time") {
     // issue 35 #2: the dropped F was stored, then dropped again on each reuse.
     const auto dir = tempDir("cli-drop-reuse");
@@ -354,6 +375,37 @@ TEST_CASE("solve --ff --drop-below drops once: the stored F is reused as stored,
     CHECK(p2.output.find("pairs with both entries below 0.01 dropped") != std::string::npos);
     CHECK(readText(dir / "P1.csv") == readText(dir / "P2.csv"));
     CHECK(readText(dir / "P1.csv") == readText(dir / "B1.csv"));
+}
+
+TEST_CASE("A scene of black patches needs no row of F: solve gives B = E, its F files read back and serve --ff") {
+    // issue 35 #6 and #18: "F has 0 rows but the scene has 2 patches"; F files of N = 0.
+    const auto dir = tempDir("cli-black");
+    Result r = runHemirad("solve " + blackPair() + " -o " + (dir / "B.csv").string());
+    REQUIRE_MESSAGE(r.status == 0, r.output);
+    std::vector<std::array<double, 3>> B = csvRadiosity(dir / "B.csv");
+    REQUIRE(B.size() == 2);
+    CHECK(B[0] == std::array<double, 3>{1, 2, 3});
+    CHECK(B[1] == std::array<double, 3>{0, 0, 0});
+    for (const char* name : {"F.hff", "F.mtx"}) {
+        CAPTURE(name);
+        const std::string ff = (dir / name).string();
+        r = runHemirad("formfactors " + blackPair() + " -o " + ff);
+        REQUIRE_MESSAGE(r.status == 0, r.output);
+        const Result info = runHemirad("info " + ff);
+        CHECK_MESSAGE(info.status == 0, info.output);
+        CHECK(info.output.find("patches 2, computed rows 0 (skipped 2)") != std::string::npos);
+        r = runHemirad("solve " + blackPair() + " --ff " + ff + " -o " + (dir / "B2.csv").string());
+        CHECK_MESSAGE(r.status == 0, r.output);
+        CHECK(r.output.find("form factors: reused " + ff) != std::string::npos);
+        CHECK(readText(dir / "B2.csv") == readText(dir / "B.csv"));
+    }
+    // --all-rows computes the black rows too; the help says which rows are computed by default.
+    r = runHemirad("formfactors " + blackPair() + " --all-rows -o " + (dir / "all.hff").string());
+    REQUIRE(r.status == 0);
+    CHECK(runHemirad("info " + (dir / "all.hff").string()).output.find("patches 2, computed rows 2 (skipped 0)") !=
+          std::string::npos);
+    const Result help = runHemirad("help");
+    CHECK(help.output.find("the patches that reflect (rho > 0; --all-rows: every row)") != std::string::npos);
 }
 
 TEST_CASE("solve --ff refuses an F made with other form-factor settings, naming them; --reuse-ff-anyway takes it") {

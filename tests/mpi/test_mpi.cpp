@@ -255,6 +255,32 @@ TEST_CASE("--ff --drop-below on 2 ranks drops once and keeps every pair with the
     CHECK(kept > 100);
 }
 
+TEST_CASE("A scene of black patches on 2 ranks: F is N x N with the scene's hash, as one process writes it, and serves --ff") {
+    // issue 35 #18: under MPI the F of a scene that needs no rows got scene hash 0000000000000000.
+    const auto dir = tempDir("mpi-black");
+    const std::string scene = sourcePath("tests/data/black/black_pair.obj");
+    for (const char* name : {"F.hff", "F.mtx"}) {
+        CAPTURE(name);
+        const std::string ext = std::string(name).substr(1);
+        REQUIRE(runHemirad(dir, 0, "formfactors " + scene + " -o one" + ext + " --quiet").status == 0);
+        const Run two = runHemirad(dir, 2, "formfactors " + scene + " -o two" + ext + " --threads 1");
+        REQUIRE_MESSAGE(two.status == 0, two.output);
+        CHECK(two.output.find("scene hash 0000000000000000") == std::string::npos);
+        CHECK(bytes(dir / ("two" + ext)) == bytes(dir / ("one" + ext)));
+        const Run info = runHemirad(dir, 0, "info two" + ext);
+        CHECK_MESSAGE(info.status == 0, info.output);
+        CHECK(info.output.find("patches 2, computed rows 0 (skipped 2)") != std::string::npos);
+        const Run solve = runHemirad(dir, 2, "solve " + scene + " --ff two" + ext + " -o B.csv --threads 1");
+        REQUIRE_MESSAGE(solve.status == 0, solve.output);
+        CHECK(solve.output.find("form factors: reused two" + ext) != std::string::npos);
+        CHECK(largestRelativeDifference(radiosityColumns(dir / "B.csv"), {1, 2, 3, 0, 0, 0}) < 1e-12);
+    }
+    const Run fresh = runHemirad(dir, 2, "solve " + scene + " --ff new.hff -o B.csv --threads 1");
+    REQUIRE_MESSAGE(fresh.status == 0, fresh.output);
+    CHECK(largestRelativeDifference(radiosityColumns(dir / "B.csv"), {1, 2, 3, 0, 0, 0}) < 1e-12);
+    CHECK(bytes(dir / "new.hff") == bytes(dir / "one.hff"));
+}
+
 TEST_CASE("A sharded F from 2 ranks round-trips through info and solve --ff, in one process and on 2 or 3 ranks") {
     const auto dir = tempDir("mpi-shards");
     const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 80 --samples 256";
