@@ -92,8 +92,10 @@ StoredFormFactorRule obtainFormFactors(Job& job, const std::string& reusePath, c
         });
         if (sharded) {
             job.F = readShards(context, reusePath);  // each rank its own shards
-            context.collectively([&] { checkStoredFormFactors(job.F.local, job.scene, options.formFactors, options.reuseFfAnyway, reusePath,
-                                                          job.warnings); });
+            context.collectively([&] {
+                checkStoredFormFactors(job.F.local, job.scene, options.formFactors, options.reuseFfAnyway, reusePath,
+                                       job.warnings);
+            });
         } else {
             // One file: every rank reads it and keeps a contiguous share of its rows.
             std::vector<std::int32_t> owner(n, -1);

@@ -408,7 +408,7 @@ TEST_CASE("A scene of black patches needs no row of F: solve gives B = E, its F 
     CHECK(help.output.find("the patches that reflect (rho > 0; --all-rows: every row)") != std::string::npos);
 }
 
-TEST_CASE("solve --ff refuses an F made with other form-factor settings, naming them; --reuse-ff-anyway takes it") {
+TEST_CASE("solve --ff refuses an F made with other form-factor settings, naming them, and --reuse-ff-anyway takes it") {
     // issue 35 #22: an F of --max-depth 0 --samples 512 was reused for --max-depth 8 --samples 4096.
     const auto dir = tempDir("cli-ff-settings");
     const std::string ff = (dir / "F.hff").string();

@@ -180,7 +180,7 @@ TEST_CASE("Distributed CG on the symmetric form matches LU for a reciprocal F, a
     // F from the rays (not reciprocal; the analytic estimator's pairs are): the symmetrised system
     // converges, the posed one does not.
     REQUIRE(runHemirad(dir, 0, "formfactors " + scene + " --estimator rays -o raw.hff --quiet").status == 0);
-    const Run refused = runHemirad(dir, 2, "solve " + scene + " --ff raw.hff --threads 1 --solver cg -o raw.csv");
+    const Run refused = runHemirad(dir, 2, "solve " + scene + " --estimator rays --ff raw.hff --threads 1 --solver cg -o raw.csv");
     CHECK(refused.status == 1);
     CHECK(count(refused.output, "F is not reciprocal enough for the symmetric form") >= 1);
     CHECK(count(refused.output, "hemirad: error: ") == 1);
