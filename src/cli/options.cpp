@@ -146,6 +146,7 @@ const std::map<std::string, Flag>& flags() {
         {"--shards", {{"formfactors", "solve", "render"}, false,
                       [](Options& o, const std::string&, const std::string&) { o.shards = true; }}},
         {"--recompute-ff", {{"solve", "render"}, false, [](Options& o, const std::string&, const std::string&) { o.recomputeFf = true; }}},
+        {"--reuse-ff-anyway", {{"solve", "render"}, false, [](Options& o, const std::string&, const std::string&) { o.reuseFfAnyway = true; }}},
         {"--solver", {kSolving, true,
                       [](Options& o, const std::string& f, const std::string& v) {
                           try {
@@ -428,6 +429,9 @@ Options parseOptions(int argc, const char* const* argv) {
         throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F, or --objects T.csv)");
     if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
     if (o.recomputeFf && o.ffPath.empty()) throw UsageError("--recompute-ff needs --ff FILE");
+    if (o.reuseFfAnyway && o.ffPath.empty()) throw UsageError("--reuse-ff-anyway needs --ff FILE");
+    if (o.reuseFfAnyway && o.recomputeFf)
+        throw UsageError("--reuse-ff-anyway and --recompute-ff contradict each other: reuse FILE, or compute F again");
     if (isStandardOutput(o.ffPath))
         throw UsageError("--ff names a file that F is read from or stored in; standard output ('-') cannot be either");
     if (o.command == "subdivide" && isStandardOutput(o.output))
@@ -489,7 +493,8 @@ std::string usageText() {
 usage: hemirad COMMAND INPUT [options]
 
 commands:
-  formfactors SCENE -o F.hff|F.mtx       compute the form-factor matrix F and store it
+  formfactors SCENE -o F.hff|F.mtx       compute the form-factor matrix F and store it: the rows of
+                                         the patches that reflect (rho > 0; --all-rows: every row)
   solve SCENE -o B.csv|B.ply             compute (or reuse with --ff) F and solve radiosity
   render SCENE -o IMAGE.png              compute, solve and render an image
   info F.hff|F.mtx                       check an F file (or a shard manifest and its shards) and
@@ -513,15 +518,21 @@ scene: SCENE is an .obj (with the .mtl libraries it names) or an .stl (binary or
 form factors (formfactors, solve, render):
   --method NAME          the form-factor back end: )" + methodNames + R"( (options of each below)
   --max-depth D          mirror reflections followed (default 8)
-  --all-rows             also compute rows of black patches (rho = 0; skipped by default)
+  --all-rows             also compute rows of black patches (rho = 0; skipped by default: B = E
+                         there, and F marks their rows as not computed)
   --enforce-reciprocity  make A_i F_ij = A_j F_ji keeping each row's sum (1 in a closed scene)
   --drop-below EPS       (formfactors, solve, render) drop the pairs whose F_ij and F_ji are both
-                         below EPS (at most 5 % of a row) and rebalance: reciprocal, rows keep their sums
+                         below EPS (at most 5 % of a row; never a pair with an emitting patch) and
+                         rebalance: reciprocal, rows keep their sums
   --normalize-rows       rescale every row to sum 1 (closed scenes without mirrors; after reciprocity)
   --no-memory-check      compute F even when its estimated size exceeds the available memory
-  --ff FILE              (solve, render) reuse F from FILE when its scene hash matches;
-                         create FILE when it does not exist
+  --ff FILE              (solve, render) reuse F from FILE when its scene hash and form-factor
+                         settings match (a file made with other settings is refused, naming them);
+                         create FILE when it does not exist (stored post-processed; a reuse applies
+                         only the post-processing the file does not record)
   --recompute-ff         (solve, render) recompute F and overwrite FILE
+  --reuse-ff-anyway      (solve, render) reuse FILE although it was made with other settings
+                         (--method, its options, --max-depth): the difference is warned
   --shards               store F as shard files (one per MPI rank, one in one process), each
                          written by its rank alone, plus a small manifest at the F path that
                          info, solve --ff and the GUI read (an F larger than one machine's memory)

@@ -39,6 +39,7 @@ struct Options {
     bool memoryCheck = true;             ///< --no-memory-check turns the F memory estimate off
     std::string ffPath;                  ///< --ff: stored F to reuse (or to create)
     bool recomputeFf = false;
+    bool reuseFfAnyway = false;          ///< --reuse-ff-anyway: --ff FILE made with other settings is reused
     bool shards = false;                 ///< --shards: F stored as shard files + manifest (one shard per rank)
 
     // Solve and output.

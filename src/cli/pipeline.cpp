@@ -41,7 +41,12 @@ FormFactors obtainFormFactors(const Scene& scene, const Options& options, Timing
     } catch (const Error& e) {
         throw UsageError(e.what());
     }
-    return pipeline.formFactorsWithFile(scene, {options.ffPath, options.recomputeFf, options.shards}, warnings).F;
+    StoredFormFactors file;
+    file.path = options.ffPath;
+    file.recompute = options.recomputeFf;
+    file.otherSettings = options.reuseFfAnyway;
+    file.sharded = options.shards;
+    return pipeline.formFactorsWithFile(scene, file, warnings).F;
 }
 
 SolvedScene solveFromOptions(const Options& options, Timings& timings, const Reporter& reporter, Warnings& warnings) {

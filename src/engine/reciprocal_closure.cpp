@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <unordered_map>
 
 namespace hemirad {
@@ -253,14 +255,15 @@ SymmetricRows symmetricRowsOf(const FormFactors& F, const Scene& scene, double d
     SymmetricRows S;
     S.scales = F.computedFlags();
     // A pair is dropped whole (both rows), so that S stays symmetric; an entry whose column's row
-    // was not computed is fixed and kept.
+    // was not computed is fixed and kept, and so is a pair with an emitter (keptFromDropping).
     // Each row gives up at most kDropBudget of its sum (dropCut).
     std::vector<double> cut(dropBelow > 0.0 ? n : 0, 0.0);
     std::vector<float> scratch;
     for (std::size_t i = 0; i < cut.size(); ++i)
         cut[i] = dropCut(F.values() + F.rowBegin(i), F.rowEnd(i) - F.rowBegin(i), dropBelow, scratch);
     auto dropped = [&](std::ptrdiff_t i, std::uint32_t j, double fij, double fji) {
-        return dropBelow > 0.0 && j != std::uint32_t(i) && F.rowComputed(j) && fij < cut[std::size_t(i)] && fji < cut[j];
+        return dropBelow > 0.0 && j != std::uint32_t(i) && F.rowComputed(j) && fij < cut[std::size_t(i)] && fji < cut[j] &&
+               !keptFromDropping(scene, PatchId(i), j);
     };
     if (droppedWeight) droppedWeight->assign(n, 0.0);
     // Two passes over the merged row and column of each computed row, in parallel: count, then fill.
@@ -338,6 +341,10 @@ SparsifyReport dropBelow(FormFactors& F, const Scene& scene, double threshold) {
     return report;
 }
 
+bool keptFromDropping(const Scene& scene, PatchId i, PatchId j) {
+    return (scene.patches[i].emission > 0.0).any() || (scene.patches[j].emission > 0.0).any();
+}
+
 double dropCut(const float* values, std::size_t count, double threshold, std::vector<float>& scratch) {
     scratch.clear();
     double sum = 0.0;
@@ -354,11 +361,29 @@ double dropCut(const float* values, std::size_t count, double threshold, std::ve
     return threshold;
 }
 
+namespace {
+constexpr const char* kSparsifiedPrefix = "pairs below ";
+}  // namespace
+
 void markSparsified(FormFactors& F, const SparsifyReport& report) {
-    char text[96];
-    std::snprintf(text, sizeof text, "pairs below %g dropped (%zu of %zu nonzeros), rows rebalanced", report.threshold,
+    // The threshold in its shortest exact form: sparsifiedThreshold reads it back.
+    char threshold[32];
+    *std::to_chars(threshold, threshold + sizeof threshold - 1, report.threshold).ptr = '\0';
+    char text[128];
+    std::snprintf(text, sizeof text, "%s%s dropped (%zu of %zu nonzeros), rows rebalanced", kSparsifiedPrefix, threshold,
                   report.nonzerosBefore - std::min(report.nonzerosBefore, report.nonzerosAfter), report.nonzerosBefore);
     F.parameters["sparsified"] = text;
+}
+
+std::optional<double> sparsifiedThreshold(const FormFactors& F) {
+    const auto it = F.parameters.find("sparsified");
+    if (it == F.parameters.end() || it->second.rfind(kSparsifiedPrefix, 0) != 0) return std::nullopt;
+    const std::string& text = it->second;
+    double threshold = 0.0;
+    const char* begin = text.data() + std::strlen(kSparsifiedPrefix);
+    const auto [end, error] = std::from_chars(begin, text.data() + text.size(), threshold);
+    if (error != std::errc() || end == begin || !(threshold > 0.0)) return std::nullopt;
+    return threshold;
 }
 
 std::string describe(const SparsifyReport& report) {

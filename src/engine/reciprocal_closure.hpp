@@ -6,6 +6,7 @@
 #include "engine/form_factors.hpp"
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -108,8 +109,15 @@ struct SparsifyReport {
     ReciprocityReport closure;       ///< the rebalancing
 };
 
+/// Whether --drop-below must keep the pair (i, j) whatever its entries: one of the two patches emits
+/// (E > 0 in some channel). F_ij with E_j > 0 carries row i's power from the light; dropping it and
+/// rebalancing the row moved that weight onto other patches (a patch that saw the light through one
+/// small entry lost it and 43 % of its B, issue 35 #3).
+bool keptFromDropping(const Scene& scene, PatchId i, PatchId j);
+
 /// --drop-below in one process: drops every pair whose entries F_ij and F_ji are both below their
-/// rows' cuts (dropCut; entries whose column's row was not computed are kept), then closes the rest as
+/// rows' cuts (dropCut; entries whose column's row was not computed, and pairs with an emitting
+/// patch, keptFromDropping, are kept), then closes the rest as
 /// enforceReciprocity does, toward each row's sum before dropping (1 in a closed scene): the dropped
 /// weight goes to the row's other entries by symmetric scaling, so rows and reciprocity stay intact.
 SparsifyReport dropBelow(FormFactors& F, const Scene& scene, double threshold);
@@ -117,7 +125,11 @@ SparsifyReport dropBelow(FormFactors& F, const Scene& scene, double threshold);
 /// One line for the run's report: the sizes, the largest loss, then the closure's line.
 std::string describe(const SparsifyReport& report);
 
-/// Records what was dropped in F's parameters ("sparsified"), with the totals of `report`.
+/// Records what was dropped in F's parameters ("sparsified": "pairs below EPS dropped ..."), with the
+/// totals of `report`; a stored F keeps the record, so that a reuse does not drop again.
 void markSparsified(FormFactors& F, const SparsifyReport& report);
+
+/// The EPS F's "sparsified" record names (exactly as dropped), or none when F was not dropped.
+std::optional<double> sparsifiedThreshold(const FormFactors& F);
 
 }  // namespace hemirad

@@ -317,6 +317,7 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
     result.local.sceneHash = scene.geometryHash();
     result.local.provenance = backend->provenance();
     result.local.parameters = backend->parameters();
+    result.local.parameters["settings"] = formFactorSettingsText(settings);  // as one process records it
 
     // Bookkeeping to rank 0: counts summed (the largest direct sum taken), stage times, per-rank load.
     const RayCounts mine = builder.counts();

@@ -55,7 +55,7 @@ SymmetricRows symmetricRows(const Scene& scene, const DistributedFormFactors& F,
                 const std::uint32_t j = std::min(ja, jb);
                 const double fij = ja == j ? double(F.local.values()[a++]) : 0.0;
                 const double ajfji = jb == j ? column[b++].second : 0.0;
-                if (cut && j != i && F.owner[j] >= 0) {
+                if (cut && j != i && F.owner[j] >= 0 && !keptFromDropping(scene, i, j)) {
                     // F_ji tested as A_j F_ji, the product G^T holds (A_j times the float F_ji), so
                     // that an F_ji equal to its row's cut compares equal, as in one process.
                     if (fij < (*cut)[i] && ajfji < scene.patches[j].area * (*cut)[j]) {

@@ -15,7 +15,7 @@ namespace hemirad::mpi {
 ReciprocityReport enforceReciprocityDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F);
 
 /// dropBelow (engine/reciprocal_closure.hpp) over the ranks' rows: the same pairs dropped (each
-/// row's largest entry shared across ranks), then the same closure. Collective.
+/// row's cut shared across ranks, pairs with an emitter kept), then the same closure. Collective.
 SparsifyReport dropBelowDistributed(const Context& context, const Scene& scene, DistributedFormFactors& F, double threshold);
 
 /// takePairsFromEmitters (engine/emitted_pairs.hpp) over the ranks' rows: each receiver entry

@@ -42,7 +42,7 @@ struct Job {
     Scene scene;
     DistributedFormFactors F;
     FormFactorRun run;      ///< on rank 0: the rows' computation (counts, times; its F stays empty)
-    bool computed = false;  ///< rows were computed in this run (a stored F is out of date)
+    bool computed = false;  ///< rows were computed in this run (a reused F gained them)
 };
 
 void reportBalance(Job& job, const DistributedFormFactors& F) {
@@ -69,25 +69,33 @@ void loadScene(Job& job, const RadiosityPipeline& pipeline) {
     });
 }
 
-/// F's rows spread over the ranks: reused from --ff (each rank keeps a contiguous share of the rows
-/// it reads) and completed by the work queue.
-void obtainFormFactors(Job& job, const std::string& reusePath) {
+/// F's rows spread over the ranks: reused from `reusePath` (each rank keeps a contiguous share of
+/// the rows it reads) when the stored-F rule takes it, and completed by the work queue. Returns that
+/// rule (StoredFormFactorRule, the pipeline's) for storing F at `storePath`.
+StoredFormFactorRule obtainFormFactors(Job& job, const std::string& reusePath, const std::string& storePath) {
     const Context& context = job.context;
     const Options& options = job.options;
     const std::size_t n = job.scene.size();
-    const bool reused = !reusePath.empty();
-    if (reused) {
+    StoredFormFactorRule rule = StoredFormFactorRule::computed(storePath);
+    // No row held yet: N x N with the scene's hash and settings, as one process records it (a scene
+    // that needs no row keeps it; issue 35 #18: it had hash 0 and could not serve --ff).
+    job.F.owner.assign(n, -1);
+    job.F.local = formFactorsWithoutRows(job.scene, options.formFactors);
+    if (!reusePath.empty()) {
         const auto t0 = std::chrono::steady_clock::now();
         const bool sharded = context.rootDecides(context.root() && isShardManifest(reusePath));
         FormFactors current;
         context.collectively([&] {
             if (sharded) return;
             current = loadFormFactors(reusePath);
-            checkFormFactorsMatch(current, job.scene.geometryHash(), n, reusePath);
+            checkStoredFormFactors(current, job.scene, options.formFactors, options.reuseFfAnyway, reusePath, job.warnings);
         });
         if (sharded) {
             job.F = readShards(context, reusePath);  // each rank its own shards
-            context.collectively([&] { checkFormFactorsMatch(job.F.local, job.scene.geometryHash(), n, reusePath); });
+            context.collectively([&] {
+                checkStoredFormFactors(job.F.local, job.scene, options.formFactors, options.reuseFfAnyway, reusePath,
+                                       job.warnings);
+            });
         } else {
             // One file: every rank reads it and keeps a contiguous share of its rows.
             std::vector<std::int32_t> owner(n, -1);
@@ -96,17 +104,26 @@ void obtainFormFactors(Job& job, const std::string& reusePath) {
             job.F = keepOwnRows(context, std::move(current), owner);
         }
         job.timings.add("load F", secondsSince(t0));
-        const auto rowsHeld = std::count_if(job.F.owner.begin(), job.F.owner.end(), [](std::int32_t r) { return r >= 0; });
-        job.reporter.line("form factors: reused " + reusePath + " (" + std::to_string(rowsHeld) + " rows" +
-                          (sharded ? ", each rank reading its own shards)" : ")"));
-    } else {
-        job.F.owner.assign(n, -1);
-        job.F.local = FormFactors(n);
+        // Every rank holds the file's parameters and the owners of all rows: the same rule on each.
+        const auto rowsHeld = std::size_t(
+            std::count_if(job.F.owner.begin(), job.F.owner.end(), [](std::int32_t r) { return r >= 0; }));
+        std::size_t missing = 0;
+        for (PatchId i : neededRows(job.scene, options.allRows)) missing += job.F.owner[i] < 0;
+        rule = StoredFormFactorRule::reused(job.F.local, rowsHeld, missing, reusePath);
+        for (const std::string& line : rule.lines()) job.reporter.line(line);
+        if (sharded && rule.reuse()) job.reporter.line("form factors: each rank reading its own shards of " + reusePath);
+        if (!rule.reuse()) {
+            job.F.owner.assign(n, -1);
+            job.F.local = formFactorsWithoutRows(job.scene, options.formFactors);
+        }
     }
     std::vector<PatchId> rows;
     for (PatchId i : neededRows(job.scene, options.allRows))
         if (job.F.owner[i] < 0) rows.push_back(i);
-    if (rows.empty()) return;
+    if (rows.empty()) {
+        if (!rule.reuse()) job.reporter.line(kNoRowsNeeded);
+        return rule;
+    }
     // This rank's share of the rows against its share of the node's memory; --estimator auto
     // decides on the smallest share of any rank, so that every rank decides alike.
     std::vector<PatchId> share;
@@ -130,6 +147,7 @@ void obtainFormFactors(Job& job, const std::string& reusePath) {
     const ProgressCallback progress =
         job.reporter.progress("form factors", backend.workPerRow(job.scene, method), backend.workUnit);
     DistributedFormFactors added = computeDistributed(context, job.scene, method, rows, progress);
+    added.local.parameters["settings"] = formFactorSettingsText(options.formFactors);  // as one process records it
     job.timings.add("acceleration structure", added.prepareSeconds);
     job.timings.add("form factors", added.computeSeconds);
     if (context.root()) {
@@ -149,36 +167,45 @@ void obtainFormFactors(Job& job, const std::string& reusePath) {
     }
     reportBalance(job, added);
     // Every rank merges alike (rank 0's provenance and parameters are the ones written).
-    if (reused) mergeAddedRows(job.F.local, added.local, rows.size(), job.scene, method);
+    if (rule.reuse()) mergeAddedRows(job.F.local, added.local, rows.size(), job.scene, method);
     else job.F.local = std::move(added.local);
     for (std::size_t i = 0; i < n; ++i)
         if (added.owner[i] >= 0) job.F.owner[i] = added.owner[i];
     job.computed = true;
+    return rule;
+}
+
+/// The post-processing the policy asks that F does not record (pendingPostProcessing, the pipeline's
+/// rule), decided on rank 0 so that every rank takes the same collective steps.
+PostProcessing pendingSteps(const Job& job, const FormFactorPolicy& policy) {
+    PostProcessing steps = pendingPostProcessing(policy, job.F.local);
+    const Context& context = job.context;
+    steps.dropBelow = context.rootDecides(steps.dropBelow > 0.0) ? policy.dropBelow : 0.0;
+    steps.enforceReciprocity = context.rootDecides(steps.enforceReciprocity);
+    steps.normalizeRows = context.rootDecides(steps.normalizeRows);
+    return steps;
 }
 
 /// --enforce-reciprocity (or --drop-below, which ends with it): pairs of rows on any two ranks,
 /// scaled to closure as one process scales them.
-void reciprocity(Job& job) {
-    if (!job.options.enforceReciprocity && !(job.options.dropBelow > 0.0)) return;
+void reciprocity(Job& job, const PostProcessing& steps) {
+    if (!steps.enforceReciprocity && !(steps.dropBelow > 0.0)) return;
     const auto t0 = std::chrono::steady_clock::now();
     std::string line;
     job.context.collectively([&] {
-        line = job.options.dropBelow > 0.0
-                   ? describe(dropBelowDistributed(job.context, job.scene, job.F, job.options.dropBelow))
-                   : describe(enforceReciprocityDistributed(job.context, job.scene, job.F));
+        line = steps.dropBelow > 0.0 ? describe(dropBelowDistributed(job.context, job.scene, job.F, steps.dropBelow))
+                                     : describe(enforceReciprocityDistributed(job.context, job.scene, job.F));
     });
-    job.timings.add(job.options.dropBelow > 0.0 ? "drop below" : "enforce reciprocity", secondsSince(t0));
+    job.timings.add(steps.dropBelow > 0.0 ? "drop below" : "enforce reciprocity", secondsSince(t0));
     job.reporter.line("form factors: " + line);
-    job.computed = true;
 }
 
 /// --normalize-rows on each rank's rows (row-local), the largest correction reported.
-void normalise(Job& job) {
-    if (!job.options.normalizeRows) return;
+void normalise(Job& job, const PostProcessing& steps) {
+    if (!steps.normalizeRows) return;
     double worst = normalizeRows(job.F.local), largest = 0;
     MPI_Reduce(&worst, &largest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
     job.reporter.line("form factors: rows normalised to sum 1 (largest correction " + std::to_string(largest) + ")");
-    job.computed = true;
 }
 
 void reportStatistics(Job& job) {
@@ -223,9 +250,10 @@ void finish(Job& job) {
 void runFormFactors(Job& job) {
     const RadiosityPipeline pipeline = makePipeline(job.options, job.timings, job.reporter);
     loadScene(job, pipeline);
-    obtainFormFactors(job, "");
-    reciprocity(job);
-    normalise(job);
+    obtainFormFactors(job, "", "");
+    const PostProcessing steps = pendingSteps(job, pipeline.policy());
+    reciprocity(job, steps);
+    normalise(job, steps);
     reportStatistics(job);
     storeFormFactors(job, job.options.output, job.options.shards, formFactorOutputFormat(job.options));
     finish(job);
@@ -243,12 +271,15 @@ void runSolveOrRender(Job& job, bool render) {
     // A manifest stays one; --shards makes one.
     const bool sharded = job.context.rootDecides(
         root && !options.ffPath.empty() && (options.shards || isShardManifest(options.ffPath)));
-    obtainFormFactors(job, reuse ? options.ffPath : "");
-    // A reused file gains the rows it lacked and stays as computed; a new file stores F as normalised.
-    if (!options.ffPath.empty() && reuse && job.computed) storeFormFactors(job, options.ffPath, sharded, formFactorFormatFor(options.ffPath));
-    reciprocity(job);
-    normalise(job);
-    if (!options.ffPath.empty() && !reuse) storeFormFactors(job, options.ffPath, sharded, formFactorFormatFor(options.ffPath));
+    // The pipeline's rule for a stored F (StoredFormFactorRule): a reused file gains the rows it lacked
+    // and gets only the post-processing it does not record; a new file stores F as post-processed.
+    const StoredFormFactorRule rule = obtainFormFactors(job, reuse ? options.ffPath : "", options.ffPath);
+    if (rule.storeBeforePostProcessing(job.computed))
+        storeFormFactors(job, options.ffPath, sharded, formFactorFormatFor(options.ffPath));
+    const PostProcessing steps = pendingSteps(job, pipeline.policy());
+    reciprocity(job, steps);
+    normalise(job, steps);
+    if (rule.storeAfterPostProcessing()) storeFormFactors(job, options.ffPath, sharded, formFactorFormatFor(options.ffPath));
     reportStatistics(job);
     Radiosity result;
     job.context.collectively([&] {
@@ -281,13 +312,15 @@ void runBenchRun(Job& job) {
     BenchRecord record;
     auto t0 = std::chrono::steady_clock::now();
     job.context.collectively([&] { checkDistributedSolver(options.solver.solver); });
-    loadScene(job, makePipeline(options, job.timings, job.reporter));
+    const RadiosityPipeline pipeline = makePipeline(options, job.timings, job.reporter);
+    loadScene(job, pipeline);
     if (root) recordScene(record, options, job.scene, secondsSince(t0));
-    obtainFormFactors(job, "");
+    obtainFormFactors(job, "", "");
+    const PostProcessing steps = pendingSteps(job, pipeline.policy());
     t0 = std::chrono::steady_clock::now();
-    reciprocity(job);
+    reciprocity(job, steps);
     if (root && options.enforceReciprocity) record.set("t_reciprocity", secondsSince(t0));
-    normalise(job);
+    normalise(job, steps);
     FormFactors all = gatherFormFactors(job.context, job.F);
     if (root) {
         t0 = std::chrono::steady_clock::now();

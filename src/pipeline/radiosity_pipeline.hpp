@@ -61,10 +61,74 @@ struct FormFactorUpdate {
 void mergeAddedRows(FormFactors& current, const FormFactors& added, std::size_t rows, const Scene& scene,
                     const MethodSettings& method);
 
+/// What a front end says when a scene needs no row of F (formFactorsWithoutRows).
+inline constexpr const char* kNoRowsNeeded =
+    "form factors: no row needed: every patch is black (rho = 0, so B = E); F holds none (--all-rows computes them)";
+
+/// The post-processing of F a run applies (FormFactorPolicy's steps).
+struct PostProcessing {
+    double dropBelow = 0.0;           ///< drop pairs below this and close (0: not)
+    bool enforceReciprocity = false;  ///< close without dropping (when dropBelow is 0)
+    bool normalizeRows = false;       ///< then rows to sum 1
+    bool any() const { return dropBelow > 0.0 || enforceReciprocity || normalizeRows; }
+};
+
+/// The post-processing `policy` asks of F less what F's parameters record as done (issue 35 #2: a
+/// stored F was dropped again on every reuse): no drop when "sparsified" names the same EPS (a drop
+/// ends with the closure), no closure when "reciprocity" is recorded, no normalisation when "rows"
+/// says normalised and nothing before it changes F.
+PostProcessing pendingPostProcessing(const FormFactorPolicy& policy, const FormFactors& F);
+
+/// F's record of its post-processing for people ("pairs below 0.01 dropped ...; reciprocity
+/// enforced, ...; rows normalised to sum 1"), "" when it has none.
+std::string recordedPostProcessing(const FormFactors& F);
+
+/// The rule for an F kept in a file between runs (--ff), one for the pipeline and the MPI driver:
+///   - a new F (no file yet, or --recompute-ff) is stored once post-processed; its parameters
+///     record each step (pendingPostProcessing);
+///   - a reused F gets only the steps it does not record, and its file stays as it is, except when
+///     rows it lacked were computed: then it is stored with them, before any step;
+///   - a reused F that records post-processing and lacks rows is computed again whole: its entries
+///     were changed by the steps, and new rows cannot join them.
+class StoredFormFactorRule {
+public:
+    /// F computed whole: stored after post-processing when there is a file (`path` not empty).
+    static StoredFormFactorRule computed(const std::string& path);
+    /// The F read from `path` (already checked against the scene, checkStoredFormFactors), holding
+    /// `rows` computed rows and lacking `missing` rows the run needs.
+    static StoredFormFactorRule reused(const FormFactors& F, std::size_t rows, std::size_t missing, const std::string& path);
+
+    /// Whether the file's F is used (else F is computed whole and stored).
+    bool reuse() const { return m_reuse; }
+    /// What the front end tells about the file (reused, rows to compute, its post-processing, or why
+    /// it is computed again).
+    const std::vector<std::string>& lines() const { return m_lines; }
+    /// Store F once its missing rows are added, before post-processing.
+    bool storeBeforePostProcessing(bool rowsAdded) const { return m_reuse && rowsAdded; }
+    /// Store F after post-processing.
+    bool storeAfterPostProcessing() const { return m_store && !m_reuse; }
+
+private:
+    bool m_reuse = false, m_store = false;
+    std::vector<std::string> m_lines;
+};
+
+/// Checks an F read from `path` for `scene` and `settings`, in one process and on MPI ranks: the
+/// scene hash and size (checkFormFactorsMatch; a file without a hash is counted in `warnings` as
+/// unverified), then the form-factor settings it records against `settings` by the GUI's rule
+/// (sameFormFactorSettings; issue 35 #22: an F of --max-depth 0 --samples 512 was reused for
+/// --max-depth 8 --samples 4096 without a word). Other settings throw hemirad::Error naming the
+/// difference and the ways on (--recompute-ff, --reuse-ff-anyway); with `otherSettings`
+/// (--reuse-ff-anyway) they are a warning. A file that records no settings (older files, foreign
+/// .mtx) is counted in `warnings`.
+void checkStoredFormFactors(const FormFactors& F, const Scene& scene, const MethodSettings& settings, bool otherSettings,
+                            const std::string& path, Warnings& warnings);
+
 /// Where F is kept between runs (--ff).
 struct StoredFormFactors {
     std::string path;        ///< "" = none
     bool recompute = false;  ///< recompute F and overwrite the file
+    bool otherSettings = false;  ///< reuse the file although it records other settings (a warning)
     /// Store it as a shard manifest with its shard (form_factor_shards.hpp); a manifest already at
     /// `path` stays one.
     bool sharded = false;
@@ -88,13 +152,16 @@ public:
     void checkBeforeComputing(const Scene& scene) const;
 
     /// Brings F up to date for `scene`: computes the missing rows (memory check first), merges them
-    /// into `current` (taken over; empty = none), then applies reciprocity and normalisation.
+    /// into `current` (taken over; empty = none), then applies the post-processing F does not record
+    /// (pendingPostProcessing). A `current` that records post-processing and lacks rows is computed
+    /// again whole (see StoredFormFactorRule).
     /// `current` must belong to `scene` (checkFormFactorsMatch). Throws hemirad::Error.
     FormFactorUpdate updateFormFactors(const Scene& scene, FormFactors current = {}) const;
 
     /// updateFormFactors with a stored F: reuses `file.path` when it exists and belongs to the scene
-    /// (unless `file.recompute`), stores the result there when it changed or did not exist. Files
-    /// without a Hemirad scene hash (foreign .mtx) are checked by size only and counted in `warnings`.
+    /// and the policy's settings (unless `file.recompute`; checkStoredFormFactors), and stores F there as
+    /// StoredFormFactorRule says. Files without a Hemirad scene hash (foreign .mtx) are checked by
+    /// size only and counted in `warnings`.
     FormFactorUpdate formFactorsWithFile(const Scene& scene, const StoredFormFactors& file, Warnings& warnings) const;
 
     /// Solves (I - R F) B = E per channel; `initial` warm-starts iterative solvers. "auto" picks the
@@ -105,7 +172,7 @@ public:
 private:
     /// The missing rows merged into `current` (no post-processing).
     FormFactorUpdate computeMissingRows(const Scene& scene, FormFactors current) const;
-    /// Reciprocity and normalisation as the policy asks.
+    /// Reciprocity (or the drop) and normalisation as the policy asks, less what F records.
     void postProcess(const Scene& scene, FormFactorUpdate& update) const;
     /// Recomputes update.stats (timed as "F diagnostics") when the policy keeps statistics or `needed`.
     void refreshStats(const Scene& scene, FormFactorUpdate& update, bool needed = false) const;

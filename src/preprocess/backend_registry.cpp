@@ -2,7 +2,9 @@
 #include "preprocess/backend_registry.hpp"
 
 #include <cerrno>
+#include <charconv>
 #include <cstdlib>
+#include <map>
 #if HEMIRAD_WITH_EMBREE
 #include "preprocess/hemisphere/hemisphere_backend.hpp"
 #endif
@@ -102,12 +104,62 @@ MethodSettings defaultSettings(std::string_view method) {
     return {d.name, CommonOptions{}, d.defaults()};
 }
 
+namespace {
+
+std::string shortest(double value) {
+    char text[32];
+    const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+    return std::string(text, end);
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> formFactorSettings(const MethodSettings& settings) {
+    std::vector<std::pair<std::string, std::string>> out = {{"--method", settings.method},
+                                                            {"--max-depth", std::to_string(settings.common.maxDepth)},
+                                                            {"min_weight", shortest(settings.common.minWeight)}};
+    for (const BackendOption& o : findBackend(settings.method).options) out.emplace_back(o.flag, o.get(settings));
+    return out;
+}
+
+std::string formFactorSettingsText(const MethodSettings& settings) {
+    std::string text;
+    for (const auto& [flag, value] : formFactorSettings(settings)) text += (text.empty() ? "" : " ") + flag + "=" + value;
+    return text;
+}
+
+std::string formFactorSettingsDifference(const std::string& made, const MethodSettings& now) {
+    std::map<std::string, std::string> recorded;
+    for (std::size_t at = 0; at < made.size();) {
+        std::size_t end = made.find(' ', at);
+        if (end == std::string::npos) end = made.size();
+        const std::string item = made.substr(at, end - at);
+        const std::size_t eq = item.find('=');
+        if (eq != std::string::npos) recorded[item.substr(0, eq)] = item.substr(eq + 1);
+        at = end + 1;
+    }
+    std::string out;
+    auto differ = [&](const std::string& flag, const std::string& was, const std::string& is) {
+        const bool first = out.empty();
+        out += (first ? "" : ", ") + flag + " " + was + (first ? " (the file)" : "") + " against " + is +
+               (first ? " (this run)" : "");
+    };
+    const std::vector<std::pair<std::string, std::string>> current = formFactorSettings(now);
+    const auto method = recorded.find("--method");
+    if (method == recorded.end() || method->second != now.method) {
+        differ("--method", method == recorded.end() ? "(not recorded)" : method->second, now.method);
+        return out;  // another back end: its options are not this one's
+    }
+    for (const auto& [flag, value] : current) {
+        const auto it = recorded.find(flag);
+        if (it == recorded.end()) differ(flag, "(not recorded)", value);
+        else if (it->second != value) differ(flag, it->second, value);
+    }
+    return out;
+}
+
 bool sameFormFactorSettings(const MethodSettings& a, const MethodSettings& b) {
-    if (a.method != b.method || a.common.maxDepth != b.common.maxDepth || a.common.minWeight != b.common.minWeight)
-        return false;
-    for (const BackendOption& o : findBackend(a.method).options)
-        if (o.get(a) != o.get(b)) return false;
-    return true;
+    return formFactorSettingsDifference(formFactorSettingsText(a), b).empty();
 }
 
 std::unique_ptr<FormFactorBackend> makeBackend(const MethodSettings& settings) {

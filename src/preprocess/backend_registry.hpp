@@ -110,9 +110,23 @@ const BackendDescriptor& findBackend(std::string_view name);
 /// The back end's default settings. Throws hemirad::Error for an unknown back end or one not built.
 MethodSettings defaultSettings(std::string_view method);
 
+/// The settings that make F, as (flag, value) pairs in a fixed order: --method, --max-depth,
+/// min_weight (the mirror chains' cut-off, which has no flag), then every option of the back end
+/// as the registry's text. The thread count is left out: it changes how fast F is made, not F.
+std::vector<std::pair<std::string, std::string>> formFactorSettings(const MethodSettings& settings);
+
+/// formFactorSettings on one line, "--method=hemisphere --max-depth=8 ...": F records it in its
+/// parameters ("settings"), so that a reuse can compare it (formFactorSettingsDifference).
+std::string formFactorSettingsText(const MethodSettings& settings);
+
+/// What differs between the settings an F was made with (`made`, formFactorSettingsText's line) and
+/// `now`, for people: "--samples 512 (the file) against 4096 (this run), --origins 1 against 4"
+/// (the back end alone when it differs); empty when they make the same F.
+std::string formFactorSettingsDifference(const std::string& made, const MethodSettings& now);
+
 /// True when `a` and `b` make the same F: the same back end, mirror depth and weight, and every one
-/// of the back end's options equal (compared as the registry's text, so no back end is named here).
-/// The thread count is not compared: it changes how fast F is made, not F.
+/// of the back end's options equal (formFactorSettingsDifference of a's text and b is empty). The
+/// rule the GUI and `--ff` reuse by.
 bool sameFormFactorSettings(const MethodSettings& a, const MethodSettings& b);
 
 /// Validates and creates the back end of `settings`. Throws hemirad::Error.

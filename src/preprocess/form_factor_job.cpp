@@ -101,6 +101,14 @@ std::size_t checkFormFactorMemory(const Scene& scene, const MethodSettings& sett
     return std::size_t(p.bytes);
 }
 
+FormFactors formFactorsWithoutRows(const Scene& scene, const MethodSettings& settings) {
+    FormFactors F(scene.size());
+    F.sceneHash = scene.geometryHash();
+    F.provenance.method = settings.method;
+    F.parameters["settings"] = formFactorSettingsText(settings);
+    return F;
+}
+
 FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
                                  const ProgressCallback& progress, const std::atomic<bool>* cancel) {
     using Clock = std::chrono::steady_clock;
@@ -145,6 +153,7 @@ FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& setti
     run.F.sceneHash = scene.geometryHash();
     run.F.provenance = backend->provenance();
     run.F.parameters = backend->parameters();
+    run.F.parameters["settings"] = formFactorSettingsText(settings);  // what a reuse compares
     run.rowsComputed = rows.size();
     run.rowsSkipped = scene.size() - rows.size();
     const auto t2 = Clock::now();

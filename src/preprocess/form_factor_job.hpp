@@ -57,6 +57,11 @@ std::size_t checkFormFactorMemory(const Scene& scene, const MethodSettings& sett
 FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
                                  const ProgressCallback& progress = {}, const std::atomic<bool>* cancel = nullptr);
 
+/// F of `scene` that holds no computed row (a scene whose patches are all black needs none: B = E),
+/// recorded as computeFormFactors records F, without preparing the back end: N x N, every row marked
+/// not computed, the scene hash, the method and its settings. Files of it read back and serve --ff.
+FormFactors formFactorsWithoutRows(const Scene& scene, const MethodSettings& settings);
+
 /// Rays (or pixels) one row of `settings` costs on `scene` (the back end's estimate).
 double expectedWorkPerRow(const Scene& scene, const MethodSettings& settings);
 

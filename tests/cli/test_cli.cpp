@@ -323,3 +323,116 @@ TEST_CASE("--materials is in the help, taken by the commands that load a scene a
     CHECK(readText(dir / "out.mtl").find("newmtl floor\n") != std::string::npos);
     CHECK(readText(dir / "out.obj").find("o floor\n") != std::string::npos);
 }
+
+namespace {
+
+/// B_r, B_g, B_b per patch from a solve CSV.
+std::vector<std::array<double, 3>> csvRadiosity(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    std::string line;
+    std::getline(in, line);  // header
+    std::vector<std::array<double, 3>> B;
+    while (std::getline(in, line)) {
+        double v[12];
+        REQUIRE(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3],
+                            &v[4], &v[5], &v[6], &v[7], &v[8], &v[9], &v[10], &v[11]) == 12);
+        B.push_back({v[9], v[10], v[11]});
+    }
+    return B;
+}
+
+std::string blackPair() { return sourcePath("tests/data/black/black_pair.obj"); }
+
+}  // namespace
+
+TEST_CASE("solve --ff --drop-below drops once: the stored F is reused as stored, the same nonzeros and B every time") {
+    // issue 35 #2: the dropped F was stored, then dropped again on each reuse.
+    const auto dir = tempDir("cli-drop-reuse");
+    const std::string ff = (dir / "F.hff").string();
+    const std::string common = "solve " + scene("cornell_box.obj") + " --subdivide 150 --ff " + ff + " --drop-below 0.01 -o ";
+    const Result first = runHemirad(common + (dir / "B1.csv").string());
+    REQUIRE_MESSAGE(first.status == 0, first.output);
+    CHECK(first.output.find("pairs with both entries below 0.01 dropped") != std::string::npos);
+    const std::string stored = readText(ff);
+    const Result info = runHemirad("info " + ff);
+    CHECK(info.output.find("sparsified = pairs below 0.01 dropped") != std::string::npos);
+    for (const char* name : {"B2.csv", "B3.csv"}) {
+        const Result again = runHemirad(common + (dir / name).string());
+        REQUIRE_MESSAGE(again.status == 0, again.output);
+        CHECK(again.output.find("form factors: reused") != std::string::npos);
+        CHECK(again.output.find("dropped:") == std::string::npos);  // no second drop
+        CHECK(readText(ff) == stored);
+        CHECK(readText(dir / name) == readText(dir / "B1.csv"));
+    }
+    // A stored F without the drop gets it on each reuse (the file stays as computed): the same B each time.
+    const std::string plain = (dir / "plain.hff").string();
+    REQUIRE(runHemirad("formfactors " + scene("cornell_box.obj") + " --subdivide 150 -o " + plain + " --quiet").status == 0);
+    const std::string reuse = "solve " + scene("cornell_box.obj") + " --subdivide 150 --ff " + plain + " --drop-below 0.01 -o ";
+    const Result p1 = runHemirad(reuse + (dir / "P1.csv").string());
+    const Result p2 = runHemirad(reuse + (dir / "P2.csv").string());
+    REQUIRE(p1.status == 0);
+    REQUIRE(p2.status == 0);
+    CHECK(p2.output.find("pairs with both entries below 0.01 dropped") != std::string::npos);
+    CHECK(readText(dir / "P1.csv") == readText(dir / "P2.csv"));
+    CHECK(readText(dir / "P1.csv") == readText(dir / "B1.csv"));
+}
+
+TEST_CASE("A scene of black patches needs no row of F: solve gives B = E, its F files read back and serve --ff") {
+    // issue 35 #6 and #18: "F has 0 rows but the scene has 2 patches"; F files of N = 0.
+    const auto dir = tempDir("cli-black");
+    Result r = runHemirad("solve " + blackPair() + " -o " + (dir / "B.csv").string());
+    REQUIRE_MESSAGE(r.status == 0, r.output);
+    std::vector<std::array<double, 3>> B = csvRadiosity(dir / "B.csv");
+    REQUIRE(B.size() == 2);
+    CHECK(B[0] == std::array<double, 3>{1, 2, 3});
+    CHECK(B[1] == std::array<double, 3>{0, 0, 0});
+    for (const char* name : {"F.hff", "F.mtx"}) {
+        CAPTURE(name);
+        const std::string ff = (dir / name).string();
+        r = runHemirad("formfactors " + blackPair() + " -o " + ff);
+        REQUIRE_MESSAGE(r.status == 0, r.output);
+        const Result info = runHemirad("info " + ff);
+        CHECK_MESSAGE(info.status == 0, info.output);
+        CHECK(info.output.find("patches 2, computed rows 0 (skipped 2)") != std::string::npos);
+        r = runHemirad("solve " + blackPair() + " --ff " + ff + " -o " + (dir / "B2.csv").string());
+        CHECK_MESSAGE(r.status == 0, r.output);
+        CHECK(r.output.find("form factors: reused " + ff) != std::string::npos);
+        CHECK(readText(dir / "B2.csv") == readText(dir / "B.csv"));
+    }
+    // --all-rows computes the black rows too; the help says which rows are computed by default.
+    r = runHemirad("formfactors " + blackPair() + " --all-rows -o " + (dir / "all.hff").string());
+    REQUIRE(r.status == 0);
+    CHECK(runHemirad("info " + (dir / "all.hff").string()).output.find("patches 2, computed rows 2 (skipped 0)") !=
+          std::string::npos);
+    const Result help = runHemirad("help");
+    CHECK(help.output.find("the patches that reflect (rho > 0; --all-rows: every row)") != std::string::npos);
+}
+
+TEST_CASE("solve --ff refuses an F made with other form-factor settings, naming them, and --reuse-ff-anyway takes it") {
+    // issue 35 #22: an F of --max-depth 0 --samples 512 was reused for --max-depth 8 --samples 4096.
+    const auto dir = tempDir("cli-ff-settings");
+    const std::string ff = (dir / "F.hff").string();
+    const std::string solve = "solve " + scene("mirror_pair.obj") + " --ff " + ff + " -o " + (dir / "B.csv").string();
+    REQUIRE(runHemirad(solve + " --max-depth 0 --samples 512").status == 0);
+    const std::string stored = readText(ff);
+    Result r = runHemirad(solve + " --max-depth 8 --samples 4096");
+    CHECK(r.status == 1);
+    CHECK(r.output.find("was computed with other form-factor settings: --max-depth 0 (the file) against 8 (this run), "
+                        "--samples 512 against 4096") != std::string::npos);
+    CHECK(r.output.find("--recompute-ff") != std::string::npos);
+    CHECK(r.output.find("--reuse-ff-anyway") != std::string::npos);
+    CHECK(readText(ff) == stored);
+    r = runHemirad(solve + " --max-depth 8 --samples 4096 --reuse-ff-anyway");
+    CHECK(r.status == 0);
+    CHECK(r.output.find("form factors: reused") != std::string::npos);
+    CHECK(r.output.find("--max-depth 0 (the file) against 8 (this run)") != std::string::npos);  // said, and counted
+    CHECK(r.output.find("1 F files reused with other settings") != std::string::npos);
+    r = runHemirad(solve + " --samples 512 --max-depth 0");  // the same settings: reused without a word
+    CHECK(r.status == 0);
+    CHECK(r.output.find("form factors: reused") != std::string::npos);
+    CHECK(r.output.find("warning") == std::string::npos);
+    CHECK(runHemirad("help").output.find("--reuse-ff-anyway") != std::string::npos);
+    r = runHemirad("solve " + scene("mirror_pair.obj") + " -o B.csv --reuse-ff-anyway");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("--reuse-ff-anyway needs --ff FILE") != std::string::npos);
+}

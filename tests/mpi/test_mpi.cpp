@@ -180,7 +180,7 @@ TEST_CASE("Distributed CG on the symmetric form matches LU for a reciprocal F, a
     // F from the rays (not reciprocal; the analytic estimator's pairs are): the symmetrised system
     // converges, the posed one does not.
     REQUIRE(runHemirad(dir, 0, "formfactors " + scene + " --estimator rays -o raw.hff --quiet").status == 0);
-    const Run refused = runHemirad(dir, 2, "solve " + scene + " --ff raw.hff --threads 1 --solver cg -o raw.csv");
+    const Run refused = runHemirad(dir, 2, "solve " + scene + " --estimator rays --ff raw.hff --threads 1 --solver cg -o raw.csv");
     CHECK(refused.status == 1);
     CHECK(count(refused.output, "F is not reciprocal enough for the symmetric form") >= 1);
     CHECK(count(refused.output, "hemirad: error: ") == 1);
@@ -207,6 +207,78 @@ TEST_CASE("A reused F gains the rows it lacks on 2 ranks, and the updated file i
     CHECK(two.output.find("rows on 2 MPI ranks") != std::string::npos);
     CHECK(bytes(dir / "two.hff") == bytes(dir / "one.hff"));
     CHECK(readText(dir / "two.hff").find("rows_added=") != std::string::npos);
+}
+
+TEST_CASE("--ff --drop-below on 2 ranks drops once and keeps every pair with the light, as one process does") {
+    // issue 35 #2 and #3: a stored F dropped again on each reuse; a patch's only entry to the light dropped.
+    const auto dir = tempDir("mpi-drop");
+    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 150 --drop-below 0.01 --tolerance 1e-13";
+    const Run one = runHemirad(dir, 0, "solve " + scene + " --ff one.hff -o one.csv --quiet");
+    REQUIRE_MESSAGE(one.status == 0, one.output);
+    const Run two = runHemirad(dir, 2, "solve " + scene + " --ff two.hff -o two.csv --threads 1");
+    REQUIRE_MESSAGE(two.status == 0, two.output);
+    CHECK(two.output.find("pairs with both entries below 0.01 dropped") != std::string::npos);
+    CHECK(bytes(dir / "two.hff") == bytes(dir / "one.hff"));
+    // Reused on 2 ranks, the file of either: stored as dropped, not dropped again.
+    for (const char* file : {"two.hff", "one.hff"}) {
+        CAPTURE(file);
+        const std::string stored = bytes(dir / file);
+        const Run again = runHemirad(dir, 2, "solve " + scene + " --ff " + file + " -o again.csv --threads 1");
+        REQUIRE_MESSAGE(again.status == 0, again.output);
+        CHECK(again.output.find("form factors: reused") != std::string::npos);
+        CHECK(again.output.find("dropped:") == std::string::npos);
+        CHECK(bytes(dir / file) == stored);
+        // The rows spread over the ranks otherwise: the same B to the solve's tolerance.
+        CHECK(largestRelativeDifference(radiosityColumns(dir / "again.csv"), radiosityColumns(dir / "two.csv")) < 1e-8);
+    }
+    // Every patch that saw the light before the drop still sees it.
+    const hemirad::FormFactors F = hemirad::loadFormFactors((dir / "two.hff").string());
+    const std::string full = sourcePath("scenes/cornell_box.obj") + " --subdivide 150";
+    REQUIRE(runHemirad(dir, 0, "formfactors " + full + " -o full.hff --quiet").status == 0);
+    const hemirad::FormFactors undropped = hemirad::loadFormFactors((dir / "full.hff").string());
+    std::vector<std::uint32_t> lights;
+    {
+        std::ifstream in(dir / "one.csv");
+        std::string line;
+        std::getline(in, line);
+        for (std::uint32_t i = 0; std::getline(in, line); ++i)
+            if (std::stod(line.substr(line.find(',', line.find(',') + 1) + 1)) > 0) lights.push_back(i);
+    }
+    REQUIRE_FALSE(lights.empty());
+    std::size_t kept = 0;
+    for (std::uint32_t i = 0; i < F.size(); ++i)
+        for (const std::uint32_t light : lights)
+            if (undropped.at(i, light) > 0) {
+                CHECK(F.at(i, light) > 0);
+                ++kept;
+            }
+    CHECK(kept > 100);
+}
+
+TEST_CASE("A scene of black patches on 2 ranks: F is N x N with the scene's hash, as one process writes it, and serves --ff") {
+    // issue 35 #18: under MPI the F of a scene that needs no rows got scene hash 0000000000000000.
+    const auto dir = tempDir("mpi-black");
+    const std::string scene = sourcePath("tests/data/black/black_pair.obj");
+    for (const char* name : {"F.hff", "F.mtx"}) {
+        CAPTURE(name);
+        const std::string ext = std::string(name).substr(1);
+        REQUIRE(runHemirad(dir, 0, "formfactors " + scene + " -o one" + ext + " --quiet").status == 0);
+        const Run two = runHemirad(dir, 2, "formfactors " + scene + " -o two" + ext + " --threads 1");
+        REQUIRE_MESSAGE(two.status == 0, two.output);
+        CHECK(two.output.find("scene hash 0000000000000000") == std::string::npos);
+        CHECK(bytes(dir / ("two" + ext)) == bytes(dir / ("one" + ext)));
+        const Run info = runHemirad(dir, 0, "info two" + ext);
+        CHECK_MESSAGE(info.status == 0, info.output);
+        CHECK(info.output.find("patches 2, computed rows 0 (skipped 2)") != std::string::npos);
+        const Run solve = runHemirad(dir, 2, "solve " + scene + " --ff two" + ext + " -o B.csv --threads 1");
+        REQUIRE_MESSAGE(solve.status == 0, solve.output);
+        CHECK(solve.output.find("form factors: reused two" + ext) != std::string::npos);
+        CHECK(largestRelativeDifference(radiosityColumns(dir / "B.csv"), {1, 2, 3, 0, 0, 0}) < 1e-12);
+    }
+    const Run fresh = runHemirad(dir, 2, "solve " + scene + " --ff new.hff -o B.csv --threads 1");
+    REQUIRE_MESSAGE(fresh.status == 0, fresh.output);
+    CHECK(largestRelativeDifference(radiosityColumns(dir / "B.csv"), {1, 2, 3, 0, 0, 0}) < 1e-12);
+    CHECK(bytes(dir / "new.hff") == bytes(dir / "one.hff"));
 }
 
 TEST_CASE("A sharded F from 2 ranks round-trips through info and solve --ff, in one process and on 2 or 3 ranks") {

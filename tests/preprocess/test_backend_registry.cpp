@@ -132,3 +132,20 @@ TEST_CASE("An unregistered back end is gone from the registry, and the built-in 
     CHECK_THROWS_WITH_AS(defaultSettings("closed-cube"), doctest::Contains("unknown --method 'closed-cube'"), Error);
     CHECK_THROWS_WITH_AS(unregisterFormFactorBackend("hemisphere"), doctest::Contains("cannot be removed"), Error);
 }
+
+TEST_CASE("Form-factor settings as F records them: one line, compared by the GUI's rule, differences named") {
+    MethodSettings a = defaultSettings(defaultBackend().name);
+    MethodSettings b = a;
+    b.common.threads = 7;  // how fast, not which F
+    CHECK(sameFormFactorSettings(a, b));
+    CHECK(formFactorSettingsDifference(formFactorSettingsText(a), b).empty());
+    const std::string text = formFactorSettingsText(a);
+    CHECK(text.rfind("--method=" + a.method + " --max-depth=8 min_weight=1e-04", 0) == 0);
+    b.common.maxDepth = 2;
+    CHECK_FALSE(sameFormFactorSettings(a, b));
+    CHECK(formFactorSettingsDifference(text, b) == "--max-depth 8 (the file) against 2 (this run)");
+    // Another back end: named alone; an unrecorded option is said to be so.
+    CHECK(formFactorSettingsDifference("--method=closed-cube", a) ==
+          "--method closed-cube (the file) against " + a.method + " (this run)");
+    CHECK(formFactorSettingsDifference("--method=" + a.method, a).find("--max-depth (not recorded) (the file) against 8") == 0);
+}

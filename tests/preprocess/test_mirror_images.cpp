@@ -58,6 +58,19 @@ TEST_CASE("Virtual images: the physics.md image-method factor within 1e-5 with t
     CHECK(std::abs(rays.F.at(0, 1) - expected) > 1e-4);
 }
 
+TEST_CASE("Virtual images: the image-method factor at every --origins, past order 31 of the emitter rule") {
+    // --origins K asks for ceil(sqrt K)^2 emitter points: K = 962 is order 32, K = 65536 order 256 (the
+    // direct factors' rule); the mirror term must not vanish there (issue 35 #1).
+    const Scene s = bundledScene("mirror_pair.obj");
+    const double expected = 0.9 * (c11(2, 1, 1) - c11(1, 1, 1));
+    for (const std::uint32_t origins : {961u, 962u, 1024u, 4096u, 65536u}) {
+        CAPTURE(origins);
+        const FormFactorRun r = defaults(s, MirrorEstimator::Images, origins);
+        CHECK(std::abs(r.F.at(0, 1) - expected) <= 1e-5);
+        CHECK(std::abs(r.F.at(1, 0) - expected) <= 1e-5);
+    }
+}
+
 TEST_CASE("Virtual images: unequal plates under one mirror, both directions and reciprocity, within 1e-5") {
     const double s = 0.9, width = 2.0;
     const Scene scene = platesUnderMirror(width, s);

@@ -271,3 +271,18 @@ def test_drop_below_keeps_row_sums_and_reciprocity_with_fewer_nonzeros(cornell):
     assert abs(AG - AG.T).max() <= 1e-6 * AG.max()
     with pytest.raises(hemirad.Error, match="drop_below"):
         hemirad.form_factors(cornell, threads=1, drop_below=-1.0)
+
+
+def test_a_black_scene_needs_no_rows_and_solves_to_its_emission(tmp_path):
+    # issue 35 #6 and #18: F of 0 x 0 for a scene of black patches, and scipy's "index pointer size".
+    scene = hemirad.load(os.path.join(SOURCE, "tests", "data", "black", "black_pair.obj"))
+    F, report = hemirad.form_factors(scene, threads=1)
+    assert F.shape == (2, 2) and F.nnz == 0
+    assert len(report["computed"]) == 2 and not report["computed"].any()
+    assert report["provenance"]["scene_hash"] != "0000000000000000"
+    B, _ = hemirad.solve(scene, F)
+    assert np.array_equal(B, [[1, 2, 3], [0, 0, 0]])
+    hemirad.write_form_factors(tmp_path / "F.hff", F, scene)
+    assert hemirad.read_form_factors(tmp_path / "F.hff", scene).shape == (2, 2)
+    G, _ = hemirad.form_factors(scene, threads=1, all_rows=True)
+    assert G.shape == (2, 2) and G[0, 1] > 0.19

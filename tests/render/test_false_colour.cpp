@@ -95,8 +95,9 @@ TEST_CASE("hemirad render --false-color irradiance: colours, range and legend co
     const std::string hemirad = std::string(HEMIRAD_BINARY) + " ";
     CommandResult r = runCommand(hemirad + "solve " + scene + " --subdivide 150 --samples 512 --ff " + F + " -o " + csvPath + " 2>&1");
     REQUIRE(r.status == 0);
-    r = runCommand(hemirad + "render " + scene + " --subdivide 150 --ff " + F + " --false-color irradiance --size 200x200 -o " +
-                   png + " 2>&1");
+    // The settings F was made with (--samples): --ff refuses an F made with others.
+    r = runCommand(hemirad + "render " + scene + " --subdivide 150 --samples 512 --ff " + F +
+                   " --false-color irradiance --size 200x200 -o " + png + " 2>&1");
     INFO(r.output);
     REQUIRE(r.status == 0);
     const std::vector<double> H = irradianceFromCsv(readText(csvPath));

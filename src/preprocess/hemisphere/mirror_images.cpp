@@ -298,7 +298,7 @@ void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
             const int order = receiverOrder(node, r, cone, j);
             if (order < 0) return;
             ws.receivers.push_back(j);
-            ws.orders.push_back(static_cast<std::uint8_t>(order));
+            ws.orders.push_back(static_cast<std::uint16_t>(order));
         });
         ws.nodes[q].count = static_cast<std::uint32_t>(ws.receivers.size()) - ws.nodes[q].first;
         // The next reflectors, in index order (pairTerms rebuilds this order).
@@ -457,16 +457,20 @@ bool MirrorImages::clipReceiver(std::size_t q, PatchId j, Workspace& ws) const {
 void MirrorImages::ownTerms(PatchId i, double unit, Workspace& ws, RayCounts& counts) const {
     enumerate(i, ws);
     if (ws.nodes.empty()) return;
-    // One pass per emitter rule in use; the lowest always runs (it counts what is cut off).
+    // One pass per emitter rule in use; the lowest always runs (it counts what is cut off). The
+    // orders are the direct factors' (EmitterOrders): up to ceil(sqrt K) for --origins K, 256 at
+    // the most, so they are flagged per order, not as bits of a word (issue 35 #1: past order 31
+    // the mirror terms vanished).
     ws.mine.resize(ws.receivers.size());
-    std::uint32_t used = 1u << m_lowest;
+    ws.used.assign(std::size_t(m_orders.highest()) + 1, 0);
+    ws.used[std::size_t(m_lowest)] = 1;
     for (std::size_t k = 0; k < ws.receivers.size(); ++k) {
         const PatchId r = ws.receivers[k];
         ws.mine[k] = r == i || emitsFor(m_scene, i, r);
-        if (ws.mine[k]) used |= 1u << ws.orders[k];
+        if (ws.mine[k]) ws.used[ws.orders[k]] = 1;
     }
-    for (int order = m_lowest; order <= 31; ++order)
-        if (used & (1u << order)) evaluate(i, order, kEveryReceiver, unit, ws, counts);
+    for (int order = m_lowest; order <= m_orders.highest(); ++order)
+        if (ws.used[std::size_t(order)]) evaluate(i, order, kEveryReceiver, unit, ws, counts);
 }
 
 void MirrorImages::collect(PatchId i, RowAccumulator& row, double unit, Workspace& ws) const {
@@ -537,7 +541,7 @@ double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, doub
     ws.receivers.clear();
     ws.orders.clear();
     std::vector<std::int32_t> nodeOf(prefixes.size(), -1);  // per prefix: its node, -1 when e has none
-    std::uint32_t used = 0;
+    ws.used.assign(std::size_t(m_orders.highest()) + 1, 0);
     for (std::size_t p = 0; p < prefixes.size(); ++p) {
         const std::vector<std::uint32_t>& chain = prefixes[p];
         const std::uint32_t k = chain.back();
@@ -567,8 +571,8 @@ double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, doub
                 const int order = receiverOrder(node, radius, cone, j);
                 if (order < 0) return;
                 ws.receivers.push_back(j);
-                ws.orders.push_back(static_cast<std::uint8_t>(order));
-                if (j == r) used |= 1u << order;
+                ws.orders.push_back(static_cast<std::uint16_t>(order));
+                if (j == r) ws.used[std::size_t(order)] = 1;
             };
             consider(r);
             if (m_settings.visibility)  // statuses matter only with shadow rays
@@ -579,8 +583,8 @@ double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, doub
         ws.nodes.push_back(node);
     }
     ws.mine.assign(ws.receivers.size(), 1);
-    for (int order = m_lowest; order <= 31; ++order)
-        if (used & (1u << order)) evaluate(e, order, r, unit, ws, counts);
+    for (int order = m_lowest; order <= m_orders.highest(); ++order)
+        if (ws.used[std::size_t(order)]) evaluate(e, order, r, unit, ws, counts);
     double terms = 0.0;
     for (const PatchId j : ws.touched) {
         if (j == r) terms = ws.sums[j];

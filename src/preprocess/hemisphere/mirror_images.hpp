@@ -69,7 +69,8 @@ public:
     struct Workspace {
         std::vector<Node> nodes;
         std::vector<PatchId> receivers;
-        std::vector<std::uint8_t> orders;  // emitter rule per (node, receiver)
+        std::vector<std::uint16_t> orders;  // emitter rule per (node, receiver): up to 256 (--origins 65536)
+        std::vector<std::uint8_t> used;     // per order: some receiver takes that rule
         std::vector<std::uint32_t> stack;  // balls still to visit
         std::vector<std::uint32_t> next;   // a node's next reflectors
         // Per emitter point: each node's image of the point and of the normal, and its aperture.
