@@ -358,6 +358,7 @@ py::dict render(const ScenePtr& scene, py::array_t<double, py::array::c_style | 
         options.camera.eye = Vec3(c[0], c[1], c[2]);
         options.camera.target = Vec3(c[3], c[4], c[5]);
         options.camera.fovY = c[6];
+        checkCamera(options.camera);  // as the CLI and the OBJ loader check theirs
     }
     double scale = 0;
     {

@@ -314,6 +314,31 @@ def test_the_library_arrays_of_f_cannot_be_made_writable():
             array.setflags(write=True)
 
 
+def test_render_refuses_a_bad_camera_naming_the_value():
+    # Issue 35 #7: a NaN eye aborted the interpreter (an Embree assertion), so each case runs in a
+    # fresh interpreter; every one must raise hemirad.Error naming the value.
+    script = f"""
+import numpy as np, hemirad
+scene = hemirad.load({scene_path("cornell_box.obj")!r})
+B = np.zeros((len(scene), 3))
+for camera in [(float("nan"), 0, 0, 0, 0, 0, 40), (278, 273, -800, 278, 273, 0, 0),
+               (278, 273, -800, 278, 273, 0, 200), (1, 2, 3, 1, 2, 3, 40)]:
+    try:
+        hemirad.render(scene, B, "never.png", camera=camera, size=(8, 8))
+        print("accepted", camera)
+    except hemirad.Error as e:
+        print("refused:", e)
+"""
+    run = run_python(script)
+    assert run.returncode == 0, run.stderr
+    lines = run.stdout.splitlines()
+    assert len(lines) == 4, run.stdout
+    assert "camera eye (nan, 0, 0) is not a finite point" in lines[0]
+    assert "camera field of view 0 is outside (0, 180) degrees" in lines[1]
+    assert "camera field of view 200 is outside (0, 180) degrees" in lines[2]
+    assert "camera eye and target coincide at (1, 2, 3)" in lines[3]
+
+
 def test_crafted_csr_arrays_are_refused_before_any_use():
     # Issue 35 #10: row pointers past nnz made the module read and write past its arrays (the checked
     # error came, then a crash). The arrays are views into longer buffers whose extra values are
