@@ -114,9 +114,13 @@ private:
 };
 
 std::uint64_t saveHff(const FormFactors& F, const std::string& path) {
+    checkParameters(withProvenance(F.provenance, F.parameters), path);
+    const std::string params = parameterText(F);
+    if (params.size() > kMaxParameterBytes)  // what the reader refuses as a corrupt header
+        throw Error(path, 0, "parameter text of " + std::to_string(params.size()) + " bytes exceeds the " +
+                                 std::to_string(kMaxParameterBytes) + " an .hff file holds");
     AtomicFile file(path);
     HffWriter w(file.stream());
-    const std::string params = parameterText(F);
     w.write(kMagic, 8);
     w.value(kVersion);
     w.value(static_cast<std::uint32_t>(params.size()));
@@ -289,6 +293,7 @@ void appendRanges(std::ostream& out, const FormFactors& F) {
 }
 
 void saveMtx(const FormFactors& F, const std::string& path) {
+    checkParameters(withProvenance(F.provenance, F.parameters), path);
     AtomicFile file(path, false);
     std::ostream& out = file.stream();
     out << "%%MatrixMarket matrix coordinate real general\n"
