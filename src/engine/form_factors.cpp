@@ -225,7 +225,8 @@ double normalizeRows(FormFactors& F) {
     return worst;
 }
 
-double rowSumBound(const FormFactors& F) { return F.provenance.rowSumBound + 1e-3; }
+double rowSumBound(const FormFactors& F) { return rowSumBound(F.provenance); }
+double rowSumBound(const FormFactorProvenance& provenance) { return provenance.rowSumBound + 1e-3; }
 
 namespace {
 

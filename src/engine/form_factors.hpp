@@ -157,5 +157,6 @@ void validateFormFactors(const FormFactors& F, std::size_t patchCount, const std
 
 /// The largest row sum F may have: its provenance's bound plus a tolerance of 1e-3 for float accumulation.
 double rowSumBound(const FormFactors& F);
+double rowSumBound(const FormFactorProvenance& provenance);
 
 }  // namespace hemirad

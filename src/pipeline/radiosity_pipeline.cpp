@@ -152,7 +152,7 @@ FormFactorUpdate RadiosityPipeline::formFactorsWithFile(const Scene& scene, cons
     FormFactors current;
     if (reuse) {
         const auto t0 = Clock::now();
-        current = loadFormFactors(path);
+        current = loadFormFactors(path, scene.size());  // another N refused before it is allocated
         timing("load F", since(t0));
         checkFormFactorsMatch(current, scene.geometryHash(), scene.size(), path);
         if (!current.provenance.sceneHashKnown)

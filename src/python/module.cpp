@@ -302,14 +302,12 @@ py::tuple solve(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_st
 }
 
 py::tuple readFormFactors(const std::string& path, const py::object& scene) {
+    const ScenePtr given = scene.is_none() ? nullptr : scene.cast<ScenePtr>();
     FormFactors F = [&] {
         py::gil_scoped_release release;
-        return loadFormFactors(path);
+        return loadFormFactors(path, given ? given->size() : 0);
     }();
-    if (!scene.is_none()) {
-        const Scene& s = *scene.cast<ScenePtr>();
-        checkFormFactorsMatch(F, s.geometryHash(), s.size(), path);
-    }
+    if (given) checkFormFactorsMatch(F, given->geometryHash(), given->size(), path);
     py::dict info = provenanceDict(F);
     return py::make_tuple(csrArrays(std::move(F)), info);
 }

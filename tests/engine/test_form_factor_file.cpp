@@ -68,6 +68,26 @@ TEST_CASE("F file round-trip keeps every entry (.hff and .mtx)") {
     CHECK(info.size == 4);
     CHECK(info.nonZeros == 7);
     CHECK(info.computedRows == 3);
+    CHECK_FALSE(info.mtxRows.has_value());
+    // An .mtx is described from its entries alone: the same figures as the loaded F gives.
+    const FormFactorFileInfo text = readFormFactorInfo((dir / "F.mtx").string());
+    CHECK(text.size == 4);
+    CHECK(text.nonZeros == 7);
+    CHECK(text.computedRows == 3);
+    CHECK(text.sceneHash == F.sceneHash);
+    REQUIRE(text.mtxRows.has_value());
+    CHECK(text.mtxRows->provenance == F.provenance);
+    CHECK(text.mtxRows->rowsWithEntries == 3);
+    CHECK(text.mtxRows->selfFactorRows == 1);  // F(1, 1) = 1e-7
+    CHECK(text.mtxRows->min == doctest::Approx(F.rowSum(1)));
+    CHECK(text.mtxRows->max == doctest::Approx(F.rowSum(3)));
+    CHECK(text.mtxRows->total == doctest::Approx(F.rowSum(0) + F.rowSum(1) + F.rowSum(3)));
+    // A load for a scene of another size is refused before F is built, in every format.
+    for (const char* name : {"F.hff", "F.mtx"}) {
+        const std::string message = std::string(name) + ": F has 4 patches but the scene has 5";
+        CHECK_THROWS_WITH_AS(loadFormFactors((dir / name).string(), 5), doctest::Contains(message.c_str()), Error);
+    }
+    CHECK(loadFormFactors((dir / "F.mtx").string(), 4).size() == 4);
 }
 
 TEST_CASE("F's provenance is typed in memory and stored under readable keys, and old and foreign files load") {
