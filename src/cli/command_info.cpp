@@ -89,8 +89,26 @@ int describeShards(const std::string& path) {
 int runInfo(const Options& options) {
     const std::string& path = options.inputs.at(0);
     if (isShardManifest(path)) return describeShards(path);
-    const FormFactorFileInfo info = readFormFactorInfo(path);  // structure and checksum
-    const FormFactors F = loadFormFactors(path);               // every entry checked
+    const FormFactorFileInfo info = readFormFactorInfo(path);  // .hff: structure and checksum
+    if (info.mtxRows) {
+        // .mtx: every entry checked and summarised by readFormFactorInfo, without F's row arrays, so
+        // that what info costs follows the entries and not the N the file declares (issue 35 #11).
+        const MtxRowSums& rows = *info.mtxRows;
+        RowTotals totals;
+        totals.patches = info.size;
+        totals.nonZeros = info.nonZeros;
+        totals.rows = info.computedRows;
+        totals.diagonal = rows.selfFactorRows;
+        if (totals.rows) {
+            totals.lo = rows.min;
+            totals.hi = rows.max;
+            totals.sum = rows.total;
+        }
+        std::cout << path << ": valid Hemirad form factors";
+        describe(totals, info.sceneHash, rows.provenance, info.parameters, double(info.fileBytes));
+        return 0;
+    }
+    const FormFactors F = loadFormFactors(path);  // every entry checked (an .hff's N is bounded by its size)
     RowTotals totals;
     totals.add(F);
     std::cout << path << ": valid Hemirad form factors";

@@ -182,8 +182,11 @@ const std::map<std::string, Flag>& flags() {
                           cam.eye = Vec3(c[0], c[1], c[2]);
                           cam.target = Vec3(c[3], c[4], c[5]);
                           cam.fovY = c[6];
-                          if (!(cam.fovY > 0 && cam.fovY < 180)) throw UsageError(f + ": field of view must be in (0, 180) degrees");
-                          if ((cam.eye - cam.target).norm() == 0) throw UsageError(f + ": eye and target coincide");
+                          try {
+                              checkCamera(cam);
+                          } catch (const Error& e) {
+                              throw UsageError(f + ": " + e.what());
+                          }
                           o.camera = cam;
                       }}},
         {"--spp", {{"render"}, true,

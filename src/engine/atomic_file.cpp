@@ -1,15 +1,19 @@
-// AtomicFile: temporary file + rename, with a signal-safe registry of pending temporaries.
+// AtomicFile: exclusive temporary file + fsync + rename, with a signal-safe registry of pending temporaries.
 #include "engine/atomic_file.hpp"
 
 #include "engine/error.hpp"
 
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <random>
+
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -37,6 +41,31 @@ int registerPending(const std::string& path) {
 void unregisterPending(const std::string& path) {
     for (int k = 0; k < kMaxPending; ++k)
         if (g_used[k].load() && path == g_pending[k]) g_used[k].store(false);
+}
+
+/// The folder of `path` synced, so that a rename in it survives a crash. Best effort: some file
+/// systems cannot sync a folder, and the file itself was synced before the rename.
+void syncFolder(const std::string& path) {
+    std::string folder = std::filesystem::path(path).parent_path().string();
+    if (folder.empty()) folder = ".";
+    const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return;
+    [[maybe_unused]] const int ignored = ::fsync(fd);
+    ::close(fd);
+}
+
+/// A random number drawn once per process (with the PID and the host name it tells apart writers
+/// that share a folder).
+std::uint32_t processNonce() {
+    static const std::uint32_t nonce = [] {
+        std::uint32_t value = std::uint32_t(std::chrono::steady_clock::now().time_since_epoch().count());
+        try {
+            value ^= std::random_device()();
+        } catch (const std::exception&) {  // no entropy source: the clock alone
+        }
+        return value;
+    }();
+    return nonce;
 }
 
 }  // namespace
@@ -96,21 +125,75 @@ AtomicFile::AtomicFile(std::string path, bool binary) : m_shown(std::move(path))
         break;
     }
     m_path = resolveWriteTarget(m_shown);
-    const bool exists = ::access(m_path.c_str(), F_OK) == 0;
+    struct stat old {};
+    const bool exists = ::stat(m_path.c_str(), &old) == 0;
     // A read-only file stays as it is, as cp leaves it (a rename in a writable folder would not).
     if (exists && ::access(m_path.c_str(), W_OK) != 0)
         throw Error(m_shown, 0, std::string("cannot write: ") + std::strerror(errno));
-    // A short hidden name beside the target: any name the target may have leaves room for it.
-    static std::atomic<unsigned> counter{0};
-    const std::filesystem::path folder = std::filesystem::path(m_path).parent_path();
-    m_temp = (folder / (".hemirad-tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++))).string();
-    registerPending(m_temp);
+    // Created exclusively, so that no other writer (another process, another node on a shared folder)
+    // ever writes the same temporary file. The replacement of an existing file starts private and
+    // takes that file's mode once its owner is set; a new file gets 0666 less the umask.
+    for (int attempt = 0;; ++attempt) {
+        m_temp = temporaryNameFor(m_path);
+        registerPending(m_temp);
+        m_descriptor = ::open(m_temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, exists ? 0600 : 0666);
+        if (m_descriptor >= 0) break;
+        const int err = errno;
+        unregisterPending(m_temp);
+        m_temp.clear();
+        if (err != EEXIST || attempt == 100) throw Error(m_shown, 0, std::string("cannot write: ") + std::strerror(err));
+    }
+    if (exists) {
+        // Owner and group where this process may set them (root; a group it belongs to), then the
+        // permission bits, which a change of owner may clear.
+        const bool otherOwner = old.st_uid != ::geteuid() || old.st_gid != ::getegid();
+        if (otherOwner && ::fchown(m_descriptor, old.st_uid, old.st_gid) != 0) {
+            [[maybe_unused]] const int groupOnly = ::fchown(m_descriptor, static_cast<uid_t>(-1), old.st_gid);
+        }
+        if (::fchmod(m_descriptor, old.st_mode & 07777) != 0) {
+            const int err = errno;
+            discard();
+            throw Error(m_shown, 0, std::string("cannot keep the file's mode: ") + std::strerror(err));
+        }
+    }
     m_file.open(m_temp, mode);
     if (!m_file) {
         const int err = errno;
-        unregisterPending(m_temp);
+        discard();
         throw Error(m_shown, 0, std::string("cannot write: ") + std::strerror(err));
     }
+}
+
+std::string AtomicFile::temporaryNameFor(const std::string& target) {
+    static std::atomic<unsigned> counter{0};
+    char host[256] = {};
+    if (::gethostname(host, sizeof host - 1) != 0 || host[0] == '\0') std::strcpy(host, "localhost");
+    std::string hostName(host);
+    if (hostName.size() > 64) hostName.resize(64);
+    for (char& c : hostName)
+        if (c == '/' || static_cast<unsigned char>(c) < 32) c = '_';
+    char unique[32];
+    std::snprintf(unique, sizeof unique, "%08x-%u", processNonce(), counter++);
+    const std::string tail = ".hemirad-tmp." + hostName + "." + std::to_string(::getpid()) + "." + unique;
+    const std::filesystem::path path(target);
+    std::string name = path.filename().string();
+    // One folder entry holds 255 bytes: a long target name is shortened, never split inside a UTF-8 character.
+    const std::size_t room = 255 - 1 - tail.size();
+    if (name.size() > room) {
+        std::size_t cut = room;
+        while (cut > 0 && (static_cast<unsigned char>(name[cut]) & 0xC0) == 0x80) --cut;
+        name.resize(cut);
+    }
+    return (path.parent_path() / ("." + name + tail)).string();
+}
+
+void AtomicFile::discard() noexcept {
+    if (m_file.is_open()) m_file.close();
+    if (m_descriptor >= 0) ::close(m_descriptor);
+    m_descriptor = -1;
+    if (m_temp.empty()) return;
+    std::remove(m_temp.c_str());
+    unregisterPending(m_temp);
 }
 
 AtomicFile::~AtomicFile() {
@@ -119,10 +202,7 @@ AtomicFile::~AtomicFile() {
         m_out->flush();  // what was written reaches the reader, as for any target written in place
         return;
     }
-    m_file.close();
-    if (m_temp.empty()) return;
-    std::remove(m_temp.c_str());
-    unregisterPending(m_temp);
+    discard();
 }
 
 void AtomicFile::commit() {
@@ -136,9 +216,16 @@ void AtomicFile::commit() {
     m_file.close();
     if (!ok || m_file.fail()) throw Error(m_shown, 0, "write failed (disk full?)");
     if (!m_temp.empty()) {
+        // The data reaches the disk before the name does: after a crash the name holds the old file
+        // or the whole new one, never an empty or partial one.
+        if (::fsync(m_descriptor) != 0)
+            throw Error(m_shown, 0, std::string("write failed: cannot sync it to disk: ") + std::strerror(errno));
+        ::close(m_descriptor);
+        m_descriptor = -1;
         if (std::rename(m_temp.c_str(), m_path.c_str()) != 0)
             throw Error(m_shown, 0, std::string("cannot write: ") + std::strerror(errno));
         unregisterPending(m_temp);
+        syncFolder(m_path);
     }
     m_committed = true;
 }

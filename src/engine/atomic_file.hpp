@@ -1,7 +1,10 @@
 // Every output file goes through AtomicFile. A regular file (or none yet) is written atomically: data
-// goes to a temporary file beside the target (.hemirad-tmp.PID.N), renamed over it on commit(); a
-// read-only file is refused. What is not a regular file
-// is never replaced: a symbolic link is followed to its target, and a FIFO, device or socket is
+// goes to a temporary file beside the target (.NAME.hemirad-tmp.HOST.PID.UNIQUE, created exclusively),
+// which is synced to disk and renamed over it on commit(), the folder synced after. The new file keeps
+// the old one's permission bits and, where the process may set them, its owner and group; a
+// read-only file is refused. Rename semantics: the target's name gets a new file, so a hard link to
+// the old one keeps the old content (a rewrite in place could not be atomic). What is not a regular
+// file is never replaced: a symbolic link is followed to its target, and a FIFO, device or socket is
 // written in place. The path "-" is standard output (binary data refused when it is a terminal).
 #pragma once
 
@@ -51,9 +54,18 @@ public:
     AtomicFile& operator=(const AtomicFile&) = delete;
 
     std::ostream& stream() { return *m_out; }
-    /// Flushes, checks for write errors and renames into place (closes a target written in place).
+    /// Flushes, checks for write errors, syncs the data to disk and renames into place, then syncs
+    /// the folder (best effort: some file systems cannot); closes a target written in place.
     /// Throws hemirad::Error.
     void commit();
+    /// The temporary file being written ("" for a target written in place or standard output).
+    const std::string& temporaryPath() const { return m_temp; }
+
+    /// The name of a temporary file for `target` in its folder: ".NAME.hemirad-tmp.HOST.PID.UNIQUE",
+    /// NAME shortened (at a UTF-8 boundary) so that the whole fits one folder entry (255 bytes). The
+    /// host name keeps nodes that share a folder and run equal PIDs (containers) apart; UNIQUE is
+    /// a per-process random number and a counter, and the file is created with O_EXCL anyway.
+    static std::string temporaryNameFor(const std::string& target);
 
     /// Deletes every temporary file not yet committed; async-signal-safe (for SIGINT handlers).
     static void removePendingFiles() noexcept;
@@ -63,10 +75,14 @@ public:
     static void removePendingFilesOnInterrupt();
 
 private:
+    /// Closes and removes the temporary file (nothing for a target written in place).
+    void discard() noexcept;
+
     std::string m_shown;  ///< the path as given, for messages
     std::string m_path;   ///< the resolved target
     std::string m_temp;   ///< empty when writing in place
     std::ofstream m_file;
+    int m_descriptor = -1;          ///< the temporary file, held open for fsync
     std::ostream* m_out = &m_file;  ///< m_file, or std::cout for "-"
     bool m_committed = false;
 };

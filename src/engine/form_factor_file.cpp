@@ -23,11 +23,13 @@
 #include "engine/obj_loader.hpp"
 #include "engine/text_reader.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 namespace hemirad {
@@ -94,6 +96,13 @@ std::string extension(const std::string& path) {
     return ext;
 }
 
+/// "F has N patches but the scene has M" when `expected` (0: any) differs from the `n` a file declares.
+void checkPatchCount(const std::string& path, std::uint64_t n, std::size_t expected) {
+    if (expected != 0 && n != expected)
+        throw Error(path, 0, "F has " + std::to_string(n) + " patches but the scene has " + std::to_string(expected) +
+                                 ": it was computed for another scene");
+}
+
 class HffWriter {
 public:
     explicit HffWriter(std::ostream& out) : m_out(out) {}
@@ -114,9 +123,13 @@ private:
 };
 
 std::uint64_t saveHff(const FormFactors& F, const std::string& path) {
+    checkParameters(withProvenance(F.provenance, F.parameters), path);
+    const std::string params = parameterText(F);
+    if (params.size() > kMaxParameterBytes)  // what the reader refuses as a corrupt header
+        throw Error(path, 0, "parameter text of " + std::to_string(params.size()) + " bytes exceeds the " +
+                                 std::to_string(kMaxParameterBytes) + " an .hff file holds");
     AtomicFile file(path);
     HffWriter w(file.stream());
-    const std::string params = parameterText(F);
     w.write(kMagic, 8);
     w.value(kVersion);
     w.value(static_cast<std::uint32_t>(params.size()));
@@ -238,9 +251,11 @@ struct HffFile {
     }
 };
 
-FormFactors readHff(HffReader& r, const std::string& path, std::uint64_t* checksum = nullptr) {
+FormFactors readHff(HffReader& r, const std::string& path, std::uint64_t* checksum = nullptr,
+                    std::size_t expectedPatches = 0) {
     const FormFactorFileInfo info = r.header();
     const std::uint64_t n = info.size, nnz = info.nonZeros;
+    checkPatchCount(path, n, expectedPatches);
     auto computed = r.array<std::uint8_t>(n);
     auto rowStart = r.array<std::uint64_t>(n + 1);
     auto columns = r.array<std::uint32_t>(nnz);
@@ -289,6 +304,7 @@ void appendRanges(std::ostream& out, const FormFactors& F) {
 }
 
 void saveMtx(const FormFactors& F, const std::string& path) {
+    checkParameters(withProvenance(F.provenance, F.parameters), path);
     AtomicFile file(path, false);
     std::ostream& out = file.stream();
     out << "%%MatrixMarket matrix coordinate real general\n"
@@ -314,17 +330,40 @@ void saveMtx(const FormFactors& F, const std::string& path) {
     file.commit();
 }
 
-FormFactors parseMtx(const std::string& path, std::string_view text) {
+/// An .mtx file read and checked entry by entry before anything of size N exists: what it costs
+/// follows what it holds (its text, entries and skipped ranges), never the N it declares (68 bytes
+/// may declare 2^28 patches, whose row arrays alone take 2.3 GB).
+struct MtxContents {
+    struct Entry {
+        std::uint32_t row, column;
+        float value;
+    };
+    std::uint64_t n = 0;
+    std::uint64_t sceneHash = 0;
+    FormFactorProvenance provenance;
+    std::map<std::string, std::string> parameters;             ///< without the provenance's keys
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> skipped;  ///< rows [a, b], sorted, disjoint
+    std::vector<Entry> entries;                                    ///< by row then column, unique
+
+    std::uint64_t skippedRows() const {
+        std::uint64_t rows = 0;
+        for (const auto& [a, b] : skipped) rows += b - a + 1;
+        return rows;
+    }
+};
+
+/// Reads and checks every entry (range, value, skipped rows, count, duplicates, row sums against the
+/// provenance's bound) as loadFormFactors does. `expectedPatches` (0: any) is checked at the size line.
+MtxContents readMtx(const std::string& path, std::string_view text, std::size_t expectedPatches) {
     TextReader r(path, text);
     if (!r.next() || r.tokens().size() < 5 || r.tokens()[0] != "%%MatrixMarket")
         throw Error(path, 1, "not a Matrix Market file (expected '%%MatrixMarket matrix coordinate real general')");
     const auto& h = r.tokens();
     if (h[1] != "matrix" || h[2] != "coordinate" || (h[3] != "real" && h[3] != "double") || h[4] != "general")
         r.fail("unsupported Matrix Market type " + quote(r.rest(1)) + "; expected 'matrix coordinate real general'");
-    FormFactors header;
+    MtxContents c;
     bool haveHash = false;
-    std::vector<std::pair<std::uint64_t, std::uint64_t>> skipped;
-    std::uint64_t n = 0, nnz = 0;
+    std::uint64_t nnz = 0;
     while (r.next()) {
         const auto& t = r.tokens();
         if (t.empty()) continue;
@@ -333,11 +372,11 @@ FormFactors parseMtx(const std::string& path, std::string_view text) {
                 if (t[2] == "scene_hash" && t.size() == 4) {
                     const std::string hex(t[3]);
                     char* end = nullptr;
-                    header.sceneHash = std::strtoull(hex.c_str(), &end, 16);
+                    c.sceneHash = std::strtoull(hex.c_str(), &end, 16);
                     if (*end != '\0') r.fail("bad scene hash " + quote(hex));
                     haveHash = true;
                 } else if (t[2] == "param" && t.size() >= 4) {
-                    header.parameters[std::string(t[3])] = t.size() > 4 ? r.rest(4) : "";
+                    c.parameters[std::string(t[3])] = t.size() > 4 ? r.rest(4) : "";
                 } else if (t[2] == "skipped_rows") {
                     for (std::size_t k = 3; k < t.size(); ++k) {
                         const std::string range(t[k]);
@@ -346,7 +385,7 @@ FormFactors parseMtx(const std::string& path, std::string_view text) {
                         std::uint64_t b = a;
                         if (*end == '-') b = std::strtoull(end + 1, &end, 10);
                         if (*end != '\0' || b < a) r.fail("bad skipped row range " + quote(range));
-                        skipped.emplace_back(a, b);
+                        c.skipped.emplace_back(a, b);
                     }
                 }
             }
@@ -361,67 +400,95 @@ FormFactors parseMtx(const std::string& path, std::string_view text) {
             static_cast<double>(entries) * 6.0 > static_cast<double>(text.size()))
             r.fail("entry count " + std::to_string(entries) + " is impossible for N = " + std::to_string(rows) + " in " +
                    std::to_string(text.size()) + " bytes");
-        n = static_cast<std::uint64_t>(rows);
+        c.n = static_cast<std::uint64_t>(rows);
         nnz = static_cast<std::uint64_t>(entries);
         break;
     }
-    if (n == 0) throw Error(path, r.line(), "no size line");
-    // Skipped ranges through a difference array: linear however many ranges overlap.
-    std::vector<std::int32_t> marks(n + 1, 0);
-    for (const auto& [a, b] : skipped) {
-        if (b >= n) throw Error(path, 0, "skipped row " + std::to_string(b) + " is out of range (N = " + std::to_string(n) + ")");
-        ++marks[a];
-        --marks[b + 1];
+    if (c.n == 0) throw Error(path, r.line(), "no size line");
+    checkPatchCount(path, c.n, expectedPatches);
+    // Skipped ranges sorted and merged (overlaps allowed): as many as the file lists, not N.
+    for (const auto& [a, b] : c.skipped)
+        if (b >= c.n) throw Error(path, 0, "skipped row " + std::to_string(b) + " is out of range (N = " + std::to_string(c.n) + ")");
+    std::sort(c.skipped.begin(), c.skipped.end());
+    std::size_t merged = 0;
+    for (const auto& range : c.skipped) {
+        if (merged > 0 && range.first <= c.skipped[merged - 1].second + 1)
+            c.skipped[merged - 1].second = std::max(c.skipped[merged - 1].second, range.second);
+        else
+            c.skipped[merged++] = range;
     }
-    std::vector<std::uint8_t> computed(n, 1);
-    std::int32_t depth = 0;
-    for (std::uint64_t i = 0; i < n; ++i) {
-        depth += marks[i];
-        computed[i] = depth > 0 ? 0 : 1;
-    }
-    std::vector<std::int32_t>().swap(marks);
-    struct Triplet {
-        std::uint32_t row, column;
-        float value;
+    c.skipped.resize(merged);
+    const auto isSkipped = [&c](std::uint64_t row) {
+        auto it = std::upper_bound(c.skipped.begin(), c.skipped.end(), std::make_pair(row, ~std::uint64_t(0)));
+        return it != c.skipped.begin() && std::prev(it)->second >= row;
     };
-    std::vector<Triplet> triplets;
-    triplets.reserve(nnz);
+    c.entries.reserve(nnz);  // at most one per 6 bytes of the text (checked above)
     while (r.next()) {
         const auto& t = r.tokens();
         if (t.empty() || t[0][0] == '%') continue;
         if (t.size() != 3) r.fail("entry needs 'row column value', found " + std::to_string(t.size()) + " fields");
         const long i = r.integer(0, "row"), j = r.integer(1, "column");
         const double v = r.number(2, "value");
-        if (i < 1 || i > static_cast<long>(n) || j < 1 || j > static_cast<long>(n))
-            r.fail("entry (" + std::to_string(i) + ", " + std::to_string(j) + ") is outside 1.." + std::to_string(n));
+        if (i < 1 || i > static_cast<long>(c.n) || j < 1 || j > static_cast<long>(c.n))
+            r.fail("entry (" + std::to_string(i) + ", " + std::to_string(j) + ") is outside 1.." + std::to_string(c.n));
         if (v < 0.0 || v > 3.4e38) r.fail("F value " + quote(t[2]) + " is " + (v < 0.0 ? "negative" : "out of range"));
-        if (!computed[i - 1]) r.fail("row " + std::to_string(i) + " has entries but is listed as skipped");
-        if (triplets.size() >= nnz) r.fail("more entries than the " + std::to_string(nnz) + " announced");
-        triplets.push_back({static_cast<std::uint32_t>(i - 1), static_cast<std::uint32_t>(j - 1), static_cast<float>(v)});
+        if (isSkipped(std::uint64_t(i - 1))) r.fail("row " + std::to_string(i) + " has entries but is listed as skipped");
+        if (c.entries.size() >= nnz) r.fail("more entries than the " + std::to_string(nnz) + " announced");
+        c.entries.push_back({static_cast<std::uint32_t>(i - 1), static_cast<std::uint32_t>(j - 1), static_cast<float>(v)});
     }
-    if (triplets.size() < nnz)
-        throw Error(path, r.line(), "truncated: " + std::to_string(triplets.size()) + " of " + std::to_string(nnz) + " entries");
-    std::sort(triplets.begin(), triplets.end(),
-              [](const Triplet& a, const Triplet& b) { return a.row != b.row ? a.row < b.row : a.column < b.column; });
-    std::vector<std::uint64_t> rowStart(n + 1, 0);
-    std::vector<std::uint32_t> columns(triplets.size());
-    std::vector<float> values(triplets.size());
-    for (std::size_t k = 0; k < triplets.size(); ++k) {
-        if (k > 0 && triplets[k].row == triplets[k - 1].row && triplets[k].column == triplets[k - 1].column)
-            throw Error(path, 0, "duplicate entry (" + std::to_string(triplets[k].row + 1) + ", " +
-                                     std::to_string(triplets[k].column + 1) + ")");
-        ++rowStart[triplets[k].row + 1];
-        columns[k] = triplets[k].column;
-        values[k] = triplets[k].value;
+    if (c.entries.size() < nnz)
+        throw Error(path, r.line(), "truncated: " + std::to_string(c.entries.size()) + " of " + std::to_string(nnz) + " entries");
+    std::sort(c.entries.begin(), c.entries.end(), [](const MtxContents::Entry& a, const MtxContents::Entry& b) {
+        return a.row != b.row ? a.row < b.row : a.column < b.column;
+    });
+    for (std::size_t k = 1; k < c.entries.size(); ++k)
+        if (c.entries[k].row == c.entries[k - 1].row && c.entries[k].column == c.entries[k - 1].column)
+            throw Error(path, 0, "duplicate entry (" + std::to_string(c.entries[k].row + 1) + ", " +
+                                     std::to_string(c.entries[k].column + 1) + ")");
+    c.provenance = takeProvenance(c.parameters, path);
+    if (!haveHash) c.provenance.sceneHashKnown = false;  // a foreign .mtx: only its size can be checked
+    // Row sums, as validateFormFactors checks them on a loaded F (values are finite floats >= 0 already).
+    const double bound = rowSumBound(c.provenance);
+    for (std::size_t k = 0; k < c.entries.size();) {
+        const std::uint32_t row = c.entries[k].row;
+        double sum = 0.0;
+        for (; k < c.entries.size() && c.entries[k].row == row; ++k) sum += c.entries[k].value;
+        if (sum > bound) {
+            std::ostringstream msg;
+            msg << "row " << row << " of F sums to " << sum << ", above the bound " << bound
+                << ": more power arrives than leaves";
+            throw Error(path, 0, msg.str());
+        }
     }
-    for (std::uint64_t i = 0; i < n; ++i) rowStart[i + 1] += rowStart[i];
+    return c;
+}
+
+/// F in CSR from checked contents: the N-sized row arrays are allocated here, once the file has
+/// shown that it is whole.
+FormFactors toFormFactors(MtxContents&& c, const std::string& path) {
+    std::vector<std::uint8_t> computed(c.n, 1);
+    for (const auto& [a, b] : c.skipped)
+        std::fill(computed.begin() + std::ptrdiff_t(a), computed.begin() + std::ptrdiff_t(b + 1), std::uint8_t(0));
+    std::vector<std::uint64_t> rowStart(c.n + 1, 0);
+    std::vector<std::uint32_t> columns(c.entries.size());
+    std::vector<float> values(c.entries.size());
+    for (std::size_t k = 0; k < c.entries.size(); ++k) {
+        ++rowStart[c.entries[k].row + 1];
+        columns[k] = c.entries[k].column;
+        values[k] = c.entries[k].value;
+    }
+    std::vector<MtxContents::Entry>().swap(c.entries);
+    for (std::uint64_t i = 0; i < c.n; ++i) rowStart[i + 1] += rowStart[i];
     FormFactors F = FormFactors::fromCsr(std::move(rowStart), std::move(columns), std::move(values), std::move(computed));
-    F.sceneHash = header.sceneHash;
-    F.parameters = header.parameters;
-    F.provenance = takeProvenance(F.parameters, path);
-    if (!haveHash) F.provenance.sceneHashKnown = false;  // a foreign .mtx: only its size can be checked
-    validateFormFactors(F, n, path, rowSumBound(F));
+    F.sceneHash = c.sceneHash;
+    F.parameters = std::move(c.parameters);
+    F.provenance = c.provenance;
+    validateFormFactors(F, c.n, path, rowSumBound(F));
     return F;
+}
+
+FormFactors parseMtx(const std::string& path, std::string_view text, std::size_t expectedPatches = 0) {
+    return toFormFactors(readMtx(path, text, expectedPatches), path);
 }
 
 }  // namespace
@@ -478,15 +545,18 @@ HffRowIndex readHffRowIndex(const std::string& path) {
     return index;
 }
 
-FormFactors loadFormFactors(const std::string& path) {
+FormFactors loadFormFactors(const std::string& path, std::size_t expectedPatches) {
     const std::string ext = extension(path);
-    if (ext == ".hff" && isShardManifest(path)) return loadShardedFormFactors(path);
+    if (ext == ".hff" && isShardManifest(path)) {
+        checkPatchCount(path, readShardManifest(path).patches, expectedPatches);
+        return loadShardedFormFactors(path);
+    }
     if (ext == ".hff") {
         HffFile file(path);
         HffReader r(file.stream, file.bytes, path);
-        return readHff(r, path);
+        return readHff(r, path, nullptr, expectedPatches);
     }
-    if (ext == ".mtx") return parseMtx(path, readTextFile(path));
+    if (ext == ".mtx") return parseMtx(path, readTextFile(path), expectedPatches);
     throw Error(path, 0, "unknown F file type " + quote(ext) + " (use .hff or .mtx)");
 }
 
@@ -502,15 +572,32 @@ FormFactors parseFormFactors(const std::string& name, const std::string& bytes) 
 }
 
 FormFactorFileInfo readFormFactorInfo(const std::string& path) {
-    if (extension(path) == ".mtx") {
-        const FormFactors F = parseMtx(path, readTextFile(path));
+    if (extension(path) == ".mtx") {  // described from its entries: nothing of size N
+        const std::string text = readTextFile(path);
+        const MtxContents c = readMtx(path, text, 0);
         FormFactorFileInfo info;
-        info.size = F.size();
-        info.nonZeros = F.nonZeros();
-        info.sceneHash = F.sceneHash;
-        info.computedRows = F.computedRows();
-        info.parameters = F.parameters;
-        info.fileBytes = std::filesystem::file_size(path);
+        info.size = c.n;
+        info.nonZeros = c.entries.size();
+        info.sceneHash = c.sceneHash;
+        info.computedRows = static_cast<std::size_t>(c.n - c.skippedRows());
+        info.parameters = c.parameters;
+        info.fileBytes = text.size();
+        MtxRowSums sums;
+        sums.provenance = c.provenance;
+        for (std::size_t k = 0; k < c.entries.size();) {
+            const std::uint32_t row = c.entries[k].row;
+            double sum = 0.0;
+            for (; k < c.entries.size() && c.entries[k].row == row; ++k) {
+                sum += c.entries[k].value;
+                if (c.entries[k].column == row && c.entries[k].value > 0.0f) ++sums.selfFactorRows;
+            }
+            sums.min = std::min(sums.min, sum);
+            sums.max = std::max(sums.max, sum);
+            sums.total += sum;
+            ++sums.rowsWithEntries;
+        }
+        if (info.computedRows > sums.rowsWithEntries) sums.min = std::min(sums.min, 0.0);  // computed rows with no entry
+        info.mtxRows = sums;
         return info;
     }
     HffFile file(path);

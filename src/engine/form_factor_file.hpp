@@ -3,6 +3,8 @@
 
 #include "engine/form_factors.hpp"
 
+#include <limits>
+#include <optional>
 #include <string>
 
 namespace hemirad {
@@ -21,7 +23,9 @@ void saveFormFactors(const FormFactors& F, const std::string& path, FormFactorFo
 void saveFormFactors(const FormFactors& F, const std::string& path);
 /// Reads F, checking structure, checksum (.hff) and values. Throws hemirad::Error naming the file.
 /// A shard manifest (form_factor_shards.hpp) at an .hff path reads every shard into one F.
-FormFactors loadFormFactors(const std::string& path);
+/// `expectedPatches` (0: any) is the scene's patch count: a file declaring another N is refused as
+/// checkFormFactorsMatch refuses it, before anything of that size is allocated.
+FormFactors loadFormFactors(const std::string& path, std::size_t expectedPatches = 0);
 
 /// Writes F as .hff atomically and returns the checksum its last 8 bytes hold (shard manifests keep it).
 std::uint64_t saveHffFile(const FormFactors& F, const std::string& path);
@@ -39,12 +43,22 @@ HffRowIndex readHffRowIndex(const std::string& path);
 /// (.hff or .mtx) picks the format. Same checks as loadFormFactors.
 FormFactors parseFormFactors(const std::string& name, const std::string& bytes);
 
-/// Header of an .hff file without its arrays (for `hemirad info`), after checking size and checksum.
+/// What `hemirad info` prints of an .mtx, summarised from its entries.
+struct MtxRowSums {
+    FormFactorProvenance provenance;
+    std::size_t rowsWithEntries = 0, selfFactorRows = 0;  ///< rows with entries; rows with F_ii > 0
+    double min = std::numeric_limits<double>::infinity(), max = 0.0, total = 0.0;  ///< over computed rows
+};
+
+/// An F file described without its arrays (for `hemirad info`). .hff: its header, after checking size
+/// and checksum. .mtx: every entry checked as loadFormFactors checks it, and `mtxRows` set; its
+/// memory follows the entries the file holds, never the N it declares (no row arrays are built).
 struct FormFactorFileInfo {
     std::uint32_t version = 0;
     std::uint64_t size = 0, nonZeros = 0, sceneHash = 0, fileBytes = 0;
     std::size_t computedRows = 0;
-    std::map<std::string, std::string> parameters;
+    std::map<std::string, std::string> parameters;  ///< .mtx: without the provenance's keys
+    std::optional<MtxRowSums> mtxRows;
 };
 FormFactorFileInfo readFormFactorInfo(const std::string& path);
 

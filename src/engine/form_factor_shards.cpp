@@ -122,6 +122,7 @@ ShardManifest readShardManifest(const std::string& path) {
 }
 
 void writeShardManifest(const ShardManifest& m, const std::string& path) {
+    checkParameters(m.parameters, path);
     AtomicFile file(path, false);
     std::ostream& out = file.stream();
     out << kManifestMagic << ' ' << kManifestVersion << "\npatches " << m.patches << "\nscene_hash "
@@ -193,6 +194,7 @@ FormFactorShard writeShard(const FormFactors& F, const std::string& manifestPath
 
 void saveShardedFormFactors(const FormFactors& F, const std::string& path, std::size_t count) {
     if (count == 0) throw Error(path, 0, "no shards asked for");
+    checkParameters(withProvenance(F.provenance, F.parameters), path);  // before any shard is written
     const std::vector<std::string> previous = listedShardFiles(path);
     const std::uint32_t setId = newShardSetId();
     ShardManifest m = manifestFor(F);

@@ -3,6 +3,7 @@
 
 #include "engine/error.hpp"
 #include "engine/scene.hpp"
+#include "engine/text_reader.hpp"
 
 #include <omp.h>
 #ifdef __GLIBC__
@@ -224,7 +225,8 @@ double normalizeRows(FormFactors& F) {
     return worst;
 }
 
-double rowSumBound(const FormFactors& F) { return F.provenance.rowSumBound + 1e-3; }
+double rowSumBound(const FormFactors& F) { return rowSumBound(F.provenance); }
+double rowSumBound(const FormFactorProvenance& provenance) { return provenance.rowSumBound + 1e-3; }
 
 namespace {
 
@@ -272,6 +274,43 @@ std::map<std::string, std::string> withProvenance(const FormFactorProvenance& pr
     parameters["row_sum_bound"] = bound;
     if (!provenance.sceneHashKnown) parameters["scene_hash"] = "unknown";
     return parameters;
+}
+
+namespace {
+
+bool holdsControl(const std::string& text) {
+    return std::any_of(text.begin(), text.end(), [](char c) { return static_cast<unsigned char>(c) < 32 || c == 127; });
+}
+
+/// Why an F file cannot store `key` as it is, or null.
+const char* keyProblem(const std::string& key) {
+    if (key.empty()) return "is empty";
+    if (holdsControl(key)) return "holds a control character";
+    if (key.find('=') != std::string::npos) return "holds '='";
+    if (key.find(' ') != std::string::npos) return "holds a space";
+    return nullptr;
+}
+
+/// Why an F file cannot store `value` as it is, or null.
+const char* valueProblem(const std::string& value) {
+    if (holdsControl(value)) return "holds a control character";
+    if (value.empty()) return nullptr;
+    if (value.front() == ' ' || value.back() == ' ') return "starts or ends with a space";
+    if (value.find("  ") != std::string::npos) return "holds two spaces in a row";
+    if (value.back() == '\\') return "ends with a backslash";
+    return nullptr;
+}
+
+}  // namespace
+
+void checkParameters(const std::map<std::string, std::string>& parameters, const std::string& file) {
+    for (const auto& [key, value] : parameters) {
+        if (const char* problem = keyProblem(key))
+            throw Error(file, 0, "parameter key " + quote(key) + " " + problem + "; F files cannot store it");
+        if (const char* problem = valueProblem(value))
+            throw Error(file, 0, "parameter " + quote(key) + ": value " + quote(value) + " " + problem +
+                                     "; F files cannot store it");
+    }
 }
 
 void validateFormFactors(const FormFactors& F, std::size_t patchCount, const std::string& source,

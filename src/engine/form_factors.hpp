@@ -38,6 +38,18 @@ FormFactorProvenance takeProvenance(std::map<std::string, std::string>& paramete
 std::map<std::string, std::string> withProvenance(const FormFactorProvenance& provenance,
                                                   std::map<std::string, std::string> parameters);
 
+/// Throws hemirad::Error naming `file` and the parameter unless every F file format stores it as it
+/// is and reads it back unchanged; every writer (.hff, .mtx, shard manifest) calls it on
+/// withProvenance()'s map before writing anything. Odd characters are refused rather than escaped, so
+/// that the files keep their plain "key=value" (.hff, manifest) and "% hemirad param key value"
+/// (.mtx) text, which older readers and people read as it is. A key must be non-empty, without '='
+/// (.hff and manifests split at the first one), spaces or control characters (.mtx separates key and
+/// value by a space). A value must hold no control character (LF ends a line, CR and tabs are
+/// whitespace to the text readers, NUL is refused by them), neither start nor end with a space nor
+/// hold two in a row (.mtx joins its words with single spaces), and not end with a backslash (the
+/// text readers join such a line with the next). Anything else goes, UTF-8 included.
+void checkParameters(const std::map<std::string, std::string>& parameters, const std::string& file);
+
 /// F(i, j) = fraction of the power leaving patch i diffusely that arrives at patch j (directly or,
 /// with mirrors, through chains of specular reflections; Sillion & Puech 1989).
 /// Memory: 8 bytes per nonzero + 9 bytes per row.
@@ -145,5 +157,6 @@ void validateFormFactors(const FormFactors& F, std::size_t patchCount, const std
 
 /// The largest row sum F may have: its provenance's bound plus a tolerance of 1e-3 for float accumulation.
 double rowSumBound(const FormFactors& F);
+double rowSumBound(const FormFactorProvenance& provenance);
 
 }  // namespace hemirad

@@ -197,8 +197,11 @@ void readCamera(const TextReader& r, Scene& scene) {
         c.target[k] = r.number(6 + k, "camera target");
     }
     c.fovY = r.number(9, "camera field of view");
-    if (!(c.fovY > 0.0 && c.fovY < 180.0)) r.fail("camera field of view " + quote(t[9]) + " must be in (0, 180) degrees");
-    if ((c.eye - c.target).norm() == 0.0) r.fail("camera eye and target coincide");
+    try {
+        checkCamera(c);
+    } catch (const Error& e) {
+        r.fail(e.what());
+    }
     scene.camera = c;
 }
 

@@ -6,7 +6,9 @@
 #include "engine/polygon.hpp"
 
 #include <cmath>
+#include <iomanip>
 #include <limits>
+#include <sstream>
 
 namespace hemirad {
 
@@ -131,6 +133,38 @@ MirrorGroups groupMirrors(const Scene& scene) {
         }
     }
     return g;
+}
+
+namespace {
+
+std::string cameraNumber(double x) {
+    std::ostringstream out;
+    out << std::setprecision(10) << x;
+    return out.str();
+}
+
+std::string cameraPoint(const Vec3& p) {
+    return "(" + cameraNumber(p.x()) + ", " + cameraNumber(p.y()) + ", " + cameraNumber(p.z()) + ")";
+}
+
+}  // namespace
+
+void checkCamera(const Camera& camera) {
+    if (!camera.eye.allFinite()) throw Error("camera eye " + cameraPoint(camera.eye) + " is not a finite point");
+    if (!camera.target.allFinite()) throw Error("camera target " + cameraPoint(camera.target) + " is not a finite point");
+    if (!(camera.fovY > 0.0 && camera.fovY < 180.0))
+        throw Error("camera field of view " + cameraNumber(camera.fovY) + " is outside (0, 180) degrees");
+    if (camera.eye == camera.target) throw Error("camera eye and target coincide at " + cameraPoint(camera.eye));
+    // The view direction is normalised: its length must neither overflow nor underflow.
+    const double distance = (camera.target - camera.eye).norm();
+    if (!std::isfinite(distance))
+        throw Error("camera eye " + cameraPoint(camera.eye) + " and target " + cameraPoint(camera.target) +
+                    " are too far apart");
+    if (!(distance > 0.0))
+        throw Error("camera eye " + cameraPoint(camera.eye) + " and target " + cameraPoint(camera.target) +
+                    " are too close together");
+    const double up = camera.up.norm();
+    if (!std::isfinite(up) || !(up > 0.0)) throw Error("camera up " + cameraPoint(camera.up) + " is not a direction");
 }
 
 namespace {

@@ -59,6 +59,12 @@ struct Camera {
     double fovY = 40.0;
 };
 
+/// Throws hemirad::Error (a message "camera ..." naming the value) unless `camera` can make an image:
+/// eye and target finite points whose difference is finite and non-zero, up a finite non-zero
+/// direction, fovY in (0, 180) degrees. The one check behind the CLI's --camera, the OBJ's
+/// "# hemirad camera" line and Python's render() (a NaN eye there failed an Embree assertion).
+void checkCamera(const Camera& camera);
+
 class Scene {
 public:
     std::string path;                       ///< file it was loaded from, for messages

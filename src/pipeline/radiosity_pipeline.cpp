@@ -249,7 +249,7 @@ FormFactorUpdate RadiosityPipeline::formFactorsWithFile(const Scene& scene, cons
     FormFactors current;
     if (exists) {
         const auto t0 = Clock::now();
-        current = loadFormFactors(path);
+        current = loadFormFactors(path, scene.size());  // another N refused before it is allocated
         timing("load F", since(t0));
         checkStoredFormFactors(current, scene, m_policy.backend, file.otherSettings, path, warnings);
         rule = StoredFormFactorRule::reused(current, current.computedRows(), missingRows(scene, &current).size(), path);

@@ -66,28 +66,44 @@ double physicalRowSumBound(const Scene& scene) {
 }
 
 /// A FormFactors from canonical CSR arrays (copied once), checked like a file: structure, values, row
-/// sums against `rowSumBound`. Throws hemirad::Error naming `argument`.
+/// sums against `rowSumBound`. The row pointers are checked in full (start 0, never decrease, never
+/// past nnz, end at nnz) before any entry is read through them. Throws hemirad::Error naming `argument`.
 FormFactors fromArrays(py::array_t<std::int64_t, py::array::c_style> indptr,
                        py::array_t<std::int32_t, py::array::c_style> indices,
                        py::array_t<float, py::array::c_style> data, std::size_t n, const std::string& argument) {
-    if (std::size_t(indptr.size()) != n + 1) throw Error(argument + ": indptr has the wrong length");
+    if (indptr.ndim() != 1 || indices.ndim() != 1 || data.ndim() != 1)
+        throw Error(argument + ": indptr, indices and data must be one-dimensional arrays");
+    if (std::size_t(indptr.size()) != n + 1)
+        throw Error(argument + ": indptr has " + std::to_string(indptr.size()) + " row pointers, expected " +
+                    std::to_string(n + 1) + " for " + std::to_string(n) + " patches");
+    if (data.size() != indices.size())
+        throw Error(argument + ": " + std::to_string(data.size()) + " values for " + std::to_string(indices.size()) +
+                    " column indices");
     const std::int64_t* rowStart = indptr.data();
     const std::int64_t nnz = std::int64_t(indices.size());
-    if (data.size() != indices.size() || rowStart[0] != 0 || rowStart[n] != nnz)
-        throw Error(argument + ": inconsistent CSR arrays");
-    std::vector<std::uint64_t> starts(n + 1);
+    if (rowStart[0] != 0) throw Error(argument + ": indptr starts at " + std::to_string(rowStart[0]) + ", not 0");
+    for (std::size_t i = 0; i < n; ++i) {
+        if (rowStart[i + 1] < rowStart[i])
+            throw Error(argument + ": row pointers decrease at row " + std::to_string(i) + " (" +
+                        std::to_string(rowStart[i]) + ", then " + std::to_string(rowStart[i + 1]) + ")");
+        if (rowStart[i + 1] > nnz)
+            throw Error(argument + ": row pointer " + std::to_string(rowStart[i + 1]) + " of row " + std::to_string(i) +
+                        " lies past the " + std::to_string(nnz) + " entries");
+    }
+    if (rowStart[n] != nnz)
+        throw Error(argument + ": indptr ends at " + std::to_string(rowStart[n]) + ", not at the " + std::to_string(nnz) +
+                    " entries");
+    std::vector<std::uint64_t> starts(rowStart, rowStart + n + 1);
     std::vector<std::uint32_t> columns(static_cast<std::size_t>(nnz));
     const std::int32_t* column = indices.data();  // raw pointers: array_t::data() is not free per entry
-    for (std::size_t i = 0; i < n; ++i) {
-        if (rowStart[i + 1] < rowStart[i]) throw Error(argument + ": row pointers decrease at row " + std::to_string(i));
+    for (std::size_t i = 0; i < n; ++i)
         for (std::int64_t k = rowStart[i]; k < rowStart[i + 1]; ++k) {
             const std::int32_t j = column[k];
             if (j < 0 || std::size_t(j) >= n || (k > rowStart[i] && j <= column[k - 1]))
-                throw Error(argument + ": row " + std::to_string(i) + " has a column out of range or out of order");
+                throw Error(argument + ": row " + std::to_string(i) + " has a column out of range or out of order (" +
+                            std::to_string(j) + ")");
             columns[std::size_t(k)] = std::uint32_t(j);
         }
-        starts[i + 1] = std::uint64_t(rowStart[i + 1]);
-    }
     const float* value = data.data();
     std::vector<float> values(value, value + nnz);
     return FormFactors::fromCsr(std::move(starts), std::move(columns), std::move(values), std::vector<std::uint8_t>(n, 1));
@@ -105,14 +121,23 @@ const FormFactors* ownerOf(const py::array& array) {
     return nullptr;
 }
 
-/// The library's own F behind arrays that csrArrays() made and nobody changed (they are read-only),
-/// when it belongs to `scene`; else null.
-const FormFactors* sharedFormFactors(const Scene& scene, const py::array& indices, const py::array& data) {
+/// The library's own F when the arrays passed are exactly it, for `scene`; else null. Columns and values
+/// must be its own memory (read-only: csrArrays() made them so, and numpy refuses to make them writable
+/// again, since their base is a capsule); the row pointers are compared by value, O(N), as scipy keeps
+/// its own (int32) copy of them. Any other matrix, however much memory it shares with F, is not F.
+const FormFactors* sharedFormFactors(const Scene& scene, const py::array_t<std::int64_t, py::array::c_style>& indptr,
+                                     const py::array& indices, const py::array& data) {
     const FormFactors* F = ownerOf(data);
-    const bool same = F && F->size() == scene.size() && F->sceneHash == scene.geometryHash() &&
-                      data.data() == F->values() && std::size_t(data.size()) == F->nonZeros() &&
-                      indices.data() == static_cast<const void*>(F->columns()) && std::size_t(indices.size()) == F->nonZeros();
-    return same ? F : nullptr;
+    const bool sameEntries = F && F->size() == scene.size() && F->sceneHash == scene.geometryHash() &&
+                             data.data() == F->values() && std::size_t(data.size()) == F->nonZeros() &&
+                             indices.data() == static_cast<const void*>(F->columns()) &&
+                             std::size_t(indices.size()) == F->nonZeros();
+    if (!sameEntries || indptr.ndim() != 1 || std::size_t(indptr.size()) != F->size() + 1) return nullptr;
+    const std::vector<std::uint64_t>& starts = F->rowStarts();
+    const std::int64_t* given = indptr.data();
+    for (std::size_t i = 0; i < starts.size(); ++i)
+        if (given[i] < 0 || std::uint64_t(given[i]) != starts[i]) return nullptr;
+    return F;
 }
 
 /// Every F handed in from Python: the library's own when the arrays are (no copy), else a checked
@@ -127,7 +152,7 @@ GivenFormFactors formFactorsFor(const Scene& scene, py::array_t<std::int64_t, py
                                 py::array_t<std::int32_t, py::array::c_style> indices,
                                 py::array_t<float, py::array::c_style> data, const std::string& argument) {
     GivenFormFactors given;
-    given.shared = sharedFormFactors(scene, indices, data);
+    given.shared = sharedFormFactors(scene, indptr, indices, data);
     if (given.shared) return given;
     FormFactors& F = given.copy;
     F = fromArrays(indptr, indices, data, scene.size(), argument);
@@ -277,14 +302,12 @@ py::tuple solve(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_st
 }
 
 py::tuple readFormFactors(const std::string& path, const py::object& scene) {
+    const ScenePtr given = scene.is_none() ? nullptr : scene.cast<ScenePtr>();
     FormFactors F = [&] {
         py::gil_scoped_release release;
-        return loadFormFactors(path);
+        return loadFormFactors(path, given ? given->size() : 0);
     }();
-    if (!scene.is_none()) {
-        const Scene& s = *scene.cast<ScenePtr>();
-        checkFormFactorsMatch(F, s.geometryHash(), s.size(), path);
-    }
+    if (given) checkFormFactorsMatch(F, given->geometryHash(), given->size(), path);
     py::dict info = provenanceDict(F);
     return py::make_tuple(csrArrays(std::move(F)), info);
 }
@@ -333,6 +356,7 @@ py::dict render(const ScenePtr& scene, py::array_t<double, py::array::c_style | 
         options.camera.eye = Vec3(c[0], c[1], c[2]);
         options.camera.target = Vec3(c[3], c[4], c[5]);
         options.camera.fovY = c[6];
+        checkCamera(options.camera);  // as the CLI and the OBJ loader check theirs
     }
     double scale = 0;
     {

@@ -83,6 +83,12 @@ TEST_CASE("Usage errors exit with status 2 and say what is wrong") {
     r = runHemirad("bench " + scene("unit_cube.obj") + " -o x.csv --drop-below 1e-3");
     CHECK(r.status == 2);
     CHECK(r.output.find("'--drop-below' does not apply to 'bench'") != std::string::npos);
+    r = runHemirad("render " + scene("unit_cube.obj") + " -o x.png --camera 0,0,1,0,0,0,200");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("--camera: camera field of view 200 is outside (0, 180) degrees") != std::string::npos);
+    r = runHemirad("render " + scene("unit_cube.obj") + " -o x.png --camera 1,2,3,1,2,3,40");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("--camera: camera eye and target coincide at (1, 2, 3)") != std::string::npos);
     CHECK(runHemirad("help").status == 0);
 }
 

@@ -68,6 +68,26 @@ TEST_CASE("F file round-trip keeps every entry (.hff and .mtx)") {
     CHECK(info.size == 4);
     CHECK(info.nonZeros == 7);
     CHECK(info.computedRows == 3);
+    CHECK_FALSE(info.mtxRows.has_value());
+    // An .mtx is described from its entries alone: the same figures as the loaded F gives.
+    const FormFactorFileInfo text = readFormFactorInfo((dir / "F.mtx").string());
+    CHECK(text.size == 4);
+    CHECK(text.nonZeros == 7);
+    CHECK(text.computedRows == 3);
+    CHECK(text.sceneHash == F.sceneHash);
+    REQUIRE(text.mtxRows.has_value());
+    CHECK(text.mtxRows->provenance == F.provenance);
+    CHECK(text.mtxRows->rowsWithEntries == 3);
+    CHECK(text.mtxRows->selfFactorRows == 1);  // F(1, 1) = 1e-7
+    CHECK(text.mtxRows->min == doctest::Approx(F.rowSum(1)));
+    CHECK(text.mtxRows->max == doctest::Approx(F.rowSum(3)));
+    CHECK(text.mtxRows->total == doctest::Approx(F.rowSum(0) + F.rowSum(1) + F.rowSum(3)));
+    // A load for a scene of another size is refused before F is built, in every format.
+    for (const char* name : {"F.hff", "F.mtx"}) {
+        const std::string message = std::string(name) + ": F has 4 patches but the scene has 5";
+        CHECK_THROWS_WITH_AS(loadFormFactors((dir / name).string(), 5), doctest::Contains(message.c_str()), Error);
+    }
+    CHECK(loadFormFactors((dir / "F.mtx").string(), 4).size() == 4);
 }
 
 TEST_CASE("F's provenance is typed in memory and stored under readable keys, and old and foreign files load") {
@@ -345,4 +365,66 @@ TEST_CASE("Replacing a sharded F removes its old shards only once the new F is i
     CHECK_FALSE(isShardManifest(path));
     CHECK(shardFiles() == std::vector<std::string>{readShardManifest(copy).shards[0].file});
     requireSame(F, loadFormFactors(path));
+}
+
+TEST_CASE("Odd but valid parameter keys and values round-trip through .hff, .mtx and a shard manifest") {
+    // Issue 35 #8: what Hemirad writes it reads back, key and value as they were.
+    const auto dir = tempDir("ff-odd-parameters");
+    FormFactors F = sampleF();
+    F.parameters = {{"note", "spaces inside, 'quotes', \"double\", # hash, % percent, key=value, a\\b, café 光"},
+                    {"weird.key-name:1/2", "x"},
+                    {"%starts_with_percent", "v"},
+                    {"empty", ""},
+                    {"trailing_backslash_key\\", "y"},
+                    {"ключ", "значение"}};
+    for (const char* name : {"F.hff", "F.mtx", "S.hff"}) {
+        CAPTURE(name);
+        const std::string path = (dir / name).string();
+        if (std::string(name) == "S.hff") saveShardedFormFactors(F, path, 2);
+        else saveFormFactors(F, path);
+        const FormFactors G = loadFormFactors(path);
+        requireSame(F, G);
+        CHECK(G.parameters == F.parameters);
+        CHECK(G.provenance == F.provenance);
+    }
+}
+
+TEST_CASE("A parameter that a file could not hold is refused on write, naming it, and no file is left") {
+    // Issue 35 #8: a newline in a value wrote a file that read back as 'corrupt parameter text'; a key
+    // 'a=b' read back as 'a'. Refused before anything is written, in every format.
+    const auto dir = tempDir("ff-bad-parameters");
+    const struct {
+        std::string key, value, message;
+    } refused[] = {
+        {"note", "two\nlines", "parameter 'note': value 'two\\x0alines' holds a control character"},
+        {"note", "carriage\rreturn", "parameter 'note': value 'carriage\\x0dreturn' holds a control character"},
+        {"note", "tab\there", "parameter 'note': value 'tab\\x09here' holds a control character"},
+        {"a=b", "c", "parameter key 'a=b' holds '='"},
+        {"a b", "c", "parameter key 'a b' holds a space"},
+        {"", "c", "parameter key '' is empty"},
+        {"line\nbreak", "c", "parameter key 'line\\x0abreak' holds a control character"},
+        {"note", " leading", "parameter 'note': value ' leading' starts or ends with a space"},
+        {"note", "trailing ", "parameter 'note': value 'trailing ' starts or ends with a space"},
+        {"note", "two  spaces", "parameter 'note': value 'two  spaces' holds two spaces in a row"},
+        {"note", "ends in a backslash\\", "parameter 'note': value 'ends in a backslash\\' ends with a backslash"},
+    };
+    for (const auto& r : refused) {
+        CAPTURE(r.message);
+        FormFactors F = sampleF();
+        F.parameters[r.key] = r.value;
+        for (const char* name : {"F.hff", "F.mtx", "S.hff"}) {
+            CAPTURE(name);
+            const std::string path = (dir / name).string();
+            if (std::string(name) == "S.hff")
+                CHECK_THROWS_WITH_AS(saveShardedFormFactors(F, path, 2), doctest::Contains(r.message.c_str()), Error);
+            else
+                CHECK_THROWS_WITH_AS(saveFormFactors(F, path), doctest::Contains(r.message.c_str()), Error);
+        }
+        CHECK(std::filesystem::is_empty(dir));
+    }
+    // The provenance is stored as parameters too: a method name is held to the same rules.
+    FormFactors F = sampleF();
+    F.provenance.method = "hemi\nsphere";
+    CHECK_THROWS_WITH_AS(saveFormFactors(F, (dir / "F.hff").string()),
+                         doctest::Contains("F.hff: parameter 'method': value 'hemi\\x0asphere'"), Error);
 }

@@ -4,10 +4,16 @@
 #include "support.hpp"
 
 #include "engine/error.hpp"
+#include "engine/form_factor_file.hpp"
 #include "engine/obj_loader.hpp"
 #include "engine/scene_loader.hpp"
 
 #include <doctest/doctest.h>
+
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 using namespace hemirad;
 using namespace hemirad::test;
@@ -30,6 +36,29 @@ void expectWarning(const std::string& file, const std::string& kind, const std::
     bool found = false;
     for (const std::string& m : printed) found |= m.find(message) != std::string::npos;
     CHECK_MESSAGE(found, "expected a warning containing '" << message << "'");
+}
+
+/// Runs `hemirad ARGUMENTS` with its output to `log`; returns its exit status (-1: not an exit) and
+/// sets `maxRssKiB` to the peak resident memory of that one process (wait4's rusage).
+int runMeasured(const std::vector<std::string>& arguments, const std::string& log, long& maxRssKiB) {
+    const pid_t child = ::fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+        const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (out < 0) ::_exit(92);
+        ::dup2(out, 1);
+        ::dup2(out, 2);
+        std::vector<char*> argv{const_cast<char*>(HEMIRAD_BINARY)};
+        for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        ::execv(HEMIRAD_BINARY, argv.data());
+        ::_exit(91);
+    }
+    int status = 0;
+    struct rusage usage {};
+    REQUIRE(::wait4(child, &status, 0, &usage) == child);
+    maxRssKiB = usage.ru_maxrss;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace
@@ -101,13 +130,45 @@ TEST_CASE("Malformed corpus: a missing path and a directory are refused by name"
     CHECK_THROWS_WITH_AS(loadObj(sourcePath("tests/data/malformed"), w), doctest::Contains("malformed: is a directory"), Error);
 }
 
+// F files: what they declare must not decide what they cost (issue 35 #11). 68 bytes declaring
+// N = 2^28 patches and no entry: a valid (if useless) F whose CSR would take 2.3 GB of row arrays.
+TEST_CASE("Malformed corpus: mtx_huge_declared_size.mtx (68 bytes declaring N = 2^28) costs what its entries cost") {
+    const std::string path = corpus("mtx_huge_declared_size.mtx");
+    REQUIRE(std::filesystem::file_size(path) == 68);
+    // hemirad info checks every entry and describes F without its N-sized row arrays: its peak memory
+    // is the program's own (about 10 MB), not the 2.3 GB (and 12 s) that the declared N costed.
+    long maxRssKiB = 0;
+    const std::string log = (tempDir("huge-mtx") / "info.log").string();
+    CHECK(runMeasured({"info", path}, log, maxRssKiB) == 0);
+    const std::string printed = readText(log);
+    CAPTURE(printed);
+    CHECK(printed.find("mtx_huge_declared_size.mtx: valid Hemirad form factors") != std::string::npos);
+    CHECK(printed.find("patches 268435456, computed rows 268435456 (skipped 0)") != std::string::npos);
+    CHECK(printed.find("nonzeros 0") != std::string::npos);
+    CHECK(maxRssKiB < 200 * 1024);
+    // What the reader decides, in process: the description comes from the entries (no row arrays),
+    // and a load for a scene of another size is refused at the size line, naming the file.
+    const FormFactorFileInfo info = readFormFactorInfo(path);
+    CHECK(info.size == (1u << 28));
+    CHECK(info.nonZeros == 0);
+    CHECK(info.computedRows == (1u << 28));
+    REQUIRE(info.mtxRows.has_value());
+    CHECK(info.mtxRows->rowsWithEntries == 0);
+    CHECK(info.mtxRows->min == 0.0);
+    CHECK_FALSE(info.mtxRows->provenance.sceneHashKnown);
+    CHECK_THROWS_WITH_AS(loadFormFactors(path, 20),
+                         doctest::Contains("mtx_huge_declared_size.mtx: F has 268435456 patches but the scene has 20"), Error);
+}
+
 TEST_CASE("Malformed corpus: every file of the corpus is covered by a test above") {
     // A new corpus file needs its expected message here too.
-    std::size_t obj = 0, stl = 0;
+    std::size_t obj = 0, stl = 0, mtx = 0;
     for (const auto& entry : std::filesystem::directory_iterator(sourcePath("tests/data/malformed"))) {
         obj += entry.path().extension() == ".obj";
         stl += entry.path().extension() == ".stl";
+        mtx += entry.path().extension() == ".mtx";
     }
     CHECK(obj == 29);
     CHECK(stl == 8);
+    CHECK(mtx == 1);
 }

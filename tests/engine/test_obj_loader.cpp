@@ -7,6 +7,8 @@
 
 #include <doctest/doctest.h>
 
+#include <limits>
+
 using namespace hemirad;
 using namespace hemirad::test;
 
@@ -260,4 +262,39 @@ TEST_CASE("OBJ: a hemirad unit line states the length unit, an unknown one names
     const auto dir = tempDir("unit");
     saveObj(s, (dir / "copy.obj").string());
     CHECK(loadObj((dir / "copy.obj").string(), w).unit == "cm");
+}
+
+TEST_CASE("checkCamera refuses a non-finite eye or target, a field of view outside (0, 180) and a coinciding eye and target, naming the value") {
+    // Issue 35 #7: the one check behind the CLI's --camera, the OBJ camera line and Python's render().
+    Camera c;
+    c.eye = Vec3(1, 2, 3);
+    c.target = Vec3(0, 0, 0);
+    c.fovY = 40;
+    CHECK_NOTHROW(checkCamera(c));
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    const struct {
+        Vec3 eye, target;
+        double fov;
+        const char* message;
+    } refused[] = {
+        {Vec3(nan, 0, 1), Vec3(0, 0, 0), 40, "camera eye (nan, 0, 1) is not a finite point"},
+        {Vec3(0, 0, 1), Vec3(0, -inf, 0), 40, "camera target (0, -inf, 0) is not a finite point"},
+        {Vec3(1e300, 0, 0), Vec3(-1e300, 0, 0), 40, "camera eye (1e+300, 0, 0) and target (-1e+300, 0, 0) are too far apart"},
+        {Vec3(0, 0, 1), Vec3(0, 0, 0), 0, "camera field of view 0 is outside (0, 180) degrees"},
+        {Vec3(0, 0, 1), Vec3(0, 0, 0), 180, "camera field of view 180 is outside (0, 180) degrees"},
+        {Vec3(0, 0, 1), Vec3(0, 0, 0), 200, "camera field of view 200 is outside (0, 180) degrees"},
+        {Vec3(0, 0, 1), Vec3(0, 0, 0), nan, "camera field of view nan is outside (0, 180) degrees"},
+        {Vec3(1, 2, 3), Vec3(1, 2, 3), 40, "camera eye and target coincide at (1, 2, 3)"},
+    };
+    for (const auto& r : refused) {
+        CAPTURE(r.message);
+        c.eye = r.eye;
+        c.target = r.target;
+        c.fovY = r.fov;
+        CHECK_THROWS_WITH_AS(checkCamera(c), doctest::Contains(r.message), Error);
+    }
+    // The OBJ camera line goes through it, with its file and line.
+    Warnings w = quietWarnings();
+    CHECK_THROWS_WITH_AS(loadText("cam.obj", "# hemirad camera 0 0 1 0 0 0 200\n" + kTriangleHead + "f 1 2 3\n", kMtl, w),
+                         doctest::Contains("cam.obj:1: camera field of view 200 is outside (0, 180) degrees"), Error);
 }

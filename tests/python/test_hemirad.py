@@ -286,3 +286,148 @@ def test_a_black_scene_needs_no_rows_and_solves_to_its_emission(tmp_path):
     assert hemirad.read_form_factors(tmp_path / "F.hff", scene).shape == (2, 2)
     G, _ = hemirad.form_factors(scene, threads=1, all_rows=True)
     assert G.shape == (2, 2) and G[0, 1] > 0.19
+
+
+def run_python(script):
+    """Runs `script` in a fresh interpreter (a crash there fails the test instead of killing pytest)."""
+    return subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          env=dict(os.environ, HEMIRAD_SOURCE_DIR=SOURCE))
+
+
+def test_a_matrix_sharing_f_arrays_but_not_its_row_pointers_is_solved_and_written_as_given(tmp_path):
+    # Issue 35 #5: G shares F's data and indices (the library's own memory) but not its row pointers:
+    # the last entry of row 4 moves to row 5, a black patch whose row is empty. G is canonical and
+    # differs from F in 2 entries; it must be solved and written as G, not as F.
+    scene = hemirad.load(scene_path("cornell_box.obj"))
+    scene.set_rho([5], [0.0, 0.0, 0.0])
+    F, _ = hemirad.form_factors(scene, samples=256, threads=1)
+    assert F.indptr[5] == F.indptr[6] and F.indptr[5] > F.indptr[4]  # row 5 empty, row 4 not
+    indptr = F.indptr.copy()
+    indptr[5] -= 1
+    G = scipy.sparse.csr_array((F.data, F.indices, indptr), shape=F.shape)
+    assert G.has_canonical_format and (G != F).nnz == 2
+    copy = scipy.sparse.csr_array((F.data.copy(), F.indices.copy(), indptr.copy()), shape=F.shape)
+    B_F, _ = hemirad.solve(scene, F)
+    B_G, _ = hemirad.solve(scene, G)
+    B_copy, _ = hemirad.solve(scene, copy)
+    assert np.max(np.abs(B_F - B_copy)) > 1e-6  # the two matrices give different radiosities
+    assert np.array_equal(B_G, B_copy)
+    hemirad.write_form_factors(tmp_path / "G.hff", G, scene)
+    assert (hemirad.read_form_factors(tmp_path / "G.hff", scene) != G).nnz == 0
+    # The library's own F, all three arrays as it made them, still goes through in place.
+    hemirad.write_form_factors(tmp_path / "F.hff", F, scene)
+    assert (hemirad.read_form_factors(tmp_path / "F.hff", scene) != F).nnz == 0
+
+
+def test_the_library_arrays_of_f_cannot_be_made_writable():
+    # F's columns and values are used in place when the arrays passed are the library's own: sound
+    # only while nobody can change that memory from Python. (Row pointers are compared by value:
+    # scipy keeps its own int32 copy of them.)
+    F, _ = hemirad.form_factors(hemirad.load(scene_path("unit_cube.obj")))
+    for array in (F.indices, F.data):
+        with pytest.raises(ValueError):
+            array.setflags(write=True)
+
+
+def test_render_refuses_a_bad_camera_naming_the_value():
+    # Issue 35 #7: a NaN eye aborted the interpreter (an Embree assertion), so each case runs in a
+    # fresh interpreter; every one must raise hemirad.Error naming the value.
+    script = f"""
+import numpy as np, hemirad
+scene = hemirad.load({scene_path("cornell_box.obj")!r})
+B = np.zeros((len(scene), 3))
+for camera in [(float("nan"), 0, 0, 0, 0, 0, 40), (278, 273, -800, 278, 273, 0, 0),
+               (278, 273, -800, 278, 273, 0, 200), (1, 2, 3, 1, 2, 3, 40)]:
+    try:
+        hemirad.render(scene, B, "never.png", camera=camera, size=(8, 8))
+        print("accepted", camera)
+    except hemirad.Error as e:
+        print("refused:", e)
+"""
+    run = run_python(script)
+    assert run.returncode == 0, run.stderr
+    lines = run.stdout.splitlines()
+    assert len(lines) == 4, run.stdout
+    assert "camera eye (nan, 0, 0) is not a finite point" in lines[0]
+    assert "camera field of view 0 is outside (0, 180) degrees" in lines[1]
+    assert "camera field of view 200 is outside (0, 180) degrees" in lines[2]
+    assert "camera eye and target coincide at (1, 2, 3)" in lines[3]
+
+
+def test_crafted_csr_arrays_are_refused_before_any_use():
+    # Issue 35 #10: row pointers past nnz made the module read and write past its arrays (the checked
+    # error came, then a crash). The arrays are views into longer buffers whose extra values are
+    # valid columns, so that an unchecked overrun would run far. Each case runs in a fresh interpreter
+    # through the module's entry points, which take raw arrays; each must raise hemirad.Error.
+    script = f"""
+import numpy as np, hemirad
+from hemirad import _hemirad
+scene = hemirad.load({scene_path("cornell_box.obj")!r}, subdivide=100)
+n = len(scene)
+columns = np.arange(n, dtype=np.int32)
+values = np.full(n, 1e-3, dtype=np.float32)
+def csr(indptr, nnz=3):
+    return np.array(indptr, dtype=np.int64), columns[:nnz], values[:nnz]
+cases = {{
+    "row pointer past nnz": csr([0, n - 1] + [3] * (n - 1)),
+    "decreasing row pointers": csr([0, 2, 1] + [3] * (n - 2)),
+    "first row pointer not 0": csr([-2, 1] + [3] * (n - 1)),
+    "last row pointer not nnz": csr([0, 1, 2] + [2] * (n - 2)),
+    "row pointers of the wrong length": csr([0, 3, 3]),
+    "column out of range": (np.array([0, 1] + [1] * (n - 1), dtype=np.int64), np.array([n], dtype=np.int32), values[:1]),
+    "negative column": (np.array([0, 1] + [1] * (n - 1), dtype=np.int64), np.array([-1], dtype=np.int32), values[:1]),
+    "columns out of order": (np.array([0, 2] + [2] * (n - 1), dtype=np.int64), np.array([5, 4], dtype=np.int32), values[:2]),
+    "data and indices of different lengths": (np.array([0, 2] + [2] * (n - 1), dtype=np.int64), columns[:2], values[:1]),
+}}
+for name, (indptr, indices, data) in cases.items():
+    for call in ("solve", "write"):
+        try:
+            if call == "solve":
+                _hemirad._solve(scene, indptr, indices, data, "auto", 1e-6, 100, False, None)
+            else:
+                _hemirad._write_form_factors("never.hff", scene, indptr, indices, data, None)
+            print("accepted", name, call)
+        except hemirad.Error as e:
+            print("refused", name, "|", e)
+print("alive")
+"""
+    run = run_python(script)
+    assert run.returncode == 0, run.stderr[-2000:]
+    lines = run.stdout.splitlines()
+    assert lines[-1] == "alive" and len(lines) == 19, run.stdout
+    expected = {
+        "row pointer past nnz": "F: row pointer 343 of row 0 lies past the 3 entries",
+        "decreasing row pointers": "F: row pointers decrease at row 1 (2, then 1)",
+        "first row pointer not 0": "F: indptr starts at -2, not 0",
+        "last row pointer not nnz": "F: indptr ends at 2, not at the 3 entries",
+        "row pointers of the wrong length": "F: indptr has 3 row pointers, expected 345 for 344 patches",
+        "column out of range": "F: row 0 has a column out of range or out of order (344)",
+        "negative column": "F: row 0 has a column out of range or out of order (-1)",
+        "columns out of order": "F: row 0 has a column out of range or out of order (4)",
+        "data and indices of different lengths": "F: 1 values for 2 column indices",
+    }
+    for line in lines[:-1]:  # each case twice: solve, then write
+        name, message = line[len("refused "):].split(" | ")
+        assert line.startswith("refused ") and message == expected[name], line
+
+
+def test_crafted_scipy_matrices_are_refused_by_the_python_layer_too():
+    # scipy takes these (its default check is O(1)); its own canonicalisation would then run past the
+    # arrays, so hemirad.solve checks the structure first. In a fresh interpreter, as above.
+    script = f"""
+import numpy as np, scipy.sparse, hemirad
+scene = hemirad.load({scene_path("cornell_box.obj")!r}, subdivide=100)
+n = len(scene)
+columns = np.arange(n, dtype=np.int32)
+for indptr in ([0, n - 1] + [3] * (n - 1), [0, 2, 1] + [3] * (n - 2)):
+    F = scipy.sparse.csr_array((np.full(3, 1e-3, dtype=np.float32), columns[:3], np.array(indptr)), shape=(n, n))
+    try:
+        hemirad.solve(scene, F)
+        print("accepted")
+    except ValueError as e:
+        print("refused |", e)
+"""
+    run = run_python(script)
+    assert run.returncode == 0, run.stderr[-2000:]
+    lines = run.stdout.splitlines()
+    assert len(lines) == 2 and all(line.startswith("refused | F: ") for line in lines), run.stdout

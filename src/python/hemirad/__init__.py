@@ -180,6 +180,21 @@ def form_factors(scene, method=None, *, max_depth=8, threads=0, all_rows=False,
     return _csr(arrays, len(scene)), report
 
 
+def _check_structure(F, n, name):
+    """Raises ValueError unless F's CSR arrays are consistent: scipy checks only their lengths by
+    default, and its canonicalisation (and the library) would then read and write past them."""
+    indptr, indices, data = F.indptr, F.indices, F.data
+    if indptr.shape != (n + 1,) or indices.ndim != 1 or data.shape != indices.shape:
+        raise ValueError(f"{name}: inconsistent CSR arrays (indptr {indptr.shape}, indices {indices.shape}, "
+                         f"data {data.shape} for {n} rows)")
+    steps = _np.diff(indptr)
+    if indptr[0] != 0 or indptr[-1] != len(indices) or (len(steps) and steps.min() < 0):
+        raise ValueError(f"{name}: row pointers (indptr) must rise from 0 to the {len(indices)} entries, "
+                         f"never decreasing")
+    if len(indices) and (indices.min() < 0 or indices.max() >= n):
+        raise ValueError(f"{name}: column indices must lie in [0, {n})")
+
+
 def _canonical(F, n, name="F"):
     """F as CSR arrays the library takes: int64 row pointers, int32 sorted unique columns, float32."""
     if not (_sparse.issparse(F) or isinstance(F, _np.ndarray)):
@@ -187,6 +202,7 @@ def _canonical(F, n, name="F"):
     if F.shape != (n, n):
         raise ValueError(f"{name}: expected shape ({n}, {n}) for a scene of {n} patches, got {F.shape}")
     F = _sparse.csr_array(F)
+    _check_structure(F, n, name)
     if not F.has_canonical_format:
         F = F.copy()
         F.sum_duplicates()
