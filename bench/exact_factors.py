@@ -28,6 +28,8 @@ import time
 
 import numpy as np
 
+from formfactor_process import timed
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CUBE_OPPOSITE = 0.19982489569838746  # C-11(1, 1, 1)
 CUBE_ADJACENT = 0.20004377607540316  # C-14(1, 1, 1)
@@ -36,24 +38,6 @@ SETTINGS = [("default", []), ("--pair-digits 4", ["--pair-digits", "4"])]
 VIEW3D = {8: ((0.04, 1.3e-5, 3.2e-6), (0.05, 4.1e-7, 1.1e-7)),
           16: ((0.34, 7.2e-6, 1.8e-6), (0.34, 2.0e-7, 5.3e-8)),
           32: ((6.9, 4.0e-6, 9.9e-7), (6.3, 3.0e-8, 7.7e-9))}
-
-
-def timed(hemirad, scene, out, extra, threads=1):
-    """One formfactors process: (wall seconds, its own peak RSS in MiB)."""
-    command = [hemirad, "formfactors", scene, "-o", out, "--threads", str(threads)] + extra
-    # GNU time forks from its own small process: ru_maxrss survives exec, so a child forked from
-    # this Python process (which holds the last F) would report this process's peak.
-    peak_file = out + ".peak"
-    with tempfile.TemporaryFile("w+") as log:
-        started = time.perf_counter()
-        status = subprocess.run(["/usr/bin/time", "-f", "%M", "-o", peak_file] + command, stdout=log,
-                                stderr=subprocess.STDOUT).returncode
-        seconds = time.perf_counter() - started
-        log.seek(0)
-        text = log.read()
-    if status != 0:
-        sys.exit("exact_factors: %s failed:\n%s" % (" ".join(command), text))
-    return seconds, int(open(peak_file).read().split()[-1]) / 1024
 
 
 def read_f(path):
@@ -215,7 +199,7 @@ def main():
             F_ref = read_f(f_path)
         faces = polygons(scene)
         for label, extra in SETTINGS:
-            seconds, peak = timed(HEMIRAD, scene, f_path, extra)
+            seconds, peak, _ = timed(HEMIRAD, scene, f_path, extra)
             F = read_f(f_path)
             f_mib = (F.nnz * 8 + (F.shape[0] + 1) * 8) / 2**20  # float values, 32-bit columns, row offsets
             if kind == "cube":

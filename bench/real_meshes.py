@@ -20,28 +20,13 @@ import os
 import subprocess
 import sys
 import tempfile
-import time
 
 import numpy as np
 
+from formfactor_process import timed
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 REFERENCE = ["--pair-digits", "4", "--origins", "16"]
-
-
-def timed(hemirad, scene, out, extra, threads=1):
-    """One formfactors process: (wall seconds, peak RSS in MiB, its report)."""
-    command = [hemirad, "formfactors", scene, "-o", out, "--threads", str(threads)] + extra
-    peak_file = out + ".peak"
-    with tempfile.TemporaryFile("w+") as log:
-        started = time.perf_counter()
-        status = subprocess.run(["/usr/bin/time", "-f", "%M", "-o", peak_file] + command, stdout=log,
-                                stderr=subprocess.STDOUT).returncode
-        seconds = time.perf_counter() - started
-        log.seek(0)
-        text = log.read()
-    if status != 0:
-        sys.exit("real_meshes: %s failed:\n%s" % (" ".join(command), text))
-    return seconds, int(open(peak_file).read().split()[-1]) / 1024, text
 
 
 def areas(obj):
@@ -136,6 +121,7 @@ def main():
     import hemirad
     work = tempfile.mkdtemp(prefix="real_meshes_")
     generator = os.path.join(ROOT, "scenes", "generators", "district.py")
+    print("# Form factors on meshes users bring (issue 34)\n")
     print("`hemirad formfactors SCENE -o F.hff --threads 1` per row, a whole process each (load, F, write):\n")
     print("| scene | settings | seconds | peak MiB | nonzeros | largest entry error | row sums: largest / area-weighted error | reciprocity (largest) |")
     print("|---|---|---|---|---|---|---|---|")

@@ -212,6 +212,7 @@ def main():
     md += script_section("mpi_street_tiled.md", "bash bench/mpi_street_tiled.sh build 3072")
     md += script_section("python_overhead.md", "bash bench/python_overhead.sh build")
     md += script_section("exact_factors.md", "/usr/bin/python3 bench/exact_factors.py build")
+    md += script_section("real_meshes.md", "/usr/bin/python3 bench/real_meshes.py build")
 
     def total_seconds(path):
         try:

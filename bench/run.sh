@@ -92,6 +92,9 @@ sed -i 's/^Ke 17 12 4/Ke 8.5 6 2/' "$scenes/cornell13k_edit.mtl"   # a material-
 step "exact form factors against closed forms (issue 16): the subdivided cube, plates past a blocker, Cornell at 60 mm"
 /usr/bin/python3 bench/exact_factors.py "$build" | tee "$results/exact_factors.md"
 
+step "form factors on meshes users bring (issue 34): non-conforming districts, a closed district, spheres"
+/usr/bin/python3 bench/real_meshes.py "$build" | tee "$results/real_meshes.md"
+
 step "numerical stress"
 "./$build/bench_stress" | tee "$results/stress.md"
 
