@@ -336,10 +336,7 @@ void AppState::materialsChanged(bool specularChanged) {
 }
 
 void AppState::refreshRadiosity() {
-    bool rowsMissing = false;
-    for (PatchId i : neededRows(*m_scene, false)) rowsMissing |= !m_F->rowComputed(i);
     if (m_job && !m_job->finished) m_pendingResolve = true;
-    else if (rowsMissing) runPipeline();
     else resolve();
 }
 
@@ -589,6 +586,10 @@ void AppState::resolve() {
         error("no current form factors: run the pipeline first");
         return;
     }
+    // Every re-solve (an edit, undo, the one queued while a job ran) goes through here: rows the
+    // materials now need that F lacks (a black patch made reflective) are computed first.
+    for (PatchId i : neededRows(*m_scene, false))
+        if (!m_F->rowComputed(i)) return runPipeline();
     startJob(false, m_F);
 }
 

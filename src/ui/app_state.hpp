@@ -227,7 +227,8 @@ public:
     bool formFactorsMatchSettings() const;
     /// Rows, work, the memory bound and (after a first run of the method) the time Run would take.
     FormFactorEstimate formFactorEstimate() const;
-    /// Solves with the current F (warm start from the last radiosity).
+    /// Solves with the current F (warm start from the last radiosity), first computing the rows the
+    /// materials need that it lacks (runPipeline).
     void resolve();
     void cancel();
     /// Called once a frame: applies a finished job's results. Returns true if something changed.
@@ -259,7 +260,7 @@ private:
     Snapshot snapshot(const std::vector<PatchId>& ids) const;
     void restore(const std::vector<PatchId>& ids, const Snapshot& s);
     void materialsChanged(bool specularChanged);
-    /// Re-solves with the current F (first computing the rows the materials need that it lacks).
+    /// Re-solves with the current F (resolve), or once the running job has finished.
     void refreshRadiosity();
     void bump() { ++m_revision; }
 

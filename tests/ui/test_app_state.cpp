@@ -178,6 +178,30 @@ TEST_CASE("GUI state: a black patch made reflective gets its row computed, the o
     CHECK(logged(app, "1 rows"));
 }
 
+TEST_CASE("GUI state: a black patch made reflective while a job runs gets its row once the job ends (issue 35 #9)") {
+    // The edit queues a re-solve; it used to start the solve alone, which failed with "row 0 of F was
+    // not computed".
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
+    app.setScene(subdivide(app.scene(), 0.05), "fine cube");  // 2,400 patches: the job outlives the edit
+    app.select(0, false);
+    MaterialEdit black;
+    black.rho = Rgb::Zero();
+    app.editMaterial(black);
+    app.settings.formFactors.as<HemisphereOptions>().samples = 384;
+    app.runPipeline();
+    REQUIRE(app.job().running);
+    MaterialEdit grey;
+    grey.rho = Rgb::Constant(0.5);
+    app.editMaterial(grey);
+    runToEnd(app);
+    REQUIRE(app.formFactors() != nullptr);
+    CHECK(app.formFactors()->rowComputed(0));
+    CHECK_FALSE(logged(app, "was not computed"));
+    CHECK_FALSE(app.radiosityStale());
+    CHECK(app.radiosity()[0][0] > 0.0);
+}
+
 TEST_CASE("GUI state: importing F checks that it belongs to the scene") {
     AppState app;
     solvedCube(app);
