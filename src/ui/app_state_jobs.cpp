@@ -1,0 +1,265 @@
+// hemirad-gui application state: the worker job (form factors and solve on copies of the scene),
+// when F is reused, and applying its results on the UI thread.
+#include "ui/app_state.hpp"
+
+#include "engine/error.hpp"
+#include "pipeline/radiosity_pipeline.hpp"
+#include "preprocess/form_factor_job.hpp"
+
+#include <algorithm>
+#include <exception>
+#include <sstream>
+
+namespace hemirad::ui {
+
+using Clock = std::chrono::steady_clock;
+
+/// One background computation: optional form factors (all missing rows), then the solve. It works on
+/// copies, so the user may keep editing; results are applied by poll() on the UI thread.
+struct AppState::Job {
+    std::thread thread;
+    std::atomic<bool> cancel{false};
+    std::atomic<bool> finished{false};
+    mutable std::mutex mutex;
+    JobStatus status;
+    Clock::time_point start = Clock::now();
+
+    // Inputs.
+    Scene scene;
+    std::shared_ptr<const FormFactors> F;
+    bool computeF = false;
+    PipelineSettings settings;
+    std::vector<Rgb> warmStart;
+    std::uint64_t materialsRevision = 0;
+
+    // Outputs.
+    std::shared_ptr<const FormFactors> newF;
+    std::optional<FormFactorStats> stats;
+    double workPerSecond = 0.0;  ///< rays (or pixels) per second of the rows computed, 0 if none
+    Radiosity result;
+    std::string error;
+    // Intermediate radiosity of a running solve (progressive display), newest only.
+    std::vector<Rgb> intermediate;
+    bool hasIntermediate = false;
+    Clock::time_point lastIntermediate;
+    std::vector<std::string> messages;
+    std::vector<std::pair<std::string, double>> timings;
+
+    void setStage(const std::string& stage, double progress) {
+        std::lock_guard<std::mutex> lock(mutex);
+        status.stage = stage;
+        status.progress = progress;
+    }
+
+    /// The library pipeline with this job's settings; its events land in the job's status and log.
+    RadiosityPipeline pipeline() {
+        FormFactorPolicy policy;
+        policy.backend = settings.formFactors;
+        policy.statistics = true;  // the pipeline panel shows them
+        PipelineEvents events;
+        events.cancel = &cancel;
+        events.timing = [this](const std::string& stage, double seconds) { timings.emplace_back(stage, seconds); };
+        events.message = [this](const std::string& text) { messages.push_back(text); };
+        events.progress = [this](const std::string& label, double, const std::string&) -> ProgressCallback {
+            setStage(label, 0.0);
+            return [this, label](std::size_t done, std::size_t total, double) {
+                setStage(label, total ? double(done) / double(total) : 1.0);
+            };
+        };
+        events.formFactorsComputed = [this](const FormFactorRun& run, const Scene& s, const MethodSettings& method) {
+            std::ostringstream msg;
+            msg << "form factors: " << method.method << ", " << findBackend(method.method).describe(s, method).settings
+                << ", " << run.rowsComputed << " rows in " << run.computeSeconds << " s; row sums " << run.stats.rowSumMin
+                << ".." << run.stats.rowSumMax << ", reciprocity (mean) " << run.stats.reciprocityMean << ", lost "
+                << (run.rowsComputed ? 100.0 * run.counts.lostWeight / double(run.rowsComputed) : 0.0) << "%";
+            messages.push_back(msg.str());
+            if (run.rowsComputed > 0 && run.computeSeconds > 0.0)
+                workPerSecond = double(run.rowsComputed) * expectedWorkPerRow(s, method) / run.computeSeconds;
+        };
+        return RadiosityPipeline(std::move(policy), std::move(events));
+    }
+
+    void run() {
+        try {
+            const RadiosityPipeline radiosity = pipeline();
+            std::shared_ptr<const FormFactors> F = this->F;
+            if (computeF) {
+                // Rows the materials need that F lacks (all of them when there is no usable F).
+                FormFactorUpdate update = radiosity.updateFormFactors(scene, F ? FormFactors(*F) : FormFactors());
+                stats = update.stats;
+                F = std::make_shared<FormFactors>(std::move(update.F));
+                newF = F;
+            }
+            if (cancel) throw Error("cancelled");
+            setStage("solve", 0.0);
+            SolverOptions solver = settings.solver;
+            solver.progress = [this](int sweep, const std::vector<Rgb>& B) {
+                // At most ten updates a second reach the view.
+                const auto now = Clock::now();
+                if (now - lastIntermediate < std::chrono::milliseconds(100)) return;
+                lastIntermediate = now;
+                std::lock_guard<std::mutex> lock(mutex);
+                intermediate = B;
+                hasIntermediate = true;
+                status.stage = "solve (sweep " + std::to_string(sweep) + ")";
+            };
+            result = radiosity.solve(scene, *F, solver, &warmStart);
+        } catch (const std::exception& e) {
+            error = e.what();
+        }
+        finished = true;
+    }
+};
+
+AppState::AppState() : m_start(Clock::now()) {}
+
+AppState::~AppState() {
+    if (m_job) {
+        m_job->cancel = true;
+        if (m_job->thread.joinable()) m_job->thread.join();
+    }
+}
+
+JobStatus AppState::job() const {
+    if (!m_job) return {};
+    std::lock_guard<std::mutex> lock(m_job->mutex);
+    JobStatus s = m_job->status;
+    s.running = !m_job->finished;
+    s.elapsed = std::chrono::duration<double>(Clock::now() - m_job->start).count();
+    return s;
+}
+
+void AppState::startJob(bool computeF, std::shared_ptr<const FormFactors> F) {
+    if (!hasScene()) return;
+    if (m_job && !m_job->finished) {
+        error("a computation is running; cancel it first");
+        return;
+    }
+    if (m_job && m_job->thread.joinable()) m_job->thread.join();
+    m_job = std::make_unique<Job>();
+    m_job->scene = *m_scene;
+    m_job->F = std::move(F);
+    m_job->computeF = computeF;
+    m_job->settings = settings;
+    m_job->warmStart = m_B;
+    m_job->materialsRevision = m_materialsRevision;
+    m_job->thread = std::thread([job = m_job.get()] { job->run(); });
+}
+
+FormFactorEstimate AppState::formFactorEstimate() const {
+    FormFactorEstimate e;
+    if (!hasScene()) return e;
+    const MethodSettings& method = settings.formFactors;
+    const BackendDescriptor& backend = findBackend(method.method);
+    e.workUnit = backend.workUnit;
+    e.description = backend.describe(*m_scene, method).settings;
+    e.workPerRow = backend.workPerRow(*m_scene, method);
+    // The rows Run would compute: the missing ones of a reusable F, else every row needed.
+    FormFactorPolicy policy;
+    policy.backend = method;
+    const bool reuse = m_F && !m_fStale && formFactorsMatchSettings();
+    e.rows = RadiosityPipeline(policy, {}).missingRows(*m_scene, reuse ? m_F.get() : nullptr).size();
+    e.reusesF = reuse;
+    e.memoryBound = formFactorMemoryBound(*m_scene, method, e.rows);
+    if (const auto it = m_workPerSecond.find(method.method); it != m_workPerSecond.end())
+        e.seconds = double(e.rows) * e.workPerRow / it->second;
+    return e;
+}
+
+bool AppState::formFactorsMatchSettings() const {
+    return m_F && m_fSettings && sameFormFactorSettings(*m_fSettings, settings.formFactors);
+}
+
+void AppState::runPipeline() {
+    if (!hasScene()) return;
+    // Only an F made with the panel's settings is reused (or completed with missing rows).
+    const bool reuse = m_F && !m_fStale && formFactorsMatchSettings();
+    if (m_F && !m_fStale && !reuse) info("the form-factor settings changed since F was made: computing F again");
+    FormFactorPolicy policy;
+    policy.backend = settings.formFactors;
+    const bool needF = !reuse || !RadiosityPipeline(policy, {}).missingRows(*m_scene, m_F.get()).empty();
+    info(needF ? "running: form factors and solve" : "running: solve (form factors are current)");
+    startJob(needF, reuse ? m_F : nullptr);
+}
+
+void AppState::recomputeFormFactors() {
+    if (!hasScene()) return;
+    info("running: form factors (recomputed) and solve");
+    startJob(true, nullptr);
+}
+
+void AppState::refreshRadiosity() {
+    if (m_job && !m_job->finished) m_pendingResolve = true;
+    else resolve();
+}
+
+void AppState::resolve() {
+    if (!hasScene()) return;
+    if (!m_F || m_fStale) {
+        error("no current form factors: run the pipeline first");
+        return;
+    }
+    // Every re-solve (an edit, undo, the one queued while a job ran) goes through here: rows the
+    // materials now need that F lacks (a black patch made reflective) are computed first.
+    for (PatchId i : neededRows(*m_scene, false))
+        if (!m_F->rowComputed(i)) return runPipeline();
+    startJob(false, m_F);
+}
+
+void AppState::cancel() {
+    if (m_job && !m_job->finished) {
+        m_job->cancel = true;
+        info("cancelling...");
+    }
+}
+
+void AppState::wait() {
+    if (m_job && m_job->thread.joinable()) m_job->thread.join();
+}
+
+bool AppState::poll() {
+    if (m_job && !m_job->finished) {
+        // Progressive display: show the solve's newest intermediate radiosity.
+        std::lock_guard<std::mutex> lock(m_job->mutex);
+        if (!m_job->hasIntermediate || m_job->intermediate.size() != m_B.size()) return false;
+        m_B.swap(m_job->intermediate);
+        m_job->hasIntermediate = false;
+        bump();
+        return true;
+    }
+    if (!m_job) return false;
+    if (m_job->thread.joinable()) m_job->thread.join();
+    std::unique_ptr<Job> job = std::move(m_job);
+    for (const std::string& m : job->messages) info(m);
+    if (!job->error.empty()) {
+        if (job->error.find("cancelled") != std::string::npos) info("cancelled");
+        else error(job->error);
+        return false;
+    }
+    if (job->newF) {
+        m_F = job->newF;
+        m_fSettings = job->settings.formFactors;
+        m_stats = job->stats;
+        m_fGeometryHash = job->scene.geometryHash();
+        m_fStale = m_fGeometryHash != m_scene->geometryHash();
+    }
+    if (job->scene.size() == m_scene->size()) m_B = job->result.B;
+    m_reports = job->result.reports;
+    m_timings = job->timings;
+    if (job->workPerSecond > 0.0) m_workPerSecond[job->settings.formFactors.method] = job->workPerSecond;
+    for (const SolveReport& r : m_reports) {
+        std::ostringstream msg;
+        msg << "solve: " << r.solver << " (" << r.channels << ") " << (r.converged ? "converged" : "NOT converged") << " in "
+            << r.iterations << " iterations, residual " << r.residual << ", " << r.seconds << " s";
+        info(msg.str());
+    }
+    m_bStale = job->materialsRevision != m_materialsRevision;
+    bump();
+    if ((m_bStale && autoResolve) || m_pendingResolve) {
+        m_pendingResolve = false;
+        if (m_F && !m_fStale) resolve();
+    }
+    return true;
+}
+
+}  // namespace hemirad::ui
