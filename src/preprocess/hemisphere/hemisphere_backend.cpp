@@ -70,6 +70,8 @@ struct HemisphereBackend::Workspace {
     std::vector<double> reversedTerm;  // per reversed emitter: its terms for this row, in ray units
     std::vector<float> handed;  // and its entry as the exchange hands it over (-1: split here, use the terms)
     std::vector<std::uint32_t> silhouette;  // the reversed emitters on a silhouette seen from this row
+    std::vector<std::uint32_t> pieceOf;  // per silhouette piece ray: its reversed emitter
+    std::vector<double> pieceValue;      // and its term (factor times the point's weight)
     // Pairs handed between rows: the exchange, this row's entries from it and for it, per patch the
     // entry of its row for this one (-1: none), and per receiver this row's unsplit sum (-1: no term).
     PairExchange* exchange = nullptr;
@@ -84,6 +86,7 @@ struct HemisphereBackend::Workspace {
     std::vector<Vec3> clipped;
     std::vector<std::uint8_t> status;  // per patch for one origin: 0 not aimed at, 1 visible, 2 blocked
     std::vector<PatchId> split;        // silhouette patches of one origin
+    std::vector<Vec3> pieces, finer;   // their pieces, 4 corners each
     std::vector<float> jittered;  // this origin's cell directions when jittering
     std::vector<float> dirs;
     std::vector<PatchId> hits;
@@ -134,6 +137,7 @@ void HemisphereBackend::prepare(const Scene& scene) {
     m_ruleNodes.assign(std::size_t(m_orders.highest()) + 1, {});
     m_ruleWeights.assign(m_ruleNodes.size(), {});
     for (int m = m_orders.lowest(); m <= m_orders.highest(); ++m) gaussLegendre(m, m_ruleNodes[m], m_ruleWeights[m]);
+    m_splitLevels = m_options.jitter ? 2 : 1;
     m_geometry.build(scene);
     if (m_farRatio > 0.0) m_far.build(m_geometry);
     m_geometry.buildNeighbours(scene);
@@ -185,7 +189,8 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
                                              " patches that can obstruct) where a point's factor exceeds 1e-" +
                                              std::to_string(m_options.pairDigits + 1) + ", elsewhere shadow rays to " +
                                              (m_options.jitter ? "random points" : "centres") +
-                                             ", the exact visible part of silhouette patches"
+                                             ", silhouette patches split in " + std::to_string(m_splitLevels) +
+                                             (m_splitLevels == 1 ? " level" : " levels")
                                        : std::string(", no shadow rays (no patch can obstruct: a convex scene)"));
     if (m_analytic && m_mirrors)
         p["mirror_terms"] = m_images ? "virtual images through " + std::to_string(m_images->reflectorCount()) +
@@ -595,8 +600,11 @@ bool HemisphereBackend::reversedTerms(PatchId j, PatchId i, bool rays, Workspace
 
 void HemisphereBackend::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCounts& counts) const {
     // An emitter j whose mesh neighbours disagree with it about i sees i past a silhouette, which
-    // moves across i as the point on j moves: each of its ray terms gets i's exact visible part
-    // from its point, as row j does where it finds i on a silhouette. Exact terms stay as they are.
+    // moves across i as the point on j moves: each of its ray terms takes i in pieces, each with
+    // its own factor and shadow ray, as row j does where it finds i on a silhouette (the same
+    // pieces, aims and rays: equal values where both rows split). Exact terms stay as they are.
+    const PatchShape& receiver = m_geometry.shapes[i];
+    const double offset = m_rays->originOffset();
     ws.silhouette.clear();
     for (std::size_t p = 0; p < ws.reversed.size(); ++p) {
         if (!m_geometry.onSilhouette(ws.reversed[p], ws.status)) continue;
@@ -607,13 +615,17 @@ void HemisphereBackend::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCo
         reversedTerms(ws.reversed[p], i, false, ws, counts);
         ws.termEnd[p] = std::uint32_t(ws.factors.size());
     }
+    ws.origins.clear();
+    ws.targets.clear();
+    ws.pieceOf.clear();
+    ws.pieceValue.clear();
     for (const std::uint32_t p : ws.silhouette) {
         const PatchId j = ws.reversed[p];
         const Vec3& n = m_geometry.shapes[j].normal;
         bool split = false;
         for (std::uint32_t t = ws.termBegin[p]; t < ws.termEnd[p]; ++t) {
             if (ws.rayOf[t] == kNoRay) continue;
-            if (!split) {  // the exact terms are kept; the ray terms are replaced by exact visible parts
+            if (!split) {  // the exact terms are kept; the ray terms are replaced by their pieces
                 ws.handed[p] = -1.0f;
                 ws.reversedTerm[p] = 0.0;
                 for (std::uint32_t u = ws.termBegin[p]; u < ws.termEnd[p]; ++u)
@@ -623,12 +635,38 @@ void HemisphereBackend::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCo
             const Vec3& x = ws.termPoint[t];
             const Vec3* polygon;
             const std::size_t corners = polygonAbove(i, x, n, ws.clipped, polygon);
-            if (corners == 0) continue;
-            const double f = pointToPolygonFactor(x, n, polygon, corners);
-            if (!(f > 0.0)) continue;
-            ++counts.shadowTerms;
-            ws.reversedTerm[p] += m_shadows.visibleFactor(x, n, polygon, corners, j, i, f, ws.shadow) * ws.termWeights[t];
+            piecesOf(polygon, corners, ws);
+            float origin[3];
+            m_rays->toLocal(x + offset * n, origin);
+            for (std::size_t q = 0; q < ws.pieces.size(); q += 4) {
+                const double f = pointToPolygonFactor(x, n, &ws.pieces[q], 4);
+                if (!(f > 0.0)) continue;
+                float local[3];
+                m_rays->toLocal(aimPoint(&ws.pieces[q], 4, j, i, ws.termIndex[t], std::uint32_t(q / 4 + 1)) +
+                                    offset * receiver.normal,
+                                local);
+                ws.origins.insert(ws.origins.end(), origin, origin + 3);
+                ws.targets.insert(ws.targets.end(), local, local + 3);
+                ws.pieceOf.push_back(p);
+                ws.pieceValue.push_back(f * ws.termWeights[t]);
+            }
         }
+    }
+    if (ws.pieceOf.empty()) return;
+    ws.blocked.assign(ws.pieceOf.size(), 0);
+    m_rays->occludedSegmentPairs(ws.origins.data(), ws.targets.data(), ws.pieceOf.size(), ws.blocked.data());
+    counts.rays += ws.pieceOf.size();
+    for (std::size_t k = 0; k < ws.pieceOf.size(); ++k)
+        if (!ws.blocked[k]) ws.reversedTerm[ws.pieceOf[k]] += ws.pieceValue[k];
+}
+
+void HemisphereBackend::piecesOf(const Vec3* polygon, std::size_t corners, Workspace& ws) const {
+    ws.pieces.clear();
+    splitPolygon(polygon, corners, ws.pieces);
+    for (int level = 1; level < m_splitLevels; ++level) {
+        ws.finer.clear();
+        for (std::size_t q = 0; q < ws.pieces.size(); q += 4) splitPolygon(&ws.pieces[q], 4, ws.finer);
+        ws.pieces.swap(ws.finer);
     }
 }
 
@@ -740,20 +778,24 @@ double HemisphereBackend::addAnalyticFrom(PatchId i, const Vec3& x, std::uint32_
     if (!candidates) sum += addFarPairs(weight, ws);  // the centroid stands for the far rule's point too
     for (const PatchId j : ws.candidates) ws.status[j] = 0;
     for (const PatchId j : ws.exact) ws.status[j] = 0;
-    // A receiver on a silhouette gets its exact visible part from this point, whatever its size
-    // (a split in pieces with a shadow ray each left the row of an enclosure around an occluder
-    // 4.5e-3 short of 1; now 1e-3).
+    if (ws.split.empty()) return sum;
+    ws.candidates.clear();
+    ws.factors.clear();
+    ws.targets.clear();
     for (const PatchId j : ws.split) {
         const Vec3* polygon;
         const std::size_t corners = polygonAbove(j, x, n, ws.clipped, polygon);
-        if (corners == 0) continue;
-        const double f = pointToPolygonFactor(x, n, polygon, corners);
-        if (!(f > 0.0)) continue;
-        const double visible = m_shadows.visibleFactor(x, n, polygon, corners, i, j, f, ws.shadow);
-        ++counts.shadowTerms;
-        if (!(visible > 0.0)) continue;
-        ws.row.addWeight(j, visible * weight);
-        sum += visible * weight;
+        piecesOf(polygon, corners, ws);
+        for (std::size_t q = 0; q < ws.pieces.size(); q += 4) {
+            const double f = pointToPolygonFactor(x, n, &ws.pieces[q], 4);
+            if (f > 0.0) aim(&ws.pieces[q], 4, std::uint32_t(q / 4 + 1), j, f);
+        }
+    }
+    shoot();
+    for (std::size_t k = 0; k < ws.candidates.size(); ++k) {
+        if (ws.blocked[k]) continue;
+        ws.row.addWeight(ws.candidates[k], ws.factors[k] * weight);
+        sum += ws.factors[k] * weight;
     }
     return sum;
 }

@@ -25,8 +25,7 @@ namespace hemirad {
 /// The "analytic" estimator replaces the rays' direct deposits by Lambert's exact factor from each
 /// origin to every patch in front of it whose centre (or a random point on it, with jitter) a
 /// shadow ray reaches; patches close to the emitter are integrated over a Gauss-Legendre rule on it,
-/// and patches on a silhouette (mesh neighbours disagreeing about visibility) get their exact
-/// visible part (shadow polygons).
+/// and patches on a silhouette (mesh neighbours disagreeing about visibility) are split into pieces.
 /// Where a point's factor to a patch exceeds 10^-(pair digits + 1), the patch's visible part is
 /// exact instead (shadow polygons of the patches that can obstruct, shadow_polygons.hpp).
 /// Its terms through planar mirrors come from virtual images (mirror_images.hpp); with
@@ -69,8 +68,11 @@ private:
     /// per ray term into ws.origins/targets); false when j has no term for i.
     bool reversedTerms(PatchId j, PatchId i, bool rays, Workspace& ws, RayCounts& counts) const;
     /// Of those, the emitters on a silhouette seen from i (a mesh neighbour's status differs): their
-    /// ray terms again with i's exact visible part from each term's point, into ws.reversedTerm.
+    /// ray terms again with i split into pieces, each with its own shadow ray, into ws.reversedTerm.
     void splitReversedSilhouettes(PatchId i, Workspace& ws, RayCounts& counts) const;
+    /// A silhouette receiver's polygon (as seen from one point) in pieces of 4 corners, into
+    /// ws.pieces: one split, two with --jitter. Both rows of a pair split alike.
+    void piecesOf(const Vec3* polygon, std::size_t corners, Workspace& ws) const;
 
     /// Which patch of a pair integrates the pair's factor over its points (the other is exact): the
     /// smaller one, the lower id on a tie. Both rows of the pair use its terms, so the analytic F is
@@ -143,6 +145,7 @@ private:
     FarRule m_far;  ///< the point-to-point kernel for pairs far from each other's horizon
     double m_farRatio = 0.0;  ///< the smallest FarRule::ratio it serves (0: not used, with --origins > 1)
     std::vector<std::vector<double>> m_ruleNodes, m_ruleWeights;  ///< Gauss-Legendre on [0, 1] per order
+    int m_splitLevels = 1;  ///< silhouette patches: 1 = split once (4 pieces of a quad), 2 = twice
 };
 
 struct BackendDescriptor;
