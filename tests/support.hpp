@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 #include <sys/wait.h>
@@ -212,6 +213,26 @@ inline CommandResult runCommand(const std::string& command) {
     while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
     const int status = ::pclose(pipe);
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+/// "strace -f -e trace=write -s 65536 -o TRACE " in front of a command: each write(2) it makes, its
+/// string whole, logged to TRACE. Requires strace (scripts/install-deps.sh), never passes without it.
+inline std::string traceWrites(const std::string& trace) {
+    if (std::system("command -v strace > /dev/null") != 0)
+        throw std::runtime_error("strace is missing (scripts/install-deps.sh installs it)");
+    return "strace -f -qq -e trace=write -e signal=none -s 65536 -o '" + trace + "' ";
+}
+
+/// `text` as strace prints a written string: a write(2) of exactly `text` to descriptor `fd` appears
+/// in the trace as `write(FD, "TEXT", LENGTH)`.
+inline std::string tracedWrite(int fd, const std::string& text) {
+    std::string quoted;
+    for (const char c : text) {
+        if (c == '\n') quoted += "\\n";
+        else if (c == '"' || c == '\\') quoted += std::string("\\") + c;
+        else quoted += c;
+    }
+    return "write(" + std::to_string(fd) + ", \"" + quoted + "\", " + std::to_string(text.size()) + ")";
 }
 
 /// Warnings that are collected silently for assertions.

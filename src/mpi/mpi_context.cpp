@@ -2,13 +2,13 @@
 #include "mpi/mpi_context.hpp"
 
 #include "cli/options.hpp"
+#include "engine/console.hpp"
 
 #include <mpi.h>
 #include <petscsys.h>
 
 #include <algorithm>
 #include <climits>
-#include <cstdio>
 #include <cstdlib>
 
 namespace hemirad::mpi {
@@ -112,8 +112,7 @@ void abortAllRanks(const std::string& message) {
     int rank = 0, size = 1;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
-    std::fprintf(stderr, "hemirad: error: rank %d of %d: %s\n", rank, size, message.c_str());
-    std::fflush(stderr);
+    printError("rank " + std::to_string(rank) + " of " + std::to_string(size) + ": " + message);
     MPI_Abort(MPI_COMM_WORLD, 1);
     std::_Exit(1);
 }

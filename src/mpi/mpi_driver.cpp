@@ -6,6 +6,7 @@
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
 #include "engine/atomic_file.hpp"
+#include "engine/console.hpp"
 #include "engine/form_factor_file.hpp"
 #include "engine/form_factor_shards.hpp"
 #include "engine/memory.hpp"
@@ -347,7 +348,7 @@ void runBenchRun(Job& job) {
         record.set("peak_rss_mib", largest);  // before the reference is loaded
         record.set("peak_rss_mib_total", total);
         recordErrors(record, options, job.scene, job.run.F, result.B);
-        std::cout << record.json() << std::endl;
+        writeWhole(std::cout, record.json() + '\n');
     });
 }
 
@@ -396,10 +397,7 @@ int runUnderMpi(int argc, char** argv) {
         context.agree();
         return 0;
     } catch (const AgreedFailure& e) {
-        if (context.root()) {
-            std::cerr << "hemirad: error: " << e.what() << '\n';
-            if (e.status() == 2) std::cerr << "(run 'hemirad help' for usage)\n";
-        }
+        if (context.root()) printError(e.what(), e.status() == 2);
         return e.status();
     } catch (const std::exception& e) {
         // Outside an agreement point (inside a collective): nothing can be agreed any more.

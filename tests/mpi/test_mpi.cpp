@@ -29,6 +29,13 @@ Run runHemirad(const std::filesystem::path& dir, int ranks, const std::string& a
     return runCommand(command);
 }
 
+/// Runs mpirun in `dir` with `contexts`, its application contexts ("-np 1 --wdir A PROGRAM ARGS : -np
+/// 1 ..."): ranks started in other folders or with other arguments; a hang fails after 120 s (124).
+Run runMpirun(const std::filesystem::path& dir, const std::string& contexts) {
+    return runCommand("cd '" + dir.string() + "' && timeout 120 " + HEMIRAD_MPIEXEC + " --allow-run-as-root --oversubscribe " +
+                      contexts + " 2>&1");
+}
+
 std::string bytes(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     REQUIRE(in.good());
@@ -423,4 +430,29 @@ TEST_CASE("A plain hemirad run loads no MPI or PETSc library, and under a launch
                              std::string::npos) == speaks);
         CHECK((r.output.empty()) == !speaks);
     }
+}
+
+TEST_CASE("Under mpirun the error and the report lines reach their streams in one write each") {
+    // issue 35 #20: "hemirad: error: " and the message were separate writes, and in 1 of 7 runs mpirun
+    // forwarded the prefix glued to a report line. Rank 0 runs under strace, which logs each write(2).
+    const auto dir = tempDir("mpi-one-write");
+    writeFile(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 nan\nf 1 2 3\n");
+    const Run one = runHemirad(dir, 0, "formfactors bad.obj -o F.hff");
+    REQUIRE(one.status == 1);
+    const std::string message = one.output.substr(one.output.find("hemirad: error: "));
+    const std::string trace = (dir / "trace.txt").string();
+    const std::string command = std::string(HEMIRAD_BINARY) + " formfactors bad.obj -o F.hff";
+    const Run two = runMpirun(dir, "-np 1 " + traceWrites(trace) + command + " : -np 1 " + command);
+    CHECK(two.status == 1);
+    CHECK(count(two.output, "hemirad: error: ") == 1);
+    CHECK(readText(trace).find(tracedWrite(2, message)) != std::string::npos);
+    // A report line of a run that works, from rank 0 alone.
+    std::filesystem::remove(trace);
+    const std::string run = std::string(HEMIRAD_BINARY) + " formfactors " + sourcePath("scenes/unit_cube.obj") + " -o F.hff --threads 1";
+    const Run fine = runMpirun(dir, "-np 1 " + traceWrites(trace) + run + " : -np 1 " + run);
+    REQUIRE_MESSAGE(fine.status == 0, fine.output);
+    const std::size_t wrote = fine.output.find("wrote F.hff (scene hash ");
+    REQUIRE(wrote != std::string::npos);
+    CHECK(readText(trace).find(tracedWrite(1, fine.output.substr(wrote, fine.output.find('\n', wrote) + 1 - wrote))) !=
+          std::string::npos);
 }
