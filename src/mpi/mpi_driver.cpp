@@ -392,11 +392,14 @@ int runUnderMpi(int argc, char** argv) {
                 else throw UsageError("unknown command '" + command + "'");
             });
             MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
+            if (status) AtomicFile::exitQuietlyOnInterrupt(status);  // rank 0 said why
             return status;
         }
         context.agree();
         return 0;
     } catch (const AgreedFailure& e) {
+        // Reported once, here: a SIGTERM from mpirun while this rank finalises is no interruption.
+        AtomicFile::exitQuietlyOnInterrupt(e.status());
         if (context.root()) printError(e.what(), e.status() == 2);
         return e.status();
     } catch (const std::exception& e) {

@@ -456,3 +456,19 @@ TEST_CASE("Under mpirun the error and the report lines reach their streams in on
     CHECK(readText(trace).find(tracedWrite(1, fine.output.substr(wrote, fine.output.find('\n', wrote) + 1 - wrote))) !=
           std::string::npos);
 }
+
+TEST_CASE("A rank still finalising when mpirun ends the job after an agreed failure does not say it was interrupted") {
+    // issue 35 #20: after a clean agreed failure, mpirun sent SIGTERM to a rank still finalising, which
+    // printed "interrupted; no partial output was written" after the real message. Rank 1 here waits
+    // 20 s after MPI_Finalize (a preloaded fault), so that rank 0's exit ends it while it waits.
+    const auto dir = tempDir("mpi-no-interrupted");
+    writeFile(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 nan\nf 1 2 3\n");
+    const std::string command = std::string(HEMIRAD_BINARY) + " formfactors bad.obj -o F.hff";
+    const Run r = runMpirun(dir, "-np 1 " + command + " : -np 1 env LD_PRELOAD=" + HEMIRAD_TEST_SLOW_FINALIZE + " " + command);
+    CHECK(r.status == 1);
+    CHECK(count(r.output, "hemirad: error: ") == 1);
+    CHECK(count(r.output, "bad.obj:3: ") == 1);
+    CHECK(count(r.output, "slow_finalize: waiting") == 1);  // the fault was in place
+    CHECK(count(r.output, "slow_finalize: done") == 0);     // and mpirun ended the rank while it waited
+    CHECK(count(r.output, "interrupted") == 0);
+}
