@@ -407,7 +407,7 @@ TEST_CASE("Options that cannot run across ranks are usage errors on every rank, 
     CHECK_FALSE(std::filesystem::exists(dir / "F.hff"));
 }
 
-TEST_CASE("A plain hemirad run loads no MPI or PETSc library, and under a launcher without its MPI module it says so, once, and fails") {
+TEST_CASE("A plain hemirad run loads no MPI or PETSc library, and under a launcher without its MPI module each rank says so and fails") {
     // MPI and PETSc come in through hemirad-mpi.so, loaded only under a launcher (~100 libraries).
     const Run needed = runCommand("ldd " + std::string(HEMIRAD_BINARY) + " 2>&1");  // direct and indirect
     REQUIRE(needed.status == 0);
@@ -424,11 +424,11 @@ TEST_CASE("A plain hemirad run loads no MPI or PETSc library, and under a launch
         const Run r = runCommand("cd '" + dir.string() + "' && OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=" + rank +
                                  " ./hemirad help 2>&1");
         CHECK(r.status == 1);
-        const bool speaks = std::string(rank) == "0";
-        CHECK((r.output.find("hemirad: error: started by an MPI launcher, but its MPI module " +
-                             (std::filesystem::canonical(dir) / "hemirad-mpi.so").string() + " cannot be used") !=
-                             std::string::npos) == speaks);
-        CHECK((r.output.empty()) == !speaks);
+        // Every rank that fails says so, once, naming itself (issue 35 #19: rank 1 said nothing).
+        CHECK(count(r.output, "hemirad: error: ") == 1);
+        CHECK(r.output.find("hemirad: error: rank " + std::string(rank) + " of 2: started by an MPI launcher, but its MPI module " +
+                            (std::filesystem::canonical(dir) / "hemirad-mpi.so").string() + " cannot be used") !=
+              std::string::npos);
     }
 }
 
@@ -471,4 +471,15 @@ TEST_CASE("A rank still finalising when mpirun ends the job after an agreed fail
     CHECK(count(r.output, "slow_finalize: waiting") == 1);  // the fault was in place
     CHECK(count(r.output, "slow_finalize: done") == 0);     // and mpirun ended the rank while it waited
     CHECK(count(r.output, "interrupted") == 0);
+}
+
+TEST_CASE("A rank that cannot load the MPI module says why when rank 0 could and the job ends") {
+    // issue 35 #19: only rank 0 said why; with rank 1 failing, the user read rank 0's "interrupted".
+    const auto dir = tempDir("mpi-module-rank1");
+    std::filesystem::copy_file(HEMIRAD_BINARY, dir / "hemirad");  // no hemirad-mpi.so beside it
+    const Run r = runMpirun(dir, std::string("-np 1 ") + HEMIRAD_BINARY + " help : -np 1 ./hemirad help");
+    CHECK(r.status != 0);
+    CHECK(r.status != 124);  // no hang
+    CHECK(count(r.output, "hemirad: error: rank 1 of 2: started by an MPI launcher, but its MPI module " +
+                              (std::filesystem::canonical(dir) / "hemirad-mpi.so").string() + " cannot be used") == 1);
 }
