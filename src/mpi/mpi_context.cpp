@@ -100,6 +100,15 @@ std::vector<std::string> Context::gatherText(const std::string& text) const {
     return texts;
 }
 
+std::vector<int> Context::ranksDiffering(std::uint64_t value) const {
+    std::vector<std::uint64_t> values(std::size_t(m_size), 0);
+    check(MPI_Allgather(&value, 1, MPI_UINT64_T, values.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD), "gathering hashes");
+    std::vector<int> differing;
+    for (int r = 1; r < m_size; ++r)
+        if (values[std::size_t(r)] != values[0]) differing.push_back(r);
+    return differing;
+}
+
 bool Context::rootDecides(bool value) const {
     int flag = value ? 1 : 0;
     MPI_Bcast(&flag, 1, MPI_INT, 0, MPI_COMM_WORLD);

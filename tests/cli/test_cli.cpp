@@ -2,6 +2,7 @@
 #include "stl_files.hpp"
 #include "support.hpp"
 
+#include "cli/options.hpp"
 #include "preprocess/backend_registry.hpp"
 #include "solve/solver_registry.hpp"
 
@@ -206,6 +207,36 @@ TEST_CASE("An error or warning or report line reaches its stream in one write (m
     REQUIRE(wrote != std::string::npos);
     const std::string line = warned.output.substr(wrote, warned.output.find('\n', wrote) + 1 - wrote);
     CHECK(warnedTrace.find(tracedWrite(1, line)) != std::string::npos);
+}
+
+TEST_CASE("The options hash changes with every option that changes the work and not with --threads") {
+    // MPI ranks agree on it (issue 35 #16): a rank given other options computed or solved something else.
+    auto hashOf = [](const std::vector<std::string>& words) {
+        std::vector<const char*> argv = {"hemirad"};
+        for (const std::string& w : words) argv.push_back(w.c_str());
+        return optionsHash(parseOptions(int(argv.size()), argv.data()));
+    };
+    const std::vector<std::string> base = {"solve", "box.obj", "-o", "B.csv"};
+    auto with = [&](const std::vector<std::string>& extra) {
+        std::vector<std::string> words = base;
+        words.insert(words.end(), extra.begin(), extra.end());
+        return hashOf(words);
+    };
+    const std::uint64_t h = hashOf(base);
+    CHECK(hashOf(base) == h);
+    CHECK(with({"--threads", "3"}) == h);
+    const std::vector<std::vector<std::string>> changes = {
+        {"--samples", "512"}, {"--max-depth", "2"},         {"--solver", "jacobi"},      {"--tolerance", "1e-9"},
+        {"--subdivide", "80"}, {"--materials", "m.mtl"},   {"--drop-below", "0.01"},   {"--enforce-reciprocity"},
+        {"--ff", "F.hff"},     {"--quiet"},                 {"--objects", "objects.csv"}};
+    for (const auto& extra : changes) {
+        CAPTURE(extra[0]);
+        CHECK(with(extra) != h);
+    }
+    CHECK(hashOf({"solve", "other.obj", "-o", "B.csv"}) != h);
+    CHECK(hashOf({"solve", "box.obj", "-o", "C.csv"}) != h);
+    CHECK(hashOf({"formfactors", "box.obj", "-o", "B.mtx"}) != hashOf({"formfactors", "box.obj", "-o", "B.hff"}));
+    CHECK(hashOf({"help"}) == hashOf({"help"}));
 }
 
 TEST_CASE("solve writes the documented CSV, the unit cube's floor emits and everything is finite") {
