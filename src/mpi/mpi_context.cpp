@@ -109,6 +109,16 @@ std::vector<int> Context::ranksDiffering(std::uint64_t value) const {
     return differing;
 }
 
+std::string Context::broadcastText(const std::string& text) const {
+    std::uint64_t length = text.size();
+    check(MPI_Bcast(&length, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD), "broadcast");
+    std::string all = m_rank == 0 ? text : std::string(std::size_t(length), '\0');
+    for (std::size_t done = 0; done < all.size(); done += kPieceBytes)
+        check(MPI_Bcast(all.data() + done, int(std::min(kPieceBytes, all.size() - done)), MPI_CHAR, 0, MPI_COMM_WORLD),
+              "broadcast");
+    return all;
+}
+
 bool Context::rootDecides(bool value) const {
     int flag = value ? 1 : 0;
     MPI_Bcast(&flag, 1, MPI_INT, 0, MPI_COMM_WORLD);

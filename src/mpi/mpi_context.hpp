@@ -73,6 +73,9 @@ public:
     /// agree). Collective.
     std::vector<int> ranksDiffering(std::uint64_t value) const;
 
+    /// Rank 0's `text` on every rank (the others' `text` is not read). Collective.
+    std::string broadcastText(const std::string& text) const;
+
     /// Texts from every rank, in rank order, on rank 0 (empty elsewhere).
     std::vector<std::string> gatherText(const std::string& text) const;
 

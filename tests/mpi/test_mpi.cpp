@@ -483,6 +483,36 @@ TEST_CASE("Ranks that loaded different scene files or were given other options s
     CHECK(std::filesystem::exists(dir / "a" / "B.csv"));
 }
 
+TEST_CASE("Rank 0 reads a shard manifest for every rank: a rank that would read another one still gets rank 0's") {
+    // issue 35 #21: each rank read the manifest itself, so a manifest replaced between two ranks' reads
+    // combined two sets. Here rank 1 starts in a folder whose manifest lists the same shards swapped.
+    const auto dir = tempDir("mpi-manifest");
+    std::filesystem::create_directories(dir / "a");
+    std::filesystem::create_directories(dir / "b");
+    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 80 --samples 256";
+    const Run write = runHemirad(dir / "a", 2, "formfactors " + scene + " -o sharded.hff --shards --threads 1 --quiet");
+    REQUIRE_MESSAGE(write.status == 0, write.output);
+    const hemirad::ShardManifest manifest = hemirad::readShardManifest((dir / "a" / "sharded.hff").string());
+    REQUIRE(manifest.shards.size() == 2);
+    for (const auto& shard : manifest.shards) std::filesystem::copy_file(dir / "a" / shard.file, dir / "b" / shard.file);
+    std::string text = readText(dir / "a" / "sharded.hff");
+    const std::size_t first = text.find("\nshard "), second = text.find("\nshard ", first + 1);
+    REQUIRE(second != std::string::npos);
+    const std::string line0 = text.substr(first, second - first), line1 = text.substr(second, text.find('\n', second + 1) - second);
+    text.replace(second, line1.size(), line0);
+    text.replace(first, line0.size(), line1);
+    writeFile(dir / "b" / "sharded.hff", text);
+    REQUIRE(hemirad::readShardManifest((dir / "b" / "sharded.hff").string()).shards[0].file == manifest.shards[1].file);
+    REQUIRE(runHemirad(dir / "a", 0, "solve " + scene + " --ff sharded.hff --solver lu -o lu.csv --quiet").status == 0);
+    const std::string solve = " solve " + scene + " --ff sharded.hff --threads 1 --tolerance 1e-13 -o B.csv";
+    const Run r = runMpirun(dir, "-np 1 --wdir '" + (dir / "a").string() + "' " + HEMIRAD_BINARY + solve + " : -np 1 --wdir '" +
+                                     (dir / "b").string() + "' " + HEMIRAD_BINARY + solve);
+    REQUIRE_MESSAGE(r.status == 0, r.output);
+    CHECK(r.output.find("each rank reading its own shards") != std::string::npos);
+    CHECK(r.output.find("rows on") == std::string::npos);  // nothing recomputed: rank 0's set, whole
+    CHECK(largestRelativeDifference(radiosityColumns(dir / "a" / "B.csv"), radiosityColumns(dir / "a" / "lu.csv")) < 1e-8);
+}
+
 TEST_CASE("Under mpirun the error and the report lines reach their streams in one write each") {
     // issue 35 #20: "hemirad: error: " and the message were separate writes, and in 1 of 7 runs mpirun
     // forwarded the prefix glued to a report line. Rank 0 runs under strace, which logs each write(2).
