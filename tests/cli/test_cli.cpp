@@ -181,32 +181,32 @@ TEST_CASE("Runtime errors exit with status 1 and name the file") {
 
 TEST_CASE("An error or warning or report line reaches its stream in one write (mpirun cannot split it)") {
     // issue 35 #20: "hemirad: error: " and the message were separate writes, which mpirun forwarded
-    // apart. strace logs each write(2) with its whole string.
+    // apart. A preloaded probe logs each write(2) with its whole text.
     const auto dir = tempDir("cli-one-write");
-    const std::string trace = (dir / "trace.txt").string();
+    const auto log = dir / "writes.log";
     writeFile(dir / "flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");  // face 2: no area
     auto run = [&](const std::string& arguments) {
-        std::filesystem::remove(trace);
-        const Result r = runCommand("cd '" + dir.string() + "' && " + traceWrites(trace) + HEMIRAD_BINARY + " " +
+        std::filesystem::remove(log);
+        const Result r = runCommand("cd '" + dir.string() + "' && " + logWrites(log.string()) + HEMIRAD_BINARY + " " +
                                     arguments + " 2>&1");
-        return std::make_pair(r, readText(trace));
+        return std::make_pair(r, loggedWrites(log));
     };
-    auto [missing, missingTrace] = run("formfactors missing.obj -o F.hff");
+    auto [missing, missingWrites] = run("formfactors missing.obj -o F.hff");
     CHECK(missing.status == 1);
-    CHECK(missingTrace.find(tracedWrite(2, "hemirad: error: missing.obj: cannot open: No such file or directory\n")) !=
-          std::string::npos);
-    auto [usage, usageTrace] = run("formfactors flat.obj -o F.hff --bogus");
+    CHECK_MESSAGE(wroteWhole(missingWrites, 2, "hemirad: error: missing.obj: cannot open: No such file or directory\n"),
+                  describeWrites(missingWrites));
+    auto [usage, usageWrites] = run("formfactors flat.obj -o F.hff --bogus");
     CHECK(usage.status == 2);
-    CHECK(usageTrace.find(tracedWrite(2, "hemirad: error: unknown option '--bogus'\n(run 'hemirad help' for usage)\n")) !=
-          std::string::npos);
-    auto [warned, warnedTrace] = run("formfactors flat.obj -o F.hff");
+    CHECK_MESSAGE(wroteWhole(usageWrites, 2, "hemirad: error: unknown option '--bogus'\n(run 'hemirad help' for usage)\n"),
+                  describeWrites(usageWrites));
+    auto [warned, warnedWrites] = run("formfactors flat.obj -o F.hff");
     REQUIRE_MESSAGE(warned.status == 0, warned.output);
     const std::string warning = warned.output.substr(warned.output.find("hemirad: warning: "));
-    CHECK(warnedTrace.find(tracedWrite(2, warning.substr(0, warning.find('\n') + 1))) != std::string::npos);
+    CHECK_MESSAGE(wroteWhole(warnedWrites, 2, warning.substr(0, warning.find('\n') + 1)), describeWrites(warnedWrites));
     const std::size_t wrote = warned.output.find("wrote F.hff");
     REQUIRE(wrote != std::string::npos);
     const std::string line = warned.output.substr(wrote, warned.output.find('\n', wrote) + 1 - wrote);
-    CHECK(warnedTrace.find(tracedWrite(1, line)) != std::string::npos);
+    CHECK_MESSAGE(wroteWhole(warnedWrites, 1, line), describeWrites(warnedWrites));
 }
 
 TEST_CASE("The options hash changes with every option that changes the work and not with --threads") {

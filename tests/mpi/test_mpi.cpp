@@ -515,27 +515,30 @@ TEST_CASE("Rank 0 reads a shard manifest for every rank: a rank that would read 
 
 TEST_CASE("Under mpirun the error and the report lines reach their streams in one write each") {
     // issue 35 #20: "hemirad: error: " and the message were separate writes, and in 1 of 7 runs mpirun
-    // forwarded the prefix glued to a report line. Rank 0 runs under strace, which logs each write(2).
+    // forwarded the prefix glued to a report line. Rank 0 runs with a preloaded probe that logs each
+    // write(2) with its whole text.
     const auto dir = tempDir("mpi-one-write");
     writeFile(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 nan\nf 1 2 3\n");
     const Run one = runHemirad(dir, 0, "formfactors bad.obj -o F.hff");
     REQUIRE(one.status == 1);
     const std::string message = one.output.substr(one.output.find("hemirad: error: "));
-    const std::string trace = (dir / "trace.txt").string();
+    const auto log = dir / "writes.log";
     const std::string command = std::string(HEMIRAD_BINARY) + " formfactors bad.obj -o F.hff";
-    const Run two = runMpirun(dir, "-np 1 " + traceWrites(trace) + command + " : -np 1 " + command);
+    const Run two = runMpirun(dir, "-np 1 " + logWrites(log.string()) + command + " : -np 1 " + command);
     CHECK(two.status == 1);
     CHECK(count(two.output, "hemirad: error: ") == 1);
-    CHECK(readText(trace).find(tracedWrite(2, message)) != std::string::npos);
+    const std::vector<LoggedWrite> failed = loggedWrites(log);
+    CHECK_MESSAGE(wroteWhole(failed, 2, message), describeWrites(failed));
     // A report line of a run that works, from rank 0 alone.
-    std::filesystem::remove(trace);
+    std::filesystem::remove(log);
     const std::string run = std::string(HEMIRAD_BINARY) + " formfactors " + sourcePath("scenes/unit_cube.obj") + " -o F.hff --threads 1";
-    const Run fine = runMpirun(dir, "-np 1 " + traceWrites(trace) + run + " : -np 1 " + run);
+    const Run fine = runMpirun(dir, "-np 1 " + logWrites(log.string()) + run + " : -np 1 " + run);
     REQUIRE_MESSAGE(fine.status == 0, fine.output);
     const std::size_t wrote = fine.output.find("wrote F.hff (scene hash ");
     REQUIRE(wrote != std::string::npos);
-    CHECK(readText(trace).find(tracedWrite(1, fine.output.substr(wrote, fine.output.find('\n', wrote) + 1 - wrote))) !=
-          std::string::npos);
+    const std::vector<LoggedWrite> worked = loggedWrites(log);
+    CHECK_MESSAGE(wroteWhole(worked, 1, fine.output.substr(wrote, fine.output.find('\n', wrote) + 1 - wrote)),
+                  describeWrites(worked));
 }
 
 TEST_CASE("A rank still finalising when mpirun ends the job after an agreed failure does not say it was interrupted") {
