@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 #include <sys/wait.h>
@@ -212,6 +213,62 @@ inline CommandResult runCommand(const std::string& command) {
     while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
     const int status = ::pclose(pipe);
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+/// "env LD_PRELOAD=PROBE HEMIRAD_WRITE_LOG=LOG " in front of a command, or of one rank's program in
+/// an mpirun application context: the probe (tests/write_log.cpp) appends each write(2)/writev(2)
+/// call the program (and its children) make on descriptor 1 or 2 to LOG, whole; loggedWrites reads
+/// it back. No ptrace, which CI may forbid. Text printed through stdio (std::cerr,
+/// fprintf) is not seen, so a check for it fails rather than passes. The ASAN_OPTIONS let the
+/// sanitizer build's runtime accept a library preloaded ahead of it.
+inline std::string logWrites(const std::string& log) {
+    return "env ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}verify_asan_link_order=0 LD_PRELOAD='" +
+           std::string(HEMIRAD_TEST_WRITE_LOG) + "' HEMIRAD_WRITE_LOG='" + log + "' ";
+}
+
+/// One write(2) or writev(2) call on standard output (fd 1) or standard error (fd 2): its bytes.
+struct LoggedWrite {
+    int fd;
+    std::string text;
+};
+
+/// The calls in a log of logWrites, in the order they were made ([] if there is no log). Each record
+/// is "FD LENGTH\n", LENGTH bytes, "\n"; a malformed one throws.
+inline std::vector<LoggedWrite> loggedWrites(const std::filesystem::path& log) {
+    const std::string text = readText(log);
+    std::vector<LoggedWrite> writes;
+    for (std::size_t at = 0; at < text.size();) {
+        const std::size_t newline = text.find('\n', at);
+        int fd = -1;
+        std::size_t length = 0;
+        int used = 0;
+        if (newline == std::string::npos ||
+            std::sscanf(text.substr(at, newline - at).c_str(), "%d %zu%n", &fd, &length, &used) != 2 ||
+            std::size_t(used) != newline - at || length >= text.size() - newline - 1 ||
+            text[newline + 1 + length] != '\n')
+            throw std::runtime_error("malformed write log " + log.string() + " at byte " + std::to_string(at));
+        writes.push_back({fd, text.substr(newline + 1, length)});
+        at = newline + 1 + length + 1;
+    }
+    return writes;
+}
+
+/// Whether one call in `writes` wrote exactly `text` to descriptor `fd`: all of it, and nothing else.
+inline bool wroteWhole(const std::vector<LoggedWrite>& writes, int fd, const std::string& text) {
+    for (const LoggedWrite& w : writes)
+        if (w.fd == fd && w.text == text) return true;
+    return false;
+}
+
+/// A log of logWrites as the checks print it on failure: one line per call, "fd N: TEXT".
+inline std::string describeWrites(const std::vector<LoggedWrite>& writes) {
+    std::string out;
+    for (const LoggedWrite& w : writes) {
+        out += "fd " + std::to_string(w.fd) + ": ";
+        for (const char c : w.text) out += c == '\n' ? std::string("\\n") : std::string(1, c);
+        out += '\n';
+    }
+    return out;
 }
 
 /// Warnings that are collected silently for assertions.

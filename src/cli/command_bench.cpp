@@ -7,6 +7,7 @@
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
 #include "engine/atomic_file.hpp"
+#include "engine/console.hpp"
 #include "engine/error_metrics.hpp"
 #include "engine/form_factor_file.hpp"
 #include "engine/hash.hpp"
@@ -244,7 +245,7 @@ int runBenchRun(const Options& o) {
     recordSolve(r, B, solver.solver, since(t0), run);
     r.set("peak_rss_mib", peakRssMiB());  // before the reference is loaded
     recordErrors(r, o, scene, run.F, B.B);
-    std::cout << r.json() << std::endl;
+    writeWhole(std::cout, r.json() + '\n');
     return 0;
 }
 
@@ -365,9 +366,9 @@ int runBench(const Options& o) {
         const ChildResult child = runChild(args);
         if (child.status != 0) {
             ++failures;
-            std::cerr << "hemirad: bench run failed (" << child.status << "):";
-            for (std::size_t k = 1; k < args.size(); ++k) std::cerr << ' ' << args[k];
-            std::cerr << '\n' << child.err;
+            std::string message = "hemirad: bench run failed (" + std::to_string(child.status) + "):";
+            for (std::size_t k = 1; k < args.size(); ++k) message += ' ' + args[k];
+            writeWhole(std::cerr, message + '\n' + child.err);
             continue;
         }
         const std::size_t start = child.out.rfind('{');

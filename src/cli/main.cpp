@@ -2,6 +2,7 @@
 #include "cli/commands.hpp"
 #include "cli/mpi_launch.hpp"
 #include "engine/atomic_file.hpp"
+#include "engine/console.hpp"
 #include "engine/threads.hpp"
 
 #include <iostream>
@@ -33,16 +34,16 @@ int main(int argc, char** argv) {
         if (options.command == "bench-run") return runBenchRun(options);
         throw UsageError("unknown command '" + options.command + "'");
     } catch (const UsageError& e) {
-        std::cerr << "hemirad: error: " << e.what() << "\n(run 'hemirad help' for usage)\n";
+        printError(e.what(), true);
         return 2;
     } catch (const Error& e) {
-        std::cerr << "hemirad: error: " << e.what() << '\n';
+        printError(e.what());
         return 1;
     } catch (const std::bad_alloc&) {
-        std::cerr << "hemirad: error: out of memory\n";
+        printError("out of memory");
         return 1;
     } catch (const std::exception& e) {
-        std::cerr << "hemirad: error: " << e.what() << '\n';
+        printError(e.what());
         return 1;
     }
 }

@@ -9,8 +9,8 @@ namespace hemirad::cli {
 bool launchedByMpiLauncher();
 
 /// Loads hemirad-mpi.so from the folder of the hemirad executable and runs the command line as one
-/// rank of the job; returns its exit status. When the module cannot be loaded, rank 0 (or a process
-/// that knows no rank) prints why and every rank returns 1.
+/// rank of the job; returns its exit status. When the module cannot be loaded, every rank that
+/// cannot load it prints why, naming itself ("rank R of K: "), and returns 1.
 int runMpiModule(int argc, char** argv);
 
 }  // namespace hemirad::cli

@@ -2,6 +2,7 @@
 #include "cli/options.hpp"
 
 #include "engine/atomic_file.hpp"
+#include "engine/hash.hpp"
 #include "rays/ray_scene.hpp"
 #include "solve/solver_registry.hpp"
 
@@ -456,6 +457,52 @@ bool outputIsBinary(const Options& o) {
     if (outputFormats(o.command).empty()) return false;
     const std::string format = outputFormat(o);
     return format != "mtx" && format != "csv";
+}
+
+std::uint64_t optionsHash(const Options& o) {
+    Fnv1a h;
+    auto text = [&h](const std::string& s) {
+        h.addValue(std::uint64_t(s.size()));
+        h.add(s.data(), s.size());
+    };
+    auto texts = [&](const std::vector<std::string>& list) {
+        h.addValue(std::uint64_t(list.size()));
+        for (const std::string& s : list) text(s);
+    };
+    auto counts = [&h](const std::vector<std::uint32_t>& list) {
+        h.addValue(std::uint64_t(list.size()));
+        for (std::uint32_t v : list) h.addValue(v);
+    };
+    auto optional = [&h](const std::optional<double>& v) {
+        h.addValue(v.has_value());
+        h.addValue(v.value_or(0.0));
+    };
+    auto vector = [&h](const Vec3& v) { h.add(v.data(), 3 * sizeof(double)); };
+    // Every setting that makes F but the thread count, which each rank takes from its own machine
+    // (none for `help`, which stops parsing before a method is set).
+    auto settings = [&](const MethodSettings& m) { text(m.method.empty() ? std::string() : formFactorSettingsText(m)); };
+    // Each group as Options declares it.
+    text(o.command); texts(o.inputs); text(o.output); text(o.format); h.addValue(o.quiet);
+    h.addValue(o.subdivide); text(o.materials);
+    settings(o.formFactors); h.addValue(o.allRows); h.addValue(o.enforceReciprocity);
+    h.addValue(o.dropBelow); h.addValue(o.normalizeRows); h.addValue(o.memoryCheck); text(o.ffPath);
+    h.addValue(o.recomputeFf); h.addValue(o.reuseFfAnyway); h.addValue(o.shards);
+    text(o.solver.solver); h.addValue(o.solver.tolerance); h.addValue(o.solver.maxIterations);
+    h.addValue(o.solver.allowUnconverged); h.addValue(std::uint64_t(o.solver.memoryLimit)); h.addValue(o.crease);
+    h.addValue(o.width); h.addValue(o.height); h.addValue(o.camera.has_value());
+    if (o.camera) {
+        vector(o.camera->eye); vector(o.camera->target); vector(o.camera->up); h.addValue(o.camera->fovY);
+    }
+    h.addValue(o.samplesPerPixel); h.addValue(o.exposure); h.addValue(o.flat); text(o.objectsPath);
+    h.addValue(o.falseColour.has_value()); h.addValue(int(o.falseColour.value_or(FalseColourQuantity::Radiosity)));
+    h.addValue(int(o.falseColourScale)); optional(o.rangeMin); optional(o.rangeMax);
+    h.addValue(o.maxEdge); h.addValue(o.sliverRatio); h.addValue(o.relativeTolerance);
+    h.addValue(std::uint64_t(o.benchMethods.size()));
+    for (const MethodSettings& m : o.benchMethods) settings(m);
+    counts(o.sweepSamples); counts(o.sweepOrigins); counts(o.sweepResolutions);
+    h.addValue(o.referenceSamples); h.addValue(o.referenceOrigins); text(o.referenceEstimator); text(o.cacheDir);
+    text(o.jsonPath); text(o.label); text(o.referencePath); text(o.referenceRadiosityPath);
+    return h.value();
 }
 
 bool reportsToStandardError(const Options& o) {

@@ -19,6 +19,7 @@ public:
     explicit UsageError(const std::string& message) : Error(message) {}
 };
 
+/// Every field also goes into optionsHash(), by which the ranks of an MPI job check that they agree.
 struct Options {
     std::string command;                 ///< formfactors, solve, render, info, subdivide, check, bench, help
     std::vector<std::string> inputs;     ///< positional arguments
@@ -90,6 +91,10 @@ std::string outputFormat(const Options& options);
 /// Whether outputFormat(options) is binary (hff, ply, png), not text (mtx, csv); false for a command
 /// without formats (bench writes CSV).
 bool outputIsBinary(const Options& options);
+
+/// A hash of every parsed option but the thread count (each rank's own machine may set that): the
+/// ranks of an MPI job must agree on it, or one of them would compute or solve something else.
+std::uint64_t optionsHash(const Options& options);
 
 /// Whether standard output carries a result (-o -, --json -), so that the report goes to stderr.
 bool reportsToStandardError(const Options& options);

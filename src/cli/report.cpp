@@ -1,6 +1,7 @@
 // Console reporting.
 #include "cli/report.hpp"
 
+#include "engine/console.hpp"
 #include "preprocess/hemisphere/emitter_rule.hpp"
 
 #include <cstdio>
@@ -49,7 +50,7 @@ Reporter::Reporter(bool quiet, bool toStandardError)
     : m_quiet(quiet), m_terminal(::isatty(STDERR_FILENO) == 1), m_out(toStandardError ? &std::cerr : &std::cout) {}
 
 void Reporter::line(const std::string& text) const {
-    if (!m_quiet) *m_out << text << std::endl;
+    if (!m_quiet) writeWhole(*m_out, text + '\n');
 }
 
 ProgressCallback Reporter::progress(const std::string& label, double raysPerRow, const std::string& unit) const {
@@ -167,7 +168,7 @@ void Reporter::solveSummary(const Radiosity& result) const {
 
 void finishCommand(const Reporter& reporter, const Timings& timings, const Warnings& warnings) {
     reporter.line(timings.table());
-    if (warnings.count()) std::cerr << "hemirad: " << warnings.summary() << '\n';
+    if (warnings.count()) writeWhole(std::cerr, "hemirad: " + warnings.summary() + '\n');
 }
 
 }  // namespace hemirad

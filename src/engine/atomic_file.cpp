@@ -25,6 +25,9 @@ constexpr int kMaxPending = 64;
 constexpr int kMaxPath = 4096;
 char g_pending[kMaxPending][kMaxPath];
 std::atomic<bool> g_used[kMaxPending];
+/// Non-zero once the process reported its failure (exitQuietlyOnInterrupt): the status to exit with.
+std::atomic<int> g_reportedFailure{0};
+static_assert(std::atomic<int>::is_always_lock_free, "read in a signal handler");
 
 int registerPending(const std::string& path) {
     if (path.size() >= kMaxPath) return -1;
@@ -240,6 +243,8 @@ namespace {
 extern "C" void removePendingAndExit(int signal) {
     // No partial output: temporaries are removed, finished files were renamed atomically.
     AtomicFile::removePendingFiles();
+    // After a failure already reported, the signal is mpirun ending the job's other ranks: not news.
+    if (const int status = g_reportedFailure.load()) ::_exit(status);
     const char message[] = "\nhemirad: interrupted; no partial output was written\n";
     [[maybe_unused]] auto n = ::write(STDERR_FILENO, message, sizeof message - 1);
     ::_exit(128 + signal);
@@ -251,5 +256,7 @@ void AtomicFile::removePendingFilesOnInterrupt() {
     std::signal(SIGINT, removePendingAndExit);
     std::signal(SIGTERM, removePendingAndExit);
 }
+
+void AtomicFile::exitQuietlyOnInterrupt(int status) noexcept { g_reportedFailure.store(status ? status : 1); }
 
 }  // namespace hemirad

@@ -73,6 +73,11 @@ public:
     /// was written" on stderr and exit with 128 + the signal. Per copy of this library: hemirad and
     /// its MPI module (which carries its own) each install theirs.
     static void removePendingFilesOnInterrupt();
+    /// From now on those handlers exit with `status` (1 if 0) and say nothing: for a process whose
+    /// failure was already reported (an error all MPI ranks agreed on), which mpirun may still send
+    /// SIGTERM while it finalises; "interrupted" would contradict the reported error. Per copy of
+    /// this library, as the handlers are.
+    static void exitQuietlyOnInterrupt(int status) noexcept;
 
 private:
     /// Closes and removes the temporary file (nothing for a target written in place).

@@ -62,8 +62,9 @@ bool isShardManifest(const std::string& path) {
     return in && std::memcmp(start, kManifestMagic, sizeof start) == 0;
 }
 
-ShardManifest readShardManifest(const std::string& path) {
-    const std::string text = readTextFile(path);
+ShardManifest readShardManifest(const std::string& path) { return parseShardManifest(readTextFile(path), path); }
+
+ShardManifest parseShardManifest(const std::string& text, const std::string& path) {
     TextReader r(path, text);
     if (!r.next() || r.tokens().size() != 2 || r.tokens()[0] != kManifestMagic)
         throw Error(path, 1, "not a Hemirad shard manifest (expected 'HEMIRAD-SHARDS 1')");

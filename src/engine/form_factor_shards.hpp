@@ -39,6 +39,9 @@ struct ShardManifest {
 bool isShardManifest(const std::string& path);
 /// Reads and checks a manifest. Throws hemirad::Error naming the file, line and value.
 ShardManifest readShardManifest(const std::string& path);
+/// Checks a manifest's `text`, read from `path` (for messages): what one MPI rank read and sent to the
+/// others, so that all work from one reading. Throws hemirad::Error as readShardManifest.
+ShardManifest parseShardManifest(const std::string& text, const std::string& path);
 /// Writes a manifest atomically.
 void writeShardManifest(const ShardManifest& manifest, const std::string& path);
 /// The manifest's header (patches, scene hash, parameters) from an F; no shards yet.

@@ -110,6 +110,48 @@ std::uint64_t Scene::geometryHash() const {
     return h.value();
 }
 
+std::uint64_t Scene::contentHash() const {
+    Fnv1a h;
+    auto text = [&h](const std::string& s) {
+        h.addValue(std::uint64_t(s.size()));
+        h.add(s.data(), s.size());
+    };
+    auto rgb = [&h](const Rgb& c) { h.add(c.data(), 3 * sizeof(double)); };
+    auto vector = [&h](const Vec3& v) { h.add(v.data(), 3 * sizeof(double)); };
+    auto indices = [&h](const std::vector<std::uint32_t>& list) {
+        h.addValue(std::uint64_t(list.size()));
+        h.add(list.data(), list.size() * sizeof(std::uint32_t));
+    };
+    h.addValue(std::uint64_t(vertices.size()));
+    for (const Vec3& v : vertices) vector(v);
+    indices(corners);
+    // Field by field: a struct's padding bytes are not its value.
+    h.addValue(std::uint64_t(patches.size()));
+    for (const Patch& p : patches) {
+        h.addValue(p.firstCorner); h.addValue(p.cornerCount); h.addValue(p.material); h.addValue(p.object);
+        rgb(p.emission); rgb(p.rho); h.addValue(p.specular);  // area, normal, centroid follow from the corners
+        h.addValue(p.parent); h.addValue(p.cellI); h.addValue(p.cellJ); h.addValue(p.sourceLine);
+    }
+    h.addValue(std::uint64_t(materials.size()));
+    for (const Material& m : materials) {
+        text(m.name); rgb(m.rho); rgb(m.emission); h.addValue(m.specular); rgb(m.ks); h.addValue(m.illum);
+    }
+    h.addValue(std::uint64_t(objects.size()));
+    for (const std::string& o : objects) text(o);
+    indices(parentCorners);
+    h.addValue(std::uint64_t(parents.size()));
+    for (const Parent& p : parents) {
+        h.addValue(p.firstCorner); h.addValue(p.cornerCount); h.addValue(std::uint8_t(p.kind)); h.addValue(p.nu);
+        h.addValue(p.nv); h.addValue(p.firstPatch); h.addValue(p.patchCount); h.addValue(p.sourcePatch);
+    }
+    h.addValue(camera.has_value());
+    if (camera) {
+        vector(camera->eye); vector(camera->target); vector(camera->up); h.addValue(camera->fovY);
+    }
+    text(unit);
+    return h.value();
+}
+
 }  // namespace hemirad
 
 namespace hemirad {

@@ -98,6 +98,10 @@ public:
     double totalArea() const;
     /// Hash of what F depends on: patch geometry (corner positions) and specular reflectance.
     std::uint64_t geometryHash() const;
+    /// Hash of the whole loaded scene: vertices, patches with their materials (E, rho, s), objects
+    /// and grid cells, the materials and objects as read, the subdivision parents, camera and unit
+    /// (not the path). The ranks of an MPI job must agree on it.
+    std::uint64_t contentHash() const;
 };
 
 /// The length units a scene may state: "m", "cm", "mm", "in", "ft".

@@ -1,6 +1,8 @@
 // Counted warnings with a bounded number printed per kind.
 #include "engine/warnings.hpp"
 
+#include "engine/console.hpp"
+
 #include <iostream>
 
 namespace hemirad {
@@ -9,7 +11,7 @@ Warnings::Warnings(Sink sink, std::size_t printedPerKind)
     : m_sink(std::move(sink)), m_printedPerKind(printedPerKind) {}
 
 Warnings::Sink Warnings::stderrSink() {
-    return [](const std::string& message) { std::cerr << "hemirad: warning: " << message << '\n'; };
+    return [](const std::string& message) { writeWhole(std::cerr, "hemirad: warning: " + message + '\n'); };
 }
 
 void Warnings::add(const std::string& kind, const std::string& message) {

@@ -2,6 +2,7 @@
 #include "mpi/distributed_shards.hpp"
 
 #include "engine/form_factor_shards.hpp"
+#include "engine/obj_loader.hpp"
 
 #include <mpi.h>
 
@@ -56,8 +57,15 @@ std::uint64_t writeShards(const Context& context, const DistributedFormFactors& 
 
 DistributedFormFactors readShards(const Context& context, const std::string& manifestPath) {
     DistributedFormFactors result;
+    // Rank 0 reads the manifest for all: ranks reading it one by one could each see another file (one
+    // replaced in between, or a node's stale copy) and combine two sets of shards.
+    std::string text;
     context.collectively([&] {
-        const ShardManifest manifest = readShardManifest(manifestPath);
+        if (context.root()) text = readTextFile(manifestPath);
+    });
+    text = context.broadcastText(text);
+    context.collectively([&] {
+        const ShardManifest manifest = parseShardManifest(text, manifestPath);
         std::vector<std::size_t> mine;
         for (std::size_t s = std::size_t(context.rank()); s < manifest.shards.size(); s += std::size_t(context.size()))
             mine.push_back(s);

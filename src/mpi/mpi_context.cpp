@@ -2,13 +2,13 @@
 #include "mpi/mpi_context.hpp"
 
 #include "cli/options.hpp"
+#include "engine/console.hpp"
 
 #include <mpi.h>
 #include <petscsys.h>
 
 #include <algorithm>
 #include <climits>
-#include <cstdio>
 #include <cstdlib>
 
 namespace hemirad::mpi {
@@ -100,6 +100,25 @@ std::vector<std::string> Context::gatherText(const std::string& text) const {
     return texts;
 }
 
+std::vector<int> Context::ranksDiffering(std::uint64_t value) const {
+    std::vector<std::uint64_t> values(std::size_t(m_size), 0);
+    check(MPI_Allgather(&value, 1, MPI_UINT64_T, values.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD), "gathering hashes");
+    std::vector<int> differing;
+    for (int r = 1; r < m_size; ++r)
+        if (values[std::size_t(r)] != values[0]) differing.push_back(r);
+    return differing;
+}
+
+std::string Context::broadcastText(const std::string& text) const {
+    std::uint64_t length = text.size();
+    check(MPI_Bcast(&length, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD), "broadcast");
+    std::string all = m_rank == 0 ? text : std::string(std::size_t(length), '\0');
+    for (std::size_t done = 0; done < all.size(); done += kPieceBytes)
+        check(MPI_Bcast(all.data() + done, int(std::min(kPieceBytes, all.size() - done)), MPI_CHAR, 0, MPI_COMM_WORLD),
+              "broadcast");
+    return all;
+}
+
 bool Context::rootDecides(bool value) const {
     int flag = value ? 1 : 0;
     MPI_Bcast(&flag, 1, MPI_INT, 0, MPI_COMM_WORLD);
@@ -112,8 +131,7 @@ void abortAllRanks(const std::string& message) {
     int rank = 0, size = 1;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
-    std::fprintf(stderr, "hemirad: error: rank %d of %d: %s\n", rank, size, message.c_str());
-    std::fflush(stderr);
+    printError("rank " + std::to_string(rank) + " of " + std::to_string(size) + ": " + message);
     MPI_Abort(MPI_COMM_WORLD, 1);
     std::_Exit(1);
 }

@@ -69,6 +69,13 @@ public:
     /// a filesystem that might not look the same from every node). Collective.
     bool rootDecides(bool value) const;
 
+    /// The ranks whose `value` differs from rank 0's, in rank order, on every rank (empty when all
+    /// agree). Collective.
+    std::vector<int> ranksDiffering(std::uint64_t value) const;
+
+    /// Rank 0's `text` on every rank (the others' `text` is not read). Collective.
+    std::string broadcastText(const std::string& text) const;
+
     /// Texts from every rank, in rank order, on rank 0 (empty elsewhere).
     std::vector<std::string> gatherText(const std::string& text) const;
 

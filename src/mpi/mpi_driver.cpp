@@ -6,6 +6,7 @@
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
 #include "engine/atomic_file.hpp"
+#include "engine/console.hpp"
 #include "engine/form_factor_file.hpp"
 #include "engine/form_factor_shards.hpp"
 #include "engine/memory.hpp"
@@ -57,7 +58,18 @@ void reportBalance(Job& job, const DistributedFormFactors& F) {
     job.reporter.line(out.str());
 }
 
-/// Loads the scene on every rank and checks what can be checked before any row is computed.
+/// Throws AgreedFailure on every rank, naming the first rank whose `hash` differs from rank 0's and
+/// saying `what` it did ("was given other options"), when any does. Collective.
+void requireSameOnEveryRank(const Context& context, std::uint64_t hash, const std::string& what) {
+    const std::vector<int> differing = context.ranksDiffering(hash);
+    if (differing.empty()) return;
+    std::string who = "rank " + std::to_string(differing[0]) + " of " + std::to_string(context.size());
+    if (differing.size() > 1) who += " (and " + std::to_string(differing.size() - 1) + " more)";
+    throw AgreedFailure(1, who + " " + what);
+}
+
+/// Loads the scene on every rank and checks what can be checked before any row is computed; every
+/// rank must have loaded the same scene (a node's other copy of a file gave a silently wrong F or B).
 void loadScene(Job& job, const RadiosityPipeline& pipeline) {
     job.context.collectively([&] {
         job.scene = pipeline.load(job.options.inputs.at(0), job.options.subdivide, job.warnings, {job.options.materials});
@@ -67,6 +79,11 @@ void loadScene(Job& job, const RadiosityPipeline& pipeline) {
             throw UsageError(e.what());
         }
     });
+    std::string files = job.options.inputs.at(0);
+    if (!job.options.materials.empty()) files += " and " + job.options.materials;
+    requireSameOnEveryRank(job.context, job.scene.contentHash(),
+                           "loaded another scene than rank 0 from " + files +
+                               " (geometry, materials or subdivision differ): every rank must read the same files");
 }
 
 /// F's rows spread over the ranks: reused from `reusePath` (each rank keeps a contiguous share of
@@ -347,7 +364,7 @@ void runBenchRun(Job& job) {
         record.set("peak_rss_mib", largest);  // before the reference is loaded
         record.set("peak_rss_mib_total", total);
         recordErrors(record, options, job.scene, job.run.F, result.B);
-        std::cout << record.json() << std::endl;
+        writeWhole(std::cout, record.json() + '\n');
     });
 }
 
@@ -366,6 +383,9 @@ int runUnderMpi(int argc, char** argv) {
                                  "terminal, so the binary ." + outputFormat(options) + " needs -o FILE (text .mtx "
                                  "and .csv may go to '-')");
         });
+        requireSameOnEveryRank(context, optionsHash(options),
+                               "was given other options than rank 0: every rank must run the same command "
+                               "(--threads alone may differ)");
         const std::string& command = options.command;
         if (command == "formfactors" || command == "solve" || command == "render") {
             Job job(context, options);
@@ -391,15 +411,15 @@ int runUnderMpi(int argc, char** argv) {
                 else throw UsageError("unknown command '" + command + "'");
             });
             MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
+            if (status) AtomicFile::exitQuietlyOnInterrupt(status);  // rank 0 said why
             return status;
         }
         context.agree();
         return 0;
     } catch (const AgreedFailure& e) {
-        if (context.root()) {
-            std::cerr << "hemirad: error: " << e.what() << '\n';
-            if (e.status() == 2) std::cerr << "(run 'hemirad help' for usage)\n";
-        }
+        // Reported once, here: a SIGTERM from mpirun while this rank finalises is no interruption.
+        AtomicFile::exitQuietlyOnInterrupt(e.status());
+        if (context.root()) printError(e.what(), e.status() == 2);
         return e.status();
     } catch (const std::exception& e) {
         // Outside an agreement point (inside a collective): nothing can be agreed any more.

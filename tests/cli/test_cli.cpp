@@ -2,6 +2,7 @@
 #include "stl_files.hpp"
 #include "support.hpp"
 
+#include "cli/options.hpp"
 #include "preprocess/backend_registry.hpp"
 #include "solve/solver_registry.hpp"
 
@@ -176,6 +177,66 @@ TEST_CASE("Runtime errors exit with status 1 and name the file") {
     const Result r = runHemirad("solve /nonexistent/box.obj -o x.csv");
     CHECK(r.status == 1);
     CHECK(r.output.find("hemirad: error: /nonexistent/box.obj: cannot open") != std::string::npos);
+}
+
+TEST_CASE("An error or warning or report line reaches its stream in one write (mpirun cannot split it)") {
+    // issue 35 #20: "hemirad: error: " and the message were separate writes, which mpirun forwarded
+    // apart. A preloaded probe logs each write(2) with its whole text.
+    const auto dir = tempDir("cli-one-write");
+    const auto log = dir / "writes.log";
+    writeFile(dir / "flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");  // face 2: no area
+    auto run = [&](const std::string& arguments) {
+        std::filesystem::remove(log);
+        const Result r = runCommand("cd '" + dir.string() + "' && " + logWrites(log.string()) + HEMIRAD_BINARY + " " +
+                                    arguments + " 2>&1");
+        return std::make_pair(r, loggedWrites(log));
+    };
+    auto [missing, missingWrites] = run("formfactors missing.obj -o F.hff");
+    CHECK(missing.status == 1);
+    CHECK_MESSAGE(wroteWhole(missingWrites, 2, "hemirad: error: missing.obj: cannot open: No such file or directory\n"),
+                  describeWrites(missingWrites));
+    auto [usage, usageWrites] = run("formfactors flat.obj -o F.hff --bogus");
+    CHECK(usage.status == 2);
+    CHECK_MESSAGE(wroteWhole(usageWrites, 2, "hemirad: error: unknown option '--bogus'\n(run 'hemirad help' for usage)\n"),
+                  describeWrites(usageWrites));
+    auto [warned, warnedWrites] = run("formfactors flat.obj -o F.hff");
+    REQUIRE_MESSAGE(warned.status == 0, warned.output);
+    const std::string warning = warned.output.substr(warned.output.find("hemirad: warning: "));
+    CHECK_MESSAGE(wroteWhole(warnedWrites, 2, warning.substr(0, warning.find('\n') + 1)), describeWrites(warnedWrites));
+    const std::size_t wrote = warned.output.find("wrote F.hff");
+    REQUIRE(wrote != std::string::npos);
+    const std::string line = warned.output.substr(wrote, warned.output.find('\n', wrote) + 1 - wrote);
+    CHECK_MESSAGE(wroteWhole(warnedWrites, 1, line), describeWrites(warnedWrites));
+}
+
+TEST_CASE("The options hash changes with every option that changes the work and not with --threads") {
+    // MPI ranks agree on it (issue 35 #16): a rank given other options computed or solved something else.
+    auto hashOf = [](const std::vector<std::string>& words) {
+        std::vector<const char*> argv = {"hemirad"};
+        for (const std::string& w : words) argv.push_back(w.c_str());
+        return optionsHash(parseOptions(int(argv.size()), argv.data()));
+    };
+    const std::vector<std::string> base = {"solve", "box.obj", "-o", "B.csv"};
+    auto with = [&](const std::vector<std::string>& extra) {
+        std::vector<std::string> words = base;
+        words.insert(words.end(), extra.begin(), extra.end());
+        return hashOf(words);
+    };
+    const std::uint64_t h = hashOf(base);
+    CHECK(hashOf(base) == h);
+    CHECK(with({"--threads", "3"}) == h);
+    const std::vector<std::vector<std::string>> changes = {
+        {"--samples", "512"}, {"--max-depth", "2"},         {"--solver", "jacobi"},      {"--tolerance", "1e-9"},
+        {"--subdivide", "80"}, {"--materials", "m.mtl"},   {"--drop-below", "0.01"},   {"--enforce-reciprocity"},
+        {"--ff", "F.hff"},     {"--quiet"},                 {"--objects", "objects.csv"}};
+    for (const auto& extra : changes) {
+        CAPTURE(extra[0]);
+        CHECK(with(extra) != h);
+    }
+    CHECK(hashOf({"solve", "other.obj", "-o", "B.csv"}) != h);
+    CHECK(hashOf({"solve", "box.obj", "-o", "C.csv"}) != h);
+    CHECK(hashOf({"formfactors", "box.obj", "-o", "B.mtx"}) != hashOf({"formfactors", "box.obj", "-o", "B.hff"}));
+    CHECK(hashOf({"help"}) == hashOf({"help"}));
 }
 
 TEST_CASE("solve writes the documented CSV, the unit cube's floor emits and everything is finite") {
