@@ -1,6 +1,8 @@
 // Receiver entries from their emitting rows: values in place, then the entries one side lacks.
 #include "engine/emitted_pairs.hpp"
 
+#include "engine/parallel_failure.hpp"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -51,20 +53,24 @@ EmittedPairsReport takePairsFromEmitters(FormFactors& F, const Scene& scene) {
     }
     // Emitted entries whose receiver's row lacks the pair.
     std::vector<std::vector<Insertion>> perThread(static_cast<std::size_t>(omp_get_max_threads()));
+    ParallelFailure failure;  // a thread's list failing to grow: rethrown after the loop
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::int64_t e = 0; e < std::int64_t(n); ++e) {
-        if (!F.rowComputed(std::size_t(e))) continue;
-        std::vector<Insertion>& mine = perThread[std::size_t(omp_get_thread_num())];
-        for (std::uint64_t k = F.rowBegin(std::size_t(e)); k < F.rowEnd(std::size_t(e)); ++k) {
-            const PatchId r = F.columns()[k];
-            if (r == PatchId(e) || !emitsFor(scene, PatchId(e), r) || !F.rowComputed(r)) continue;
-            const std::uint32_t* first = F.columns() + F.rowBegin(r);
-            const std::uint32_t* last = F.columns() + F.rowEnd(r);
-            if (std::binary_search(first, last, std::uint32_t(e))) continue;
-            const float value = receiverValue(scene, F.values()[k], PatchId(e), r);
-            if (value > 0.0f) mine.push_back({r, std::uint32_t(e), value});
-        }
+        if (!F.rowComputed(std::size_t(e)) || failure.failed()) continue;
+        failure.run([&] {
+            std::vector<Insertion>& mine = perThread[std::size_t(omp_get_thread_num())];
+            for (std::uint64_t k = F.rowBegin(std::size_t(e)); k < F.rowEnd(std::size_t(e)); ++k) {
+                const PatchId r = F.columns()[k];
+                if (r == PatchId(e) || !emitsFor(scene, PatchId(e), r) || !F.rowComputed(r)) continue;
+                const std::uint32_t* first = F.columns() + F.rowBegin(r);
+                const std::uint32_t* last = F.columns() + F.rowEnd(r);
+                if (std::binary_search(first, last, std::uint32_t(e))) continue;
+                const float value = receiverValue(scene, F.values()[k], PatchId(e), r);
+                if (value > 0.0f) mine.push_back({r, std::uint32_t(e), value});
+            }
+        });
     }
+    failure.rethrowIfFailed();
     std::vector<Insertion> insertions;
     for (std::vector<Insertion>& list : perThread) insertions.insert(insertions.end(), list.begin(), list.end());
     report.pairs = pairs + insertions.size();

@@ -509,11 +509,13 @@ FormFactorFormat formFactorFormatFor(const std::string& path) {
 }
 
 void saveFormFactors(const FormFactors& F, const std::string& path, FormFactorFormat format) {
-    // A manifest this file replaces: its shards go once the new file is in place.
-    const std::vector<std::string> shards = isStandardOutput(path) ? std::vector<std::string>{} : listedShardFiles(path);
+    // A manifest this file replaces: its shards go once the new file is in place, and so do shards
+    // an interrupted sharded write left beside it. A target written in place has no folder of its own.
+    const bool beside = !isStandardOutput(path) && !writesInPlace(path);
+    const std::vector<std::string> shards = beside ? listedShardFiles(path) : std::vector<std::string>{};
     if (format == FormFactorFormat::Hff) saveHff(F, path);
     else saveMtx(F, path);
-    if (!shards.empty()) removeReplacedShards(path, shards);
+    if (beside) removeReplacedShards(path, shards);
 }
 
 void saveFormFactors(const FormFactors& F, const std::string& path) {

@@ -51,6 +51,72 @@ std::string restVerbatim(const TextReader& r, std::size_t k) {
 /// The start of every shard file name of the manifest at `path`: STEM.shard-
 std::string shardStem(const std::string& path) { return std::filesystem::path(path).stem().string() + ".shard-"; }
 
+/// Whether `name` is exactly what shardFileName gives for a manifest of this `stem` (shardStem's
+/// text): STEM.shard-INDEX-of-COUNT.SETID.hff, INDEX < COUNT in decimal without leading zeros,
+/// SETID 8 lower-case hexadecimal digits.
+bool isShardFileName(const std::string& name, const std::string& stem) {
+    if (name.compare(0, stem.size(), stem) != 0) return false;
+    std::size_t k = stem.size();
+    auto digit = [&](std::size_t at) { return at < name.size() && name[at] >= '0' && name[at] <= '9'; };
+    auto number = [&](std::uint64_t& value) {  // up to 19 digits: no overflow
+        const std::size_t first = k;
+        for (value = 0; digit(k) && k - first < 19; ++k) value = 10 * value + std::uint64_t(name[k] - '0');
+        return k > first && !(name[first] == '0' && k - first > 1);
+    };
+    auto literal = [&](const char* text) {
+        const std::size_t length = std::strlen(text);
+        if (name.compare(k, length, text) != 0) return false;
+        k += length;
+        return true;
+    };
+    std::uint64_t index = 0, count = 0;
+    if (!number(index) || !literal("-of-") || !number(count) || index >= count || !literal(".")) return false;
+    for (int d = 0; d < 8; ++d, ++k)
+        if (!digit(k) && !(k < name.size() && name[k] >= 'a' && name[k] <= 'f')) return false;
+    return literal(".hff") && k == name.size();
+}
+
+/// The shard file names the manifest at `path` lists, into `names`; false when it is a manifest
+/// that cannot be read (then nothing it may list is known). A file that is not a manifest lists none.
+bool listedShardNames(const std::string& path, std::vector<std::string>& names) {
+    try {
+        if (!isShardManifest(path)) return true;
+        for (const FormFactorShard& s : readShardManifest(path).shards) names.push_back(s.file);
+        return true;
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
+/// Removes the files beside the F at `path` named as its shards (isShardFileName) that neither it
+/// nor another manifest of its stem in that folder (F.hff and F.mtx share "F.shard-") lists. Nothing
+/// is removed when one of those manifests cannot be read. Never throws.
+void removeUnlistedShards(const std::string& path) {
+    try {
+        const std::filesystem::path target(path), folder = target.parent_path().empty() ? "." : target.parent_path();
+        const std::string own = shardStem(path), stem = target.stem().string();
+        std::vector<std::string> listed;
+        if (!listedShardNames(path, listed)) return;
+        std::vector<std::string> orphans;
+        std::error_code ec;
+        for (std::filesystem::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+            const std::string name = it->path().filename().string();
+            if (name == target.filename().string()) continue;
+            if (isShardFileName(name, own)) orphans.push_back(name);
+            else if (it->path().stem().string() == stem && !listedShardNames(it->path().string(), listed)) return;
+        }
+        if (ec) return;
+        for (const std::string& name : orphans) {
+            if (std::find(listed.begin(), listed.end(), name) != listed.end()) continue;
+            const std::string file = (folder / name).string();
+            if (!std::filesystem::is_regular_file(file, ec) || isShardManifest(file)) continue;
+            std::filesystem::remove(file, ec);
+        }
+    } catch (const std::exception&) {
+        // a folder that cannot be listed keeps what it has: the new F is in place either way
+    }
+}
+
 }  // namespace
 
 bool isShardManifest(const std::string& path) {
@@ -175,6 +241,7 @@ void removeReplacedShards(const std::string& path, const std::vector<std::string
         std::error_code ignored;
         std::filesystem::remove(file, ignored);
     }
+    removeUnlistedShards(path);
 }
 
 std::string shardPath(const std::string& manifestPath, const FormFactorShard& shard) {

@@ -67,7 +67,13 @@ FormFactorShard writeShard(const FormFactors& F, const std::string& manifestPath
 std::vector<std::string> listedShardFiles(const std::string& path);
 /// After a new manifest or F file was committed at `path`: removes the files of `previous` that the
 /// file at `path` no longer lists and that are this manifest's own (named STEM.shard-..., so the
-/// shards of a manifest copied under another name are left alone). Never throws.
+/// shards of a manifest copied under another name are left alone), then every other file beside it
+/// named exactly as its shards are (shardFileName's pattern) that it does not list: the shards an
+/// interrupted write left (a rank's shard renamed into place before the manifest was written, then
+/// Ctrl-C). Shards that another manifest of the same stem in the folder lists (F.hff and F.mtx share
+/// F.shard-...) are kept, and nothing is swept when such a manifest cannot be read. Two writes of F
+/// files with one stem into one folder at the same time may remove each other's new shards: one
+/// writer per stem and folder. Never throws.
 void removeReplacedShards(const std::string& path, const std::vector<std::string>& previous);
 
 /// One process: `F` as `count` shards of consecutive computed rows plus the manifest at `path`; the

@@ -2,6 +2,7 @@
 #include "engine/form_factors.hpp"
 
 #include "engine/error.hpp"
+#include "engine/parallel_failure.hpp"
 #include "engine/scene.hpp"
 #include "engine/text_reader.hpp"
 
@@ -159,8 +160,9 @@ FormFactorStats computeStats(const FormFactors& F, const Scene& scene) {
     // A pair with both entries is visited from each of its rows; one with a single entry only from
     // that row, so it counts twice there: the sums are those of a walk over rows and columns.
     const std::uint64_t nnz = F.nonZeros();
+    ParallelFailure failure;  // a thread's cursors failing to allocate: rethrown after the region
 #pragma omp parallel reduction(min : lo) reduction(max : hi, worst) reduction(+ : sum, violation, exchanged, computed, self)
-    {
+    failure.run([&] {
         const auto threads = std::uint64_t(omp_get_num_threads()), t = std::uint64_t(omp_get_thread_num());
         const std::uint64_t* starts = F.rowStarts().data();
         // Block t: the rows from the first whose entries start at or past t / threads of all.
@@ -200,7 +202,8 @@ FormFactorStats computeStats(const FormFactors& F, const Scene& scene) {
                 exchanged += visits * (a + b);
             }
         }
-    }
+    });
+    failure.rethrowIfFailed();
     s.computedRows = computed;
     s.selfFactors = self;
     s.rowSumMin = computed ? lo : 0.0;

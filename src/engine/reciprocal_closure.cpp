@@ -1,6 +1,7 @@
 // Reciprocity with closure: symmetric scaling of the pair means by Newton's method and CG.
 #include "engine/reciprocal_closure.hpp"
 
+#include "engine/parallel_failure.hpp"
 #include "engine/scene.hpp"
 
 #include <algorithm>
@@ -208,26 +209,30 @@ std::vector<std::vector<FormFactors::Entry>> closedRows(const Scene& scene, cons
     std::vector<std::vector<FormFactors::Entry>> rows(m);
     std::size_t changed = 0;
     double largest = 0.0;
+    ParallelFailure failure;  // a row's entries failing to allocate: rethrown after the loop
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : changed) reduction(max : largest)
     for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(m); ++k) {
-        if (!S.computed[k]) continue;
-        const PatchId i = S.rows[k];
-        const double Ai = scene.patches[i].area;
-        std::uint64_t a = before.rowBegin(i);
-        const std::uint64_t aEnd = before.rowEnd(i);
-        std::vector<FormFactors::Entry>& out = rows[k];
-        out.reserve(S.start[k + 1] - S.start[k]);
-        for (std::uint64_t e = S.start[k]; e < S.start[k + 1]; ++e) {
-            const std::uint32_t j = S.columns[e];
-            while (a < aEnd && before.columns()[a] < j) ++a;  // S's pattern holds F's
-            const float old = a < aEnd && before.columns()[a] == j ? before.values()[a] : 0.0f;
-            const double v = S.scales[j] ? x[i] * double(S.values[e]) * x[j] / Ai : double(S.values[e]);
-            const auto value = static_cast<float>(v);
-            if (value != old) ++changed;
-            largest = std::max(largest, std::abs(double(value) - double(old)));
-            if (value > 0.0f) out.push_back({j, value});
-        }
+        if (!S.computed[k] || failure.failed()) continue;
+        failure.run([&] {
+            const PatchId i = S.rows[k];
+            const double Ai = scene.patches[i].area;
+            std::uint64_t a = before.rowBegin(i);
+            const std::uint64_t aEnd = before.rowEnd(i);
+            std::vector<FormFactors::Entry>& out = rows[k];
+            out.reserve(S.start[k + 1] - S.start[k]);
+            for (std::uint64_t e = S.start[k]; e < S.start[k + 1]; ++e) {
+                const std::uint32_t j = S.columns[e];
+                while (a < aEnd && before.columns()[a] < j) ++a;  // S's pattern holds F's
+                const float old = a < aEnd && before.columns()[a] == j ? before.values()[a] : 0.0f;
+                const double v = S.scales[j] ? x[i] * double(S.values[e]) * x[j] / Ai : double(S.values[e]);
+                const auto value = static_cast<float>(v);
+                if (value != old) ++changed;
+                largest = std::max(largest, std::abs(double(value) - double(old)));
+                if (value > 0.0f) out.push_back({j, value});
+            }
+        });
     }
+    failure.rethrowIfFailed();
     report.changed = changed;
     report.largestChange = largest;
     return rows;

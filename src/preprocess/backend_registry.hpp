@@ -74,6 +74,9 @@ struct BackendDescriptor {
     std::function<std::unique_ptr<FormFactorBackend>(const MethodSettings&)> create;
     /// Rays (or pixels) one row costs, for progress rates and the memory estimate.
     std::function<double(const Scene&, const MethodSettings&)> workPerRow;
+    /// Optional: bytes of scratch each worker thread holds while rows are computed (dense per-patch
+    /// rows and flags: O(N) per thread), which the memory estimate counts once per thread.
+    std::function<double(const Scene&, const MethodSettings&)> bytesPerThread;
     std::function<RunDescription(const Scene&, const MethodSettings&)> describe;
     /// Optional: settings the back end leaves to the scene and the machine (the hemisphere's
     /// --estimator auto) made definite in place, with a note for the report saying what was chosen

@@ -3,6 +3,7 @@
 
 #include "engine/error.hpp"
 #include "engine/memory.hpp"
+#include "engine/threads.hpp"
 #include "preprocess/backend_registry.hpp"
 
 #include <algorithm>
@@ -43,20 +44,27 @@ namespace {
 // The analytic estimator's pairs handed between rows (pair_exchange.hpp) peak mid-run, next to the
 // rows built so far: cornell13k at 1.40 x F (26 M entries of 8 bytes against F's 70 M nonzeros).
 constexpr double kBytesPerNonzero = 12.0;
-double fixedBytes(const Scene& scene) { return 9.0 * double(scene.size()); }
+/// What does not grow with F: its row starts and flags, and every worker thread's scratch (the back
+/// end's O(N) workspaces, one per thread).
+double fixedBytes(const Scene& scene, const MethodSettings& settings) {
+    const BackendDescriptor& backend = findBackend(settings.method);
+    const double threads = double(resolveThreads(settings.common.threads));
+    const double workspaces = backend.bytesPerThread ? threads * backend.bytesPerThread(scene, settings) : 0.0;
+    return 9.0 * double(scene.size()) + workspaces;
+}
 }  // namespace
 
 double formFactorMemoryBound(const Scene& scene, const MethodSettings& settings, std::size_t rows) {
     const double raysPerRow = expectedWorkPerRow(scene, settings);
     const double chain = scene.hasMirrors() ? double(settings.common.maxDepth) + 1.0 : 1.0;
-    return fixedBytes(scene) + kBytesPerNonzero * double(rows) * std::min(double(scene.size()), raysPerRow * chain);
+    return fixedBytes(scene, settings) + kBytesPerNonzero * double(rows) * std::min(double(scene.size()), raysPerRow * chain);
 }
 
 MemoryPrediction predictFormFactorMemory(const Scene& scene, const MethodSettings& settings, const std::vector<PatchId>& rows,
                                          double budget) {
     MemoryPrediction p;
     p.bytes = formFactorMemoryBound(scene, settings, rows.size());
-    p.nonzerosPerRow = rows.empty() ? 0.0 : (p.bytes - fixedBytes(scene)) / kBytesPerNonzero / double(rows.size());
+    p.nonzerosPerRow = rows.empty() ? 0.0 : (p.bytes - fixedBytes(scene, settings)) / kBytesPerNonzero / double(rows.size());
     if (p.bytes <= budget) return p;
     // The bound is loose (rays hit the same patches, walls hide most of a city): measure 64 rows
     // spread over the list.
@@ -67,7 +75,7 @@ MemoryPrediction predictFormFactorMemory(const Scene& scene, const MethodSetting
     p.sampledRows = sample.size();
     p.nonzerosPerRow = sample.empty() ? 0.0 : double(probe.F.nonZeros()) / double(sample.size());
     p.secondsPerRow = sample.empty() ? 0.0 : probe.computeSeconds / double(sample.size());
-    p.bytes = fixedBytes(scene) + 1.1 * kBytesPerNonzero * p.nonzerosPerRow * double(rows.size());
+    p.bytes = fixedBytes(scene, settings) + 1.1 * kBytesPerNonzero * p.nonzerosPerRow * double(rows.size());
     return p;
 }
 

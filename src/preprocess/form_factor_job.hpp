@@ -30,7 +30,8 @@ using ProgressCallback = std::function<void(std::size_t, std::size_t, double)>;
 std::vector<PatchId> neededRows(const Scene& scene, bool allRows);
 
 /// An upper bound of the bytes F for `rows` takes while it is built (each nonzero twice, 8 bytes each;
-/// at most one nonzero per ray or pixel and chain step, and per patch). No row is computed.
+/// at most one nonzero per ray or pixel and chain step, and per patch), with every worker thread's
+/// scratch (BackendDescriptor::bytesPerThread times settings.common.threads). No row is computed.
 double formFactorMemoryBound(const Scene& scene, const MethodSettings& settings, std::size_t rows);
 
 /// F's size for `rows`: the cheap bound (formFactorMemoryBound) when it is within `budget` bytes,

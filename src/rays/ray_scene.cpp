@@ -8,24 +8,40 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <mutex>
+#include <new>
 #include <string>
 #include <vector>
 
 namespace hemirad {
 
+namespace {
+
+// Embree handles owned by RAII, so that every path out of the constructor (an Embree error, a
+// failed allocation) releases what was made; Impl's member order releases the scene before the device.
+struct ReleaseDevice {
+    void operator()(RTCDevice device) const { rtcReleaseDevice(device); }
+};
+struct ReleaseScene {
+    void operator()(RTCScene scene) const { rtcReleaseScene(scene); }
+};
+struct ReleaseGeometry {
+    void operator()(RTCGeometry geometry) const { rtcReleaseGeometry(geometry); }
+};
+using DeviceHandle = std::unique_ptr<RTCDeviceTy, ReleaseDevice>;
+using SceneHandle = std::unique_ptr<RTCSceneTy, ReleaseScene>;
+using GeometryHandle = std::unique_ptr<RTCGeometryTy, ReleaseGeometry>;
+
+}  // namespace
+
 struct RayScene::Impl {
-    RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
+    std::mutex errorMutex;  // before the device: its error callback may run until it is released
+    std::string error;
+    DeviceHandle device;    // released after the scene, which holds a reference to it
+    SceneHandle scene;
     std::vector<PatchId> patchOfTriangle;
     std::vector<std::uint32_t> fanCornerOfTriangle;
-    std::mutex errorMutex;
-    std::string error;
-
-    ~Impl() {
-        if (scene) rtcReleaseScene(scene);
-        if (device) rtcReleaseDevice(device);
-    }
 
     void check(const char* what) {
         std::string message;
@@ -33,7 +49,7 @@ struct RayScene::Impl {
             std::lock_guard<std::mutex> lock(errorMutex);
             message.swap(error);
         }
-        const RTCError code = device ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
+        const RTCError code = device ? rtcGetDeviceError(device.get()) : RTC_ERROR_UNKNOWN;
         if (!message.empty() || code != RTC_ERROR_NONE)
             throw Error(std::string("Embree: ") + what + " failed: " +
                         (message.empty() ? "error code " + std::to_string(int(code)) : message));
@@ -42,11 +58,18 @@ struct RayScene::Impl {
 
 namespace {
 
-void onEmbreeError(void* user, RTCError code, const char* text) {
+// Called inside Embree's handler of the failure, which records the code only after it returns: an
+// exception from here (the message's allocation failing) would leave Embree through its C interface.
+// Without the message, check() still reports the code.
+void onEmbreeError(void* user, RTCError code, const char* text) noexcept {
     auto* impl = static_cast<RayScene::Impl*>(user);
     std::lock_guard<std::mutex> lock(impl->errorMutex);
-    if (impl->error.empty())
+    if (!impl->error.empty()) return;
+    try {
         impl->error = std::string(text ? text : "unknown error") + " (code " + std::to_string(int(code)) + ")";
+    } catch (const std::bad_alloc&) {
+        // left empty: check() reports the code
+    }
 }
 
 inline void initRay(RTCRayHit& rh, const float o[3], const float* d, float tfar) {
@@ -74,9 +97,10 @@ const std::string& rayCastingNotBuilt() {
 
 RayScene::RayScene(const Scene& scene, int threads) : m_impl(std::make_unique<Impl>()) {
     const std::string config = threads > 0 ? "threads=" + std::to_string(threads) : std::string();
-    m_impl->device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
+    m_impl->device.reset(rtcNewDevice(config.empty() ? nullptr : config.c_str()));
     if (!m_impl->device) throw Error("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
-    rtcSetDeviceErrorFunction(m_impl->device, onEmbreeError, m_impl.get());
+    RTCDevice device = m_impl->device.get();
+    rtcSetDeviceErrorFunction(device, onEmbreeError, m_impl.get());
 
     Vec3 lo, hi;
     scene.bounds(lo, hi);
@@ -89,10 +113,13 @@ RayScene::RayScene(const Scene& scene, int threads) : m_impl(std::make_unique<Im
     for (const Patch& p : scene.patches) m_triangles += p.cornerCount - 2;
     if (m_triangles > 0x7fffffffu) throw Error("Embree: too many triangles (" + std::to_string(m_triangles) + ")");
 
-    RTCGeometry geometry = rtcNewGeometry(m_impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+    // Owned until the scene holds it: an exception before (an Embree error, the tables' allocation)
+    // releases it with the device.
+    GeometryHandle geometry(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE));
+    m_impl->check("creating the triangle geometry");
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                  3 * sizeof(float), scene.vertices.size()));
-    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                    3 * sizeof(unsigned), m_triangles));
     m_impl->check("allocating geometry buffers");
     for (std::size_t v = 0; v < scene.vertices.size(); ++v) toLocal(scene.vertices[v], vertices + 3 * v);
@@ -109,13 +136,15 @@ RayScene::RayScene(const Scene& scene, int threads) : m_impl(std::make_unique<Im
             m_impl->fanCornerOfTriangle.push_back(k);
         }
     }
-    rtcCommitGeometry(geometry);
-    m_impl->scene = rtcNewScene(m_impl->device);
-    rtcSetSceneBuildQuality(m_impl->scene, RTC_BUILD_QUALITY_HIGH);
-    rtcSetSceneFlags(m_impl->scene, RTC_SCENE_FLAG_ROBUST);
-    rtcAttachGeometry(m_impl->scene, geometry);
-    rtcReleaseGeometry(geometry);
-    rtcCommitScene(m_impl->scene);
+    rtcCommitGeometry(geometry.get());
+    m_impl->scene.reset(rtcNewScene(device));
+    m_impl->check("creating the scene");
+    rtcSetSceneBuildQuality(m_impl->scene.get(), RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneFlags(m_impl->scene.get(), RTC_SCENE_FLAG_ROBUST);
+    rtcAttachGeometry(m_impl->scene.get(), geometry.get());
+    m_impl->check("attaching the geometry");
+    geometry.reset();  // the scene holds its own reference now
+    rtcCommitScene(m_impl->scene.get());
     m_impl->check("building the BVH");
 }
 
@@ -133,7 +162,7 @@ RayScene::Hit RayScene::intersect(const Vec3& origin, const Vec3& dir, float tfa
     rtcInitIntersectContext(&context);
     RTCRayHit rh;
     initRay(rh, o, d, tfar);
-    rtcIntersect1(m_impl->scene, &context, &rh);
+    rtcIntersect1(m_impl->scene.get(), &context, &rh);
     Hit hit{kNoHit, rh.ray.tfar, rh.hit.u, rh.hit.v, 0};
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
         hit.patch = m_impl->patchOfTriangle[rh.hit.primID];
@@ -151,7 +180,7 @@ void RayScene::intersectFan(const float origin[3], const float* dirs, std::size_
     for (std::size_t k = 0; k < count; ++k) {
         RTCRayHit rh;
         initRay(rh, origin, dirs + 3 * k, std::numeric_limits<float>::infinity());
-        rtcIntersect1(m_impl->scene, &context, &rh);
+        rtcIntersect1(m_impl->scene.get(), &context, &rh);
         patches[k] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? table[rh.hit.primID] : kNoHit;
         if (distances) distances[k] = rh.ray.tfar;
     }
@@ -202,12 +231,12 @@ void occludedPackets(RTCScene scene, const float* origins, std::size_t originStr
 
 void RayScene::occludedSegments(const float origin[3], const float* targets, std::size_t count,
                                 std::uint8_t* blocked) const {
-    occludedPackets(m_impl->scene, origin, 0, targets, count, blocked);
+    occludedPackets(m_impl->scene.get(), origin, 0, targets, count, blocked);
 }
 
 void RayScene::occludedSegmentPairs(const float* origins, const float* targets, std::size_t count,
                                     std::uint8_t* blocked) const {
-    occludedPackets(m_impl->scene, origins, 3, targets, count, blocked);
+    occludedPackets(m_impl->scene.get(), origins, 3, targets, count, blocked);
 }
 
 }  // namespace hemirad

@@ -1,10 +1,12 @@
 // Each pair from its emitting row: receiver entries replaced, added and removed as the emitting row
 // has them, rows without a computed partner left alone.
+#include "allocation_failure.hpp"
 #include "support.hpp"
 
 #include "engine/emitted_pairs.hpp"
 
 #include <doctest/doctest.h>
+#include <omp.h>
 
 using namespace hemirad;
 using namespace hemirad::test;
@@ -53,6 +55,31 @@ TEST_CASE("Receiver entries take their emitting row's value (replaced, added, re
     takePairsFromEmitters(G, s);
     CHECK(G.at(1, 0) == 0.11f);
     CHECK(G.at(2, 0) == 0.02f);
+}
+
+TEST_CASE("An out-of-memory while the entries a receiver lacks are collected is an exception, never std::terminate") {
+    // Each thread's list of those entries grew inside an OpenMP region with no try around it: a
+    // failure ended in std::terminate, which aborts this test. One thread, so that the region's only
+    // thread is the calling one, whose allocations fail in turn.
+    SceneBuilder b;
+    b.rectangle(2, 0, 0, 1, 0, 1, true);
+    b.rectangle(2, 1, 0, 2, 0, 1, false);
+    const Scene& s = b.scene;
+    REQUIRE(emitsFor(s, 0, 1));
+    using E = FormFactors::Entry;
+    const FormFactors lacking = FormFactors::fromRows(std::vector<std::vector<E>>{{{1, 0.2f}}, {}}, {1, 1});
+    const int threads = omp_get_max_threads();
+    omp_set_num_threads(1);
+    const FailureSweep sweep = failEachAllocation([&] {
+        FormFactors F = lacking;
+        takePairsFromEmitters(F, s);
+    });
+    omp_set_num_threads(threads);
+    CHECK(sweep.failures > 0);
+    CHECK(sweep.outOfMemory == sweep.failures);
+    FormFactors F = lacking;
+    CHECK(takePairsFromEmitters(F, s).added == 1);
+    CHECK(F.at(1, 0) == doctest::Approx(0.2 * 1 / 2).epsilon(1e-7));
 }
 
 TEST_CASE("A row that its emitters' values carry above the row-sum bound is scaled to it, and counted") {

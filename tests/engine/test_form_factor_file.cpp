@@ -391,6 +391,55 @@ TEST_CASE("Replacing a sharded F removes its old shards only once the new F is i
     requireSame(F, loadFormFactors(path));
 }
 
+TEST_CASE("Writing an F again removes a shard an interrupted sharded write left beside it, and nothing else") {
+    const auto dir = tempDir("shard-orphans");
+    const FormFactors F = sampleF();
+    const std::string path = (dir / "F.hff").string();
+    // Another manifest of the same stem in the folder (written through the library: only an .hff
+    // path reads as a manifest): its shard is named F.shard-... too.
+    const std::string sibling = (dir / "F.mtx").string();
+    saveShardedFormFactors(F, sibling, 1);
+    const std::string siblingShard = shardPath(sibling, readShardManifest(sibling).shards[0]);
+    saveShardedFormFactors(F, path, 2);
+    // What a 3-rank write leaves when Ctrl-C comes after one rank renamed its shard into place and
+    // before rank 0 wrote the manifest: a complete shard that no manifest lists.
+    auto leaveOrphan = [&](std::uint32_t setId) {
+        const std::string orphan = (dir / shardFileName(path, 1, 3, setId)).string();
+        std::filesystem::copy_file(shardPath(path, readShardManifest(path).shards[0]), orphan);
+        return orphan;
+    };
+    const std::string orphan = leaveOrphan(0x0badc0de);
+    // Names close to a shard's that are not one of F's: kept.
+    const std::vector<std::string> strangers = {
+        "F.shard-1-of-3.0badc0d.hff",      "F.shard-1-of-3.0BADC0DE.hff", "F.shard-3-of-3.0badc0de.hff",
+        "F.shard-01-of-3.0badc0de.hff",    "F.shard-1-of-3.0badc0de.hff.bak", "F.shard-notes.txt",
+        "G.shard-1-of-3.0badc0de.hff",     "xF.shard-1-of-3.0badc0de.hff"};
+    for (const std::string& name : strangers) writeFile(dir / name, "not a shard of F\n");
+    auto strangersKept = [&] {
+        for (const std::string& name : strangers) {
+            CAPTURE(name);
+            CHECK(std::filesystem::exists(dir / name));
+        }
+    };
+
+    saveShardedFormFactors(F, path, 2);
+    CHECK_FALSE(std::filesystem::exists(orphan));
+    for (const FormFactorShard& s : readShardManifest(path).shards) CHECK(std::filesystem::exists(shardPath(path, s)));
+    requireSame(F, loadFormFactors(path));
+    CHECK(std::filesystem::exists(siblingShard));
+    requireSame(F, loadShardedFormFactors(sibling));
+    strangersKept();
+
+    // An F file written in place of the manifest sweeps them too.
+    const std::string second = leaveOrphan(0x0badc0df);
+    saveFormFactors(F, path);
+    CHECK_FALSE(std::filesystem::exists(second));
+    requireSame(F, loadFormFactors(path));
+    CHECK(std::filesystem::exists(siblingShard));
+    requireSame(F, loadShardedFormFactors(sibling));
+    strangersKept();
+}
+
 TEST_CASE("Odd but valid parameter keys and values round-trip through .hff, .mtx and a shard manifest") {
     // Issue 35 #8: what Hemirad writes it reads back, key and value as they were.
     const auto dir = tempDir("ff-odd-parameters");

@@ -1,4 +1,5 @@
 // --enforce-reciprocity with closure: symmetric scaling of the pair means to the row targets.
+#include "allocation_failure.hpp"
 #include "support.hpp"
 
 #include "engine/error.hpp"
@@ -243,4 +244,31 @@ TEST_CASE("F diagnostics agree with the definition on a random sparse F (rows of
         CHECK(empty.reciprocityMean == 0.0);
     }
     omp_set_num_threads(threads);
+}
+
+TEST_CASE("An out-of-memory inside the parallel passes over F (diagnostics, reciprocity closure) is an exception, never std::terminate") {
+    // A thread's buffers (the diagnostics' cursors, a closed row's entries) were allocated inside an
+    // OpenMP region with no try around them: a failure ended in std::terminate, which aborts this
+    // test. One thread, so that the region's only thread is the calling one, whose allocations fail
+    // in turn (a dynamic schedule could hand every row to another).
+    Scene s = unitCube();
+    for (Patch& p : s.patches) p.rho = Rgb::Constant(0.5);
+    const double scale[6] = {0.995, 1.0, 1.004, 0.998, 1.0, 1.002};
+    const FormFactors estimated = perturbedCubeF(scale, 1.006);
+    const int threads = omp_get_max_threads();
+    omp_set_num_threads(1);
+    const FailureSweep stats = failEachAllocation([&] { computeStats(estimated, s); });
+    const FailureSweep closure = failEachAllocation([&] {
+        FormFactors F = estimated;
+        enforceReciprocity(F, s);
+    });
+    omp_set_num_threads(threads);
+    CHECK(stats.failures > 0);
+    CHECK(stats.outOfMemory == stats.failures);
+    CHECK(closure.failures > 10);
+    CHECK(closure.outOfMemory == closure.failures);
+    // Unarmed, both still give their answers.
+    FormFactors F = estimated;
+    CHECK(enforceReciprocity(F, s).converged);
+    CHECK(computeStats(F, s).reciprocityMax <= 2e-7);
 }

@@ -1,4 +1,5 @@
 // Hemisphere back end against closed forms: plates, disks, the cube, reciprocity, mirrors, skipping.
+#include "allocation_failure.hpp"
 #include "support.hpp"
 
 #include "engine/error.hpp"
@@ -396,6 +397,67 @@ TEST_CASE("F that cannot fit the memory budget is refused before the work, with 
                          doctest::Contains("nonzeros per row, measured on 64 rows"), Error);
     CHECK_THROWS_WITH_AS(checkFormFactorMemory(s, o, rows, std::size_t(1) << 20),
                          doctest::Contains("--no-memory-check"), Error);
+}
+
+TEST_CASE("The memory check counts every worker thread's O(N) workspace") {
+    const Scene s = subdivide(unitCube(), 0.1);  // 600 patches
+    const auto rows = neededRows(s, true);
+    for (const Estimator estimator : {Estimator::Analytic, Estimator::Rays}) {
+        CAPTURE(int(estimator));
+        HemisphereOptions h;
+        h.estimator = estimator;
+        CommonOptions one, eight;
+        one.threads = 1;
+        eight.threads = 8;
+        const double extra = formFactorMemoryBound(s, MethodSettings::of(h, eight), rows.size()) -
+                             formFactorMemoryBound(s, MethodSettings::of(h, one), rows.size());
+        // Seven more threads, each with at least its dense row (4 bytes a patch for the rays' counts
+        // and 4 for the patches touched; the analytic estimator's weights and flags are more).
+        CHECK(extra >= 7.0 * 8.0 * double(s.size()));
+        if (estimator == Estimator::Analytic) CHECK(extra >= 7.0 * 26.0 * double(s.size()));
+    }
+}
+
+TEST_CASE("An out-of-memory in a worker thread of the hemisphere's rows is an exception, never std::terminate") {
+    // Each thread's O(N) workspace was made outside the try of its OpenMP region: a failure there
+    // ended in std::terminate, which aborts this test. Every allocation of the calling thread (the
+    // region's first thread) fails in turn; the other thread's succeed.
+    struct Case {
+        const char* name;
+        Scene scene;
+        Estimator estimator;
+        bool closed;
+    };
+    const Case cases[] = {{"the cube, analytic", unitCube(), Estimator::Analytic, true},
+                          {"the cube, rays", unitCube(), Estimator::Rays, true},
+                          {"a mirror pair, analytic with images", bundledScene("mirror_pair.obj"), Estimator::Analytic, false}};
+    for (const Case& c : cases) {
+        CAPTURE(c.name);
+        HemisphereOptions o;
+        o.estimator = c.estimator;
+        o.samples = 256;
+        CommonOptions common;
+        common.threads = 2;
+        const std::unique_ptr<FormFactorBackend> backend = makeBackend(MethodSettings::of(o, common));
+        backend->prepare(c.scene);
+        const std::vector<PatchId> rows = neededRows(c.scene, true);
+        std::unique_ptr<FormFactorBuilder> builder;
+        const FailureSweep sweep = failEachAllocation(
+            [&] {
+                builder = std::make_unique<FormFactorBuilder>(c.scene.size());
+                backend->computeRows(rows, *builder);
+            },
+            [&] { builder.reset(); });
+        CHECK(sweep.failures > 10);
+        CHECK(sweep.outOfMemory == sweep.failures);  // every failure surfaced as itself
+        // And the back end still computes the rows.
+        FormFactorBuilder after(c.scene.size());
+        backend->computeRows(rows, after);
+        const FormFactors F = after.finish();
+        CHECK(F.computedRows() == c.scene.size());
+        if (c.closed)
+            for (std::size_t i = 0; i < F.size(); ++i) CHECK(F.rowSum(i) == doctest::Approx(1.0).epsilon(1e-2));
+    }
 }
 
 TEST_CASE("The ray estimator's F of a subdivided cube with reciprocity enforced: reciprocal to 1e-7, and every solver meets the furnace at rho 0.99") {

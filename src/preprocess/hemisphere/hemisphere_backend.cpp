@@ -5,6 +5,7 @@
 #include "preprocess/hemisphere/hemisphere_backend.hpp"
 
 #include "engine/error.hpp"
+#include "engine/parallel_failure.hpp"
 #include "engine/threads.hpp"
 #include "preprocess/hemisphere/beckers.hpp"
 #include "preprocess/hemisphere/emitter_rule.hpp"
@@ -19,9 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <array>
-#include <atomic>
 #include <limits>
 #include <unordered_map>
 
@@ -203,18 +202,17 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
 void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
     if (!m_scene) throw Error("hemisphere back end: prepare() was not called");
     const int threads = resolveThreads(m_common.threads);
-    // The first failure is kept under a critical section; other threads see only the atomic flag
-    // (reading the exception_ptr while another thread writes it was a data race).
-    std::exception_ptr failure;
-    std::atomic<bool> failed{false};
     // Each pair is computed by its emitting row and handed to the other row (pair_exchange.hpp),
     // kept for the rows this source may still hand out.
     const auto wanted = [&rows](PatchId r) { return rows.mayHandOut(r); };
     std::unique_ptr<PairExchange> exchange, imageExchange;  // direct pairs; pairs through mirrors
     if (m_analytic) exchange = std::make_unique<PairExchange>(m_scene->size(), wanted);
     if (m_images) imageExchange = std::make_unique<PairExchange>(m_scene->size(), wanted);
+    // Everything a thread does is inside run(), its O(N) workspace included (an out-of-memory there
+    // ended in std::terminate): the first failure stops every thread and is rethrown here.
+    ParallelFailure failure;
 #pragma omp parallel num_threads(threads)
-    {
+    failure.run([&] {
         Workspace ws(m_scene->size(), m_mirrors || m_analytic);
         const std::unique_ptr<MirrorImages::Workspace> imageSpace = m_images ? m_images->workspace() : nullptr;
         if (m_analytic) {
@@ -230,38 +228,32 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
         ws.distances.resize(m_options.samples);
         RayCounts counts;
         PatchId i = 0;
-        while (!builder.cancelled() && !failed.load(std::memory_order_relaxed) && rows.next(i)) {
-            try {
-                if (m_analytic) {
-                    const double direct = addAnalyticRow(i, ws, counts);
-                    counts.lostWeight += std::max(0.0, 1.0 - direct);
-                    counts.largestDirectSum = std::max(counts.largestDirectSum, direct);
-                    // Visibility from a few shadow rays can count a partly hidden patch whole; no
-                    // row may send out more than it emits. Quadrature alone stays within 1e-3 (and
-                    // scaling would break the pairs' reciprocity).
-                    if (direct > 1.0 + kRescaleAbove) {
-                        ws.row.scaleWeights(1.0 / direct);
-                        ++counts.rescaledRows;
-                    }
-                    if (m_images) m_images->addRow(i, ws.row, double(m_options.origins) * m_options.samples, *imageExchange, *imageSpace,
-                                                  counts);
-                    else if (m_mirrors) castRays<true, false>(i, ws, counts);
-                } else if (m_mirrors) {
-                    castRays<true, true>(i, ws, counts);
-                } else {
-                    castRays<false, true>(i, ws, counts);
+        while (!builder.cancelled() && !failure.failed() && rows.next(i)) {
+            if (m_analytic) {
+                const double direct = addAnalyticRow(i, ws, counts);
+                counts.lostWeight += std::max(0.0, 1.0 - direct);
+                counts.largestDirectSum = std::max(counts.largestDirectSum, direct);
+                // Visibility from a few shadow rays can count a partly hidden patch whole; no
+                // row may send out more than it emits. Quadrature alone stays within 1e-3 (and
+                // scaling would break the pairs' reciprocity).
+                if (direct > 1.0 + kRescaleAbove) {
+                    ws.row.scaleWeights(1.0 / direct);
+                    ++counts.rescaledRows;
                 }
-                const double scale = 1.0 / (double(m_options.origins) * m_options.samples);
-                builder.setRow(i, ws.row.take(scale));
-            } catch (...) {
-#pragma omp critical(hemirad_failure)
-                if (!failure) failure = std::current_exception();
-                failed.store(true, std::memory_order_relaxed);
+                if (m_images) m_images->addRow(i, ws.row, double(m_options.origins) * m_options.samples, *imageExchange, *imageSpace,
+                                              counts);
+                else if (m_mirrors) castRays<true, false>(i, ws, counts);
+            } else if (m_mirrors) {
+                castRays<true, true>(i, ws, counts);
+            } else {
+                castRays<false, true>(i, ws, counts);
             }
+            const double scale = 1.0 / (double(m_options.origins) * m_options.samples);
+            builder.setRow(i, ws.row.take(scale));
         }
         builder.addCounts(counts);
-    }
-    if (failure) std::rethrow_exception(failure);
+    });
+    failure.rethrowIfFailed();
 }
 
 void HemisphereBackend::orderRows(std::vector<PatchId>& rows) const {

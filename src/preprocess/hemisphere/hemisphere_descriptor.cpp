@@ -36,6 +36,23 @@ double workPerRow(const Scene& scene, const MethodSettings& s) {
     return double(scene.size()) * originPoints(o.origins) + (chainRays ? rays : 0.0);
 }
 
+/// Scratch one worker thread holds (HemisphereBackend::Workspace, and the mirror images' workspaces):
+/// dense per-patch arrays, lists that can reach one entry per patch, and one origin's directions.
+double bytesPerThread(const Scene& scene, const MethodSettings& s) {
+    const H& o = s.as<H>();
+    const bool analytic = usesAnalyticEstimator(o, scene.size());
+    // The row: its sums (double weights, or 32-bit counts for plain rays) and the patches touched.
+    double perPatch = (analytic || scene.hasMirrors() ? 8.0 : 4.0) + 4.0;
+    if (analytic) {
+        perPatch += 1.0 + 1.0 + 4.0 + 8.0;        // ruled, status, published, unsplit
+        perPatch += 4.0 + 4.0 + 8.0 + 4.0 + 8.0;  // by order, candidates, factors, touched, outgoing
+        // The mirror images' workspaces, the row's and a pair's: status, summed, sums, published.
+        if (mirrorImages(scene, o)) perPatch += 2.0 * (1.0 + 1.0 + 8.0 + 4.0);
+    }
+    const double directions = (o.jitter ? 24.0 : 12.0) + 4.0 + 4.0;  // rotated (and jittered), hits, distances
+    return perPatch * double(scene.size()) + directions * double(o.samples);
+}
+
 RunDescription describe(const Scene& scene, const MethodSettings& s) {
     const H& o = s.as<H>();
     RunDescription d;
@@ -180,6 +197,7 @@ BackendDescriptor make() {
         return std::make_unique<HemisphereBackend>(s.as<H>(), s.common);
     };
     d.workPerRow = workPerRow;
+    d.bytesPerThread = bytesPerThread;
     d.describe = describe;
     d.resolve = resolveAuto;
     return d;

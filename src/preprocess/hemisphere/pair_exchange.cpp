@@ -2,6 +2,7 @@
 #include "preprocess/hemisphere/pair_exchange.hpp"
 
 #include <algorithm>
+#include <mutex>
 
 namespace hemirad {
 
@@ -32,16 +33,18 @@ std::uint64_t PairExchange::open(PatchId receiver, std::vector<Entry>& entries) 
 }
 
 void PairExchange::publish(PatchId emitter, const std::vector<Entry>& entries) {
-    // One lock per run of receivers in the same stripe.
-    std::mutex* held = nullptr;
+    // One lock per run of receivers in the same stripe, the last one released before the next is
+    // taken (two at once could deadlock with a publish going the other way). Held by a unique_lock:
+    // an entry that cannot be appended (out of memory) must not leave its stripe locked for the
+    // other threads, which would wait for it forever.
+    std::unique_lock<std::mutex> held;
     std::size_t added = 0;
     for (const Entry& entry : entries) {
         const PatchId r = entry.patch;
-        std::mutex* stripe = &stripeOf(r);
-        if (stripe != held) {
-            if (held) held->unlock();
-            stripe->lock();
-            held = stripe;
+        std::mutex& stripe = stripeOf(r);
+        if (held.mutex() != &stripe) {
+            if (held) held.unlock();
+            held = std::unique_lock<std::mutex>(stripe);
         }
         if (m_state[r] & kClosed) continue;
         if (!m_wanted(r)) {  // not to be opened here (or not known to be): its list is freed
@@ -55,7 +58,7 @@ void PairExchange::publish(PatchId emitter, const std::vector<Entry>& entries) {
         m_entries[r].push_back({emitter, entry.value});
         ++added;
     }
-    if (held) held->unlock();
+    if (held) held.unlock();
     m_held.fetch_add(std::int64_t(added), std::memory_order_relaxed);
     const std::uint64_t tick = m_clock.fetch_add(1, std::memory_order_acq_rel) + 1;
     m_finishedAt[emitter].store(tick, std::memory_order_release);
