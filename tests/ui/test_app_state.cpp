@@ -50,6 +50,23 @@ void solvedCube(AppState& app) {
     REQUIRE(app.formFactors() != nullptr);
 }
 
+/// Patch 0 made black (no row of F needed), then Run with 384 directions (the job started).
+void runWithBlackPatch0(AppState& app) {
+    app.select(0, false);
+    MaterialEdit black;
+    black.rho = Rgb::Zero();
+    app.editMaterial(black);
+    app.settings.formFactors.as<HemisphereOptions>().samples = 384;
+    app.runPipeline();
+}
+
+/// Patch 0 (selected) made reflective again: its row of F is needed.
+void makePatch0Grey(AppState& app) {
+    MaterialEdit grey;
+    grey.rho = Rgb::Constant(0.5);
+    app.editMaterial(grey);
+}
+
 }  // namespace
 
 TEST_CASE("GUI state: a bad file keeps the loaded scene and logs the error with its location") {
@@ -159,19 +176,12 @@ TEST_CASE("GUI state: an edit that would make rho + s > 1 is refused, as the MTL
 TEST_CASE("GUI state: a black patch made reflective gets its row computed, the others are kept") {
     AppState app;
     REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
-    app.select(0, false);
-    MaterialEdit black;
-    black.rho = Rgb::Zero();
-    app.editMaterial(black);
-    app.settings.formFactors.as<HemisphereOptions>().samples = 384;
-    app.runPipeline();
+    runWithBlackPatch0(app);
     runToEnd(app);
     REQUIRE(app.formFactors() != nullptr);
     CHECK_FALSE(app.formFactors()->rowComputed(0));
     const float kept = app.formFactors()->values()[app.formFactors()->rowBegin(1)];
-    MaterialEdit grey;
-    grey.rho = Rgb::Constant(0.5);
-    app.editMaterial(grey);  // re-solve needs row 0: the pipeline adds just that row
+    makePatch0Grey(app);  // re-solve needs row 0: the pipeline adds just that row
     runToEnd(app);
     REQUIRE(app.formFactors()->rowComputed(0));
     CHECK(app.formFactors()->values()[app.formFactors()->rowBegin(1)] == kept);
@@ -184,16 +194,9 @@ TEST_CASE("GUI state: a black patch made reflective while a job runs gets its ro
     AppState app;
     REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
     app.setScene(subdivide(app.scene(), 0.05), "fine cube");  // 2,400 patches: the job outlives the edit
-    app.select(0, false);
-    MaterialEdit black;
-    black.rho = Rgb::Zero();
-    app.editMaterial(black);
-    app.settings.formFactors.as<HemisphereOptions>().samples = 384;
-    app.runPipeline();
+    runWithBlackPatch0(app);
     REQUIRE(app.job().running);
-    MaterialEdit grey;
-    grey.rho = Rgb::Constant(0.5);
-    app.editMaterial(grey);
+    makePatch0Grey(app);
     runToEnd(app);
     REQUIRE(app.formFactors() != nullptr);
     CHECK(app.formFactors()->rowComputed(0));
