@@ -36,7 +36,7 @@ double workPerRow(const Scene& scene, const MethodSettings& s) {
     return double(scene.size()) * originPoints(o.origins) + (chainRays ? rays : 0.0);
 }
 
-/// Scratch one worker thread holds (HemisphereBackend::Workspace, and the mirror images' workspaces):
+/// Scratch one worker thread holds (the estimators' and the mirror images' workspaces):
 /// dense per-patch arrays, lists that can reach one entry per patch, and one origin's directions.
 double bytesPerThread(const Scene& scene, const MethodSettings& s) {
     const H& o = s.as<H>();
@@ -46,6 +46,7 @@ double bytesPerThread(const Scene& scene, const MethodSettings& s) {
     if (analytic) {
         perPatch += 1.0 + 1.0 + 4.0 + 8.0;        // ruled, status, published, unsplit
         perPatch += 4.0 + 4.0 + 8.0 + 4.0 + 8.0;  // by order, candidates, factors, touched, outgoing
+        perPatch += 4.0 + 8.0 + 4.0 + 8.0;        // as a receiver: emitters, their sums, entries, term ranges
         // The mirror images' workspaces, the row's and a pair's: status, summed, sums, published.
         if (mirrorImages(scene, o)) perPatch += 2.0 * (1.0 + 1.0 + 8.0 + 4.0);
     }

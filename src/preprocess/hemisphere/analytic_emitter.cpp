@@ -1,0 +1,222 @@
+// The analytic estimator's row: its pairs as a receiver first (analytic_receiver.cpp), then as the
+// emitter, its terms for each receiver summed over the points of the pair's rule.
+#include "preprocess/hemisphere/analytic_estimator.hpp"
+
+#include <algorithm>
+
+namespace hemirad {
+
+void AnalyticEstimator::prepare(const Scene& scene, const RayScene& rays) {
+    m_scene = &scene;
+    m_rays = &rays;
+    m_rules.build(scene, rays, m_options);
+}
+
+AnalyticEstimator::Workspace AnalyticEstimator::workspace(PairExchange& exchange) const {
+    Workspace ws;
+    const std::size_t n = m_scene->size();
+    ws.exchange = &exchange;
+    ws.status.assign(n, 0);
+    ws.kept.sum.assign(n, -1.0);
+    ws.ruled.assign(n, 0);
+    ws.byOrder.resize(std::size_t(m_rules.orders().highest()) + 1);  // [0]: the far rule
+    ws.reversed.published.assign(n, -1.0f);
+    return ws;
+}
+
+double AnalyticEstimator::addRow(PatchId i, RowAccumulator& row, Workspace& ws, RayCounts& counts) const {
+    // Pairs whose other patch emits first: their terms come from that patch's points, and their
+    // visibility is the neighbours' status for the silhouette test below.
+    double direct = addReversedPairs(i, row, ws, counts);
+    // Receivers by the order of their rule over i (0: the far rule); order 1 (the centroid) takes
+    // the rest in one pass.
+    for (auto& list : ws.byOrder) list.clear();
+    ws.contacts.clear();
+    for (PatchId j = 0; j < m_scene->size(); ++j) {
+        if (j == i || !m_rules.emitsFor(i, j)) continue;
+        if (m_rules.contactPair(i, j)) {  // computed as a whole below
+            ws.contacts.push_back(j);
+            ws.ruled[j] = 1;
+            continue;
+        }
+        const int m = m_rules.pairOrder(i, j);
+        if (m == 1) continue;
+        ws.byOrder[m].push_back(j);
+        ws.ruled[j] = 1;
+    }
+    // The far rule's shadow rays from the centroid; their terms are added by the centroid pass,
+    // once it has the statuses of its own receivers for the silhouette test (the far rule exists
+    // with one origin only, where the centroid pass does too).
+    castFarRays(i, ws, counts);
+    const double unit = m_rules.unit();
+    const EmitterOrders& orders = m_rules.orders();
+    if (orders.lowest() == 1)
+        direct += addFrom(i, m_rules.geometry().shapes[i].centroid, 0, nullptr, unit, row, ws, counts);
+    for (int m = std::max(2, orders.lowest()); m <= orders.highest(); ++m) {
+        if (ws.byOrder[m].empty()) continue;
+        m_rules.emitterRule(i, m, ws.rules);
+        // addFrom leaves the scratch's rule alone.
+        const std::vector<Vec3>& points = ws.rules.quadPoints;
+        const std::vector<double>& weights = ws.rules.quadWeights;
+        for (std::size_t q = 0; q < points.size(); ++q)
+            direct += addFrom(i, points[q], std::uint32_t(q), &ws.byOrder[m], unit * weights[q], row, ws, counts);
+        for (const PatchId j : ws.byOrder[m]) ws.ruled[j] = 0;
+    }
+    for (const PatchId j : ws.contacts) {
+        bool viewed = false;
+        const double value = m_rules.contactValue(i, j, ws.rules, counts, viewed);
+        ws.ruled[j] = 0;
+        if (!viewed) continue;  // as the other row finds it: no term
+        ws.kept.keep(j, value);
+        if (!(value > 0.0)) continue;
+        row.addWeight(j, value);
+        direct += value;
+    }
+    for (const PatchId j : ws.byOrder[0]) ws.ruled[j] = ws.status[j] = 0;
+    for (const PatchId j : ws.reversed.emitters) ws.status[j] = 0;
+    ws.kept.outgoing.clear();
+    for (const PatchId j : ws.kept.touched) {
+        ws.kept.outgoing.push_back({j, m_rules.handedValue(ws.kept.sum[j], i, j)});
+        ws.kept.sum[j] = -1.0;
+    }
+    ws.exchange->publish(i, ws.kept.outgoing);
+    ws.kept.touched.clear();
+    return direct / unit;
+}
+
+void AnalyticEstimator::castFarRays(PatchId i, Workspace& ws, RayCounts& counts) const {
+    Workspace::Far& far = ws.far;
+    far.patches.clear();  // the pairs with a shadow ray
+    far.factors.clear();
+    far.rays.clear();
+    const PatchGeometry& geometry = m_rules.geometry();
+    for (const PatchId j : ws.byOrder[0]) {
+        double f = 0.0;
+        const int m = m_rules.farPairOrder(i, j, f);
+        if (m > 0) {  // too large for one shadow ray: the rule's points with exact visibility
+            if (m == 1)
+                ws.ruled[j] = 0;
+            else
+                ws.byOrder[std::size_t(m)].push_back(j);
+            continue;
+        }
+        far.patches.push_back(j);
+        far.factors.push_back(f);
+        if (!m_rules.visibility()) continue;  // no shadow ray: no target
+        float target[3];
+        m_rules.rayTarget(i, j, geometry.polygon(j), geometry.shapes[j].count, 0, 0, target);
+        far.rays.targets.insert(far.rays.targets.end(), target, target + 3);
+    }
+    far.rays.blocked.assign(far.patches.size(), 0);
+    if (m_rules.visibility() && !far.patches.empty()) {
+        float origin[3];
+        m_rules.rayOrigin(i, geometry.shapes[i].centroid, origin);
+        m_rays->occludedSegments(origin, far.rays.targets.data(), far.patches.size(), far.rays.blocked.data());
+        counts.rays += far.patches.size();
+    }
+    for (std::size_t k = 0; k < far.patches.size(); ++k) ws.status[far.patches[k]] = far.rays.blocked[k] ? 2 : 1;
+}
+
+double AnalyticEstimator::addFarPairs(double weight, RowAccumulator& row, Workspace& ws) const {
+    const Workspace::Far& far = ws.far;
+    double sum = 0.0;
+    for (std::size_t k = 0; k < far.patches.size(); ++k) {
+        const PatchId j = far.patches[k];
+        if (!(far.factors[k] > 0.0)) continue;  // facing away: nothing to split either
+        ws.kept.keep(j, far.rays.blocked[k] ? 0.0 : far.factors[k] * weight);
+        if (m_rules.geometry().onSilhouette(j, ws.status)) {  // split by the centroid pass, as its own receivers
+            ws.point.split.push_back(j);
+            continue;
+        }
+        if (far.rays.blocked[k]) continue;
+        row.addWeight(j, far.factors[k] * weight);
+        sum += far.factors[k] * weight;
+    }
+    return sum;
+}
+
+double AnalyticEstimator::addFrom(PatchId i, const Vec3& x, std::uint32_t point, const std::vector<PatchId>* candidates,
+                                  double weight, RowAccumulator& row, Workspace& ws, RayCounts& counts) const {
+    Workspace::Point& p = ws.point;
+    const bool visibility = m_rules.visibility();
+    auto aimAt = [&](PatchId j, double f, const float target[3]) {
+        p.candidates.push_back(j);
+        p.factors.push_back(f);
+        if (visibility) p.rays.targets.insert(p.rays.targets.end(), target, target + 3);  // no shadow ray: no target
+    };
+    float origin[3];
+    m_rules.rayOrigin(i, x, origin);
+    auto shoot = [&] {
+        if (!visibility) {
+            p.rays.blocked.assign(p.candidates.size(), 0);
+            return;
+        }
+        p.rays.blocked.resize(p.candidates.size());
+        m_rays->occludedSegments(origin, p.rays.targets.data(), p.candidates.size(), p.rays.blocked.data());
+        counts.rays += p.candidates.size();
+    };
+    p.candidates.clear();
+    p.factors.clear();
+    p.rays.clear();
+    p.exact.clear();
+    p.exactVisible.clear();
+    p.exactWhole.clear();
+    const std::size_t count = candidates ? candidates->size() : m_scene->size();
+    PairRules::PointTerm term;
+    for (std::size_t c = 0; c < count; ++c) {
+        const PatchId j = candidates ? (*candidates)[c] : PatchId(c);
+        if (j == i || (!candidates && (ws.ruled[j] || !m_rules.emitsFor(i, j)))) continue;
+        if (!m_rules.pointTerm(i, j, x, ws.rules, counts, term)) continue;
+        if (term.exact) {
+            p.exact.push_back(j);
+            p.exactVisible.push_back(term.visible);
+            p.exactWhole.push_back(term.factor);
+            continue;
+        }
+        float target[3] = {};
+        if (visibility) m_rules.rayTarget(i, j, term.polygon, term.corners, point, 0, target);
+        aimAt(j, term.factor, target);
+    }
+    shoot();
+    // Visibility of each patch from its shadow ray; a patch whose mesh neighbours disagree with it
+    // sits on a silhouette and is split into pieces, each with its own factor and shadow ray.
+    for (std::size_t k = 0; k < p.candidates.size(); ++k) ws.status[p.candidates[k]] = p.rays.blocked[k] ? 2 : 1;
+    double sum = 0.0;
+    for (std::size_t k = 0; k < p.exact.size(); ++k) {
+        ws.status[p.exact[k]] = p.exactVisible[k] >= 0.5 * p.exactWhole[k] ? 1 : 2;  // as its centre's ray would say
+        ws.kept.keep(p.exact[k], p.exactVisible[k] > 0.0 ? p.exactVisible[k] * weight : 0.0);
+        if (!(p.exactVisible[k] > 0.0)) continue;
+        row.addWeight(p.exact[k], p.exactVisible[k] * weight);
+        sum += p.exactVisible[k] * weight;
+    }
+    p.split.clear();
+    const PatchGeometry& geometry = m_rules.geometry();
+    for (std::size_t k = 0; k < p.candidates.size(); ++k) {
+        const PatchId j = p.candidates[k];
+        ws.kept.keep(j, p.rays.blocked[k] ? 0.0 : p.factors[k] * weight);
+        if (geometry.onSilhouette(j, ws.status)) {
+            p.split.push_back(j);
+        } else if (!p.rays.blocked[k]) {
+            row.addWeight(j, p.factors[k] * weight);
+            sum += p.factors[k] * weight;
+        }
+    }
+    if (!candidates) sum += addFarPairs(weight, row, ws);  // the centroid stands for the far rule's point too
+    for (const PatchId j : p.candidates) ws.status[j] = 0;
+    for (const PatchId j : p.exact) ws.status[j] = 0;
+    if (p.split.empty()) return sum;
+    p.candidates.clear();
+    p.factors.clear();
+    p.rays.clear();
+    for (const PatchId j : p.split)
+        m_rules.forEachPiece(i, j, x, point, ws.rules, [&](double f, const float target[3]) { aimAt(j, f, target); });
+    shoot();
+    for (std::size_t k = 0; k < p.candidates.size(); ++k) {
+        if (p.rays.blocked[k]) continue;
+        row.addWeight(p.candidates[k], p.factors[k] * weight);
+        sum += p.factors[k] * weight;
+    }
+    return sum;
+}
+
+}  // namespace hemirad

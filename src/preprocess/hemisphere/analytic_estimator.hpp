@@ -1,0 +1,162 @@
+// The hemisphere back end's analytic estimator: Lambert's exact point-to-polygon factors with
+// shadow rays (Wallace, Elmquist & Haines 1989 cast rays for visibility of analytic point-to-area
+// factors; Baum, Rushmeier & Winget 1989 give the exact polygon form).
+//
+// Each pair (e, r) is integrated over the points of its emitting patch e (pair_exchange.hpp). A
+// row does two things: as the emitter, it sums its terms for its receivers over its rules' points
+// (analytic_emitter.cpp); as a receiver, it takes the entries of the pairs other rows emit for it,
+// handed over or recomputed (analytic_receiver.cpp). Both follow the pair's rules (pair_rules.hpp),
+// so that A_i F_ij = A_j F_ji to F's rounding.
+#pragma once
+
+#include "preprocess/form_factor_backend.hpp"
+#include "preprocess/hemisphere/pair_exchange.hpp"
+#include "preprocess/hemisphere/pair_rules.hpp"
+#include "preprocess/row_accumulator.hpp"
+#include "rays/ray_scene.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace hemirad {
+
+class AnalyticEstimator {
+public:
+    struct Workspace;
+
+    explicit AnalyticEstimator(const HemisphereOptions& options) : m_options(options) {}
+    void prepare(const Scene& scene, const RayScene& rays);
+    /// One thread's workspace, whose rows publish their pairs to `exchange`.
+    Workspace workspace(PairExchange& exchange) const;
+    /// Row i's direct factors added to `row` in ray units (rules().unit() per unit of F); returns
+    /// their sum (row fraction).
+    double addRow(PatchId i, RowAccumulator& row, Workspace& ws, RayCounts& counts) const;
+    const PairRules& rules() const { return m_rules; }
+
+private:
+    // As the emitter (analytic_emitter.cpp).
+    /// Factors from point x (index `point` of row i's rule) to the `candidates` (all patches in
+    /// the centroid pass when null) that i emits for, scaled by `weight`; returns their sum.
+    double addFrom(PatchId i, const Vec3& x, std::uint32_t point, const std::vector<PatchId>* candidates, double weight,
+                   RowAccumulator& row, Workspace& ws, RayCounts& counts) const;
+    /// The far rule's receivers of row i (pairOrder 0): those too large for one shadow ray go to
+    /// their rule; the rest get a shadow ray from the centroid, which sets their status.
+    void castFarRays(PatchId i, Workspace& ws, RayCounts& counts) const;
+    /// Their entries, scaled by `weight`, once the centroid pass has set its statuses too (the
+    /// silhouette test reads the neighbours of both); those on a silhouette join the point's split.
+    double addFarPairs(double weight, RowAccumulator& row, Workspace& ws) const;
+
+    // As a receiver (analytic_receiver.cpp).
+    /// Row i's entries for the patches that emit for i: the terms each of their rows sums for i
+    /// (handed over by the exchange or recomputed), scaled by A_j / A_i; sets their visibility
+    /// status. Returns their sum (row fraction in ray units).
+    double addReversedPairs(PatchId i, RowAccumulator& row, Workspace& ws, RayCounts& counts) const;
+    /// The terms row j sums for receiver i, appended to the workspace's reversed terms (with
+    /// `rays`, a shadow ray per ray term); false when j has no term for i.
+    bool reversedTerms(PatchId j, PatchId i, bool rays, Workspace& ws, RayCounts& counts) const;
+    /// Of those, the emitters on a silhouette seen from i (a mesh neighbour's status differs): their
+    /// ray terms again with i split into pieces, each with its own shadow ray.
+    void splitReversedSilhouettes(PatchId i, Workspace& ws, RayCounts& counts) const;
+
+    HemisphereOptions m_options;
+    const Scene* m_scene = nullptr;
+    const RayScene* m_rays = nullptr;
+    PairRules m_rules;
+};
+
+/// Shadow rays gathered, then cast as one batch: from one origin to many targets, or as segments
+/// each with its own origin.
+struct ShadowRayBatch {
+    std::vector<float> origins, targets;  ///< 3 floats per ray (origins: segments only)
+    std::vector<std::uint8_t> blocked;    ///< per ray after casting
+    void clear() {
+        origins.clear();
+        targets.clear();
+    }
+    void addSegment(const float origin[3], const float target[3]) {
+        origins.insert(origins.end(), origin, origin + 3);
+        targets.insert(targets.end(), target, target + 3);
+    }
+    std::size_t segments() const { return origins.size() / 3; }
+};
+
+/// The sums a row keeps, as the emitter, for each receiver: its terms before its silhouette split
+/// (0 for a pair hidden from every point), added in the order its receiver recomputes them, and
+/// published at the end of the row so that the exchange hands over equal bits.
+struct KeptSums {
+    std::vector<double> sum;  ///< per receiver (-1: no term)
+    std::vector<PatchId> touched;
+    std::vector<PairExchange::Entry> outgoing;
+    /// A term for receiver r: its value when visible, 0 when hidden.
+    void keep(PatchId r, double visibleValue) {
+        if (sum[r] < 0.0) {
+            sum[r] = 0.0;
+            touched.push_back(r);
+        }
+        if (visibleValue > 0.0) sum[r] += visibleValue;
+    }
+};
+
+struct AnalyticEstimator::Workspace {
+    PairRules::Scratch rules;
+    PairExchange* exchange = nullptr;
+    std::vector<std::uint8_t> status;  ///< per patch for one point: 0 not aimed at, 1 visible, 2 blocked
+    KeptSums kept;
+
+    // As the emitter: receivers by the order of their rule over the row ([0]: the far rule), and
+    // the close pairs.
+    std::vector<std::vector<PatchId>> byOrder;
+    std::vector<std::uint8_t> ruled;  ///< per patch: in byOrder or a close pair (not in the centroid pass)
+    std::vector<PatchId> contacts;
+    /// One point's receivers with a shadow ray (candidates: their factors and aims), those with
+    /// exact visibility (their visible and whole factors), and those on a silhouette.
+    struct Point {
+        std::vector<PatchId> candidates;
+        std::vector<double> factors;
+        ShadowRayBatch rays;
+        std::vector<PatchId> exact;
+        std::vector<double> exactVisible, exactWhole;
+        std::vector<PatchId> split;
+    } point;
+    /// The far rule's receivers with a shadow ray from the centroid.
+    struct Far {
+        std::vector<PatchId> patches;
+        std::vector<double> factors;
+        ShadowRayBatch rays;
+    } far;
+
+    // As a receiver: the patches that emit for this row, the range of each one's terms, its entry
+    // and its terms' sum; per term its factor, weight, point and shadow ray.
+    struct Reversed {
+        std::vector<PatchId> emitters;
+        std::vector<std::uint32_t> termBegin, termEnd;
+        std::vector<double> sum;    ///< per emitter: its terms for this row, in ray units
+        std::vector<float> handed;  ///< and its entry as the exchange hands it over (-1: from the terms)
+        std::vector<double> factors, weights;
+        std::vector<Vec3> points;             ///< the emitter's point
+        std::vector<std::uint32_t> pointIndex;  ///< its index in the emitter's rule
+        std::vector<std::uint32_t> rayOf;     ///< its shadow ray, or kNoRay (exact: shadow polygons)
+        ShadowRayBatch rays;
+        std::vector<std::uint32_t> silhouette;  ///< the emitters on a silhouette seen from this row
+        std::vector<std::uint32_t> pieceOf;     ///< per silhouette piece ray: its emitter
+        std::vector<double> pieceValue;         ///< and its term (factor times the point's weight)
+        std::vector<PairExchange::Entry> taken;  ///< handed over by the exchange
+        std::vector<float> published;  ///< per patch: its row's entry for this one (-1: none)
+        static constexpr std::uint32_t kNoRay = ~std::uint32_t(0);
+        void clear() {
+            emitters.clear();
+            termBegin.clear();
+            termEnd.clear();
+            sum.clear();
+            handed.clear();
+            factors.clear();
+            weights.clear();
+            points.clear();
+            pointIndex.clear();
+            rayOf.clear();
+            rays.clear();
+        }
+    } reversed;
+};
+
+}  // namespace hemirad

@@ -1,0 +1,176 @@
+// The analytic estimator's row as a receiver: the entries of the pairs that other rows emit for it,
+// handed over by the exchange when the emitting row finished first, else recomputed here from the
+// emitter's points with the same rules (pair_rules.hpp), equal bit for bit.
+#include "preprocess/hemisphere/analytic_estimator.hpp"
+
+namespace hemirad {
+
+double AnalyticEstimator::addReversedPairs(PatchId i, RowAccumulator& row, Workspace& ws, RayCounts& counts) const {
+    // For every j that emits for i, the terms row j sums for i (addFrom with j's rule, in j's
+    // order, the same shadow rays), so that A_i F_ij = A_j F_ji to rounding wherever the two rows
+    // agree about a silhouette (row j splits i where i's neighbours disagree, seen from j; this row
+    // splits where j's neighbours disagree, seen from i). Row j hands them over through the
+    // exchange when it finished first; the rest are recomputed here.
+    Workspace::Reversed& rev = ws.reversed;
+    const std::uint64_t ticket = ws.exchange->open(i, rev.taken);
+    for (const PairExchange::Entry& entry : rev.taken) rev.published[entry.patch] = entry.value;
+    rev.clear();
+    for (PatchId j = 0; j < m_scene->size(); ++j) {
+        if (j == i || !m_rules.emitsFor(j, i)) continue;
+        const std::uint32_t begin = std::uint32_t(rev.factors.size());
+        double contact = 0.0;  // a close pair's value, computed here (no terms)
+        if (rev.published[j] >= 0.0f) {
+            rev.handed.push_back(rev.published[j]);
+        } else if (ws.exchange->finished(j, ticket)) {
+            continue;  // row j had no term for i
+        } else if (m_rules.contactPair(j, i)) {
+            bool viewed = false;
+            contact = m_rules.contactValue(j, i, ws.rules, counts, viewed);
+            if (!viewed) continue;  // no term (as row j publishes none)
+            rev.handed.push_back(m_rules.handedValue(contact, j, i));
+        } else if (!reversedTerms(j, i, true, ws, counts)) {
+            continue;  // no point of j has a term for i
+        } else {
+            rev.handed.push_back(-1.0f);  // from the terms below
+        }
+        rev.sum.push_back(contact);
+        rev.emitters.push_back(j);
+        rev.termBegin.push_back(begin);
+        rev.termEnd.push_back(std::uint32_t(rev.factors.size()));
+    }
+    for (const PairExchange::Entry& entry : rev.taken) rev.published[entry.patch] = -1.0f;
+    const std::size_t rays = rev.rays.segments();
+    rev.rays.blocked.assign(rays, 0);
+    if (m_rules.visibility() && rays > 0) {
+        m_rays->occludedSegmentPairs(rev.rays.origins.data(), rev.rays.targets.data(), rays, rev.rays.blocked.data());
+        counts.rays += rays;
+    }
+    for (std::size_t p = 0; p < rev.emitters.size(); ++p) {
+        if (rev.handed[p] < 0.0f) {
+            for (std::uint32_t t = rev.termBegin[p]; t < rev.termEnd[p]; ++t) {  // row j's sum for i, in row j's order
+                if (rev.rayOf[t] == rev.kNoRay ? !(rev.factors[t] > 0.0) : rev.rays.blocked[rev.rayOf[t]] != 0) continue;
+                rev.sum[p] += rev.factors[t] * rev.weights[t];
+            }
+            rev.handed[p] = m_rules.handedValue(rev.sum[p], rev.emitters[p], i);
+        }
+        ws.status[rev.emitters[p]] = rev.handed[p] > 0.0f ? 1 : 2;
+    }
+    if (m_rules.visibility()) splitReversedSilhouettes(i, ws, counts);
+    double sum = 0.0;
+    const double Ai = m_scene->patches[i].area;
+    const double unit = m_rules.unit();
+    for (std::size_t p = 0; p < rev.emitters.size(); ++p) {
+        const PatchId j = rev.emitters[p];
+        // The handed-over entry in ray units (exact: a float times an integer below 2^29), or the
+        // terms of a pair split here.
+        const double value = rev.handed[p] >= 0.0f ? double(rev.handed[p]) * unit : rev.sum[p] * (m_scene->patches[j].area / Ai);
+        if (!(value > 0.0)) continue;
+        row.addWeight(j, value);
+        sum += value;
+    }
+    return sum;
+}
+
+bool AnalyticEstimator::reversedTerms(PatchId j, PatchId i, bool rays, Workspace& ws, RayCounts& counts) const {
+    const PatchGeometry& geometry = m_rules.geometry();
+    const PatchShape& receiver = geometry.shapes[i];
+    const PatchShape& emitter = geometry.shapes[j];
+    if (m_rules.contactPair(j, i)) return false;  // a close pair is computed whole, without terms
+    // No point of j has a term when all of i lies below j's plane or all of j behind i's (with a
+    // margin of j's radius for the points off its centroid's plane).
+    if (emitter.normal.dot(receiver.centroid - emitter.centroid) <= -receiver.radius - emitter.radius ||
+        receiver.normal.dot(emitter.centroid - receiver.centroid) + emitter.radius <= 0.0)
+        return false;
+    Workspace::Reversed& rev = ws.reversed;
+    // A term of row j for i at j's point x (index q); `polygon`: the part of i its shadow ray aims
+    // at, null for an exact term (shadow polygons: no ray).
+    auto addTerm = [&](const Vec3& x, std::uint32_t q, double f, double weight, const Vec3* polygon, std::size_t corners) {
+        rev.factors.push_back(f);
+        rev.weights.push_back(weight);
+        rev.points.push_back(x);
+        rev.pointIndex.push_back(q);
+        if (!polygon) {
+            rev.rayOf.push_back(rev.kNoRay);
+            return;
+        }
+        rev.rayOf.push_back(std::uint32_t(rev.rays.segments()));
+        if (!rays) return;  // the split replaces the ray terms: their verdicts are not needed
+        float origin[3], target[3];
+        m_rules.rayOrigin(j, x, origin);
+        m_rules.rayTarget(j, i, polygon, corners, q, 0, target);
+        rev.rays.addSegment(origin, target);
+    };
+    const double unit = m_rules.unit();
+    double far = 0.0;
+    int m = m_rules.pairOrder(j, i);
+    if (m == 0) m = m_rules.farPairOrder(j, i, far);  // as castFarRays
+    if (m == 0) {  // the far rule: one term, one shadow ray from j's centroid (as addFarPairs)
+        if (!(far > 0.0)) return false;
+        addTerm(emitter.centroid, 0, far, unit, geometry.polygon(i), receiver.count);
+        return true;
+    }
+    m_rules.emitterRule(j, m, ws.rules);
+    const std::size_t before = rev.factors.size();
+    PairRules::PointTerm term;
+    for (std::size_t q = 0; q < ws.rules.quadPoints.size(); ++q) {
+        const Vec3& x = ws.rules.quadPoints[q];
+        if (!m_rules.pointTerm(j, i, x, ws.rules, counts, term)) continue;
+        const double weight = unit * ws.rules.quadWeights[q];  // as row j weighs it (the centroid's weight is 1)
+        if (term.exact)  // as addFrom: the visible part from shadow polygons
+            addTerm(x, std::uint32_t(q), term.visible, weight, nullptr, 0);
+        else
+            addTerm(x, std::uint32_t(q), term.factor, weight, term.polygon, term.corners);
+    }
+    return rev.factors.size() > before;
+}
+
+void AnalyticEstimator::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCounts& counts) const {
+    // An emitter j whose mesh neighbours disagree with it about i sees i past a silhouette, which
+    // moves across i as the point on j moves: each of its ray terms takes i in pieces, each with
+    // its own factor and shadow ray, as row j does where it finds i on a silhouette (the same
+    // pieces, aims and rays: equal values where both rows split). Exact terms stay as they are.
+    Workspace::Reversed& rev = ws.reversed;
+    rev.silhouette.clear();
+    for (std::size_t p = 0; p < rev.emitters.size(); ++p) {
+        if (!m_rules.geometry().onSilhouette(rev.emitters[p], ws.status)) continue;
+        rev.silhouette.push_back(std::uint32_t(p));
+        if (rev.termBegin[p] != rev.termEnd[p]) continue;
+        // Handed over by row j as a sum: its terms again, without shadow rays.
+        rev.termBegin[p] = std::uint32_t(rev.factors.size());
+        reversedTerms(rev.emitters[p], i, false, ws, counts);
+        rev.termEnd[p] = std::uint32_t(rev.factors.size());
+    }
+    rev.rays.clear();
+    rev.pieceOf.clear();
+    rev.pieceValue.clear();
+    for (const std::uint32_t p : rev.silhouette) {
+        const PatchId j = rev.emitters[p];
+        bool split = false;
+        for (std::uint32_t t = rev.termBegin[p]; t < rev.termEnd[p]; ++t) {
+            if (rev.rayOf[t] == rev.kNoRay) continue;
+            if (!split) {  // the exact terms are kept; the ray terms are replaced by their pieces
+                rev.handed[p] = -1.0f;
+                rev.sum[p] = 0.0;
+                for (std::uint32_t u = rev.termBegin[p]; u < rev.termEnd[p]; ++u)
+                    if (rev.rayOf[u] == rev.kNoRay && rev.factors[u] > 0.0) rev.sum[p] += rev.factors[u] * rev.weights[u];
+                split = true;
+            }
+            float origin[3];
+            m_rules.rayOrigin(j, rev.points[t], origin);
+            m_rules.forEachPiece(j, i, rev.points[t], rev.pointIndex[t], ws.rules, [&](double f, const float target[3]) {
+                rev.rays.addSegment(origin, target);
+                rev.pieceOf.push_back(p);
+                rev.pieceValue.push_back(f * rev.weights[t]);
+            });
+        }
+    }
+    if (rev.pieceOf.empty()) return;
+    rev.rays.blocked.assign(rev.pieceOf.size(), 0);
+    m_rays->occludedSegmentPairs(rev.rays.origins.data(), rev.rays.targets.data(), rev.pieceOf.size(),
+                                 rev.rays.blocked.data());
+    counts.rays += rev.pieceOf.size();
+    for (std::size_t k = 0; k < rev.pieceOf.size(); ++k)
+        if (!rev.rays.blocked[k]) rev.sum[rev.pieceOf[k]] += rev.pieceValue[k];
+}
+
+}  // namespace hemirad

@@ -1,0 +1,152 @@
+// The rules both rows of an analytic pair follow. A pair (e, r) is integrated over the points of
+// its emitting patch e; row e sums those terms, and row r recomputes them when the exchange has not
+// handed them over. Everything the two rows must compute alike, bit for bit, lives here: which rule
+// integrates the pair, each point's term (exact visible part or a shadow ray, and where that ray
+// aims), how a silhouette receiver is cut into pieces, a close pair's value and the rounding of
+// the handed-over entry.
+#pragma once
+
+#include "preprocess/form_factor_backend.hpp"
+#include "preprocess/hemisphere/contact_pairs.hpp"
+#include "preprocess/hemisphere/emitter_rule.hpp"
+#include "preprocess/hemisphere/far_rule.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
+#include "preprocess/hemisphere/pair_exchange.hpp"
+#include "preprocess/hemisphere/patch_geometry.hpp"
+#include "preprocess/hemisphere/point_polygon.hpp"
+#include "preprocess/hemisphere/shadow_polygons.hpp"
+#include "rays/ray_scene.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace hemirad {
+
+class PairRules {
+public:
+    /// One thread's scratch for the rules.
+    struct Scratch {
+        std::vector<Vec3> quadPoints;  ///< a quadrature rule over the emitter (emitterRule)
+        std::vector<double> quadWeights;
+        std::vector<Vec3> clipped;     ///< a receiver clipped to a point's half-space
+        std::vector<Vec3> pieces, finer;  ///< a silhouette receiver's pieces, 4 corners each
+        ShadowPolygons::Scratch shadow;
+        ContactPairs::Scratch contact;
+    };
+
+    /// Row e's term for receiver r at one point x of e's rule.
+    struct PointTerm {
+        double factor = 0.0;   ///< Lambert's factor from x to r's part above x's plane
+        bool exact = false;    ///< factor above exactAbove(): its visible part comes from shadow polygons
+        double visible = 0.0;  ///< exact terms: that visible part
+        const Vec3* polygon = nullptr;  ///< r's part above x's plane (where a shadow ray aims)
+        std::size_t corners = 0;
+    };
+
+    /// The scene's geometry, rules and blockers for --pair-digits, --origins and --jitter.
+    void build(const Scene& scene, const RayScene& rays, const HemisphereOptions& options);
+
+    /// The order m of the m x m rule over e for receiver r (1: e's centroid), or 0 for the far rule.
+    int pairOrder(PatchId e, PatchId r) const {
+        if (m_farRatio > 0.0 && FarRule::ratio(m_geometry.shapes[e], m_geometry.shapes[r]) >= m_farRatio) return 0;
+        return ruleOrder(e, r);
+    }
+    /// A far pair (pairOrder 0): the far rule's factor from e's centroid into `far`, and 0; or, where
+    /// that factor is too large for one shadow ray's verdict, the order of the m x m rule that gives
+    /// the pair exact visibility instead.
+    int farPairOrder(PatchId e, PatchId r, double& far) const {
+        far = m_far.factor(m_geometry, e, r, m_scene->patches[r].area);
+        return far > m_exactAbove ? ruleOrder(e, r) : 0;
+    }
+    /// Whether (e, r) is a close pair (within kNearDistance, where the factor varies fastest over e
+    /// and the patches may touch): computed as a whole by contactValue, not by e's rules.
+    bool contactPair(PatchId e, PatchId r) const { return !(ruleRatio(e, r) >= kNearDistance); }
+    /// A close pair's value in ray units of row e (A_e F_er / A_e x unit): a function of the pair
+    /// alone; `viewed` says whether it has a view at all (unoccluded value above 0: a term, visible
+    /// or hidden, for the silhouette statuses).
+    double contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, bool& viewed) const;
+    /// The points and weights (summing to 1) of the m x m rule over patch e into s.quadPoints and
+    /// s.quadWeights.
+    void emitterRule(PatchId e, int m, Scratch& s) const;
+    /// Row e's term for r at point x of e's rule; false when x has no term for r (factor not above 0).
+    bool pointTerm(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts, PointTerm& term) const;
+    /// The ends of the shadow ray from e's point x (index `point` of e's rule) to (a piece of) r, in
+    /// the ray scene's frame, each lifted off its patch: the polygon's centre, or with jitter a random
+    /// point drawn from (e, r, point, piece) alone.
+    void rayOrigin(PatchId e, const Vec3& x, float origin[3]) const;
+    void rayTarget(PatchId e, PatchId r, const Vec3* polygon, std::size_t corners, std::uint32_t point,
+                   std::uint32_t piece, float target[3]) const;
+    /// Receiver r on a silhouette seen from e's point x (index `point`): r's part above x's plane
+    /// in pieces of 4 corners (one split, two with --jitter); visit(factor, target) for each piece
+    /// with a factor above 0, target its shadow ray's end.
+    template <class Visit>
+    void forEachPiece(PatchId e, PatchId r, const Vec3& x, std::uint32_t point, Scratch& s, Visit visit) const {
+        const Vec3& n = m_geometry.shapes[e].normal;
+        const Vec3* polygon;
+        const std::size_t corners = polygonAbove(r, x, n, s.clipped, polygon);
+        piecesOf(polygon, corners, s);
+        for (std::size_t q = 0; q < s.pieces.size(); q += 4) {
+            const double f = pointToPolygonFactor(x, n, &s.pieces[q], 4);
+            if (!(f > 0.0)) continue;
+            float target[3];
+            rayTarget(e, r, &s.pieces[q], 4, point, std::uint32_t(q / 4 + 1), target);
+            visit(f, target);
+        }
+    }
+    /// F_re from the sum of the pair's terms over e's points (ray units), rounded to F's float as
+    /// the exchange hands it over: both rows of the pair round it alike.
+    float handedValue(double terms, PatchId e, PatchId r) const { return handOver(*m_scene, terms, e, r, unit()); }
+    /// Which patch of a pair integrates the pair's factor over its points (the other is exact): the
+    /// smaller one, the lower id on a tie.
+    bool emitsFor(PatchId e, PatchId r) const { return hemirad::emitsFor(*m_scene, e, r); }
+
+    /// F in ray units: the accumulator's take() scales by 1 / (origins samples).
+    double unit() const { return double(m_options.origins) * m_options.samples; }
+    /// Whether some patch can obstruct another (else no shadow ray is cast).
+    bool visibility() const { return m_visibility; }
+    /// Point factors above this get their exact visible part instead of a shadow ray.
+    double exactAbove() const { return m_exactAbove; }
+    const PatchGeometry& geometry() const { return m_geometry; }
+    const EmitterOrders& orders() const { return m_orders; }
+    const FarRule& farRule() const { return m_far; }
+    std::size_t blockers() const { return m_shadows.size(); }
+    int splitLevels() const { return m_splitLevels; }
+
+private:
+    /// The order of the m x m rule alone (a far pair whose factor needs exact visibility takes it).
+    int ruleOrder(PatchId e, PatchId r) const { return m_orders(ruleRatio(e, r)); }
+    /// r's nearest possible point from e's centroid, in e's radii.
+    double ruleRatio(PatchId e, PatchId r) const {
+        const PatchShape& a = m_geometry.shapes[e];
+        const PatchShape& b = m_geometry.shapes[r];
+        return ((b.centroid - a.centroid).norm() - b.radius) / a.radius;
+    }
+    /// Lambert's factor from x (normal n) to the part of receiver r above that plane, 0 when x lies
+    /// behind r; `polygon` and `corners` say which part.
+    double pointFactor(PatchId r, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer, const Vec3*& polygon,
+                       std::size_t& corners) const;
+    /// Patch j's polygon, clipped to the half-space above (x, n) into `buffer` when it straddles
+    /// the plane; returns the corner count (0 when nothing lies above).
+    std::size_t polygonAbove(PatchId j, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer,
+                             const Vec3*& polygon) const;
+    /// A polygon in pieces of 4 corners into s.pieces: one split, two with --jitter.
+    void piecesOf(const Vec3* polygon, std::size_t corners, Scratch& s) const;
+    Vec3 aimPoint(const Vec3* polygon, std::size_t corners, PatchId e, PatchId r, std::uint32_t point,
+                  std::uint32_t piece) const;
+
+    const Scene* m_scene = nullptr;
+    const RayScene* m_rays = nullptr;
+    HemisphereOptions m_options;
+    bool m_visibility = true;
+    PatchGeometry m_geometry;
+    ShadowPolygons m_shadows;  ///< the patches that can obstruct, for exact partial visibility
+    ContactPairs m_contacts;   ///< close pairs, exact (contactPair)
+    double m_exactAbove = 0.0;
+    EmitterOrders m_orders{1.0, 1, 1};  ///< the emitter rule's order per pair (emitter_rule.hpp)
+    FarRule m_far;  ///< the point-to-point kernel for pairs far from each other's horizon
+    double m_farRatio = 0.0;  ///< the smallest FarRule::ratio it serves (0: not used, with --origins > 1)
+    std::vector<std::vector<double>> m_ruleNodes, m_ruleWeights;  ///< Gauss-Legendre on [0, 1] per order
+    int m_splitLevels = 1;  ///< silhouette patches: 1 = split once (4 pieces of a quad), 2 = twice
+};
+
+}  // namespace hemirad
