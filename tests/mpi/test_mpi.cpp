@@ -8,6 +8,7 @@
 #include <doctest/doctest.h>
 
 #include <array>
+#include <set>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -539,6 +540,45 @@ TEST_CASE("Under mpirun the error and the report lines reach their streams in on
     const std::vector<LoggedWrite> worked = loggedWrites(log);
     CHECK_MESSAGE(wroteWhole(worked, 1, fine.output.substr(wrote, fine.output.find('\n', wrote) + 1 - wrote)),
                   describeWrites(worked));
+}
+
+TEST_CASE("A sharded write interrupted between the ranks' shards and the manifest leaves no shard for good") {
+    // issue 35 #17: every rank had renamed its shard into place when Ctrl-C came, before rank 0 wrote
+    // the manifest; those shards, listed nowhere, stayed forever. Rank 0 here is interrupted at the
+    // manifest's rename (a preloaded fault: SIGINT to mpirun, which ends both ranks).
+    const auto dir = tempDir("mpi-interrupted-shards");
+    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 150 --samples 256";
+    const std::string write = std::string(HEMIRAD_BINARY) + " formfactors " + scene + " -o F.hff --shards --threads 1 --quiet";
+    const auto shardFiles = [&dir] {
+        std::set<std::string> names;
+        for (const auto& entry : std::filesystem::directory_iterator(dir))
+            if (entry.path().filename().string().rfind("F.shard-", 0) == 0) names.insert(entry.path().filename().string());
+        return names;
+    };
+    const auto listed = [&dir] {
+        std::set<std::string> names;
+        for (const auto& s : hemirad::readShardManifest((dir / "F.hff").string()).shards) names.insert(s.file);
+        return names;
+    };
+    REQUIRE(runMpirun(dir, "-np 2 " + write).status == 0);
+    const std::set<std::string> before = listed();
+    REQUIRE(shardFiles() == before);
+
+    const Run interrupted = runMpirun(dir, "-np 1 env LD_PRELOAD=" + std::string(HEMIRAD_TEST_INTERRUPT_AT_RENAME) +
+                                               " HEMIRAD_TEST_INTERRUPT_AT=F.hff " + write + " : -np 1 " + write);
+    CHECK(interrupted.status != 0);
+    CHECK(interrupted.status != 124);  // no hang
+    REQUIRE_MESSAGE(count(interrupted.output, "interrupt_at_rename: interrupting") == 1, interrupted.output);
+    CHECK(listed() == before);  // the old manifest and its set are whole
+    std::set<std::string> orphans;
+    for (const std::string& name : shardFiles())
+        if (!before.count(name)) orphans.insert(name);
+    CHECK(orphans.size() == 2);  // both ranks had committed their shard: the fault hit in between
+
+    // The next write of F removes them: only the shards its manifest lists stay.
+    REQUIRE(runMpirun(dir, "-np 2 " + write).status == 0);
+    CHECK(shardFiles() == listed());
+    for (const std::string& name : orphans) CHECK_FALSE(std::filesystem::exists(dir / name));
 }
 
 TEST_CASE("A rank still finalising when mpirun ends the job after an agreed failure does not say it was interrupted") {
