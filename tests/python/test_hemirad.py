@@ -1,5 +1,6 @@
 """The Python module against the command line and closed forms (run by ctest: make test)."""
 
+import glob
 import os
 import signal
 import subprocess
@@ -286,6 +287,17 @@ def test_a_black_scene_needs_no_rows_and_solves_to_its_emission(tmp_path):
     assert hemirad.read_form_factors(tmp_path / "F.hff", scene).shape == (2, 2)
     G, _ = hemirad.form_factors(scene, threads=1, all_rows=True)
     assert G.shape == (2, 2) and G[0, 1] > 0.19
+
+
+@pytest.mark.parametrize("model", sorted(glob.glob(os.path.join(SOURCE, "tests", "data", "black", "*.obj"))))
+def test_every_model_of_the_black_corpus_solves_to_its_emission(model):
+    # issue 35 #6: black bodies (a mirror without Kd, glossy illum 2, relative indices, groups).
+    scene = hemirad.load(model)
+    n = len(scene.area)
+    F, report = hemirad.form_factors(scene, threads=1)
+    assert F.shape == (n, n) and F.nnz == 0 and not report["computed"].any()
+    B, _ = hemirad.solve(scene, F)
+    assert np.array_equal(B, scene.emission) and scene.emission.any()
 
 
 def run_python(script):
