@@ -6,6 +6,7 @@
 #include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/pair_exchange.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
+#include "preprocess/hemisphere/reflectors.hpp"
 #include "preprocess/row_accumulator.hpp"
 #include "rays/mirror_chain.hpp"
 #include "rays/ray_scene.hpp"
@@ -16,20 +17,6 @@
 #include <vector>
 
 namespace hemirad {
-
-/// A planar convex mirror seen as an aperture: an input polygon all of whose patches are mirrors
-/// with one s (a subdivided mirror is one reflector), or else a single mirror patch.
-struct Reflector {
-    std::vector<Vec3> polygon;  ///< convex, counter-clockwise seen from the front
-    Vec3 normal = Vec3::Zero(), centre = Vec3::Zero();
-    double offset = 0.0;        ///< normal . y for every y on the plane
-    double radius = 0.0;        ///< largest centre-to-corner distance
-    double specular = 0.0;
-};
-
-/// The scene's mirrors as reflectors, in `out`. Returns why the image method cannot serve them (a
-/// mirror patch that is not planar or not convex, named by its OBJ line), or an empty string.
-std::string findReflectors(const Scene& scene, std::vector<Reflector>& out);
 
 /// For each point x of the emitter and each reflector m in front of it, x and the emitter's normal
 /// are reflected about m's plane; a receiver seen through m's aperture gets Lambert's exact factor
