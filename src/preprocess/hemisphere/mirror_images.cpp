@@ -8,41 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 namespace hemirad {
-
-/// Where lines through two balls (an emitter image and an aperture) can go beyond the second: the
-/// cone from their inner homothety centre through the second ball. `all` when the balls overlap.
-struct MirrorImages::Cone {
-    bool all = false;
-    Vec3 apex, axis;
-    double sine = 0.0, cosine = 1.0;  ///< of the half-angle
-
-    Cone(const Vec3& c1, double r1, const Vec3& c2, double r2) {
-        const Vec3 d = c2 - c1;
-        const double length = d.norm();
-        if (!(r1 + r2 < length)) {
-            all = true;
-            return;
-        }
-        axis = d / length;
-        apex = c1 + d * (r1 / (r1 + r2));
-        sine = (r1 + r2) / length;
-        cosine = std::sqrt(std::max(0.0, 1.0 - sine * sine));
-    }
-    /// Whether the ball (c, r) can meet the cone: the angle between the axis and c is at most the
-    /// half-angle plus the ball's angular radius asin(r / |c - apex|) (both below pi / 2, so the
-    /// cosines compare; the 1e-12 keeps the test conservative under rounding).
-    bool meets(const Vec3& c, double r) const {
-        if (all) return true;
-        const Vec3 d = c - apex;
-        const double distance2 = d.squaredNorm();
-        if (distance2 <= r * r) return true;
-        const double distance = std::sqrt(distance2);
-        return d.dot(axis) >= cosine * std::sqrt(distance2 - r * r) - sine * r - 1e-12 * distance;
-    }
-};
 
 MirrorImages::MirrorImages(const Scene& scene, const PatchGeometry& geometry, std::vector<Reflector> reflectors,
                            const RayScene& rays, const Settings& settings)
@@ -66,66 +33,6 @@ MirrorImages::MirrorImages(const Scene& scene, const PatchGeometry& geometry, st
         radii.push_back(r.radius);
     }
     m_reflectorTree.build(centres, radii);
-}
-
-void MirrorImages::BallTree::build(const std::vector<Vec3>& centres, const std::vector<double>& radii) {
-    balls.clear();
-    items.resize(centres.size());
-    for (std::uint32_t k = 0; k < items.size(); ++k) items[k] = k;
-    if (!items.empty()) split(centres, radii, 0, std::uint32_t(items.size()));
-}
-
-void MirrorImages::BallTree::split(const std::vector<Vec3>& centres, const std::vector<double>& radii,
-                                   std::uint32_t first, std::uint32_t last) {
-    constexpr std::uint32_t kLeaf = 8;
-    Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity()), high = -low;
-    for (std::uint32_t k = first; k < last; ++k) {
-        low = low.cwiseMin(centres[items[k]]);
-        high = high.cwiseMax(centres[items[k]]);
-    }
-    const std::size_t index = balls.size();
-    balls.emplace_back();
-    Ball ball;
-    ball.centre = 0.5 * (low + high);
-    for (std::uint32_t k = first; k < last; ++k)
-        ball.radius = std::max(ball.radius, (centres[items[k]] - ball.centre).norm() + radii[items[k]]);
-    ball.radius *= 1.0 + 1e-12;
-    if (last - first <= kLeaf) {
-        ball.first = first;
-        ball.count = last - first;
-        balls[index] = ball;
-        return;
-    }
-    int axis = 0;
-    (high - low).maxCoeff(&axis);
-    const std::uint32_t middle = first + (last - first) / 2;
-    std::nth_element(items.begin() + first, items.begin() + middle, items.begin() + last,
-                     [&](std::uint32_t a, std::uint32_t b) {
-                         const double ca = centres[a][axis], cb = centres[b][axis];
-                         return ca < cb || (ca == cb && a < b);
-                     });
-    split(centres, radii, first, middle);
-    ball.right = std::uint32_t(balls.size());
-    split(centres, radii, middle, last);
-    balls[index] = ball;
-}
-
-template <class Keep, class Visit>
-void MirrorImages::BallTree::query(std::vector<std::uint32_t>& stack, Keep keep, Visit visit) const {
-    if (balls.empty()) return;
-    stack.assign(1, 0);
-    while (!stack.empty()) {
-        const std::uint32_t at = stack.back();
-        const Ball& ball = balls[at];
-        stack.pop_back();
-        if (!keep(ball.centre, ball.radius)) continue;
-        if (ball.count == 0) {
-            stack.push_back(ball.right);
-            stack.push_back(at + 1);
-            continue;
-        }
-        for (std::uint32_t k = ball.first; k < ball.first + ball.count; ++k) visit(items[k]);
-    }
 }
 
 MirrorImages::~MirrorImages() = default;
@@ -171,14 +78,14 @@ bool MirrorImages::seesFromEmitter(const PatchShape& e, std::uint32_t k) const {
     return false;
 }
 
-bool MirrorImages::reaches(const Node& node, double r, const Cone& cone, std::uint32_t k) const {
+bool MirrorImages::reaches(const Node& node, double r, const BallCone& cone, std::uint32_t k) const {
     const Reflector& next = m_reflectors[k];
     if (k == node.reflector || !partlyInFront(m_reflectors[node.reflector], next.polygon)) return false;
     if (next.normal.dot(node.image) - next.offset <= -r) return false;
     return cone.meets(next.centre, next.radius);
 }
 
-int MirrorImages::receiverOrder(const Node& node, double r, const Cone& cone, PatchId j) const {
+int MirrorImages::receiverOrder(const Node& node, double r, const BallCone& cone, PatchId j) const {
     const Reflector& m = m_reflectors[node.reflector];
     const PatchShape& t = m_geometry.shapes[j];
     if (m.normal.dot(t.centroid) - m.offset <= -t.radius) return -1;  // behind the mirror
@@ -208,7 +115,7 @@ void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
         if (ws.nodes[q].cutoff) continue;
         const Node node = ws.nodes[q];
         const Reflector& m = m_reflectors[node.reflector];
-        const Cone cone(node.image, r, m.centre, m.radius);
+        const BallCone cone(node.image, r, m.centre, m.radius);
         ws.nodes[q].first = static_cast<std::uint32_t>(ws.receivers.size());
         // Balls wholly behind the mirror or off the cone hold no receiver.
         auto ahead = [&](const Vec3& c, double radius) {
@@ -477,7 +384,7 @@ double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, doub
             if (parent < 0 || ws.nodes[parent].cutoff) continue;
             const Node& up = ws.nodes[parent];
             const Reflector& m = m_reflectors[up.reflector];
-            if (!reaches(up, radius, Cone(up.image, radius, m.centre, m.radius), k)) continue;
+            if (!reaches(up, radius, BallCone(up.image, radius, m.centre, m.radius), k)) continue;
             node = makeNode(ws.nodes, parent, k, up.image);
         }
         nodeOf[p] = std::int32_t(ws.nodes.size());
@@ -485,7 +392,7 @@ double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, doub
         node.first = std::uint32_t(ws.receivers.size());
         if (!node.cutoff) {
             const Reflector& m = m_reflectors[k];
-            const Cone cone(node.image, radius, m.centre, m.radius);
+            const BallCone cone(node.image, radius, m.centre, m.radius);
             auto consider = [&](PatchId j) {
                 if (j != e && !emitsFor(m_scene, e, j)) return;
                 const int order = receiverOrder(node, radius, cone, j);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "preprocess/form_factor_backend.hpp"
+#include "preprocess/hemisphere/ball_tree.hpp"
 #include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/pair_exchange.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
@@ -100,17 +101,16 @@ public:
 
 private:
     static constexpr PatchId kEveryReceiver = ~PatchId(0);
-    struct Cone;  ///< where lines through a node's image ball and its aperture can go on
     void enumerate(PatchId i, Workspace& ws) const;
     /// Whether emitter e can see reflector k at the root of a chain.
     bool seesFromEmitter(const PatchShape& e, std::uint32_t k) const;
     /// Whether the chain ending at `node` (its cone) can reach reflector k next.
-    bool reaches(const Node& node, double r, const Cone& cone, std::uint32_t k) const;
+    bool reaches(const Node& node, double r, const BallCone& cone, std::uint32_t k) const;
     /// The node from `parent` in `nodes` (-1: the emitter) through reflector k; `from` is the
     /// parent's image (the emitter's centroid at the root).
     Node makeNode(const std::vector<Node>& nodes, std::int32_t parent, std::uint32_t k, const Vec3& from) const;
     /// Receiver j's rule order through `node` when j can be seen through it, else -1.
-    int receiverOrder(const Node& node, double r, const Cone& cone, PatchId j) const;
+    int receiverOrder(const Node& node, double r, const BallCone& cone, PatchId j) const;
     /// Adds the terms from emitter i's points of `order` to ws.sums (every receiver marked mine, or
     /// `only`); the power cut off is counted for every receiver's pass only (the row's own).
     void evaluate(PatchId i, int order, PatchId only, double unit, Workspace& ws, RayCounts& counts) const;
@@ -139,29 +139,6 @@ private:
                      const Vec3& targetNormal, Workspace& ws, RayCounts& counts) const;
     /// Receiver j's part seen through node q's aperture (into ws.clipped); false when empty.
     bool clipReceiver(std::size_t q, PatchId j, Workspace& ws) const;
-
-    /// Balls around items (patches, reflectors) in a tree (median splits, preorder): a chain's
-    /// receivers and next reflectors are found by descending where a ball can be in front of the
-    /// mirror and meet the chain's cone.
-    struct BallTree {
-        struct Ball {
-            Vec3 centre = Vec3::Zero();
-            double radius = 0.0;
-            std::uint32_t first = 0, count = 0;  ///< leaf: its items; inner: count 0
-            std::uint32_t right = 0;             ///< inner: the second child (the first follows this ball)
-        };
-        std::vector<Ball> balls;
-        std::vector<std::uint32_t> items;
-        void build(const std::vector<Vec3>& centres, const std::vector<double>& radii);
-        /// Calls visit(item) for every item in a leaf whose ball `keep(centre, radius)` accepts
-        /// (and all its ancestors').
-        template <class Keep, class Visit>
-        void query(std::vector<std::uint32_t>& stack, Keep keep, Visit visit) const;
-
-    private:
-        void split(const std::vector<Vec3>& centres, const std::vector<double>& radii, std::uint32_t first,
-                   std::uint32_t last);
-    };
 
     const Scene& m_scene;
     const PatchGeometry& m_geometry;
