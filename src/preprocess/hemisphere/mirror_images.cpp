@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hemirad {
 
@@ -95,29 +96,58 @@ int MirrorImages::receiverOrder(const Node& node, double r, const BallCone& cone
     return m_orders(ratio);
 }
 
-void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
+// The chain order, the one order in which an emitter's chains become nodes: the reflectors seen
+// straight from the emitter by index, then breadth first, each node's next reflectors by index;
+// that is, the chains by length, then lexicographically by reflector. evaluate adds a receiver's
+// terms per rule, per emitter point, per node in node order, so the pair recomputed from its
+// emitter along some of the chains (pairTerms) sums its terms in the very order of the emitting
+// row, equal bit for bit, because both rows build their nodes here, with the same checks
+// (seesFromEmitter, reaches, makeNode's cut-offs). Only the candidates differ: roots(candidates)
+// appends the first reflectors to try, expand(q, node, cone, candidates) node q's receivers (to
+// ws.receivers and ws.orders) and the next reflectors to try, both in any order, repeats allowed.
+template <class Roots, class Expand>
+void MirrorImages::inChainOrder(PatchId i, std::size_t maxNodes, Roots roots, Expand expand, Workspace& ws) const {
     const PatchShape& e = m_geometry.shapes[i];
     const double r = e.radius;
     ws.nodes.clear();
     ws.receivers.clear();
     ws.orders.clear();
-    auto push = [&](const Node& node) {
-        if (ws.nodes.size() >= m_settings.maxChains)
-            throw Error("mirror images: patch " + std::to_string(i) + " sees more than " +
-                        std::to_string(m_settings.maxChains) +
-                        " chains of mirrors; lower --max-depth or raise --min-weight, or use --mirror-estimator rays");
-        ws.nodes.push_back(node);
+    // The candidates by index, each once, those that pass `keep` made nodes from `parent`.
+    auto push = [&](std::int32_t parent, const Vec3& from, auto keep) {
+        std::sort(ws.next.begin(), ws.next.end());
+        ws.next.erase(std::unique(ws.next.begin(), ws.next.end()), ws.next.end());
+        for (const std::uint32_t k : ws.next) {
+            if (!keep(k)) continue;
+            if (ws.nodes.size() >= maxNodes)
+                throw Error("mirror images: patch " + std::to_string(i) + " sees more than " + std::to_string(maxNodes) +
+                            " chains of mirrors; lower --max-depth or raise --min-weight, or use --mirror-estimator rays");
+            ws.nodes.push_back(makeNode(ws.nodes, parent, k, from));
+        }
     };
-    // Breadth first, children by reflector: pairTerms rebuilds a part of this order.
-    for (std::uint32_t k = 0; k < m_reflectors.size(); ++k)
-        if (seesFromEmitter(e, k)) push(makeNode(ws.nodes, -1, k, e.centroid));
+    ws.next.clear();
+    roots(ws.next);
+    push(-1, e.centroid, [&](std::uint32_t k) { return seesFromEmitter(e, k); });
     for (std::size_t q = 0; q < ws.nodes.size(); ++q) {
         if (ws.nodes[q].cutoff) continue;
         const Node node = ws.nodes[q];
         const Reflector& m = m_reflectors[node.reflector];
         const BallCone cone(node.image, r, m.centre, m.radius);
         ws.nodes[q].first = static_cast<std::uint32_t>(ws.receivers.size());
-        // Balls wholly behind the mirror or off the cone hold no receiver.
+        ws.next.clear();
+        expand(q, node, cone, ws.next);
+        ws.nodes[q].count = static_cast<std::uint32_t>(ws.receivers.size()) - ws.nodes[q].first;
+        push(std::int32_t(q), node.image, [&](std::uint32_t k) { return reaches(node, r, cone, k); });
+    }
+}
+
+void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
+    const double r = m_geometry.shapes[i].radius;
+    auto roots = [&](std::vector<std::uint32_t>& candidates) {
+        for (std::uint32_t k = 0; k < m_reflectors.size(); ++k) candidates.push_back(k);
+    };
+    auto expand = [&](std::size_t, const Node& node, const BallCone& cone, std::vector<std::uint32_t>& candidates) {
+        // Balls wholly behind the mirror or off the cone hold no receiver and no next reflector.
+        const Reflector& m = m_reflectors[node.reflector];
         auto ahead = [&](const Vec3& c, double radius) {
             return m.normal.dot(c) - m.offset > -radius && cone.meets(c, radius);
         };
@@ -127,16 +157,9 @@ void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
             ws.receivers.push_back(j);
             ws.orders.push_back(static_cast<std::uint16_t>(order));
         });
-        ws.nodes[q].count = static_cast<std::uint32_t>(ws.receivers.size()) - ws.nodes[q].first;
-        // The next reflectors, in index order (pairTerms rebuilds this order).
-        ws.next.clear();
-        m_reflectorTree.query(ws.stack, ahead, [&](std::uint32_t k) {
-            if (reaches(node, r, cone, k)) ws.next.push_back(k);
-        });
-        std::sort(ws.next.begin(), ws.next.end());
-        for (const std::uint32_t k : ws.next)
-            push(makeNode(ws.nodes, std::int32_t(q), k, node.image));
-    }
+        m_reflectorTree.query(ws.stack, ahead, [&](std::uint32_t k) { candidates.push_back(k); });
+    };
+    inChainOrder(i, m_settings.maxChains, roots, expand, ws);
 }
 
 void MirrorImages::appendPath(std::size_t node, const Vec3& emitterPoint, const Vec3& emitterNormal, const Vec3& target,
@@ -351,64 +374,51 @@ void MirrorImages::addRow(PatchId i, RowAccumulator& row, double unit, PairExcha
 
 double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, double unit, Workspace& ws,
                                RayCounts& counts) const {
-    // e's nodes on these chains, in enumerate's order (breadth first, then by reflector: the
-    // chains' prefixes by length, then lexicographically), each checked as enumerate checks it.
-    const auto shorterOrBefore = [](const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
-        return a.size() != b.size() ? a.size() < b.size() : a < b;
+    // e's nodes on the chains in from.chains (each from e's side), found as enumerate finds them.
+    // The chains sorted lexicographically: those through a node, a run of them (ws.spans).
+    const std::vector<std::vector<std::uint32_t>>& chains = from.chains;
+    ws.ranked.resize(chains.size());
+    for (std::uint32_t c = 0; c < chains.size(); ++c) ws.ranked[c] = c;
+    std::sort(ws.ranked.begin(), ws.ranked.end(), [&](std::uint32_t a, std::uint32_t b) { return chains[a] < chains[b]; });
+    ws.spans.clear();
+    const double radius = m_geometry.shapes[e].radius;
+    auto roots = [&](std::vector<std::uint32_t>& candidates) {
+        for (const std::vector<std::uint32_t>& chain : chains) candidates.push_back(chain[0]);
     };
-    std::vector<std::vector<std::uint32_t>> prefixes;
-    for (const std::vector<std::uint32_t>& chain : from.chains)
-        for (std::size_t length = 1; length <= chain.size(); ++length)
-            prefixes.emplace_back(chain.begin(), chain.begin() + std::ptrdiff_t(length));
-    std::sort(prefixes.begin(), prefixes.end(), shorterOrBefore);
-    prefixes.erase(std::unique(prefixes.begin(), prefixes.end()), prefixes.end());
-    const PatchShape& emitter = m_geometry.shapes[e];
-    const double radius = emitter.radius;
-    ws.nodes.clear();
-    ws.receivers.clear();
-    ws.orders.clear();
-    std::vector<std::int32_t> nodeOf(prefixes.size(), -1);  // per prefix: its node, -1 when e has none
-    ws.used.assign(std::size_t(m_orders.highest()) + 1, 0);
-    for (std::size_t p = 0; p < prefixes.size(); ++p) {
-        const std::vector<std::uint32_t>& chain = prefixes[p];
-        const std::uint32_t k = chain.back();
-        Node node;
-        if (chain.size() == 1) {
-            if (!seesFromEmitter(emitter, k)) continue;
-            node = makeNode(ws.nodes, -1, k, emitter.centroid);
-        } else {
-            // The parent is an earlier prefix (shorter): found by binary search.
-            const std::vector<std::uint32_t> parentChain(chain.begin(), chain.end() - 1);
-            const auto at = std::lower_bound(prefixes.begin(), prefixes.begin() + std::ptrdiff_t(p), parentChain, shorterOrBefore);
-            const std::int32_t parent = nodeOf[std::size_t(at - prefixes.begin())];
-            if (parent < 0 || ws.nodes[parent].cutoff) continue;
-            const Node& up = ws.nodes[parent];
-            const Reflector& m = m_reflectors[up.reflector];
-            if (!reaches(up, radius, BallCone(up.image, radius, m.centre, m.radius), k)) continue;
-            node = makeNode(ws.nodes, parent, k, up.image);
+    auto expand = [&](std::size_t q, const Node& node, const BallCone& cone, std::vector<std::uint32_t>& candidates) {
+        // The parent's run narrowed to the chains whose next reflector (at depth - 1) is this node's.
+        const std::size_t depth = node.depth;
+        const auto begin = ws.ranked.begin();
+        auto first = begin, last = ws.ranked.end();
+        if (node.parent >= 0) {
+            first = begin + ws.spans[std::size_t(node.parent)].first;
+            last = begin + ws.spans[std::size_t(node.parent)].second;
         }
-        nodeOf[p] = std::int32_t(ws.nodes.size());
+        const auto at = [&](std::uint32_t c) { return chains[c].size() < depth ? -1 : std::int64_t(chains[c][depth - 1]); };
+        const std::int64_t k = node.reflector;
+        first = std::partition_point(first, last, [&](std::uint32_t c) { return at(c) < k; });
+        last = std::partition_point(first, last, [&](std::uint32_t c) { return at(c) == k; });
+        if (ws.spans.size() <= q) ws.spans.resize(q + 1);
+        ws.spans[q] = {std::uint32_t(first - begin), std::uint32_t(last - begin)};
+        for (auto c = first; c != last; ++c)
+            if (chains[*c].size() > depth) candidates.push_back(chains[*c][depth]);
         // Its receivers: r, and r's mesh neighbours for the silhouette test (those e emits for).
-        node.first = std::uint32_t(ws.receivers.size());
-        if (!node.cutoff) {
-            const Reflector& m = m_reflectors[k];
-            const BallCone cone(node.image, radius, m.centre, m.radius);
-            auto consider = [&](PatchId j) {
-                if (j != e && !emitsFor(m_scene, e, j)) return;
-                const int order = receiverOrder(node, radius, cone, j);
-                if (order < 0) return;
-                ws.receivers.push_back(j);
-                ws.orders.push_back(static_cast<std::uint16_t>(order));
-                if (j == r) ws.used[std::size_t(order)] = 1;
-            };
-            consider(r);
-            if (m_settings.visibility)  // statuses matter only with shadow rays
-                for (std::uint32_t n = m_geometry.neighbourStart[r]; n < m_geometry.neighbourStart[r + 1]; ++n)
-                    if (m_geometry.neighbours[n] != r) consider(m_geometry.neighbours[n]);
-        }
-        node.count = std::uint32_t(ws.receivers.size()) - node.first;
-        ws.nodes.push_back(node);
-    }
+        auto consider = [&](PatchId j) {
+            if (j != e && !emitsFor(m_scene, e, j)) return;
+            const int order = receiverOrder(node, radius, cone, j);
+            if (order < 0) return;
+            ws.receivers.push_back(j);
+            ws.orders.push_back(static_cast<std::uint16_t>(order));
+        };
+        consider(r);
+        if (m_settings.visibility)  // statuses matter only with shadow rays
+            for (std::uint32_t n = m_geometry.neighbourStart[r]; n < m_geometry.neighbourStart[r + 1]; ++n)
+                if (m_geometry.neighbours[n] != r) consider(m_geometry.neighbours[n]);
+    };
+    inChainOrder(e, std::numeric_limits<std::size_t>::max(), roots, expand, ws);
+    ws.used.assign(std::size_t(m_orders.highest()) + 1, 0);
+    for (std::size_t k = 0; k < ws.receivers.size(); ++k)
+        if (ws.receivers[k] == r) ws.used[ws.orders[k]] = 1;
     ws.mine.assign(ws.receivers.size(), 1);
     for (int order = m_lowest; order <= m_orders.highest(); ++order)
         if (ws.used[std::size_t(order)]) evaluate(e, order, r, unit, ws, counts);

@@ -60,7 +60,9 @@ public:
         std::vector<std::uint16_t> orders;  // emitter rule per (node, receiver): up to 256 (--origins 65536)
         std::vector<std::uint8_t> used;     // per order: some receiver takes that rule
         std::vector<std::uint32_t> stack;  // balls still to visit
-        std::vector<std::uint32_t> next;   // a node's next reflectors
+        std::vector<std::uint32_t> next;   // a node's next reflectors to try
+        std::vector<std::uint32_t> ranked;  // a pair's chains sorted
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;  // per node: its run of them in `ranked`
         // Per emitter point: each node's image of the point and of the normal, and its aperture.
         std::vector<Vec3> apex, axis;
         std::vector<std::vector<Vec3>> apertures;
@@ -101,7 +103,13 @@ public:
 
 private:
     static constexpr PatchId kEveryReceiver = ~PatchId(0);
+    /// Every chain from emitter i, with every receiver seen through it, into ws.nodes,
+    /// ws.receivers and ws.orders.
     void enumerate(PatchId i, Workspace& ws) const;
+    /// Emitter i's chains in the chain order (at its definition) into ws.nodes, ws.receivers and
+    /// ws.orders; `roots` and `expand` name the reflectors and receivers to try.
+    template <class Roots, class Expand>
+    void inChainOrder(PatchId i, std::size_t maxNodes, Roots roots, Expand expand, Workspace& ws) const;
     /// Whether emitter e can see reflector k at the root of a chain.
     bool seesFromEmitter(const PatchShape& e, std::uint32_t k) const;
     /// Whether the chain ending at `node` (its cone) can reach reflector k next.
