@@ -3,10 +3,10 @@
 #pragma once
 
 #include "preprocess/form_factor_backend.hpp"
-#include "preprocess/hemisphere/ball_tree.hpp"
 #include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/pair_exchange.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
+#include "preprocess/hemisphere/reflector_chains.hpp"
 #include "preprocess/hemisphere/reflectors.hpp"
 #include "preprocess/row_accumulator.hpp"
 #include "rays/mirror_chain.hpp"
@@ -42,27 +42,10 @@ public:
         std::size_t maxChains = 200000;  ///< per row; more is refused with advice
     };
 
-    /// A chain of reflectors ending at `reflector`, enumerated per emitter.
-    struct Node {
-        std::int32_t parent;        ///< -1: reflected straight from the emitter
-        std::uint32_t reflector;
-        std::uint32_t depth;
-        double weight;              ///< product of the s met, this reflector's included
-        Vec3 image;                 ///< the emitter's centroid reflected along the chain
-        std::uint32_t first = 0, count = 0;  ///< receivers in Workspace::receivers
-        bool cutoff = false;        ///< past --max-depth or --min-weight: only the power reaching it is counted
-    };
-
     /// Per-thread scratch.
     struct Workspace {
-        std::vector<Node> nodes;
-        std::vector<PatchId> receivers;
-        std::vector<std::uint16_t> orders;  // emitter rule per (node, receiver): up to 256 (--origins 65536)
+        EmitterChains chains;               // the row's emitter's chains (its own, or a pair's)
         std::vector<std::uint8_t> used;     // per order: some receiver takes that rule
-        std::vector<std::uint32_t> stack;  // balls still to visit
-        std::vector<std::uint32_t> next;   // a node's next reflectors to try
-        std::vector<std::uint32_t> ranked;  // a pair's chains sorted
-        std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;  // per node: its run of them in `ranked`
         // Per emitter point: each node's image of the point and of the normal, and its aperture.
         std::vector<Vec3> apex, axis;
         std::vector<std::vector<Vec3>> apertures;
@@ -84,7 +67,7 @@ public:
         std::vector<float> published;
         std::vector<PairExchange::Entry> taken, outgoing;
         std::vector<std::pair<PatchId, std::uint32_t>> pending;  // (emitter, this row's node seeing it)
-        std::vector<std::vector<std::uint32_t>> chains;          // an emitter's chains (reflectors) toward this row
+        std::vector<std::vector<std::uint32_t>> reversed;        // an emitter's chains toward this row, from its side
         std::unique_ptr<Workspace> pair;  // a pair recomputed from its emitter
     };
 
@@ -99,26 +82,10 @@ public:
                 RayCounts& counts) const;
 
     std::unique_ptr<Workspace> workspace() const;
-    std::size_t reflectorCount() const { return m_reflectors.size(); }
+    std::size_t reflectorCount() const { return m_chains.size(); }
 
 private:
     static constexpr PatchId kEveryReceiver = ~PatchId(0);
-    /// Every chain from emitter i, with every receiver seen through it, into ws.nodes,
-    /// ws.receivers and ws.orders.
-    void enumerate(PatchId i, Workspace& ws) const;
-    /// Emitter i's chains in the chain order (at its definition) into ws.nodes, ws.receivers and
-    /// ws.orders; `roots` and `expand` name the reflectors and receivers to try.
-    template <class Roots, class Expand>
-    void inChainOrder(PatchId i, std::size_t maxNodes, Roots roots, Expand expand, Workspace& ws) const;
-    /// Whether emitter e can see reflector k at the root of a chain.
-    bool seesFromEmitter(const PatchShape& e, std::uint32_t k) const;
-    /// Whether the chain ending at `node` (its cone) can reach reflector k next.
-    bool reaches(const Node& node, double r, const BallCone& cone, std::uint32_t k) const;
-    /// The node from `parent` in `nodes` (-1: the emitter) through reflector k; `from` is the
-    /// parent's image (the emitter's centroid at the root).
-    Node makeNode(const std::vector<Node>& nodes, std::int32_t parent, std::uint32_t k, const Vec3& from) const;
-    /// Receiver j's rule order through `node` when j can be seen through it, else -1.
-    int receiverOrder(const Node& node, double r, const BallCone& cone, PatchId j) const;
     /// Adds the terms from emitter i's points of `order` to ws.sums (every receiver marked mine, or
     /// `only`); the power cut off is counted for every receiver's pass only (the row's own).
     void evaluate(PatchId i, int order, PatchId only, double unit, Workspace& ws, RayCounts& counts) const;
@@ -127,7 +94,7 @@ private:
     /// ws.sums added to `row` and as the entries the exchange hands over (ws.outgoing); clears them.
     void collect(PatchId i, RowAccumulator& row, double unit, Workspace& ws) const;
     /// Emitter e's terms for receiver r (ray units), as row e sums them, along the chains in
-    /// `from.chains` (each from e's side); `ws` is scratch.
+    /// `from.reversed` (each from e's side); `ws` is scratch.
     double pairTerms(PatchId e, PatchId r, const Workspace& from, double unit, Workspace& ws, RayCounts& counts) const;
     void addTerm(PatchId j, double value, Workspace& ws) const {
         if (!ws.summed[j]) {
@@ -150,12 +117,10 @@ private:
 
     const Scene& m_scene;
     const PatchGeometry& m_geometry;
-    BallTree m_patchTree, m_reflectorTree;
-    std::vector<Reflector> m_reflectors;
+    ReflectorChains m_chains;
     const RayScene& m_rays;
     Settings m_settings;
-    int m_lowest, m_near;
-    EmitterOrders m_orders;  ///< per (chain, receiver), from the distance to the emitter's image
+    int m_lowest;  ///< the lowest emitter rule, run for every row (it counts what is cut off)
     std::vector<std::vector<double>> m_ruleNodes, m_ruleWeights;  ///< Gauss-Legendre per order
     double m_flat;  ///< 1e-9 of the scene's size: nearer a plane than this is on it
 };
