@@ -3,7 +3,6 @@
 #pragma once
 
 #include "preprocess/form_factor_backend.hpp"
-#include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/pair_exchange.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
 #include "preprocess/hemisphere/reflector_chains.hpp"
