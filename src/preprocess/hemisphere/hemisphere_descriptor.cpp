@@ -2,6 +2,7 @@
 #include "preprocess/backend_registry.hpp"
 #include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/hemisphere_backend.hpp"
+#include "preprocess/hemisphere/reflectors.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -1,211 +1,25 @@
-// Virtual images through planar mirrors: chains enumerated per emitter with a conservative cone,
-// then evaluated per emitter point by clipping each receiver to the aperture's cone.
+// Virtual images through planar mirrors: an emitter's chains (reflector_chains.hpp) evaluated per
+// emitter point by clipping each receiver to the aperture's cone, and the pairs through mirrors
+// shared between their two rows.
 #include "preprocess/hemisphere/mirror_images.hpp"
 
-#include "engine/error.hpp"
-#include "engine/polygon.hpp"
 #include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/point_polygon.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
 
 namespace hemirad {
-namespace {
-
-Vec3 reflectPoint(const Reflector& r, const Vec3& p) { return p - 2.0 * (r.normal.dot(p) - r.offset) * r.normal; }
-Vec3 reflectDirection(const Reflector& r, const Vec3& d) { return d - 2.0 * r.normal.dot(d) * r.normal; }
-
-/// Clips `polygon` to the cone from `apex` through the convex `aperture`; the result in `out`.
-void clipToCone(const Vec3& apex, const std::vector<Vec3>& aperture, std::vector<Vec3>& polygon,
-                std::vector<Vec3>& scratch) {
-    const Vec3 middle = vertexMean(aperture.data(), aperture.size());
-    for (std::size_t k = 0; k < aperture.size() && !polygon.empty(); ++k) {
-        const Vec3& a = aperture[k];
-        const Vec3& b = aperture[(k + 1) % aperture.size()];
-        Vec3 n = (a - apex).cross(b - apex);
-        if (n.dot(middle - apex) < 0.0) n = -n;
-        clipAbovePlane(apex, n, polygon.data(), polygon.size(), scratch);
-        polygon.swap(scratch);
-    }
-}
-
-/// Whether some corner lies in front of the mirror's plane (not on it: a coplanar mirror is never
-/// reached after this one).
-bool partlyInFront(const Reflector& m, const std::vector<Vec3>& polygon) {
-    const double tolerance = 1e-9 * std::max(m.radius, 1e-300);
-    for (const Vec3& p : polygon)
-        if (m.normal.dot(p) - m.offset > tolerance) return true;
-    return false;
-}
-
-}  // namespace
-
-/// Where lines through two balls (an emitter image and an aperture) can go beyond the second: the
-/// cone from their inner homothety centre through the second ball. `all` when the balls overlap.
-struct MirrorImages::Cone {
-    bool all = false;
-    Vec3 apex, axis;
-    double sine = 0.0, cosine = 1.0;  ///< of the half-angle
-
-    Cone(const Vec3& c1, double r1, const Vec3& c2, double r2) {
-        const Vec3 d = c2 - c1;
-        const double length = d.norm();
-        if (!(r1 + r2 < length)) {
-            all = true;
-            return;
-        }
-        axis = d / length;
-        apex = c1 + d * (r1 / (r1 + r2));
-        sine = (r1 + r2) / length;
-        cosine = std::sqrt(std::max(0.0, 1.0 - sine * sine));
-    }
-    /// Whether the ball (c, r) can meet the cone: the angle between the axis and c is at most the
-    /// half-angle plus the ball's angular radius asin(r / |c - apex|) (both below pi / 2, so the
-    /// cosines compare; the 1e-12 keeps the test conservative under rounding).
-    bool meets(const Vec3& c, double r) const {
-        if (all) return true;
-        const Vec3 d = c - apex;
-        const double distance2 = d.squaredNorm();
-        if (distance2 <= r * r) return true;
-        const double distance = std::sqrt(distance2);
-        return d.dot(axis) >= cosine * std::sqrt(distance2 - r * r) - sine * r - 1e-12 * distance;
-    }
-};
-
-std::string findReflectors(const Scene& scene, std::vector<Reflector>& out) {
-    out.clear();
-    auto describe = [&](PatchId j, const char* what) {
-        const Patch& p = scene.patches[j];
-        return scene.path + (p.sourceLine > 0 ? ":" + std::to_string(p.sourceLine) : std::string()) +
-               ": mirror patch " + std::to_string(j) + " is " + what;
-    };
-    auto add = [&](const std::vector<Vec3>& polygon, double specular) {
-        const PolygonMeasures m = measurePolygon(polygon);
-        Reflector r;
-        r.polygon = polygon;
-        r.normal = m.normal;
-        r.centre = m.centroid;
-        r.offset = m.normal.dot(m.centroid);
-        for (const Vec3& p : polygon) r.radius = std::max(r.radius, (p - m.centroid).norm());
-        r.specular = specular;
-        out.push_back(std::move(r));
-        return m;
-    };
-    const double flat = 1e-9 * scene.extent();
-    std::vector<std::uint8_t> done(scene.size(), 0);
-    // A parent polygon whose patches are all mirrors of one s is one reflector (its patches tile it).
-    for (const Parent& parent : scene.parents) {
-        if (parent.patchCount < 2) continue;
-        const double s = scene.patches[parent.firstPatch].specular;
-        bool uniform = s > 0.0;
-        for (PatchId j = parent.firstPatch; j < parent.firstPatch + parent.patchCount && uniform; ++j)
-            uniform = scene.patches[j].specular == s;
-        if (!uniform) continue;
-        std::vector<Vec3> polygon;
-        for (std::uint32_t k = 0; k < parent.cornerCount; ++k)
-            polygon.push_back(scene.vertices[scene.parentCorners[parent.firstCorner + k]]);
-        const PolygonMeasures m = measurePolygon(polygon);
-        if (!(m.area > 0.0) || m.planarDeviation > flat || !m.convex) continue;  // its patches on their own below
-        add(polygon, s);
-        for (PatchId j = parent.firstPatch; j < parent.firstPatch + parent.patchCount; ++j) done[j] = 1;
-    }
-    for (PatchId j = 0; j < scene.size(); ++j) {
-        if (done[j] || scene.patches[j].specular <= 0.0) continue;
-        const PolygonMeasures m = add(scene.polygon(j), scene.patches[j].specular);
-        if (!(m.area > 0.0)) {
-            out.pop_back();  // a degenerate patch reflects nothing
-            continue;
-        }
-        if (m.planarDeviation > flat) return describe(j, "not planar");
-        if (!m.convex) return describe(j, "not convex");
-    }
-    return {};
-}
 
 MirrorImages::MirrorImages(const Scene& scene, const PatchGeometry& geometry, std::vector<Reflector> reflectors,
                            const RayScene& rays, const Settings& settings)
-    : m_scene(scene), m_geometry(geometry), m_reflectors(std::move(reflectors)), m_rays(rays), m_settings(settings),
-      m_lowest(farOrder(settings.origins)), m_near(nearOrder(settings.origins)),
-      m_orders(settings.tolerance, m_lowest, m_near), m_flat(1e-9 * scene.extent()) {
-    m_ruleNodes.resize(std::size_t(m_orders.highest()) + 1);
+    : m_scene(scene), m_geometry(geometry),
+      m_chains(scene, geometry, std::move(reflectors), settings.limits,
+               EmitterOrders(settings.tolerance, farOrder(settings.origins), nearOrder(settings.origins)), settings.maxChains),
+      m_rays(rays), m_settings(settings), m_lowest(farOrder(settings.origins)), m_flat(1e-9 * scene.extent()) {
+    m_ruleNodes.resize(std::size_t(m_chains.orders().highest()) + 1);
     m_ruleWeights.resize(m_ruleNodes.size());
-    for (int m = std::max(2, m_lowest); m <= m_orders.highest(); ++m) gaussLegendre(m, m_ruleNodes[m], m_ruleWeights[m]);
-    std::vector<Vec3> centres;
-    std::vector<double> radii;
-    for (const PatchShape& t : geometry.shapes) {
-        centres.push_back(t.centroid);
-        radii.push_back(t.radius);
-    }
-    m_patchTree.build(centres, radii);
-    centres.clear();
-    radii.clear();
-    for (const Reflector& r : m_reflectors) {
-        centres.push_back(r.centre);
-        radii.push_back(r.radius);
-    }
-    m_reflectorTree.build(centres, radii);
-}
-
-void MirrorImages::BallTree::build(const std::vector<Vec3>& centres, const std::vector<double>& radii) {
-    balls.clear();
-    items.resize(centres.size());
-    for (std::uint32_t k = 0; k < items.size(); ++k) items[k] = k;
-    if (!items.empty()) split(centres, radii, 0, std::uint32_t(items.size()));
-}
-
-void MirrorImages::BallTree::split(const std::vector<Vec3>& centres, const std::vector<double>& radii,
-                                   std::uint32_t first, std::uint32_t last) {
-    constexpr std::uint32_t kLeaf = 8;
-    Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity()), high = -low;
-    for (std::uint32_t k = first; k < last; ++k) {
-        low = low.cwiseMin(centres[items[k]]);
-        high = high.cwiseMax(centres[items[k]]);
-    }
-    const std::size_t index = balls.size();
-    balls.emplace_back();
-    Ball ball;
-    ball.centre = 0.5 * (low + high);
-    for (std::uint32_t k = first; k < last; ++k)
-        ball.radius = std::max(ball.radius, (centres[items[k]] - ball.centre).norm() + radii[items[k]]);
-    ball.radius *= 1.0 + 1e-12;
-    if (last - first <= kLeaf) {
-        ball.first = first;
-        ball.count = last - first;
-        balls[index] = ball;
-        return;
-    }
-    int axis = 0;
-    (high - low).maxCoeff(&axis);
-    const std::uint32_t middle = first + (last - first) / 2;
-    std::nth_element(items.begin() + first, items.begin() + middle, items.begin() + last,
-                     [&](std::uint32_t a, std::uint32_t b) {
-                         const double ca = centres[a][axis], cb = centres[b][axis];
-                         return ca < cb || (ca == cb && a < b);
-                     });
-    split(centres, radii, first, middle);
-    ball.right = std::uint32_t(balls.size());
-    split(centres, radii, middle, last);
-    balls[index] = ball;
-}
-
-template <class Keep, class Visit>
-void MirrorImages::BallTree::query(std::vector<std::uint32_t>& stack, Keep keep, Visit visit) const {
-    if (balls.empty()) return;
-    stack.assign(1, 0);
-    while (!stack.empty()) {
-        const std::uint32_t at = stack.back();
-        const Ball& ball = balls[at];
-        stack.pop_back();
-        if (!keep(ball.centre, ball.radius)) continue;
-        if (ball.count == 0) {
-            stack.push_back(ball.right);
-            stack.push_back(at + 1);
-            continue;
-        }
-        for (std::uint32_t k = ball.first; k < ball.first + ball.count; ++k) visit(items[k]);
-    }
+    for (int m = std::max(2, m_lowest); m <= m_chains.orders().highest(); ++m)
+        gaussLegendre(m, m_ruleNodes[m], m_ruleWeights[m]);
 }
 
 MirrorImages::~MirrorImages() = default;
@@ -217,99 +31,6 @@ std::unique_ptr<MirrorImages::Workspace> MirrorImages::workspace() const {
     ws->sums.assign(m_geometry.shapes.size(), 0.0);
     ws->published.assign(m_geometry.shapes.size(), -1.0f);
     return ws;
-}
-
-MirrorImages::Node MirrorImages::makeNode(const std::vector<Node>& nodes, std::int32_t parent, std::uint32_t k,
-                                          const Vec3& from) const {
-    // The product of the s met, multiplied smallest first: the same bits for the chain and its
-    // reverse, so that both rows of a pair cut it off alike at --min-weight.
-    thread_local std::vector<double> s;
-    s.assign(1, m_reflectors[k].specular);
-    for (std::int32_t q = parent; q >= 0; q = nodes[q].parent) s.push_back(m_reflectors[nodes[q].reflector].specular);
-    std::sort(s.begin(), s.end());
-    double weight = 1.0;
-    for (const double factor : s) weight *= factor;
-    const std::uint32_t depth = parent < 0 ? 1 : nodes[parent].depth + 1;
-    Node node{parent, k, depth, weight, reflectPoint(m_reflectors[k], from)};
-    node.cutoff = depth > m_settings.limits.maxDepth || weight < m_settings.limits.minWeight;
-    return node;
-}
-
-bool MirrorImages::seesFromEmitter(const PatchShape& e, std::uint32_t k) const {
-    // Partly above the emitter's plane, the emitter partly in front, each by more than rounding: a
-    // mirror in the emitter's own plane (another pane of its facade) reflects nothing to it (with
-    // a tolerance of 0, a normal 1e-17 off made such panes "seen", and their images, on the
-    // emitter itself, sent 0.8 of its hemisphere a second time).
-    const Reflector& m = m_reflectors[k];
-    if (m.normal.dot(e.centroid) - m.offset <= -e.radius) return false;
-    bool inFront = false;
-    for (std::uint32_t c = 0; c < e.count && !inFront; ++c)
-        inFront = m.normal.dot(m_geometry.corners[e.first + c]) - m.offset > m_flat;
-    if (!inFront) return false;
-    for (const Vec3& p : m.polygon)
-        if (e.normal.dot(p - e.centroid) > m_flat) return true;
-    return false;
-}
-
-bool MirrorImages::reaches(const Node& node, double r, const Cone& cone, std::uint32_t k) const {
-    const Reflector& next = m_reflectors[k];
-    if (k == node.reflector || !partlyInFront(m_reflectors[node.reflector], next.polygon)) return false;
-    if (next.normal.dot(node.image) - next.offset <= -r) return false;
-    return cone.meets(next.centre, next.radius);
-}
-
-int MirrorImages::receiverOrder(const Node& node, double r, const Cone& cone, PatchId j) const {
-    const Reflector& m = m_reflectors[node.reflector];
-    const PatchShape& t = m_geometry.shapes[j];
-    if (m.normal.dot(t.centroid) - m.offset <= -t.radius) return -1;  // behind the mirror
-    if (t.normal.dot(node.image - t.centroid) <= -r) return -1;        // faces away from every image point
-    if (!cone.meets(t.centroid, t.radius)) return -1;
-    const double ratio = std::max(0.0, (t.centroid - node.image).norm() - t.radius) / r;
-    return m_orders(ratio);
-}
-
-void MirrorImages::enumerate(PatchId i, Workspace& ws) const {
-    const PatchShape& e = m_geometry.shapes[i];
-    const double r = e.radius;
-    ws.nodes.clear();
-    ws.receivers.clear();
-    ws.orders.clear();
-    auto push = [&](const Node& node) {
-        if (ws.nodes.size() >= m_settings.maxChains)
-            throw Error("mirror images: patch " + std::to_string(i) + " sees more than " +
-                        std::to_string(m_settings.maxChains) +
-                        " chains of mirrors; lower --max-depth or raise --min-weight, or use --mirror-estimator rays");
-        ws.nodes.push_back(node);
-    };
-    // Breadth first, children by reflector: pairTerms rebuilds a part of this order.
-    for (std::uint32_t k = 0; k < m_reflectors.size(); ++k)
-        if (seesFromEmitter(e, k)) push(makeNode(ws.nodes, -1, k, e.centroid));
-    for (std::size_t q = 0; q < ws.nodes.size(); ++q) {
-        if (ws.nodes[q].cutoff) continue;
-        const Node node = ws.nodes[q];
-        const Reflector& m = m_reflectors[node.reflector];
-        const Cone cone(node.image, r, m.centre, m.radius);
-        ws.nodes[q].first = static_cast<std::uint32_t>(ws.receivers.size());
-        // Balls wholly behind the mirror or off the cone hold no receiver.
-        auto ahead = [&](const Vec3& c, double radius) {
-            return m.normal.dot(c) - m.offset > -radius && cone.meets(c, radius);
-        };
-        m_patchTree.query(ws.stack, ahead, [&](std::uint32_t j) {
-            const int order = receiverOrder(node, r, cone, j);
-            if (order < 0) return;
-            ws.receivers.push_back(j);
-            ws.orders.push_back(static_cast<std::uint16_t>(order));
-        });
-        ws.nodes[q].count = static_cast<std::uint32_t>(ws.receivers.size()) - ws.nodes[q].first;
-        // The next reflectors, in index order (pairTerms rebuilds this order).
-        ws.next.clear();
-        m_reflectorTree.query(ws.stack, ahead, [&](std::uint32_t k) {
-            if (reaches(node, r, cone, k)) ws.next.push_back(k);
-        });
-        std::sort(ws.next.begin(), ws.next.end());
-        for (const std::uint32_t k : ws.next)
-            push(makeNode(ws.nodes, std::int32_t(q), k, node.image));
-    }
 }
 
 void MirrorImages::appendPath(std::size_t node, const Vec3& emitterPoint, const Vec3& emitterNormal, const Vec3& target,
@@ -325,8 +46,8 @@ void MirrorImages::appendPath(std::size_t node, const Vec3& emitterPoint, const 
     // Back along the chain: the leg into `to` comes from the mirror point where the line from the
     // chain's image to `to` crosses the mirror.
     Vec3 to = target, toNormal = targetNormal;
-    for (std::int32_t q = std::int32_t(node); q >= 0; q = ws.nodes[q].parent) {
-        const Reflector& m = m_reflectors[ws.nodes[q].reflector];
+    for (std::int32_t q = std::int32_t(node); q >= 0; q = ws.chains.nodes[q].parent) {
+        const Reflector& m = m_chains.reflector(ws.chains.nodes[q].reflector);
         const Vec3& image = ws.apex[q];
         const double along = (m.offset - m.normal.dot(image)) / m.normal.dot(to - image);
         const Vec3 onMirror = image + along * (to - image);
@@ -363,7 +84,7 @@ void MirrorImages::evaluate(PatchId i, int order, PatchId only, double unit, Wor
     } else {
         polygonQuadrature(m_geometry.polygon(i), e.count, m_ruleNodes[order], m_ruleWeights[order], ws.points, ws.weights);
     }
-    const std::size_t count = ws.nodes.size();
+    const std::size_t count = ws.chains.nodes.size();
     ws.apex.resize(count);
     ws.axis.resize(count);
     ws.apertures.resize(count);
@@ -372,9 +93,9 @@ void MirrorImages::evaluate(PatchId i, int order, PatchId only, double unit, Wor
         const Vec3& x = ws.points[point];
         const double w = ws.weights[point];
         for (std::size_t q = 0; q < count; ++q) {
-            const Node& node = ws.nodes[q];
+            const ChainNode& node = ws.chains.nodes[q];
             ws.alive[q] = 0;
-            const Reflector& m = m_reflectors[node.reflector];
+            const Reflector& m = m_chains.reflector(node.reflector);
             const Vec3& from = node.parent < 0 ? x : ws.apex[node.parent];
             const Vec3& fromAxis = node.parent < 0 ? e.normal : ws.axis[node.parent];
             if (node.parent >= 0 && !ws.alive[node.parent]) continue;
@@ -383,7 +104,7 @@ void MirrorImages::evaluate(PatchId i, int order, PatchId only, double unit, Wor
             if (node.parent < 0) {
                 clipAbovePlane(x, e.normal, m.polygon.data(), m.polygon.size(), aperture);
             } else {
-                const Reflector& previous = m_reflectors[ws.nodes[node.parent].reflector];
+                const Reflector& previous = m_chains.reflector(ws.chains.nodes[node.parent].reflector);
                 clipAbovePlane(previous.centre, previous.normal, m.polygon.data(), m.polygon.size(), aperture);
                 clipToCone(from, ws.apertures[node.parent], aperture, ws.scratch);
             }
@@ -402,8 +123,8 @@ void MirrorImages::evaluate(PatchId i, int order, PatchId only, double unit, Wor
             ws.factors.clear();
             ws.legStart.clear();
             for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
-                if (ws.orders[k] != order || !ws.mine[k] || !clipReceiver(q, ws.receivers[k], ws)) continue;
-                const PatchId j = ws.receivers[k];
+                if (ws.chains.orders[k] != order || !ws.mine[k] || !clipReceiver(q, ws.chains.receivers[k], ws)) continue;
+                const PatchId j = ws.chains.receivers[k];
                 const double f = pointToPolygonFactor(ws.apex[q], ws.axis[q], ws.clipped.data(), ws.clipped.size());
                 if (!(f > 0.0)) continue;
                 ws.batch.push_back(j);
@@ -448,28 +169,28 @@ void MirrorImages::evaluate(PatchId i, int order, PatchId only, double unit, Wor
 bool MirrorImages::clipReceiver(std::size_t q, PatchId j, Workspace& ws) const {
     const PatchShape& t = m_geometry.shapes[j];
     if (t.normal.dot(ws.apex[q] - t.centroid) <= 1e-9 * t.radius) return false;  // must face the image
-    const Reflector& m = m_reflectors[ws.nodes[q].reflector];
+    const Reflector& m = m_chains.reflector(ws.chains.nodes[q].reflector);
     clipAbovePlane(m.centre, m.normal, m_geometry.polygon(j), t.count, ws.clipped);
     clipToCone(ws.apex[q], ws.apertures[q], ws.clipped, ws.scratch);
     return !ws.clipped.empty();
 }
 
 void MirrorImages::ownTerms(PatchId i, double unit, Workspace& ws, RayCounts& counts) const {
-    enumerate(i, ws);
-    if (ws.nodes.empty()) return;
+    m_chains.enumerate(i, ws.chains);
+    if (ws.chains.nodes.empty()) return;
     // One pass per emitter rule in use; the lowest always runs (it counts what is cut off). The
     // orders are the direct factors' (EmitterOrders): up to ceil(sqrt K) for --origins K, 256 at
     // the most, so they are flagged per order, not as bits of a word (issue 35 #1: past order 31
     // the mirror terms vanished).
-    ws.mine.resize(ws.receivers.size());
-    ws.used.assign(std::size_t(m_orders.highest()) + 1, 0);
+    ws.mine.resize(ws.chains.receivers.size());
+    ws.used.assign(std::size_t(m_chains.orders().highest()) + 1, 0);
     ws.used[std::size_t(m_lowest)] = 1;
-    for (std::size_t k = 0; k < ws.receivers.size(); ++k) {
-        const PatchId r = ws.receivers[k];
+    for (std::size_t k = 0; k < ws.chains.receivers.size(); ++k) {
+        const PatchId r = ws.chains.receivers[k];
         ws.mine[k] = r == i || emitsFor(m_scene, i, r);
-        if (ws.mine[k]) ws.used[ws.orders[k]] = 1;
+        if (ws.mine[k]) ws.used[ws.chains.orders[k]] = 1;
     }
-    for (int order = m_lowest; order <= m_orders.highest(); ++order)
+    for (int order = m_lowest; order <= m_chains.orders().highest(); ++order)
         if (ws.used[std::size_t(order)]) evaluate(i, order, kEveryReceiver, unit, ws, counts);
 }
 
@@ -498,23 +219,25 @@ void MirrorImages::addRow(PatchId i, RowAccumulator& row, double unit, PairExcha
         if (entry.value > 0.0f) row.addWeight(entry.patch, double(entry.value) * unit);
     }
     ws.pending.clear();
-    for (std::uint32_t q = 0; q < ws.nodes.size(); ++q)
-        for (std::uint32_t k = ws.nodes[q].first; k < ws.nodes[q].first + ws.nodes[q].count; ++k) {
-            const PatchId e = ws.receivers[k];
+    for (std::uint32_t q = 0; q < ws.chains.nodes.size(); ++q) {
+        const ChainNode& node = ws.chains.nodes[q];
+        for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+            const PatchId e = ws.chains.receivers[k];
             if (e != i && !ws.mine[k] && ws.published[e] < 0.0f && !exchange.finished(e, ticket))
                 ws.pending.push_back({e, q});
         }
+    }
     for (const PairExchange::Entry& entry : ws.taken) ws.published[entry.patch] = -1.0f;
     std::sort(ws.pending.begin(), ws.pending.end());
     ws.pending.erase(std::unique(ws.pending.begin(), ws.pending.end()), ws.pending.end());
     if (!ws.pair && !ws.pending.empty()) ws.pair = workspace();
     for (std::size_t p = 0; p < ws.pending.size();) {
         const PatchId e = ws.pending[p].first;
-        ws.chains.clear();
+        ws.reversed.clear();
         for (; p < ws.pending.size() && ws.pending[p].first == e; ++p) {
-            ws.chains.emplace_back();
-            for (std::int32_t q = std::int32_t(ws.pending[p].second); q >= 0; q = ws.nodes[q].parent)
-                ws.chains.back().push_back(ws.nodes[q].reflector);  // the last mirror first: e's side
+            ws.reversed.emplace_back();
+            for (std::int32_t q = std::int32_t(ws.pending[p].second); q >= 0; q = ws.chains.nodes[q].parent)
+                ws.reversed.back().push_back(ws.chains.nodes[q].reflector);  // the last mirror first: e's side
         }
         const double terms = pairTerms(e, i, ws, unit, *ws.pair, counts);
         const float value = handOver(m_scene, terms, e, i, unit);
@@ -524,66 +247,14 @@ void MirrorImages::addRow(PatchId i, RowAccumulator& row, double unit, PairExcha
 
 double MirrorImages::pairTerms(PatchId e, PatchId r, const Workspace& from, double unit, Workspace& ws,
                                RayCounts& counts) const {
-    // e's nodes on these chains, in enumerate's order (breadth first, then by reflector: the
-    // chains' prefixes by length, then lexicographically), each checked as enumerate checks it.
-    const auto shorterOrBefore = [](const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
-        return a.size() != b.size() ? a.size() < b.size() : a < b;
-    };
-    std::vector<std::vector<std::uint32_t>> prefixes;
-    for (const std::vector<std::uint32_t>& chain : from.chains)
-        for (std::size_t length = 1; length <= chain.size(); ++length)
-            prefixes.emplace_back(chain.begin(), chain.begin() + std::ptrdiff_t(length));
-    std::sort(prefixes.begin(), prefixes.end(), shorterOrBefore);
-    prefixes.erase(std::unique(prefixes.begin(), prefixes.end()), prefixes.end());
-    const PatchShape& emitter = m_geometry.shapes[e];
-    const double radius = emitter.radius;
-    ws.nodes.clear();
-    ws.receivers.clear();
-    ws.orders.clear();
-    std::vector<std::int32_t> nodeOf(prefixes.size(), -1);  // per prefix: its node, -1 when e has none
-    ws.used.assign(std::size_t(m_orders.highest()) + 1, 0);
-    for (std::size_t p = 0; p < prefixes.size(); ++p) {
-        const std::vector<std::uint32_t>& chain = prefixes[p];
-        const std::uint32_t k = chain.back();
-        Node node;
-        if (chain.size() == 1) {
-            if (!seesFromEmitter(emitter, k)) continue;
-            node = makeNode(ws.nodes, -1, k, emitter.centroid);
-        } else {
-            // The parent is an earlier prefix (shorter): found by binary search.
-            const std::vector<std::uint32_t> parentChain(chain.begin(), chain.end() - 1);
-            const auto at = std::lower_bound(prefixes.begin(), prefixes.begin() + std::ptrdiff_t(p), parentChain, shorterOrBefore);
-            const std::int32_t parent = nodeOf[std::size_t(at - prefixes.begin())];
-            if (parent < 0 || ws.nodes[parent].cutoff) continue;
-            const Node& up = ws.nodes[parent];
-            const Reflector& m = m_reflectors[up.reflector];
-            if (!reaches(up, radius, Cone(up.image, radius, m.centre, m.radius), k)) continue;
-            node = makeNode(ws.nodes, parent, k, up.image);
-        }
-        nodeOf[p] = std::int32_t(ws.nodes.size());
-        // Its receivers: r, and r's mesh neighbours for the silhouette test (those e emits for).
-        node.first = std::uint32_t(ws.receivers.size());
-        if (!node.cutoff) {
-            const Reflector& m = m_reflectors[k];
-            const Cone cone(node.image, radius, m.centre, m.radius);
-            auto consider = [&](PatchId j) {
-                if (j != e && !emitsFor(m_scene, e, j)) return;
-                const int order = receiverOrder(node, radius, cone, j);
-                if (order < 0) return;
-                ws.receivers.push_back(j);
-                ws.orders.push_back(static_cast<std::uint16_t>(order));
-                if (j == r) ws.used[std::size_t(order)] = 1;
-            };
-            consider(r);
-            if (m_settings.visibility)  // statuses matter only with shadow rays
-                for (std::uint32_t n = m_geometry.neighbourStart[r]; n < m_geometry.neighbourStart[r + 1]; ++n)
-                    if (m_geometry.neighbours[n] != r) consider(m_geometry.neighbours[n]);
-        }
-        node.count = std::uint32_t(ws.receivers.size()) - node.first;
-        ws.nodes.push_back(node);
-    }
-    ws.mine.assign(ws.receivers.size(), 1);
-    for (int order = m_lowest; order <= m_orders.highest(); ++order)
+    // e's nodes on the chains by which r sees it, as e's own row makes them (the chain order), with
+    // r's mesh neighbours for the silhouette test where there are shadow rays.
+    m_chains.enumerateToward(e, r, from.reversed, m_settings.visibility, ws.chains);
+    ws.used.assign(std::size_t(m_chains.orders().highest()) + 1, 0);
+    for (std::size_t k = 0; k < ws.chains.receivers.size(); ++k)
+        if (ws.chains.receivers[k] == r) ws.used[ws.chains.orders[k]] = 1;
+    ws.mine.assign(ws.chains.receivers.size(), 1);
+    for (int order = m_lowest; order <= m_chains.orders().highest(); ++order)
         if (ws.used[std::size_t(order)]) evaluate(e, order, r, unit, ws, counts);
     double terms = 0.0;
     for (const PatchId j : ws.touched) {

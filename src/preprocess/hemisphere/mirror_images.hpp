@@ -3,9 +3,10 @@
 #pragma once
 
 #include "preprocess/form_factor_backend.hpp"
-#include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/pair_exchange.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
+#include "preprocess/hemisphere/reflector_chains.hpp"
+#include "preprocess/hemisphere/reflectors.hpp"
 #include "preprocess/row_accumulator.hpp"
 #include "rays/mirror_chain.hpp"
 #include "rays/ray_scene.hpp"
@@ -16,20 +17,6 @@
 #include <vector>
 
 namespace hemirad {
-
-/// A planar convex mirror seen as an aperture: an input polygon all of whose patches are mirrors
-/// with one s (a subdivided mirror is one reflector), or else a single mirror patch.
-struct Reflector {
-    std::vector<Vec3> polygon;  ///< convex, counter-clockwise seen from the front
-    Vec3 normal = Vec3::Zero(), centre = Vec3::Zero();
-    double offset = 0.0;        ///< normal . y for every y on the plane
-    double radius = 0.0;        ///< largest centre-to-corner distance
-    double specular = 0.0;
-};
-
-/// The scene's mirrors as reflectors, in `out`. Returns why the image method cannot serve them (a
-/// mirror patch that is not planar or not convex, named by its OBJ line), or an empty string.
-std::string findReflectors(const Scene& scene, std::vector<Reflector>& out);
 
 /// For each point x of the emitter and each reflector m in front of it, x and the emitter's normal
 /// are reflected about m's plane; a receiver seen through m's aperture gets Lambert's exact factor
@@ -54,25 +41,10 @@ public:
         std::size_t maxChains = 200000;  ///< per row; more is refused with advice
     };
 
-    /// A chain of reflectors ending at `reflector`, enumerated per emitter.
-    struct Node {
-        std::int32_t parent;        ///< -1: reflected straight from the emitter
-        std::uint32_t reflector;
-        std::uint32_t depth;
-        double weight;              ///< product of the s met, this reflector's included
-        Vec3 image;                 ///< the emitter's centroid reflected along the chain
-        std::uint32_t first = 0, count = 0;  ///< receivers in Workspace::receivers
-        bool cutoff = false;        ///< past --max-depth or --min-weight: only the power reaching it is counted
-    };
-
     /// Per-thread scratch.
     struct Workspace {
-        std::vector<Node> nodes;
-        std::vector<PatchId> receivers;
-        std::vector<std::uint16_t> orders;  // emitter rule per (node, receiver): up to 256 (--origins 65536)
+        EmitterChains chains;               // the row's emitter's chains (its own, or a pair's)
         std::vector<std::uint8_t> used;     // per order: some receiver takes that rule
-        std::vector<std::uint32_t> stack;  // balls still to visit
-        std::vector<std::uint32_t> next;   // a node's next reflectors
         // Per emitter point: each node's image of the point and of the normal, and its aperture.
         std::vector<Vec3> apex, axis;
         std::vector<std::vector<Vec3>> apertures;
@@ -94,7 +66,7 @@ public:
         std::vector<float> published;
         std::vector<PairExchange::Entry> taken, outgoing;
         std::vector<std::pair<PatchId, std::uint32_t>> pending;  // (emitter, this row's node seeing it)
-        std::vector<std::vector<std::uint32_t>> chains;          // an emitter's chains (reflectors) toward this row
+        std::vector<std::vector<std::uint32_t>> reversed;        // an emitter's chains toward this row, from its side
         std::unique_ptr<Workspace> pair;  // a pair recomputed from its emitter
     };
 
@@ -109,21 +81,10 @@ public:
                 RayCounts& counts) const;
 
     std::unique_ptr<Workspace> workspace() const;
-    std::size_t reflectorCount() const { return m_reflectors.size(); }
+    std::size_t reflectorCount() const { return m_chains.size(); }
 
 private:
     static constexpr PatchId kEveryReceiver = ~PatchId(0);
-    struct Cone;  ///< where lines through a node's image ball and its aperture can go on
-    void enumerate(PatchId i, Workspace& ws) const;
-    /// Whether emitter e can see reflector k at the root of a chain.
-    bool seesFromEmitter(const PatchShape& e, std::uint32_t k) const;
-    /// Whether the chain ending at `node` (its cone) can reach reflector k next.
-    bool reaches(const Node& node, double r, const Cone& cone, std::uint32_t k) const;
-    /// The node from `parent` in `nodes` (-1: the emitter) through reflector k; `from` is the
-    /// parent's image (the emitter's centroid at the root).
-    Node makeNode(const std::vector<Node>& nodes, std::int32_t parent, std::uint32_t k, const Vec3& from) const;
-    /// Receiver j's rule order through `node` when j can be seen through it, else -1.
-    int receiverOrder(const Node& node, double r, const Cone& cone, PatchId j) const;
     /// Adds the terms from emitter i's points of `order` to ws.sums (every receiver marked mine, or
     /// `only`); the power cut off is counted for every receiver's pass only (the row's own).
     void evaluate(PatchId i, int order, PatchId only, double unit, Workspace& ws, RayCounts& counts) const;
@@ -132,7 +93,7 @@ private:
     /// ws.sums added to `row` and as the entries the exchange hands over (ws.outgoing); clears them.
     void collect(PatchId i, RowAccumulator& row, double unit, Workspace& ws) const;
     /// Emitter e's terms for receiver r (ray units), as row e sums them, along the chains in
-    /// `from.chains` (each from e's side); `ws` is scratch.
+    /// `from.reversed` (each from e's side); `ws` is scratch.
     double pairTerms(PatchId e, PatchId r, const Workspace& from, double unit, Workspace& ws, RayCounts& counts) const;
     void addTerm(PatchId j, double value, Workspace& ws) const {
         if (!ws.summed[j]) {
@@ -153,37 +114,12 @@ private:
     /// Receiver j's part seen through node q's aperture (into ws.clipped); false when empty.
     bool clipReceiver(std::size_t q, PatchId j, Workspace& ws) const;
 
-    /// Balls around items (patches, reflectors) in a tree (median splits, preorder): a chain's
-    /// receivers and next reflectors are found by descending where a ball can be in front of the
-    /// mirror and meet the chain's cone.
-    struct BallTree {
-        struct Ball {
-            Vec3 centre = Vec3::Zero();
-            double radius = 0.0;
-            std::uint32_t first = 0, count = 0;  ///< leaf: its items; inner: count 0
-            std::uint32_t right = 0;             ///< inner: the second child (the first follows this ball)
-        };
-        std::vector<Ball> balls;
-        std::vector<std::uint32_t> items;
-        void build(const std::vector<Vec3>& centres, const std::vector<double>& radii);
-        /// Calls visit(item) for every item in a leaf whose ball `keep(centre, radius)` accepts
-        /// (and all its ancestors').
-        template <class Keep, class Visit>
-        void query(std::vector<std::uint32_t>& stack, Keep keep, Visit visit) const;
-
-    private:
-        void split(const std::vector<Vec3>& centres, const std::vector<double>& radii, std::uint32_t first,
-                   std::uint32_t last);
-    };
-
     const Scene& m_scene;
     const PatchGeometry& m_geometry;
-    BallTree m_patchTree, m_reflectorTree;
-    std::vector<Reflector> m_reflectors;
+    ReflectorChains m_chains;
     const RayScene& m_rays;
     Settings m_settings;
-    int m_lowest, m_near;
-    EmitterOrders m_orders;  ///< per (chain, receiver), from the distance to the emitter's image
+    int m_lowest;  ///< the lowest emitter rule, run for every row (it counts what is cut off)
     std::vector<std::vector<double>> m_ruleNodes, m_ruleWeights;  ///< Gauss-Legendre per order
     double m_flat;  ///< 1e-9 of the scene's size: nearer a plane than this is on it
 };
