@@ -124,7 +124,7 @@ std::string sizeText(double bytes) {
 
 /// --estimator auto: the exact (analytic) estimator wherever its F fits in the memory budget, from
 /// the bound or, when that is too loose, 64 sample rows; the rays only where it would not fit.
-std::string resolveAuto(const Scene& scene, MethodSettings& s, const std::function<MemoryPrediction(const MethodSettings&)>& predict,
+std::string resolveAuto(const Scene& /*scene*/, MethodSettings& s, const std::function<MemoryPrediction(const MethodSettings&)>& predict,
                         double budget) {
     H& o = s.as<H>();
     if (o.estimator != Estimator::Auto) return {};
