@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <climits>
 #include <cstdlib>
+#include <string>
 
 namespace hemirad::mpi {
 namespace {
@@ -25,11 +26,18 @@ void check(int code, const char* what) {
     throw Error(std::string("MPI: ") + what + ": " + std::string(text, std::size_t(length)));
 }
 
+/// A PETSc error handler that prints nothing and keeps the first message in `kept` (a std::string).
+PetscErrorCode keepFirstMessage(MPI_Comm, int, const char*, const char*, PetscErrorCode code, PetscErrorType type,
+                                const char* message, void* kept) {
+    auto& text = *static_cast<std::string*>(kept);
+    if (text.empty() && type == PETSC_ERROR_INITIAL && message) text = message;
+    return code;
+}
+
 }  // namespace
 
 Context::Context() {
-    int provided = 0;
-    check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided), "MPI_Init_thread");
+    check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &m_threadLevel), "MPI_Init_thread");
     MPI_Comm_rank(MPI_COMM_WORLD, &m_rank);
     MPI_Comm_size(MPI_COMM_WORLD, &m_size);
     // Errors come back as codes (turned into hemirad::Error), never as MPI's abort.
@@ -38,19 +46,31 @@ Context::Context() {
     MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, m_rank, MPI_INFO_NULL, &node);
     MPI_Comm_size(node, &m_ranksOnNode);
     MPI_Comm_free(&node);
-    if (provided < MPI_THREAD_FUNNELED) {
-        // Only the main thread calls MPI, but worker threads exist: a library without that level may not cope.
-        agree(1, "MPI: the library does not support MPI_THREAD_FUNNELED (got level " + std::to_string(provided) + ")");
-    }
+}
+
+void Context::start() {
+    // Only the main thread calls MPI, but worker threads exist: a library without that level may not cope.
+    std::string failure;
+    if (m_threadLevel < MPI_THREAD_FUNNELED)
+        failure = "MPI: the library does not support MPI_THREAD_FUNNELED (got level " + std::to_string(m_threadLevel) + ")";
+    agree(failure.empty() ? 0 : 1, failure);
     // PETSc on the same communicator; hemirad's own flags are not PETSc options, and Ctrl-C stays ours.
+    // Its errors, those of its start included, come back as codes that hemirad turns into its own
+    // messages (no traceback from every rank).
     PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
-    if (PetscInitializeNoArguments() != 0) agree(1, "PETSc: initialisation failed");
-    // PETSc errors come back as codes that hemirad turns into its own messages (no traceback).
+    std::string message;
+    PetscPushErrorHandler(keepFirstMessage, &message);
+    m_petsc = PetscInitializeNoArguments() == 0;
+    PetscPopErrorHandler();
     PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+    if (!m_petsc)
+        failure = "PETSc: initialisation failed: " + (message.empty() ? std::string("no message") : message) +
+                  " (PETSc reads options from PETSC_OPTIONS and .petscrc files too)";
+    agree(failure.empty() ? 0 : 1, failure);
 }
 
 Context::~Context() {
-    PetscFinalize();
+    if (m_petsc) PetscFinalize();
     MPI_Finalize();
 }
 

@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 namespace hemirad::mpi {
@@ -371,8 +372,17 @@ void runBenchRun(Job& job) {
 }  // namespace
 
 int runUnderMpi(int argc, char** argv) {
-    Context context;
+    std::optional<Context> started;
     try {
+        started.emplace();
+    } catch (const Error& e) {
+        // MPI did not start (most libraries end the job themselves then): no rank can tell another.
+        printError(e.what());
+        return 1;
+    }
+    const Context& context = *started;
+    try {
+        started->start();  // its failures are agreed, and ~Context still finalises MPI
         Options options;
         context.collectively([&] {
             options = parseOptions(argc, argv);

@@ -567,3 +567,17 @@ TEST_CASE("A rank that cannot load the MPI module says why when rank 0 could and
     CHECK(count(r.output, "hemirad: error: rank 1 of 2: started by an MPI launcher, but its MPI module " +
                               (std::filesystem::canonical(dir) / "hemirad-mpi.so").string() + " cannot be used") == 1);
 }
+
+TEST_CASE("A failure while MPI ranks start (PETSc cannot open its options file) is one message, exit 1, no hang") {
+    // issue 35 #12: the failure was thrown from the MPI context's constructor, outside any try: each
+    // rank printed PETSc's traceback and ended in std::terminate, without MPI_Finalize.
+    const auto dir = tempDir("mpi-start");
+    const std::string solve = std::string(HEMIRAD_BINARY) + " solve " + sourcePath("scenes/unit_cube.obj") + " -o B.csv";
+    const Run r = runMpirun(dir, "-np 2 -x PETSC_OPTIONS='-options_file missing.opts' " + solve);
+    CHECK(r.status == 1);
+    CHECK(count(r.output, "hemirad: error: ") == 1);
+    CHECK(count(r.output, "hemirad: error: PETSc: initialisation failed: Unable to open options file missing.opts") == 1);
+    CHECK(count(r.output, "terminate called") == 0);
+    CHECK(count(r.output, "PETSC ERROR") == 0);
+    CHECK_FALSE(std::filesystem::exists(dir / "B.csv"));
+}
