@@ -127,10 +127,13 @@ private:
     double m_left = 0, m_cap = 0;
 };
 
-/// The back end on a worker thread, pulling from a queue; the main thread keeps MPI.
+/// The back end on a worker thread, pulling from a queue; the main thread keeps MPI. On any path out
+/// that skips join() (an MPI failure or another exception on the main thread), the builder is
+/// cancelled and the queue closed before the thread is joined: a worker waiting for rows that will
+/// never come would otherwise hold the join, and the rank, forever.
 struct Worker {
-    Worker(FormFactorBackend& backend, QueueSource& queue, FormFactorBuilder& builder) {
-        thread = std::thread([this, &backend, &queue, &builder] {
+    Worker(FormFactorBackend& backend, QueueSource& rows, FormFactorBuilder& into) : queue(rows), builder(into) {
+        thread = std::thread([this, &backend] {
             const auto t0 = Clock::now();
             try {
                 backend.computeRows(queue, builder);
@@ -142,8 +145,15 @@ struct Worker {
         });
     }
     ~Worker() {
-        if (thread.joinable()) thread.join();
+        if (!thread.joinable()) return;
+        builder.cancel();
+        queue.close();
+        thread.join();
     }
+    /// Waits for the worker's end: its rows done, or stopped by a cancel and a closed queue.
+    void join() { thread.join(); }
+    QueueSource& queue;
+    FormFactorBuilder& builder;
     std::thread thread;
     std::atomic<bool> done{false};
     std::exception_ptr failure;
@@ -217,10 +227,13 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
         while (finished < K - 1 || !worker->done.load()) {
             int flag = 0;
             MPI_Status status;
-            while (MPI_Iprobe(MPI_ANY_SOURCE, kTagAsk, MPI_COMM_WORLD, &flag, &status) == MPI_SUCCESS && flag) {
+            for (;;) {
+                checkMpi(MPI_Iprobe(MPI_ANY_SOURCE, kTagAsk, MPI_COMM_WORLD, &flag, &status), "waiting for the ranks");
+                if (!flag) break;
                 std::uint64_t ask[3];
                 const int source = status.MPI_SOURCE;
-                MPI_Recv(ask, 3, MPI_UINT64_T, source, kTagAsk, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+                checkMpi(MPI_Recv(ask, 3, MPI_UINT64_T, source, kTagAsk, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+                         "receiving a rank's request");
                 done[std::size_t(source)] = ask[1];
                 failed = failed || ask[2];
                 if (ask[0] == kFinished) {
@@ -233,7 +246,7 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
                     reply[0] = block.first, reply[1] = block.second;
                     if (block.first == block.second) reply[2] = kNoRowsLeft;
                 }
-                MPI_Send(reply, 3, MPI_UINT64_T, source, kTagReply, MPI_COMM_WORLD);
+                checkMpi(MPI_Send(reply, 3, MPI_UINT64_T, source, kTagReply, MPI_COMM_WORLD), "granting rows");
             }
             if (worker->done.load() && worker->failure) failed = true;
             if (failed && !aborted) {
@@ -267,13 +280,13 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
         auto ask = [&](std::uint64_t kind) {
             const bool failed = worker->done.load() && worker->failure;
             const std::uint64_t message[3] = {kind, builder.rowsDone(), failed ? 1u : 0u};
-            MPI_Send(message, 3, MPI_UINT64_T, 0, kTagAsk, MPI_COMM_WORLD);
+            checkMpi(MPI_Send(message, 3, MPI_UINT64_T, 0, kTagAsk, MPI_COMM_WORLD), "asking for rows");
             lastAsk = Clock::now();
         };
         for (;;) {
             if (outstanding) {
                 int flag = 0;
-                MPI_Test(&request, &flag, MPI_STATUS_IGNORE);
+                checkMpi(MPI_Test(&request, &flag, MPI_STATUS_IGNORE), "waiting for rows");
                 if (flag) {
                     outstanding = false;
                     if (reply[2] == kAbort && !aborted) {
@@ -297,14 +310,14 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
                 const bool wantRows = !exhausted && queue.pending() < reserveRows(builder, start, threads);
                 if (wantRows || since(lastAsk) > 0.5) {
                     ask(wantRows ? kWantRows : kProgress);
-                    MPI_Irecv(reply, 3, MPI_UINT64_T, 0, kTagReply, MPI_COMM_WORLD, &request);
+                    checkMpi(MPI_Irecv(reply, 3, MPI_UINT64_T, 0, kTagReply, MPI_COMM_WORLD, &request), "waiting for rows");
                     outstanding = true;
                 }
             }
             pause();
         }
     }
-    worker->thread.join();
+    worker->join();
     const double computeSeconds = since(start);
     // A worker's error, if any: the first failing rank's message ends every rank.
     context.agree(worker->failure ? 1 : 0, worker->failure ? messageOf(worker->failure) : std::string());

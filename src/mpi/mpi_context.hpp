@@ -94,6 +94,10 @@ private:
     bool m_petsc = false;  ///< PETSc initialised (by start())
 };
 
+/// Throws hemirad::Error "MPI: `what`: MPI's text for `code`" unless `code` is MPI_SUCCESS (errors
+/// come back as codes: MPI_ERRORS_RETURN).
+void checkMpi(int code, const char* what);
+
 /// Prints "hemirad: error: rank R of K: message" and ends every rank at once (MPI_Abort): for an error
 /// inside a collective, where the other ranks cannot be told otherwise. Does not return.
 [[noreturn]] void abortAllRanks(const std::string& message);

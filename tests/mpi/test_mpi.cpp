@@ -581,3 +581,18 @@ TEST_CASE("A failure while MPI ranks start (PETSc cannot open its options file) 
     CHECK(count(r.output, "PETSC ERROR") == 0);
     CHECK_FALSE(std::filesystem::exists(dir / "B.csv"));
 }
+
+TEST_CASE("A rank whose main thread fails while its worker waits for rows ends the job with its message, no hang") {
+    // issue 35 #12: an exception on a rank's main thread (here MPI_Test failing, a preloaded fault on
+    // rank 1) left its worker thread waiting in the row queue, and the worker's join waited forever.
+    // The failure is outside any agreement point: rank 1 says why and ends every rank (MPI_Abort).
+    const auto dir = tempDir("mpi-main-thread-fails");
+    const std::string command = std::string(HEMIRAD_BINARY) + " formfactors " + sourcePath("scenes/cornell_box.obj") +
+                                " --subdivide 80 --samples 256 --threads 1 -o F.hff";
+    const Run r = runMpirun(dir, "-np 1 " + command + " : -np 1 env LD_PRELOAD=" + HEMIRAD_TEST_MPI_TEST_FAILS + " " + command);
+    CHECK(r.status == 1);  // 124: the timeout (a hang)
+    CHECK(count(r.output, "mpi_test_fails: MPI_Test fails") == 1);  // the fault was in place
+    CHECK(count(r.output, "hemirad: error: ") == 1);
+    CHECK(count(r.output, "hemirad: error: rank 1 of 2: MPI: waiting for rows: ") == 1);
+    CHECK_FALSE(std::filesystem::exists(dir / "F.hff"));
+}
