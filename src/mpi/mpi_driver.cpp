@@ -102,25 +102,11 @@ StoredFormFactorRule obtainFormFactors(Job& job, const std::string& reusePath, c
     if (!reusePath.empty()) {
         const auto t0 = std::chrono::steady_clock::now();
         const bool sharded = context.rootDecides(context.root() && isShardManifest(reusePath));
-        FormFactors current;
+        // Each rank its own shards, or its own share of one file's rows.
+        job.F = sharded ? readShards(context, reusePath) : readOwnRows(context, reusePath, n, options.memoryCheck);
         context.collectively([&] {
-            if (sharded) return;
-            current = loadFormFactors(reusePath);
-            checkStoredFormFactors(current, job.scene, options.formFactors, options.reuseFfAnyway, reusePath, job.warnings);
+            checkStoredFormFactors(job.F.local, job.scene, options.formFactors, options.reuseFfAnyway, reusePath, job.warnings);
         });
-        if (sharded) {
-            job.F = readShards(context, reusePath);  // each rank its own shards
-            context.collectively([&] {
-                checkStoredFormFactors(job.F.local, job.scene, options.formFactors, options.reuseFfAnyway, reusePath,
-                                       job.warnings);
-            });
-        } else {
-            // One file: every rank reads it and keeps a contiguous share of its rows.
-            std::vector<std::int32_t> owner(n, -1);
-            for (std::size_t i = 0; i < n; ++i)
-                if (current.rowComputed(i)) owner[i] = std::int32_t(i * std::size_t(context.size()) / n);
-            job.F = keepOwnRows(context, std::move(current), owner);
-        }
         job.timings.add("load F", secondsSince(t0));
         // Every rank holds the file's parameters and the owners of all rows: the same rule on each.
         const auto rowsHeld = std::size_t(

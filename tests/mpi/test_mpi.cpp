@@ -73,6 +73,18 @@ std::size_t count(const std::string& text, const std::string& what) {
     return n;
 }
 
+/// For a command or one rank's program: "env LD_PRELOAD=PROBE HEMIRAD_TEST_MEMINFO=FILE ", FILE (at
+/// `path`) being this machine's /proc/meminfo with MemAvailable set to `bytes` (tests/fake_meminfo.cpp).
+std::string withAvailableMemory(const std::filesystem::path& path, std::uintmax_t bytes) {
+    std::istringstream real(readText("/proc/meminfo"));
+    std::string text;
+    for (std::string line; std::getline(real, line);)
+        text += (line.rfind("MemAvailable:", 0) == 0 ? "MemAvailable:   " + std::to_string(bytes / 1024) + " kB" : line) + '\n';
+    REQUIRE(text.find("MemAvailable:") != std::string::npos);
+    writeFile(path, text);
+    return "env LD_PRELOAD=" + std::string(HEMIRAD_TEST_FAKE_MEMINFO) + " HEMIRAD_TEST_MEMINFO='" + path.string() + "' ";
+}
+
 /// Returns the two-rank run's output.
 std::string checkSameF(const std::string& scene, const std::string& flags) {
     const auto dir = tempDir("mpi-f");
@@ -595,4 +607,42 @@ TEST_CASE("A rank whose main thread fails while its worker waits for rows ends t
     CHECK(count(r.output, "hemirad: error: ") == 1);
     CHECK(count(r.output, "hemirad: error: rank 1 of 2: MPI: waiting for rows: ") == 1);
     CHECK_FALSE(std::filesystem::exists(dir / "F.hff"));
+}
+
+TEST_CASE("One F file reused on 2 ranks: each rank reads its share of the rows, checked against the node's memory") {
+    // issue 35 #12: every rank loaded all of F, with no memory check: the ranks of a node held it
+    // that many times over. Here the available memory the ranks see is the test's (a preloaded probe).
+    const auto dir = tempDir("mpi-reuse-memory");
+    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 80 --samples 256";
+    for (const char* file : {"F.hff", "F.mtx"}) {
+        const Run one = runHemirad(dir, 0, "solve " + scene + " --ff " + file + " --solver lu -o lu.csv --quiet");
+        REQUIRE_MESSAGE(one.status == 0, one.output);
+    }
+    const std::uintmax_t size = std::filesystem::file_size(dir / "F.hff");
+    REQUIRE(size > 1000000);  // 144620 entries; the N-sized arrays are 1 % of it
+    const std::string roomy = withAvailableMemory(dir / "roomy", 2 * size), small = withAvailableMemory(dir / "small", size / 2);
+    const std::string solve = std::string(HEMIRAD_BINARY) + " solve " + scene + " --threads 1 --tolerance 1e-13 -o B.csv --ff ";
+    // 80 % of 2 |F|: room for each rank's share of the rows, not for all of F on each rank.
+    Run r = runMpirun(dir, "-np 2 " + roomy + solve + "F.hff");
+    REQUIRE_MESSAGE(r.status == 0, r.output);
+    CHECK(r.output.find("form factors: reused F.hff (519 rows") != std::string::npos);
+    CHECK(largestRelativeDifference(radiosityColumns(dir / "B.csv"), radiosityColumns(dir / "lu.csv")) < 1e-8);
+    // Half of |F|: refused on every rank before it is read, said once.
+    std::filesystem::remove(dir / "B.csv");
+    r = runMpirun(dir, "-np 2 " + small + solve + "F.hff");
+    CHECK(r.status == 1);
+    CHECK(count(r.output, "hemirad: error: ") == 1);
+    CHECK(count(r.output, "hemirad: error: F.hff: the 2 ranks on this node would hold about ") == 1);
+    CHECK(count(r.output, " of F together (each rank a share of its rows), more than the 0.4 MiB available") == 1);
+    CHECK(count(r.output, "run fewer ranks on each node, or pass --no-memory-check") == 1);
+    CHECK_FALSE(std::filesystem::exists(dir / "B.csv"));
+    r = runMpirun(dir, "-np 2 " + small + solve + "F.hff --no-memory-check");
+    CHECK_MESSAGE(r.status == 0, r.output);
+    CHECK(std::filesystem::exists(dir / "B.csv"));
+    // An .mtx is read whole by every rank: refused where an .hff of the same F fits.
+    r = runMpirun(dir, "-np 2 " + roomy + solve + "F.mtx");
+    CHECK(r.status == 1);
+    CHECK(count(r.output, "hemirad: error: ") == 1);
+    CHECK(count(r.output, "hemirad: error: F.mtx: the 2 ranks on this node would hold about ") == 1);
+    CHECK(count(r.output, "store F as .hff, whose rows each rank reads alone") == 1);
 }
