@@ -87,8 +87,8 @@ void loadScene(Job& job, const RadiosityPipeline& pipeline) {
                                " (geometry, materials or subdivision differ): every rank must read the same files");
 }
 
-/// F's rows spread over the ranks: reused from `reusePath` (each rank keeps a contiguous share of
-/// the rows it reads) when the stored-F rule takes it, and completed by the work queue. Returns that
+/// F's rows spread over the ranks: reused from `reusePath` (each rank reads its own shards, or a
+/// contiguous share of one file's rows) when the stored-F rule takes it, and completed by the work queue. Returns that
 /// rule (StoredFormFactorRule, the pipeline's) for storing F at `storePath`.
 StoredFormFactorRule obtainFormFactors(Job& job, const std::string& reusePath, const std::string& storePath) {
     const Context& context = job.context;
