@@ -207,17 +207,19 @@ public:
         return stored;
     }
 
+    /// Reads `count` elements of which only [first, last) are kept (the rest hashed and dropped).
+    template <class T> std::vector<T> slice(std::uint64_t count, std::uint64_t first, std::uint64_t last) {
+        skip(first * sizeof(T));
+        std::vector<T> kept = array<T>(last - first);
+        skip((count - last) * sizeof(T));
+        return kept;
+    }
+
     /// Skips the arrays (hashing them) and checks the checksum; for `hemirad info`.
     void skipArrays(const FormFactorFileInfo& info, std::size_t& computedRows) {
         auto flags = array<std::uint8_t>(info.size);
         computedRows = static_cast<std::size_t>(std::count(flags.begin(), flags.end(), 1));
-        std::vector<char> buffer(1 << 20);
-        std::uint64_t left = 8 * (info.size + 1) + 8 * info.nonZeros;
-        while (left > 0) {
-            const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(left, buffer.size()));
-            read(buffer.data(), n);
-            left -= n;
-        }
+        skip(8 * (info.size + 1) + 8 * info.nonZeros);
         checkChecksum();
     }
 
@@ -228,6 +230,16 @@ private:
         m_in.read(static_cast<char*>(data), static_cast<std::streamsize>(size));
         if (!m_in) fail("truncated or unreadable");
         m_sum.add(data, size);
+    }
+
+    /// Reads `bytes` into the checksum alone, 64 KiB at a time.
+    void skip(std::uint64_t bytes) {
+        std::vector<char> buffer(std::size_t(std::min<std::uint64_t>(bytes, 1 << 16)));
+        while (bytes > 0) {
+            const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(bytes, buffer.size()));
+            read(buffer.data(), n);
+            bytes -= n;
+        }
     }
 
     std::string m_path;
@@ -251,15 +263,21 @@ struct HffFile {
     }
 };
 
+/// F of the file's N holding its rows [first, last) (clamped to N) alone: every row start and flag
+/// is checked, the kept rows' columns and values too, and every byte goes into the checksum.
 FormFactors readHff(HffReader& r, const std::string& path, std::uint64_t* checksum = nullptr,
-                    std::size_t expectedPatches = 0) {
+                    std::size_t expectedPatches = 0, std::uint64_t first = 0, std::uint64_t last = ~std::uint64_t(0)) {
     const FormFactorFileInfo info = r.header();
     const std::uint64_t n = info.size, nnz = info.nonZeros;
     checkPatchCount(path, n, expectedPatches);
+    last = std::min(last, n);
+    first = std::min(first, last);
     auto computed = r.array<std::uint8_t>(n);
     auto rowStart = r.array<std::uint64_t>(n + 1);
-    auto columns = r.array<std::uint32_t>(nnz);
-    auto values = r.array<float>(nnz);
+    // The kept rows' entries [begin, end) (within nnz until the row starts are checked).
+    const std::uint64_t begin = std::min(rowStart[first], nnz), end = std::clamp(rowStart[last], begin, nnz);
+    auto columns = r.slice<std::uint32_t>(nnz, begin, end);
+    auto values = r.slice<float>(nnz, begin, end);
     const std::uint64_t sum = r.checkChecksum();
     if (checksum) *checksum = sum;
     if (rowStart[0] != 0 || rowStart[n] != nnz) r.fail("corrupt row starts (first must be 0, last nnz)");
@@ -269,6 +287,11 @@ FormFactors readHff(HffReader& r, const std::string& path, std::uint64_t* checks
             r.fail("corrupt row starts at row " + std::to_string(i));
         if (!computed[i] && rowStart[i + 1] != rowStart[i])
             r.fail("row " + std::to_string(i) + " is marked skipped but has entries");
+    }
+    // Rows before the kept ones start at 0, rows after them are empty and not computed.
+    for (std::uint64_t i = 0; i <= n; ++i) rowStart[i] = std::clamp(rowStart[i], begin, end) - begin;
+    for (std::uint64_t i = 0; i < n; ++i) {
+        if (i < first || i >= last) computed[i] = 0;
         for (std::uint64_t k = rowStart[i]; k < rowStart[i + 1]; ++k) {
             if (columns[k] >= n)
                 r.fail("column " + std::to_string(columns[k]) + " in row " + std::to_string(i) + " is out of range (N = " +
@@ -530,10 +553,11 @@ FormFactors loadHffFile(const std::string& path, std::uint64_t& checksum) {
     return readHff(r, path, &checksum);
 }
 
-HffRowIndex readHffRowIndex(const std::string& path) {
+HffRowIndex readHffRowIndex(const std::string& path, std::size_t expectedPatches) {
     HffFile file(path);
     HffReader r(file.stream, file.bytes, path);
     const FormFactorFileInfo info = r.header();
+    checkPatchCount(path, info.size, expectedPatches);
     HffRowIndex index;
     index.computed = r.array<std::uint8_t>(info.size);
     index.lengths = r.array<std::uint64_t>(info.size + 1);
@@ -545,6 +569,12 @@ HffRowIndex readHffRowIndex(const std::string& path) {
     }
     lengths.pop_back();
     return index;
+}
+
+FormFactors loadHffRows(const std::string& path, std::size_t first, std::size_t last, std::size_t expectedPatches) {
+    HffFile file(path);
+    HffReader r(file.stream, file.bytes, path);
+    return readHff(r, path, nullptr, expectedPatches, first, last);
 }
 
 FormFactors loadFormFactors(const std::string& path, std::size_t expectedPatches) {

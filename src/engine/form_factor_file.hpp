@@ -27,17 +27,23 @@ void saveFormFactors(const FormFactors& F, const std::string& path);
 /// checkFormFactorsMatch refuses it, before anything of that size is allocated.
 FormFactors loadFormFactors(const std::string& path, std::size_t expectedPatches = 0);
 
+/// Rows [first, last) of the .hff file at `path` (last clamped to its N), as loadFormFactors reads
+/// them: F of the file's N in which only those rows are computed. The whole file is streamed through
+/// its checksum and every row start checked; memory follows the kept rows' entries and N.
+FormFactors loadHffRows(const std::string& path, std::size_t first, std::size_t last, std::size_t expectedPatches = 0);
+
 /// Writes F as .hff atomically and returns the checksum its last 8 bytes hold (shard manifests keep it).
 std::uint64_t saveHffFile(const FormFactors& F, const std::string& path);
 /// Reads an .hff file as loadFormFactors does, with the checksum it holds.
 FormFactors loadHffFile(const std::string& path, std::uint64_t& checksum);
 /// The computed-row flags and entries per row of an .hff file, from its header and row starts alone
-/// (the checksum is not verified: for planning a merge whose reads verify it).
+/// (the checksum is not verified: for planning a merge or a read whose reads verify it).
+/// `expectedPatches` (0: any) as loadFormFactors takes it.
 struct HffRowIndex {
     std::vector<std::uint8_t> computed;
     std::vector<std::uint64_t> lengths;
 };
-HffRowIndex readHffRowIndex(const std::string& path);
+HffRowIndex readHffRowIndex(const std::string& path, std::size_t expectedPatches = 0);
 
 /// Reads F from bytes in memory (tests, fuzzing); `name` names it in messages and its extension
 /// (.hff or .mtx) picks the format. Same checks as loadFormFactors.

@@ -1,6 +1,7 @@
-// The machine's available memory.
+// The machine's available memory, and sizes said in messages.
 #include "engine/memory.hpp"
 
+#include <cstdio>
 #include <fstream>
 #include <string>
 
@@ -13,6 +14,13 @@ std::size_t availableMemory() {
     while (in >> key >> value >> unit)
         if (key == "MemAvailable:") return value * 1024;
     return 0;
+}
+
+std::string bytesText(double bytes) {
+    char text[32];
+    if (bytes >= double(1ull << 30)) std::snprintf(text, sizeof text, "%.2f GiB", bytes / double(1ull << 30));
+    else std::snprintf(text, sizeof text, "%.1f MiB", bytes / double(1ull << 20));
+    return text;
 }
 
 }  // namespace hemirad

@@ -9,6 +9,8 @@
 #include "mpi/distributed_form_factors.hpp"
 #include "mpi/distributed_reciprocity.hpp"
 
+#include "engine/form_factor_file.hpp"
+#include "engine/memory.hpp"
 #include "engine/threads.hpp"
 #include "preprocess/backend_registry.hpp"
 
@@ -22,6 +24,7 @@
 #include <cstdint>
 #include <deque>
 #include <exception>
+#include <filesystem>
 #include <future>
 #include <memory>
 #include <mutex>
@@ -127,10 +130,13 @@ private:
     double m_left = 0, m_cap = 0;
 };
 
-/// The back end on a worker thread, pulling from a queue; the main thread keeps MPI.
+/// The back end on a worker thread, pulling from a queue; the main thread keeps MPI. On any path out
+/// that skips join() (an MPI failure or another exception on the main thread), the builder is
+/// cancelled and the queue closed before the thread is joined: a worker waiting for rows that will
+/// never come would otherwise hold the join, and the rank, forever.
 struct Worker {
-    Worker(FormFactorBackend& backend, QueueSource& queue, FormFactorBuilder& builder) {
-        thread = std::thread([this, &backend, &queue, &builder] {
+    Worker(FormFactorBackend& backend, QueueSource& rows, FormFactorBuilder& into) : queue(rows), builder(into) {
+        thread = std::thread([this, &backend] {
             const auto t0 = Clock::now();
             try {
                 backend.computeRows(queue, builder);
@@ -142,8 +148,15 @@ struct Worker {
         });
     }
     ~Worker() {
-        if (thread.joinable()) thread.join();
+        if (!thread.joinable()) return;
+        builder.cancel();
+        queue.close();
+        thread.join();
     }
+    /// Waits for the worker's end: its rows done, or stopped by a cancel and a closed queue.
+    void join() { thread.join(); }
+    QueueSource& queue;
+    FormFactorBuilder& builder;
     std::thread thread;
     std::atomic<bool> done{false};
     std::exception_ptr failure;
@@ -175,6 +188,35 @@ std::size_t reserveRows(const FormFactorBuilder& builder, Clock::time_point star
     const double seconds = since(start);
     const double rate = seconds > 0 ? double(builder.rowsDone()) / seconds : 0.0;
     return std::max<std::size_t>(2 * threads, std::size_t(rate * 4 * kPollSeconds));
+}
+
+/// F with its rows [first, last) alone (the others not computed); `F` is released.
+FormFactors keepRows(FormFactors&& F, std::size_t first, std::size_t last) {
+    std::vector<std::vector<FormFactors::Entry>> rows(F.size());
+    std::vector<std::uint8_t> computed(F.size(), 0);
+    for (std::size_t i = first; i < last; ++i) {
+        computed[i] = F.rowComputed(i) ? 1 : 0;
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) rows[i].push_back({F.columns()[k], F.values()[k]});
+    }
+    FormFactors kept = FormFactors::fromRows(std::move(rows), std::move(computed));
+    kept.sceneHash = F.sceneHash;
+    kept.provenance = F.provenance;
+    kept.parameters = F.parameters;
+    F = FormFactors();
+    return kept;
+}
+
+/// Refuses (hemirad::Error naming `path`) F's rows on this node when its ranks, each holding up to
+/// `largest` bytes (`holds` says what), would need more than 80 % of the node's available memory,
+/// the budget of the computed F's check; `advice` says what to do instead. Unknown memory: no check.
+void checkNodeMemory(const Context& context, const std::string& path, double largest, const std::string& holds,
+                     const std::string& advice) {
+    const std::size_t available = availableMemory();
+    const double budget = 0.8 * double(available), together = largest * double(context.ranksOnNode());
+    if (!available || together <= budget) return;
+    throw Error(path, 0, "the " + std::to_string(context.ranksOnNode()) + " ranks on this node would hold about " +
+                             bytesText(together) + " of F together (" + holds + "), more than the " + bytesText(budget) +
+                             " available; " + advice + ", or pass --no-memory-check");
 }
 
 }  // namespace
@@ -217,10 +259,13 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
         while (finished < K - 1 || !worker->done.load()) {
             int flag = 0;
             MPI_Status status;
-            while (MPI_Iprobe(MPI_ANY_SOURCE, kTagAsk, MPI_COMM_WORLD, &flag, &status) == MPI_SUCCESS && flag) {
+            for (;;) {
+                checkMpi(MPI_Iprobe(MPI_ANY_SOURCE, kTagAsk, MPI_COMM_WORLD, &flag, &status), "waiting for the ranks");
+                if (!flag) break;
                 std::uint64_t ask[3];
                 const int source = status.MPI_SOURCE;
-                MPI_Recv(ask, 3, MPI_UINT64_T, source, kTagAsk, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+                checkMpi(MPI_Recv(ask, 3, MPI_UINT64_T, source, kTagAsk, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+                         "receiving a rank's request");
                 done[std::size_t(source)] = ask[1];
                 failed = failed || ask[2];
                 if (ask[0] == kFinished) {
@@ -233,7 +278,7 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
                     reply[0] = block.first, reply[1] = block.second;
                     if (block.first == block.second) reply[2] = kNoRowsLeft;
                 }
-                MPI_Send(reply, 3, MPI_UINT64_T, source, kTagReply, MPI_COMM_WORLD);
+                checkMpi(MPI_Send(reply, 3, MPI_UINT64_T, source, kTagReply, MPI_COMM_WORLD), "granting rows");
             }
             if (worker->done.load() && worker->failure) failed = true;
             if (failed && !aborted) {
@@ -267,13 +312,13 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
         auto ask = [&](std::uint64_t kind) {
             const bool failed = worker->done.load() && worker->failure;
             const std::uint64_t message[3] = {kind, builder.rowsDone(), failed ? 1u : 0u};
-            MPI_Send(message, 3, MPI_UINT64_T, 0, kTagAsk, MPI_COMM_WORLD);
+            checkMpi(MPI_Send(message, 3, MPI_UINT64_T, 0, kTagAsk, MPI_COMM_WORLD), "asking for rows");
             lastAsk = Clock::now();
         };
         for (;;) {
             if (outstanding) {
                 int flag = 0;
-                MPI_Test(&request, &flag, MPI_STATUS_IGNORE);
+                checkMpi(MPI_Test(&request, &flag, MPI_STATUS_IGNORE), "waiting for rows");
                 if (flag) {
                     outstanding = false;
                     if (reply[2] == kAbort && !aborted) {
@@ -297,14 +342,14 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
                 const bool wantRows = !exhausted && queue.pending() < reserveRows(builder, start, threads);
                 if (wantRows || since(lastAsk) > 0.5) {
                     ask(wantRows ? kWantRows : kProgress);
-                    MPI_Irecv(reply, 3, MPI_UINT64_T, 0, kTagReply, MPI_COMM_WORLD, &request);
+                    checkMpi(MPI_Irecv(reply, 3, MPI_UINT64_T, 0, kTagReply, MPI_COMM_WORLD, &request), "waiting for rows");
                     outstanding = true;
                 }
             }
             pause();
         }
     }
-    worker->thread.join();
+    worker->join();
     const double computeSeconds = since(start);
     // A worker's error, if any: the first failing rank's message ends every rank.
     context.agree(worker->failure ? 1 : 0, worker->failure ? messageOf(worker->failure) : std::string());
@@ -402,22 +447,42 @@ FormFactors gatherFormFactors(const Context& context, const DistributedFormFacto
     return all;
 }
 
-DistributedFormFactors keepOwnRows(const Context& context, FormFactors&& F, std::vector<std::int32_t> owner) {
-    const std::size_t n = F.size();
-    std::vector<std::vector<FormFactors::Entry>> rows(n);
-    std::vector<std::uint8_t> computed(n, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-        if (owner[i] != context.rank()) continue;
-        computed[i] = 1;
-        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) rows[i].push_back({F.columns()[k], F.values()[k]});
-    }
+DistributedFormFactors readOwnRows(const Context& context, const std::string& path, std::size_t patches, bool memoryCheck) {
+    const std::size_t K = std::size_t(context.size()), rank = std::size_t(context.rank());
+    // Rank r holds the rows i with i K / N = r.
+    const auto firstRow = [&](std::size_t r) { return (r * patches + K - 1) / K; };
     DistributedFormFactors result;
-    result.local = FormFactors::fromRows(std::move(rows), std::move(computed));
-    result.local.sceneHash = F.sceneHash;
-    result.local.provenance = F.provenance;
-    result.local.parameters = F.parameters;
-    result.owner = std::move(owner);
-    F = FormFactors();
+    context.collectively([&] {
+        if (formFactorFormatFor(path) == FormFactorFormat::Hff) {
+            if (memoryCheck) {
+                const HffRowIndex index = readHffRowIndex(path, patches);
+                std::uint64_t largest = 0;  // the entries of the largest share: the same on every rank
+                for (std::size_t r = 0; r < K; ++r) {
+                    std::uint64_t entries = 0;
+                    for (std::size_t i = firstRow(r); i < firstRow(r + 1); ++i) entries += index.lengths[i];
+                    largest = std::max(largest, entries);
+                }
+                // Its entries (a column and a value each), and the row flags and starts read and kept.
+                checkNodeMemory(context, path, 8.0 * double(largest) + 18.0 * double(patches),
+                                "each rank a share of its rows", "run fewer ranks on each node");
+            }
+            result.local = loadHffRows(path, firstRow(rank), firstRow(rank + 1), patches);
+        } else {
+            std::error_code unknown;
+            const auto bytes = std::filesystem::file_size(path, unknown);
+            if (memoryCheck && !unknown)
+                checkNodeMemory(context, path, 2.0 * double(bytes),
+                                "each rank reads the whole text and all its entries: about twice the file's size",
+                                "store F as .hff, whose rows each rank reads alone, or run fewer ranks on each node");
+            result.local = keepRows(loadFormFactors(path, patches), firstRow(rank), firstRow(rank + 1));
+        }
+    });
+    // Every rank learns which rank holds each row that the file has.
+    std::vector<std::int32_t> mine(patches);
+    for (std::size_t i = 0; i < patches; ++i) mine[i] = result.local.rowComputed(i) ? context.rank() : -1;
+    result.owner.resize(patches);
+    checkMpi(MPI_Allreduce(mine.data(), result.owner.data(), int(patches), MPI_INT32_T, MPI_MAX, MPI_COMM_WORLD),
+             "sharing the rows' owners");
     return result;
 }
 

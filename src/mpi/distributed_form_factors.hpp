@@ -38,8 +38,12 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
 /// rank 0 into one CSR (rank 0 holds F once, plus one rank's entries in flight). Collective.
 FormFactors gatherFormFactors(const Context& context, const DistributedFormFactors& F);
 
-/// Keeps the rows of `F` (complete, on every rank or loaded by each) that `owner` gives this rank.
-DistributedFormFactors keepOwnRows(const Context& context, FormFactors&& F, std::vector<std::int32_t> owner);
+/// One F file (.hff or .mtx; not a shard manifest) spread over the ranks, each holding a contiguous
+/// share of its rows: an .hff's rows are read by their rank alone (each rank streams the whole file
+/// through its checksum), an .mtx is read whole by every rank, which keeps its share. With
+/// `memoryCheck`, what the ranks on a node would hold together beyond 80 % of its available memory
+/// is refused first (hemirad::Error naming the file, agreed). `patches`: the scene's N. Collective.
+DistributedFormFactors readOwnRows(const Context& context, const std::string& path, std::size_t patches, bool memoryCheck);
 
 /// Statistics from the ranks' rows (row sums, nonzeros; reciprocity needs pairs across ranks and is
 /// left at 0), on rank 0. Collective.

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <climits>
 #include <cstdlib>
+#include <string>
 
 namespace hemirad::mpi {
 namespace {
@@ -17,7 +18,17 @@ namespace {
 /// Pieces of at most 256 MiB: far below the int count limit, large enough to stream at full speed.
 constexpr std::size_t kPieceBytes = std::size_t(1) << 28;
 
-void check(int code, const char* what) {
+/// A PETSc error handler that prints nothing and keeps the first message in `kept` (a std::string).
+PetscErrorCode keepFirstMessage(MPI_Comm, int, const char*, const char*, PetscErrorCode code, PetscErrorType type,
+                                const char* message, void* kept) {
+    auto& text = *static_cast<std::string*>(kept);
+    if (text.empty() && type == PETSC_ERROR_INITIAL && message) text = message;
+    return code;
+}
+
+}  // namespace
+
+void checkMpi(int code, const char* what) {
     if (code == MPI_SUCCESS) return;
     char text[MPI_MAX_ERROR_STRING];
     int length = 0;
@@ -25,11 +36,8 @@ void check(int code, const char* what) {
     throw Error(std::string("MPI: ") + what + ": " + std::string(text, std::size_t(length)));
 }
 
-}  // namespace
-
 Context::Context() {
-    int provided = 0;
-    check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided), "MPI_Init_thread");
+    checkMpi(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &m_threadLevel), "MPI_Init_thread");
     MPI_Comm_rank(MPI_COMM_WORLD, &m_rank);
     MPI_Comm_size(MPI_COMM_WORLD, &m_size);
     // Errors come back as codes (turned into hemirad::Error), never as MPI's abort.
@@ -38,19 +46,31 @@ Context::Context() {
     MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, m_rank, MPI_INFO_NULL, &node);
     MPI_Comm_size(node, &m_ranksOnNode);
     MPI_Comm_free(&node);
-    if (provided < MPI_THREAD_FUNNELED) {
-        // Only the main thread calls MPI, but worker threads exist: a library without that level may not cope.
-        agree(1, "MPI: the library does not support MPI_THREAD_FUNNELED (got level " + std::to_string(provided) + ")");
-    }
+}
+
+void Context::start() {
+    // Only the main thread calls MPI, but worker threads exist: a library without that level may not cope.
+    std::string failure;
+    if (m_threadLevel < MPI_THREAD_FUNNELED)
+        failure = "MPI: the library does not support MPI_THREAD_FUNNELED (got level " + std::to_string(m_threadLevel) + ")";
+    agree(failure.empty() ? 0 : 1, failure);
     // PETSc on the same communicator; hemirad's own flags are not PETSc options, and Ctrl-C stays ours.
+    // Its errors, those of its start included, come back as codes that hemirad turns into its own
+    // messages (no traceback from every rank).
     PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
-    if (PetscInitializeNoArguments() != 0) agree(1, "PETSc: initialisation failed");
-    // PETSc errors come back as codes that hemirad turns into its own messages (no traceback).
+    std::string message;
+    PetscPushErrorHandler(keepFirstMessage, &message);
+    m_petsc = PetscInitializeNoArguments() == 0;
+    PetscPopErrorHandler();
     PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+    if (!m_petsc)
+        failure = "PETSc: initialisation failed: " + (message.empty() ? std::string("no message") : message) +
+                  " (PETSc reads options from PETSC_OPTIONS and .petscrc files too)";
+    agree(failure.empty() ? 0 : 1, failure);
 }
 
 Context::~Context() {
-    PetscFinalize();
+    if (m_petsc) PetscFinalize();
     MPI_Finalize();
 }
 
@@ -62,7 +82,7 @@ void Context::agree(int status, const std::string& message) const {
         int value;
         int rank;
     } mine{status ? -1 : 0, m_rank}, first{0, 0};
-    check(MPI_Allreduce(&mine, &first, 1, MPI_2INT, MPI_MINLOC, MPI_COMM_WORLD), "agreement");
+    checkMpi(MPI_Allreduce(&mine, &first, 1, MPI_2INT, MPI_MINLOC, MPI_COMM_WORLD), "agreement");
     if (first.value == 0) return;
     int failures = 0, failed = status ? 1 : 0;
     MPI_Allreduce(&failed, &failures, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
@@ -102,7 +122,7 @@ std::vector<std::string> Context::gatherText(const std::string& text) const {
 
 std::vector<int> Context::ranksDiffering(std::uint64_t value) const {
     std::vector<std::uint64_t> values(std::size_t(m_size), 0);
-    check(MPI_Allgather(&value, 1, MPI_UINT64_T, values.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD), "gathering hashes");
+    checkMpi(MPI_Allgather(&value, 1, MPI_UINT64_T, values.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD), "gathering hashes");
     std::vector<int> differing;
     for (int r = 1; r < m_size; ++r)
         if (values[std::size_t(r)] != values[0]) differing.push_back(r);
@@ -111,10 +131,10 @@ std::vector<int> Context::ranksDiffering(std::uint64_t value) const {
 
 std::string Context::broadcastText(const std::string& text) const {
     std::uint64_t length = text.size();
-    check(MPI_Bcast(&length, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD), "broadcast");
+    checkMpi(MPI_Bcast(&length, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD), "broadcast");
     std::string all = m_rank == 0 ? text : std::string(std::size_t(length), '\0');
     for (std::size_t done = 0; done < all.size(); done += kPieceBytes)
-        check(MPI_Bcast(all.data() + done, int(std::min(kPieceBytes, all.size() - done)), MPI_CHAR, 0, MPI_COMM_WORLD),
+        checkMpi(MPI_Bcast(all.data() + done, int(std::min(kPieceBytes, all.size() - done)), MPI_CHAR, 0, MPI_COMM_WORLD),
               "broadcast");
     return all;
 }
@@ -139,14 +159,14 @@ void abortAllRanks(const std::string& message) {
 void sendBytes(const void* data, std::size_t bytes, int destination, int tag) {
     const auto* p = static_cast<const char*>(data);
     for (std::size_t done = 0; done < bytes; done += kPieceBytes)
-        check(MPI_Send(p + done, int(std::min(kPieceBytes, bytes - done)), MPI_BYTE, destination, tag, MPI_COMM_WORLD),
+        checkMpi(MPI_Send(p + done, int(std::min(kPieceBytes, bytes - done)), MPI_BYTE, destination, tag, MPI_COMM_WORLD),
               "send");
 }
 
 void receiveBytes(void* data, std::size_t bytes, int source, int tag) {
     auto* p = static_cast<char*>(data);
     for (std::size_t done = 0; done < bytes; done += kPieceBytes)
-        check(MPI_Recv(p + done, int(std::min(kPieceBytes, bytes - done)), MPI_BYTE, source, tag, MPI_COMM_WORLD,
+        checkMpi(MPI_Recv(p + done, int(std::min(kPieceBytes, bytes - done)), MPI_BYTE, source, tag, MPI_COMM_WORLD,
                        MPI_STATUS_IGNORE),
               "receive");
 }

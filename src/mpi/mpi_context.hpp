@@ -22,12 +22,18 @@ private:
 };
 
 /// MPI_COMM_WORLD for the life of the object (MPI_THREAD_FUNNELED: only the main thread calls MPI;
-/// back ends compute on worker threads meanwhile). Also initialises PETSc (no command-line options,
+/// back ends compute on worker threads meanwhile); start() initialises PETSc (no command-line options,
 /// no signal handlers) so that the solve can use it.
 class Context {
 public:
+    /// Starts MPI. Throws hemirad::Error when MPI_Init_thread fails (no rank can tell another then).
     Context();
+    /// Finalises PETSc where start() initialised it, then MPI: also after a failed start.
     ~Context();
+    /// Checks MPI's thread level and initialises PETSc on every rank, each step agreed: a rank's
+    /// failure (PETSc cannot read the options file PETSC_OPTIONS names) throws AgreedFailure on every
+    /// rank. Collective; once, before anything else.
+    void start();
     Context(const Context&) = delete;
     Context& operator=(const Context&) = delete;
 
@@ -84,8 +90,13 @@ public:
 
 private:
     static int statusOf(const Error& e);
-    int m_rank = 0, m_size = 1, m_ranksOnNode = 1;
+    int m_rank = 0, m_size = 1, m_ranksOnNode = 1, m_threadLevel = 0;
+    bool m_petsc = false;  ///< PETSc initialised (by start())
 };
+
+/// Throws hemirad::Error "MPI: `what`: MPI's text for `code`" unless `code` is MPI_SUCCESS (errors
+/// come back as codes: MPI_ERRORS_RETURN).
+void checkMpi(int code, const char* what);
 
 /// Prints "hemirad: error: rank R of K: message" and ends every rank at once (MPI_Abort): for an error
 /// inside a collective, where the other ranks cannot be told otherwise. Does not return.

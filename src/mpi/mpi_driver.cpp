@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 namespace hemirad::mpi {
@@ -86,8 +87,8 @@ void loadScene(Job& job, const RadiosityPipeline& pipeline) {
                                " (geometry, materials or subdivision differ): every rank must read the same files");
 }
 
-/// F's rows spread over the ranks: reused from `reusePath` (each rank keeps a contiguous share of
-/// the rows it reads) when the stored-F rule takes it, and completed by the work queue. Returns that
+/// F's rows spread over the ranks: reused from `reusePath` (each rank reads its own shards, or a
+/// contiguous share of one file's rows) when the stored-F rule takes it, and completed by the work queue. Returns that
 /// rule (StoredFormFactorRule, the pipeline's) for storing F at `storePath`.
 StoredFormFactorRule obtainFormFactors(Job& job, const std::string& reusePath, const std::string& storePath) {
     const Context& context = job.context;
@@ -101,25 +102,11 @@ StoredFormFactorRule obtainFormFactors(Job& job, const std::string& reusePath, c
     if (!reusePath.empty()) {
         const auto t0 = std::chrono::steady_clock::now();
         const bool sharded = context.rootDecides(context.root() && isShardManifest(reusePath));
-        FormFactors current;
+        // Each rank its own shards, or its own share of one file's rows.
+        job.F = sharded ? readShards(context, reusePath) : readOwnRows(context, reusePath, n, options.memoryCheck);
         context.collectively([&] {
-            if (sharded) return;
-            current = loadFormFactors(reusePath);
-            checkStoredFormFactors(current, job.scene, options.formFactors, options.reuseFfAnyway, reusePath, job.warnings);
+            checkStoredFormFactors(job.F.local, job.scene, options.formFactors, options.reuseFfAnyway, reusePath, job.warnings);
         });
-        if (sharded) {
-            job.F = readShards(context, reusePath);  // each rank its own shards
-            context.collectively([&] {
-                checkStoredFormFactors(job.F.local, job.scene, options.formFactors, options.reuseFfAnyway, reusePath,
-                                       job.warnings);
-            });
-        } else {
-            // One file: every rank reads it and keeps a contiguous share of its rows.
-            std::vector<std::int32_t> owner(n, -1);
-            for (std::size_t i = 0; i < n; ++i)
-                if (current.rowComputed(i)) owner[i] = std::int32_t(i * std::size_t(context.size()) / n);
-            job.F = keepOwnRows(context, std::move(current), owner);
-        }
         job.timings.add("load F", secondsSince(t0));
         // Every rank holds the file's parameters and the owners of all rows: the same rule on each.
         const auto rowsHeld = std::size_t(
@@ -371,8 +358,17 @@ void runBenchRun(Job& job) {
 }  // namespace
 
 int runUnderMpi(int argc, char** argv) {
-    Context context;
+    std::optional<Context> started;
     try {
+        started.emplace();
+    } catch (const Error& e) {
+        // MPI did not start (most libraries end the job themselves then): no rank can tell another.
+        printError(e.what());
+        return 1;
+    }
+    const Context& context = *started;
+    try {
+        started->start();  // its failures are agreed, and ~Context still finalises MPI
         Options options;
         context.collectively([&] {
             options = parseOptions(argc, argv);

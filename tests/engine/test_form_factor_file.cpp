@@ -180,6 +180,39 @@ TEST_CASE("A damaged .hff file fails with a clear message") {
     }
 }
 
+TEST_CASE("A range of rows read alone from an .hff file holds those rows only, and the whole file is checksummed") {
+    // issue 35 #12: each MPI rank reads its share of a reused F's rows, not all of F.
+    const auto dir = tempDir("ff-rows");
+    const FormFactors F = sampleF();
+    const std::string path = (dir / "F.hff").string();
+    saveFormFactors(F, path);
+    const FormFactors rows = loadHffRows(path, 1, 3, 4);  // row 1 and the skipped row 2
+    REQUIRE(rows.size() == 4);
+    CHECK(rows.nonZeros() == 2);
+    CHECK(rows.sceneHash == F.sceneHash);
+    CHECK(rows.provenance == F.provenance);
+    CHECK(rows.parameters == F.parameters);
+    for (std::size_t i = 0; i < 4; ++i) {
+        CAPTURE(i);
+        CHECK(rows.rowComputed(i) == (i == 1));
+        REQUIRE(rows.rowEnd(i) - rows.rowBegin(i) == (i == 1 ? F.rowEnd(i) - F.rowBegin(i) : 0));
+        for (std::uint64_t k = 0; k < rows.rowEnd(i) - rows.rowBegin(i); ++k) {
+            CHECK(rows.columns()[rows.rowBegin(i) + k] == F.columns()[F.rowBegin(i) + k]);
+            CHECK(rows.values()[rows.rowBegin(i) + k] == F.values()[F.rowBegin(i) + k]);
+        }
+    }
+    // Every row, an empty range, and a range past N (clamped).
+    requireSame(loadHffRows(path, 0, 4), F);
+    CHECK(loadHffRows(path, 2, 2).nonZeros() == 0);
+    CHECK(loadHffRows(path, 3, 99).nonZeros() == 2);
+    CHECK_THROWS_WITH_AS(loadHffRows(path, 0, 4, 5), doctest::Contains("F has 4 patches but the scene has 5"), Error);
+    // A flipped bit in the last row's values, outside the rows read: the checksum still refuses it.
+    std::string bytes = readAll(path);
+    bytes[bytes.size() - 12] ^= 0x10;
+    writeFile(dir / "flip.hff", bytes);
+    CHECK_THROWS_WITH_AS(loadHffRows((dir / "flip.hff").string(), 0, 1), doctest::Contains("checksum mismatch"), Error);
+}
+
 TEST_CASE("Well-formed files with impossible content are rejected") {
     const auto dir = tempDir("ff-content");
     SUBCASE("column out of range") {

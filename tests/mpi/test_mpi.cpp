@@ -74,6 +74,18 @@ std::size_t count(const std::string& text, const std::string& what) {
     return n;
 }
 
+/// For a command or one rank's program: "env LD_PRELOAD=PROBE HEMIRAD_TEST_MEMINFO=FILE ", FILE (at
+/// `path`) being this machine's /proc/meminfo with MemAvailable set to `bytes` (tests/fake_meminfo.cpp).
+std::string withAvailableMemory(const std::filesystem::path& path, std::uintmax_t bytes) {
+    std::istringstream real(readText("/proc/meminfo"));
+    std::string text;
+    for (std::string line; std::getline(real, line);)
+        text += (line.rfind("MemAvailable:", 0) == 0 ? "MemAvailable:   " + std::to_string(bytes / 1024) + " kB" : line) + '\n';
+    REQUIRE(text.find("MemAvailable:") != std::string::npos);
+    writeFile(path, text);
+    return "env LD_PRELOAD=" + std::string(HEMIRAD_TEST_FAKE_MEMINFO) + " HEMIRAD_TEST_MEMINFO='" + path.string() + "' ";
+}
+
 /// Returns the two-rank run's output.
 std::string checkSameF(const std::string& scene, const std::string& flags) {
     const auto dir = tempDir("mpi-f");
@@ -606,4 +618,71 @@ TEST_CASE("A rank that cannot load the MPI module says why when rank 0 could and
     CHECK(r.status != 124);  // no hang
     CHECK(count(r.output, "hemirad: error: rank 1 of 2: started by an MPI launcher, but its MPI module " +
                               (std::filesystem::canonical(dir) / "hemirad-mpi.so").string() + " cannot be used") == 1);
+}
+
+TEST_CASE("A failure while MPI ranks start (PETSc cannot open its options file) is one message, exit 1, no hang") {
+    // issue 35 #12: the failure was thrown from the MPI context's constructor, outside any try: each
+    // rank printed PETSc's traceback and ended in std::terminate, without MPI_Finalize.
+    const auto dir = tempDir("mpi-start");
+    const std::string solve = std::string(HEMIRAD_BINARY) + " solve " + sourcePath("scenes/unit_cube.obj") + " -o B.csv";
+    const Run r = runMpirun(dir, "-np 2 -x PETSC_OPTIONS='-options_file missing.opts' " + solve);
+    CHECK(r.status == 1);
+    CHECK(count(r.output, "hemirad: error: ") == 1);
+    CHECK(count(r.output, "hemirad: error: PETSc: initialisation failed: Unable to open options file missing.opts") == 1);
+    CHECK(count(r.output, "terminate called") == 0);
+    CHECK(count(r.output, "PETSC ERROR") == 0);
+    CHECK_FALSE(std::filesystem::exists(dir / "B.csv"));
+}
+
+TEST_CASE("A rank whose main thread fails while its worker waits for rows ends the job with its message, no hang") {
+    // issue 35 #12: an exception on a rank's main thread (here MPI_Test failing, a preloaded fault on
+    // rank 1) left its worker thread waiting in the row queue, and the worker's join waited forever.
+    // The failure is outside any agreement point: rank 1 says why and ends every rank (MPI_Abort).
+    const auto dir = tempDir("mpi-main-thread-fails");
+    const std::string command = std::string(HEMIRAD_BINARY) + " formfactors " + sourcePath("scenes/cornell_box.obj") +
+                                " --subdivide 80 --samples 256 --threads 1 -o F.hff";
+    const Run r = runMpirun(dir, "-np 1 " + command + " : -np 1 env LD_PRELOAD=" + HEMIRAD_TEST_MPI_TEST_FAILS + " " + command);
+    CHECK(r.status == 1);  // 124: the timeout (a hang)
+    CHECK(count(r.output, "mpi_test_fails: MPI_Test fails") == 1);  // the fault was in place
+    CHECK(count(r.output, "hemirad: error: ") == 1);
+    CHECK(count(r.output, "hemirad: error: rank 1 of 2: MPI: waiting for rows: ") == 1);
+    CHECK_FALSE(std::filesystem::exists(dir / "F.hff"));
+}
+
+TEST_CASE("One F file reused on 2 ranks: each rank reads its share of the rows, checked against the node's memory") {
+    // issue 35 #12: every rank loaded all of F, with no memory check: the ranks of a node held it
+    // that many times over. Here the available memory the ranks see is the test's (a preloaded probe).
+    const auto dir = tempDir("mpi-reuse-memory");
+    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 80 --samples 256";
+    for (const char* file : {"F.hff", "F.mtx"}) {
+        const Run one = runHemirad(dir, 0, "solve " + scene + " --ff " + file + " --solver lu -o lu.csv --quiet");
+        REQUIRE_MESSAGE(one.status == 0, one.output);
+    }
+    const std::uintmax_t size = std::filesystem::file_size(dir / "F.hff");
+    REQUIRE(size > 1000000);  // 144620 entries; the N-sized arrays are 1 % of it
+    const std::string roomy = withAvailableMemory(dir / "roomy", 2 * size), small = withAvailableMemory(dir / "small", size / 2);
+    const std::string solve = std::string(HEMIRAD_BINARY) + " solve " + scene + " --threads 1 --tolerance 1e-13 -o B.csv --ff ";
+    // 80 % of 2 |F|: room for each rank's share of the rows, not for all of F on each rank.
+    Run r = runMpirun(dir, "-np 2 " + roomy + solve + "F.hff");
+    REQUIRE_MESSAGE(r.status == 0, r.output);
+    CHECK(r.output.find("form factors: reused F.hff (519 rows") != std::string::npos);
+    CHECK(largestRelativeDifference(radiosityColumns(dir / "B.csv"), radiosityColumns(dir / "lu.csv")) < 1e-8);
+    // Half of |F|: refused on every rank before it is read, said once.
+    std::filesystem::remove(dir / "B.csv");
+    r = runMpirun(dir, "-np 2 " + small + solve + "F.hff");
+    CHECK(r.status == 1);
+    CHECK(count(r.output, "hemirad: error: ") == 1);
+    CHECK(count(r.output, "hemirad: error: F.hff: the 2 ranks on this node would hold about ") == 1);
+    CHECK(count(r.output, " of F together (each rank a share of its rows), more than the 0.4 MiB available") == 1);
+    CHECK(count(r.output, "run fewer ranks on each node, or pass --no-memory-check") == 1);
+    CHECK_FALSE(std::filesystem::exists(dir / "B.csv"));
+    r = runMpirun(dir, "-np 2 " + small + solve + "F.hff --no-memory-check");
+    CHECK_MESSAGE(r.status == 0, r.output);
+    CHECK(std::filesystem::exists(dir / "B.csv"));
+    // An .mtx is read whole by every rank: refused where an .hff of the same F fits.
+    r = runMpirun(dir, "-np 2 " + roomy + solve + "F.mtx");
+    CHECK(r.status == 1);
+    CHECK(count(r.output, "hemirad: error: ") == 1);
+    CHECK(count(r.output, "hemirad: error: F.mtx: the 2 ranks on this node would hold about ") == 1);
+    CHECK(count(r.output, "store F as .hff, whose rows each rank reads alone") == 1);
 }

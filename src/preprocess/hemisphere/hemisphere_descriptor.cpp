@@ -1,5 +1,7 @@
 // The hemisphere back end's registry entry: its flags, work estimate and run description.
 #include "preprocess/backend_registry.hpp"
+
+#include "engine/memory.hpp"
 #include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/hemisphere_backend.hpp"
 #include "preprocess/hemisphere/reflectors.hpp"
@@ -115,13 +117,6 @@ std::string unusedMirrorTerms(const Scene& scene, const MethodSettings& s) {
     return usesAnalyticEstimator(s.as<H>(), scene.size()) ? "" : "unused: the rays estimator follows its rays";
 }
 
-std::string sizeText(double bytes) {
-    char text[32];
-    if (bytes >= double(1ull << 30)) std::snprintf(text, sizeof text, "%.2f GiB", bytes / double(1ull << 30));
-    else std::snprintf(text, sizeof text, "%.1f MiB", bytes / double(1ull << 20));
-    return text;
-}
-
 /// --estimator auto: the exact (analytic) estimator wherever its F fits in the memory budget, from
 /// the bound or, when that is too loose, 64 sample rows; the rays only where it would not fit.
 std::string resolveAuto(const Scene& /*scene*/, MethodSettings& s, const std::function<MemoryPrediction(const MethodSettings&)>& predict,
@@ -136,12 +131,12 @@ std::string resolveAuto(const Scene& /*scene*/, MethodSettings& s, const std::fu
     const std::string basis = p.sampledRows ? std::string(perRow) + " measured on " + std::to_string(p.sampledRows) + " rows"
                                             : std::string("at most one entry per patch");
     if (p.bytes <= budget)
-        return "estimator auto: analytic (exact factors): F needs about " + sizeText(p.bytes) + " (" + basis +
-               ") of the " + sizeText(budget) + " available";
+        return "estimator auto: analytic (exact factors): F needs about " + bytesText(p.bytes) + " (" + basis +
+               ") of the " + bytesText(budget) + " available";
     o.estimator = Estimator::Rays;
     const MemoryPrediction rays = predict(s);
-    return "estimator auto: rays, because the exact F would need about " + sizeText(p.bytes) + " (" + basis +
-           "), more than the " + sizeText(budget) + " available (the rays' F: about " + sizeText(rays.bytes) +
+    return "estimator auto: rays, because the exact F would need about " + bytesText(p.bytes) + " (" + basis +
+           "), more than the " + bytesText(budget) + " available (the rays' F: about " + bytesText(rays.bytes) +
            "); --estimator analytic insists";
 }
 
