@@ -41,7 +41,7 @@ void writeFalseColour(const Options& options, const Scene& scene, const Radiosit
     line.precision(9);
     line << "false colour: " << falseColourTitle(quantity) << " (W/m^2, luminance Y), "
          << falseColourScaleName(range.scale) << " scale " << range.min << " .. " << range.max
-         << (range.automatic ? " (the values' extremes)" : "");
+         << (range.automatic ? " (" + falseColourRangeNote(range) + ")" : "");
     reporter.line(line.str());
     reporter.line("wrote " + outputName(options.output) + " (" + std::to_string(image.width) + "x" + std::to_string(image.height) +
                   ": the picture and a " + std::to_string(kFalseColourLegendWidth) + "-pixel legend)");

@@ -605,7 +605,8 @@ render:
                          meter on the surface reads) or emission (E), W/m^2 as luminance Y, per
                          patch, with a legend (colour bar, values, unit) right of the picture
   --scale linear|log     the map's scale (default linear)
-  --range MIN:MAX        the map's range (default: the values' extremes; either side may be empty)
+  --range MIN:MAX        the map's range (default: the values' extremes, on a log scale the minimum
+                         at least max/1e4 (4 decades); either side may be empty)
 bench:
   --methods LIST         back ends to compare, e.g. )" + methodNames + R"(; a back-end option
                          applies to every listed back end that takes it

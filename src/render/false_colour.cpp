@@ -146,6 +146,8 @@ FalseColourRange falseColourRange(const std::vector<double>& values, FalseColour
         if (std::isfinite(v) && (scale == FalseColourScale::Linear || v > 0.0)) lo = std::min(lo, v), hi = std::max(hi, v);
     r.min = min ? *min : lo;
     r.max = max ? *max : hi;
+    const double floor = r.max * std::pow(10.0, -kFalseColourLogDecades);
+    if (scale == FalseColourScale::Log && !min && std::isfinite(r.max) && r.min < floor) r.min = floor, r.floored = true;
     if (!std::isfinite(r.min) || !std::isfinite(r.max))
         throw Error(scale == FalseColourScale::Log ? "false colour: no positive value to show on a log scale"
                                                    : "false colour: no patch has a value to show");
@@ -159,6 +161,15 @@ FalseColourRange falseColourRange(const std::vector<double>& values, FalseColour
     if (scale == FalseColourScale::Log && !(r.min > 0.0))
         throw Error("false colour: a log scale needs a positive minimum, got " + label(r.min));
     return r;
+}
+
+std::string falseColourRangeNote(const FalseColourRange& range) {
+    if (!range.automatic) return {};
+    if (!range.floored) return "the values' extremes";
+    char text[96];
+    std::snprintf(text, sizeof text, "min = max/1e%g (%g decades); lower values show the bottom colour", kFalseColourLogDecades,
+                  kFalseColourLogDecades);
+    return text;
 }
 
 std::array<std::uint8_t, 3> viridis(double t) {
@@ -209,7 +220,10 @@ Rgb8Image renderFalseColour(const Scene& scene, const RayScene& rays, const std:
         canvas.fill(barRight, y, barRight + 5, y + 1, ink);
         canvas.text(barRight + 8, y - 6, label(v), 2, ink);
     }
-    canvas.text(left, barBottom + 10, std::string(falseColourScaleName(range.scale)) + " scale", 1, ink);
+    char scaleText[48];
+    if (range.floored) std::snprintf(scaleText, sizeof scaleText, "log scale, floor max/1e%g", kFalseColourLogDecades);
+    else std::snprintf(scaleText, sizeof scaleText, "%s scale", falseColourScaleName(range.scale));
+    canvas.text(left, barBottom + 10, scaleText, 1, ink);
     if (noData) {
         canvas.fill(left, barBottom + 30, left + 14, barBottom + 44, kFalseColourNoData);
         canvas.text(left + 20, barBottom + 33, "no data (rho = 0)", 1, ink);

@@ -31,18 +31,28 @@ std::string falseColourTitle(FalseColourQuantity quantity);
 /// area (what a meter on the surface reads); NaN where a channel's rho is 0 (B says nothing there).
 std::vector<double> falseColourValues(const Scene& scene, const std::vector<Rgb>& B, FalseColourQuantity quantity);
 
+/// An automatic log range spans at most this many decades: its minimum is at least max / 10^4.
+/// Below that lie values no meter reads against the rest (the floor under a block, about 0 up to
+/// round-off: 1e-5 to 1.8e-19 in the Cornell box), which would otherwise squeeze the map into its top.
+constexpr double kFalseColourLogDecades = 4.0;
+
 struct FalseColourRange {
     double min = 0.0, max = 1.0;
     FalseColourScale scale = FalseColourScale::Linear;
     bool automatic = true;
+    bool floored = false;  ///< an automatic log minimum raised to max / 10^kFalseColourLogDecades
     /// Position of `value` on the colour bar, 0 (min) .. 1 (max), clamped; NaN for NaN.
     double position(double value) const;
 };
 
 /// The range: `min`/`max` where given, else the extremes of the finite values (log: of the positive
-/// ones). Throws hemirad::Error when no value can be shown or min >= max.
+/// ones, the minimum no lower than max / 10^kFalseColourLogDecades). Throws hemirad::Error when no
+/// value can be shown or min >= max.
 FalseColourRange falseColourRange(const std::vector<double>& values, FalseColourScale scale, std::optional<double> min,
                                   std::optional<double> max);
+/// How an automatic range was chosen, for reports and legends: "the values' extremes", or "min =
+/// max/1e4 (4 decades); lower values show the bottom colour"; empty for a given range.
+std::string falseColourRangeNote(const FalseColourRange& range);
 
 /// The colour map at t in [0, 1] (matplotlib's viridis, 256 steps).
 std::array<std::uint8_t, 3> viridis(double t);

@@ -677,10 +677,11 @@ void Panels::legendPanel(AppState& app) {
     tip("Colours evenly spaced in the value");
     ImGui::SameLine();
     ImGui::RadioButton("log", &scale, 1);
-    tip("Colours evenly spaced in the value's logarithm (for ranges over decades; values <= 0 show as the minimum)");
+    tip("Colours evenly spaced in the value's logarithm (for ranges over decades; values <= 0 show as the minimum);\n"
+        "the automatic range spans at most 4 decades: its minimum is at least max/1e4");
     fc.scale = FalseColourScale(scale);
     ImGui::Checkbox("automatic range", &fc.automatic);
-    tip("The range is the values' minimum and maximum; off: type min and max");
+    tip("The range is the values' minimum and maximum (log: the minimum at least max/1e4); off: type min and max");
     const FalseColourView view = app.falseColourView();
     if (fc.automatic) {
         fc.min = view.range.min;  // the fields start from the data when switched to manual
@@ -719,8 +720,8 @@ void Panels::legendPanel(AppState& app) {
     }
     ImGui::Dummy(ImVec2(barWidth + 80, barHeight + 12));
     ImGui::PushTextWrapPos(0.0f);
-    ImGui::TextDisabled("%s scale%s", falseColourScaleName(view.range.scale),
-                        view.range.automatic ? ", the values' extremes" : "");
+    ImGui::TextDisabled("%s scale%s%s", falseColourScaleName(view.range.scale), view.range.automatic ? ", " : "",
+                        falseColourRangeNote(view.range).c_str());
     ImGui::PopTextWrapPos();
     if (view.noData) {
         ImGui::ColorButton("##nodata", ImVec4(0.5f, 0.5f, 0.5f, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));

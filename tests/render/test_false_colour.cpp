@@ -42,6 +42,18 @@ std::array<std::uint8_t, 3> pixel(const unsigned char* rgb, int width, int x, in
     return {p[0], p[1], p[2]};
 }
 
+/// The colours of the patches in the picture's top-left `size` x `size` pixels: background, back
+/// faces and no data left out.
+std::vector<std::array<std::uint8_t, 3>> patchColours(const unsigned char* rgb, int width, int size) {
+    std::vector<std::array<std::uint8_t, 3>> colours;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const auto c = pixel(rgb, width, x, y);
+            if (c != kFalseColourBackground && c != kFalseColourBackFace && c != kFalseColourNoData) colours.push_back(c);
+        }
+    return colours;
+}
+
 }  // namespace
 
 TEST_CASE("False colour: values per quantity, automatic and given ranges, linear and log positions") {
@@ -78,7 +90,10 @@ TEST_CASE("False colour: values per quantity, automatic and given ranges, linear
     CHECK_THROWS_WITH_AS(falseColourRange({-1.0, 0.0}, FalseColourScale::Log, {}, {}),
                          doctest::Contains("no positive value to show on a log scale"), Error);
     CHECK_THROWS_WITH_AS(falseColourRange(H, FalseColourScale::Linear, 5.0, 5.0), doctest::Contains("is empty"), Error);
-    // A uniform quantity still gets a range (and a colour) around its value.
+    CHECK_FALSE(log.floored);
+    CHECK(falseColourRangeNote(log) == "the values' extremes");
+    CHECK(falseColourRangeNote(given).empty());
+        // A uniform quantity still gets a range (and a colour) around its value.
     const FalseColourRange flat = falseColourRange({2.0, 2.0}, FalseColourScale::Linear, {}, {});
     CHECK(flat.min < 2.0);
     CHECK(flat.max > 2.0);
@@ -126,17 +141,14 @@ TEST_CASE("hemirad render --false-color irradiance: colours, range and legend co
     std::set<int> steps;
     for (double h : H)
         if (!std::isnan(h)) steps.insert(int(std::lround(range.position(h) * 255.0)));
-    std::size_t coloured = 0, unmatched = 0;
-    for (int y = 0; y < 200; ++y)
-        for (int x = 0; x < 200; ++x) {
-            const auto c = pixel(data, width, x, y);
-            if (c == kFalseColourBackground || c == kFalseColourBackFace || c == kFalseColourNoData) continue;
-            ++coloured;
-            bool found = false;
-            for (int k : steps) found |= viridis(k / 255.0) == c;
-            unmatched += !found;
-        }
-    CHECK(coloured > 30000);
+    const auto coloured = patchColours(data, width, 200);
+    std::size_t unmatched = 0;
+    for (const auto& c : coloured) {
+        bool found = false;
+        for (int k : steps) found |= viridis(k / 255.0) == c;
+        unmatched += !found;
+    }
+    CHECK(coloured.size() > 30000);
     CHECK(unmatched == 0);
     // The legend's bar runs from the map's top colour (max) down to its bottom one (min).
     const int barX = 200 + 12 + 14;
@@ -162,4 +174,52 @@ TEST_CASE("hemirad render --false-color irradiance: colours, range and legend co
     r = runCommand(hemirad + "render " + scene + " --false-color lux -o " + png + " 2>&1");
     CHECK(r.status == 2);
     CHECK(r.output.find("--false-color expects radiosity, irradiance or emission, got 'lux'") != std::string::npos);
+}
+
+TEST_CASE("False colour: an automatic log range spans at most 4 decades, a given minimum is kept") {
+    // The Cornell box's irradiance: 1.07 under the light, round-off (1.76e-19) on the floor under a block.
+    const std::vector<double> H = {1.76e-19, 2e-3, 0.3, 1.07, 0.0};
+    const FalseColourRange log = falseColourRange(H, FalseColourScale::Log, {}, {});
+    CHECK(log.max == doctest::Approx(1.07));
+    CHECK(log.min == doctest::Approx(1.07e-4));
+    CHECK(log.floored);
+    CHECK(falseColourRangeNote(log).find("max/1e4") != std::string::npos);
+    CHECK(log.position(2e-3) == doctest::Approx(std::log10(2e-3 / 1.07e-4) / 4.0));
+    CHECK(log.position(1.76e-19) == 0.0);  // below the floor: the bottom colour
+    const FalseColourRange given = falseColourRange(H, FalseColourScale::Log, 1e-20, {});
+    CHECK(given.min == 1e-20);
+    CHECK_FALSE(given.floored);
+    CHECK_FALSE(falseColourRange(H, FalseColourScale::Linear, {}, {}).floored);  // linear: the extremes
+}
+
+TEST_CASE("hemirad render --false-color irradiance --scale log: the floor under the blocks does not squeeze the map") {
+    const auto dir = tempDir("false-colour-log");
+    const std::string png = (dir / "H.png").string();
+    const CommandResult r = runCommand(std::string(HEMIRAD_BINARY) + " render " + sourcePath("scenes/cornell_box.obj") +
+                                       " --subdivide 30 --false-color irradiance --scale log --size 100x100 -o " + png +
+                                       " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    double lo = 0, hi = 0;
+    const std::size_t at = r.output.find("log scale ");
+    REQUIRE(at != std::string::npos);
+    REQUIRE(std::sscanf(r.output.c_str() + at, "log scale %lf .. %lf", &lo, &hi) == 2);
+    CHECK(lo == doctest::Approx(hi * 1e-4).epsilon(1e-6));  // without the floor: 1.0e-5, a patch under a block
+    CHECK(r.output.find("min = max/1e4 (4 decades)") != std::string::npos);
+    // The picture spreads over the map: a tenth of its coloured pixels or more in the lower three
+    // quarters of the map (H < 0.1 here: the blocks, the shaded floor).
+    int width = 0, height = 0, channels = 0;
+    unsigned char* data = stbi_load(png.c_str(), &width, &height, &channels, 3);
+    REQUIRE(data != nullptr);
+    const auto coloured = patchColours(data, width, 100);
+    stbi_image_free(data);
+    std::size_t low = 0;
+    for (const auto& c : coloured)
+        for (int k = 0; k < 192; ++k)
+            if (viridis(k / 255.0) == c) {
+                ++low;
+                break;
+            }
+    CHECK(coloured.size() > 5000);
+    CHECK(double(low) > 0.1 * double(coloured.size()));
 }

@@ -156,6 +156,34 @@ TEST_CASE("hemirad-gui's false-colour view: patches in the map's colours, a lege
     CHECK(inMap);
 }
 
+TEST_CASE("hemirad-gui's log false colour: the automatic range spans at most 4 decades below the maximum") {
+    // The issue's mesh: at 30 mm floor patches lie under a block (irradiance near 0: 1.0e-5 here,
+    // 1.8e-19 in the issue), which set the minimum before the floor.
+    std::string log;
+    const Image image = runGui("gui-false-colour-log",
+                               sourcePath("scenes/cornell_box.obj") + " --subdivide 30 --false-color irradiance --scale log --run", log);
+    INFO(log);
+    double lo = 0, hi = 0;
+    const std::size_t at = log.find("hemirad-gui: false colour: irradiance H, log scale ");
+    REQUIRE(at != std::string::npos);
+    REQUIRE(std::sscanf(log.c_str() + at, "hemirad-gui: false colour: irradiance H, log scale %lf .. %lf", &lo, &hi) == 2);
+    CHECK(hi > 0.1);
+    CHECK(lo == doctest::Approx(hi * 1e-4).epsilon(1e-6));  // not the round-off on the floor under a block
+    // The view spreads over the map: a tenth of the map-coloured pixels of the window's middle or more
+    // in the map's lower three quarters (the blocks).
+    std::size_t coloured = 0, low = 0;
+    for (int y = image.height * 3 / 10; y < image.height * 7 / 10; ++y)
+        for (int x = image.width * 3 / 10; x < image.width * 7 / 10; ++x)
+            for (int k = 0; k < 256; ++k)
+                if (hemirad::viridis(k / 255.0) == std::array<std::uint8_t, 3>{image.at(x, y)[0], image.at(x, y)[1], image.at(x, y)[2]}) {
+                    ++coloured;
+                    low += k < 192;
+                    break;
+                }
+    CHECK(coloured > 10000);
+    CHECK(double(low) > 0.1 * double(coloured));
+}
+
 TEST_CASE("hemirad-gui meshes a selected object as the Pipeline panel's Apply does: the patch count it previews, and F made for it") {
     // --mesh-selected is the panel's Apply for the objects of --select (patch 17 of the 60 mm mesh
     // lies on the tall block); Run then computes every row of the new mesh.
