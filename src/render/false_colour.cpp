@@ -114,6 +114,10 @@ std::string falseColourTitle(FalseColourQuantity quantity) {
 
 std::vector<double> falseColourValues(const Scene& scene, const std::vector<Rgb>& B, FalseColourQuantity quantity) {
     if (B.size() != scene.size()) throw Error("false colour: radiosity does not match the scene");
+    // Without an emitter B, H and E are 0 everywhere: a map of zeros (once a -1..1 range in one colour)
+    // would read as a measurement.
+    if (std::none_of(scene.patches.begin(), scene.patches.end(), [](const Patch& p) { return (p.emission > 0.0).any(); }))
+        throw Error("false colour: nothing emits (no patch has emission E > 0), so B, H and E are 0 everywhere: no data");
     std::vector<double> values(scene.size());
     for (PatchId i = 0; i < scene.size(); ++i) {
         const Patch& p = scene.patches[i];

@@ -29,6 +29,7 @@ std::string falseColourTitle(FalseColourQuantity quantity);
 /// The quantity per patch as one number: the luminance Y (Rec. 709 weights) of the RGB value, in
 /// the scene's emission units (W/m^2). Irradiance H = (B - E) / rho, the flux a patch receives per
 /// area (what a meter on the surface reads); NaN where a channel's rho is 0 (B says nothing there).
+/// Throws hemirad::Error when no patch emits (then every value would be 0).
 std::vector<double> falseColourValues(const Scene& scene, const std::vector<Rgb>& B, FalseColourQuantity quantity);
 
 /// An automatic log range spans at most this many decades: its minimum is at least max / 10^4.

@@ -39,6 +39,7 @@ FalseColourView AppState::falseColourView() const {
         }
     } catch (const std::exception& e) {
         view.error = e.what();
+        view.noData = true;  // every patch is the no-data grey
     }
     return view;
 }

@@ -37,7 +37,7 @@ struct FalseColourSettings {
 struct FalseColourView {
     FalseColourRange range;
     std::vector<std::uint32_t> colours;  ///< per patch 0xRRGGBB (falseColourOf: the no-data grey where none)
-    bool noData = false;
+    bool noData = false;                 ///< some patch has no value (all of them where `error` is set)
     std::string error;                   ///< why no map can be shown (then every patch is no-data grey)
 };
 enum class SelectionMode { Patch, Object };

@@ -468,8 +468,9 @@ int main(int argc, char** argv) {
                 std::printf("hemirad-gui: %ld frames drawn in %.2f s\n", frames, seconds());
                 if (app.layer == Layer::FalseColour) {
                     const FalseColourView view = app.falseColourView();
-                    std::printf("hemirad-gui: false colour: %s, %s scale %.9g .. %.9g\n", falseColourTitle(app.falseColour.quantity).c_str(),
-                                falseColourScaleName(view.range.scale), view.range.min, view.range.max);
+                    if (!view.error.empty()) std::printf("hemirad-gui: %s\n", view.error.c_str());
+                    else std::printf("hemirad-gui: false colour: %s, %s scale %.9g .. %.9g\n", falseColourTitle(app.falseColour.quantity).c_str(),
+                                     falseColourScaleName(view.range.scale), view.range.min, view.range.max);
                 }
                 std::printf("hemirad-gui: status: %s\n", panels.status().c_str());
                 if (options.checkTooltips) {

@@ -696,9 +696,18 @@ void Panels::legendPanel(AppState& app) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.4f, 1.0f));
         ImGui::TextWrapped("%s", view.error.c_str());
         ImGui::PopStyleColor();
-        return;
+    } else {
+        falseColourBar(view, fc.quantity);
     }
-    ImGui::Text("%s", falseColourTitle(fc.quantity).c_str());
+    if (view.noData) {
+        ImGui::ColorButton("##nodata", ImVec4(0.5f, 0.5f, 0.5f, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
+        ImGui::SameLine();
+        ImGui::TextDisabled(view.error.empty() ? "no data (rho = 0)" : "no data");
+    }
+}
+
+void Panels::falseColourBar(const FalseColourView& view, FalseColourQuantity quantity) {
+    ImGui::Text("%s", falseColourTitle(quantity).c_str());
     ImGui::TextDisabled("W/m^2, luminance Y");
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     const float barWidth = 24.0f, barHeight = std::max(60.0f, std::min(220.0f, ImGui::GetContentRegionAvail().y - 40.0f));
@@ -723,11 +732,6 @@ void Panels::legendPanel(AppState& app) {
     ImGui::TextDisabled("%s scale%s%s", falseColourScaleName(view.range.scale), view.range.automatic ? ", " : "",
                         falseColourRangeNote(view.range).c_str());
     ImGui::PopTextWrapPos();
-    if (view.noData) {
-        ImGui::ColorButton("##nodata", ImVec4(0.5f, 0.5f, 0.5f, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
-        ImGui::SameLine();
-        ImGui::TextDisabled("no data (rho = 0)");
-    }
 }
 
 void Panels::objectsPanel(AppState& app) {

@@ -69,6 +69,8 @@ private:
     void logPanel(AppState& app);
     void statusBar(AppState& app, const Rect& rect, std::optional<PatchId> hovered, double viewExposure);
     void legendPanel(AppState& app);
+    /// The legend's title, colour bar, its five values and the scale.
+    void falseColourBar(const FalseColourView& view, FalseColourQuantity quantity);
     void objectsPanel(AppState& app);
     void helpPanel();
     void modals(AppState& app, OrbitCamera& camera, LoopRequests& requests);

@@ -192,6 +192,15 @@ TEST_CASE("False colour: an automatic log range spans at most 4 decades, a given
     CHECK_FALSE(falseColourRange(H, FalseColourScale::Linear, {}, {}).floored);  // linear: the extremes
 }
 
+TEST_CASE("False colour refuses a scene where nothing emits: every value would be 0") {
+    SceneBuilder b;
+    b.rectangle(2, 0, 0, 1, 0, 1, true);
+    b.rectangle(2, 1, 0, 1, 0, 1, false);
+    const std::vector<Rgb> B(2, Rgb::Zero());
+    CHECK_THROWS_WITH_AS(falseColourValues(b.scene, B, FalseColourQuantity::Irradiance), doctest::Contains("nothing emits"), Error);
+    CHECK_THROWS_WITH_AS(falseColourValues(b.scene, B, FalseColourQuantity::Emission), doctest::Contains("no data"), Error);
+}
+
 TEST_CASE("hemirad render --false-color irradiance --scale log: the floor under the blocks does not squeeze the map") {
     const auto dir = tempDir("false-colour-log");
     const std::string png = (dir / "H.png").string();

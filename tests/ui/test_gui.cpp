@@ -184,6 +184,25 @@ TEST_CASE("hemirad-gui's log false colour: the automatic range spans at most 4 d
     CHECK(double(low) > 0.1 * double(coloured));
 }
 
+TEST_CASE("hemirad-gui's false colour of a scene where nothing emits says so, every patch in the no-data grey") {
+    // The Cornell box with its light switched off.
+    const auto dir = tempDir("gui-no-emitter");
+    std::string mtl = readText(sourcePath("scenes/cornell_box.mtl"));
+    const std::size_t light = mtl.find("Ke 17 11.8 4");
+    REQUIRE(light != std::string::npos);
+    mtl.replace(light, 12, "Ke 0 0 0");
+    writeFile(dir / "cornell_box.obj", readText(sourcePath("scenes/cornell_box.obj")));
+    writeFile(dir / "cornell_box.mtl", mtl);
+    std::string log;
+    const Image image = runGui("gui-no-emitter-run", (dir / "cornell_box.obj").string() + " --subdivide 60 --samples 64 --false-color irradiance --run", log);
+    INFO(log);
+    CHECK(log.find("hemirad-gui: false colour: nothing emits") != std::string::npos);
+    CHECK(log.find("scale -1 .. 1") == std::string::npos);
+    // The back wall's middle is the no-data grey.
+    const unsigned char* c = image.at(image.width / 2 + 60, image.height / 2 - 120);
+    CHECK(std::array<int, 3>{c[0], c[1], c[2]} == std::array<int, 3>{128, 128, 128});
+}
+
 TEST_CASE("hemirad-gui meshes a selected object as the Pipeline panel's Apply does: the patch count it previews, and F made for it") {
     // --mesh-selected is the panel's Apply for the objects of --select (patch 17 of the 60 mm mesh
     // lies on the tall block); Run then computes every row of the new mesh.
