@@ -179,7 +179,7 @@ void recordFormFactors(BenchRecord& r, const Options& o, const FormFactorRun& ru
     r.set("row_sum_mean", run.stats.rowSumMean);
     r.set("row_sum_max", run.stats.rowSumMax);
     r.set("reciprocity_mean", run.stats.reciprocityMean);
-    r.set("lost_fraction", run.rowsComputed ? run.counts.lostWeight / double(run.rowsComputed) : 0.0);
+    r.set("lost_fraction", run.counts.lostFraction());  // area-weighted over the computed rows
     if (!run.device.empty()) r.set("device", run.device);
     if (const auto batch = run.F.parameters.find("batch"); batch != run.F.parameters.end()) r.set("batch", batch->second);
     for (const auto& [stage, seconds] : run.stageSeconds) {

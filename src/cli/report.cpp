@@ -88,14 +88,9 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
     if (run.rowsSkipped) out << " (" << run.rowsSkipped << " skipped: black patches, B = E)";
     out << "\n  " << unit << " " << std::setprecision(2) << c.rays / 1e6 << " M in " << formatSeconds(run.computeSeconds)
         << " s = " << (run.computeSeconds > 0 ? c.rays / run.computeSeconds / 1e6 : 0.0) << " M " << unit << "/s";
-    const double lostPercent = run.rowsComputed ? 100.0 * c.lostWeight / double(run.rowsComputed) : 0.0;
-    if (!description.lossFromRays)  // no ray tells misses from hidden patches: 1 - row sum reached no patch
-        out << "; " << std::setprecision(4) << lostPercent
-            << "% of the power reached no patch (escaped, or behind back faces and shadow-ray misses)";
-    else
-        out << "; lost " << std::setprecision(4) << lostPercent << "% of the power (" << c.misses << " misses, "
-            << c.backfaces << " back faces)";
-    if (lostPercent > 1.0 && c.misses > 0)  // what a newcomer asks first about the open Cornell box
+    // Without rays (analytic) no ray tells misses from hidden patches: 1 - row sum reached no patch.
+    out << "; " << lostPowerText(c, description.lossFromRays);
+    if (c.lostFraction() > 0.01 && c.misses > 0)  // what a newcomer asks first about the open Cornell box
         out << "\n  (lost power left the scene through its openings, e.g. a box without a front wall, or met the "
                "back of a patch: it is gone, not an error; a closed scene loses almost nothing)";
     if (!run.device.empty()) out << "\n  device: " << run.device;

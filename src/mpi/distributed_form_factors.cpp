@@ -234,7 +234,7 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
     std::vector<PatchId> rows(listed);  // in the back end's order (the same on every rank)
     backend->orderRows(rows);
 
-    FormFactorBuilder builder(scene.size());
+    FormFactorBuilder builder(scene);
     QueueSource queue(rows, scene.size());
     const std::size_t threads = std::size_t(resolveThreads(settings.common.threads));
     const std::size_t minRows = 4 * threads;
@@ -370,9 +370,9 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
                                  mine.backfaces,    mine.rescaledRows, mine.shadowTerms,
                                  mine.contactPairs, mine.contactShafts, mine.contactEvaluations},
                   integerSums[9];
-    double reals[2] = {mine.lostWeight, mine.cutoffWeight}, realSums[2];
+    double reals[4] = {mine.lostWeight, mine.cutoffWeight, mine.lostArea, mine.rowArea}, realSums[4];
     MPI_Reduce(integers, integerSums, 9, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
-    MPI_Reduce(reals, realSums, 2, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+    MPI_Reduce(reals, realSums, 4, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
     double largest = 0;
     MPI_Reduce(&mine.largestDirectSum, &largest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
     MPI_Reduce(&prepareSeconds, &result.prepareSeconds, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
@@ -396,7 +396,7 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
         c.rays = integerSums[0], c.bounces = integerSums[1], c.misses = integerSums[2], c.backfaces = integerSums[3];
         c.rescaledRows = integerSums[4], c.shadowTerms = integerSums[5];
         c.contactPairs = integerSums[6], c.contactShafts = integerSums[7], c.contactEvaluations = integerSums[8];
-        c.lostWeight = realSums[0], c.cutoffWeight = realSums[1];
+        c.lostWeight = realSums[0], c.cutoffWeight = realSums[1], c.lostArea = realSums[2], c.rowArea = realSums[3];
         c.largestDirectSum = largest;
     }
     result.computeSeconds = computeSeconds;

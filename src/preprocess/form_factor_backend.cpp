@@ -15,6 +15,8 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
     misses += o.misses;
     backfaces += o.backfaces;
     lostWeight += o.lostWeight;
+    lostArea += o.lostArea;
+    rowArea += o.rowArea;
     cutoffWeight += o.cutoffWeight;
     rescaledRows += o.rescaledRows;
     shadowTerms += o.shadowTerms;
@@ -25,11 +27,26 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
     return *this;
 }
 
-FormFactorBuilder::FormFactorBuilder(std::size_t patches) : m_rows(patches), m_computed(patches, 0) {}
+std::string lostPowerText(const RayCounts& counts, bool lossFromRays) {
+    char text[192];
+    if (lossFromRays)
+        std::snprintf(text, sizeof text, "lost %.4g%% of the power (area-weighted; %llu misses, %llu back faces)",
+                      100.0 * counts.lostFraction(), static_cast<unsigned long long>(counts.misses),
+                      static_cast<unsigned long long>(counts.backfaces));
+    else
+        std::snprintf(text, sizeof text,
+                      "%.4g%% of the power reached no patch (area-weighted; escaped, or behind back faces and shadow-ray misses)",
+                      100.0 * counts.lostFraction());
+    return text;
+}
 
-void FormFactorBuilder::setRow(PatchId row, std::vector<FormFactors::Entry>&& entries) {
+FormFactorBuilder::FormFactorBuilder(const Scene& scene)
+    : m_rows(scene.size()), m_computed(scene.size(), 0), m_lost(scene.size(), 0.0), m_scene(scene) {}
+
+void FormFactorBuilder::setRow(PatchId row, std::vector<FormFactors::Entry>&& entries, double lost) {
     m_rows[row] = std::move(entries);
     m_computed[row] = 1;
+    m_lost[row] = lost;
     m_done.fetch_add(1, std::memory_order_relaxed);
 }
 
@@ -40,7 +57,11 @@ void FormFactorBuilder::addCounts(const RayCounts& counts) {
 
 RayCounts FormFactorBuilder::counts() const {
     std::lock_guard<std::mutex> lock(m_mutex);
-    return m_counts;
+    RayCounts counts = m_counts;
+    // Weighting by area here, where every back end hands over its rows, keeps it out of the back ends.
+    for (PatchId i = 0; i < m_scene.size(); ++i)
+        if (m_computed[i]) counts.lostArea += m_scene.patches[i].area * m_lost[i], counts.rowArea += m_scene.patches[i].area;
+    return counts;
 }
 
 void FormFactorBuilder::addStageSeconds(const std::string& stage, double seconds) {

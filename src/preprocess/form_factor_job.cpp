@@ -127,7 +127,7 @@ FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& setti
     const auto t1 = Clock::now();
     run.prepareSeconds = std::chrono::duration<double>(t1 - t0).count();
 
-    FormFactorBuilder builder(scene.size());
+    FormFactorBuilder builder(scene);
     std::exception_ptr failure;
     std::promise<void> done;
     std::future<void> finished = done.get_future();

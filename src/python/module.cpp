@@ -189,7 +189,7 @@ py::dict runDict(const FormFactorRun& run, const Scene& scene, const MethodSetti
     d["rows_skipped"] = run.rowsSkipped;
     d[py::str(backend.workUnit)] = c.rays;
     d[py::str(backend.workUnit + "_per_s")] = run.computeSeconds > 0 ? double(c.rays) / run.computeSeconds : 0.0;
-    d["lost_fraction"] = c.lostWeight / rows;
+    d["lost_fraction"] = c.lostFraction();  // area-weighted over the computed rows
     d["misses"] = c.misses;
     d["back_faces"] = c.backfaces;
     d["mirror_bounces"] = c.bounces;

@@ -67,11 +67,12 @@ struct AppState::Job {
             };
         };
         events.formFactorsComputed = [this](const FormFactorRun& run, const Scene& s, const MethodSettings& method) {
+            const RunDescription description = findBackend(method.method).describe(s, method);
             std::ostringstream msg;
-            msg << "form factors: " << method.method << ", " << findBackend(method.method).describe(s, method).settings
+            msg << "form factors: " << method.method << ", " << description.settings
                 << ", " << run.rowsComputed << " rows in " << run.computeSeconds << " s; row sums " << run.stats.rowSumMin
-                << ".." << run.stats.rowSumMax << ", reciprocity (mean) " << run.stats.reciprocityMean << ", lost "
-                << (run.rowsComputed ? 100.0 * run.counts.lostWeight / double(run.rowsComputed) : 0.0) << "%";
+                << ".." << run.stats.rowSumMax << ", reciprocity (mean) " << run.stats.reciprocityMean << "; "
+                << lostPowerText(run.counts, description.lossFromRays);
             messages.push_back(msg.str());
             if (run.rowsComputed > 0 && run.computeSeconds > 0.0)
                 workPerSecond = double(run.rowsComputed) * expectedWorkPerRow(s, method) / run.computeSeconds;

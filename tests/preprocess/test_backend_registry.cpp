@@ -36,7 +36,7 @@ public:
             std::vector<FormFactors::Entry> row;
             for (std::uint32_t j = 0; j < 6; ++j)
                 if (j != i) row.push_back({j, float(scale * ((i ^ 1) == j ? kCubeOpposite : kCubeAdjacent))});
-            builder.setRow(i, std::move(row));
+            builder.setRow(i, std::move(row), 1.0 - scale);  // what the scaled row leaves out
         }
     }
     FormFactorProvenance provenance() const override {

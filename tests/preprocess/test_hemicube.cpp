@@ -157,6 +157,12 @@ TEST_CASE("Batched hemicubes (one instanced draw into B atlas layers) give the r
         CHECK(cpu.counts.misses == rowByRow.counts.misses);
         CHECK(gpu.counts.misses == rowByRow.counts.misses);
         CHECK(gpu.counts.lostWeight == doctest::Approx(rowByRow.counts.lostWeight).epsilon(1e-6));
+        // Each row's loss reaches its row, however rows share a pass: 1 - its row sum (no mirrors), by area.
+        double lost = 0.0, area = 0.0;
+        for (PatchId i = 0; i < s.size(); ++i) lost += s.patches[i].area * (1.0 - rowByRow.F.rowSum(i)), area += s.patches[i].area;
+        CHECK(rowByRow.counts.lostFraction() == doctest::Approx(lost / area).epsilon(1e-4));
+        CHECK(cpu.counts.lostFraction() == doctest::Approx(lost / area).epsilon(1e-4));
+        CHECK(gpu.counts.lostFraction() == doctest::Approx(lost / area).epsilon(1e-4));
     }
 }
 
@@ -252,6 +258,7 @@ TEST_CASE("Passes in flight and row threads (rows summed beside the GL thread) g
                 CHECK(differing == 0);
                 CHECK(other.counts.misses == one.counts.misses);
                 CHECK(other.counts.lostWeight == doctest::Approx(one.counts.lostWeight).epsilon(1e-12));
+                CHECK(other.counts.lostFraction() == doctest::Approx(one.counts.lostFraction()).epsilon(1e-9));  // per row
                 CHECK(other.counts.rays == one.counts.rays);
             }
         }

@@ -103,7 +103,7 @@ FormFactors analyticRows(const Scene& scene, int threads, bool rowByRow, RayCoun
     common.threads = threads;
     auto backend = makeBackend(MethodSettings::of(o, common));
     backend->prepare(scene);
-    FormFactorBuilder builder(scene.size());
+    FormFactorBuilder builder(scene);
     std::vector<PatchId> rows(scene.size());
     for (PatchId i = 0; i < scene.size(); ++i) rows[i] = i;
     if (rowByRow) {

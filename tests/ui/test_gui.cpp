@@ -234,6 +234,30 @@ TEST_CASE("hemirad-gui meshes a selected object as the Pipeline panel's Apply do
     CHECK(distinct(470, 350, 640, 600) > 2 * distinct(640, 540, 820, 620));
 }
 
+TEST_CASE("hemirad-gui reports the lost power area-weighted, as the CLI: meshing one block finer leaves it where it was") {
+    // The issue's case: the 20-patch Cornell box (the mean over rows: 18.1 %), then its tall block
+    // meshed to 30 mm from the Pipeline panel (11.45 %).
+    hemirad::Warnings quiet = quietWarnings();
+    const hemirad::Scene source = hemirad::loadObj(sourcePath("scenes/cornell_box.obj"), quiet);
+    hemirad::PatchId tall = 0;
+    while (tall < source.size() && source.objects[source.patches[tall].object] != "tall_block") ++tall;
+    REQUIRE(tall < source.size());
+    const auto lostPercent = [](const std::string& name, const std::string& arguments) {
+        std::string log;
+        runGui(name, sourcePath("scenes/cornell_box.obj") + " " + arguments + " --run", log);
+        INFO(log);
+        const std::size_t at = log.find("% of the power");
+        REQUIRE(at != std::string::npos);
+        CHECK(log.find("area-weighted", at) < log.find('\n', at));
+        const std::size_t start = log.find_last_of(" ;", at) + 1;
+        return std::stod(log.substr(start, at - start));
+    };
+    const double whole = lostPercent("gui-lost-whole", "");
+    const double meshed = lostPercent("gui-lost-meshed", "--select " + std::to_string(tall) + " --mesh-selected 30");
+    CHECK(whole > 10.0);  // the open front
+    CHECK(std::abs(meshed - whole) < 1.0);
+}
+
 TEST_CASE("hemirad-gui's status bar reads out a known patch: B, H, E, rho, s as the CLI's CSV, and F_ij from the selected patch") {
     // Patch 200 of the 60 mm Cornell box is on the light; patch 0 (the floor) is selected.
     const std::string log = runGuiAndCheckPicture("gui-readout", "--samples 256 --select 0 --hover 200", false);

@@ -236,7 +236,10 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
                 // A summed row into F (the GL thread's, or a row thread's with its own accumulator).
                 auto handOver = [&builder](PatchId i, RowAccumulator& r, HemicubeStats& s) {
                     const auto t0 = std::chrono::steady_clock::now();
-                    builder.setRow(i, r.take(1.0));
+                    // Each stats object sums one row at a time (one accumulator): the row's loss is what
+                    // came since the last row it handed over.
+                    builder.setRow(i, r.take(1.0), s.lostWeight - s.lostHandedOver);
+                    s.lostHandedOver = s.lostWeight;
                     s.collect += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
                 };
                 auto rowDone = [&](PatchId i) { handOver(i, row, stats); };

@@ -25,6 +25,7 @@ struct HemicubeStats {
     std::uint64_t hemicubes = 0, pixels = 0, missed = 0, backfaces = 0, portals = 0;
     double lostWeight = 0;    ///< sum over rows of the row fraction that saw nothing or a back face
     double cutoffWeight = 0;  ///< sum over rows of the fraction still travelling at the depth/weight limit
+    double lostHandedOver = 0;  ///< lostWeight when the last row was handed over (not summed by +=)
     HemicubeStats& operator+=(const HemicubeStats& o) {
         render += o.render, readback += o.readback, wait += o.wait, reduce += o.reduce, collect += o.collect,
             mirrors += o.mirrors, gpuDraw += o.gpuDraw, gpuFinish += o.gpuFinish;

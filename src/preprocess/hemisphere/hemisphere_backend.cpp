@@ -114,6 +114,7 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
         RayCounts counts;
         PatchId i = 0;
         while (!builder.cancelled() && !failure.failed() && rows.next(i)) {
+            const double lostBefore = counts.lostWeight;  // what this row loses is what it adds
             if (m_analytic) {
                 const double direct = m_analyticEstimator.addRow(i, row, *analyticSpace, counts);
                 counts.lostWeight += std::max(0.0, 1.0 - direct);
@@ -130,7 +131,7 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
             } else {
                 m_rayEstimator.addRow(i, RayEstimator::Deposit::All, row, raySpace, counts);
             }
-            builder.setRow(i, row.take(1.0 / unit));
+            builder.setRow(i, row.take(1.0 / unit), counts.lostWeight - lostBefore);
         }
         builder.addCounts(counts);
     });
