@@ -13,6 +13,12 @@
 
 namespace hemirad {
 
+std::size_t objectsWithPatches(const Scene& scene) {
+    std::vector<bool> used(scene.objects.size() + 1, false);  // the last: patches of no object
+    for (const Patch& p : scene.patches) used[std::min<std::size_t>(p.object, scene.objects.size())] = true;
+    return std::size_t(std::count(used.begin(), used.end(), true));
+}
+
 std::vector<ObjectSummary> summarizeObjects(const Scene& scene, const std::vector<Rgb>& B) {
     if (B.size() != scene.size()) throw Error("object table: radiosity does not match the scene");
     const double inf = std::numeric_limits<double>::infinity();

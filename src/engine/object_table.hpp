@@ -19,6 +19,10 @@ struct ObjectSummary {
     double hMean = 0.0, hMin = 0.0, hMax = 0.0;
 };
 
+/// The objects that hold at least one patch: what a scene's object count means (the loader's
+/// "default" object of faces before any `o` line is empty in most OBJs, and is not counted then).
+std::size_t objectsWithPatches(const Scene& scene);
+
 /// One entry per object of the scene, in the scene's order (objects without patches left out).
 std::vector<ObjectSummary> summarizeObjects(const Scene& scene, const std::vector<Rgb>& B);
 

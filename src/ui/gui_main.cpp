@@ -9,6 +9,7 @@
 #include "ui/key_taps.hpp"
 #include "ui/orbit_camera.hpp"
 #include "ui/tooltip_check.hpp"
+#include "ui/units.hpp"
 #include "ui/panels.hpp"
 #include "ui/viewer.hpp"
 
@@ -471,6 +472,7 @@ int main(int argc, char** argv) {
                     std::printf("hemirad-gui: false colour: %s, %s scale %.9g .. %.9g\n", falseColourTitle(app.falseColour.quantity).c_str(),
                                 falseColourScaleName(view.range.scale), view.range.min, view.range.max);
                 }
+                if (app.hasScene()) std::printf("hemirad-gui: scene: %s\n", sceneCounts(app.scene()).c_str());
                 std::printf("hemirad-gui: status: %s\n", panels.status().c_str());
                 if (options.checkTooltips) {
                     std::istringstream lines(tooltips.report());

@@ -322,7 +322,7 @@ void Panels::scenePanel(AppState& app, OrbitCamera& camera) {
     }
     const Scene& s = app.scene();
     ImGui::TextWrapped("%s%s", app.scenePath().c_str(), app.dirty() ? "  (edited)" : "");
-    ImGui::Text("%zu patches, %zu objects%s", s.size(), s.objects.size(), s.hasMirrors() ? ", mirrors" : "");
+    ImGui::TextUnformatted(sceneCounts(s).c_str());
     const std::string unitShown = s.unit.empty() ? "not stated" : s.unit;
     const bool unitOpen = ImGui::BeginCombo("Unit", unitShown.c_str());
     tip("The scene's length unit (OBJ: '# hemirad unit mm'): labels lengths and areas, gives a selection's\n"

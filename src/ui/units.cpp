@@ -1,6 +1,7 @@
 // Formatting of the panels' values and units.
 #include "ui/units.hpp"
 
+#include "engine/object_table.hpp"
 #include "engine/scene.hpp"
 
 #include <cstdio>
@@ -14,6 +15,15 @@ std::string formatNumber(double v) {
 }
 
 std::string formatRgb(const Rgb& c) { return formatNumber(c[0]) + " " + formatNumber(c[1]) + " " + formatNumber(c[2]); }
+
+std::string formatCount(std::size_t n, const char* one, const char* many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+std::string sceneCounts(const Scene& scene) {
+    return formatCount(scene.size(), "patch", "patches") + ", " + formatCount(objectsWithPatches(scene), "object", "objects") +
+           (scene.hasMirrors() ? ", mirrors" : "");
+}
 
 std::string lengthUnitLabel(const std::string& unit) { return unit.empty() ? "scene units" : unit; }
 

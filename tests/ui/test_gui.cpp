@@ -343,3 +343,15 @@ TEST_CASE("hemirad-gui's help window lists the mouse and the keys, inside the wi
     runGui("gui-help-closed", sourcePath("scenes/cornell_box.obj"), log);
     CHECK(log.find("hemirad-gui: panel Help") == std::string::npos);
 }
+
+TEST_CASE("hemirad-gui's Scene panel counts the objects that hold patches, singular for one (issue 38 #9)") {
+    // The Cornell box's 8 groups read "9 objects": the loader's empty "default" object was counted.
+    std::string log;
+    runGui("gui-counts", sourcePath("scenes/cornell_box.obj"), log);
+    CHECK(log.find("hemirad-gui: scene: 20 patches, 8 objects\n") != std::string::npos);
+    const auto dir = tempDir("gui-counts-one");
+    writeFile(dir / "one.mtl", "newmtl white\nKd 0.5 0.5 0.5\n");
+    const std::string one = writeFile(dir / "one.obj", "mtllib one.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\no plate\nusemtl white\nf 1 2 3\n");
+    runGui("gui-counts-1", one, log);
+    CHECK(log.find("hemirad-gui: scene: 1 patch, 1 object\n") != std::string::npos);
+}
