@@ -52,6 +52,7 @@ struct GuiOptions {
     double exposure = 0.0;       ///< --exposure X: a fixed display scale (0: automatic)
     bool checkTooltips = false;  ///< --check-tooltips: sweep the mouse over the panels, then exit
     bool help = false;           ///< --help-window: start with Help > Keyboard and mouse open
+    bool objects = false;        ///< --objects-window: start with View > Object table open
     double mesh = 0.0;          ///< --mesh L: the meshing panel's Apply for the whole scene
     double meshSelected = 0.0;  ///< --mesh-selected L: the same for the objects of --select
     int width = 1280, height = 800;
@@ -62,7 +63,7 @@ struct GuiOptions {
 const char* kUsage =
     "usage: hemirad-gui [SCENE.obj|SCENE.stl] [--materials FILE.mtl] [--subdivide L] [--method NAME]\n"
     "                   [back-end options, see 'hemirad help']\n"
-    "                   [--max-depth D] [--exposure X] [--check-tooltips] [--help-window]\n"
+    "                   [--max-depth D] [--exposure X] [--check-tooltips] [--help-window] [--objects-window]\n"
     "                   [--mesh L | --select PATCH --mesh-selected L]\n"
     "                   [--size WxH] [--select PATCH] [--hover PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
     "                   [--quit-after S] [--false-color Q [--scale linear|log]] [--layer NAME]\n"
@@ -83,6 +84,7 @@ const char* kUsage =
     "  --hover PATCH  read PATCH out in the status bar as if the cursor were on it (scripted runs)\n"
     "  --layer NAME   start in that view: radiosity, patch-id, emission, reflectance, specular, f-row\n"
     "  --help-window  start with Help > Keyboard and mouse open (F1)\n"
+    "  --objects-window  start with View > Object table open (scripted runs print it)\n"
     "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
     "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc select none,\n"
     "       Ctrl+Z/Y undo/redo, Ctrl+O open, Ctrl+S save (Shift: save as), Ctrl+Q quit, F1 help;\n"
@@ -121,6 +123,7 @@ GuiOptions parse(int argc, char** argv) {
         else if (a == "--exit") o.exitAfter = true;
         else if (a == "--check-tooltips") o.checkTooltips = o.exitAfter = true;
         else if (a == "--help-window") o.help = true;
+        else if (a == "--objects-window") o.objects = true;
         else if (a == "--false-color") o.falseColour = parseFalseColourQuantity(value(k, "--false-color"));
         else if (a == "--scale") o.falseColourScale = parseFalseColourScale(value(k, "--scale"));
         else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
@@ -270,6 +273,7 @@ int main(int argc, char** argv) {
         OrbitCamera camera;
         Panels panels(recentFilesPath());
         if (options.help) panels.toggleHelp();
+        if (options.objects) panels.showObjectTable();
         Input input;
         LoopRequests requests;
         glfwSetWindowUserPointer(window, &input);
@@ -474,6 +478,11 @@ int main(int argc, char** argv) {
                 }
                 if (app.hasScene()) std::printf("hemirad-gui: scene: %s\n", sceneCounts(app.scene()).c_str());
                 std::printf("hemirad-gui: status: %s\n", panels.status().c_str());
+                for (const std::vector<std::string>& row : panels.objectTable()) {
+                    std::string line;
+                    for (const std::string& cell : row) line += (line.empty() ? "" : " | ") + cell;
+                    std::printf("hemirad-gui: object table: %s\n", line.c_str());
+                }
                 if (options.checkTooltips) {
                     std::istringstream lines(tooltips.report());
                     for (std::string line; std::getline(lines, line);) std::printf("hemirad-gui: %s\n", line.c_str());

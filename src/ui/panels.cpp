@@ -184,6 +184,7 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
         ImGui::End();
     }
     m_legendHidden = app.layer != Layer::FalseColour;
+    if (!m_showObjects || !app.hasScene()) m_objectTable.clear();
     if (m_showObjects && app.hasScene()) {
         ImGui::SetNextWindowSize(ImVec2(620, 260), ImGuiCond_FirstUseEver);
         ImGui::SetNextWindowPos(ImVec2(width * 0.5f - 310, height * 0.3f), ImGuiCond_FirstUseEver);
@@ -731,25 +732,28 @@ void Panels::legendPanel(AppState& app) {
 
 void Panels::objectsPanel(AppState& app) {
     // Per object: B and H as luminance Y (W/m^2), area-weighted means and extremes (File > Export
-    // object table writes the same as CSV).
+    // object table writes the same as CSV). The table as drawn is kept for scripted runs to print.
     ImGui::TextDisabled("B, H: luminance Y in W/m^2; mean = area-weighted; H = (B - E)/rho");
     const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY | ImGuiTableFlags_Resizable;
-    if (!ImGui::BeginTable("objects", 8, flags)) return;
-    ImGui::TableSetupScrollFreeze(0, 1);
     const std::string area = "area (" + lengthUnitLabel(app.scene().unit) + "^2)";
-    for (const char* h : {"object", "patches", area.c_str(), "B mean", "B min", "B max", "H mean", "H max"}) ImGui::TableSetupColumn(h);
+    const std::vector<std::string> headings = {"object", "patches", area, "B mean", "B min", "B max", "H mean", "H min", "H max"};
+    m_objectTable.clear();
+    if (!ImGui::BeginTable("objects", int(headings.size()), flags)) return;
+    ImGui::TableSetupScrollFreeze(0, 1);
+    for (const std::string& h : headings) ImGui::TableSetupColumn(h.c_str());
     ImGui::TableHeadersRow();
+    m_objectTable.push_back(headings);
     for (const ObjectSummary& o : app.objectTable()) {
+        std::vector<std::string> row = {o.name, std::to_string(o.patches)};
+        for (double v : {o.area, o.bMean, o.bMin, o.bMax, o.hMean, o.hMin, o.hMax})
+            row.push_back(std::isnan(v) ? "no data" : formatNumber(v));
         ImGui::TableNextRow();
-        ImGui::TableNextColumn();
-        ImGui::TextUnformatted(o.name.c_str());
-        ImGui::TableNextColumn();
-        ImGui::Text("%zu", o.patches);
-        for (double v : {o.area, o.bMean, o.bMin, o.bMax, o.hMean, o.hMax}) {
+        for (std::size_t k = 0; k < row.size(); ++k) {
             ImGui::TableNextColumn();
-            if (std::isnan(v)) ImGui::TextDisabled("no data");
-            else ImGui::TextUnformatted(formatNumber(v).c_str());
+            if (k >= 2 && row[k] == "no data") ImGui::TextDisabled("no data");
+            else ImGui::TextUnformatted(row[k].c_str());
         }
+        m_objectTable.push_back(std::move(row));
     }
     ImGui::EndTable();
 }

@@ -42,6 +42,11 @@ public:
     void browse(const std::string& purpose, const std::string& initial);
     /// File > Save (Ctrl+S): over the scene's .obj, or through the browser when it has none.
     void save(AppState& app);
+    /// View > Object table: shows the table's window.
+    void showObjectTable() { m_showObjects = true; }
+    /// The object table as drawn in the last frame: the headings, then a row per object, each cell's
+    /// text (empty when the window was not drawn); scripted runs print it.
+    const std::vector<std::vector<std::string>>& objectTable() const { return m_objectTable; }
     /// Help > Keyboard and mouse (F1): shows or hides the help window.
     void toggleHelp() { m_showHelp = !m_showHelp; }
 
@@ -96,6 +101,7 @@ private:
     bool m_selectionHidden = true;                 ///< the Selection panel was not drawn last frame
     bool m_legendHidden = true;                    ///< the Legend panel was not drawn last frame
     bool m_showObjects = false;                    ///< View > Object table
+    std::vector<std::vector<std::string>> m_objectTable;  ///< the object table as drawn last
     bool m_showHelp = false;                       ///< Help > Keyboard and mouse (F1)
     // Meshing section: the edge length typed, whole scene or selected objects, for which scene.
     double m_meshEdge = 0.0;

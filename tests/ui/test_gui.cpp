@@ -355,3 +355,36 @@ TEST_CASE("hemirad-gui's Scene panel counts the objects that hold patches, singu
     runGui("gui-counts-1", one, log);
     CHECK(log.find("hemirad-gui: scene: 1 patch, 1 object\n") != std::string::npos);
 }
+
+TEST_CASE("hemirad-gui's object table has H min between H mean and H max, as the CLI's --objects CSV (issue 38 #8)") {
+    std::string log;
+    runGui("gui-object-table", sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256 --run --objects-window", log);
+    CHECK(log.find("hemirad-gui: object table: object | patches | area (mm^2) | B mean | B min | B max | "
+                   "H mean | H min | H max\n") != std::string::npos);
+    // The floor's row against `hemirad solve --objects` for the same scene and settings.
+    const auto dir = tempDir("gui-object-table-cli");
+    const std::string csv = (dir / "objects.csv").string();
+    REQUIRE(runCommand(std::string(HEMIRAD_BINARY) + " solve " + sourcePath("scenes/cornell_box.obj") +
+                       " --subdivide 60 --samples 256 --objects " + csv + " -o " + (dir / "B.csv").string() + " 2>&1").status == 0);
+    std::istringstream rows(readText(csv));
+    std::string line;
+    double f[9] = {};
+    bool found = false;
+    while (std::getline(rows, line))
+        if (line.rfind("floor,", 0) == 0)
+            found = std::sscanf(line.c_str(), "floor,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &f[0], &f[1], &f[2], &f[3], &f[4], &f[5],
+                                &f[6], &f[7], &f[8]) == 9;
+    REQUIRE(found);
+    // On screen: patches, area, B mean/min/max, H mean/min/max, 4 significant digits.
+    const std::size_t at = log.find("hemirad-gui: object table: floor | ");
+    REQUIRE(at != std::string::npos);
+    double g[8] = {};
+    REQUIRE(std::sscanf(log.c_str() + at, "hemirad-gui: object table: floor | %lf | %lf | %lf | %lf | %lf | %lf | %lf | %lf", &g[0],
+                        &g[1], &g[2], &g[3], &g[4], &g[5], &g[6], &g[7]) == 8);
+    const double cli[8] = {f[0], f[1], f[2], f[3], f[4], f[6], f[7], f[8]};  // H_patches (f[5]) is not shown
+    for (int k = 0; k < 8; ++k) {
+        CAPTURE(k);
+        CHECK(g[k] == doctest::Approx(cli[k]).epsilon(1e-3));
+    }
+    CHECK(g[6] < g[5]);  // H min below H mean: the floor is lit unevenly
+}
