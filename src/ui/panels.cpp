@@ -375,18 +375,8 @@ void Panels::materialPanel(AppState& app) {
     if (!app.hasScene() || app.selection().empty()) return;
     ImGui::Separator();
     ImGui::Text("Material of %zu selected patch%s", app.selection().size(), app.selection().size() == 1 ? "" : "es");
-    const Scene& s = app.scene();
-    if (app.selection() != m_editorSelection || app.materialsRevision() != m_editorRevision) {
-        // The first selected patch's values, again after every edit, undo and redo (never stale).
-        m_editorSelection = app.selection();
-        m_editorRevision = app.materialsRevision();
-        const Patch& p = s.patches[m_editorSelection.front()];
-        for (int c = 0; c < 3; ++c) {
-            m_emission[c] = p.emission[c];
-            m_rho[c] = p.rho[c];
-        }
-        m_specular = p.specular;
-    }
+    // The first selected patch's values, again after every edit, undo, redo and refused edit (never stale).
+    m_material.sync(app);
     // Numeric fields in double: a value is stored as typed, and untouched channels keep theirs.
     const auto swatch = [](const char* id, const double c[3], double scale, const char* what) {
         const float k = float(scale > 0 ? 1.0 / scale : 0.0);
@@ -397,22 +387,22 @@ void Panels::materialPanel(AppState& app) {
     // The fields fill the panel's width up to their labels.
     ImGui::PushItemWidth(-ImGui::CalcTextSize("Diffuse reflectance").x - ImGui::GetStyle().ItemInnerSpacing.x);
     MaterialEdit edit;
-    swatch("##emission", m_emission, std::max({m_emission[0], m_emission[1], m_emission[2]}),
+    swatch("##emission", m_material.emission, std::max({m_material.emission[0], m_material.emission[1], m_material.emission[2]}),
            "The emission's colour (scaled to its largest channel)");
-    ImGui::InputScalarN("Emission W/m^2", ImGuiDataType_Double, m_emission, 3, nullptr, nullptr, "%.6g");
-    if (ImGui::IsItemDeactivatedAfterEdit()) edit.emission = Rgb(m_emission[0], m_emission[1], m_emission[2]);
+    ImGui::InputScalarN("Emission W/m^2", ImGuiDataType_Double, m_material.emission, 3, nullptr, nullptr, "%.6g");
+    if (ImGui::IsItemDeactivatedAfterEdit()) edit.emission = Rgb(m_material.emission[0], m_material.emission[1], m_material.emission[2]);
     tip("Emitted radiosity E (W/m^2) per channel (MTL Ke) of the selected patches; re-solves at once");
-    swatch("##rho", m_rho, 1.0, "The diffuse reflectance's colour");
-    ImGui::InputScalarN("Diffuse reflectance", ImGuiDataType_Double, m_rho, 3, nullptr, nullptr, "%.6g");
-    if (ImGui::IsItemDeactivatedAfterEdit()) edit.rho = Rgb(m_rho[0], m_rho[1], m_rho[2]);
+    swatch("##rho", m_material.rho, 1.0, "The diffuse reflectance's colour");
+    ImGui::InputScalarN("Diffuse reflectance", ImGuiDataType_Double, m_material.rho, 3, nullptr, nullptr, "%.6g");
+    if (ImGui::IsItemDeactivatedAfterEdit()) edit.rho = Rgb(m_material.rho[0], m_material.rho[1], m_material.rho[2]);
     tip("Diffuse reflectance rho in [0, 1] per channel (MTL Kd); rho + s <= 1; re-solves at once");
     const double zero = 0.0, one = 1.0;
-    ImGui::SliderScalar("Mirror reflectance", ImGuiDataType_Double, &m_specular, &zero, &one, "%.3f");
-    if (ImGui::IsItemDeactivatedAfterEdit()) edit.specular = m_specular;
+    ImGui::SliderScalar("Mirror reflectance", ImGuiDataType_Double, &m_material.specular, &zero, &one, "%.3f");
+    if (ImGui::IsItemDeactivatedAfterEdit()) edit.specular = m_material.specular;
     tip("Specular (mirror) reflectance s (MTL Ks, illum 3); changes F: Run computes it again.\n"
         "Ctrl+click to type an exact value");
     ImGui::PopItemWidth();
-    if (edit.emission || edit.rho || edit.specular) app.editMaterial(edit);
+    if (edit.emission || edit.rho || edit.specular) m_material.apply(app, edit);
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("emission/diffuse edits re-solve with the current F; mirror edits need a new F");
     ImGui::PopTextWrapPos();

@@ -4,6 +4,7 @@
 #include "ui/app_state.hpp"
 #include "ui/file_browser.hpp"
 #include "ui/inspector.hpp"
+#include "ui/material_fields.hpp"
 #include "ui/orbit_camera.hpp"
 
 #include <deque>
@@ -90,12 +91,7 @@ private:
     std::string m_confirmWhat;
     std::function<void()> m_confirmAction;
     bool m_openConfirm = false;
-    // Material editor values (applied on release).
-    double m_emission[3] = {0, 0, 0};  ///< W/m^2
-    double m_rho[3] = {0.5, 0.5, 0.5};
-    double m_specular = 0.0;
-    std::vector<PatchId> m_editorSelection;
-    std::uint64_t m_editorRevision = 0;  ///< the materials revision the fields were loaded at
+    MaterialFields m_material;  ///< the material editor's values (applied on release)
     bool m_showInspector = true;
     float m_layoutWidth = 0, m_layoutHeight = 0;  ///< the window size the layout was applied for
     bool m_selectionHidden = true;                 ///< the Selection panel was not drawn last frame
