@@ -86,8 +86,9 @@ const char* kUsage =
     "  --help-window  start with Help > Keyboard and mouse open (F1)\n"
     "  --objects-window  start with View > Object table open (scripted runs print it)\n"
     "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
-    "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc select none,\n"
-    "       Ctrl+Z/Y undo/redo, Ctrl+O open, Ctrl+S save (Shift: save as), Ctrl+Q quit, F1 help;\n"
+    "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc close help\n"
+    "       (else select none), Ctrl+Z/Y undo/redo, Ctrl+O open, Ctrl+S save (Shift: save as), Ctrl+Q\n"
+    "       quit, F1 help;\n"
     "       View > Look from: the standard views\n";
 
 GuiOptions parse(int argc, char** argv) {
@@ -400,11 +401,13 @@ int main(int argc, char** argv) {
                 }
                 input.shortcuts.clear();
                 if (!io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F1)) panels.toggleHelp();
+                // Esc closes the help window, else selects none.
+                const bool escape = !io.WantCaptureKeyboard && !io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_ESCAPE);
+                if (escape && !panels.closeHelp() && app.hasScene()) app.clearSelection();
                 if (!io.WantCaptureKeyboard && app.hasScene() && !io.KeyCtrl) {
                     if (ImGui::IsKeyPressed(GLFW_KEY_F)) camera.frame(app.scene());
                     if (ImGui::IsKeyPressed(GLFW_KEY_S) && !app.selection().empty()) camera.frameSelection(app.scene(), app.selection());
                     if (ImGui::IsKeyPressed(GLFW_KEY_C)) camera.useSceneCamera(app.scene());
-                    if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) app.clearSelection();
                 }
                 if (glfwWindowShouldClose(window) && app.dirty()) {
                     glfwSetWindowShouldClose(window, GLFW_FALSE);

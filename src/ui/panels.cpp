@@ -34,7 +34,7 @@ const std::pair<const char*, const char*> kMouseAndKeys[] = {
     {"F", "frame the scene (from its camera's or its open side)"},
     {"S", "frame the selection"},
     {"C", "the scene's camera"},
-    {"Esc", "select none; close a dialog"},
+    {"Esc", "close this window or a dialog, else select none"},
     {"Ctrl+O", "open an OBJ"},
     {"Ctrl+S / Ctrl+Shift+S", "save the scene (OBJ + MTL) / save it as"},
     {"Ctrl+Z / Ctrl+Y", "undo / redo a material edit or a meshing"},
@@ -95,6 +95,7 @@ void Panels::guarded(AppState& app, const std::string& what, std::function<void(
     m_confirmWhat = what;
     m_confirmAction = std::move(action);
     m_openConfirm = true;
+    m_showHelp = false;
 }
 
 void Panels::open(AppState& app, OrbitCamera& camera, const std::string& path) {
@@ -113,6 +114,8 @@ void Panels::browse(const std::string& purpose, const std::string& initial) {
         {"Export PNG", {{".png"}, false}},      {"Export PLY", {{".ply"}, false}},
         {"Export object table", {{".csv"}, false}}};
     const auto kind = kinds.at(purpose);
+    // One dialog at a time: the help window would stand over the browser (issue 38 #11).
+    m_showHelp = false;
     m_browser.start(purpose, kind.first, initial, kind.second);
     std::snprintf(m_pathBuffer, sizeof m_pathBuffer, "%s", m_browser.typed.c_str());
     m_openPathPrompt = true;
@@ -791,6 +794,8 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
     ImGui::SetNextWindowSize(ImVec2(620, 0), ImGuiCond_Appearing);
     if (ImGui::BeginPopupModal("Files", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         std::optional<std::string> chosen;
+        const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+        m_panelRects["Files"] = {pos.x, pos.y, size.x, size.y};
         ImGui::Text("%s", m_browser.purpose().c_str());
         ImGui::SameLine();
         std::string filter;

@@ -12,6 +12,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 
 namespace hemirad::ui {
 
@@ -39,7 +40,7 @@ public:
     void open(AppState& app, OrbitCamera& camera, const std::string& path);
     const std::deque<std::string>& recentFiles() const { return m_recent; }
     /// Opens the file browser for `purpose` ("Open OBJ", "Save scene", "Import F", "Export F",
-    /// "Export PNG", "Export PLY", "Export object table") at `initial`.
+    /// "Export PNG", "Export PLY", "Export object table") at `initial`; the help window closes.
     void browse(const std::string& purpose, const std::string& initial);
     /// File > Save (Ctrl+S): over the scene's .obj, or through the browser when it has none.
     void save(AppState& app);
@@ -50,6 +51,8 @@ public:
     const std::vector<std::vector<std::string>>& objectTable() const { return m_objectTable; }
     /// Help > Keyboard and mouse (F1): shows or hides the help window.
     void toggleHelp() { m_showHelp = !m_showHelp; }
+    /// Esc: closes the help window; returns whether it was open.
+    bool closeHelp() { return std::exchange(m_showHelp, false); }
 
     struct Rect {
         float x = 0, y = 0, width = 0, height = 0;
