@@ -491,7 +491,7 @@ void Panels::meshingSection(AppState& app) {
     const std::size_t meshed = std::size_t(std::count_if(edges.begin(), edges.end(), [](double e) { return e > 0; }));
     ImGui::Text("Mesh: %zu patches", app.scene().size());
     if (meshed == 0) ImGui::TextDisabled("as loaded");
-    else ImGui::TextDisabled("%zu of %zu objects meshed (%zu patches as loaded)", meshed, edges.size(), source.size());
+    else ImGui::TextDisabled("%s (%zu patches as loaded)", meshedCounts(source, edges).c_str(), source.size());
     const std::string edgeLabel = "Max edge (" + lengthUnitLabel(app.scene().unit) + ")###maxedge";
     ImGui::InputDouble(edgeLabel.c_str(), &m_meshEdge, 0.0, 0.0, "%.6g");
     tip("Longest patch edge after meshing, in the scene's unit (like --subdivide): quads become grids,\n"

@@ -25,6 +25,15 @@ std::string sceneCounts(const Scene& scene) {
            (scene.hasMirrors() ? ", mirrors" : "");
 }
 
+std::string meshedCounts(const Scene& source, const std::vector<double>& edges) {
+    std::vector<bool> used(edges.size(), false);  // the loader's "default" object is often empty
+    for (const Patch& p : source.patches)
+        if (p.object < used.size()) used[p.object] = true;
+    std::size_t meshed = 0;
+    for (std::size_t k = 0; k < edges.size(); ++k) meshed += used[k] && edges[k] > 0;
+    return std::to_string(meshed) + " of " + formatCount(objectsWithPatches(source), "object", "objects") + " meshed";
+}
+
 std::string lengthUnitLabel(const std::string& unit) { return unit.empty() ? "scene units" : unit; }
 
 std::string formatArea(double area, const std::string& unit) {

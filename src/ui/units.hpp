@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace hemirad {
 class Scene;
@@ -21,6 +22,9 @@ std::string formatRgb(const Rgb& c);
 std::string formatCount(std::size_t n, const char* one, const char* many);
 /// The Scene panel's counts: "20 patches, 8 objects, mirrors" (objects that hold patches).
 std::string sceneCounts(const Scene& scene);
+/// The Pipeline panel's meshing line: "3 of 8 objects meshed", of the objects of `source` (the scene
+/// as loaded) that hold patches, `edges` per object as AppState::meshEdges (0 = as loaded).
+std::string meshedCounts(const Scene& source, const std::vector<double>& edges);
 /// "mm", or "scene units" when the scene states none.
 std::string lengthUnitLabel(const std::string& unit);
 /// "3090 mm^2 (0.00309 m^2)", "2 m^2", "3090 (scene units^2)".

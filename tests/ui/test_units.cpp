@@ -38,6 +38,15 @@ TEST_CASE("GUI counts: objects are those holding patches, and one of a thing is 
     CHECK(sceneCounts(one) == "1 patch, 1 object");
     const Scene named = loadObj(writeFile(dir / "named.obj", "mtllib one.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\no plate\nusemtl white\nf 1 2 3\n"), quiet);
     CHECK(sceneCounts(named) == "1 patch, 1 object");
+    // The meshing line: the Cornell box meshed whole (every object's edge set, "default" included),
+    // then one object of it.
+    const Scene box = bundledScene("cornell_box.obj");
+    REQUIRE(box.objects.size() == 9);
+    CHECK(meshedCounts(box, std::vector<double>(9, 60.0)) == "8 of 8 objects meshed");
+    std::vector<double> edges(9, 0.0);
+    edges[box.patches.back().object] = 25.0;
+    CHECK(meshedCounts(box, edges) == "1 of 8 objects meshed");
+    CHECK(meshedCounts(one, {10.0}) == "1 of 1 object meshed");
     CHECK(formatCount(0, "patch", "patches") == "0 patches");
     CHECK(formatCount(2, "object", "objects") == "2 objects");
 }
