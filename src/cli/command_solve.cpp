@@ -31,7 +31,7 @@ void writeSolveOutput(const Options& options, const Scene& scene, const Radiosit
     }
     if (!options.objectsPath.empty()) {
         timings.start("write object table");
-        writeObjectTable(options.objectsPath, summarizeObjects(scene, result.B));
+        writeObjectTable(options.objectsPath, summarizeObjects(scene, result.B), scene.unit);
         timings.stop();
     }
 }

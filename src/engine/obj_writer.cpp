@@ -78,7 +78,7 @@ void saveObj(const Scene& scene, const std::string& path) {
             m.emission = p.emission;
             m.specular = p.specular;
             m.ks = Rgb::Constant(p.specular);
-            m.illum = p.specular > 0 ? 3 : 2;
+            // The illumination model stays the original's (writeMaterial: illum 3 for a mirror).
             written.push_back(m);
         }
         patchMaterial[i] = it->second;

@@ -13,6 +13,12 @@
 
 namespace hemirad {
 
+std::size_t objectsWithPatches(const Scene& scene) {
+    std::vector<bool> used(scene.objects.size() + 1, false);  // the last: patches of no object
+    for (const Patch& p : scene.patches) used[std::min<std::size_t>(p.object, scene.objects.size())] = true;
+    return std::size_t(std::count(used.begin(), used.end(), true));
+}
+
 std::vector<ObjectSummary> summarizeObjects(const Scene& scene, const std::vector<Rgb>& B) {
     if (B.size() != scene.size()) throw Error("object table: radiosity does not match the scene");
     const double inf = std::numeric_limits<double>::infinity();
@@ -53,10 +59,15 @@ std::vector<ObjectSummary> summarizeObjects(const Scene& scene, const std::vecto
     return table;
 }
 
-void writeObjectTable(const std::string& path, const std::vector<ObjectSummary>& table) {
+void writeObjectTable(const std::string& path, const std::vector<ObjectSummary>& table, const std::string& unit) {
     AtomicFile file(path, false);
     std::ostream& out = file.stream();
-    out << "object,patches,area,B_mean,B_min,B_max,H_patches,H_mean,H_min,H_max\n";
+    const std::string wm2 = " (W/m^2)";  // B and H: luminance Y
+    out << "object,patches,area (" << (unit.empty() ? "scene units" : unit) << "^2)";
+    for (const char* column : {"B_mean", "B_min", "B_max"}) out << ',' << column << wm2;
+    out << ",H_patches";
+    for (const char* column : {"H_mean", "H_min", "H_max"}) out << ',' << column << wm2;
+    out << '\n';
     for (const ObjectSummary& o : table) {
         std::string name = o.name;
         if (name.find_first_of(",\"") != std::string::npos) {

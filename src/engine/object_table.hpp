@@ -19,11 +19,17 @@ struct ObjectSummary {
     double hMean = 0.0, hMin = 0.0, hMax = 0.0;
 };
 
+/// The objects that hold at least one patch: what a scene's object count means (the loader's
+/// "default" object of faces before any `o` line is empty in most OBJs, and is not counted then).
+std::size_t objectsWithPatches(const Scene& scene);
+
 /// One entry per object of the scene, in the scene's order (objects without patches left out).
 std::vector<ObjectSummary> summarizeObjects(const Scene& scene, const std::vector<Rgb>& B);
 
-/// The table as CSV (object,patches,area,B_mean,B_min,B_max,H_patches,H_mean,H_min,H_max), written
-/// atomically; object names are quoted when they hold a comma or a quote.
-void writeObjectTable(const std::string& path, const std::vector<ObjectSummary>& table);
+/// The table as CSV, written atomically; the header states the units as the GUI's table does,
+/// `unit` the scene's length unit ("" not stated: scene units):
+///   object,patches,area (mm^2),B_mean (W/m^2),B_min (W/m^2),B_max (W/m^2),H_patches,H_mean (W/m^2),...
+/// Object names are quoted when they hold a comma or a quote.
+void writeObjectTable(const std::string& path, const std::vector<ObjectSummary>& table, const std::string& unit);
 
 }  // namespace hemirad

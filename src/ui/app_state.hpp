@@ -203,8 +203,9 @@ public:
     void select(PatchId id, bool additive);
     void clearSelection();
     /// Applies an edit to the selection (undoable). Specular changes invalidate F; emission and
-    /// diffuse changes only need a re-solve, started at once when autoResolve is on.
-    void editMaterial(const MaterialEdit& edit);
+    /// diffuse changes only need a re-solve, started at once when autoResolve is on. An edit out of
+    /// range, or one that would make rho + s > 1, is refused and logged as an error: returns false.
+    bool editMaterial(const MaterialEdit& edit);
     void undo();
     void redo();
 

@@ -39,8 +39,8 @@ void AppState::materialsChanged(bool specularChanged) {
     if (autoResolve && m_F && !m_fStale) refreshRadiosity();
 }
 
-void AppState::editMaterial(const MaterialEdit& edit) {
-    if (!hasScene() || m_selection.empty()) return;
+bool AppState::editMaterial(const MaterialEdit& edit) {
+    if (!hasScene() || m_selection.empty()) return false;
     const auto check = [&](const Rgb& c, const char* what, bool unit) {
         if (!c.allFinite() || (c < 0.0).any() || (unit && (c > 1.0).any()))
             throw Error(std::string(what) + " must be finite and " + (unit ? "in [0, 1]" : ">= 0"));
@@ -61,7 +61,7 @@ void AppState::editMaterial(const MaterialEdit& edit) {
         }
     } catch (const Error& e) {
         error(e.what());
-        return;
+        return false;
     }
     UndoStep step;
     step.ids = m_selection;
@@ -79,6 +79,7 @@ void AppState::editMaterial(const MaterialEdit& edit) {
     step.after = snapshot(step.ids);
     pushUndo(std::move(step));
     materialsChanged(specularChanged);
+    return true;
 }
 
 void AppState::undo() { replay(m_undo, m_redo, true); }

@@ -68,7 +68,7 @@ bool AppState::exportPly(const std::string& path) {
 bool AppState::exportObjectTable(const std::string& path) {
     if (!hasScene()) return false;
     try {
-        writeObjectTable(path, objectTable());
+        writeObjectTable(path, objectTable(), m_scene->unit);
         info("exported " + path + " (per object: area, B and H)");
         return true;
     } catch (const std::exception& e) {

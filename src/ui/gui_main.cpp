@@ -9,6 +9,7 @@
 #include "ui/key_taps.hpp"
 #include "ui/orbit_camera.hpp"
 #include "ui/tooltip_check.hpp"
+#include "ui/units.hpp"
 #include "ui/panels.hpp"
 #include "ui/viewer.hpp"
 
@@ -51,6 +52,7 @@ struct GuiOptions {
     double exposure = 0.0;       ///< --exposure X: a fixed display scale (0: automatic)
     bool checkTooltips = false;  ///< --check-tooltips: sweep the mouse over the panels, then exit
     bool help = false;           ///< --help-window: start with Help > Keyboard and mouse open
+    bool objects = false;        ///< --objects-window: start with View > Object table open
     double mesh = 0.0;          ///< --mesh L: the meshing panel's Apply for the whole scene
     double meshSelected = 0.0;  ///< --mesh-selected L: the same for the objects of --select
     int width = 1280, height = 800;
@@ -61,7 +63,7 @@ struct GuiOptions {
 const char* kUsage =
     "usage: hemirad-gui [SCENE.obj|SCENE.stl] [--materials FILE.mtl] [--subdivide L] [--method NAME]\n"
     "                   [back-end options, see 'hemirad help']\n"
-    "                   [--max-depth D] [--exposure X] [--check-tooltips] [--help-window]\n"
+    "                   [--max-depth D] [--exposure X] [--check-tooltips] [--help-window] [--objects-window]\n"
     "                   [--mesh L | --select PATCH --mesh-selected L]\n"
     "                   [--size WxH] [--select PATCH] [--hover PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
     "                   [--quit-after S] [--false-color Q [--scale linear|log]] [--layer NAME]\n"
@@ -82,9 +84,11 @@ const char* kUsage =
     "  --hover PATCH  read PATCH out in the status bar as if the cursor were on it (scripted runs)\n"
     "  --layer NAME   start in that view: radiosity, patch-id, emission, reflectance, specular, f-row\n"
     "  --help-window  start with Help > Keyboard and mouse open (F1)\n"
+    "  --objects-window  start with View > Object table open (scripted runs print it)\n"
     "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
-    "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc select none,\n"
-    "       Ctrl+Z/Y undo/redo, Ctrl+O open, Ctrl+S save (Shift: save as), Ctrl+Q quit, F1 help;\n"
+    "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc close help\n"
+    "       (else select none), Ctrl+Z/Y undo/redo, Ctrl+O open, Ctrl+S save (Shift: save as), Ctrl+Q\n"
+    "       quit, F1 help;\n"
     "       View > Look from: the standard views\n";
 
 GuiOptions parse(int argc, char** argv) {
@@ -120,6 +124,7 @@ GuiOptions parse(int argc, char** argv) {
         else if (a == "--exit") o.exitAfter = true;
         else if (a == "--check-tooltips") o.checkTooltips = o.exitAfter = true;
         else if (a == "--help-window") o.help = true;
+        else if (a == "--objects-window") o.objects = true;
         else if (a == "--false-color") o.falseColour = parseFalseColourQuantity(value(k, "--false-color"));
         else if (a == "--scale") o.falseColourScale = parseFalseColourScale(value(k, "--scale"));
         else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
@@ -269,6 +274,7 @@ int main(int argc, char** argv) {
         OrbitCamera camera;
         Panels panels(recentFilesPath());
         if (options.help) panels.toggleHelp();
+        if (options.objects) panels.showObjectTable();
         Input input;
         LoopRequests requests;
         glfwSetWindowUserPointer(window, &input);
@@ -395,11 +401,13 @@ int main(int argc, char** argv) {
                 }
                 input.shortcuts.clear();
                 if (!io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F1)) panels.toggleHelp();
+                // Esc closes the help window, else selects none.
+                const bool escape = !io.WantCaptureKeyboard && !io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_ESCAPE);
+                if (escape && !panels.closeHelp() && app.hasScene()) app.clearSelection();
                 if (!io.WantCaptureKeyboard && app.hasScene() && !io.KeyCtrl) {
                     if (ImGui::IsKeyPressed(GLFW_KEY_F)) camera.frame(app.scene());
                     if (ImGui::IsKeyPressed(GLFW_KEY_S) && !app.selection().empty()) camera.frameSelection(app.scene(), app.selection());
                     if (ImGui::IsKeyPressed(GLFW_KEY_C)) camera.useSceneCamera(app.scene());
-                    if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) app.clearSelection();
                 }
                 if (glfwWindowShouldClose(window) && app.dirty()) {
                     glfwSetWindowShouldClose(window, GLFW_FALSE);
@@ -472,7 +480,13 @@ int main(int argc, char** argv) {
                     else std::printf("hemirad-gui: false colour: %s, %s scale %.9g .. %.9g\n", falseColourTitle(app.falseColour.quantity).c_str(),
                                      falseColourScaleName(view.range.scale), view.range.min, view.range.max);
                 }
+                if (app.hasScene()) std::printf("hemirad-gui: scene: %s\n", sceneCounts(app.scene()).c_str());
                 std::printf("hemirad-gui: status: %s\n", panels.status().c_str());
+                for (const std::vector<std::string>& row : panels.objectTable()) {
+                    std::string line;
+                    for (const std::string& cell : row) line += (line.empty() ? "" : " | ") + cell;
+                    std::printf("hemirad-gui: object table: %s\n", line.c_str());
+                }
                 if (options.checkTooltips) {
                     std::istringstream lines(tooltips.report());
                     for (std::string line; std::getline(lines, line);) std::printf("hemirad-gui: %s\n", line.c_str());

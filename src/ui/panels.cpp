@@ -34,7 +34,7 @@ const std::pair<const char*, const char*> kMouseAndKeys[] = {
     {"F", "frame the scene (from its camera's or its open side)"},
     {"S", "frame the selection"},
     {"C", "the scene's camera"},
-    {"Esc", "select none; close a dialog"},
+    {"Esc", "close this window or a dialog, else select none"},
     {"Ctrl+O", "open an OBJ"},
     {"Ctrl+S / Ctrl+Shift+S", "save the scene (OBJ + MTL) / save it as"},
     {"Ctrl+Z / Ctrl+Y", "undo / redo a material edit or a meshing"},
@@ -95,6 +95,7 @@ void Panels::guarded(AppState& app, const std::string& what, std::function<void(
     m_confirmWhat = what;
     m_confirmAction = std::move(action);
     m_openConfirm = true;
+    m_showHelp = false;
 }
 
 void Panels::open(AppState& app, OrbitCamera& camera, const std::string& path) {
@@ -113,6 +114,8 @@ void Panels::browse(const std::string& purpose, const std::string& initial) {
         {"Export PNG", {{".png"}, false}},      {"Export PLY", {{".ply"}, false}},
         {"Export object table", {{".csv"}, false}}};
     const auto kind = kinds.at(purpose);
+    // One dialog at a time: the help window would stand over the browser (issue 38 #11).
+    m_showHelp = false;
     m_browser.start(purpose, kind.first, initial, kind.second);
     std::snprintf(m_pathBuffer, sizeof m_pathBuffer, "%s", m_browser.typed.c_str());
     m_openPathPrompt = true;
@@ -184,6 +187,7 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
         ImGui::End();
     }
     m_legendHidden = app.layer != Layer::FalseColour;
+    if (!m_showObjects || !app.hasScene()) m_objectTable.clear();
     if (m_showObjects && app.hasScene()) {
         ImGui::SetNextWindowSize(ImVec2(620, 260), ImGuiCond_FirstUseEver);
         ImGui::SetNextWindowPos(ImVec2(width * 0.5f - 310, height * 0.3f), ImGuiCond_FirstUseEver);
@@ -322,7 +326,7 @@ void Panels::scenePanel(AppState& app, OrbitCamera& camera) {
     }
     const Scene& s = app.scene();
     ImGui::TextWrapped("%s%s", app.scenePath().c_str(), app.dirty() ? "  (edited)" : "");
-    ImGui::Text("%zu patches, %zu objects%s", s.size(), s.objects.size(), s.hasMirrors() ? ", mirrors" : "");
+    ImGui::TextUnformatted(sceneCounts(s).c_str());
     const std::string unitShown = s.unit.empty() ? "not stated" : s.unit;
     const bool unitOpen = ImGui::BeginCombo("Unit", unitShown.c_str());
     tip("The scene's length unit (OBJ: '# hemirad unit mm'): labels lengths and areas, gives a selection's\n"
@@ -374,18 +378,8 @@ void Panels::materialPanel(AppState& app) {
     if (!app.hasScene() || app.selection().empty()) return;
     ImGui::Separator();
     ImGui::Text("Material of %zu selected patch%s", app.selection().size(), app.selection().size() == 1 ? "" : "es");
-    const Scene& s = app.scene();
-    if (app.selection() != m_editorSelection || app.materialsRevision() != m_editorRevision) {
-        // The first selected patch's values, again after every edit, undo and redo (never stale).
-        m_editorSelection = app.selection();
-        m_editorRevision = app.materialsRevision();
-        const Patch& p = s.patches[m_editorSelection.front()];
-        for (int c = 0; c < 3; ++c) {
-            m_emission[c] = p.emission[c];
-            m_rho[c] = p.rho[c];
-        }
-        m_specular = p.specular;
-    }
+    // The first selected patch's values, again after every edit, undo, redo and refused edit (never stale).
+    m_material.sync(app);
     // Numeric fields in double: a value is stored as typed, and untouched channels keep theirs.
     const auto swatch = [](const char* id, const double c[3], double scale, const char* what) {
         const float k = float(scale > 0 ? 1.0 / scale : 0.0);
@@ -396,22 +390,22 @@ void Panels::materialPanel(AppState& app) {
     // The fields fill the panel's width up to their labels.
     ImGui::PushItemWidth(-ImGui::CalcTextSize("Diffuse reflectance").x - ImGui::GetStyle().ItemInnerSpacing.x);
     MaterialEdit edit;
-    swatch("##emission", m_emission, std::max({m_emission[0], m_emission[1], m_emission[2]}),
+    swatch("##emission", m_material.emission, std::max({m_material.emission[0], m_material.emission[1], m_material.emission[2]}),
            "The emission's colour (scaled to its largest channel)");
-    ImGui::InputScalarN("Emission W/m^2", ImGuiDataType_Double, m_emission, 3, nullptr, nullptr, "%.6g");
-    if (ImGui::IsItemDeactivatedAfterEdit()) edit.emission = Rgb(m_emission[0], m_emission[1], m_emission[2]);
+    ImGui::InputScalarN("Emission W/m^2", ImGuiDataType_Double, m_material.emission, 3, nullptr, nullptr, "%.6g");
+    if (ImGui::IsItemDeactivatedAfterEdit()) edit.emission = Rgb(m_material.emission[0], m_material.emission[1], m_material.emission[2]);
     tip("Emitted radiosity E (W/m^2) per channel (MTL Ke) of the selected patches; re-solves at once");
-    swatch("##rho", m_rho, 1.0, "The diffuse reflectance's colour");
-    ImGui::InputScalarN("Diffuse reflectance", ImGuiDataType_Double, m_rho, 3, nullptr, nullptr, "%.6g");
-    if (ImGui::IsItemDeactivatedAfterEdit()) edit.rho = Rgb(m_rho[0], m_rho[1], m_rho[2]);
+    swatch("##rho", m_material.rho, 1.0, "The diffuse reflectance's colour");
+    ImGui::InputScalarN("Diffuse reflectance", ImGuiDataType_Double, m_material.rho, 3, nullptr, nullptr, "%.6g");
+    if (ImGui::IsItemDeactivatedAfterEdit()) edit.rho = Rgb(m_material.rho[0], m_material.rho[1], m_material.rho[2]);
     tip("Diffuse reflectance rho in [0, 1] per channel (MTL Kd); rho + s <= 1; re-solves at once");
     const double zero = 0.0, one = 1.0;
-    ImGui::SliderScalar("Mirror reflectance", ImGuiDataType_Double, &m_specular, &zero, &one, "%.3f");
-    if (ImGui::IsItemDeactivatedAfterEdit()) edit.specular = m_specular;
+    ImGui::SliderScalar("Mirror reflectance", ImGuiDataType_Double, &m_material.specular, &zero, &one, "%.3f");
+    if (ImGui::IsItemDeactivatedAfterEdit()) edit.specular = m_material.specular;
     tip("Specular (mirror) reflectance s (MTL Ks, illum 3); changes F: Run computes it again.\n"
         "Ctrl+click to type an exact value");
     ImGui::PopItemWidth();
-    if (edit.emission || edit.rho || edit.specular) app.editMaterial(edit);
+    if (edit.emission || edit.rho || edit.specular) m_material.apply(app, edit);
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("emission/diffuse edits re-solve with the current F; mirror edits need a new F");
     ImGui::PopTextWrapPos();
@@ -497,7 +491,7 @@ void Panels::meshingSection(AppState& app) {
     const std::size_t meshed = std::size_t(std::count_if(edges.begin(), edges.end(), [](double e) { return e > 0; }));
     ImGui::Text("Mesh: %zu patches", app.scene().size());
     if (meshed == 0) ImGui::TextDisabled("as loaded");
-    else ImGui::TextDisabled("%zu of %zu objects meshed (%zu patches as loaded)", meshed, edges.size(), source.size());
+    else ImGui::TextDisabled("%s (%zu patches as loaded)", meshedCounts(source, edges).c_str(), source.size());
     const std::string edgeLabel = "Max edge (" + lengthUnitLabel(app.scene().unit) + ")###maxedge";
     ImGui::InputDouble(edgeLabel.c_str(), &m_meshEdge, 0.0, 0.0, "%.6g");
     tip("Longest patch edge after meshing, in the scene's unit (like --subdivide): quads become grids,\n"
@@ -736,25 +730,28 @@ void Panels::falseColourBar(const FalseColourView& view, FalseColourQuantity qua
 
 void Panels::objectsPanel(AppState& app) {
     // Per object: B and H as luminance Y (W/m^2), area-weighted means and extremes (File > Export
-    // object table writes the same as CSV).
+    // object table writes the same as CSV). The table as drawn is kept for scripted runs to print.
     ImGui::TextDisabled("B, H: luminance Y in W/m^2; mean = area-weighted; H = (B - E)/rho");
     const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY | ImGuiTableFlags_Resizable;
-    if (!ImGui::BeginTable("objects", 8, flags)) return;
-    ImGui::TableSetupScrollFreeze(0, 1);
     const std::string area = "area (" + lengthUnitLabel(app.scene().unit) + "^2)";
-    for (const char* h : {"object", "patches", area.c_str(), "B mean", "B min", "B max", "H mean", "H max"}) ImGui::TableSetupColumn(h);
+    const std::vector<std::string> headings = {"object", "patches", area, "B mean", "B min", "B max", "H mean", "H min", "H max"};
+    m_objectTable.clear();
+    if (!ImGui::BeginTable("objects", int(headings.size()), flags)) return;
+    ImGui::TableSetupScrollFreeze(0, 1);
+    for (const std::string& h : headings) ImGui::TableSetupColumn(h.c_str());
     ImGui::TableHeadersRow();
+    m_objectTable.push_back(headings);
     for (const ObjectSummary& o : app.objectTable()) {
+        std::vector<std::string> row = {o.name, std::to_string(o.patches)};
+        for (double v : {o.area, o.bMean, o.bMin, o.bMax, o.hMean, o.hMin, o.hMax})
+            row.push_back(std::isnan(v) ? "no data" : formatNumber(v));
         ImGui::TableNextRow();
-        ImGui::TableNextColumn();
-        ImGui::TextUnformatted(o.name.c_str());
-        ImGui::TableNextColumn();
-        ImGui::Text("%zu", o.patches);
-        for (double v : {o.area, o.bMean, o.bMin, o.bMax, o.hMean, o.hMax}) {
+        for (std::size_t k = 0; k < row.size(); ++k) {
             ImGui::TableNextColumn();
-            if (std::isnan(v)) ImGui::TextDisabled("no data");
-            else ImGui::TextUnformatted(formatNumber(v).c_str());
+            if (k >= 2 && row[k] == "no data") ImGui::TextDisabled("no data");
+            else ImGui::TextUnformatted(row[k].c_str());
         }
+        m_objectTable.push_back(std::move(row));
     }
     ImGui::EndTable();
 }
@@ -802,6 +799,8 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
     ImGui::SetNextWindowSize(ImVec2(620, 0), ImGuiCond_Appearing);
     if (ImGui::BeginPopupModal("Files", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         std::optional<std::string> chosen;
+        const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+        m_panelRects["Files"] = {pos.x, pos.y, size.x, size.y};
         ImGui::Text("%s", m_browser.purpose().c_str());
         ImGui::SameLine();
         std::string filter;

@@ -4,6 +4,7 @@
 #include "ui/app_state.hpp"
 #include "ui/file_browser.hpp"
 #include "ui/inspector.hpp"
+#include "ui/material_fields.hpp"
 #include "ui/orbit_camera.hpp"
 
 #include <deque>
@@ -11,6 +12,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 
 namespace hemirad::ui {
 
@@ -38,12 +40,19 @@ public:
     void open(AppState& app, OrbitCamera& camera, const std::string& path);
     const std::deque<std::string>& recentFiles() const { return m_recent; }
     /// Opens the file browser for `purpose` ("Open OBJ", "Save scene", "Import F", "Export F",
-    /// "Export PNG", "Export PLY", "Export object table") at `initial`.
+    /// "Export PNG", "Export PLY", "Export object table") at `initial`; the help window closes.
     void browse(const std::string& purpose, const std::string& initial);
     /// File > Save (Ctrl+S): over the scene's .obj, or through the browser when it has none.
     void save(AppState& app);
+    /// View > Object table: shows the table's window.
+    void showObjectTable() { m_showObjects = true; }
+    /// The object table as drawn in the last frame: the headings, then a row per object, each cell's
+    /// text (empty when the window was not drawn); scripted runs print it.
+    const std::vector<std::vector<std::string>>& objectTable() const { return m_objectTable; }
     /// Help > Keyboard and mouse (F1): shows or hides the help window.
     void toggleHelp() { m_showHelp = !m_showHelp; }
+    /// Esc: closes the help window; returns whether it was open.
+    bool closeHelp() { return std::exchange(m_showHelp, false); }
 
     struct Rect {
         float x = 0, y = 0, width = 0, height = 0;
@@ -87,17 +96,13 @@ private:
     std::string m_confirmWhat;
     std::function<void()> m_confirmAction;
     bool m_openConfirm = false;
-    // Material editor values (applied on release).
-    double m_emission[3] = {0, 0, 0};  ///< W/m^2
-    double m_rho[3] = {0.5, 0.5, 0.5};
-    double m_specular = 0.0;
-    std::vector<PatchId> m_editorSelection;
-    std::uint64_t m_editorRevision = 0;  ///< the materials revision the fields were loaded at
+    MaterialFields m_material;  ///< the material editor's values (applied on release)
     bool m_showInspector = true;
     float m_layoutWidth = 0, m_layoutHeight = 0;  ///< the window size the layout was applied for
     bool m_selectionHidden = true;                 ///< the Selection panel was not drawn last frame
     bool m_legendHidden = true;                    ///< the Legend panel was not drawn last frame
     bool m_showObjects = false;                    ///< View > Object table
+    std::vector<std::vector<std::string>> m_objectTable;  ///< the object table as drawn last
     bool m_showHelp = false;                       ///< Help > Keyboard and mouse (F1)
     // Meshing section: the edge length typed, whole scene or selected objects, for which scene.
     double m_meshEdge = 0.0;

@@ -1,6 +1,7 @@
 // Formatting of the panels' values and units.
 #include "ui/units.hpp"
 
+#include "engine/object_table.hpp"
 #include "engine/scene.hpp"
 
 #include <cstdio>
@@ -14,6 +15,24 @@ std::string formatNumber(double v) {
 }
 
 std::string formatRgb(const Rgb& c) { return formatNumber(c[0]) + " " + formatNumber(c[1]) + " " + formatNumber(c[2]); }
+
+std::string formatCount(std::size_t n, const char* one, const char* many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+std::string sceneCounts(const Scene& scene) {
+    return formatCount(scene.size(), "patch", "patches") + ", " + formatCount(objectsWithPatches(scene), "object", "objects") +
+           (scene.hasMirrors() ? ", mirrors" : "");
+}
+
+std::string meshedCounts(const Scene& source, const std::vector<double>& edges) {
+    std::vector<bool> used(edges.size(), false);  // the loader's "default" object is often empty
+    for (const Patch& p : source.patches)
+        if (p.object < used.size()) used[p.object] = true;
+    std::size_t meshed = 0;
+    for (std::size_t k = 0; k < edges.size(); ++k) meshed += used[k] && edges[k] > 0;
+    return std::to_string(meshed) + " of " + formatCount(objectsWithPatches(source), "object", "objects") + " meshed";
+}
 
 std::string lengthUnitLabel(const std::string& unit) { return unit.empty() ? "scene units" : unit; }
 

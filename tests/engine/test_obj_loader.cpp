@@ -8,6 +8,8 @@
 #include <doctest/doctest.h>
 
 #include <limits>
+#include <map>
+#include <sstream>
 
 using namespace hemirad;
 using namespace hemirad::test;
@@ -214,6 +216,39 @@ TEST_CASE("Saving a scene as OBJ + MTL and loading it back keeps geometry, mater
         ++files;
     }
     CHECK(files == 2);
+}
+
+TEST_CASE("A saved derived material keeps its original's illum, and a mirror made by an edit gets illum 3 (issue 38 #14)") {
+    // An edited diffuse material was written with illum 2 beside the Cornell box's illum 1 ones.
+    Warnings w = quietWarnings();
+    Scene s = bundledScene("cornell_box.obj");
+    s.patches[0].rho = Rgb(0.5, 0.5, 0.5);  // the floor: a derived material of its illum 1 one
+    PatchId wall = 0;  // a patch of the red wall, made a mirror
+    while (s.materials[s.patches[wall].material].name != "red") ++wall;
+    s.patches[wall].specular = 0.2;
+    s.patches[wall].rho = Rgb(0.5, 0.05, 0.05);
+    const auto dir = tempDir("illum");
+    saveObj(s, (dir / "copy.obj").string());
+    // Each material's block in the MTL: its name, then its lines up to the next newmtl.
+    std::map<std::string, std::string> blocks;
+    std::istringstream mtl(readText(dir / "copy.mtl"));
+    std::string line, name;
+    while (std::getline(mtl, line)) {
+        if (line.rfind("newmtl ", 0) == 0) name = line.substr(7);
+        else if (!name.empty()) blocks[name] += line + "\n";
+    }
+    REQUIRE(blocks.count("white~1") == 1);
+    REQUIRE(blocks.count("red~1") == 1);
+    CHECK(blocks["white"].find("illum 1\n") != std::string::npos);
+    CHECK(blocks["white~1"].find("illum 1\n") != std::string::npos);
+    CHECK(blocks["red~1"].find("illum 3\n") != std::string::npos);
+    for (const auto& [material, text] : blocks) {
+        CAPTURE(material);
+        CHECK(text.find("illum 2") == std::string::npos);
+    }
+    const Scene t = loadObj((dir / "copy.obj").string(), w);
+    CHECK(t.patches[wall].specular == doctest::Approx(0.2));
+    CHECK((t.patches[0].rho == Rgb(0.5, 0.5, 0.5)).all());
 }
 
 TEST_CASE("OBJ and MTL numbers are written in the shortest form that reads back to the same double") {

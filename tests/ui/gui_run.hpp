@@ -66,6 +66,20 @@ inline Image runGui(const std::string& name, const std::string& arguments, std::
     return image;
 }
 
+/// Runs tests/ui/SCRIPT, a keyboard script (xdotool taps keys into hemirad-gui under Xvfb), with the
+/// GUI's binary and `arguments`, and checks that the script and the GUI exited 0. Returns the script's
+/// output; the GUI's log is where `arguments` told the script to put it.
+inline std::string runKeyboardScript(const std::string& script, const std::string& arguments) {
+    REQUIRE_MESSAGE(std::system("command -v xvfb-run > /dev/null && command -v xdotool > /dev/null") == 0,
+                    "xvfb-run or xdotool is missing (scripts/install-deps.sh)");
+    const CommandResult run = runCommand("ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 xvfb-run -a -s '-screen 0 1400x900x24' " +
+                                         sourcePath("tests/ui/" + script) + " " + HEMIRAD_GUI_BINARY + " " + arguments + " 2>&1");
+    INFO(run.output);
+    CHECK(run.status == 0);
+    CHECK(run.output.find("hemirad-gui exit 0") != std::string::npos);
+    return run.output;
+}
+
 /// Runs hemirad-gui on the subdivided Cornell box with `methodFlags`, then checks the screenshot:
 /// not blank, the red wall left and the green one right (`walls` false: not checked, for a selection
 /// panel over the right side or a false-colour view), ImGui's menu bar drawn. Returns the log; the

@@ -455,7 +455,8 @@ TEST_CASE("GUI state: the object table equals the CLI's CSV aggregated per objec
     }
     // The GUI's export and `solve --objects` are the same table.
     CHECK(readText(dir / "gui.csv") == readText(dir / "cli.csv"));
-    CHECK(readText(dir / "gui.csv").rfind("object,patches,area,B_mean,B_min,B_max,H_patches,H_mean,H_min,H_max\n", 0) == 0);
+    CHECK(readText(dir / "gui.csv").rfind("object,patches,area (mm^2),B_mean (W/m^2),B_min (W/m^2),B_max (W/m^2),H_patches,"
+                                          "H_mean (W/m^2),H_min (W/m^2),H_max (W/m^2)\n", 0) == 0);
 }
 
 TEST_CASE("GUI state: before Run the panel knows the rows, the work, the memory bound, and after a first run the time") {

@@ -305,21 +305,15 @@ TEST_CASE("hemirad-gui's status bar reads out a known patch: B, H, E, rho, s as 
 }
 
 TEST_CASE("hemirad-gui opens a file through the file browser by keyboard: Ctrl+O, a folder typed and entered, a file name typed and entered") {
-    REQUIRE_MESSAGE(std::system("command -v xvfb-run > /dev/null && command -v xdotool > /dev/null") == 0,
-                    "xvfb-run or xdotool is missing (scripts/install-deps.sh)");
     const auto dir = tempDir("gui-keyboard");
     const std::string log = (dir / "gui.log").string();
     // The folder is typed first (the browser enters it), then the file name relative to it.
-    const CommandResult run = runCommand("ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 xvfb-run -a -s '-screen 0 1400x900x24' " +
-                                         sourcePath("tests/ui/keyboard_open.sh") + " " + HEMIRAD_GUI_BINARY + " " +
-                                         sourcePath("scenes") + " cornell_box.obj " + log + " 2>&1");
+    const std::string run = runKeyboardScript("keyboard_open.sh", sourcePath("scenes") + " cornell_box.obj " + log);
     const std::string output = readText(log);
-    INFO(run.output);
+    INFO(run);
     INFO(output);
-    CHECK(run.status == 0);
-    CHECK(run.output.find("hemirad-gui exit 0") != std::string::npos);
     CHECK(output.find("loaded " + sourcePath("scenes/cornell_box.obj") + ": 20 patches") != std::string::npos);
-    CHECK(run.output.find("title: Hemirad - cornell_box.obj") != std::string::npos);
+    CHECK(run.find("title: Hemirad - cornell_box.obj") != std::string::npos);
 }
 
 TEST_CASE("hemirad-gui shows mirrors in mirrors to --max-depth, pixel for pixel as hemirad render") {
@@ -413,4 +407,69 @@ TEST_CASE("hemirad-gui's help window lists the mouse and the keys, inside the wi
     // Without the flag it stays closed.
     runGui("gui-help-closed", sourcePath("scenes/cornell_box.obj"), log);
     CHECK(log.find("hemirad-gui: panel Help") == std::string::npos);
+}
+
+TEST_CASE("hemirad-gui's Scene panel counts the objects that hold patches, singular for one (issue 38 #9)") {
+    // The Cornell box's 8 groups read "9 objects": the loader's empty "default" object was counted.
+    std::string log;
+    runGui("gui-counts", sourcePath("scenes/cornell_box.obj"), log);
+    CHECK(log.find("hemirad-gui: scene: 20 patches, 8 objects\n") != std::string::npos);
+    const auto dir = tempDir("gui-counts-one");
+    writeFile(dir / "one.mtl", "newmtl white\nKd 0.5 0.5 0.5\n");
+    const std::string one = writeFile(dir / "one.obj", "mtllib one.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\no plate\nusemtl white\nf 1 2 3\n");
+    runGui("gui-counts-1", one, log);
+    CHECK(log.find("hemirad-gui: scene: 1 patch, 1 object\n") != std::string::npos);
+}
+
+TEST_CASE("hemirad-gui's object table has H min between H mean and H max, as the CLI's --objects CSV (issue 38 #8)") {
+    std::string log;
+    runGui("gui-object-table", sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256 --run --objects-window", log);
+    CHECK(log.find("hemirad-gui: object table: object | patches | area (mm^2) | B mean | B min | B max | "
+                   "H mean | H min | H max\n") != std::string::npos);
+    // The floor's row against `hemirad solve --objects` for the same scene and settings.
+    const auto dir = tempDir("gui-object-table-cli");
+    const std::string csv = (dir / "objects.csv").string();
+    REQUIRE(runCommand(std::string(HEMIRAD_BINARY) + " solve " + sourcePath("scenes/cornell_box.obj") +
+                       " --subdivide 60 --samples 256 --objects " + csv + " -o " + (dir / "B.csv").string() + " 2>&1").status == 0);
+    std::istringstream rows(readText(csv));
+    std::string line;
+    double f[9] = {};
+    bool found = false;
+    while (std::getline(rows, line))
+        if (line.rfind("floor,", 0) == 0)
+            found = std::sscanf(line.c_str(), "floor,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &f[0], &f[1], &f[2], &f[3], &f[4], &f[5],
+                                &f[6], &f[7], &f[8]) == 9;
+    REQUIRE(found);
+    // On screen: patches, area, B mean/min/max, H mean/min/max, 4 significant digits.
+    const std::size_t at = log.find("hemirad-gui: object table: floor | ");
+    REQUIRE(at != std::string::npos);
+    double g[8] = {};
+    REQUIRE(std::sscanf(log.c_str() + at, "hemirad-gui: object table: floor | %lf | %lf | %lf | %lf | %lf | %lf | %lf | %lf", &g[0],
+                        &g[1], &g[2], &g[3], &g[4], &g[5], &g[6], &g[7]) == 8);
+    const double cli[8] = {f[0], f[1], f[2], f[3], f[4], f[6], f[7], f[8]};  // H_patches (f[5]) is not shown
+    for (int k = 0; k < 8; ++k) {
+        CAPTURE(k);
+        CHECK(g[k] == doctest::Approx(cli[k]).epsilon(1e-3));
+    }
+    CHECK(g[6] < g[5]);  // H min below H mean: the floor is lit unevenly
+}
+
+TEST_CASE("hemirad-gui: Esc closes the help window, and a file browser opened over it is the one dialog shown (issue 38 #11)") {
+    // Keys tapped into the GUI started with the help window open; the log ends with the panels of
+    // the last frame.
+    const auto taps = [](const std::string& name, const std::string& keys) {
+        const std::string log = (tempDir(name) / "gui.log").string();
+        runKeyboardScript("keyboard_keys.sh", log + " 20 '" + sourcePath("scenes/cornell_box.obj") + " --select 0 --help-window' " + keys);
+        const std::string output = readText(log);
+        INFO(output);
+        CHECK(output.find("hemirad-gui: panel Help") == std::string::npos);
+        return output;
+    };
+    // Esc closes the help window (Help: "Esc: close this window or a dialog, else select none") and
+    // keeps the selection: the Selection panel is still drawn.
+    std::string log = taps("gui-esc-help", "Escape");
+    CHECK(log.find("hemirad-gui: panel Selection") != std::string::npos);
+    // Ctrl+O with the help window open: the browser, and no help window standing over it.
+    log = taps("gui-help-browser", "ctrl+o");
+    CHECK(log.find("hemirad-gui: panel Files") != std::string::npos);
 }
