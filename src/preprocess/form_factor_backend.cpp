@@ -41,12 +41,12 @@ std::string lostPowerText(const RayCounts& counts, bool lossFromRays) {
 }
 
 FormFactorBuilder::FormFactorBuilder(const Scene& scene)
-    : m_rows(scene.size()), m_computed(scene.size(), 0), m_lost(scene.size(), 0.0), m_scene(scene) {}
+    : m_rows(scene.size()), m_computed(scene.size(), 0), m_lost(scene.size(), -1.0), m_scene(scene) {}
 
 void FormFactorBuilder::setRow(PatchId row, std::vector<FormFactors::Entry>&& entries, double lost) {
     m_rows[row] = std::move(entries);
     m_computed[row] = 1;
-    m_lost[row] = lost;
+    m_lost[row] = std::max(0.0, lost);  // >= 0 marks the row as set (m_computed moves out in finish())
     m_done.fetch_add(1, std::memory_order_relaxed);
 }
 
@@ -60,7 +60,7 @@ RayCounts FormFactorBuilder::counts() const {
     RayCounts counts = m_counts;
     // Weighting by area here, where every back end hands over its rows, keeps it out of the back ends.
     for (PatchId i = 0; i < m_scene.size(); ++i)
-        if (m_computed[i]) counts.lostArea += m_scene.patches[i].area * m_lost[i], counts.rowArea += m_scene.patches[i].area;
+        if (m_lost[i] >= 0.0) counts.lostArea += m_scene.patches[i].area * m_lost[i], counts.rowArea += m_scene.patches[i].area;
     return counts;
 }
 

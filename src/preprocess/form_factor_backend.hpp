@@ -84,7 +84,7 @@ public:
     /// row's power that reached no patch (misses, back faces), weighted by the patch's area in counts().
     void setRow(PatchId row, std::vector<FormFactors::Entry>&& entries, double lost);
     void addCounts(const RayCounts& counts);
-    /// The back ends' counts, with lostArea and rowArea summed over the rows set so far.
+    /// The back ends' counts, with lostArea and rowArea summed over the rows set so far (also after finish()).
     RayCounts counts() const;
     /// Thread-seconds spent in a named stage (e.g. "hemicube render"), summed over workers.
     void addStageSeconds(const std::string& stage, double seconds);
@@ -98,7 +98,7 @@ public:
 private:
     std::vector<std::vector<FormFactors::Entry>> m_rows;
     std::vector<std::uint8_t> m_computed;
-    std::vector<double> m_lost;  ///< per row: the fraction of its power that reached no patch
+    std::vector<double> m_lost;  ///< per row: the fraction of its power that reached no patch (-1: not set)
     const Scene& m_scene;
     std::atomic<std::size_t> m_done{0};
     std::atomic<bool> m_cancelled{false};

@@ -136,6 +136,22 @@ TEST_CASE("The lost power is weighted by area: each row's 1 - row sum, and the s
     CHECK(std::abs(fineAnalytic.counts.lostWeight / double(fine.size()) - coarseAnalytic.counts.lostWeight / double(coarse.size())) > 0.03);
 }
 
+TEST_CASE("The builder's area-weighted loss is read after finish() too, as the MPI driver reads it") {
+    // The MPI driver takes the counts after finishing F: counts() once read the moved-out row flags.
+    const Scene s = bundledScene("cornell_box.obj");
+    FormFactorBuilder builder(s);
+    builder.setRow(0, {}, 0.25);
+    builder.setRow(1, {}, 0.75);
+    const RayCounts before = builder.counts();
+    const FormFactors F = builder.finish();
+    CHECK(F.rowComputed(0));
+    const RayCounts after = builder.counts();
+    const double a0 = s.patches[0].area, a1 = s.patches[1].area;
+    CHECK(after.rowArea == doctest::Approx(a0 + a1));
+    CHECK(after.lostFraction() == doctest::Approx((0.25 * a0 + 0.75 * a1) / (a0 + a1)));
+    CHECK(after.lostFraction() == before.lostFraction());
+}
+
 TEST_CASE("Image-method mirror factor of physics.md (Sillion & Puech extended form factors)") {
     const Scene s = bundledScene("mirror_pair.obj");
     REQUIRE(s.hasMirrors());
