@@ -10,6 +10,7 @@ int runSolve(const Options& options);
 int runRender(const Options& options);
 int runInfo(const Options& options);
 int runSubdivide(const Options& options);
+int runThermal(const Options& options);
 int runCheck(const Options& options);
 int runBench(const Options& options);
 int runBenchRun(const Options& options);

@@ -1,5 +1,6 @@
 // Strict option parsing: each flag lists the commands that accept it; values are range-checked.
 #include "cli/options.hpp"
+#include "thermal/conductor_writers.hpp"
 
 #include "engine/atomic_file.hpp"
 #include "engine/hash.hpp"
@@ -19,9 +20,11 @@
 namespace hemirad {
 namespace {
 
-const std::set<std::string> kCommands = {"formfactors", "solve", "render", "info", "subdivide", "check", "bench", "bench-run", "help"};
-const std::set<std::string> kComputing = {"formfactors", "solve", "render", "bench", "bench-run"};
-const std::set<std::string> kSolving = {"solve", "render", "bench", "bench-run"};
+const std::set<std::string> kCommands = {"formfactors", "solve", "render", "thermal", "info", "subdivide", "check", "bench", "bench-run", "help"};
+const std::set<std::string> kComputing = {"formfactors", "solve", "render", "thermal", "bench", "bench-run"};
+const std::set<std::string> kSolving = {"solve", "render", "thermal", "bench", "bench-run"};
+const std::set<std::string> kThermal = {"thermal"};
+
 const std::set<std::string> kBench = {"bench"};
 
 double parseNumber(const std::string& flag, const std::string& text, double lo, double hi) {
@@ -84,6 +87,14 @@ std::string lowerExtension(const std::string& path) {
     return ext;
 }
 
+/// --properties, --bc, --exchange: a file of the given extension.
+std::function<void(Options&, const std::string&, const std::string&)> pathWith(std::string Options::*field, std::string ext) {
+    return [field, ext](Options& o, const std::string& f, const std::string& v) {
+        if (lowerExtension(v) != ext) throw UsageError(f + " expects a " + ext + " file, got '" + v + "'");
+        o.*field = v;
+    };
+}
+
 std::string joined(const std::vector<std::string>& names, const std::string& last) {
     std::string text;
     for (std::size_t k = 0; k < names.size(); ++k)
@@ -94,7 +105,7 @@ std::string joined(const std::vector<std::string>& names, const std::string& las
 /// The formats each writing command offers; the first is the default on standard output.
 const std::vector<std::string>& outputFormats(const std::string& command) {
     static const std::map<std::string, std::vector<std::string>> formats = {
-        {"formfactors", {"mtx", "hff"}}, {"solve", {"csv", "ply"}}, {"render", {"png"}}};
+        {"formfactors", {"mtx", "hff"}}, {"solve", {"csv", "ply"}}, {"render", {"png"}}, {"thermal", {"csv"}}};
     static const std::vector<std::string> none;
     const auto it = formats.find(command);
     return it == formats.end() ? none : it->second;
@@ -108,7 +119,7 @@ struct Flag {
 
 const std::map<std::string, Flag>& flags() {
     static const std::map<std::string, Flag> table = {
-        {"-o", {{"formfactors", "solve", "render", "subdivide", "bench"}, true,
+        {"-o", {{"formfactors", "solve", "render", "thermal", "subdivide", "bench"}, true,
                 [](Options& o, const std::string&, const std::string& v) { o.output = v; }}},
         {"--format", {{"formfactors", "solve", "render"}, true,
                       [](Options& o, const std::string& f, const std::string& v) {
@@ -121,7 +132,7 @@ const std::map<std::string, Flag>& flags() {
         {"--quiet", {{}, false, [](Options& o, const std::string&, const std::string&) { o.quiet = true; }}},
         {"--subdivide", {kComputing, true,
                          [](Options& o, const std::string& f, const std::string& v) { o.subdivide = parseNumber(f, v, 1e-12, 1e300); }}},
-        {"--materials", {{"formfactors", "solve", "render", "subdivide", "check", "bench", "bench-run"}, true,
+        {"--materials", {{"formfactors", "solve", "render", "thermal", "subdivide", "check", "bench", "bench-run"}, true,
                          [](Options& o, const std::string& f, const std::string& v) {
                              if (v.empty()) throw UsageError(f + " expects an MTL file name");
                              o.materials = v;
@@ -137,17 +148,17 @@ const std::map<std::string, Flag>& flags() {
         {"--all-rows", {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.allRows = true; }}},
         {"--enforce-reciprocity",
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.enforceReciprocity = true; }}},
-        {"--drop-below", {{"formfactors", "solve", "render"}, true,
+        {"--drop-below", {{"formfactors", "solve", "render", "thermal"}, true,
                           [](Options& o, const std::string& f, const std::string& v) { o.dropBelow = parseNumber(f, v, 1e-30, 0.5); }}},
         {"--no-memory-check",
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.memoryCheck = false; }}},
         {"--normalize-rows",
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.normalizeRows = true; }}},
-        {"--ff", {{"solve", "render"}, true, [](Options& o, const std::string&, const std::string& v) { o.ffPath = v; }}},
-        {"--shards", {{"formfactors", "solve", "render"}, false,
+        {"--ff", {{"solve", "render", "thermal"}, true, [](Options& o, const std::string&, const std::string& v) { o.ffPath = v; }}},
+        {"--shards", {{"formfactors", "solve", "render", "thermal"}, false,
                       [](Options& o, const std::string&, const std::string&) { o.shards = true; }}},
-        {"--recompute-ff", {{"solve", "render"}, false, [](Options& o, const std::string&, const std::string&) { o.recomputeFf = true; }}},
-        {"--reuse-ff-anyway", {{"solve", "render"}, false, [](Options& o, const std::string&, const std::string&) { o.reuseFfAnyway = true; }}},
+        {"--recompute-ff", {{"solve", "render", "thermal"}, false, [](Options& o, const std::string&, const std::string&) { o.recomputeFf = true; }}},
+        {"--reuse-ff-anyway", {{"solve", "render", "thermal"}, false, [](Options& o, const std::string&, const std::string&) { o.reuseFfAnyway = true; }}},
         {"--solver", {kSolving, true,
                       [](Options& o, const std::string& f, const std::string& v) {
                           try {
@@ -197,7 +208,38 @@ const std::map<std::string, Flag>& flags() {
         {"--exposure", {{"render", "solve"}, true,
                         [](Options& o, const std::string& f, const std::string& v) { o.exposure = parseNumber(f, v, 1e-30, 1e30); }}},
         {"--flat", {{"render"}, false, [](Options& o, const std::string&, const std::string&) { o.flat = true; }}},
-        {"--objects", {{"solve"}, true,
+        {"--properties", {kThermal, true, pathWith(&Options::propertiesPath, ".toml")}},
+        {"--bc", {kThermal, true, pathWith(&Options::conditionsPath, ".toml")}},
+        {"--exchange", {kThermal, true, pathWith(&Options::exchangePath, ".csv")}},
+        {"--conductors", {kThermal, true,
+                          [](Options& o, const std::string& f, const std::string& v) {
+                              if (v.empty()) throw UsageError(f + " expects a file name");
+                              o.conductorsPath = v;
+                          }}},
+        {"--conductor-format", {kThermal, true,
+                                [](Options& o, const std::string& f, const std::string& v) {
+                                    if (v != "csv" && v != "mtx" && v != "esatan" && v != "sinda")
+                                        throw UsageError(f + " expects csv, mtx, esatan or sinda, got '" + v + "'");
+                                    o.conductorFormat = v;
+                                }}},
+        {"--lump", {kThermal, true,
+                    [](Options& o, const std::string& f, const std::string& v) {
+                        if (v != "objects" && v != "patches") throw UsageError(f + " expects objects or patches, got '" + v + "'");
+                        o.lumping = v;
+                    }}},
+        {"--gr-threshold", {kThermal, true,
+                            [](Options& o, const std::string& f, const std::string& v) { o.couplingThreshold = parseNumber(f, v, 0.0, 0.5); }}},
+        {"--unit", {kThermal, true,
+                    [](Options& o, const std::string& f, const std::string& v) {
+                        try {
+                            metresPerUnit(v);
+                        } catch (const Error& e) {
+                            throw UsageError(f + ": " + e.what());
+                        }
+                        if (v.empty()) throw UsageError(f + " expects a length unit (m, cm, mm, in, ft)");
+                        o.lengthUnit = v;
+                    }}},
+        {"--objects", {{"solve", "thermal"}, true,
                        [](Options& o, const std::string& f, const std::string& v) {
                            if (lowerExtension(v) != ".csv") throw UsageError(f + " writes a CSV table: '" + v + "' must end in .csv");
                            o.objectsPath = v;
@@ -432,6 +474,16 @@ Options parseOptions(int argc, const char* const* argv) {
     if (o.command == "solve" && o.output.empty() && o.ffPath.empty() && o.objectsPath.empty())
         throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F, or --objects T.csv)");
     if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
+    if (o.command == "thermal") {
+        if (o.conditionsPath.empty()) throw UsageError("'thermal' needs --bc CONDITIONS.toml (docs/thermal.md)");
+        if (o.output.empty() && o.objectsPath.empty() && o.conductorsPath.empty() && o.exchangePath.empty())
+            throw UsageError("'thermal' needs -o T.csv, --objects O.csv, --conductors GR.txt or --exchange Q.csv");
+        if (!o.conductorsPath.empty() && o.conductorFormat.empty() && thermal::conductorFormatFor(o.conductorsPath).empty())
+            throw UsageError("--conductors " + o.conductorsPath + ": the extension names no format (.csv, .mtx, .esatan, "
+                             ".sinda), so give --conductor-format");
+        if (o.conductorsPath.empty() && (!o.conductorFormat.empty()))
+            throw UsageError("--conductor-format needs --conductors FILE");
+    }
     if (o.recomputeFf && o.ffPath.empty()) throw UsageError("--recompute-ff needs --ff FILE");
     if (o.reuseFfAnyway && o.ffPath.empty()) throw UsageError("--reuse-ff-anyway needs --ff FILE");
     if (o.reuseFfAnyway && o.recomputeFf)
@@ -496,6 +548,8 @@ std::uint64_t optionsHash(const Options& o) {
     h.addValue(o.samplesPerPixel); h.addValue(o.exposure); h.addValue(o.flat); text(o.objectsPath);
     h.addValue(o.falseColour.has_value()); h.addValue(int(o.falseColour.value_or(FalseColourQuantity::Radiosity)));
     h.addValue(int(o.falseColourScale)); optional(o.rangeMin); optional(o.rangeMax);
+    text(o.propertiesPath); text(o.conditionsPath); text(o.conductorsPath); text(o.conductorFormat); text(o.lumping);
+    h.addValue(o.couplingThreshold); text(o.exchangePath); text(o.lengthUnit);
     h.addValue(o.maxEdge); h.addValue(o.sliverRatio); h.addValue(o.relativeTolerance);
     h.addValue(std::uint64_t(o.benchMethods.size()));
     for (const MethodSettings& m : o.benchMethods) settings(m);
@@ -547,6 +601,8 @@ commands:
                                          the patches that reflect (rho > 0; --all-rows: every row)
   solve SCENE -o B.csv|B.ply             compute (or reuse with --ff) F and solve radiosity
   render SCENE -o IMAGE.png              compute, solve and render an image
+  thermal SCENE --bc BC.toml -o T.csv    radiative heat transfer: temperatures, fluxes, Gebhart
+                                         factors and radiative conductors (docs/thermal.md)
   info F.hff|F.mtx                       check an F file (or a shard manifest and its shards) and
                                          describe it
   subdivide SCENE -o OUT.obj --max-edge L   split patches until no edge exceeds L
@@ -620,6 +676,21 @@ bench:
   --cache DIR            where reference F and B are kept (default bench/cache)
   --json FILE            also write the results as JSON
   --label NAME           scene name in the results (default: the file name)
+thermal (gray surfaces; F through mirrors as for solve; --ff, --solver and the F options apply):
+  --bc FILE.toml         boundary conditions per object (temperature_K, temperature_C, flux_W_m2,
+                         power_W or adiabatic), a [default] and the [environment] temperature
+  --properties FILE.toml emissivity and specular reflectance per material and object (default:
+                         eps = 1 - mean(Kd) - s from the MTL); a specular value there is the one F uses
+  --unit m|cm|mm|in|ft   the scene's length unit where the OBJ states none (default m, warned)
+  -o T.csv               per patch: area, eps, s, condition, T (K and C), J, H, q (W/m^2), Q (W)
+  --objects O.csv        per object: area, T mean/min/max, mean q, Q; the environment's Q
+  --conductors FILE      radiative conductors GR_ij = eps_i A_i B_ij (m^2, symmetric) between nodes
+                         and the environment: .csv, .mtx, .esatan (GR(a, b) = v;) or .sinda (HEADER
+                         CONDUCTOR DATA, -ID, a, b, GR); --conductor-format where the extension is other
+  --lump objects|patches the conductor network's nodes (default objects: each isothermal)
+  --gr-threshold B       drop couplings whose Gebhart factors both ways are below B (default 0: keep
+                         all); their number and GR sum are reported
+  --exchange Q.csv       net power between objects and to the environment (W), from the solved T
 check:
   --sliver-ratio R       a sliver's longest edge / minimum width exceeds R (default 20)
   --relative-tolerance R positions within R x the scene extent are one point (default 1e-6)

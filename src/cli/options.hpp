@@ -21,7 +21,7 @@ public:
 
 /// Every field also goes into optionsHash(), by which the ranks of an MPI job check that they agree.
 struct Options {
-    std::string command;                 ///< formfactors, solve, render, info, subdivide, check, bench, help
+    std::string command;                 ///< formfactors, solve, render, thermal, info, subdivide, check, bench, help
     std::vector<std::string> inputs;     ///< positional arguments
     std::string output;                  ///< -o ("-": standard output)
     std::string format;                  ///< --format: for an -o without an extension to tell it
@@ -57,6 +57,16 @@ struct Options {
     std::optional<FalseColourQuantity> falseColour;  ///< --false-color (none: a picture)
     FalseColourScale falseColourScale = FalseColourScale::Linear;  ///< --scale
     std::optional<double> rangeMin, rangeMax;  ///< --range MIN:MAX (either may be empty: automatic)
+
+    // thermal command (src/thermal, docs/thermal.md).
+    std::string propertiesPath;          ///< --properties FILE.toml ("": eps = 1 - mean(Kd) - s from the MTL)
+    std::string conditionsPath;          ///< --bc FILE.toml: boundary conditions and the environment
+    std::string conductorsPath;          ///< --conductors FILE: radiative conductors GR
+    std::string conductorFormat;         ///< --conductor-format csv|mtx|esatan|sinda ("": the extension's)
+    std::string lumping = "objects";     ///< --lump objects|patches: the conductor network's nodes
+    double couplingThreshold = 0.0;      ///< --gr-threshold B: couplings with both Gebhart factors below B dropped
+    std::string exchangePath;            ///< --exchange FILE.csv: net power between objects
+    std::string lengthUnit;              ///< --unit: the scene's length unit where the OBJ states none
 
     // subdivide command.
     double maxEdge = 0.0;

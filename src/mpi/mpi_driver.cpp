@@ -393,7 +393,8 @@ int runUnderMpi(int argc, char** argv) {
             Job job(context, quiet);
             runBenchRun(job);
         } else {
-            // help, info, subdivide, check: one process's work, done by rank 0.
+            // help, info, subdivide, check, thermal: one process's work, done by rank 0 (thermal's F
+            // rows and solve are not distributed yet).
             int status = 0;
             context.collectively([&] {
                 if (command == "bench")
@@ -404,6 +405,7 @@ int runUnderMpi(int argc, char** argv) {
                 else if (command == "info") status = runInfo(options);
                 else if (command == "subdivide") status = runSubdivide(options);
                 else if (command == "check") status = runCheck(options);
+                else if (command == "thermal") status = runThermal(options);
                 else throw UsageError("unknown command '" + command + "'");
             });
             MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);

@@ -10,6 +10,8 @@
 #include "rays/ray_scene.hpp"
 #include "render/raytracer.hpp"
 #include "solve/solver_registry.hpp"
+#include "thermal/gebhart.hpp"
+#include "thermal/thermal_solver.hpp"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -397,6 +399,108 @@ void setPatchValues(Scene& scene, const std::string& what, py::array_t<std::int6
     for (std::size_t m = 0; m < k; ++m) scene.patches[std::size_t(ids.data()[m])] = edited[m];
 }
 
+/// The thermal model from per-patch arrays: exactly one of temperature (K) and flux (W/m^2) finite per
+/// patch (NaN: not given); specular must equal the scene's (F depends on it).
+thermal::ThermalModel thermalModel(const Scene& scene, py::array_t<double, py::array::c_style> emissivity,
+                                   py::array_t<double, py::array::c_style> specular,
+                                   py::array_t<double, py::array::c_style> temperature,
+                                   py::array_t<double, py::array::c_style> flux, py::object environment) {
+    const std::size_t n = scene.size();
+    for (const auto& [name, a] : {std::pair<const char*, py::array_t<double, py::array::c_style>*>{"emissivity", &emissivity},
+                                  {"specular", &specular}, {"temperature", &temperature}, {"flux", &flux}})
+        if (a->ndim() != 1 || std::size_t(a->size()) != n)
+            throw Error(std::string(name) + ": expected one value per patch (" + std::to_string(n) + "), got shape of " +
+                        std::to_string(a->size()) + " values");
+    thermal::ThermalModel model;
+    model.metresPerUnit = scene.unit.empty() ? 1.0 : metresPerUnit(scene.unit);
+    model.surface.resize(n);
+    model.condition.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        model.surface[i] = {emissivity.at(i), specular.at(i)};
+        const bool hasT = !std::isnan(temperature.at(i)), hasQ = !std::isnan(flux.at(i));
+        if (hasT == hasQ)
+            throw Error("patch " + std::to_string(i) + ": give exactly one of temperature and flux (the other NaN); got " +
+                        (hasT ? "both" : "neither"));
+        model.condition[i] = hasT ? thermal::Condition{thermal::Condition::Kind::Temperature, temperature.at(i), 0}
+                                  : thermal::Condition{thermal::Condition::Kind::Flux, flux.at(i), 0};
+    }
+    if (!environment.is_none()) model.environment = environment.cast<double>();
+    return model;
+}
+
+py::array_t<double> numpyVector(const std::vector<double>& v) {
+    py::array_t<double> a(py::ssize_t(v.size()));
+    std::copy(v.begin(), v.end(), a.mutable_data());
+    return a;
+}
+
+py::dict thermalSolve(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
+                      py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
+                      py::array_t<double, py::array::c_style> emissivity, py::array_t<double, py::array::c_style> specular,
+                      py::array_t<double, py::array::c_style> temperature, py::array_t<double, py::array::c_style> flux,
+                      py::object environment, const std::string& solverName, double tolerance) {
+    const GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");
+    const thermal::ThermalModel model = thermalModel(*scene, emissivity, specular, temperature, flux, environment);
+    SolverOptions options;
+    options.solver = solverName;
+    options.tolerance = tolerance;
+    thermal::ThermalSolution sol;
+    {
+        py::gil_scoped_release release;
+        sol = thermal::solveThermal(*scene, given.get(), model, options);
+    }
+    py::dict out;
+    out["T"] = numpyVector(sol.T);
+    out["J"] = numpyVector(sol.J);
+    out["H"] = numpyVector(sol.H);
+    out["q"] = numpyVector(sol.q);
+    out["Q"] = numpyVector(sol.Q);
+    out["environment_power"] = sol.environmentPower;
+    out["balance"] = sol.balance;
+    out["solver"] = sol.report.solver;
+    out["residual"] = sol.report.residualOriginal;
+    return out;
+}
+
+py::dict conductors(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
+                    py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
+                    py::array_t<double, py::array::c_style> emissivity, py::array_t<double, py::array::c_style> specular,
+                    const std::string& lump, double threshold) {
+    const GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");
+    const std::size_t n = scene->size();
+    py::array_t<double> T{py::ssize_t(n)}, q{py::ssize_t(n)};  // conductors depend on no condition
+    std::fill(T.mutable_data(), T.mutable_data() + n, 300.0);
+    std::fill(q.mutable_data(), q.mutable_data() + n, std::nan(""));
+    const thermal::ThermalModel model = thermalModel(*scene, emissivity, specular, T, q, py::none());
+    if (lump != "patches" && lump != "objects") throw Error("lump: expected 'patches' or 'objects', got '" + lump + "'");
+    thermal::GebhartOptions g;
+    g.lumping = lump == "patches" ? thermal::Lumping::Patches : thermal::Lumping::Objects;
+    g.threshold = threshold;
+    thermal::Conductors c;
+    {
+        py::gil_scoped_release release;
+        c = thermal::computeConductors(*scene, given.get(), model, g, SolverOptions{});
+    }
+    py::array_t<std::int64_t> a(py::ssize_t(c.couplings.size())), b(py::ssize_t(c.couplings.size()));
+    py::array_t<double> gr(py::ssize_t(c.couplings.size()));
+    for (std::size_t k = 0; k < c.couplings.size(); ++k) {
+        a.mutable_at(k) = c.couplings[k].a;
+        b.mutable_at(k) = c.couplings[k].b;
+        gr.mutable_at(k) = c.couplings[k].gr;
+    }
+    py::dict out;
+    out["nodes"] = c.nodes;
+    out["a"] = a;
+    out["b"] = b;
+    out["GR"] = gr;
+    out["emitting_area"] = numpyVector(c.emittingArea);
+    out["self"] = numpyVector(c.self);
+    out["asymmetry"] = c.asymmetry;
+    out["dropped"] = c.dropped;
+    out["dropped_sum"] = c.droppedSum;
+    return out;
+}
+
 }  // namespace
 }  // namespace hemirad::python
 
@@ -458,6 +562,8 @@ PYBIND11_MODULE(_hemirad, m) {
     });
     m.def("_form_factors", &formFactors);
     m.def("_solve", &solve);
+    m.def("_thermal", &thermalSolve);
+    m.def("_conductors", &conductors);
     m.def("_read_form_factors", &readFormFactors);
     m.def("_write_form_factors", &writeFormFactors);
     m.def("_render", &render);

@@ -300,7 +300,7 @@ void solveEigen(EigenKind kind, const SolveProblem& p, std::vector<Channel*>& ac
     for (std::size_t a = 0; a < active.size(); ++a) {
         const auto t0 = Clock::now();
         bool done = false;
-        for (std::size_t q = 0; q < a; ++q) done |= active[q]->rho == active[a]->rho;
+        for (std::size_t q = 0; q < a && !done; ++q) done = active[q]->rho == active[a]->rho;
         if (done) continue;
         EigenSystem system(p.scene, p.F, p.symmetric, active[a]->rho, kind, p.options);
         for (std::size_t b = a; b < active.size(); ++b) {

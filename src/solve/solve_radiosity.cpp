@@ -8,8 +8,10 @@
 #include "solve/solver_registry.hpp"
 
 #include <algorithm>
-
+#include <array>
 #include <cmath>
+#include <cstring>
+#include <unordered_map>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -73,51 +75,95 @@ std::string chooseSolver(std::size_t patches, const Scene&) {
     return resolveThreads(0) > 2 ? "jacobi" : "gauss-seidel";
 }
 
-Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverOptions& options,
-                         const std::vector<Rgb>* initial) {
+namespace {
+
+/// FNV-1a over a band's reflectance and source: finds identical bands without comparing every pair.
+std::uint64_t bandKey(const Band& band) {
+    std::uint64_t h = 1469598103934665603ull;
+    auto mix = [&](const std::vector<double>& v) {
+        for (const double x : v) {
+            std::uint64_t bits = 0;
+            std::memcpy(&bits, &x, sizeof bits);
+            h = (h ^ bits) * 1099511628211ull;
+        }
+    };
+    mix(band.rho);
+    mix(band.source);
+    return h;
+}
+
+/// "rgb" for one-letter band names, "ir,solar" otherwise.
+std::string joinNames(const std::vector<std::string>& names) {
+    bool letters = true;
+    for (const std::string& n : names) letters = letters && n.size() == 1;
+    std::string joined;
+    for (const std::string& n : names) joined += (joined.empty() || letters ? "" : ",") + n;
+    return joined;
+}
+
+}  // namespace
+
+BandSolution solveBands(const Scene& scene, const FormFactors& F, const std::vector<Band>& bands,
+                        const SolverOptions& options,
+                        const std::function<void(int sweep, const std::vector<std::vector<double>>& X)>& afterSweep) {
     const std::size_t n = scene.size();
     if (F.size() != n)
         throw Error("solve: F has " + std::to_string(F.size()) + " rows but the scene has " + std::to_string(n) + " patches");
     if (!(options.tolerance > 0.0) || options.tolerance >= 1.0)
         throw Error("solve: tolerance must be in (0, 1), got " + std::to_string(options.tolerance));
-    for (std::size_t i = 0; i < n; ++i)
-        if ((scene.patches[i].rho > 0.0).any() && !F.rowComputed(i))
-            throw Error("solve: row " + std::to_string(i) + " of F was not computed (the patch was black then) "
-                        "but its reflectance is now > 0; recompute F or its missing rows");
-    if (initial && initial->size() != n) throw Error("solve: warm start has the wrong size");
+    for (const Band& band : bands) {
+        if (band.rho.size() != n || band.source.size() != n || (band.initial && band.initial->size() != n))
+            throw Error("solve: band " + band.name + " does not have one value per patch");
+        for (std::size_t i = 0; i < n; ++i)
+            if (band.rho[i] > 0.0 && !F.rowComputed(i))
+                throw Error("solve: row " + std::to_string(i) + " of F was not computed (the patch was black then) "
+                            "but its reflectance is now > 0; recompute F or its missing rows");
+    }
     const std::string name = options.solver == "auto" ? chooseSolver(n, scene) : options.solver;
     const SolverDescriptor& solver = findSolver(name);
 
-    // Distinct channels: identical (rho, E) columns are solved once.
+    // Distinct bands: identical (rho, source) bands are solved once.
     std::vector<Channel> channels;
-    std::array<int, 3> channelOf{};
-    for (int c = 0; c < 3; ++c) {
+    std::vector<std::size_t> channelOf(bands.size());
+    std::vector<std::vector<std::string>> namesOf;
+    std::unordered_multimap<std::uint64_t, std::size_t> byKey;
+    channels.reserve(bands.size());
+    for (std::size_t b = 0; b < bands.size(); ++b) {
+        const Band& band = bands[b];
+        const std::uint64_t key = bandKey(band);
+        std::size_t same = SIZE_MAX;
+        for (auto [it, last] = byKey.equal_range(key); it != last && same == SIZE_MAX; ++it) {
+            const Channel& c = channels[it->second];
+            bool equal = true;
+            for (std::size_t i = 0; i < n && equal; ++i)
+                equal = c.rho[Eigen::Index(i)] == band.rho[i] && c.E[Eigen::Index(i)] == band.source[i];
+            if (equal) same = it->second;
+        }
+        if (same != SIZE_MAX) {
+            namesOf[same].push_back(band.name);
+            channelOf[b] = same;
+            continue;
+        }
         Channel ch;
-        ch.rho.resize(static_cast<Eigen::Index>(n));
-        ch.E.resize(static_cast<Eigen::Index>(n));
-        ch.B.resize(static_cast<Eigen::Index>(n));
-        for (std::size_t i = 0; i < n; ++i) {
-            ch.rho[i] = scene.patches[i].rho[c];
-            ch.E[i] = scene.patches[i].emission[c];
-            ch.B[i] = initial ? (*initial)[i][c] : ch.E[i];
-        }
-        int same = -1;
-        for (std::size_t d = 0; d < channels.size(); ++d)
-            if (channels[d].rho == ch.rho && channels[d].E == ch.E) same = int(d);
-        if (same >= 0) {
-            channels[same].names += kChannelNames[c];
-        } else {
-            ch.names = kChannelNames[c];
-            channels.push_back(std::move(ch));
-            same = int(channels.size() - 1);
-        }
-        channelOf[c] = same;
+        namesOf.push_back({band.name});
+        ch.rho = Eigen::Map<const Vector>(band.rho.data(), Eigen::Index(n));
+        ch.E = Eigen::Map<const Vector>(band.source.data(), Eigen::Index(n));
+        ch.B = band.initial ? Vector(Eigen::Map<const Vector>(band.initial->data(), Eigen::Index(n))) : ch.E;
+        channels.push_back(std::move(ch));
+        channelOf[b] = channels.size() - 1;
+        byKey.emplace(key, channelOf[b]);
     }
+    for (std::size_t c = 0; c < channels.size(); ++c) channels[c].names = joinNames(namesOf[c]);
 
     // No steady state when the spectral radius of R F reaches 1: rho >= 1 in a closed part of the
     // scene, or rows of F summing above 1 / rho (estimates made non-closed, e.g. by averaging).
     // Cheap test first (row sums times rho below 1 bound the radius), power steps only if needed.
+    std::vector<const Vector*> checked;
     for (const Channel& ch : channels) {
+        bool seen = false;
+        for (const Vector* rho : checked) seen = seen || *rho == ch.rho;
+        if (seen) continue;
+        checked.push_back(&ch.rho);
         double worstGain = 0.0;
         for (std::size_t i = 0; i < n; ++i)
             if (F.rowComputed(i)) worstGain = std::max(worstGain, ch.rho[Eigen::Index(i)] * F.rowSum(i));
@@ -138,7 +184,7 @@ Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverO
     if (solver.needsTranspose || solver.symmetricForm) Ft = transpose(F);
     if (solver.symmetricForm) symmetric.emplace(scene, F, *Ft);
 
-    std::vector<Channel*> active;  // channels with emission; the others are B = 0
+    std::vector<Channel*> active;  // channels with a source; the others are X = 0
     for (Channel& ch : channels) {
         ch.report.solver = solver.name;
         ch.report.channels = ch.names;
@@ -150,24 +196,21 @@ Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverO
             active.push_back(&ch);
         }
     }
+    auto values = [&] {
+        std::vector<std::vector<double>> X(bands.size());
+        for (std::size_t b = 0; b < bands.size(); ++b) {
+            const Vector& x = channels[channelOf[b]].B;
+            X[b].assign(x.data(), x.data() + x.size());
+        }
+        return X;
+    };
     if (!active.empty()) {
         SolveProblem problem{scene, F, options, Ft ? &*Ft : nullptr, symmetric ? &*symmetric : nullptr, {}};
-        if (options.progress)
-            problem.afterSweep = [&](int sweep) {
-                std::vector<Rgb> B(n);
-                for (int c = 0; c < 3; ++c)
-                    for (std::size_t i = 0; i < n; ++i) B[i][c] = channels[channelOf[c]].B[i];
-                options.progress(sweep, B);
-            };
+        if (afterSweep) problem.afterSweep = [&](int sweep) { afterSweep(sweep, values()); };
         solver.solve(problem, active);
     }
 
-    Radiosity result;
-    result.B.assign(n, Rgb::Zero());
-    for (int c = 0; c < 3; ++c) {
-        const Channel& ch = channels[channelOf[c]];
-        for (std::size_t i = 0; i < n; ++i) result.B[i][c] = ch.B[i];
-    }
+    BandSolution result;
     for (Channel& ch : channels) {
         SolveReport& r = ch.report;
         r.residualOriginal = ch.E.norm() > 0 ? detail::relativeResidual(F, ch.rho, ch.E, ch.B) : 0.0;
@@ -190,6 +233,45 @@ Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverO
         checkConverged(r, options);
         result.reports.push_back(r);
     }
+    result.X = values();
+    return result;
+}
+
+Radiosity solveRadiosity(const Scene& scene, const FormFactors& F, const SolverOptions& options,
+                         const std::vector<Rgb>* initial) {
+    const std::size_t n = scene.size();
+    if (F.size() != n)
+        throw Error("solve: F has " + std::to_string(F.size()) + " rows but the scene has " + std::to_string(n) + " patches");
+    if (initial && initial->size() != n) throw Error("solve: warm start has the wrong size");
+    std::vector<Band> bands(3);
+    std::array<std::vector<double>, 3> starts;
+    for (int c = 0; c < 3; ++c) {
+        Band& band = bands[std::size_t(c)];
+        band.name = kChannelNames[c];
+        band.rho.resize(n);
+        band.source.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            band.rho[i] = scene.patches[i].rho[c];
+            band.source[i] = scene.patches[i].emission[c];
+        }
+        if (initial) {
+            starts[std::size_t(c)].resize(n);
+            for (std::size_t i = 0; i < n; ++i) starts[std::size_t(c)][i] = (*initial)[i][c];
+            band.initial = &starts[std::size_t(c)];
+        }
+    }
+    auto toRgb = [n](const std::vector<std::vector<double>>& X) {
+        std::vector<Rgb> B(n);
+        for (int c = 0; c < 3; ++c)
+            for (std::size_t i = 0; i < n; ++i) B[i][c] = X[std::size_t(c)][i];
+        return B;
+    };
+    std::function<void(int, const std::vector<std::vector<double>>&)> hook;
+    if (options.progress) hook = [&](int sweep, const std::vector<std::vector<double>>& X) { options.progress(sweep, toRgb(X)); };
+    BandSolution solved = solveBands(scene, F, bands, options, hook);
+    Radiosity result;
+    result.B = toRgb(solved.X);
+    result.reports = std::move(solved.reports);
     return result;
 }
 

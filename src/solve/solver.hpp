@@ -1,4 +1,6 @@
-// Radiosity solve per RGB channel: (I - R F) B = E, by a solver from the registry (solver_registry.hpp).
+// Radiosity solve per band: (I - R F) X = S for each band's reflectance R and source S, by a solver from
+// the registry (solver_registry.hpp). RGB radiosity is three bands; thermal exchange (src/thermal) is
+// one IR band (or more) with its own reflectance and source.
 #pragma once
 
 #include "engine/form_factors.hpp"
@@ -39,6 +41,25 @@ struct Radiosity {
     std::vector<Rgb> B;       ///< per patch, W/m^2
     std::vector<SolveReport> reports;
 };
+
+/// One band's system X_i = S_i + R_i sum_j F_ij X_j: per patch reflectance R (0..1) and source S.
+struct Band {
+    std::string name;           ///< in reports ("r", "ir", "column 12"); one-letter names concatenate
+    std::vector<double> rho, source;
+    const std::vector<double>* initial = nullptr;  ///< warm start for iterative solvers (size N), or null
+};
+
+struct BandSolution {
+    std::vector<std::vector<double>> X;   ///< per band, per patch
+    std::vector<SolveReport> reports;     ///< per distinct band (identical bands are solved once)
+};
+
+/// Solves every band on one F: identical (rho, source) bands once, a factorisation shared by the
+/// bands it serves. `afterSweep`, if given, gets each sweep's X (per band) for progressive display.
+/// Throws hemirad::Error as solveRadiosity does.
+BandSolution solveBands(const Scene& scene, const FormFactors& F, const std::vector<Band>& bands,
+                        const SolverOptions& options,
+                        const std::function<void(int sweep, const std::vector<std::vector<double>>& X)>& afterSweep = {});
 
 /// Solves B_i = E_i + rho_i sum_j F_ij B_j for each distinct channel (identical channels are solved
 /// once). `initial`, if given, warm-starts iterative solvers. Throws hemirad::Error when the system is

@@ -443,3 +443,33 @@ for indptr in ([0, n - 1] + [3] * (n - 1), [0, 2, 1] + [3] * (n - 2)):
     assert run.returncode == 0, run.stderr[-2000:]
     lines = run.stdout.splitlines()
     assert len(lines) == 2 and all(line.startswith("refused | F: ") for line in lines), run.stdout
+
+
+def test_thermal_three_surface_enclosure_and_gebhart():
+    # The unit cube: floor at 600 K, ceiling at 300 K, the four walls adiabatic (reradiating): the
+    # three-surface closed form of physics.md section 8.
+    cube = hemirad.load(scene_path("unit_cube.obj"))
+    F, _ = hemirad.form_factors(cube, all_rows=True)
+    n = len(cube)
+    up = cube.normal[:, 1]
+    floor, ceiling = int(np.argmax(up)), int(np.argmin(up))
+    eps = np.full(n, 0.3)
+    eps[floor], eps[ceiling] = 0.7, 0.4
+    T = np.full(n, np.nan)
+    T[floor], T[ceiling] = 600.0, 300.0
+    q = np.where(np.isnan(T), 0.0, np.nan)
+    result = hemirad.thermal(cube, F, eps, temperature=T, flux=q)
+    sigma, opp, adj = 5.670374419e-8, 0.1998248957, 0.2000437761
+    R1, R2 = 0.3 / 0.7, 0.6 / 0.4
+    expected = sigma * (600.0**4 - 300.0**4) / (R1 + 1 / (opp + 1 / (1 / (4 * adj) + 1 / (4 * adj))) + R2)
+    assert abs(result["Q"][floor] - expected) < 1e-3 * expected
+    assert result["balance"] < 1e-9
+    assert np.all(np.abs(np.delete(result["q"], [floor, ceiling])) == 0.0)
+    GR, B, nodes = hemirad.conductors(cube, F, eps)
+    assert GR.shape == (n + 1, n + 1) and len(nodes) == n
+    assert abs(GR - GR.T).max() == 0.0
+    assert np.allclose(np.asarray(B[:n].sum(axis=1)).ravel(), 1.0, atol=1e-5)  # closed: nothing escapes
+    with pytest.raises(ValueError, match="give exactly one of temperature and flux"):
+        hemirad.thermal(cube, F, eps, temperature=np.full(n, 300.0), flux=np.zeros(n))
+    with pytest.raises(hemirad.Error, match="emissivity 0.7 \\+ specular reflectance 0.5"):
+        hemirad.thermal(cube, F, eps, specular=np.where(np.arange(n) == floor, 0.5, 0.0), temperature=T, flux=q)

@@ -21,7 +21,7 @@ import scipy.sparse as _sparse
 from . import _hemirad
 from ._hemirad import Error, Scene
 
-__all__ = ["Error", "Scene", "load", "form_factors", "solve", "read_form_factors", "write_form_factors",
+__all__ = ["Error", "Scene", "load", "form_factors", "solve", "thermal", "conductors", "read_form_factors", "write_form_factors",
            "render", "methods", "solvers"]
 
 
@@ -280,3 +280,62 @@ def render(scene, B, path, *, camera=None, size=(640, 640), spp=4, exposure=0.0,
         raise ValueError(f"spp: expected >= 1, got {spp!r}")
     return _hemirad._render(scene, _np.ascontiguousarray(B), _os.fspath(path), camera, width, height, int(spp),
                             float(exposure), bool(flat), float(crease), int(threads))
+
+
+def _patch_values(name, values, n, default=None):
+    if values is None:
+        if default is None:
+            raise ValueError(f"{name}: expected one value per patch ({n})")
+        return default
+    a = _np.ascontiguousarray(_np.broadcast_to(_np.asarray(values, dtype=_np.float64), (n,)))
+    return a
+
+
+def thermal(scene, F, emissivity, specular=None, temperature=None, flux=None, environment=None, *,
+            solver="auto", tolerance=1e-6):
+    """Gray radiative exchange on F (docs/thermal.md): the net-radiation method with mirrors.
+
+    emissivity, specular: per patch (or one value for all); specular None takes the scene's (F was
+    computed with it). temperature (K) and flux (W/m^2, net leaving; 0 = adiabatic): per patch, NaN
+    where not given; each patch needs exactly one. environment: the temperature (K) that receives what
+    leaves an open scene, or None for a closed scene. Lengths are the scene's unit in metres (metres
+    when it states none).
+    Returns a dict of per-patch arrays T (K), J, H, q (W/m^2, net leaving), Q (W), and environment_power
+    (W, what the environment gives), balance (|sum Q + Q_env| / max |Q|), solver, residual.
+    """
+    _check_scene(scene)
+    n = len(scene)
+    nan = _np.full(n, _np.nan)
+    eps = _patch_values("emissivity", emissivity, n)
+    s = _patch_values("specular", specular, n, _np.ascontiguousarray(scene.specular, dtype=_np.float64))
+    T = _patch_values("temperature", temperature, n, nan)
+    q = _patch_values("flux", flux, n, nan)
+    indptr, indices, data = _canonical(F, n)
+    env = None if environment is None else float(environment)
+    return _hemirad._thermal(scene, indptr, indices, data, eps, s, T, q, env, solver, float(tolerance))
+
+
+def conductors(scene, F, emissivity, specular=None, *, lump="patches", threshold=0.0):
+    """Gebhart factors and radiative conductors: (GR, B, nodes).
+
+    GR: a symmetric scipy sparse matrix of shape (K + 1, K + 1), GR_IJ = sum eps_i A_i B_ij in m^2
+    between the K nodes (each patch, or each object with lump="objects") and the environment (the last
+    node; no self terms). B: the Gebhart factors B_IJ = GR_IJ / (eps A)_I with the self terms B_II (rows
+    of nodes that emit; each row sums to 1 with its environment column). nodes: names.
+    threshold: couplings whose Gebhart factors both ways are below it are dropped.
+    """
+    _check_scene(scene)
+    n = len(scene)
+    eps = _patch_values("emissivity", emissivity, n)
+    s = _patch_values("specular", specular, n, _np.ascontiguousarray(scene.specular, dtype=_np.float64))
+    indptr, indices, data = _canonical(F, n)
+    r = _hemirad._conductors(scene, indptr, indices, data, eps, s, lump, float(threshold))
+    k = len(r["nodes"]) + 1
+    a, b, gr = r["a"], r["b"], r["GR"]
+    GR = _sparse.coo_matrix((_np.concatenate([gr, gr]), (_np.concatenate([a, b]), _np.concatenate([b, a]))),
+                           shape=(k, k)).tocsr()
+    area = _np.append(r["emitting_area"], 0.0)
+    scale = _np.divide(1.0, area, out=_np.zeros_like(area), where=area > 0)
+    absorbed = GR + _sparse.diags(_np.append(r["self"], 0.0))  # a node absorbs some of its own emission too
+    B = _sparse.diags(scale) @ absorbed
+    return GR, B.tocsr(), list(r["nodes"])

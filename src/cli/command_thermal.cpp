@@ -1,0 +1,123 @@
+// `hemirad thermal SCENE --bc CONDITIONS.toml [--properties P.toml] -o T.csv [--objects O.csv]
+// [--conductors GR.esatan] [--exchange Q.csv]`: gray radiative exchange on F (src/thermal).
+#include "cli/commands.hpp"
+#include "cli/pipeline.hpp"
+#include "thermal/conductor_writers.hpp"
+#include "thermal/gebhart.hpp"
+#include "thermal/thermal_files.hpp"
+#include "thermal/thermal_solver.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace hemirad {
+namespace {
+
+std::string figure(double v, int digits = 6) {
+    std::ostringstream s;
+    s.precision(digits);
+    s << v;
+    return s.str();
+}
+
+/// Metres per scene unit: the OBJ's "# hemirad unit", else --unit, else metres (said).
+double sceneMetres(const Scene& scene, const Options& options, Warnings& warnings) {
+    if (!scene.unit.empty()) {
+        if (!options.lengthUnit.empty() && options.lengthUnit != scene.unit)
+            throw UsageError("--unit " + options.lengthUnit + " contradicts the scene's own unit '" + scene.unit + "' (" +
+                             scene.path + ")");
+        return metresPerUnit(scene.unit);
+    }
+    if (!options.lengthUnit.empty()) return metresPerUnit(options.lengthUnit);
+    warnings.add("unit", "the scene states no length unit: lengths are taken as metres (give --unit or a "
+                         "'# hemirad unit mm' line in the OBJ)");
+    return 1.0;
+}
+
+}  // namespace
+
+int runThermal(const Options& options) {
+    Reporter reporter(options.quiet, reportsToStandardError(options));
+    Warnings warnings;
+    Timings timings;
+    Scene scene = loadScene(options, timings, reporter, warnings);
+
+    // The model first: every input mistake is found before F is computed, and nothing is written.
+    thermal::ThermalModel model;
+    model.metresPerUnit = sceneMetres(scene, options, warnings);
+    model.surface = thermal::applyProperties(options.propertiesPath, scene, model.propertySource);
+    thermal::Conditions conditions = thermal::readConditions(options.conditionsPath, scene, model.metresPerUnit);
+    model.condition = std::move(conditions.perPatch);
+    model.environment = conditions.environment;
+    model.isothermal = std::move(conditions.isothermal);
+    model.conditionSource = std::move(conditions.sources);
+    thermal::checkModel(scene, model);
+    for (const std::string& s : model.propertySource) reporter.line("properties  " + s);
+    for (const std::string& s : model.conditionSource) reporter.line("condition   " + s);
+    reporter.line(model.environment ? "environment " + figure(*model.environment) + " K"
+                                    : "environment none (a closed scene: what escapes is lost at 0 K)");
+
+    Options withRows = options;
+    withRows.allRows = true;  // every patch's irradiance and escape are needed
+    const FormFactors F = obtainFormFactors(scene, withRows, timings, reporter, warnings);
+
+    timings.start("thermal solve");
+    const thermal::ThermalSolution solution = thermal::solveThermal(scene, F, model, options.solver);
+    timings.stop();
+    const SolveReport& r = solution.report;
+    reporter.line("thermal solve: " + r.solver + (r.iterations ? ", " + std::to_string(r.iterations) + " iterations" : "") +
+                  ", relative residual " + figure(r.residualOriginal, 3));
+    reporter.line("energy balance: |sum Q + Q_env| / max |Q| = " + figure(solution.balance, 3) +
+                  "; environment gives " + figure(solution.environmentPower) + " W");
+    for (std::size_t k = 0; k < model.isothermal.size(); ++k)
+        reporter.line("isothermal '" + model.isothermal[k].name + "': T = " + figure(solution.isothermalT[k]) + " K (" +
+                      figure(solution.isothermalT[k] - thermal::kCelsiusZero) + " C) at a net power of " +
+                      figure(model.isothermal[k].power) + " W");
+    if (solution.reciprocityImbalance > 1e-6)
+        reporter.line("note: F's reciprocity defect moves " + figure(solution.reciprocityImbalance, 3) +
+                      " of max |Q| between the environment's emission and absorption views");
+
+    thermal::Conductors conductors;
+    std::vector<std::vector<double>> exchange;
+    std::vector<std::string> objectNodes;
+    if (!options.conductorsPath.empty()) {
+        timings.start("Gebhart factors");
+        thermal::GebhartOptions g;
+        g.lumping = options.lumping == "patches" ? thermal::Lumping::Patches : thermal::Lumping::Objects;
+        g.threshold = options.couplingThreshold;
+        conductors = thermal::computeConductors(scene, F, model, g, options.solver);
+        timings.stop();
+        reporter.line("conductors: " + std::to_string(conductors.couplings.size()) + " couplings between " +
+                      std::to_string(conductors.nodes.size()) + " " + options.lumping + " and the environment" +
+                      (conductors.dropped ? "; " + std::to_string(conductors.dropped) + " below --gr-threshold dropped (GR sum " +
+                                                figure(conductors.droppedSum, 4) + " m^2)"
+                                          : "") +
+                      "; asymmetry before symmetrising " + figure(conductors.asymmetry, 3));
+    }
+    if (!options.exchangePath.empty()) {
+        timings.start("exchange matrix");
+        std::vector<std::vector<PatchId>> members;
+        thermal::makeNodes(scene, thermal::Lumping::Objects, objectNodes, members);
+        exchange = thermal::exchangeMatrix(scene, F, model, solution, members, options.solver);
+        timings.stop();
+    }
+
+    timings.start("write thermal results");
+    if (!options.output.empty()) thermal::writePatchTable(options.output, scene, model, solution);
+    if (!options.objectsPath.empty()) thermal::writeObjectThermalTable(options.objectsPath, scene, solution);
+    if (!options.conductorsPath.empty())
+        thermal::writeConductors(options.conductorsPath,
+                                 options.conductorFormat.empty() ? thermal::conductorFormatFor(options.conductorsPath)
+                                                                 : options.conductorFormat,
+                                 conductors);
+    if (!options.exchangePath.empty()) thermal::writeExchangeMatrix(options.exchangePath, objectNodes, exchange);
+    timings.stop();
+    if (!options.output.empty()) reporter.line("wrote " + outputName(options.output) + " (per patch: T, J, H, q, Q)");
+    if (!options.objectsPath.empty()) reporter.line("wrote " + outputName(options.objectsPath) + " (per object: T, q, Q)");
+    if (!options.conductorsPath.empty()) reporter.line("wrote " + outputName(options.conductorsPath) + " (radiative conductors GR, m^2)");
+    if (!options.exchangePath.empty()) reporter.line("wrote " + outputName(options.exchangePath) + " (net power between objects, W)");
+    finishCommand(reporter, timings, warnings);
+    return 0;
+}
+
+}  // namespace hemirad

@@ -1,0 +1,296 @@
+// TOML readers for the thermal properties and boundary conditions (docs/thermal.md).
+#include "thermal/thermal_files.hpp"
+
+#include "engine/error.hpp"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace hemirad::thermal {
+namespace {
+
+std::string readText(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path, 0, "cannot open the file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw Error(path, 0, "read error");
+    return text.str();
+}
+
+toml::table parse(const std::string& text, const std::string& name) {
+    try {
+        return toml::parse(text, std::string_view(name));
+    } catch (const toml::parse_error& e) {
+        throw Error(name, int(e.source().begin.line), std::string(e.description()));
+    }
+}
+
+int lineOf(const toml::node& node) { return int(node.source().begin.line); }
+
+/// A number (integer or float), finite; else an error at its line.
+double number(const toml::node& node, const std::string& file, const std::string& key) {
+    std::optional<double> v;
+    if (const auto* f = node.as_floating_point()) v = f->get();
+    if (const auto* i = node.as_integer()) v = double(i->get());
+    if (!v || !std::isfinite(*v)) throw Error(file, lineOf(node), "'" + key + "' must be a finite number");
+    return *v;
+}
+
+const toml::table& tableAt(const toml::node& node, const std::string& file, const std::string& what) {
+    const toml::table* t = node.as_table();
+    if (!t) throw Error(file, lineOf(node), what + " must be a table");
+    return *t;
+}
+
+/// Partial properties of one table: what it sets.
+struct Entry {
+    std::optional<double> emissivity, specular;
+    int line = 0;
+    std::string label;
+};
+
+Entry readEntry(const toml::table& t, const std::string& file, const std::string& label) {
+    Entry e;
+    e.line = lineOf(t);
+    e.label = label;
+    for (const auto& [key, node] : t) {
+        const std::string k(key.str());
+        if (k == "emissivity") e.emissivity = number(node, file, k);
+        else if (k == "specular") e.specular = number(node, file, k);
+        else throw Error(file, lineOf(node), "unknown key '" + k + "' in " + label + " (emissivity, specular)");
+        const double v = k == "emissivity" ? *e.emissivity : *e.specular;
+        if (v < 0.0 || v > 1.0) {
+            std::ostringstream msg;
+            msg << k << " " << v << " in " << label << " is outside [0, 1]";
+            throw Error(file, lineOf(node), msg.str());
+        }
+    }
+    if (e.emissivity && e.specular && *e.emissivity + *e.specular > 1.0 + 1e-12) {
+        std::ostringstream msg;
+        msg << label << ": emissivity " << *e.emissivity << " + specular " << *e.specular << " = "
+            << *e.emissivity + *e.specular << " > 1 (an opaque surface reflects 1 - eps)";
+        throw Error(file, e.line, msg.str());
+    }
+    return e;
+}
+
+/// name -> (index, line of its table) for the scene's materials or objects.
+std::map<std::string, std::size_t> indexOf(const std::vector<std::string>& names) {
+    std::map<std::string, std::size_t> index;
+    for (std::size_t k = 0; k < names.size(); ++k) index.emplace(names[k], k);
+    return index;
+}
+
+}  // namespace
+
+std::vector<SurfaceProperties> applyProperties(const std::string& path, Scene& scene, std::vector<std::string>& sources) {
+    if (path.empty()) return applyPropertiesText("", "", scene, sources);
+    return applyPropertiesText(readText(path), path, scene, sources);
+}
+
+std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, const std::string& name, Scene& scene,
+                                                   std::vector<std::string>& sources) {
+    std::optional<Entry> fallback;
+    std::map<std::size_t, Entry> byMaterial, byObject;
+    if (!name.empty()) {
+        const toml::table root = parse(text, name);
+        std::vector<std::string> materialNames;
+        for (const Material& m : scene.materials) materialNames.push_back(m.name);
+        const auto materials = indexOf(materialNames), objects = indexOf(scene.objects);
+        for (const auto& [key, node] : root) {
+            const std::string k(key.str());
+            if (k == "default") {
+                fallback = readEntry(tableAt(node, name, "[default]"), name, "[default]");
+            } else if (k == "materials" || k == "objects") {
+                const bool isObject = k == "objects";
+                for (const auto& [entryKey, entryNode] : tableAt(node, name, "[" + k + "]")) {
+                    const std::string entryName(entryKey.str());
+                    const std::string label = "[" + k + "." + entryName + "]";
+                    const auto& index = isObject ? objects : materials;
+                    const auto found = index.find(entryName);
+                    if (found == index.end())
+                        throw Error(name, lineOf(entryNode),
+                                    label + " names no " + (isObject ? "object" : "material") + " of " +
+                                        (scene.path.empty() ? std::string("the scene") : scene.path));
+                    (isObject ? byObject : byMaterial)[found->second] = readEntry(tableAt(entryNode, name, label), name, label);
+                }
+            } else {
+                throw Error(name, lineOf(node), "unknown table '" + k + "' (default, materials, objects)");
+            }
+        }
+    }
+
+    std::vector<SurfaceProperties> surface = propertiesFromMaterials(scene);
+    std::vector<std::string> objectSource(scene.objects.size());
+    for (PatchId i = 0; i < scene.size(); ++i) {
+        Patch& p = scene.patches[i];
+        const Entry* layers[3] = {nullptr, nullptr, nullptr};  // object, material, default
+        if (auto it = byObject.find(p.object); it != byObject.end()) layers[0] = &it->second;
+        if (auto it = byMaterial.find(p.material); it != byMaterial.end()) layers[1] = &it->second;
+        if (fallback) layers[2] = &*fallback;
+        std::optional<double> eps, s;
+        std::string from;
+        int line = 0;
+        for (const Entry* e : layers) {
+            if (!e) continue;
+            if (!eps && e->emissivity) eps = e->emissivity, from += (from.empty() ? "" : ", ") + std::string("emissivity from ") + e->label, line = e->line;
+            if (!s && e->specular) s = e->specular, from += (from.empty() ? "" : ", ") + std::string("specular from ") + e->label, line = e->line;
+        }
+        if (s) p.specular = *s;
+        surface[i].specular = p.specular;
+        if (eps) surface[i].emissivity = *eps;
+        else {
+            surface[i].emissivity = std::max(0.0, 1.0 - p.rho.mean() - p.specular);
+            from += (from.empty() ? "" : ", ") + std::string("emissivity 1 - mean(Kd) - s from the MTL");
+        }
+        if (surface[i].emissivity + surface[i].specular > 1.0 + 1e-12) {
+            std::ostringstream msg;
+            msg << "object '" << scene.objects[p.object] << "' (material '" << scene.materials[p.material].name
+                << "'): emissivity " << surface[i].emissivity << " + specular " << surface[i].specular << " = "
+                << surface[i].emissivity + surface[i].specular << " > 1 (" << from << ")";
+            throw Error(name.empty() ? scene.path : name, line, msg.str());
+        }
+        if (objectSource[p.object].empty()) objectSource[p.object] = from;
+        else if (objectSource[p.object] != from && objectSource[p.object].find("(varies") == std::string::npos)
+            objectSource[p.object] += " (varies by material)";
+    }
+    sources.clear();
+    for (std::size_t o = 0; o < scene.objects.size(); ++o)
+        if (!objectSource[o].empty()) sources.push_back(scene.objects[o] + ": " + objectSource[o]);
+    return surface;
+}
+
+Conditions readConditions(const std::string& path, const Scene& scene, double metresPerUnit) {
+    return readConditionsText(readText(path), path, scene, metresPerUnit);
+}
+
+Conditions readConditionsText(const std::string& text, const std::string& name, const Scene& scene, double metresPerUnit) {
+    const toml::table root = parse(text, name);
+    const auto objects = indexOf(scene.objects);
+    std::vector<double> objectArea(scene.objects.size(), 0.0);
+    for (const Patch& p : scene.patches) objectArea[p.object] += p.area * metresPerUnit * metresPerUnit;
+
+    // One condition per table: temperature (K), flux (W/m^2) or power (W, spread over the area).
+    struct Given {
+        Condition::Kind kind;
+        double value;      // K, W/m^2 or W
+        bool power = false;
+        std::string text;
+    };
+    auto readCondition = [&](const toml::table& t, const std::string& label) {
+        std::optional<Given> given;
+        for (const auto& [key, node] : t) {
+            const std::string k(key.str());
+            Given g{Condition::Kind::Flux, 0.0, false, ""};
+            std::ostringstream say;
+            if (k == "temperature_K" || k == "temperature_C") {
+                const double v = number(node, name, k);
+                g.kind = Condition::Kind::Temperature;
+                g.value = k == "temperature_K" ? v : v + kCelsiusZero;
+                if (g.value < 0.0) {
+                    std::ostringstream msg;
+                    msg << label << ": " << k << " = " << v << " is below absolute zero";
+                    throw Error(name, lineOf(node), msg.str());
+                }
+                say << "temperature " << g.value << " K";
+            } else if (k == "flux_W_m2") {
+                g.value = number(node, name, k);
+                say << "net flux " << g.value << " W/m^2";
+            } else if (k == "power_W") {
+                g.value = number(node, name, k);
+                g.power = true;
+                say << "isothermal, net power " << g.value << " W";
+            } else if (k == "adiabatic") {
+                const auto* b = node.as_boolean();
+                if (!b || !b->get()) throw Error(name, lineOf(node), label + ": adiabatic must be true (or leave it out)");
+                say << "adiabatic";
+            } else {
+                throw Error(name, lineOf(node), "unknown key '" + k + "' in " + label +
+                                                    " (temperature_K, temperature_C, flux_W_m2, power_W, adiabatic)");
+            }
+            if (given) throw Error(name, lineOf(node), label + " gives two conditions; give one of temperature_K, "
+                                                               "temperature_C, flux_W_m2, power_W or adiabatic");
+            g.text = say.str();
+            given = g;
+        }
+        if (!given) throw Error(name, lineOf(t), label + " gives no condition (temperature_K, temperature_C, flux_W_m2, power_W or adiabatic)");
+        return *given;
+    };
+
+    Conditions out;
+    std::optional<Given> fallback;
+    std::vector<std::optional<Given>> byObject(scene.objects.size());
+    for (const auto& [key, node] : root) {
+        const std::string k(key.str());
+        if (k == "environment") {
+            for (const auto& [envKey, envNode] : tableAt(node, name, "[environment]")) {
+                const std::string ek(envKey.str());
+                if (ek != "temperature_K" && ek != "temperature_C")
+                    throw Error(name, lineOf(envNode), "unknown key '" + ek + "' in [environment] (temperature_K, temperature_C)");
+                if (out.environment) throw Error(name, lineOf(envNode), "[environment] gives two temperatures");
+                const double v = number(envNode, name, ek);
+                out.environment = ek == "temperature_K" ? v : v + kCelsiusZero;
+                if (*out.environment < 0.0) {
+                    std::ostringstream msg;
+                    msg << "[environment]: " << ek << " = " << v << " is below absolute zero";
+                    throw Error(name, lineOf(envNode), msg.str());
+                }
+            }
+            if (!out.environment) throw Error(name, lineOf(node), "[environment] gives no temperature (temperature_K or temperature_C)");
+        } else if (k == "default") {
+            fallback = readCondition(tableAt(node, name, "[default]"), "[default]");
+        } else if (k == "objects") {
+            for (const auto& [objectKey, objectNode] : tableAt(node, name, "[objects]")) {
+                const std::string object(objectKey.str());
+                const std::string label = "[objects." + object + "]";
+                const auto found = objects.find(object);
+                if (found == objects.end() || objectArea[found->second] == 0.0)
+                    throw Error(name, lineOf(objectNode),
+                                label + " names no object with patches in " + (scene.path.empty() ? std::string("the scene") : scene.path));
+                byObject[found->second] = readCondition(tableAt(objectNode, name, label), label);
+            }
+        } else {
+            throw Error(name, lineOf(node), "unknown table '" + k + "' (environment, default, objects)");
+        }
+    }
+
+    std::vector<std::string> missing;
+    for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+        if (objectArea[o] == 0.0) continue;
+        if (!byObject[o] && !fallback) missing.push_back("'" + scene.objects[o] + "'");
+        else out.sources.push_back(scene.objects[o] + ": " + (byObject[o] ? byObject[o]->text : fallback->text + " ([default])"));
+    }
+    if (!missing.empty()) {
+        std::string list;
+        for (std::size_t k = 0; k < missing.size() && k < 10; ++k) list += (k ? ", " : "") + missing[k];
+        if (missing.size() > 10) list += ", ... (" + std::to_string(missing.size()) + " in all)";
+        throw Error(name, 0, "no boundary condition for object(s) " + list + "; give each one a table under [objects] or add a [default]");
+    }
+    // A power condition makes its object one isothermal node ([default] power: one node per object).
+    std::vector<std::uint32_t> nodeOf(scene.objects.size(), UINT32_MAX);
+    out.perPatch.resize(scene.size());
+    for (PatchId i = 0; i < scene.size(); ++i) {
+        const std::uint32_t o = scene.patches[i].object;
+        const Given& g = byObject[o] ? *byObject[o] : *fallback;
+        Condition& c = out.perPatch[i];
+        c.kind = g.kind;
+        c.value = g.value;
+        if (g.power) {
+            if (nodeOf[o] == UINT32_MAX) {
+                nodeOf[o] = std::uint32_t(out.isothermal.size());
+                out.isothermal.push_back({scene.objects[o], g.value});
+            }
+            c.kind = Condition::Kind::Isothermal;
+            c.value = 0.0;
+            c.node = nodeOf[o];
+        }
+    }
+    return out;
+}
+
+}  // namespace hemirad::thermal

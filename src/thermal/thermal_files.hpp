@@ -1,0 +1,41 @@
+// The thermal input files, TOML (toml++): surface properties by material and object, boundary
+// conditions by object and the environment. Every mistake names the file and line. Formats:
+// docs/thermal.md.
+#pragma once
+
+#include "thermal/thermal_model.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hemirad::thermal {
+
+/// Reads a properties file (path "" = none: every patch from its MTL, propertiesFromMaterials) and
+/// applies it to `scene`: a specular reflectance given there becomes the patches' s (F depends on
+/// it, so call this before computing F). Per patch the object's entry wins over its material's, that
+/// over [default], that over the MTL. `sources` gets one line per object saying where its
+/// properties came from. Throws hemirad::Error naming file:line for a syntax error, an unknown key
+/// or name, a value out of range or eps + s > 1.
+std::vector<SurfaceProperties> applyProperties(const std::string& path, Scene& scene, std::vector<std::string>& sources);
+/// The same from text (`name` names it in messages).
+std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, const std::string& name, Scene& scene,
+                                                   std::vector<std::string>& sources);
+
+/// Boundary conditions and the environment read from a file.
+struct Conditions {
+    std::vector<Condition> perPatch;
+    std::vector<IsothermalNode> isothermal;  ///< one per object given power_W
+    std::optional<double> environment;  ///< K
+    std::vector<std::string> sources;   ///< one line per object: its condition
+};
+
+/// Reads a boundary-condition file for `scene`. power_W makes its object an isothermal node.
+/// Every object with patches needs a condition, from its own table or [default]. Throws
+/// hemirad::Error naming file:line for a syntax error, an unknown key or object, a table with none
+/// or two of the conditions, a temperature below 0 K, a non-finite value, or objects left without
+/// a condition (named).
+Conditions readConditions(const std::string& path, const Scene& scene, double metresPerUnit);
+Conditions readConditionsText(const std::string& text, const std::string& name, const Scene& scene, double metresPerUnit);
+
+}  // namespace hemirad::thermal

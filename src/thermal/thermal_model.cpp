@@ -1,0 +1,91 @@
+// Thermal model checks and the MTL fallback for IR properties.
+#include "thermal/thermal_model.hpp"
+
+#include "engine/error.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace hemirad::thermal {
+namespace {
+
+/// Properties and conditions are given per object: name it in every message.
+std::string describe(const Scene& scene, PatchId i) {
+    const Patch& p = scene.patches[i];
+    std::string where = "patch " + std::to_string(i);
+    if (p.object < scene.objects.size()) where += " (object '" + scene.objects[p.object] + "')";
+    if (p.sourceLine > 0) where += " from " + (scene.path.empty() ? std::string("the scene") : scene.path) + ":" + std::to_string(p.sourceLine);
+    return where;
+}
+
+}  // namespace
+
+std::vector<SurfaceProperties> propertiesFromMaterials(const Scene& scene) {
+    std::vector<SurfaceProperties> surface(scene.size());
+    for (PatchId i = 0; i < scene.size(); ++i) {
+        const Patch& p = scene.patches[i];
+        surface[i].specular = p.specular;
+        surface[i].emissivity = std::max(0.0, 1.0 - p.rho.mean() - p.specular);
+    }
+    return surface;
+}
+
+void checkModel(const Scene& scene, const ThermalModel& model) {
+    const std::size_t n = scene.size();
+    if (model.surface.size() != n || model.condition.size() != n)
+        throw Error("thermal: the model has " + std::to_string(model.surface.size()) + " properties and " +
+                    std::to_string(model.condition.size()) + " conditions for " + std::to_string(n) + " patches");
+    if (!(model.metresPerUnit > 0.0) || !std::isfinite(model.metresPerUnit))
+        throw Error("thermal: the length unit must be a positive number of metres");
+    if (model.environment && !(std::isfinite(*model.environment) && *model.environment >= 0.0)) {
+        std::ostringstream msg;
+        msg << "thermal: the environment temperature " << *model.environment << " K is below 0 K or not finite";
+        throw Error(msg.str());
+    }
+    for (PatchId i = 0; i < n; ++i) {
+        const SurfaceProperties& sp = model.surface[i];
+        const Condition& c = model.condition[i];
+        std::ostringstream msg;
+        msg.precision(12);
+        if (!(sp.emissivity >= 0.0 && sp.emissivity <= 1.0) || !(sp.specular >= 0.0 && sp.specular <= 1.0)) {
+            msg << "thermal: " << describe(scene, i) << ": emissivity " << sp.emissivity << " and specular reflectance "
+                << sp.specular << " must each be in [0, 1]";
+        } else if (sp.emissivity + sp.specular > 1.0 + 1e-12) {
+            msg << "thermal: " << describe(scene, i) << ": emissivity " << sp.emissivity << " + specular reflectance "
+                << sp.specular << " = " << sp.emissivity + sp.specular << " > 1 (an opaque surface reflects 1 - eps)";
+        } else if (sp.specular != scene.patches[i].specular) {
+            msg << "thermal: " << describe(scene, i) << ": specular reflectance " << sp.specular
+                << " differs from the scene's " << scene.patches[i].specular
+                << ", which F was computed with; set it on the scene before computing F";
+        } else if (!std::isfinite(c.value)) {
+            msg << "thermal: " << describe(scene, i) << ": the boundary condition is not a finite number";
+        } else if (c.kind == Condition::Kind::Temperature && c.value < 0.0) {
+            msg << "thermal: " << describe(scene, i) << ": temperature " << c.value << " K is below 0 K";
+        } else if (c.kind == Condition::Kind::Isothermal && c.node >= model.isothermal.size()) {
+            msg << "thermal: " << describe(scene, i) << ": isothermal node " << c.node << " does not exist";
+        } else if (c.kind == Condition::Kind::Flux && sp.emissivity == 0.0 && c.value != 0.0) {
+            msg << "thermal: " << describe(scene, i) << ": a net flux of " << c.value
+                << " W/m^2 on a surface with emissivity 0, which neither emits nor absorbs";
+        } else {
+            continue;
+        }
+        throw Error(msg.str());
+    }
+    std::vector<double> emitting(model.isothermal.size(), 0.0);
+    for (PatchId i = 0; i < n; ++i)
+        if (model.condition[i].kind == Condition::Kind::Isothermal)
+            emitting[model.condition[i].node] += model.surface[i].emissivity * scene.patches[i].area;
+    for (std::size_t k = 0; k < model.isothermal.size(); ++k) {
+        std::ostringstream msg;
+        if (!std::isfinite(model.isothermal[k].power))
+            msg << "thermal: the power of isothermal node '" << model.isothermal[k].name << "' is not a finite number";
+        else if (!(emitting[k] > 0.0))
+            msg << "thermal: isothermal node '" << model.isothermal[k].name
+                << "' has no patch that emits (eps > 0): its temperature is not defined";
+        else
+            continue;
+        throw Error(msg.str());
+    }
+}
+
+}  // namespace hemirad::thermal

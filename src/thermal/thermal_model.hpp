@@ -1,0 +1,69 @@
+// The thermal model of a scene: gray IR properties per patch (emissivity, specular and diffuse
+// reflectance), a boundary condition per patch (temperature or net heat flux) and the environment
+// node that receives what leaves an open scene. Read from files by thermal_files.hpp.
+#pragma once
+
+#include "engine/scene.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hemirad::thermal {
+
+/// Stefan-Boltzmann constant, W m^-2 K^-4 (CODATA 2018).
+constexpr double kStefanBoltzmann = 5.670374419e-8;
+/// 0 degrees Celsius in kelvin.
+constexpr double kCelsiusZero = 273.15;
+
+/// Opaque gray surface: emissivity eps (= absorptance), specular reflectance s, diffuse reflectance
+/// rho_d = 1 - eps - s (Siegel & Howell).
+struct SurfaceProperties {
+    double emissivity = 0.0;
+    double specular = 0.0;
+    double diffuse() const { return 1.0 - emissivity - specular; }
+};
+
+/// What is known of a patch: its temperature (K), the net heat flux leaving it (W/m^2; 0 is
+/// adiabatic: each patch reradiates at its own temperature), or that it belongs to an isothermal
+/// node whose patches share one unknown temperature and together give off a known net power (a
+/// conductive plate, a thin radiation shield: 0 W).
+struct Condition {
+    enum class Kind : std::uint8_t { Temperature, Flux, Isothermal };
+    Kind kind = Kind::Flux;
+    double value = 0.0;      ///< K or W/m^2; unused for Isothermal
+    std::uint32_t node = 0;  ///< Isothermal: index into ThermalModel::isothermal
+};
+
+/// An isothermal node: one temperature for all its patches, net power leaving them (W).
+struct IsothermalNode {
+    std::string name;
+    double power = 0.0;
+};
+
+/// Everything the gray solve needs besides F. Per-patch vectors have one entry per scene patch.
+struct ThermalModel {
+    std::vector<SurfaceProperties> surface;
+    std::vector<Condition> condition;
+    std::vector<IsothermalNode> isothermal;
+    /// The environment's temperature (K): deep space (3 K), sky or ambient. It takes each patch's
+    /// escape (what F does not absorb) and irradiates each patch by its own. None: a closed scene, or
+    /// an environment at 0 K.
+    std::optional<double> environment;
+    double metresPerUnit = 1.0;  ///< scene length unit in metres (areas in m^2 = area * this^2)
+    /// Where each object's properties and condition came from, for the report (per scene object).
+    std::vector<std::string> propertySource, conditionSource;
+};
+
+/// The properties a scene has without a properties file: eps = 1 - mean(Kd) - s, i.e. the MTL's
+/// diffuse reflectance taken as the IR one (an assumption the report states), s from the scene.
+std::vector<SurfaceProperties> propertiesFromMaterials(const Scene& scene);
+
+/// Throws hemirad::Error naming the object and value unless the model is physical and solvable:
+/// one entry per patch, 0 <= eps, 0 <= s, eps + s <= 1, s equal to the scene's (F depends on it),
+/// temperatures finite and >= 0 K, fluxes finite, an environment temperature >= 0 K and a flux only
+/// where eps > 0 or the flux is 0 (a surface that neither emits nor absorbs has no net flux).
+void checkModel(const Scene& scene, const ThermalModel& model);
+
+}  // namespace hemirad::thermal

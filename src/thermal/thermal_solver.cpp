@@ -1,0 +1,203 @@
+// Net-radiation method (Siegel & Howell, "Thermal Radiation Heat Transfer", ch. 6; with specular
+// surfaces through extended factors, Sillion & Puech 1989):
+//   H_i = sum_j F_ij J_j + H_env,i,     H_env,i = sigma T_env^4 escape_i
+//   known T:  J_i - rho_d,i sum_j F_ij J_j = eps_i sigma T_i^4 + rho_d,i H_env,i
+//   known q:  J_i - (1 - s_i) sum_j F_ij J_j = q_i + (1 - s_i) H_env,i   (eps sigma T^4 = q + eps H)
+// then q_i = eps_i (sigma T_i^4 - H_i) where T is known, T_i = ((q_i + eps_i H_i) / (eps_i sigma))^1/4
+// where q is. Both are one linear system (I - R F) J = S: one band of solveBands.
+#include "thermal/thermal_solver.hpp"
+
+#include "engine/error.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace hemirad::thermal {
+
+std::vector<double> escapeFractions(const FormFactors& F, const ThermalModel& model) {
+    const std::size_t n = F.size();
+    std::vector<double> escape(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        double absorbed = 0.0;
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k)
+            absorbed += double(F.values()[k]) * (1.0 - model.surface[F.columns()[k]].specular);
+        escape[i] = std::max(0.0, 1.0 - absorbed);
+    }
+    return escape;
+}
+
+ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const ThermalModel& model,
+                             const SolverOptions& options) {
+    checkModel(scene, model);
+    const std::size_t n = scene.size();
+    if (F.size() != n)
+        throw Error("thermal: F has " + std::to_string(F.size()) + " rows but the scene has " + std::to_string(n) + " patches");
+    for (std::size_t i = 0; i < n; ++i)
+        if (!F.rowComputed(i))
+            throw Error("thermal: row " + std::to_string(i) + " of F was not computed; thermal exchange needs every row "
+                        "(compute F with --all-rows)");
+
+    ThermalSolution out;
+    out.escape = escapeFractions(F, model);
+    const double sigma = kStefanBoltzmann;
+    const double envT = model.environment.value_or(0.0);
+    const double envExitance = sigma * envT * envT * envT * envT;
+    const double m2 = model.metresPerUnit * model.metresPerUnit;
+
+    // Band 0: the known temperatures and fluxes, isothermal nodes at 0 K. Band 1 + k: node k's
+    // patches emitting eps sigma T_ref^4, nothing else (the response to node k's temperature). The
+    // system is linear in the nodes' T^4, so their net powers are affine in it: Q = Q0 + M t, and
+    // M t = P - Q0 gives t = T^4 / T_ref^4. One factorisation serves every band.
+    constexpr double kReferenceT4 = 300.0 * 300.0 * 300.0 * 300.0;
+    const std::size_t nodes = model.isothermal.size();
+    std::vector<Band> bands(1 + nodes);
+    for (std::size_t b = 0; b < bands.size(); ++b) {
+        bands[b].name = b == 0 ? "ir" : "ir node " + model.isothermal[b - 1].name;
+        bands[b].rho.resize(n);
+        bands[b].source.assign(n, 0.0);
+    }
+    bool anyTemperature = false;
+    for (std::size_t i = 0; i < n; ++i) {
+        const SurfaceProperties& sp = model.surface[i];
+        const Condition& c = model.condition[i];
+        const double Henv = envExitance * out.escape[i];
+        double rho = std::max(0.0, sp.diffuse()), source = 0.0;
+        if (c.kind == Condition::Kind::Temperature) {
+            anyTemperature = true;
+            const double T2 = c.value * c.value;
+            source = sp.emissivity * sigma * T2 * T2 + rho * Henv;
+        } else if (c.kind == Condition::Kind::Flux) {
+            rho = 1.0 - sp.specular;
+            source = c.value + rho * Henv;
+        } else {
+            source = rho * Henv;
+            bands[1 + c.node].source[i] = sp.emissivity * sigma * kReferenceT4;
+        }
+        for (Band& band : bands) band.rho[i] = rho;
+        bands[0].source[i] = source;
+    }
+    if (!anyTemperature && !model.environment) {
+        double open = 0.0;
+        for (const double e : out.escape) open = std::max(open, e);
+        if (open < 1e-6)
+            throw Error("thermal: every surface has a heat-flux or power condition in a closed enclosure and there is no "
+                        "environment: the temperatures are not determined (and exist only if the fluxes sum to 0); "
+                        "give at least one object a temperature");
+    }
+    BandSolution solved;
+    try {
+        solved = solveBands(scene, F, bands, options);
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        if (what.find("singular") == std::string::npos) throw;
+        throw Error("thermal: the radiosity system has no unique solution (" + what +
+                    "); with only heat-flux conditions a closed enclosure needs one temperature or an environment");
+    }
+    out.report = solved.reports.at(0);
+    for (const SolveReport& r : solved.reports)
+        if (r.residualOriginal > out.report.residualOriginal) out.report.residualOriginal = r.residualOriginal;
+    out.J = std::move(solved.X.at(0));
+    out.isothermalT.assign(nodes, 0.0);
+    if (nodes) {
+        // Net power of each node per band: sum over its patches of A (J - (1 - s) H).
+        auto nodePowers = [&](const std::vector<double>& J, bool withEnvironment) {
+            std::vector<double> Q(nodes, 0.0);
+            for (std::size_t i = 0; i < n; ++i) {
+                const Condition& c = model.condition[i];
+                if (c.kind != Condition::Kind::Isothermal) continue;
+                double h = withEnvironment ? envExitance * out.escape[i] : 0.0;
+                for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) h += double(F.values()[k]) * J[F.columns()[k]];
+                Q[c.node] += scene.patches[i].area * m2 * (J[i] - (1.0 - model.surface[i].specular) * h);
+            }
+            return Q;
+        };
+        const std::vector<double> Q0 = nodePowers(out.J, true);
+        Eigen::MatrixXd M(nodes, nodes);
+        Eigen::VectorXd rhs(nodes);
+        for (std::size_t k = 0; k < nodes; ++k) {
+            const std::vector<double> Qk = nodePowers(solved.X[1 + k], false);
+            for (std::size_t I = 0; I < nodes; ++I) M(Eigen::Index(I), Eigen::Index(k)) = Qk[I];
+            rhs[Eigen::Index(k)] = model.isothermal[k].power - Q0[k];
+        }
+        const Eigen::FullPivLU<Eigen::MatrixXd> lu(M);
+        if (lu.rank() < Eigen::Index(nodes))
+            throw Error("thermal: the isothermal nodes' temperatures are not determined (their power balance is singular: "
+                        "a closed enclosure of power conditions only); give at least one object a temperature");
+        const Eigen::VectorXd t = lu.solve(rhs);
+        for (std::size_t k = 0; k < nodes; ++k) {
+            if (!(t[Eigen::Index(k)] >= 0.0)) {
+                std::ostringstream msg;
+                msg << "thermal: isothermal node '" << model.isothermal[k].name << "' would need T^4 < 0 to give off "
+                    << model.isothermal[k].power << " W: it cannot absorb that much (no temperature solves it)";
+                throw Error(msg.str());
+            }
+            out.isothermalT[k] = std::sqrt(std::sqrt(t[Eigen::Index(k)] * kReferenceT4));
+            for (std::size_t i = 0; i < n; ++i) out.J[i] += t[Eigen::Index(k)] * solved.X[1 + k][i];
+        }
+    }
+
+    // H from the solution, then q, T and Q per patch.
+    out.H.assign(n, 0.0);
+    out.T.assign(n, 0.0);
+    out.q.assign(n, 0.0);
+    out.Q.assign(n, 0.0);
+    out.areaM2.assign(n, 0.0);
+    double largest = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        double h = envExitance * out.escape[i];
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) h += double(F.values()[k]) * out.J[F.columns()[k]];
+        out.H[i] = h;
+        const SurfaceProperties& sp = model.surface[i];
+        const Condition& c = model.condition[i];
+        if (c.kind == Condition::Kind::Temperature || c.kind == Condition::Kind::Isothermal) {
+            const double T = c.kind == Condition::Kind::Temperature ? c.value : out.isothermalT[c.node];
+            out.T[i] = T;
+            out.q[i] = sp.emissivity * (sigma * T * T * T * T - h);
+        } else {
+            out.q[i] = c.value;
+            if (sp.emissivity > 0.0) {
+                const double T4 = (c.value + sp.emissivity * h) / (sp.emissivity * sigma);
+                if (T4 < 0.0) {
+                    std::ostringstream msg;
+                    msg << "thermal: patch " << i;
+                    if (scene.patches[i].object < scene.objects.size())
+                        msg << " (object '" << scene.objects[scene.patches[i].object] << "')";
+                    msg << " has a net flux of " << c.value << " W/m^2 but receives only " << h
+                        << " W/m^2: it would have to absorb more than it receives (no temperature solves it)";
+                    throw Error(msg.str());
+                }
+                out.T[i] = std::sqrt(std::sqrt(T4));
+            } else {
+                out.T[i] = std::nan("");
+            }
+        }
+        out.areaM2[i] = scene.patches[i].area * m2;
+        out.Q[i] = out.q[i] * out.areaM2[i];
+        largest = std::max(largest, std::abs(out.Q[i]));
+    }
+
+    // The environment: absorbs the part of each patch's emission that no surface absorbs (counted
+    // from F's columns) and gives each patch sigma T_env^4 escape_i of irradiance.
+    std::vector<double> absorbedFrom(n, 0.0);  // sum_i A_i F_ij (1 - s_i), per column j
+    for (std::size_t i = 0; i < n; ++i) {
+        const double w = out.areaM2[i] * (1.0 - model.surface[i].specular);
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) absorbedFrom[F.columns()[k]] += w * double(F.values()[k]);
+    }
+    double toEnvironmentColumns = 0.0, toEnvironmentRows = 0.0, fromEnvironment = 0.0, sumQ = 0.0;
+    for (std::size_t j = 0; j < n; ++j) {
+        toEnvironmentColumns += out.J[j] * (out.areaM2[j] - absorbedFrom[j]);
+        toEnvironmentRows += out.J[j] * out.areaM2[j] * out.escape[j];
+        fromEnvironment += out.areaM2[j] * (1.0 - model.surface[j].specular) * envExitance * out.escape[j];
+        sumQ += out.Q[j];
+    }
+    out.environmentPower = fromEnvironment - toEnvironmentColumns;
+    const double scale = largest > 0.0 ? largest : 1.0;
+    out.balance = std::abs(sumQ + out.environmentPower) / scale;
+    out.reciprocityImbalance = std::abs(toEnvironmentColumns - toEnvironmentRows) / scale;
+    return out;
+}
+
+}  // namespace hemirad::thermal

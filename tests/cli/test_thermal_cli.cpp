@@ -1,0 +1,78 @@
+// `hemirad thermal` from the command line: the bundled example, its outputs, and bad input named
+// by file and line with nothing written.
+#include "support.hpp"
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+
+using namespace hemirad::test;
+
+namespace {
+
+CommandResult thermal(const std::string& arguments) {
+    return runCommand(std::string(HEMIRAD_BINARY) + " thermal " + arguments + " 2>&1");
+}
+
+std::string example(const std::string& name) { return "'" + sourcePath("examples/thermal/" + name) + "'"; }
+
+}  // namespace
+
+TEST_CASE("hemirad thermal on the bundled radiator: the radiator gives off its 250 W and the balance holds") {
+    const auto dir = tempDir("thermal-cli");
+    const std::string T = (dir / "T.csv").string(), O = (dir / "O.csv").string(), GR = (dir / "gr.sinda").string(),
+                      Q = (dir / "Q.csv").string();
+    const CommandResult r = thermal(example("radiator.obj") + " --properties " + example("radiator_properties.toml") +
+                                    " --bc " + example("radiator_bc.toml") + " --subdivide 0.25 -o " + T + " --objects " + O +
+                                    " --conductors " + GR + " --exchange " + Q);
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("isothermal 'radiator': T = ") != std::string::npos);
+    CHECK(r.output.find("energy balance: |sum Q + Q_env| / max |Q| = ") != std::string::npos);
+    const std::string objects = readText(O);
+    CHECK(objects.find("object,patches,area (m^2),T_mean (K)") == 0);
+    CHECK(objects.find("\nradiator,16,1") != std::string::npos);
+    const std::size_t row = objects.find("\nradiator,");
+    REQUIRE(row != std::string::npos);
+    const std::string line = objects.substr(row + 1, objects.find('\n', row + 1) - row - 1);
+    CHECK(std::stod(line.substr(line.rfind(',') + 1)) == doctest::Approx(250.0).epsilon(1e-9));  // its Q
+    CHECK(readText(T).find("patch,object,area (m^2),emissivity,specular,condition,T (K)") == 0);
+    CHECK(readText(GR).find("HEADER CONDUCTOR DATA, MAIN\n-1, 1, 2, ") != std::string::npos);
+    CHECK(readText(Q).find("Q from \\ to (W),radiator,shield,baffle,environment,total") == 0);
+}
+
+TEST_CASE("hemirad thermal refuses bad input before any work: file and line named, exit 1 or 2, nothing written") {
+    const auto dir = tempDir("thermal-cli-errors");
+    const std::string out = (dir / "T.csv").string();
+    const std::string scene = example("radiator.obj");
+    {
+        const CommandResult r = thermal(scene + " -o " + out);
+        CHECK(r.status == 2);
+        CHECK(r.output.find("'thermal' needs --bc CONDITIONS.toml") != std::string::npos);
+    }
+    {
+        const std::string props = writeFile(dir / "p.toml", "[materials.aluminium]\nemissivity = 0.2\nspecular = 0.9\n");
+        const CommandResult r = thermal(scene + " --properties " + props + " --bc " + example("radiator_bc.toml") + " -o " + out);
+        CHECK(r.status == 1);
+        CHECK(r.output.find(props + ":1: [materials.aluminium]: emissivity 0.2 + specular 0.9 = 1.1 > 1") != std::string::npos);
+    }
+    {
+        const std::string bc = writeFile(dir / "bc.toml", "[default]\nadiabatic = true\n\n[objects.radiatr]\npower_W = 10\n");
+        const CommandResult r = thermal(scene + " --bc " + bc + " -o " + out);
+        CHECK(r.status == 1);
+        CHECK(r.output.find(bc + ":4: [objects.radiatr] names no object with patches") != std::string::npos);
+    }
+    {
+        const std::string bc = writeFile(dir / "cold.toml", "[default]\ntemperature_K = -1\n");
+        const CommandResult r = thermal(scene + " --bc " + bc + " -o " + out);
+        CHECK(r.status == 1);
+        CHECK(r.output.find("below absolute zero") != std::string::npos);
+    }
+    {
+        const CommandResult r = thermal(scene + " --bc " + example("radiator_bc.toml") + " --conductors " +
+                                        (dir / "gr.txt").string());
+        CHECK(r.status == 2);
+        CHECK(r.output.find("give --conductor-format") != std::string::npos);
+    }
+    CHECK(!std::filesystem::exists(out));
+}

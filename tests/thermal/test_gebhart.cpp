@@ -1,0 +1,180 @@
+// Gebhart factors and radiative conductors: closure and reciprocity on exact (dyadic) extended F,
+// a black enclosure gives B = F, mirrors included, and the exchange matrix sums to each node's Q.
+#include "thermal/thermal_scenes.hpp"
+
+#include "engine/subdivide.hpp"
+#include "preprocess/form_factor_job.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
+#include "thermal/conductor_writers.hpp"
+#include "thermal/gebhart.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+using namespace hemirad::thermal;
+
+namespace {
+
+/// Three unit squares as an abstract closed enclosure (a long triangular duct's walls): F_ij = 1/2.
+/// With `mirror`, patch 2 reflects s = 1/2 and sends what it reflects half to each other wall, so
+/// the extended factors are F_0 = (1/8, 5/8, 1/2), F_1 = (5/8, 1/8, 1/2), F_2 = (1/2, 1/2, 0):
+/// dyadic, exactly reciprocal, sum_j F_ij (1 - s_j) = 1.
+struct Duct {
+    Scene scene;
+    FormFactors F;
+};
+Duct duct(bool mirror) {
+    SceneBuilder b;
+    b.scene.objects = {"a", "b", "c"};
+    for (int k = 0; k < 3; ++k) b.rectangle(2, double(k), 0, 1, 0, 1, true);
+    for (PatchId i = 0; i < 3; ++i) b.scene.patches[i].object = i;
+    if (mirror) b.scene.patches[2].specular = 0.5;
+    Duct d;
+    d.scene = b.scene;
+    d.F = mirror ? denseF({{0.125, 0.625, 0.5}, {0.625, 0.125, 0.5}, {0.5, 0.5, 0.0}})
+                 : denseF({{0, 0.5, 0.5}, {0.5, 0, 0.5}, {0.5, 0.5, 0}});
+    return d;
+}
+
+ThermalModel modelFor(const Scene& s, std::vector<double> eps) {
+    ThermalModel m;
+    for (PatchId i = 0; i < s.size(); ++i) m.surface.push_back({eps[i], s.patches[i].specular});
+    m.condition.assign(s.size(), Condition{Condition::Kind::Temperature, 300.0, 0});
+    return m;
+}
+
+double gr(const Conductors& c, std::uint32_t a, std::uint32_t b) {
+    for (const Coupling& k : c.couplings)
+        if (k.a == std::min(a, b) && k.b == std::max(a, b)) return k.gr;
+    return 0.0;
+}
+
+}  // namespace
+
+TEST_CASE("Gebhart factors close (sum_j B_ij = 1) and are reciprocal (eps_i A_i B_ij = eps_j A_j B_ji) to 1e-12, mirrors too") {
+    for (const bool mirror : {false, true}) {
+        CAPTURE(mirror);
+        const Duct d = duct(mirror);
+        const ThermalModel m = modelFor(d.scene, {0.9, 0.3, mirror ? 0.2 : 0.6});
+        GebhartOptions o;
+        o.lumping = Lumping::Patches;
+        const Conductors c = computeConductors(d.scene, d.F, m, o, SolverOptions{});
+        REQUIRE(c.B.size() == 3);
+        double closure = 0, reciprocity = 0;
+        for (std::size_t i = 0; i < 3; ++i) {
+            double sum = 0;
+            for (std::size_t j = 0; j < 3; ++j) {
+                sum += c.B[i][j];
+                reciprocity = std::max(reciprocity, std::abs(m.surface[i].emissivity * c.B[i][j] - m.surface[j].emissivity * c.B[j][i]));
+            }
+            closure = std::max(closure, std::abs(sum - 1.0));
+            CHECK(c.B[i][3] <= 1e-12);  // nothing escapes a closed enclosure
+        }
+        MESSAGE("closure " << closure << ", reciprocity " << reciprocity << ", asymmetry " << c.asymmetry);
+        CHECK(closure <= 1e-12);
+        CHECK(reciprocity <= 1e-12);
+        CHECK(c.asymmetry <= 1e-12);
+        // Independent: B_01 from its defining equations B = F eps + F rho B, solved by iteration.
+        std::vector<std::vector<double>> B(3, std::vector<double>(3, 0.0));
+        for (int sweep = 0; sweep < 200; ++sweep)
+            for (std::size_t i = 0; i < 3; ++i)
+                for (std::size_t j = 0; j < 3; ++j) {
+                    double v = d.F.at(i, j) * m.surface[j].emissivity;
+                    for (std::size_t k = 0; k < 3; ++k) v += d.F.at(i, k) * m.surface[k].diffuse() * B[k][j];
+                    B[i][j] = v;
+                }
+        for (std::size_t i = 0; i < 3; ++i)
+            for (std::size_t j = 0; j < 3; ++j) CHECK(std::abs(B[i][j] - c.B[i][j]) <= 1e-12);
+        // GR = eps_i A_i B_ij, symmetric.
+        CHECK(std::abs(gr(c, 0, 1) - 0.9 * c.B[0][1]) <= 1e-12);
+    }
+}
+
+TEST_CASE("A black enclosure's Gebhart factors are its form factors") {
+    const Duct d = duct(false);
+    const ThermalModel m = modelFor(d.scene, {1.0, 1.0, 1.0});
+    GebhartOptions o;
+    o.lumping = Lumping::Patches;
+    const Conductors c = computeConductors(d.scene, d.F, m, o, SolverOptions{});
+    for (std::size_t i = 0; i < 3; ++i)
+        for (std::size_t j = 0; j < 3; ++j) CHECK(c.B[i][j] == doctest::Approx(d.F.at(i, j)).epsilon(1e-14));
+}
+
+TEST_CASE("Conductors lumped per object, with the environment, and the threshold's dropped sum") {
+    // An open cube (no ceiling) of 4 x 4 patches per face: objects floor, walls; the sky takes the rest.
+    Scene s = subdivide(unitCube(), 0.25);
+    std::vector<Patch> kept;
+    for (const Patch& p : s.patches)
+        if (s.parents[p.parent].sourcePatch != 1) kept.push_back(p);
+    s.patches = kept;
+    s.objects = {"floor", "walls"};
+    for (Patch& p : s.patches) p.object = s.parents[p.parent].sourcePatch == 0 ? 0 : 1;
+    const FormFactors F = computeFormFactors(s, MethodSettings::of(HemisphereOptions{}), neededRows(s, true)).F;
+    ThermalModel m;
+    for (PatchId i = 0; i < s.size(); ++i) m.surface.push_back({s.patches[i].object == 0 ? 0.9 : 0.5, 0.0});
+    m.condition.assign(s.size(), Condition{Condition::Kind::Temperature, 300.0, 0});
+    const Conductors c = computeConductors(s, F, m, GebhartOptions{}, SolverOptions{});
+    REQUIRE(c.nodes.size() == 2);
+    CHECK(c.B[0][2] > 0.1);  // the open top
+    // Black, B = F: each object's conductor to the sky is sum_i A_i (1 - sum_j F_ij) over its patches.
+    ThermalModel black = m;
+    for (SurfaceProperties& p : black.surface) p.emissivity = 1.0;
+    const Conductors b = computeConductors(s, F, black, GebhartOptions{}, SolverOptions{});
+    for (std::uint32_t I = 0; I < 2; ++I) {
+        double sky = 0;
+        for (PatchId i = 0; i < s.size(); ++i)
+            if (s.patches[i].object == I) sky += s.patches[i].area * (1.0 - F.rowSum(i));
+        CHECK(gr(b, I, 2) == doctest::Approx(sky).epsilon(1e-9));
+        CHECK(b.B[I][I] + b.B[I][1 - I] + b.B[I][2] == doctest::Approx(1.0).epsilon(1e-9));
+    }
+    MESSAGE("floor-walls GR " << gr(c, 0, 1) << " m^2, asymmetry " << c.asymmetry);
+    CHECK(c.asymmetry <= 1e-5);  // F stored in float: its reciprocity to ~1e-7, the solve to its tolerance
+
+    GebhartOptions coarse;
+    coarse.threshold = 0.99;
+    const Conductors dropped = computeConductors(s, F, m, coarse, SolverOptions{});
+    CHECK(dropped.couplings.empty());
+    CHECK(dropped.dropped == 3);
+    CHECK(std::abs(dropped.droppedSum - (gr(c, 0, 1) + gr(c, 0, 2) + gr(c, 1, 2))) <= 1e-12 * dropped.droppedSum);
+}
+
+TEST_CASE("The exchange matrix between objects sums to each object's net power") {
+    const Duct d = duct(true);
+    ThermalModel m = modelFor(d.scene, {0.9, 0.3, 0.2});
+    m.condition[0].value = 500;
+    m.condition[1] = Condition{Condition::Kind::Flux, 100.0, 0};
+    const ThermalSolution sol = solveThermal(d.scene, d.F, m, SolverOptions{});
+    std::vector<std::string> names;
+    std::vector<std::vector<PatchId>> nodes;
+    makeNodes(d.scene, Lumping::Objects, names, nodes);
+    const auto Q = exchangeMatrix(d.scene, d.F, m, sol, nodes, SolverOptions{});
+    for (std::size_t I = 0; I < 3; ++I) {
+        double total = 0;
+        for (const double q : Q[I]) total += q;
+        CHECK(std::abs(total - sol.Q[I]) <= 1e-9 * 100.0);
+        for (std::size_t J = 0; J < 3; ++J) CHECK(Q[I][J] == doctest::Approx(-Q[J][I]).epsilon(1e-12));
+    }
+}
+
+TEST_CASE("Conductor files: ESATAN GR lines, a SINDA conductor block, Matrix Market and CSV name the same couplings") {
+    const Duct d = duct(false);
+    const ThermalModel m = modelFor(d.scene, {0.9, 0.3, 0.6});
+    const Conductors c = computeConductors(d.scene, d.F, m, GebhartOptions{}, SolverOptions{});
+    const auto dir = tempDir("conductors");
+    for (const std::string& format : conductorFormats()) writeConductors((dir / ("gr." + format)).string(), format, c);
+    const std::string esatan = readText(dir / "gr.esatan"), sinda = readText(dir / "gr.sinda");
+    const std::string mtx = readText(dir / "gr.mtx"), csv = readText(dir / "gr.csv");
+    char expected[64];
+    std::snprintf(expected, sizeof expected, "GR(1, 2) = %.17g;", gr(c, 0, 1));
+    CHECK(esatan.find(expected) != std::string::npos);
+    CHECK(sinda.find("HEADER CONDUCTOR DATA") != std::string::npos);
+    std::snprintf(expected, sizeof expected, "-1, 1, 2, %.17g", gr(c, 0, 1));
+    CHECK(sinda.find(expected) != std::string::npos);
+    CHECK(mtx.find("%%MatrixMarket matrix coordinate real symmetric") == 0);
+    CHECK(mtx.find("\n4 4 3\n") != std::string::npos);
+    CHECK(csv.find("node_a,node_b,GR (m^2)\na,b,") == 0);
+    CHECK(conductorFormatFor("model.ESATAN") == "esatan");
+    CHECK(conductorFormatFor("radk.inp") == "sinda");
+    CHECK(conductorFormatFor("gr.txt").empty());
+}

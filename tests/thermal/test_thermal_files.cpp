@@ -1,0 +1,143 @@
+// The thermal TOML files: what they set, and every mistake named by file and line.
+#include "thermal/thermal_scenes.hpp"
+
+#include "engine/error.hpp"
+#include "thermal/thermal_files.hpp"
+#include "thermal/thermal_solver.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+using namespace hemirad::thermal;
+
+namespace {
+
+/// The unit cube with objects floor, ceiling, walls and materials paint (floor, ceiling), metal (walls).
+Scene cubeScene() {
+    Scene s = unitCube();
+    s.path = "cube.obj";
+    s.objects = {"floor", "ceiling", "walls", "unused"};
+    Material metal;
+    metal.name = "metal";
+    metal.rho = Rgb::Constant(0.2);
+    s.materials[0].name = "paint";
+    s.materials.push_back(metal);
+    s.patches[1].object = 1;
+    for (PatchId i = 2; i < 6; ++i) {
+        s.patches[i].object = 2;
+        s.patches[i].material = 1;
+        s.applyMaterial(i, 1);
+    }
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("Properties: object over material over the default table over the MTL, and a specular value becomes the scene's") {
+    Scene s = cubeScene();
+    std::vector<std::string> sources;
+    const auto surface = applyPropertiesText("[default]\nemissivity = 0.5\n"
+                                             "[materials.metal]\nemissivity = 0.1\nspecular = 0.8\n"
+                                             "[objects.ceiling]\nemissivity = 0.9\n",
+                                             "props.toml", s, sources);
+    CHECK(surface[0].emissivity == 0.5);   // floor: [default]
+    CHECK(surface[1].emissivity == 0.9);   // ceiling: its object
+    CHECK(surface[2].emissivity == 0.1);   // walls: their material
+    CHECK(surface[2].specular == 0.8);
+    CHECK(s.patches[2].specular == 0.8);   // F will be computed with it
+    CHECK(s.patches[0].specular == 0.0);
+    REQUIRE(sources.size() == 3);
+    CHECK(sources[2].find("[materials.metal]") != std::string::npos);
+
+    Scene fromMtl = cubeScene();
+    const auto mtl = applyPropertiesText("", "", fromMtl, sources);
+    CHECK(mtl[0].emissivity == doctest::Approx(0.5));  // 1 - Kd 0.5
+    CHECK(mtl[2].emissivity == doctest::Approx(0.8));  // 1 - Kd 0.2
+    CHECK(sources[0].find("from the MTL") != std::string::npos);
+}
+
+TEST_CASE("Properties errors name the file and line: eps + s > 1, unknown names and keys, syntax") {
+    Scene s = cubeScene();
+    std::vector<std::string> sources;
+    CHECK_THROWS_WITH_AS(applyPropertiesText("\n[objects.walls]\nemissivity = 0.7\nspecular = 0.6\n", "p.toml", s, sources),
+                         doctest::Contains("p.toml:2: [objects.walls]: emissivity 0.7 + specular 0.6 = 1.3 > 1"), Error);
+    // Split over two tables: the sum is checked per patch, naming the object and material.
+    CHECK_THROWS_WITH_AS(applyPropertiesText("[materials.metal]\nspecular = 0.6\n[objects.walls]\nemissivity = 0.7\n", "p.toml", s, sources),
+                         doctest::Contains("object 'walls' (material 'metal'): emissivity 0.7 + specular 0.6"), Error);
+    CHECK_THROWS_WITH_AS(applyPropertiesText("[objects.roof]\nemissivity = 0.7\n", "p.toml", s, sources),
+                         doctest::Contains("p.toml:1: [objects.roof] names no object of cube.obj"), Error);
+    CHECK_THROWS_WITH_AS(applyPropertiesText("[default]\nemisivity = 0.7\n", "p.toml", s, sources),
+                         doctest::Contains("p.toml:2: unknown key 'emisivity'"), Error);
+    CHECK_THROWS_WITH_AS(applyPropertiesText("[default]\nemissivity = 1.5\n", "p.toml", s, sources),
+                         doctest::Contains("p.toml:2: emissivity 1.5 in [default] is outside [0, 1]"), Error);
+    CHECK_THROWS_WITH_AS(applyPropertiesText("[default]\nemissivity = = 0.7\n", "p.toml", s, sources),
+                         doctest::Contains("p.toml:2:"), Error);
+    CHECK_THROWS_WITH_AS(applyPropertiesText("[default]\nemissivity = \"high\"\n", "p.toml", s, sources),
+                         doctest::Contains("p.toml:2: 'emissivity' must be a finite number"), Error);
+}
+
+TEST_CASE("Conditions: temperatures in K or C, fluxes, adiabatic, power makes an isothermal node, the environment") {
+    const Scene s = cubeScene();
+    const Conditions c = readConditionsText("[environment]\ntemperature_C = -20\n"
+                                            "[objects.floor]\ntemperature_K = 300\n"
+                                            "[objects.ceiling]\npower_W = 25\n"
+                                            "[objects.walls]\nadiabatic = true\n",
+                                            "bc.toml", s, 1.0);
+    REQUIRE(c.environment);
+    CHECK(*c.environment == doctest::Approx(253.15));
+    CHECK(c.perPatch[0].kind == Condition::Kind::Temperature);
+    CHECK(c.perPatch[0].value == 300.0);
+    CHECK(c.perPatch[1].kind == Condition::Kind::Isothermal);
+    REQUIRE(c.isothermal.size() == 1);
+    CHECK(c.isothermal[0].name == "ceiling");
+    CHECK(c.isothermal[0].power == 25.0);
+    CHECK(c.perPatch[3].kind == Condition::Kind::Flux);
+    CHECK(c.perPatch[3].value == 0.0);
+    const Conditions d = readConditionsText("[default]\nflux_W_m2 = 10\n[objects.floor]\ntemperature_C = 25\n", "bc.toml", s, 1.0);
+    CHECK(d.perPatch[0].value == doctest::Approx(298.15));
+    CHECK(d.perPatch[4].kind == Condition::Kind::Flux);
+    CHECK(d.perPatch[4].value == 10.0);
+    CHECK(!d.environment);
+}
+
+TEST_CASE("Condition errors name the file and line: no such object, below 0 K, two conditions, none, objects left out") {
+    const Scene s = cubeScene();
+    auto read = [&](const std::string& text) { return readConditionsText(text, "bc.toml", s, 1.0); };
+    CHECK_THROWS_WITH_AS(read("[default]\nadiabatic = true\n[objects.roof]\ntemperature_K = 300\n"),
+                         doctest::Contains("bc.toml:3: [objects.roof] names no object with patches in cube.obj"), Error);
+    CHECK_THROWS_WITH_AS(read("[default]\nadiabatic = true\n[objects.unused]\ntemperature_K = 300\n"),
+                         doctest::Contains("bc.toml:3: [objects.unused] names no object with patches"), Error);
+    CHECK_THROWS_WITH_AS(read("[default]\ntemperature_C = -300\n"),
+                         doctest::Contains("bc.toml:2: [default]: temperature_C = -300 is below absolute zero"), Error);
+    CHECK_THROWS_WITH_AS(read("[environment]\ntemperature_K = -3\n[default]\nadiabatic = true\n"),
+                         doctest::Contains("bc.toml:2: [environment]: temperature_K = -3 is below absolute zero"), Error);
+    CHECK_THROWS_WITH_AS(read("[default]\ntemperature_K = 300\nflux_W_m2 = 5\n"),
+                         doctest::Contains("[default] gives two conditions"), Error);
+    CHECK_THROWS_WITH_AS(read("[default]\n[objects.floor]\ntemperature_K = 300\n"),
+                         doctest::Contains("bc.toml:1: [default] gives no condition"), Error);
+    CHECK_THROWS_WITH_AS(read("[objects.floor]\ntemperature_K = 300\n"),
+                         doctest::Contains("no boundary condition for object(s) 'ceiling', 'walls'"), Error);
+    CHECK_THROWS_WITH_AS(read("[default]\ntemprature_K = 300\n"), doctest::Contains("bc.toml:2: unknown key 'temprature_K'"), Error);
+    CHECK_THROWS_WITH_AS(read("[default]\nadiabatic = false\n"), doctest::Contains("bc.toml:2: [default]: adiabatic must be true"), Error);
+}
+
+TEST_CASE("A closed enclosure of fluxes only has no temperatures: said, not solved") {
+    const Scene s = cubeScene();
+    const double opp = c11(1, 1, 1), adj = c14(1, 1, 1);
+    std::vector<std::vector<double>> rows(6, std::vector<double>(6, adj));
+    for (int i = 0; i < 6; ++i) rows[i][i] = 0.0, rows[i][i ^ 1] = opp;
+    const FormFactors F = denseF(rows);
+    ThermalModel m;
+    m.surface.assign(6, SurfaceProperties{0.5, 0.0});
+    const Conditions c = readConditionsText("[default]\nflux_W_m2 = 10\n", "bc.toml", s, 1.0);
+    m.condition = c.perPatch;
+    CHECK_THROWS_WITH_AS(solveThermal(s, F, m, SolverOptions{}),
+                         doctest::Contains("every surface has a heat-flux or power condition in a closed enclosure"), Error);
+    // With a temperature somewhere it is determined.
+    m.condition[0] = Condition{Condition::Kind::Temperature, 300.0, 0};
+    CHECK(solveThermal(s, F, m, SolverOptions{}).balance <= 1e-9);
+    // A flux that asks a surface to absorb more than it receives has no temperature.
+    m.condition[3] = Condition{Condition::Kind::Flux, -1e6, 0};
+    CHECK_THROWS_WITH_AS(solveThermal(s, F, m, SolverOptions{}), doctest::Contains("would have to absorb more than it receives"), Error);
+}
