@@ -261,3 +261,56 @@ TEST_CASE("Mixed conditions (temperatures, fluxes, adiabatic, an isothermal powe
     CHECK(std::abs(objectQ(s, sol, 4) - 40.0) <= 1e-9 * 40.0);
     CHECK(sol.balance <= 1e-9);
 }
+
+TEST_CASE("Specular: plates in a kaleidoscope of perfect mirrors exchange as infinite plates, q = sigma (T1^4 - T2^4) / (1/e1 + 1/e2 - 1)") {
+    // Two unit squares 0.05 apart, walled by four perpendicular mirrors (s = 1); plate 2 reflects
+    // partly specularly (s = 0.3). The images tile the plane, so each plate sees the other as an
+    // infinite plate, for which the net flux does not depend on how reflection splits into diffuse and
+    // specular (Siegel & Howell). The extended factors by images (Howell C-12 per image, chains of up
+    // to 8 reflections as --max-depth): F_12 = F_21 = sum over images of plate 2 at distance h, F_11 =
+    // s_2 x the images of plate 1 mirrored in plate 2 (distance 2h, one reflection used). What they
+    // miss (the most grazing directions) is 6e-5 and goes to a 0 K environment.
+    const double h = 0.05, s2 = 0.3;
+    SceneBuilder b;
+    b.scene.objects = {"hot", "cold", "mirrors"};
+    const std::uint32_t mirror = b.material("mirror", Rgb::Zero(), Rgb::Zero(), 1.0);
+    const std::uint32_t glossy = b.material("glossy", Rgb::Constant(0.2), Rgb::Zero(), s2);
+    b.rectangle(2, 0.0, 0, 1, 0, 1, true);
+    b.rectangle(2, h, 0, 1, 0, 1, false, glossy);
+    b.rectangle(0, 0.0, 0, 1, 0, h, true, mirror);
+    b.rectangle(0, 1.0, 0, 1, 0, h, false, mirror);
+    b.rectangle(1, 0.0, 0, h, 0, 1, true, mirror);
+    b.rectangle(1, 1.0, 0, h, 0, 1, false, mirror);
+    Scene& s = b.scene;
+    s.patches[1].object = 1;
+    for (PatchId i = 2; i < 6; ++i) s.patches[i].object = 2;
+    auto images = [](double distance, int depth) {
+        double sum = 0.0;
+        for (int k = -depth; k <= depth; ++k)
+            for (int l = -depth; l <= depth; ++l)
+                if (std::abs(k) + std::abs(l) <= depth) sum += parallelRectangles(0, 1, 0, 1, k, k + 1, l, l + 1, distance);
+        return sum;
+    };
+    const double f12 = images(h, 8), f11 = s2 * images(2 * h, 7);
+    // The mirrors' own columns carry no power here (s = 1: nothing absorbed, nothing emitted).
+    std::vector<std::vector<double>> rows(6, std::vector<double>(6, 0.0));
+    rows[0][0] = f11;
+    rows[0][1] = rows[1][0] = f12;
+    const FormFactors F = denseF(rows);
+    ThermalModel m;
+    for (PatchId i = 0; i < s.size(); ++i) m.surface.push_back({0.0, s.patches[i].specular});
+    m.condition.assign(s.size(), flux(0.0));
+    const double e1 = 0.8, e2 = 0.5, T1 = 400, T2 = 300;
+    m.surface[0].emissivity = e1;
+    m.surface[1].emissivity = e2;
+    m.condition[0] = temperature(T1);
+    m.condition[1] = temperature(T2);
+    const ThermalSolution sol = solveThermal(s, F, m, SolverOptions{});
+    const double expected = (blackbody(T1) - blackbody(T2)) / (1 / e1 + 1 / e2 - 1);
+    MESSAGE("kaleidoscope: F12 = " << f12 << ", F11 = " << f11 << "; q1 = " << sol.q[0] << " W/m^2, q2 = " << sol.q[1]
+                                   << ", infinite plates " << expected << ", relative " << (sol.q[0] - expected) / expected);
+    CHECK(1.0 - f12 < 1e-4);
+    CHECK(std::abs(sol.q[0] - expected) <= 1e-3 * expected);
+    CHECK(std::abs(sol.q[1] + expected) <= 1e-3 * expected);
+    CHECK(sol.balance <= 1e-9);
+}
