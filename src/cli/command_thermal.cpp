@@ -2,6 +2,7 @@
 // [--conductors GR.esatan] [--exchange Q.csv]`: gray radiative exchange on F (src/thermal).
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
+#include "cli/thermal_command.hpp"
 #include "thermal/conductor_writers.hpp"
 #include "thermal/gebhart.hpp"
 #include "thermal/thermal_files.hpp"
@@ -36,13 +37,7 @@ double sceneMetres(const Scene& scene, const Options& options, Warnings& warning
 
 }  // namespace
 
-int runThermal(const Options& options) {
-    Reporter reporter(options.quiet, reportsToStandardError(options));
-    Warnings warnings;
-    Timings timings;
-    Scene scene = loadScene(options, timings, reporter, warnings);
-
-    // The model first: every input mistake is found before F is computed, and nothing is written.
+thermal::ThermalModel readThermalModel(Scene& scene, const Options& options, const Reporter& reporter, Warnings& warnings) {
     thermal::ThermalModel model;
     model.metresPerUnit = sceneMetres(scene, options, warnings);
     model.surface = thermal::applyProperties(options.propertiesPath, scene, model.propertySource);
@@ -56,11 +51,11 @@ int runThermal(const Options& options) {
     for (const std::string& s : model.conditionSource) reporter.line("condition   " + s);
     reporter.line(model.environment ? "environment " + figure(*model.environment) + " K"
                                     : "environment none (a closed scene: what escapes is lost at 0 K)");
+    return model;
+}
 
-    Options withRows = options;
-    withRows.allRows = true;  // every patch's irradiance and escape are needed
-    const FormFactors F = obtainFormFactors(scene, withRows, timings, reporter, warnings);
-
+void solveThermalAndWrite(const Options& options, const Scene& scene, const thermal::ThermalModel& model,
+                          const FormFactors& F, Timings& timings, const Reporter& reporter) {
     timings.start("thermal solve");
     const thermal::ThermalSolution solution = thermal::solveThermal(scene, F, model, options.solver);
     timings.stop();
@@ -116,8 +111,25 @@ int runThermal(const Options& options) {
     if (!options.objectsPath.empty()) reporter.line("wrote " + outputName(options.objectsPath) + " (per object: T, q, Q)");
     if (!options.conductorsPath.empty()) reporter.line("wrote " + outputName(options.conductorsPath) + " (radiative conductors GR, m^2)");
     if (!options.exchangePath.empty()) reporter.line("wrote " + outputName(options.exchangePath) + " (net power between objects, W)");
+}
+
+int runThermal(const Options& options) {
+    Reporter reporter(options.quiet, reportsToStandardError(options));
+    Warnings warnings;
+    Timings timings;
+    Scene scene = loadScene(options, timings, reporter, warnings);
+    // The model first: every input mistake is found before F is computed, and nothing is written.
+    const thermal::ThermalModel model = readThermalModel(scene, options, reporter, warnings);
+    const FormFactors F = obtainFormFactors(scene, thermalFormFactorOptions(options), timings, reporter, warnings);
+    solveThermalAndWrite(options, scene, model, F, timings, reporter);
     finishCommand(reporter, timings, warnings);
     return 0;
+}
+
+Options thermalFormFactorOptions(const Options& options) {
+    Options withRows = options;
+    withRows.allRows = true;  // every patch's irradiance and escape are needed
+    return withRows;
 }
 
 }  // namespace hemirad

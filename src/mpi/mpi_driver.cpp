@@ -5,6 +5,7 @@
 #include "cli/bench_run.hpp"
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
+#include "cli/thermal_command.hpp"
 #include "engine/atomic_file.hpp"
 #include "engine/console.hpp"
 #include "engine/form_factor_file.hpp"
@@ -306,6 +307,35 @@ void runSolveOrRender(Job& job, bool render) {
     finish(job);
 }
 
+/// `thermal` across ranks: every rank reads the model (a specular reflectance in --properties changes
+/// the scene F is computed for), F's rows are computed (or read, --ff) across the ranks as for solve,
+/// then gathered on rank 0, which solves the exchange and writes: the numbers of one process.
+void runThermal(Job& job) {
+    const Options& options = job.options;  // thermalFormFactorOptions: every row
+    const RadiosityPipeline pipeline = makePipeline(options, job.timings, job.reporter);
+    loadScene(job, pipeline);
+    thermal::ThermalModel model;
+    job.context.collectively([&] { model = readThermalModel(job.scene, options, job.reporter, job.warnings); });
+    const bool root = job.context.root();
+    const bool reuse = job.context.rootDecides(root && !options.ffPath.empty() && !options.recomputeFf &&
+                                               std::filesystem::exists(options.ffPath));
+    const bool sharded = job.context.rootDecides(
+        root && !options.ffPath.empty() && (options.shards || isShardManifest(options.ffPath)));
+    const StoredFormFactorRule rule = obtainFormFactors(job, reuse ? options.ffPath : "", options.ffPath);
+    if (rule.storeBeforePostProcessing(job.computed))
+        storeFormFactors(job, options.ffPath, sharded, formFactorFormatFor(options.ffPath));
+    const PostProcessing steps = pendingSteps(job, pipeline.policy());
+    reciprocity(job, steps);
+    normalise(job, steps);
+    if (rule.storeAfterPostProcessing()) storeFormFactors(job, options.ffPath, sharded, formFactorFormatFor(options.ffPath));
+    reportStatistics(job);
+    const FormFactors all = gatherFormFactors(job.context, job.F);
+    job.context.collectively([&] {
+        if (root) solveThermalAndWrite(options, job.scene, model, all, job.timings, job.reporter);
+    });
+    finish(job);
+}
+
 /// `bench-run` across ranks: F computed, post-processed and solved where the rows are, as `solve`
 /// does; rank 0 gathers F for the statistics and the errors against the reference and prints the
 /// one-process record as one JSON line, with the ranks and their peak memory (the largest rank's as
@@ -383,7 +413,11 @@ int runUnderMpi(int argc, char** argv) {
                                "was given other options than rank 0: every rank must run the same command "
                                "(--threads alone may differ)");
         const std::string& command = options.command;
-        if (command == "formfactors" || command == "solve" || command == "render") {
+        if (command == "thermal") {
+            const Options withRows = thermalFormFactorOptions(options);
+            Job job(context, withRows);
+            runThermal(job);
+        } else if (command == "formfactors" || command == "solve" || command == "render") {
             Job job(context, options);
             if (command == "formfactors") runFormFactors(job);
             else runSolveOrRender(job, command == "render");
@@ -393,8 +427,7 @@ int runUnderMpi(int argc, char** argv) {
             Job job(context, quiet);
             runBenchRun(job);
         } else {
-            // help, info, subdivide, check, thermal: one process's work, done by rank 0 (thermal's F
-            // rows and solve are not distributed yet).
+            // help, info, subdivide, check: one process's work, done by rank 0.
             int status = 0;
             context.collectively([&] {
                 if (command == "bench")
@@ -405,7 +438,6 @@ int runUnderMpi(int argc, char** argv) {
                 else if (command == "info") status = runInfo(options);
                 else if (command == "subdivide") status = runSubdivide(options);
                 else if (command == "check") status = runCheck(options);
-                else if (command == "thermal") status = runThermal(options);
                 else throw UsageError("unknown command '" + command + "'");
             });
             MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);

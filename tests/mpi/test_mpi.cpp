@@ -686,3 +686,31 @@ TEST_CASE("One F file reused on 2 ranks: each rank reads its share of the rows, 
     CHECK(count(r.output, "hemirad: error: F.mtx: the 2 ranks on this node would hold about ") == 1);
     CHECK(count(r.output, "store F as .hff, whose rows each rank reads alone") == 1);
 }
+
+TEST_CASE("thermal on 2 MPI ranks writes the one-process temperatures, conductors and exchange byte for byte") {
+    // F's rows computed across the ranks (and a stored F's rows read by each), gathered for rank 0's
+    // solve: the same F, so the same numbers (issue 36: 1 and 2 ranks agree).
+    const auto dir = tempDir("mpi-thermal");
+    const std::string example = sourcePath("examples/thermal/");
+    const std::string args = "thermal '" + example + "radiator.obj' --properties '" + example +
+                             "radiator_properties.toml' --bc '" + example + "radiator_bc.toml' --subdivide 0.2";
+    const Run one = runHemirad(dir, 0, args + " --quiet -o T1.csv --conductors GR1.esatan --exchange Q1.csv");
+    REQUIRE_MESSAGE(one.status == 0, one.output);
+    const Run two = runHemirad(dir, 2, args + " --threads 1 -o T2.csv --conductors GR2.esatan --exchange Q2.csv --ff F.hff");
+    REQUIRE_MESSAGE(two.status == 0, two.output);
+    CHECK(two.output.find("ranks 2: rows ") != std::string::npos);  // the rows were shared
+    CHECK(bytes(dir / "T1.csv") == bytes(dir / "T2.csv"));
+    CHECK(bytes(dir / "GR1.esatan") == bytes(dir / "GR2.esatan"));
+    CHECK(bytes(dir / "Q1.csv") == bytes(dir / "Q2.csv"));
+    // The stored F serves a second run across the ranks: read, not recomputed, same answer.
+    const Run again = runHemirad(dir, 2, args + " --threads 1 -o T3.csv --ff F.hff");
+    REQUIRE_MESSAGE(again.status == 0, again.output);
+    CHECK(again.output.find("form factors: reused F.hff") != std::string::npos);
+    CHECK(bytes(dir / "T1.csv") == bytes(dir / "T3.csv"));
+    // A mistake in the model: one message, every rank stops, nothing written.
+    writeFile(dir / "bad.toml", "[default]\nadiabatic = true\n[objects.nothing]\npower_W = 1\n");
+    const Run bad = runHemirad(dir, 2, "thermal '" + example + "radiator.obj' --bc bad.toml -o T4.csv");
+    CHECK(bad.status == 1);
+    CHECK(count(bad.output, "bad.toml:3: [objects.nothing] names no object") == 1);
+    CHECK(!std::filesystem::exists(dir / "T4.csv"));
+}
