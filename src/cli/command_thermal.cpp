@@ -37,11 +37,14 @@ double sceneMetres(const Scene& scene, const Options& options, Warnings& warning
 
 }  // namespace
 
-thermal::ThermalModel readThermalModel(Scene& scene, const Options& options, const Reporter& reporter, Warnings& warnings) {
-    thermal::ThermalModel model;
+ThermalInputs readThermalModel(Scene& scene, const Options& options, const Reporter& reporter, Warnings& warnings) {
+    ThermalInputs inputs;
+    thermal::ThermalModel& model = inputs.model;
     model.metresPerUnit = sceneMetres(scene, options, warnings);
-    model.surface = thermal::applyProperties(options.propertiesPath, scene, model.propertySource);
+    model.surface = thermal::applyProperties(options.propertiesPath, scene, model.propertySource, &inputs.solar.surface);
     thermal::Conditions conditions = thermal::readConditions(options.conditionsPath, scene, model.metresPerUnit);
+    inputs.solar.incident = conditions.solarIncident;
+    if (!inputs.solar.active()) inputs.solar = {};
     model.condition = std::move(conditions.perPatch);
     model.environment = conditions.environment;
     model.isothermal = std::move(conditions.isothermal);
@@ -51,11 +54,33 @@ thermal::ThermalModel readThermalModel(Scene& scene, const Options& options, con
     for (const std::string& s : model.conditionSource) reporter.line("condition   " + s);
     reporter.line(model.environment ? "environment " + figure(*model.environment) + " K"
                                     : "environment none (a closed scene: what escapes is lost at 0 K)");
-    return model;
+    return inputs;
 }
 
-void solveThermalAndWrite(const Options& options, const Scene& scene, const thermal::ThermalModel& model,
-                          const FormFactors& F, Timings& timings, const Reporter& reporter) {
+void solveThermalAndWrite(const Options& options, const Scene& scene, const ThermalInputs& inputs, const FormFactors& F,
+                          Timings& timings, const Reporter& reporter, Warnings& warnings) {
+    thermal::ThermalModel model = inputs.model;
+    if (inputs.solar.active()) {
+        FormFactors own;
+        const FormFactors* solarF = &F;
+        if (inputs.solar.needsOwnFormFactors(scene)) {
+            // The solar band's mirrors differ from the IR ones: its own extended F, in this process.
+            Scene solarScene = scene;
+            for (PatchId i = 0; i < scene.size(); ++i) solarScene.patches[i].specular = inputs.solar.surface[i].specular;
+            Options solarOptions = thermalFormFactorOptions(options);
+            solarOptions.ffPath.clear();
+            solarOptions.shards = solarOptions.recomputeFf = solarOptions.reuseFfAnyway = false;
+            reporter.line("solar band: its specular reflectances differ from the IR ones, so it has its own F");
+            own = obtainFormFactors(solarScene, solarOptions, timings, reporter, warnings);
+            solarF = &own;
+        }
+        timings.start("solar band");
+        const thermal::SolarSolution solar = thermal::solveSolar(scene, *solarF, inputs.solar, model.metresPerUnit, options.solver);
+        timings.stop();
+        model.absorbedExternal = solar.absorbed;
+        reporter.line("solar band: " + figure(solar.incidentPower) + " W arrive, " + figure(solar.absorbedPower) +
+                      " W absorbed, " + figure(solar.escapedPower) + " W leave; balance " + figure(solar.balance, 3));
+    }
     timings.start("thermal solve");
     const thermal::ThermalSolution solution = thermal::solveThermal(scene, F, model, options.solver);
     timings.stop();
@@ -119,9 +144,9 @@ int runThermal(const Options& options) {
     Timings timings;
     Scene scene = loadScene(options, timings, reporter, warnings);
     // The model first: every input mistake is found before F is computed, and nothing is written.
-    const thermal::ThermalModel model = readThermalModel(scene, options, reporter, warnings);
+    const ThermalInputs inputs = readThermalModel(scene, options, reporter, warnings);
     const FormFactors F = obtainFormFactors(scene, thermalFormFactorOptions(options), timings, reporter, warnings);
-    solveThermalAndWrite(options, scene, model, F, timings, reporter);
+    solveThermalAndWrite(options, scene, inputs, F, timings, reporter, warnings);
     finishCommand(reporter, timings, warnings);
     return 0;
 }

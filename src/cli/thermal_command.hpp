@@ -6,20 +6,28 @@
 #include "cli/report.hpp"
 #include "engine/form_factors.hpp"
 #include "engine/warnings.hpp"
+#include "thermal/solar_band.hpp"
 #include "thermal/thermal_model.hpp"
 
 namespace hemirad {
 
+/// The IR model and the solar band (active where the --bc file gives solar_W_m2).
+struct ThermalInputs {
+    thermal::ThermalModel model;
+    thermal::SolarBand solar;
+};
+
 /// Reads --properties (applying a specular reflectance to `scene`: call before F) and --bc, checks
 /// the model and reports where each object's properties and condition came from. Throws hemirad::Error.
-thermal::ThermalModel readThermalModel(Scene& scene, const Options& options, const Reporter& reporter, Warnings& warnings);
+ThermalInputs readThermalModel(Scene& scene, const Options& options, const Reporter& reporter, Warnings& warnings);
 
 /// `options` as F must be computed for thermal exchange: every row (--all-rows).
 Options thermalFormFactorOptions(const Options& options);
 
-/// Solves the model on F, computes what -o, --objects, --conductors and --exchange ask, then writes
-/// them (nothing is written if any step fails), reporting through `reporter`.
-void solveThermalAndWrite(const Options& options, const Scene& scene, const thermal::ThermalModel& model,
-                          const FormFactors& F, Timings& timings, const Reporter& reporter);
+/// Solves the solar band (on F, or on its own F computed here when its specular reflectances differ)
+/// and the IR exchange on F, computes what -o, --objects, --conductors and --exchange ask, then
+/// writes them (nothing is written if any step fails), reporting through `reporter`.
+void solveThermalAndWrite(const Options& options, const Scene& scene, const ThermalInputs& inputs, const FormFactors& F,
+                          Timings& timings, const Reporter& reporter, Warnings& warnings);
 
 }  // namespace hemirad

@@ -314,8 +314,8 @@ void runThermal(Job& job) {
     const Options& options = job.options;  // thermalFormFactorOptions: every row
     const RadiosityPipeline pipeline = makePipeline(options, job.timings, job.reporter);
     loadScene(job, pipeline);
-    thermal::ThermalModel model;
-    job.context.collectively([&] { model = readThermalModel(job.scene, options, job.reporter, job.warnings); });
+    ThermalInputs inputs;
+    job.context.collectively([&] { inputs = readThermalModel(job.scene, options, job.reporter, job.warnings); });
     const bool root = job.context.root();
     const bool reuse = job.context.rootDecides(root && !options.ffPath.empty() && !options.recomputeFf &&
                                                std::filesystem::exists(options.ffPath));
@@ -331,7 +331,8 @@ void runThermal(Job& job) {
     reportStatistics(job);
     const FormFactors all = gatherFormFactors(job.context, job.F);
     job.context.collectively([&] {
-        if (root) solveThermalAndWrite(options, job.scene, model, all, job.timings, job.reporter);
+        // (A solar band with mirrors of its own has its F computed by rank 0 alone.)
+        if (root) solveThermalAndWrite(options, job.scene, inputs, all, job.timings, job.reporter, job.warnings);
     });
     finish(job);
 }

@@ -34,7 +34,8 @@ void writePatchTable(const std::string& path, const Scene& scene, const ThermalM
     AtomicFile file(path, false);
     std::ostream& out = file.stream();
     precise(out);
-    out << "patch,object,area (m^2),emissivity,specular,condition,T (K),T (C),J (W/m^2),H (W/m^2),q (W/m^2),Q (W)\n";
+    out << "patch,object,area (m^2),emissivity,specular,condition,T (K),T (C),J (W/m^2),H (W/m^2),absorbed solar (W/m^2),"
+           "q (W/m^2),Q (W)\n";
     for (PatchId i = 0; i < scene.size(); ++i) {
         const Patch& p = scene.patches[i];
         out << i << ',' << csvName(scene.objects[p.object]) << ',' << s.areaM2[i] << ',' << model.surface[i].emissivity << ','
@@ -45,7 +46,8 @@ void writePatchTable(const std::string& path, const Scene& scene, const ThermalM
             << ',';
         if (std::isfinite(s.T[i])) out << s.T[i] << ',' << s.T[i] - kCelsiusZero;
         else out << ',';
-        out << ',' << s.J[i] << ',' << s.H[i] << ',' << s.q[i] << ',' << s.Q[i] << '\n';
+        out << ',' << s.J[i] << ',' << s.H[i] << ',' << (model.absorbedExternal.empty() ? 0.0 : model.absorbedExternal[i])
+            << ',' << s.q[i] << ',' << s.Q[i] << '\n';
     }
     file.commit();
 }

@@ -11,7 +11,8 @@
 
 namespace hemirad::thermal {
 
-/// patch,object,area (m^2),emissivity,specular,condition,T (K),T (C),J (W/m^2),H (W/m^2),q (W/m^2),Q (W)
+/// patch,object,area (m^2),emissivity,specular,condition,T (K),T (C),J (W/m^2),H (W/m^2),
+/// absorbed solar (W/m^2),q (W/m^2),Q (W); q and Q are the net heat leaving (IR out minus the sun in).
 void writePatchTable(const std::string& path, const Scene& scene, const ThermalModel& model, const ThermalSolution& solution);
 
 /// One row per object: object,patches,area (m^2),T_mean (K) (area-weighted),T_min (K),T_max (K),q_mean (W/m^2),Q (W);

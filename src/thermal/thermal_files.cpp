@@ -49,7 +49,7 @@ const toml::table& tableAt(const toml::node& node, const std::string& file, cons
 
 /// Partial properties of one table: what it sets.
 struct Entry {
-    std::optional<double> emissivity, specular;
+    std::optional<double> emissivity, specular, solarAbsorptance, solarSpecular;
     int line = 0;
     std::string label;
 };
@@ -60,10 +60,16 @@ Entry readEntry(const toml::table& t, const std::string& file, const std::string
     e.label = label;
     for (const auto& [key, node] : t) {
         const std::string k(key.str());
-        if (k == "emissivity") e.emissivity = number(node, file, k);
-        else if (k == "specular") e.specular = number(node, file, k);
-        else throw Error(file, lineOf(node), "unknown key '" + k + "' in " + label + " (emissivity, specular)");
-        const double v = k == "emissivity" ? *e.emissivity : *e.specular;
+        std::optional<double>* field = k == "emissivity"          ? &e.emissivity
+                                       : k == "specular"          ? &e.specular
+                                       : k == "solar_absorptance" ? &e.solarAbsorptance
+                                       : k == "solar_specular"    ? &e.solarSpecular
+                                                                  : nullptr;
+        if (!field)
+            throw Error(file, lineOf(node), "unknown key '" + k + "' in " + label +
+                                                " (emissivity, specular, solar_absorptance, solar_specular)");
+        *field = number(node, file, k);
+        const double v = **field;
         if (v < 0.0 || v > 1.0) {
             std::ostringstream msg;
             msg << k << " " << v << " in " << label << " is outside [0, 1]";
@@ -74,6 +80,12 @@ Entry readEntry(const toml::table& t, const std::string& file, const std::string
         std::ostringstream msg;
         msg << label << ": emissivity " << *e.emissivity << " + specular " << *e.specular << " = "
             << *e.emissivity + *e.specular << " > 1 (an opaque surface reflects 1 - eps)";
+        throw Error(file, e.line, msg.str());
+    }
+    if (e.solarAbsorptance && e.solarSpecular && *e.solarAbsorptance + *e.solarSpecular > 1.0 + 1e-12) {
+        std::ostringstream msg;
+        msg << label << ": solar_absorptance " << *e.solarAbsorptance << " + solar_specular " << *e.solarSpecular << " = "
+            << *e.solarAbsorptance + *e.solarSpecular << " > 1";
         throw Error(file, e.line, msg.str());
     }
     return e;
@@ -88,13 +100,14 @@ std::map<std::string, std::size_t> indexOf(const std::vector<std::string>& names
 
 }  // namespace
 
-std::vector<SurfaceProperties> applyProperties(const std::string& path, Scene& scene, std::vector<std::string>& sources) {
-    if (path.empty()) return applyPropertiesText("", "", scene, sources);
-    return applyPropertiesText(readText(path), path, scene, sources);
+std::vector<SurfaceProperties> applyProperties(const std::string& path, Scene& scene, std::vector<std::string>& sources,
+                                               std::vector<SurfaceProperties>* solar) {
+    if (path.empty()) return applyPropertiesText("", "", scene, sources, solar);
+    return applyPropertiesText(readText(path), path, scene, sources, solar);
 }
 
 std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, const std::string& name, Scene& scene,
-                                                   std::vector<std::string>& sources) {
+                                                   std::vector<std::string>& sources, std::vector<SurfaceProperties>* solar) {
     std::optional<Entry> fallback;
     std::map<std::size_t, Entry> byMaterial, byObject;
     if (!name.empty()) {
@@ -133,11 +146,13 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
         if (auto it = byObject.find(p.object); it != byObject.end()) layers[0] = &it->second;
         if (auto it = byMaterial.find(p.material); it != byMaterial.end()) layers[1] = &it->second;
         if (fallback) layers[2] = &*fallback;
-        std::optional<double> eps, s;
+        std::optional<double> eps, s, alpha, sSolar;
         std::string from;
-        int line = 0;
+        int line = 0, solarLine = 0;
         for (const Entry* e : layers) {
             if (!e) continue;
+            if (!alpha && e->solarAbsorptance) alpha = e->solarAbsorptance, solarLine = e->line;
+            if (!sSolar && e->solarSpecular) sSolar = e->solarSpecular, solarLine = e->line;
             if (!eps && e->emissivity) eps = e->emissivity, from += (from.empty() ? "" : ", ") + std::string("emissivity from ") + e->label, line = e->line;
             if (!s && e->specular) s = e->specular, from += (from.empty() ? "" : ", ") + std::string("specular from ") + e->label, line = e->line;
         }
@@ -154,6 +169,20 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
                 << "'): emissivity " << surface[i].emissivity << " + specular " << surface[i].specular << " = "
                 << surface[i].emissivity + surface[i].specular << " > 1 (" << from << ")";
             throw Error(name.empty() ? scene.path : name, line, msg.str());
+        }
+        if (solar) {
+            solar->resize(scene.size());
+            SurfaceProperties& sp = (*solar)[i];
+            sp.specular = sSolar.value_or(p.specular);
+            sp.emissivity = alpha.value_or(std::max(0.0, 1.0 - p.rho.mean() - sp.specular));
+            if (sp.emissivity + sp.specular > 1.0 + 1e-12) {
+                std::ostringstream msg;
+                msg << "object '" << scene.objects[p.object] << "' (material '" << scene.materials[p.material].name
+                    << "'): solar absorptance " << sp.emissivity << " + solar specular " << sp.specular << " = "
+                    << sp.emissivity + sp.specular << " > 1" << (alpha ? "" : " (absorptance 1 - mean(Kd) - s from the MTL)");
+                throw Error(name.empty() ? scene.path : name, solarLine, msg.str());
+            }
+            from += std::string(", solar absorptance ") + (alpha ? "given" : "1 - mean(Kd) - s from the MTL");
         }
         if (objectSource[p.object].empty()) objectSource[p.object] = from;
         else if (objectSource[p.object] != from && objectSource[p.object].find("(varies") == std::string::npos)
@@ -181,12 +210,19 @@ Conditions readConditionsText(const std::string& text, const std::string& name, 
         double value;      // K, W/m^2 or W
         bool power = false;
         std::string text;
+        std::optional<double> solar;  // W/m^2 arriving from outside, in the solar band
     };
     auto readCondition = [&](const toml::table& t, const std::string& label) {
         std::optional<Given> given;
+        std::optional<double> solar;
         for (const auto& [key, node] : t) {
             const std::string k(key.str());
-            Given g{Condition::Kind::Flux, 0.0, false, ""};
+            if (k == "solar_W_m2") {
+                solar = number(node, name, k);
+                if (*solar < 0.0) throw Error(name, lineOf(node), label + ": solar_W_m2 must be >= 0");
+                continue;
+            }
+            Given g{Condition::Kind::Flux, 0.0, false, "", std::nullopt};
             std::ostringstream say;
             if (k == "temperature_K" || k == "temperature_C") {
                 const double v = number(node, name, k);
@@ -211,7 +247,8 @@ Conditions readConditionsText(const std::string& text, const std::string& name, 
                 say << "adiabatic";
             } else {
                 throw Error(name, lineOf(node), "unknown key '" + k + "' in " + label +
-                                                    " (temperature_K, temperature_C, flux_W_m2, power_W, adiabatic)");
+                                                    " (temperature_K, temperature_C, flux_W_m2, power_W, adiabatic, "
+                                                    "solar_W_m2)");
             }
             if (given) throw Error(name, lineOf(node), label + " gives two conditions; give one of temperature_K, "
                                                                "temperature_C, flux_W_m2, power_W or adiabatic");
@@ -219,6 +256,12 @@ Conditions readConditionsText(const std::string& text, const std::string& name, 
             given = g;
         }
         if (!given) throw Error(name, lineOf(t), label + " gives no condition (temperature_K, temperature_C, flux_W_m2, power_W or adiabatic)");
+        given->solar = solar;
+        if (solar) {
+            std::ostringstream say;
+            say << ", sun " << *solar << " W/m^2";
+            given->text += say.str();
+        }
         return *given;
     };
 
@@ -274,9 +317,11 @@ Conditions readConditionsText(const std::string& text, const std::string& name, 
     // A power condition makes its object one isothermal node ([default] power: one node per object).
     std::vector<std::uint32_t> nodeOf(scene.objects.size(), UINT32_MAX);
     out.perPatch.resize(scene.size());
+    out.solarIncident.assign(scene.size(), 0.0);
     for (PatchId i = 0; i < scene.size(); ++i) {
         const std::uint32_t o = scene.patches[i].object;
         const Given& g = byObject[o] ? *byObject[o] : *fallback;
+        out.solarIncident[i] = g.solar.value_or(byObject[o] && fallback ? fallback->solar.value_or(0.0) : 0.0);
         Condition& c = out.perPatch[i];
         c.kind = g.kind;
         c.value = g.value;

@@ -17,10 +17,14 @@ namespace hemirad::thermal {
 /// over [default], that over the MTL. `sources` gets one line per object saying where its
 /// properties came from. Throws hemirad::Error naming file:line for a syntax error, an unknown key
 /// or name, a value out of range or eps + s > 1.
-std::vector<SurfaceProperties> applyProperties(const std::string& path, Scene& scene, std::vector<std::string>& sources);
+/// `solar`, if given, gets the solar band's properties per patch: solar_absorptance (in emissivity)
+/// and solar_specular, the same layers deciding, by default 1 - mean(Kd) - s and the IR specular.
+std::vector<SurfaceProperties> applyProperties(const std::string& path, Scene& scene, std::vector<std::string>& sources,
+                                               std::vector<SurfaceProperties>* solar = nullptr);
 /// The same from text (`name` names it in messages).
 std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, const std::string& name, Scene& scene,
-                                                   std::vector<std::string>& sources);
+                                                   std::vector<std::string>& sources,
+                                                   std::vector<SurfaceProperties>* solar = nullptr);
 
 /// Boundary conditions and the environment read from a file.
 struct Conditions {
@@ -28,6 +32,8 @@ struct Conditions {
     std::vector<IsothermalNode> isothermal;  ///< one per object given power_W
     std::optional<double> environment;  ///< K
     std::vector<std::string> sources;   ///< one line per object: its condition
+    /// W/m^2 of solar irradiance arriving from outside on each patch (solar_W_m2; 0 where none).
+    std::vector<double> solarIncident;
 };
 
 /// Reads a boundary-condition file for `scene`. power_W makes its object an isothermal node.

@@ -35,6 +35,11 @@ void checkModel(const Scene& scene, const ThermalModel& model) {
     if (model.surface.size() != n || model.condition.size() != n)
         throw Error("thermal: the model has " + std::to_string(model.surface.size()) + " properties and " +
                     std::to_string(model.condition.size()) + " conditions for " + std::to_string(n) + " patches");
+    if (!model.absorbedExternal.empty() && model.absorbedExternal.size() != n)
+        throw Error("thermal: the absorbed external heat has " + std::to_string(model.absorbedExternal.size()) +
+                    " values for " + std::to_string(n) + " patches");
+    for (const double a : model.absorbedExternal)
+        if (!(std::isfinite(a) && a >= 0.0)) throw Error("thermal: an absorbed external heat flux is negative or not finite");
     if (!(model.metresPerUnit > 0.0) || !std::isfinite(model.metresPerUnit))
         throw Error("thermal: the length unit must be a positive number of metres");
     if (model.environment && !(std::isfinite(*model.environment) && *model.environment >= 0.0)) {
@@ -63,9 +68,11 @@ void checkModel(const Scene& scene, const ThermalModel& model) {
             msg << "thermal: " << describe(scene, i) << ": temperature " << c.value << " K is below 0 K";
         } else if (c.kind == Condition::Kind::Isothermal && c.node >= model.isothermal.size()) {
             msg << "thermal: " << describe(scene, i) << ": isothermal node " << c.node << " does not exist";
-        } else if (c.kind == Condition::Kind::Flux && sp.emissivity == 0.0 && c.value != 0.0) {
+        } else if (c.kind == Condition::Kind::Flux && sp.emissivity == 0.0 &&
+                   c.value != -(model.absorbedExternal.empty() ? 0.0 : model.absorbedExternal[i])) {
             msg << "thermal: " << describe(scene, i) << ": a net flux of " << c.value
-                << " W/m^2 on a surface with emissivity 0, which neither emits nor absorbs";
+                << " W/m^2 on a surface with IR emissivity 0, which neither emits nor absorbs in the IR (its net flux "
+                   "can only be minus what it absorbs of the sun)";
         } else {
             continue;
         }

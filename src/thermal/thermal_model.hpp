@@ -52,6 +52,9 @@ struct ThermalModel {
     /// an environment at 0 K.
     std::optional<double> environment;
     double metresPerUnit = 1.0;  ///< scene length unit in metres (areas in m^2 = area * this^2)
+    /// Heat absorbed per patch from outside the IR band (W/m^2; the solar band's absorbed flux), a
+    /// source in each patch's balance: the net heat leaving is q = eps (sigma T^4 - H) - this. Empty: 0.
+    std::vector<double> absorbedExternal;
     /// Where each object's properties and condition came from, for the report (per scene object).
     std::vector<std::string> propertySource, conditionSource;
 };

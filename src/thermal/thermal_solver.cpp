@@ -46,6 +46,7 @@ ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const The
     const double envT = model.environment.value_or(0.0);
     const double envExitance = sigma * envT * envT * envT * envT;
     const double m2 = model.metresPerUnit * model.metresPerUnit;
+    auto external = [&](std::size_t i) { return model.absorbedExternal.empty() ? 0.0 : model.absorbedExternal[i]; };
 
     // Band 0: the known temperatures and fluxes, isothermal nodes at 0 K. Band 1 + k: node k's
     // patches emitting eps sigma T_ref^4, nothing else (the response to node k's temperature). The
@@ -71,7 +72,7 @@ ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const The
             source = sp.emissivity * sigma * T2 * T2 + rho * Henv;
         } else if (c.kind == Condition::Kind::Flux) {
             rho = 1.0 - sp.specular;
-            source = c.value + rho * Henv;
+            source = c.value + external(i) + rho * Henv;  // the IR flux leaving carries the absorbed sun too
         } else {
             source = rho * Henv;
             bands[1 + c.node].source[i] = sp.emissivity * sigma * kReferenceT4;
@@ -115,12 +116,16 @@ ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const The
             return Q;
         };
         const std::vector<double> Q0 = nodePowers(out.J, true);
+        std::vector<double> absorbedByNode(nodes, 0.0);
+        for (std::size_t i = 0; i < n; ++i)
+            if (model.condition[i].kind == Condition::Kind::Isothermal)
+                absorbedByNode[model.condition[i].node] += scene.patches[i].area * m2 * external(i);
         Eigen::MatrixXd M(nodes, nodes);
         Eigen::VectorXd rhs(nodes);
         for (std::size_t k = 0; k < nodes; ++k) {
             const std::vector<double> Qk = nodePowers(solved.X[1 + k], false);
             for (std::size_t I = 0; I < nodes; ++I) M(Eigen::Index(I), Eigen::Index(k)) = Qk[I];
-            rhs[Eigen::Index(k)] = model.isothermal[k].power - Q0[k];
+            rhs[Eigen::Index(k)] = model.isothermal[k].power + absorbedByNode[k] - Q0[k];
         }
         const Eigen::FullPivLU<Eigen::MatrixXd> lu(M);
         if (lu.rank() < Eigen::Index(nodes))
@@ -155,11 +160,11 @@ ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const The
         if (c.kind == Condition::Kind::Temperature || c.kind == Condition::Kind::Isothermal) {
             const double T = c.kind == Condition::Kind::Temperature ? c.value : out.isothermalT[c.node];
             out.T[i] = T;
-            out.q[i] = sp.emissivity * (sigma * T * T * T * T - h);
+            out.q[i] = sp.emissivity * (sigma * T * T * T * T - h) - external(i);
         } else {
             out.q[i] = c.value;
             if (sp.emissivity > 0.0) {
-                const double T4 = (c.value + sp.emissivity * h) / (sp.emissivity * sigma);
+                const double T4 = (c.value + external(i) + sp.emissivity * h) / (sp.emissivity * sigma);
                 if (T4 < 0.0) {
                     std::ostringstream msg;
                     msg << "thermal: patch " << i;
@@ -186,14 +191,15 @@ ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const The
         const double w = out.areaM2[i] * (1.0 - model.surface[i].specular);
         for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) absorbedFrom[F.columns()[k]] += w * double(F.values()[k]);
     }
-    double toEnvironmentColumns = 0.0, toEnvironmentRows = 0.0, fromEnvironment = 0.0, sumQ = 0.0;
+    double toEnvironmentColumns = 0.0, toEnvironmentRows = 0.0, fromEnvironment = 0.0, sumQ = 0.0, fromOutside = 0.0;
     for (std::size_t j = 0; j < n; ++j) {
         toEnvironmentColumns += out.J[j] * (out.areaM2[j] - absorbedFrom[j]);
         toEnvironmentRows += out.J[j] * out.areaM2[j] * out.escape[j];
         fromEnvironment += out.areaM2[j] * (1.0 - model.surface[j].specular) * envExitance * out.escape[j];
         sumQ += out.Q[j];
+        fromOutside += out.areaM2[j] * external(j);
     }
-    out.environmentPower = fromEnvironment - toEnvironmentColumns;
+    out.environmentPower = fromEnvironment - toEnvironmentColumns + fromOutside;
     const double scale = largest > 0.0 ? largest : 1.0;
     out.balance = std::abs(sumQ + out.environmentPower) / scale;
     out.reciprocityImbalance = std::abs(toEnvironmentColumns - toEnvironmentRows) / scale;

@@ -16,14 +16,16 @@ struct ThermalSolution {
     std::vector<double> T;  ///< K (NaN where eps = 0 and the flux is given: no temperature is defined)
     std::vector<double> J;  ///< diffuse radiosity, W/m^2
     std::vector<double> H;  ///< irradiance (from the scene and the environment), W/m^2
-    std::vector<double> q;  ///< net flux leaving, W/m^2
+    std::vector<double> q;  ///< net heat flux leaving, W/m^2 (IR leaving minus the absorbed external heat)
     std::vector<double> Q;  ///< net power leaving, W
     std::vector<double> areaM2;  ///< patch areas, m^2
     std::vector<double> isothermalT;  ///< K, per isothermal node of the model
     /// 1 - sum_j F_ij (1 - s_j): the part of patch i's hemisphere through which the environment is
     /// seen (directly or through mirrors), from F's rows.
     std::vector<double> escape;
-    double environmentPower = 0.0;   ///< Q_env: net power the environment gives the scene, W
+    /// Q_env: net power the environment gives the scene, W (its IR exchange, plus the absorbed
+    /// external heat: the sun is part of the environment).
+    double environmentPower = 0.0;
     /// |sum_i Q_i + Q_env| / max_i |Q_i|: the solve's residual as an energy balance. The environment's
     /// emission side is counted from F's columns (what the surfaces absorb of each patch's emission),
     /// so the balance is exact up to the solve, whatever F's reciprocity.

@@ -6,6 +6,7 @@
 #include "engine/subdivide.hpp"
 #include "preprocess/form_factor_job.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
+#include "thermal/solar_band.hpp"
 #include "thermal/thermal_solver.hpp"
 
 #include <Eigen/Dense>
@@ -313,4 +314,57 @@ TEST_CASE("Specular: plates in a kaleidoscope of perfect mirrors exchange as inf
     CHECK(std::abs(sol.q[0] - expected) <= 1e-3 * expected);
     CHECK(std::abs(sol.q[1] + expected) <= 1e-3 * expected);
     CHECK(sol.balance <= 1e-9);
+}
+
+TEST_CASE("Semi-gray: a plate in the sun reaches eps sigma T^4 = alpha S + eps sigma T_env^4, and the solar band balances") {
+    // One plate alone (F = 0): adiabatic, absorbing alpha of the sun, emitting eps in the IR.
+    const Scene s = facingPlates();
+    const double alpha = 0.2, eps = 0.8, sun = 1361.0, Tenv = 3.0;
+    {
+        SceneBuilder one;
+        one.rectangle(2, 0.0, 0, 1, 0, 1, true);
+        const FormFactors F = denseF({{0.0}});
+        SolarBand band;
+        band.surface = {{alpha, 0.0}};
+        band.incident = {sun};
+        const SolarSolution solar = solveSolar(one.scene, F, band, 1.0, SolverOptions{});
+        CHECK(solar.absorbed[0] == doctest::Approx(alpha * sun).epsilon(1e-15));
+        CHECK(solar.balance <= 1e-12);
+        ThermalModel m;
+        m.surface = {{eps, 0.0}};
+        m.condition = {flux(0.0)};
+        m.environment = Tenv;
+        m.absorbedExternal = solar.absorbed;
+        const ThermalSolution sol = solveThermal(one.scene, F, m, SolverOptions{});
+        const double expected = std::pow(alpha * sun / (eps * kStefanBoltzmann) + std::pow(Tenv, 4), 0.25);
+        MESSAGE("plate in the sun: " << sol.T[0] << " K, closed form " << expected << " K");
+        CHECK(sol.T[0] == doctest::Approx(expected).epsilon(1e-12));
+        CHECK(sol.balance <= 1e-12);
+    }
+    // Two facing plates, the sun on plate 1 (say through a window): what is not absorbed leaves, to 1e-12.
+    const double f = c11(1, 1, 1);
+    const FormFactors F = denseF({{0, f}, {f, 0}});
+    SolarBand band;
+    band.surface = {{0.3, 0.2}, {0.6, 0.0}};
+    band.incident = {sun, 0.0};
+    const SolarSolution solar = solveSolar(s, F, band, 1.0, SolverOptions{});
+    // By hand: J1 = rho1 (S + f J2), J2 = rho2 f J1; absorbed alpha (S + H).
+    const double rho1 = 0.5, rho2 = 0.4;
+    const double J1 = rho1 * sun / (1 - rho1 * rho2 * f * f), J2 = rho2 * f * J1;
+    CHECK(solar.absorbed[0] == doctest::Approx(0.3 * (sun + f * J2)).epsilon(1e-6));
+    CHECK(solar.absorbed[1] == doctest::Approx(0.6 * f * J1).epsilon(1e-6));
+    CHECK(solar.balance <= 1e-12);
+    CHECK(solar.escapedPower > 0.2 * sun);  // the specular part of the direct sun, and what misses plate 2
+    // In the IR the absorbed sun is a heat source: plate 2 adiabatic, plate 1 held at 300 K.
+    ThermalModel m;
+    m.surface = {{0.8, 0.0}, {0.9, 0.0}};
+    m.condition = {temperature(300), flux(0.0)};
+    m.environment = 3.0;
+    m.absorbedExternal = solar.absorbed;
+    ThermalModel dark = m;
+    dark.absorbedExternal.clear();
+    const ThermalSolution lit = solveThermal(s, F, m, SolverOptions{}), unlit = solveThermal(s, F, dark, SolverOptions{});
+    CHECK(lit.T[1] > unlit.T[1]);
+    CHECK(lit.Q[0] == doctest::Approx(unlit.Q[0] - solar.absorbed[0] - (lit.H[0] - unlit.H[0]) * 0.8).epsilon(1e-9));
+    CHECK(lit.balance <= 1e-9);
 }

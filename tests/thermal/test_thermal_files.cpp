@@ -101,6 +101,33 @@ TEST_CASE("Conditions: temperatures in K or C, fluxes, adiabatic, power makes an
     CHECK(!d.environment);
 }
 
+TEST_CASE("Solar keys: absorptance and specular by the same layers, the MTL by default, the sun per object or by default") {
+    Scene s = cubeScene();
+    std::vector<std::string> sources;
+    std::vector<SurfaceProperties> solar;
+    applyPropertiesText("[materials.metal]\nemissivity = 0.1\nspecular = 0.8\nsolar_absorptance = 0.15\nsolar_specular = 0.7\n"
+                        "[objects.ceiling]\nsolar_absorptance = 0.9\n",
+                        "props.toml", s, sources, &solar);
+    REQUIRE(solar.size() == 6);
+    CHECK(solar[0].emissivity == doctest::Approx(0.5));  // floor: 1 - Kd 0.5 - s 0
+    CHECK(solar[1].emissivity == 0.9);
+    CHECK(solar[2].emissivity == 0.15);
+    CHECK(solar[2].specular == 0.7);
+    CHECK(s.patches[2].specular == 0.8);  // the IR specular is the scene's
+    CHECK_THROWS_WITH_AS(applyPropertiesText("[objects.walls]\nsolar_absorptance = 0.5\nsolar_specular = 0.6\n", "p.toml", s,
+                                             sources, &solar),
+                         doctest::Contains("p.toml:1: [objects.walls]: solar_absorptance 0.5 + solar_specular 0.6 = 1.1 > 1"),
+                         hemirad::Error);
+    const Conditions c = readConditionsText("[default]\nadiabatic = true\nsolar_W_m2 = 100\n[objects.floor]\ntemperature_K = 300\n"
+                                            "[objects.walls]\nadiabatic = true\nsolar_W_m2 = 1361\n",
+                                            "bc.toml", s, 1.0);
+    CHECK(c.solarIncident[0] == 100.0);   // the floor's table says no sun: the default's
+    CHECK(c.solarIncident[1] == 100.0);
+    CHECK(c.solarIncident[2] == 1361.0);
+    CHECK_THROWS_WITH_AS(readConditionsText("[default]\nadiabatic = true\nsolar_W_m2 = -5\n", "bc.toml", s, 1.0),
+                         doctest::Contains("bc.toml:3: [default]: solar_W_m2 must be >= 0"), hemirad::Error);
+}
+
 TEST_CASE("Condition errors name the file and line: no such object, below 0 K, two conditions, none, objects left out") {
     const Scene s = cubeScene();
     auto read = [&](const std::string& text) { return readConditionsText(text, "bc.toml", s, 1.0); };
