@@ -41,7 +41,11 @@ ThermalInputs readThermalModel(Scene& scene, const Options& options, const Repor
     ThermalInputs inputs;
     thermal::ThermalModel& model = inputs.model;
     model.metresPerUnit = sceneMetres(scene, options, warnings);
-    model.surface = thermal::applyProperties(options.propertiesPath, scene, model.propertySource, &inputs.solar.surface);
+    thermal::BandProperties bands;
+    model.surface = thermal::applyProperties(options.propertiesPath, scene, model.propertySource, &inputs.solar.surface, &bands);
+    model.bandLimitsUm = std::move(bands.limitsUm);
+    model.bandEmissivity = std::move(bands.emissivity);
+    model.referenceTemperature = bands.referenceTemperature;
     thermal::Conditions conditions = thermal::readConditions(options.conditionsPath, scene, model.metresPerUnit);
     inputs.solar.incident = conditions.solarIncident;
     if (!inputs.solar.active()) inputs.solar = {};
@@ -52,6 +56,12 @@ ThermalInputs readThermalModel(Scene& scene, const Options& options, const Repor
     thermal::checkModel(scene, model);
     for (const std::string& s : model.propertySource) reporter.line("properties  " + s);
     for (const std::string& s : model.conditionSource) reporter.line("condition   " + s);
+    if (!model.bandEmissivity.empty()) {
+        std::string limits;
+        for (const double l : model.bandLimitsUm) limits += (limits.empty() ? "" : ", ") + figure(l);
+        reporter.line("IR bands: " + std::to_string(model.bandEmissivity.size()) + " split at " + limits +
+                      " um (conductors use each surface's emissivity weighted at " + figure(model.referenceTemperature) + " K)");
+    }
     reporter.line(model.environment ? "environment " + figure(*model.environment) + " K"
                                     : "environment none (a closed scene: what escapes is lost at 0 K)");
     return inputs;

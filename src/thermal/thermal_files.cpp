@@ -2,11 +2,13 @@
 #include "thermal/thermal_files.hpp"
 
 #include "engine/error.hpp"
+#include "thermal/blackbody.hpp"
 
 #include <toml++/toml.h>
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -50,6 +52,7 @@ const toml::table& tableAt(const toml::node& node, const std::string& file, cons
 /// Partial properties of one table: what it sets.
 struct Entry {
     std::optional<double> emissivity, specular, solarAbsorptance, solarSpecular;
+    std::vector<double> emissivityBands;  ///< emissivity = [...]: one per band (emissivity holds the largest)
     int line = 0;
     std::string label;
 };
@@ -60,6 +63,20 @@ Entry readEntry(const toml::table& t, const std::string& file, const std::string
     e.label = label;
     for (const auto& [key, node] : t) {
         const std::string k(key.str());
+        if (k == "emissivity" && node.as_array()) {
+            for (const toml::node& v : *node.as_array()) {
+                const double x = number(v, file, k);
+                if (x < 0.0 || x > 1.0) {
+                    std::ostringstream msg;
+                    msg << "emissivity " << x << " in " << label << " is outside [0, 1]";
+                    throw Error(file, lineOf(node), msg.str());
+                }
+                e.emissivityBands.push_back(x);
+            }
+            if (e.emissivityBands.empty()) throw Error(file, lineOf(node), "emissivity in " + label + " is an empty list");
+            e.emissivity = *std::max_element(e.emissivityBands.begin(), e.emissivityBands.end());
+            continue;
+        }
         std::optional<double>* field = k == "emissivity"          ? &e.emissivity
                                        : k == "specular"          ? &e.specular
                                        : k == "solar_absorptance" ? &e.solarAbsorptance
@@ -101,13 +118,16 @@ std::map<std::string, std::size_t> indexOf(const std::vector<std::string>& names
 }  // namespace
 
 std::vector<SurfaceProperties> applyProperties(const std::string& path, Scene& scene, std::vector<std::string>& sources,
-                                               std::vector<SurfaceProperties>* solar) {
-    if (path.empty()) return applyPropertiesText("", "", scene, sources, solar);
-    return applyPropertiesText(readText(path), path, scene, sources, solar);
+                                               std::vector<SurfaceProperties>* solar, BandProperties* bands) {
+    if (path.empty()) return applyPropertiesText("", "", scene, sources, solar, bands);
+    return applyPropertiesText(readText(path), path, scene, sources, solar, bands);
 }
 
 std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, const std::string& name, Scene& scene,
-                                                   std::vector<std::string>& sources, std::vector<SurfaceProperties>* solar) {
+                                                   std::vector<std::string>& sources, std::vector<SurfaceProperties>* solar,
+                                                   BandProperties* bands) {
+    BandProperties limits;  // [bands]
+    int bandsLine = 0;
     std::optional<Entry> fallback;
     std::map<std::size_t, Entry> byMaterial, byObject;
     if (!name.empty()) {
@@ -117,7 +137,29 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
         const auto materials = indexOf(materialNames), objects = indexOf(scene.objects);
         for (const auto& [key, node] : root) {
             const std::string k(key.str());
-            if (k == "default") {
+            if (k == "bands") {
+                bandsLine = lineOf(node);
+                for (const auto& [bandKey, bandNode] : tableAt(node, name, "[bands]")) {
+                    const std::string bk(bandKey.str());
+                    if (bk == "limits_um") {
+                        const toml::array* list = bandNode.as_array();
+                        if (!list || list->empty()) throw Error(name, lineOf(bandNode), "[bands]: limits_um must be a list of wavelengths (um)");
+                        for (const toml::node& v : *list) {
+                            const double x = number(v, name, bk);
+                            if (!(x > (limits.limitsUm.empty() ? 0.0 : limits.limitsUm.back())))
+                                throw Error(name, lineOf(bandNode), "[bands]: limits_um must be positive and increasing");
+                            limits.limitsUm.push_back(x);
+                        }
+                    } else if (bk == "reference_temperature_K") {
+                        limits.referenceTemperature = number(bandNode, name, bk);
+                        if (!(limits.referenceTemperature > 0.0))
+                            throw Error(name, lineOf(bandNode), "[bands]: reference_temperature_K must be above 0 K");
+                    } else {
+                        throw Error(name, lineOf(bandNode), "unknown key '" + bk + "' in [bands] (limits_um, reference_temperature_K)");
+                    }
+                }
+                if (limits.limitsUm.empty()) throw Error(name, bandsLine, "[bands] gives no limits_um");
+            } else if (k == "default") {
                 fallback = readEntry(tableAt(node, name, "[default]"), name, "[default]");
             } else if (k == "materials" || k == "objects") {
                 const bool isObject = k == "objects";
@@ -133,9 +175,28 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
                     (isObject ? byObject : byMaterial)[found->second] = readEntry(tableAt(entryNode, name, label), name, label);
                 }
             } else {
-                throw Error(name, lineOf(node), "unknown table '" + k + "' (default, materials, objects)");
+                throw Error(name, lineOf(node), "unknown table '" + k + "' (bands, default, materials, objects)");
             }
         }
+    }
+
+    // Every band list must match the bands.
+    const std::size_t bandCount = limits.limitsUm.empty() ? 0 : limits.limitsUm.size() + 1;
+    auto checkBands = [&](const Entry& e) {
+        if (e.emissivityBands.empty()) return;
+        if (!bandCount)
+            throw Error(name, e.line, e.label + ": emissivity has " + std::to_string(e.emissivityBands.size()) +
+                                          " values but no [bands] table gives their limits");
+        if (e.emissivityBands.size() != bandCount)
+            throw Error(name, e.line, e.label + ": emissivity has " + std::to_string(e.emissivityBands.size()) + " values for " +
+                                          std::to_string(bandCount) + " bands ([bands] line " + std::to_string(bandsLine) + ")");
+    };
+    if (fallback) checkBands(*fallback);
+    for (const auto& [index, e] : byMaterial) checkBands(e);
+    for (const auto& [index, e] : byObject) checkBands(e);
+    if (bands) {
+        *bands = limits;
+        bands->emissivity.assign(bandCount, std::vector<double>(scene.size(), 0.0));
     }
 
     std::vector<SurfaceProperties> surface = propertiesFromMaterials(scene);
@@ -147,13 +208,19 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
         if (auto it = byMaterial.find(p.material); it != byMaterial.end()) layers[1] = &it->second;
         if (fallback) layers[2] = &*fallback;
         std::optional<double> eps, s, alpha, sSolar;
+        const std::vector<double>* epsBands = nullptr;
         std::string from;
         int line = 0, solarLine = 0;
         for (const Entry* e : layers) {
             if (!e) continue;
             if (!alpha && e->solarAbsorptance) alpha = e->solarAbsorptance, solarLine = e->line;
             if (!sSolar && e->solarSpecular) sSolar = e->solarSpecular, solarLine = e->line;
-            if (!eps && e->emissivity) eps = e->emissivity, from += (from.empty() ? "" : ", ") + std::string("emissivity from ") + e->label, line = e->line;
+            if (!eps && e->emissivity) {
+                eps = e->emissivity;
+                if (!e->emissivityBands.empty()) epsBands = &e->emissivityBands;
+                from += (from.empty() ? "" : ", ") + std::string("emissivity from ") + e->label;
+                line = e->line;
+            }
             if (!s && e->specular) s = e->specular, from += (from.empty() ? "" : ", ") + std::string("specular from ") + e->label, line = e->line;
         }
         if (s) p.specular = *s;
@@ -163,11 +230,23 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
             surface[i].emissivity = std::max(0.0, 1.0 - p.rho.mean() - p.specular);
             from += (from.empty() ? "" : ", ") + std::string("emissivity 1 - mean(Kd) - s from the MTL");
         }
-        if (surface[i].emissivity + surface[i].specular > 1.0 + 1e-12) {
+        if (bandCount) {
+            // Per band: the list, or the one value in every band; the gray value weighted at T_ref.
+            double weighted = 0.0;
+            for (std::size_t k = 0; k < bandCount; ++k) {
+                const double e = epsBands ? (*epsBands)[k] : surface[i].emissivity;
+                if (bands) bands->emissivity[k][i] = e;
+                const double lo = k ? limits.limitsUm[k - 1] : 0.0;
+                const double hi = k < limits.limitsUm.size() ? limits.limitsUm[k] : std::numeric_limits<double>::infinity();
+                weighted += e * bandFraction(lo, hi, limits.referenceTemperature);
+            }
+            surface[i].emissivity = weighted;
+        }
+        if (surface[i].emissivity + surface[i].specular > 1.0 + 1e-12 || (epsBands && *eps + surface[i].specular > 1.0 + 1e-12)) {
             std::ostringstream msg;
             msg << "object '" << scene.objects[p.object] << "' (material '" << scene.materials[p.material].name
-                << "'): emissivity " << surface[i].emissivity << " + specular " << surface[i].specular << " = "
-                << surface[i].emissivity + surface[i].specular << " > 1 (" << from << ")";
+                << "'): emissivity " << (epsBands ? *eps : surface[i].emissivity) << " + specular " << surface[i].specular
+                << " = " << (epsBands ? *eps : surface[i].emissivity) + surface[i].specular << " > 1 (" << from << ")";
             throw Error(name.empty() ? scene.path : name, line, msg.str());
         }
         if (solar) {

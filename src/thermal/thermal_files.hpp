@@ -17,14 +17,25 @@ namespace hemirad::thermal {
 /// over [default], that over the MTL. `sources` gets one line per object saying where its
 /// properties came from. Throws hemirad::Error naming file:line for a syntax error, an unknown key
 /// or name, a value out of range or eps + s > 1.
+/// Non-gray IR from a properties file's [bands] table: interior limits (um), the emissivity per
+/// band and patch (a list per entry, or its one value in every band), the reference temperature
+/// at which the gray emissivity (SurfaceProperties) weights them by the blackbody fractions.
+struct BandProperties {
+    std::vector<double> limitsUm;
+    std::vector<std::vector<double>> emissivity;  ///< [band][patch]; empty without [bands]
+    double referenceTemperature = 300.0;
+};
+
 /// `solar`, if given, gets the solar band's properties per patch: solar_absorptance (in emissivity)
 /// and solar_specular, the same layers deciding, by default 1 - mean(Kd) - s and the IR specular.
+/// `bands`, if given, gets the [bands] model (empty without one).
 std::vector<SurfaceProperties> applyProperties(const std::string& path, Scene& scene, std::vector<std::string>& sources,
-                                               std::vector<SurfaceProperties>* solar = nullptr);
+                                               std::vector<SurfaceProperties>* solar = nullptr, BandProperties* bands = nullptr);
 /// The same from text (`name` names it in messages).
 std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, const std::string& name, Scene& scene,
                                                    std::vector<std::string>& sources,
-                                                   std::vector<SurfaceProperties>* solar = nullptr);
+                                                   std::vector<SurfaceProperties>* solar = nullptr,
+                                                   BandProperties* bands = nullptr);
 
 /// Boundary conditions and the environment read from a file.
 struct Conditions {

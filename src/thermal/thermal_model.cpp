@@ -78,6 +78,27 @@ void checkModel(const Scene& scene, const ThermalModel& model) {
         }
         throw Error(msg.str());
     }
+    if (!model.bandEmissivity.empty()) {
+        if (model.bandEmissivity.size() != model.bandLimitsUm.size() + 1)
+            throw Error("thermal: " + std::to_string(model.bandLimitsUm.size()) + " band limits make " +
+                        std::to_string(model.bandLimitsUm.size() + 1) + " bands, but " +
+                        std::to_string(model.bandEmissivity.size()) + " emissivities per patch were given");
+        for (std::size_t k = 0; k < model.bandLimitsUm.size(); ++k)
+            if (!(model.bandLimitsUm[k] > (k ? model.bandLimitsUm[k - 1] : 0.0)) || !std::isfinite(model.bandLimitsUm[k]))
+                throw Error("thermal: band limits must be finite, positive and increasing (um)");
+        for (std::size_t k = 0; k < model.bandEmissivity.size(); ++k) {
+            if (model.bandEmissivity[k].size() != n) throw Error("thermal: band emissivities need one value per patch");
+            for (PatchId i = 0; i < n; ++i) {
+                const double e = model.bandEmissivity[k][i];
+                if (!(e >= 0.0 && e + model.surface[i].specular <= 1.0 + 1e-12)) {
+                    std::ostringstream msg;
+                    msg << "thermal: " << describe(scene, i) << ": band " << k + 1 << " emissivity " << e << " + specular "
+                        << model.surface[i].specular << " must be in [0, 1]";
+                    throw Error(msg.str());
+                }
+            }
+        }
+    }
     std::vector<double> emitting(model.isothermal.size(), 0.0);
     for (PatchId i = 0; i < n; ++i)
         if (model.condition[i].kind == Condition::Kind::Isothermal)

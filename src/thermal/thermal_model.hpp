@@ -46,6 +46,14 @@ struct IsothermalNode {
 struct ThermalModel {
     std::vector<SurfaceProperties> surface;
     std::vector<Condition> condition;
+    /// Non-gray IR: interior band limits (um, increasing; N limits make N + 1 bands from 0 to
+    /// infinity) and each band's emissivity per patch (bandEmissivity[k][i]); emission in band k is
+    /// eps_k F(lambda_k -> lambda_k+1, T) sigma T^4. Empty: gray. Then surface[i].emissivity is the
+    /// emissivity weighted by the blackbody fractions at referenceTemperature (the start of the
+    /// iteration, and what the conductors use).
+    std::vector<double> bandLimitsUm;
+    std::vector<std::vector<double>> bandEmissivity;
+    double referenceTemperature = 300.0;
     std::vector<IsothermalNode> isothermal;
     /// The environment's temperature (K): deep space (3 K), sky or ambient. It takes each patch's
     /// escape (what F does not absorb) and irradiates each patch by its own. None: a closed scene, or

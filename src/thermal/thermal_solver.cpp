@@ -8,6 +8,7 @@
 #include "thermal/thermal_solver.hpp"
 
 #include "engine/error.hpp"
+#include "thermal/band_solver.hpp"
 
 #include <Eigen/Dense>
 
@@ -32,6 +33,7 @@ std::vector<double> escapeFractions(const FormFactors& F, const ThermalModel& mo
 ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const ThermalModel& model,
                              const SolverOptions& options) {
     checkModel(scene, model);
+    if (!model.bandEmissivity.empty()) return detail::solveBandModel(scene, F, model, options);
     const std::size_t n = scene.size();
     if (F.size() != n)
         throw Error("thermal: F has " + std::to_string(F.size()) + " rows but the scene has " + std::to_string(n) + " patches");

@@ -168,3 +168,31 @@ TEST_CASE("A closed enclosure of fluxes only has no temperatures: said, not solv
     m.condition[3] = Condition{Condition::Kind::Flux, -1e6, 0};
     CHECK_THROWS_WITH_AS(solveThermal(s, F, m, SolverOptions{}), doctest::Contains("would have to absorb more than it receives"), Error);
 }
+
+TEST_CASE("Bands in the properties file: limits, a list per entry or one value in every band, and their mistakes") {
+    Scene s = cubeScene();
+    std::vector<std::string> sources;
+    BandProperties bands;
+    const auto surface = applyPropertiesText("[bands]\nlimits_um = [4.0]\n[default]\nemissivity = 0.5\n"
+                                             "[materials.metal]\nemissivity = [0.05, 0.3]\n",
+                                             "props.toml", s, sources, nullptr, &bands);
+    REQUIRE(bands.emissivity.size() == 2);
+    CHECK(bands.limitsUm == std::vector<double>{4.0});
+    CHECK(bands.emissivity[0][0] == 0.5);
+    CHECK(bands.emissivity[1][0] == 0.5);
+    CHECK(bands.emissivity[0][2] == 0.05);
+    CHECK(bands.emissivity[1][2] == 0.3);
+    CHECK(surface[0].emissivity == doctest::Approx(0.5));
+    // At 300 K almost all emission lies above 4 um: the gray value is close to the second band's.
+    CHECK(surface[2].emissivity > 0.29);
+    CHECK(surface[2].emissivity < 0.3);
+    auto fails = [&](const std::string& text, const std::string& message) {
+        Scene t = cubeScene();
+        CHECK_THROWS_WITH_AS(applyPropertiesText(text, "p.toml", t, sources, nullptr, &bands), doctest::Contains(message.c_str()), hemirad::Error);
+    };
+    fails("[default]\nemissivity = [0.1, 0.2]\n", "p.toml:1: [default]: emissivity has 2 values but no [bands] table gives their limits");
+    fails("[bands]\nlimits_um = [4.0, 8.0]\n[default]\nemissivity = [0.1, 0.2]\n", "p.toml:3: [default]: emissivity has 2 values for 3 bands");
+    fails("[bands]\nlimits_um = [8.0, 4.0]\n", "p.toml:2: [bands]: limits_um must be positive and increasing");
+    fails("[bands]\nlimits = [4.0]\n", "p.toml:2: unknown key 'limits' in [bands]");
+    fails("[bands]\nlimits_um = [4.0]\n[materials.metal]\nemissivity = [0.1, 1.2]\n", "p.toml:4: emissivity 1.2 in [materials.metal] is outside [0, 1]");
+}

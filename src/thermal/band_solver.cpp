@@ -1,0 +1,244 @@
+// Non-gray (banded) IR exchange by a fixed point on the unknown temperatures, Anderson-accelerated
+// (Walker & Ni 2011), each step one linear radiosity solve per band (Siegel & Howell, the band
+// energy approximation: within a band every property is gray).
+#include "thermal/band_solver.hpp"
+
+#include "engine/error.hpp"
+#include "thermal/blackbody.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace hemirad::thermal::detail {
+namespace {
+
+constexpr int kMaxIterations = 300;
+constexpr double kTolerance = 1e-12;
+constexpr std::size_t kHistory = 6;
+
+/// The T at which sum_k c_k f_k(T) sigma T^4 = target (c_k >= 0, not all 0; target >= 0), by bisection.
+double temperatureFor(const std::vector<double>& c, const std::vector<double>& lo, const std::vector<double>& hi,
+                      double target) {
+    auto emitted = [&](double T) {
+        double e = 0.0;
+        for (std::size_t k = 0; k < c.size(); ++k) e += c[k] * bandFraction(lo[k], hi[k], T);
+        return e * kStefanBoltzmann * T * T * T * T;
+    };
+    if (!(target > 0.0)) return 0.0;
+    double a = 0.0, b = 300.0;
+    while (emitted(b) < target) {
+        a = b;
+        b *= 2.0;
+        if (b > 1e9) throw Error("thermal: no temperature below 1e9 K gives the power a surface must emit");
+    }
+    for (int step = 0; step < 200 && b - a > 1e-15 * b; ++step) {
+        const double m = 0.5 * (a + b);
+        (emitted(m) < target ? a : b) = m;
+    }
+    return 0.5 * (a + b);
+}
+
+}  // namespace
+
+ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const ThermalModel& model,
+                               const SolverOptions& options) {
+    const std::size_t n = scene.size(), K = model.bandEmissivity.size(), nodes = model.isothermal.size();
+    std::vector<double> lo(K), hi(K);
+    for (std::size_t k = 0; k < K; ++k) {
+        lo[k] = k ? model.bandLimitsUm[k - 1] : 0.0;
+        hi[k] = k < model.bandLimitsUm.size() ? model.bandLimitsUm[k] : std::numeric_limits<double>::infinity();
+    }
+    auto external = [&](std::size_t i) { return model.absorbedExternal.empty() ? 0.0 : model.absorbedExternal[i]; };
+    const double m2 = model.metresPerUnit * model.metresPerUnit;
+    const double envT = model.environment.value_or(0.0), sigma = kStefanBoltzmann;
+
+    // The gray start (also the check of the conditions: closed enclosures of fluxes, and so on).
+    ThermalModel gray = model;
+    gray.bandEmissivity.clear();
+    gray.bandLimitsUm.clear();
+    ThermalSolution out = solveThermal(scene, F, gray, options);
+
+    // The unknowns: flux patches' and nodes' temperatures, x = (T_free..., T_node...).
+    std::vector<std::size_t> free;
+    for (std::size_t i = 0; i < n; ++i)
+        if (model.condition[i].kind == Condition::Kind::Flux) {
+            double any = 0.0;
+            for (std::size_t k = 0; k < K; ++k) any += model.bandEmissivity[k][i];
+            if (any > 0.0) free.push_back(i);
+        }
+    const std::size_t m = free.size() + nodes;
+    auto temperatureOf = [&](const Eigen::VectorXd& x, std::size_t i) {
+        const Condition& c = model.condition[i];
+        if (c.kind == Condition::Kind::Temperature) return c.value;
+        if (c.kind == Condition::Kind::Isothermal) return x[Eigen::Index(free.size() + c.node)];
+        const auto at = std::lower_bound(free.begin(), free.end(), i);
+        return at != free.end() && *at == i ? x[at - free.begin()] : 0.0;
+    };
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(Eigen::Index(m));
+    for (std::size_t f = 0; f < free.size(); ++f) x[Eigen::Index(f)] = out.T[free[f]];
+    for (std::size_t k = 0; k < nodes; ++k) x[Eigen::Index(free.size() + k)] = out.isothermalT[k];
+
+    std::vector<Band> bands(K);
+    std::vector<std::vector<double>> J(K, std::vector<double>(n, 0.0)), H(K, std::vector<double>(n, 0.0));
+    for (std::size_t k = 0; k < K; ++k) {
+        bands[k].name = "ir band " + std::to_string(k + 1);
+        bands[k].rho.resize(n);
+        bands[k].source.resize(n);
+        for (std::size_t i = 0; i < n; ++i) bands[k].rho[i] = std::max(0.0, 1.0 - model.bandEmissivity[k][i] - model.surface[i].specular);
+    }
+    const double envT4 = sigma * envT * envT * envT * envT;
+    std::vector<double> envShare(K);
+    for (std::size_t k = 0; k < K; ++k) envShare[k] = bandFraction(lo[k], hi[k], envT) * envT4;
+
+    // One step of the fixed point: the bands for the temperatures x, then the temperatures.
+    SolveReport report;
+    auto step = [&](const Eigen::VectorXd& xs) {
+        for (std::size_t k = 0; k < K; ++k) {
+            for (std::size_t i = 0; i < n; ++i) {
+                const double T = temperatureOf(xs, i);
+                bands[k].source[i] = model.bandEmissivity[k][i] * bandFraction(lo[k], hi[k], T) * sigma * T * T * T * T +
+                                     bands[k].rho[i] * envShare[k] * out.escape[i];
+            }
+            bands[k].initial = &J[k];
+        }
+        BandSolution solved = solveBands(scene, F, bands, options);
+        report = solved.reports.front();
+        for (const SolveReport& r : solved.reports) report.residualOriginal = std::max(report.residualOriginal, r.residualOriginal);
+        for (std::size_t k = 0; k < K; ++k) {
+            J[k] = std::move(solved.X[k]);
+            for (std::size_t i = 0; i < n; ++i) {
+                double h = envShare[k] * out.escape[i];
+                for (std::uint64_t e = F.rowBegin(i); e < F.rowEnd(i); ++e) h += double(F.values()[e]) * J[k][F.columns()[e]];
+                H[k][i] = h;
+            }
+        }
+        Eigen::VectorXd next = Eigen::VectorXd::Zero(Eigen::Index(m));
+        std::vector<double> c(K);
+        for (std::size_t f = 0; f < free.size(); ++f) {
+            const std::size_t i = free[f];
+            double target = model.condition[i].value + external(i);
+            for (std::size_t k = 0; k < K; ++k) {
+                c[k] = model.bandEmissivity[k][i];
+                target += c[k] * H[k][i];
+            }
+            if (target < 0.0) {
+                std::ostringstream msg;
+                msg << "thermal: patch " << i << " has a net flux of " << model.condition[i].value
+                    << " W/m^2 but would have to absorb more than it receives (no temperature solves it)";
+                throw Error(msg.str());
+            }
+            next[Eigen::Index(f)] = temperatureFor(c, lo, hi, target);
+        }
+        for (std::size_t node = 0; node < nodes; ++node) {
+            double target = model.isothermal[node].power;
+            std::fill(c.begin(), c.end(), 0.0);
+            for (std::size_t i = 0; i < n; ++i) {
+                const Condition& cond = model.condition[i];
+                if (cond.kind != Condition::Kind::Isothermal || cond.node != node) continue;
+                const double A = scene.patches[i].area * m2;
+                target += A * external(i);
+                for (std::size_t k = 0; k < K; ++k) {
+                    c[k] += A * model.bandEmissivity[k][i];
+                    target += A * model.bandEmissivity[k][i] * H[k][i];
+                }
+            }
+            if (target < 0.0)
+                throw Error("thermal: isothermal node '" + model.isothermal[node].name +
+                            "' would have to absorb more than it receives (no temperature solves it)");
+            next[Eigen::Index(free.size() + node)] = temperatureFor(c, lo, hi, target);
+        }
+        return next;
+    };
+
+    // Anderson acceleration of x <- step(x) (type II, the last kHistory differences).
+    std::vector<Eigen::VectorXd> dx, dr;
+    Eigen::VectorXd previousX, previousR;
+    int iteration = 0;
+    bool converged = m == 0;
+    for (; iteration < kMaxIterations; ++iteration) {
+        const Eigen::VectorXd g = step(x);
+        if (m == 0) break;
+        const Eigen::VectorXd r = g - x;
+        double change = 0.0;
+        for (Eigen::Index f = 0; f < r.size(); ++f) change = std::max(change, std::abs(r[f]) / std::max(x[f], 1.0));
+        if (change <= kTolerance) {
+            x = g;
+            converged = true;
+            step(x);  // the bands for the final temperatures
+            break;
+        }
+        if (iteration > 0) {
+            dx.push_back(x - previousX);
+            dr.push_back(r - previousR);
+            if (dx.size() > kHistory) {
+                dx.erase(dx.begin());
+                dr.erase(dr.begin());
+            }
+        }
+        previousX = x;
+        previousR = r;
+        Eigen::VectorXd nextX = g;
+        if (!dr.empty()) {
+            Eigen::MatrixXd D(r.size(), Eigen::Index(dr.size())), X(r.size(), Eigen::Index(dx.size()));
+            for (std::size_t h = 0; h < dr.size(); ++h) {
+                D.col(Eigen::Index(h)) = dr[h];
+                X.col(Eigen::Index(h)) = dx[h];
+            }
+            const Eigen::VectorXd gamma = D.colPivHouseholderQr().solve(r);
+            nextX = g - (X + D) * gamma;
+        }
+        for (Eigen::Index f = 0; f < nextX.size(); ++f) x[f] = nextX[f] > 0.0 ? nextX[f] : 0.5 * g[f];  // stay physical
+    }
+    if (!converged && !options.allowUnconverged) {
+        std::ostringstream msg;
+        msg << "thermal: the band model's temperatures did not settle in " << kMaxIterations
+            << " iterations (to 1e-12); pass --allow-unconverged to take them";
+        throw Error(msg.str());
+    }
+
+    // The results from the bands.
+    out.report = report;
+    out.report.iterations = iteration + 1;
+    out.report.note = "band model: " + std::to_string(K) + " bands, " + std::to_string(iteration + 1) + " iterations";
+    out.isothermalT.assign(nodes, 0.0);
+    for (std::size_t k = 0; k < nodes; ++k) out.isothermalT[k] = x[Eigen::Index(free.size() + k)];
+    double largest = 0.0, sumQ = 0.0, environment = 0.0;
+    std::vector<double> absorbedFrom(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double w = out.areaM2[i] * (1.0 - model.surface[i].specular);
+        for (std::uint64_t e = F.rowBegin(i); e < F.rowEnd(i); ++e) absorbedFrom[F.columns()[e]] += w * double(F.values()[e]);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const Condition& c = model.condition[i];
+        double Ji = 0.0, Hi = 0.0, net = 0.0;
+        const double T = c.kind == Condition::Kind::Flux && !std::binary_search(free.begin(), free.end(), i)
+                             ? std::nan("")
+                             : temperatureOf(x, i);
+        for (std::size_t k = 0; k < K; ++k) {
+            Ji += J[k][i];
+            Hi += H[k][i];
+            const double Tk = std::isnan(T) ? 0.0 : T;
+            net += model.bandEmissivity[k][i] * (bandFraction(lo[k], hi[k], Tk) * sigma * Tk * Tk * Tk * Tk - H[k][i]);
+            environment += out.areaM2[i] * (1.0 - model.surface[i].specular) * envShare[k] * out.escape[i] -
+                           J[k][i] * (out.areaM2[i] - absorbedFrom[i]);
+        }
+        out.T[i] = T;
+        out.J[i] = Ji;
+        out.H[i] = Hi;
+        out.q[i] = c.kind == Condition::Kind::Flux ? c.value : net - external(i);
+        out.Q[i] = out.q[i] * out.areaM2[i];
+        largest = std::max(largest, std::abs(out.Q[i]));
+        sumQ += out.Q[i];
+        environment += out.areaM2[i] * external(i);
+    }
+    out.environmentPower = environment;
+    out.balance = std::abs(sumQ + environment) / (largest > 0.0 ? largest : 1.0);
+    out.reciprocityImbalance = 0.0;
+    return out;
+}
+
+}  // namespace hemirad::thermal::detail

@@ -1,0 +1,17 @@
+// Non-gray IR exchange (ThermalModel::bandEmissivity): the bands' linear systems on one F, coupled
+// through the temperatures where fluxes or powers are given. Called by solveThermal.
+#pragma once
+
+#include "thermal/thermal_solver.hpp"
+
+namespace hemirad::thermal::detail {
+
+/// Starts from the gray solution with the reference-weighted emissivities, then iterates: the
+/// bands' radiosities for the current temperatures (one solveBands call, each band's emission
+/// eps_k F(lambda_k -> lambda_k+1, T) sigma T^4), then each unknown temperature from its own
+/// balance given the bands' irradiances (bisection: the emitted power grows with T at every
+/// wavelength), Anderson-accelerated; until no temperature moves by 1e-12 relative.
+ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const ThermalModel& model,
+                               const SolverOptions& options);
+
+}  // namespace hemirad::thermal::detail
