@@ -438,9 +438,26 @@ py::dict thermalSolve(const ScenePtr& scene, py::array_t<std::int64_t, py::array
                       py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
                       py::array_t<double, py::array::c_style> emissivity, py::array_t<double, py::array::c_style> specular,
                       py::array_t<double, py::array::c_style> temperature, py::array_t<double, py::array::c_style> flux,
-                      py::object environment, const std::string& solverName, double tolerance) {
+                      py::object environment, py::array_t<double, py::array::c_style> absorbed,
+                      std::vector<double> bandLimits, py::array_t<double, py::array::c_style> bandEmissivity,
+                      const std::string& solverName, double tolerance) {
     const GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");
-    const thermal::ThermalModel model = thermalModel(*scene, emissivity, specular, temperature, flux, environment);
+    thermal::ThermalModel model = thermalModel(*scene, emissivity, specular, temperature, flux, environment);
+    const std::size_t n = scene->size();
+    if (absorbed.size() > 0) {
+        if (absorbed.ndim() != 1 || std::size_t(absorbed.size()) != n) throw Error("absorbed: expected one value per patch");
+        model.absorbedExternal.assign(absorbed.data(), absorbed.data() + n);
+    }
+    if (!bandLimits.empty()) {
+        if (bandEmissivity.ndim() != 2 || std::size_t(bandEmissivity.shape(0)) != bandLimits.size() + 1 ||
+            std::size_t(bandEmissivity.shape(1)) != n)
+            throw Error("band_emissivity: expected shape (" + std::to_string(bandLimits.size() + 1) + ", " + std::to_string(n) +
+                        ") for " + std::to_string(bandLimits.size()) + " band limits");
+        model.bandLimitsUm = bandLimits;
+        model.bandEmissivity.assign(bandLimits.size() + 1, std::vector<double>(n));
+        for (std::size_t k = 0; k <= bandLimits.size(); ++k)
+            for (std::size_t i = 0; i < n; ++i) model.bandEmissivity[k][i] = bandEmissivity.at(k, i);
+    }
     SolverOptions options;
     options.solver = solverName;
     options.tolerance = tolerance;

@@ -473,3 +473,20 @@ def test_thermal_three_surface_enclosure_and_gebhart():
         hemirad.thermal(cube, F, eps, temperature=np.full(n, 300.0), flux=np.zeros(n))
     with pytest.raises(hemirad.Error, match="emissivity 0.7 \\+ specular reflectance 0.5"):
         hemirad.thermal(cube, F, eps, specular=np.where(np.arange(n) == floor, 0.5, 0.0), temperature=T, flux=q)
+
+
+def test_thermal_sun_and_bands():
+    # One plate alone in the sun (F = 0): eps sigma T^4 = absorbed + eps sigma T_env^4; with two bands of
+    # equal emissivity the same temperature.
+    plates = hemirad.load(scene_path("parallel_plates.obj"))
+    n = len(plates)
+    F = scipy.sparse.csr_matrix((n, n), dtype=np.float32)
+    sigma = 5.670374419e-8
+    result = hemirad.thermal(plates, F, 0.8, flux=np.zeros(n), environment=3.0, absorbed=np.full(n, 272.2))
+    expected = (272.2 / (0.8 * sigma) + 3.0**4) ** 0.25
+    assert np.allclose(result["T"], expected, rtol=1e-12)
+    banded = hemirad.thermal(plates, F, 0.8, flux=np.zeros(n), environment=3.0, absorbed=np.full(n, 272.2),
+                             band_limits_um=[5.0], band_emissivity=np.full((2, n), 0.8))
+    assert np.allclose(banded["T"], expected, rtol=1e-11)
+    with pytest.raises(hemirad.Error, match="band_emissivity: expected shape"):
+        hemirad.thermal(plates, F, 0.8, flux=np.zeros(n), band_limits_um=[5.0], band_emissivity=np.full((3, n), 0.8))

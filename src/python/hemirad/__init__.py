@@ -292,14 +292,16 @@ def _patch_values(name, values, n, default=None):
 
 
 def thermal(scene, F, emissivity, specular=None, temperature=None, flux=None, environment=None, *,
-            solver="auto", tolerance=1e-6):
+            absorbed=None, band_limits_um=None, band_emissivity=None, solver="auto", tolerance=1e-6):
     """Gray radiative exchange on F (docs/thermal.md): the net-radiation method with mirrors.
 
     emissivity, specular: per patch (or one value for all); specular None takes the scene's (F was
     computed with it). temperature (K) and flux (W/m^2, net leaving; 0 = adiabatic): per patch, NaN
     where not given; each patch needs exactly one. environment: the temperature (K) that receives what
     leaves an open scene, or None for a closed scene. Lengths are the scene's unit in metres (metres
-    when it states none).
+    when it states none). absorbed: heat absorbed per patch from outside the IR (W/m^2, e.g. the sun).
+    band_limits_um (K increasing wavelengths) with band_emissivity of shape (K + 1, N): non-gray IR, each
+    band's emission by the blackbody fractions (emissivity then only starts the iteration).
     Returns a dict of per-patch arrays T (K), J, H, q (W/m^2, net leaving), Q (W), and environment_power
     (W, what the environment gives), balance (|sum Q + Q_env| / max |Q|), solver, residual.
     """
@@ -312,7 +314,13 @@ def thermal(scene, F, emissivity, specular=None, temperature=None, flux=None, en
     q = _patch_values("flux", flux, n, nan)
     indptr, indices, data = _canonical(F, n)
     env = None if environment is None else float(environment)
-    return _hemirad._thermal(scene, indptr, indices, data, eps, s, T, q, env, solver, float(tolerance))
+    gained = _np.zeros(0) if absorbed is None else _patch_values("absorbed", absorbed, n)
+    limits = [] if band_limits_um is None else [float(x) for x in band_limits_um]
+    bands = _np.zeros((0, 0)) if band_emissivity is None else _np.ascontiguousarray(band_emissivity, dtype=_np.float64)
+    if bool(limits) != (band_emissivity is not None):
+        raise ValueError("band_limits_um and band_emissivity go together")
+    return _hemirad._thermal(scene, indptr, indices, data, eps, s, T, q, env, gained, limits, bands, solver,
+                             float(tolerance))
 
 
 def conductors(scene, F, emissivity, specular=None, *, lump="patches", threshold=0.0):
