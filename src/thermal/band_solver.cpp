@@ -45,7 +45,8 @@ double temperatureFor(const std::vector<double>& c, const std::vector<double>& l
 }  // namespace
 
 ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const ThermalModel& model,
-                               const SolverOptions& options) {
+                               const SolverOptions& given) {
+    const SolverOptions options = thermalSolverOptions(given, scene.size());
     const std::size_t n = scene.size(), K = model.bandEmissivity.size(), nodes = model.isothermal.size();
     std::vector<double> lo(K), hi(K);
     for (std::size_t k = 0; k < K; ++k) {

@@ -18,8 +18,9 @@ constexpr std::size_t kDenseTableNodes = 4096;
 
 /// Calls visit(J, X) for every node J, X[i] = sum_{j in J} B_ij.
 void forEachNodeColumn(const Scene& scene, const FormFactors& F, const ThermalModel& model,
-                       const std::vector<std::vector<PatchId>>& members, std::size_t batch, const SolverOptions& solver,
+                       const std::vector<std::vector<PatchId>>& members, std::size_t batch, const SolverOptions& given,
                        SolveReport& report, const std::function<void(std::size_t, const std::vector<double>&)>& visit) {
+    const SolverOptions solver = thermalSolverOptions(given, scene.size());
     checkModel(scene, model);
     const std::size_t n = scene.size();
     if (F.size() != n) throw Error("thermal: F does not belong to this scene (" + std::to_string(F.size()) + " rows)");

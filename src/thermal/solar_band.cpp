@@ -2,6 +2,7 @@
 #include "thermal/solar_band.hpp"
 
 #include "engine/error.hpp"
+#include "thermal/thermal_solver.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,7 +21,8 @@ bool SolarBand::needsOwnFormFactors(const Scene& scene) const {
 }
 
 SolarSolution solveSolar(const Scene& scene, const FormFactors& F, const SolarBand& band, double metresPerUnit,
-                         const SolverOptions& options) {
+                         const SolverOptions& given) {
+    const SolverOptions options = thermalSolverOptions(given, scene.size());
     const std::size_t n = scene.size();
     if (band.surface.size() != n || band.incident.size() != n || F.size() != n)
         throw Error("thermal: the solar band needs one value per patch and F of the scene");

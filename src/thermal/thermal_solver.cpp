@@ -30,9 +30,16 @@ std::vector<double> escapeFractions(const FormFactors& F, const ThermalModel& mo
     return escape;
 }
 
+SolverOptions thermalSolverOptions(const SolverOptions& options, std::size_t patches) {
+    SolverOptions o = options;
+    if (o.solver == "auto") o.solver = patches <= 2000 ? "lu" : "bicgstab";
+    return o;
+}
+
 ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const ThermalModel& model,
-                             const SolverOptions& options) {
+                             const SolverOptions& given) {
     checkModel(scene, model);
+    const SolverOptions options = thermalSolverOptions(given, scene.size());
     if (!model.bandEmissivity.empty()) return detail::solveBandModel(scene, F, model, options);
     const std::size_t n = scene.size();
     if (F.size() != n)

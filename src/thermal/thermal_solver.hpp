@@ -44,6 +44,11 @@ struct ThermalSolution {
 ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const ThermalModel& model,
                              const SolverOptions& options);
 
+/// The solver options thermal solves use: "auto" is lu up to 2000 patches, else bicgstab (conditions
+/// of flux make rows of reflectance 1 - s, often 1, where stationary sweeps crawl; measured in
+/// bench/thermal.sh); a named solver is kept.
+SolverOptions thermalSolverOptions(const SolverOptions& options, std::size_t patches);
+
 /// Per patch: 1 - sum_j F_ij (1 - s_j) (s from the model).
 std::vector<double> escapeFractions(const FormFactors& F, const ThermalModel& model);
 
