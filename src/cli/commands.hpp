@@ -11,6 +11,7 @@ int runRender(const Options& options);
 int runInfo(const Options& options);
 int runSubdivide(const Options& options);
 int runThermal(const Options& options);
+int runSkyView(const Options& options);
 int runCheck(const Options& options);
 int runBench(const Options& options);
 int runBenchRun(const Options& options);

@@ -20,8 +20,8 @@
 namespace hemirad {
 namespace {
 
-const std::set<std::string> kCommands = {"formfactors", "solve", "render", "thermal", "info", "subdivide", "check", "bench", "bench-run", "help"};
-const std::set<std::string> kComputing = {"formfactors", "solve", "render", "thermal", "bench", "bench-run"};
+const std::set<std::string> kCommands = {"formfactors", "solve", "render", "thermal", "sky-view", "info", "subdivide", "check", "bench", "bench-run", "help"};
+const std::set<std::string> kComputing = {"formfactors", "solve", "render", "thermal", "sky-view", "bench", "bench-run"};
 const std::set<std::string> kSolving = {"solve", "render", "thermal", "bench", "bench-run"};
 const std::set<std::string> kThermal = {"thermal"};
 
@@ -105,7 +105,7 @@ std::string joined(const std::vector<std::string>& names, const std::string& las
 /// The formats each writing command offers; the first is the default on standard output.
 const std::vector<std::string>& outputFormats(const std::string& command) {
     static const std::map<std::string, std::vector<std::string>> formats = {
-        {"formfactors", {"mtx", "hff"}}, {"solve", {"csv", "ply"}}, {"render", {"png"}}, {"thermal", {"csv"}}};
+        {"formfactors", {"mtx", "hff"}}, {"solve", {"csv", "ply"}}, {"render", {"png"}}, {"thermal", {"csv"}}, {"sky-view", {"csv"}}};
     static const std::vector<std::string> none;
     const auto it = formats.find(command);
     return it == formats.end() ? none : it->second;
@@ -119,7 +119,7 @@ struct Flag {
 
 const std::map<std::string, Flag>& flags() {
     static const std::map<std::string, Flag> table = {
-        {"-o", {{"formfactors", "solve", "render", "thermal", "subdivide", "bench"}, true,
+        {"-o", {{"formfactors", "solve", "render", "thermal", "sky-view", "subdivide", "bench"}, true,
                 [](Options& o, const std::string&, const std::string& v) { o.output = v; }}},
         {"--format", {{"formfactors", "solve", "render"}, true,
                       [](Options& o, const std::string& f, const std::string& v) {
@@ -132,7 +132,7 @@ const std::map<std::string, Flag>& flags() {
         {"--quiet", {{}, false, [](Options& o, const std::string&, const std::string&) { o.quiet = true; }}},
         {"--subdivide", {kComputing, true,
                          [](Options& o, const std::string& f, const std::string& v) { o.subdivide = parseNumber(f, v, 1e-12, 1e300); }}},
-        {"--materials", {{"formfactors", "solve", "render", "thermal", "subdivide", "check", "bench", "bench-run"}, true,
+        {"--materials", {{"formfactors", "solve", "render", "thermal", "sky-view", "subdivide", "check", "bench", "bench-run"}, true,
                          [](Options& o, const std::string& f, const std::string& v) {
                              if (v.empty()) throw UsageError(f + " expects an MTL file name");
                              o.materials = v;
@@ -459,7 +459,7 @@ Options parseOptions(int argc, const char* const* argv) {
         throw UsageError("'render' traces rays with Embree, which is " + rayCastingNotBuilt());
     if (o.inputs.size() != 1)
         throw UsageError("'" + o.command + "' takes exactly one input file, got " + std::to_string(o.inputs.size()));
-    const bool needsOutput = o.command == "formfactors" || o.command == "subdivide" || o.command == "bench";
+    const bool needsOutput = o.command == "formfactors" || o.command == "subdivide" || o.command == "bench" || o.command == "sky-view";
     if (needsOutput && o.output.empty()) throw UsageError("'" + o.command + "' needs -o OUTPUT");
     if (o.command == "render" && o.output.empty()) throw UsageError("'render' needs -o IMAGE.png");
     if (!o.falseColour) {
@@ -475,6 +475,10 @@ Options parseOptions(int argc, const char* const* argv) {
         throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F, or --objects T.csv)");
     if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
     if (o.command == "thermal") {
+        // Heat balances are read to many digits (and a flux condition's row has reflectance 1): the
+        // iterative solvers go to 1e-10 unless told otherwise.
+        if (std::none_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--tolerance"; }))
+            o.solver.tolerance = 1e-10;
         if (o.conditionsPath.empty()) throw UsageError("'thermal' needs --bc CONDITIONS.toml (docs/thermal.md)");
         if (o.output.empty() && o.objectsPath.empty() && o.conductorsPath.empty() && o.exchangePath.empty())
             throw UsageError("'thermal' needs -o T.csv, --objects O.csv, --conductors GR.txt or --exchange Q.csv");
@@ -603,6 +607,8 @@ commands:
   render SCENE -o IMAGE.png              compute, solve and render an image
   thermal SCENE --bc BC.toml -o T.csv    radiative heat transfer: temperatures, fluxes, Gebhart
                                          factors and radiative conductors (docs/thermal.md)
+  sky-view SCENE -o SVF.csv              sky view factor per patch: the sky seen directly (every
+                                         surface blocks it, front or back) and through mirrors
   info F.hff|F.mtx                       check an F file (or a shard manifest and its shards) and
                                          describe it
   subdivide SCENE -o OUT.obj --max-edge L   split patches until no edge exceeds L
@@ -677,6 +683,7 @@ bench:
   --json FILE            also write the results as JSON
   --label NAME           scene name in the results (default: the file name)
 thermal (gray surfaces; F through mirrors as for solve; --ff, --solver and the F options apply):
+  --tolerance T          (thermal) the iterative solvers' relative residual (default 1e-10)
   --bc FILE.toml         boundary conditions per object (temperature_K, temperature_C, flux_W_m2,
                          power_W or adiabatic), a [default] and the [environment] temperature
   --properties FILE.toml emissivity and specular reflectance per material and object (default:

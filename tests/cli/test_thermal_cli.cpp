@@ -76,3 +76,17 @@ TEST_CASE("hemirad thermal refuses bad input before any work: file and line name
     }
     CHECK(!std::filesystem::exists(out));
 }
+
+TEST_CASE("hemirad sky-view writes each patch's sky view factor, direct and through mirrors") {
+    const auto dir = tempDir("sky-view-cli");
+    const std::string out = (dir / "svf.csv").string();
+    const CommandResult r = runCommand(std::string(HEMIRAD_BINARY) + " sky-view " + example("radiator.obj") + " -o " + out + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("sky view factor (hemisphere") != std::string::npos);
+    const std::string csv = readText(out);
+    CHECK(csv.find("patch,object,area (m^2),sky_view_factor,direct,through_mirrors\n0,radiator,") == 0);
+    const CommandResult missing = runCommand(std::string(HEMIRAD_BINARY) + " sky-view " + example("radiator.obj") + " 2>&1");
+    CHECK(missing.status == 2);
+    CHECK(missing.output.find("'sky-view' needs -o OUTPUT") != std::string::npos);
+}

@@ -292,7 +292,7 @@ def _patch_values(name, values, n, default=None):
 
 
 def thermal(scene, F, emissivity, specular=None, temperature=None, flux=None, environment=None, *,
-            absorbed=None, band_limits_um=None, band_emissivity=None, solver="auto", tolerance=1e-6):
+            absorbed=None, band_limits_um=None, band_emissivity=None, solver="auto", tolerance=1e-10):
     """Gray radiative exchange on F (docs/thermal.md): the net-radiation method with mirrors.
 
     emissivity, specular: per patch (or one value for all); specular None takes the scene's (F was

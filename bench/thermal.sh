@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# Issue 36's benchmark: the thermal solve against the radiosity solve on the same stored F, on
+# cornell13k and street64k (ground at a fixed temperature, heat fluxes on the walls, the sky dome and
+# the environment at 260 K), and the conductor export (Gebhart factors by column solves) per object
+# and per patch. Usage: bench/thermal.sh [HEMIRAD] [WORK]; prints a Markdown table.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+hemirad=${1:-$root/build/hemirad}
+work=${2:-$root/bench/cache/thermal}
+mkdir -p "$work"
+[ -f "$work/cornell13k.obj" ] || /usr/bin/python3 "$root/scenes/generators/cornell13k.py" "$work" >/dev/null
+[ -f "$work/street64k.obj" ] || /usr/bin/python3 "$root/scenes/generators/street64k.py" "$work" >/dev/null
+
+cat >"$work/cornell13k_bc.toml" <<'TOML'
+[environment]
+temperature_K = 260
+[default]
+flux_W_m2 = 20
+[objects.floor]
+temperature_K = 300
+[objects.light_sphere]
+temperature_K = 400
+TOML
+cat >"$work/street64k_bc.toml" <<'TOML'
+[environment]
+temperature_K = 260
+[default]
+flux_W_m2 = 15           # the buildings' walls, roofs and windows lose heat from inside
+[objects.ground]
+temperature_K = 305
+[objects.sky]
+temperature_K = 260
+TOML
+
+stage() {  # the seconds of a stage in hemirad's timing table
+  awk -v s="$1" 'index($0, s) == 1 && index($0, ":") == 0 { print $NF; exit }'
+}
+
+echo "| scene | patches | F nonzeros | radiosity solve (s) | thermal solve (s) | thermal / radiosity | conductors per object (s) | energy balance |"
+echo "|---|---|---|---|---|---|---|---|"
+for scene in cornell13k street64k; do
+  obj="$work/$scene.obj"
+  unit=m
+  [ "$scene" = cornell13k ] && unit=mm
+  ff="$work/$scene.hff"
+  [ -f "$ff" ] || "$hemirad" formfactors "$obj" --all-rows -o "$ff" --quiet
+  nnz=$("$hemirad" info "$ff" | awk '/nonzeros/ { for (i = 1; i <= NF; ++i) if ($i ~ /^[0-9]+$/) { print $i; exit } }')
+  radiosity=$("$hemirad" solve "$obj" --ff "$ff" -o "$work/B.csv" | stage "solve (")
+  log=$("$hemirad" thermal "$obj" --unit "$unit" --ff "$ff" --bc "$work/${scene}_bc.toml" -o "$work/T.csv" --conductors "$work/GR.csv")
+  echo "$log" | grep -E '^(thermal solve|energy balance|conductors):' >&2
+  thermal=$(echo "$log" | stage "thermal solve")
+  conductors=$(echo "$log" | stage "Gebhart factors")
+  balance=$(echo "$log" | sed -n 's/^energy balance: |sum Q + Q_env| \/ max |Q| = \([^;]*\);.*/\1/p')
+  patches=$(grep -c '^f ' "$obj")
+  ratio=$(awk -v a="$thermal" -v b="$radiosity" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }')
+  echo "| $scene | $patches | $nnz | $radiosity | $thermal | $ratio | $conductors | $balance |"
+done
+
+# Conductors per patch: one column solve per patch (a batch of 64 shares a factorisation or a sweep).
+echo
+echo "| conductors per patch | patches | seconds | couplings |"
+echo "|---|---|---|---|"
+for edge in 60 40; do
+  obj="$root/scenes/cornell_box.obj"
+  log=$("$hemirad" thermal "$obj" --subdivide "$edge" --bc "$work/cornell13k_bc.toml" --lump patches \
+        --conductors "$work/GRp.csv" 2>&1 || true)
+  patches=$(echo "$log" | sed -n 's/.*subdivided to \([0-9]*\) patches.*/\1/p')
+  seconds=$(echo "$log" | stage "Gebhart factors")
+  couplings=$(echo "$log" | sed -n 's/^conductors: \([0-9]*\) couplings.*/\1/p')
+  echo "| cornell_box --subdivide $edge | $patches | $seconds | $couplings |"
+done
