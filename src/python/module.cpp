@@ -1,6 +1,7 @@
 // hemirad._hemirad: the C++ library seen from Python. A thin layer over the pipeline, the back-end and
 // solver registries and the F files; hemirad/__init__.py turns its arrays into scipy/numpy objects.
 #include "engine/error.hpp"
+#include "environment/sky_view.hpp"
 #include "engine/form_factor_file.hpp"
 #include "engine/obj_writer.hpp"
 #include "engine/result_writer.hpp"
@@ -479,6 +480,25 @@ py::dict thermalSolve(const ScenePtr& scene, py::array_t<std::int64_t, py::array
     return out;
 }
 
+py::dict skyView(const ScenePtr& scene, const std::string& method, const std::map<std::string, std::string>& options,
+                 std::uint32_t maxDepth, int threads) {
+    MethodSettings settings = defaultSettings(method);
+    for (const auto& [flag, value] : options) setBackendOption(settings, flag, value);
+    settings.common.maxDepth = maxDepth;
+    settings.common.threads = threads;
+    SkyView sky;
+    {
+        py::gil_scoped_release release;
+        sky = skyViewFactors(*scene, settings);
+    }
+    py::dict out;
+    out["sky_view_factor"] = numpyVector(sky.total());
+    out["direct"] = numpyVector(sky.direct);
+    out["through_mirrors"] = numpyVector(sky.mirrored.empty() ? std::vector<double>(scene->size(), 0.0) : sky.mirrored);
+    out["method"] = sky.method;
+    return out;
+}
+
 py::dict conductors(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
                     py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
                     py::array_t<double, py::array::c_style> emissivity, py::array_t<double, py::array::c_style> specular,
@@ -581,6 +601,7 @@ PYBIND11_MODULE(_hemirad, m) {
     m.def("_solve", &solve);
     m.def("_thermal", &thermalSolve);
     m.def("_conductors", &conductors);
+    m.def("_sky_view", &skyView);
     m.def("_read_form_factors", &readFormFactors);
     m.def("_write_form_factors", &writeFormFactors);
     m.def("_render", &render);

@@ -490,3 +490,14 @@ def test_thermal_sun_and_bands():
     assert np.allclose(banded["T"], expected, rtol=1e-11)
     with pytest.raises(hemirad.Error, match="band_emissivity: expected shape"):
         hemirad.thermal(plates, F, 0.8, flux=np.zeros(n), band_limits_um=[5.0], band_emissivity=np.full((3, n), 0.8))
+
+
+def test_sky_view_factors_of_plates():
+    # Two unit squares facing each other at distance 1: each sees the other (C-11, 0.199825) and the
+    # rest is sky; the same as the command line's.
+    plates = hemirad.load(scene_path("parallel_plates.obj"))
+    sky = hemirad.sky_view_factors(plates)
+    assert np.allclose(sky["sky_view_factor"], 1 - 0.1998248957, atol=1e-5)
+    assert np.all(sky["through_mirrors"] == 0.0)
+    with pytest.raises(TypeError):
+        hemirad.sky_view_factors(plates, resolution=64)

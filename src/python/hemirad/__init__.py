@@ -21,7 +21,7 @@ import scipy.sparse as _sparse
 from . import _hemirad
 from ._hemirad import Error, Scene
 
-__all__ = ["Error", "Scene", "load", "form_factors", "solve", "thermal", "conductors", "read_form_factors", "write_form_factors",
+__all__ = ["Error", "Scene", "load", "form_factors", "solve", "thermal", "conductors", "sky_view_factors", "read_form_factors", "write_form_factors",
            "render", "methods", "solvers"]
 
 
@@ -347,3 +347,19 @@ def conductors(scene, F, emissivity, specular=None, *, lump="patches", threshold
     absorbed = GR + _sparse.diags(_np.append(r["self"], 0.0))  # a node absorbs some of its own emission too
     B = _sparse.diags(scale) @ absorbed
     return GR, B.tocsr(), list(r["nodes"])
+
+
+def sky_view_factors(scene, method=None, *, max_depth=8, threads=0, **options):
+    """The sky view factor of every patch: the cosine-weighted part of its hemisphere through which the
+    sky is seen, directly (every surface blocks it, front or back) and through mirrors (weighted by s).
+
+    method and options as :func:`form_factors`. Returns a dict of per-patch arrays ``sky_view_factor``
+    (direct + through_mirrors), ``direct`` and ``through_mirrors``, and ``method``.
+    """
+    _check_scene(scene)
+    if method is None:
+        method = next(name for name, entry in methods().items() if entry["default"])
+    if method not in methods():
+        raise ValueError(f"method: expected one of {sorted(methods())}, got {method!r}")
+    flags = {"--" + name.replace("_", "-"): _option_text(method, name, value) for name, value in options.items()}
+    return _hemirad._sky_view(scene, method, flags, int(max_depth), int(threads))
