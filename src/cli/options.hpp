@@ -68,6 +68,14 @@ struct Options {
     std::string exchangePath;            ///< --exchange FILE.csv: net power between objects
     std::string lengthUnit;              ///< --unit: the scene's length unit where the OBJ states none
 
+    // sun command (src/environment).
+    std::optional<Vec3> sunDirectionVector;  ///< --sun-direction x,y,z: toward the sun, scene frame
+    std::string sunTime;                 ///< --sun-time YYYY-MM-DDTHH:MM[:SS][Z|+HH:MM]
+    std::optional<double> latitude, longitude;  ///< --latitude, --longitude (degrees, north and east positive)
+    std::string upAxis = "z";            ///< --up z|y
+    std::optional<Vec3> north;           ///< --north x,y,z (default +y for z up, -z for y up)
+    std::optional<double> dni;           ///< --dni W/m^2: direct-normal irradiance
+
     // subdivide command.
     double maxEdge = 0.0;
 

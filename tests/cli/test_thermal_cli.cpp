@@ -90,3 +90,23 @@ TEST_CASE("hemirad sky-view writes each patch's sky view factor, direct and thro
     CHECK(missing.status == 2);
     CHECK(missing.output.find("'sky-view' needs -o OUTPUT") != std::string::npos);
 }
+
+TEST_CASE("hemirad sun takes a given direction or a time and place, and writes the sunlit fraction and direct irradiance per patch") {
+    const auto dir = tempDir("sun-cli");
+    const std::string out = (dir / "sun.csv").string();
+    // The radiator example is z up: straight overhead the radiator (facing +z) is lit where the baffle
+    // does not shade it.
+    CommandResult r = runCommand(std::string(HEMIRAD_BINARY) + " sun " + example("radiator.obj") +
+                                 " --sun-direction 0,0,1 --dni 1000 -o " + out + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    const std::string csv = readText(out);
+    CHECK(csv.find("patch,object,area (m^2),cos_incidence,sunlit_fraction,direct_irradiance (W/m^2)\n0,radiator,1,1,") == 0);
+    r = runCommand(std::string(HEMIRAD_BINARY) + " sun " + example("radiator.obj") +
+                   " --sun-time 2026-06-21T13:15+02:00 --latitude 48.1 --longitude 11.6 -o " + out + " 2>&1");
+    CHECK(r.status == 0);
+    CHECK(r.output.find("sun: elevation 65.3") != std::string::npos);  // Munich at midsummer solar noon: 90 - 48.1 + 23.44
+    r = runCommand(std::string(HEMIRAD_BINARY) + " sun " + example("radiator.obj") + " --sun-time 2026-06-21T12:00 -o " + out + " 2>&1");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("'sun' needs --sun-direction x,y,z, or --sun-time T --latitude LAT --longitude LON") != std::string::npos);
+}

@@ -1,0 +1,72 @@
+// `hemirad sun SCENE (--sun-direction x,y,z | --sun-time T --latitude LAT --longitude LON) [--dni W]
+// -o SUN.csv`: the direct sun per patch (src/environment).
+#include "cli/commands.hpp"
+#include "cli/pipeline.hpp"
+#include "engine/atomic_file.hpp"
+#include "environment/solar_position.hpp"
+#include "environment/sunlit.hpp"
+
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+namespace hemirad {
+
+int runSun(const Options& options) {
+    Reporter reporter(options.quiet, reportsToStandardError(options));
+    Warnings warnings;
+    Timings timings;
+    const Scene scene = loadScene(options, timings, reporter, warnings);
+    Vec3 toSun;
+    std::ostringstream where;
+    where.precision(6);
+    if (options.sunDirectionVector) {
+        toSun = options.sunDirectionVector->normalized();
+        where << "sun: direction " << toSun.transpose() << " (given)";
+    } else {
+        const SolarPosition p = solarPosition(options.sunTime, *options.latitude, *options.longitude);
+        const Vec3 up = options.upAxis == "z" ? Vec3(0, 0, 1) : Vec3(0, 1, 0);
+        const Vec3 north = options.north ? *options.north : options.upAxis == "z" ? Vec3(0, 1, 0) : Vec3(0, 0, -1);
+        toSun = sunDirection(p, up, north);
+        where << "sun: elevation " << p.elevation << " deg, azimuth " << p.azimuth << " deg from north (Michalsky 1988) at "
+              << options.sunTime << ", latitude " << *options.latitude << ", longitude " << *options.longitude
+              << "; direction " << toSun.transpose();
+    }
+    reporter.line(where.str());
+    timings.start("sunlit fractions");
+    const std::vector<double> lit = sunlitFractions(scene, toSun);
+    timings.stop();
+    double area = 0.0, litArea = 0.0;
+    for (PatchId i = 0; i < scene.size(); ++i) {
+        area += scene.patches[i].area;
+        litArea += scene.patches[i].area * lit[i];
+    }
+    std::ostringstream summary;
+    summary.precision(6);
+    summary << "sunlit: " << (area > 0 ? litArea / area : 0.0) << " of the area (exact shadow polygons)";
+    reporter.line(summary.str());
+
+    timings.start("write CSV");
+    AtomicFile file(options.output, false);
+    std::ostream& out = file.stream();
+    out << std::setprecision(std::numeric_limits<double>::max_digits10);
+    const std::string unit = scene.unit.empty() ? "" : " (" + scene.unit + "^2)";
+    out << "patch,object,area" << unit << ",cos_incidence,sunlit_fraction" << (options.dni ? ",direct_irradiance (W/m^2)" : "") << "\n";
+    const std::vector<double> E = options.dni ? directIrradiance(scene, toSun, *options.dni, lit) : std::vector<double>();
+    for (PatchId i = 0; i < scene.size(); ++i) {
+        std::string name = scene.objects[scene.patches[i].object];
+        if (name.find_first_of(",\"") != std::string::npos) name = "\"" + name + "\"";
+        out << i << ',' << name << ',' << scene.patches[i].area << ',' << std::max(0.0, scene.patches[i].normal.dot(toSun)) << ','
+            << lit[i];
+        if (options.dni) out << ',' << E[i];
+        out << '\n';
+    }
+    file.commit();
+    timings.stop();
+    reporter.line("wrote " + outputName(options.output) + " (per patch: cos of incidence, sunlit fraction" +
+                  (options.dni ? std::string(", direct irradiance") : std::string()) + ")");
+    finishCommand(reporter, timings, warnings);
+    return 0;
+}
+
+}  // namespace hemirad

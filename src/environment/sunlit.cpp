@@ -1,0 +1,155 @@
+// Sunlit fractions by shadow polygons: for a receiver patch, each candidate blocker is clipped to
+// the half-space in front of the receiver's plane, projected along the sun's rays onto that plane
+// (parallel projection keeps it convex), and subtracted from the receiver's clear convex pieces.
+#include "environment/sunlit.hpp"
+
+#include "engine/box_grid.hpp"
+#include "engine/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hemirad {
+
+double polygonArea2d(const std::vector<Vec2>& p) {
+    double a = 0.0;
+    for (std::size_t k = 0; k < p.size(); ++k) {
+        const Vec2& u = p[k];
+        const Vec2& v = p[(k + 1) % p.size()];
+        a += u.x() * v.y() - v.x() * u.y();
+    }
+    return 0.5 * std::abs(a);
+}
+
+namespace {
+
+double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// Splits convex `poly` by the line through a, b: the part left of a->b (inside) and right (outside).
+void splitByLine(const std::vector<Vec2>& poly, const Vec2& a, const Vec2& b, std::vector<Vec2>& inside,
+                 std::vector<Vec2>& outside) {
+    inside.clear();
+    outside.clear();
+    const Vec2 d = b - a;
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+        const Vec2& p = poly[k];
+        const Vec2& q = poly[(k + 1) % poly.size()];
+        const double sp = cross2(d, p - a), sq = cross2(d, q - a);
+        if (sp >= 0.0) inside.push_back(p);
+        if (sp <= 0.0) outside.push_back(p);  // a corner on the line belongs to both sides
+        if ((sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0)) {
+            const Vec2 x = p + (q - p) * (sp / (sp - sq));
+            inside.push_back(x);
+            outside.push_back(x);
+        }
+    }
+    // A side reduced to points on the line (no area) is no piece.
+    if (inside.size() < 3 || polygonArea2d(inside) == 0.0) inside.clear();
+    if (outside.size() < 3 || polygonArea2d(outside) == 0.0) outside.clear();
+}
+
+}  // namespace
+
+std::vector<std::vector<Vec2>> subtractConvex(const std::vector<std::vector<Vec2>>& pieces, std::vector<Vec2> shadow) {
+    // Counter-clockwise shadow: its interior is left of every edge.
+    double signedArea = 0.0;
+    for (std::size_t k = 0; k < shadow.size(); ++k) signedArea += cross2(shadow[k], shadow[(k + 1) % shadow.size()]);
+    if (signedArea < 0.0) std::reverse(shadow.begin(), shadow.end());
+    if (shadow.size() < 3 || std::abs(signedArea) == 0.0) return pieces;
+    std::vector<std::vector<Vec2>> out;
+    std::vector<Vec2> inside, outside;
+    for (const std::vector<Vec2>& piece : pieces) {
+        std::vector<Vec2> rest = piece;
+        for (std::size_t k = 0; k < shadow.size() && !rest.empty(); ++k) {
+            splitByLine(rest, shadow[k], shadow[(k + 1) % shadow.size()], inside, outside);
+            if (!outside.empty()) out.push_back(outside);
+            rest = inside;
+        }
+        // What is left of `rest` lies inside the shadow: dropped.
+    }
+    return out;
+}
+
+std::vector<double> sunlitFractions(const Scene& scene, const Vec3& toSunGiven) {
+    if (!toSunGiven.allFinite() || !(toSunGiven.norm() > 0.0)) throw Error("sun: the direction to the sun must be a finite non-zero vector");
+    const Vec3 d = toSunGiven.normalized();
+    const std::size_t n = scene.size();
+    const double tolerance = 1e-9 * std::max(scene.extent(), 1e-300);
+
+    // Candidates: patches whose boxes overlap as the sun sees them (coordinates across the rays).
+    Vec3 a, b;
+    orthonormalBasis(d, a, b);
+    std::vector<Box> boxes(n);
+    for (PatchId i = 0; i < n; ++i) {
+        const Patch& p = scene.patches[i];
+        Box& box = boxes[i];
+        box.lo = Vec3::Constant(INFINITY);
+        box.hi = Vec3::Constant(-INFINITY);
+        for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
+            const Vec3 c = scene.corner(p, k);
+            const Vec3 s(c.dot(a), c.dot(b), 0.0);
+            box.lo = box.lo.cwiseMin(s);
+            box.hi = box.hi.cwiseMax(s);
+        }
+    }
+    std::vector<std::vector<PatchId>> candidates(n);
+    forEachOverlappingPair(boxes, [&](std::uint32_t i, std::uint32_t j) {
+        candidates[i].push_back(j);
+        candidates[j].push_back(i);
+    });
+
+    std::vector<double> fraction(n, 0.0);
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::int64_t ii = 0; ii < std::int64_t(n); ++ii) {
+        const PatchId i = PatchId(ii);
+        const Patch& p = scene.patches[i];
+        const double facing = p.normal.dot(d);
+        if (!(facing > 0.0)) continue;
+        Vec3 u, v;
+        orthonormalBasis(p.normal, u, v);
+        const Vec3 origin = scene.corner(p, 0);
+        std::vector<std::vector<Vec2>> pieces(1);
+        for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
+            const Vec3 c = scene.corner(p, k) - origin;
+            pieces[0].emplace_back(c.dot(u), c.dot(v));
+        }
+        const double whole = polygonArea2d(pieces[0]);
+        if (!(whole > 0.0)) continue;
+        std::vector<Vec3> cut;
+        std::vector<Vec2> shadow;
+        for (const PatchId j : candidates[i]) {
+            const Patch& q = scene.patches[j];
+            // The blocker's part in front of the receiver's plane (height h = n . (x - origin) >= 0).
+            cut.clear();
+            bool ahead = false;
+            for (std::uint32_t k = 0; k < q.cornerCount; ++k) {
+                const Vec3 c0 = scene.corner(q, k), c1 = scene.corner(q, (k + 1) % q.cornerCount);
+                const double h0 = p.normal.dot(c0 - origin), h1 = p.normal.dot(c1 - origin);
+                ahead = ahead || h0 > tolerance;
+                if (h0 >= 0.0) cut.push_back(c0);
+                if ((h0 > 0.0 && h1 < 0.0) || (h0 < 0.0 && h1 > 0.0)) cut.push_back(c0 + (c1 - c0) * (h0 / (h0 - h1)));
+            }
+            if (!ahead || cut.size() < 3) continue;
+            shadow.clear();
+            for (const Vec3& c : cut) {
+                const Vec3 x = c - d * (p.normal.dot(c - origin) / facing) - origin;
+                shadow.emplace_back(x.dot(u), x.dot(v));
+            }
+            pieces = subtractConvex(pieces, shadow);
+            if (pieces.empty()) break;
+        }
+        double clear = 0.0;
+        for (const std::vector<Vec2>& piece : pieces) clear += polygonArea2d(piece);
+        fraction[i] = std::clamp(clear / whole, 0.0, 1.0);
+    }
+    return fraction;
+}
+
+std::vector<double> directIrradiance(const Scene& scene, const Vec3& toSun, double dni, const std::vector<double>& sunlit) {
+    const Vec3 d = toSun.normalized();
+    std::vector<double> E(scene.size(), 0.0);
+    for (PatchId i = 0; i < scene.size(); ++i) E[i] = dni * std::max(0.0, scene.patches[i].normal.dot(d)) * sunlit[i];
+    return E;
+}
+
+}  // namespace hemirad

@@ -1,0 +1,132 @@
+// Sunlit fractions against exact shadow polygons computed in the test (the convex hull of a box's
+// corners projected along the sun's rays), and the convex-difference geometry underneath.
+#include "support.hpp"
+
+#include "engine/error.hpp"
+#include "environment/solar_position.hpp"
+#include "environment/sunlit.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+namespace {
+
+/// The convex hull (Andrew's monotone chain) of 2D points.
+std::vector<Vec2> hull(std::vector<Vec2> p) {
+    std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
+    std::vector<Vec2> h(2 * p.size());
+    std::size_t k = 0;
+    auto turn = [](const Vec2& o, const Vec2& a, const Vec2& b) { return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x(); };
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        while (k >= 2 && turn(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+        h[k++] = p[i];
+    }
+    for (std::size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
+        while (k >= t && turn(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+        h[k++] = p[i];
+    }
+    h.resize(k - 1);
+    return h;
+}
+
+/// A 20 x 20 ground (z = 0, facing up) and a closed box [x0, x0 + 2] x [y0, y0 + 3] x [0, 4] on it (no
+/// bottom): walls facing out, a top facing up.
+Scene groundAndBox(double x0, double y0) {
+    SceneBuilder b;
+    b.rectangle(2, 0.0, -10, 10, -10, 10, true);
+    const double x1 = x0 + 2, y1 = y0 + 3, h = 4;
+    b.rectangle(2, h, x0, x1, y0, y1, true);
+    b.rectangle(0, x0, y0, y1, 0, h, false);
+    b.rectangle(0, x1, y0, y1, 0, h, true);
+    b.rectangle(1, y0, 0, h, x0, x1, false);
+    b.rectangle(1, y1, 0, h, x0, x1, true);
+    return b.scene;
+}
+
+}  // namespace
+
+TEST_CASE("Sunlit fraction of a ground patch beside a box: 1 - the box's exact shadow polygon, any sun") {
+    const double x0 = -1, y0 = -2;
+    const Scene s = groundAndBox(x0, y0);
+    for (const Vec3& sun : {Vec3(1, 0.5, 1), Vec3(-0.3, 1, 2), Vec3(0.2, -0.1, 3)}) {
+        CAPTURE(sun.transpose());
+        const std::vector<double> lit = sunlitFractions(s, sun);
+        // The shadow on z = 0: the hull of the box's corners moved along -sun to the ground.
+        std::vector<Vec2> shadow;
+        for (const double x : {x0, x0 + 2})
+            for (const double y : {y0, y0 + 3})
+                for (const double z : {0.0, 4.0}) {
+                    const Vec3 c(x, y, z);
+                    const Vec3 g = c - sun * (z / sun.z());
+                    shadow.emplace_back(g.x(), g.y());
+                }
+        const double expected = 1.0 - polygonArea2d(hull(shadow)) / 400.0;
+        MESSAGE("sun " << sun.transpose() << ": ground lit " << lit[0] << ", exact " << expected);
+        CHECK(std::abs(lit[0] - expected) <= 1e-12);
+        CHECK(lit[1] == doctest::Approx(1.0));  // the top: nothing above it
+        // Walls facing the sun are lit whole, the others not at all.
+        for (PatchId w = 2; w < 6; ++w) CHECK(lit[w] == (s.patches[w].normal.dot(sun) > 0 ? 1.0 : 0.0));
+    }
+}
+
+TEST_CASE("Sunlit fraction: a shadow partly off the patch, overlapping shadows counted once, the sun below the horizon") {
+    // A 1 x 1 and a 2 x 1 plate above a 2 x 2 receiver at heights 1 and 2, the sun straight up:
+    // shadows [0.5, 1.5] x [0, 1] and [1, 3] x [0.5, 1.5]; on [0, 2]^2 they cover 1 and 1 (the second's
+    // half beyond x = 2 misses), overlapping by 0.25: 1.75 of 4 is shaded.
+    SceneBuilder b;
+    b.rectangle(2, 0.0, 0, 2, 0, 2, true);
+    b.rectangle(2, 1.0, 0.5, 1.5, 0, 1, false);
+    b.rectangle(2, 2.0, 1, 3, 0.5, 1.5, false);
+    const std::vector<double> lit = sunlitFractions(b.scene, Vec3(0, 0, 1));
+    CHECK(lit[0] == doctest::Approx(1.0 - 1.75 / 4.0).epsilon(1e-12));
+    CHECK(lit[1] == 0.0);  // facing down, away from the sun
+    const std::vector<double> night = sunlitFractions(b.scene, Vec3(0.3, 0, -1));
+    CHECK(night[0] == 0.0);
+    const std::vector<double> E = directIrradiance(b.scene, Vec3(0, 0, 2), 800.0, lit);
+    CHECK(E[0] == doctest::Approx(800.0 * (1.0 - 1.75 / 4.0)));
+    CHECK_THROWS_AS(sunlitFractions(b.scene, Vec3(0, 0, 0)), Error);
+}
+
+TEST_CASE("Convex difference: a square less a square across its corner leaves an L of the right area") {
+    const std::vector<std::vector<Vec2>> square = {{Vec2(0, 0), Vec2(2, 0), Vec2(2, 2), Vec2(0, 2)}};
+    const auto rest = subtractConvex(square, {Vec2(1, 1), Vec2(3, 1), Vec2(3, 3), Vec2(1, 3)});
+    double area = 0;
+    for (const auto& piece : rest) area += polygonArea2d(piece);
+    CHECK(area == doctest::Approx(3.0));
+    // A shadow sharing only an edge with the piece takes nothing (corners on the line stay).
+    const auto touching = subtractConvex(square, {Vec2(0, 0), Vec2(2, 0), Vec2(2, -3), Vec2(0, -3)});
+    REQUIRE(touching.size() == 1);
+    CHECK(polygonArea2d(touching[0]) == doctest::Approx(4.0));
+    // Clockwise shadows count the same; a shadow that misses changes nothing.
+    const auto same = subtractConvex(square, {Vec2(1, 3), Vec2(3, 3), Vec2(3, 1), Vec2(1, 1)});
+    area = 0;
+    for (const auto& piece : same) area += polygonArea2d(piece);
+    CHECK(area == doctest::Approx(3.0));
+    const auto none = subtractConvex(square, {Vec2(5, 5), Vec2(6, 5), Vec2(6, 6)});
+    CHECK(polygonArea2d(none.at(0)) == doctest::Approx(4.0));
+}
+
+TEST_CASE("Solar position (Michalsky 1988) against NREL's SPA example and the equinox noon, within 0.05 degrees") {
+    // Reda & Andreas (2004), NREL's SPA report, its example: 2003-10-17 12:30:30 at UTC-7, latitude
+    // 39.742476, longitude -105.1786: zenith 50.11162 (elevation 39.88838), azimuth 194.34024 degrees.
+    const SolarPosition p = solarPosition("2003-10-17T12:30:30-07:00", 39.742476, -105.1786);
+    MESSAGE("SPA example: elevation " << p.elevation << " (39.88838), azimuth " << p.azimuth << " (194.34024)");
+    CHECK(std::abs(p.elevation - 39.88838) < 0.05);
+    CHECK(std::abs(p.azimuth - 194.34024) < 0.05);
+    // Near the March equinox at solar noon on the equator the sun is nearly overhead.
+    const SolarPosition q = solarPosition("2020-03-20T12:07:00Z", 0.0, 0.0);
+    CHECK(q.elevation > 89.0);
+    // The direction in a z-up scene with north +y: azimuth 180 (south) at elevation 45 is (0, -1, 1)/sqrt 2.
+    const Vec3 d = sunDirection({45.0, 180.0}, Vec3(0, 0, 1), Vec3(0, 1, 0));
+    CHECK((d - Vec3(0, -1, 1).normalized()).norm() < 1e-12);
+    const Vec3 e = sunDirection({0.0, 90.0}, Vec3(0, 1, 0), Vec3(0, 0, -1));  // y up, north -z: east is +x
+    CHECK((e - Vec3(1, 0, 0)).norm() < 1e-12);
+    CHECK_THROWS_WITH_AS(solarPosition("2003-10-17 12:30", 0, 0), doctest::Contains("is not YYYY-MM-DDTHH:MM"), Error);
+    CHECK_THROWS_WITH_AS(solarPosition("2100-01-01T00:00", 0, 0), doctest::Contains("outside 1950-2050"), Error);
+    CHECK_THROWS_WITH_AS(solarPosition("2003-10-17T12:30+25:00", 0, 0), doctest::Contains("malformed offset"), Error);
+    CHECK_THROWS_WITH_AS(solarPosition("2003-10-17T12:30", 95, 0), doctest::Contains("latitude 95"), Error);
+}
