@@ -2,6 +2,7 @@
 // -o SUN.csv`: the direct sun per patch (src/environment).
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
+#include "cli/sun_command.hpp"
 #include "engine/atomic_file.hpp"
 #include "environment/solar_position.hpp"
 #include "environment/sunlit.hpp"
@@ -12,11 +13,7 @@
 
 namespace hemirad {
 
-int runSun(const Options& options) {
-    Reporter reporter(options.quiet, reportsToStandardError(options));
-    Warnings warnings;
-    Timings timings;
-    const Scene scene = loadScene(options, timings, reporter, warnings);
+Vec3 sunDirectionFromOptions(const Options& options, const Reporter& reporter) {
     Vec3 toSun;
     std::ostringstream where;
     where.precision(6);
@@ -33,6 +30,15 @@ int runSun(const Options& options) {
               << "; direction " << toSun.transpose();
     }
     reporter.line(where.str());
+    return toSun;
+}
+
+int runSun(const Options& options) {
+    Reporter reporter(options.quiet, reportsToStandardError(options));
+    Warnings warnings;
+    Timings timings;
+    const Scene scene = loadScene(options, timings, reporter, warnings);
+    const Vec3 toSun = sunDirectionFromOptions(options, reporter);
     timings.start("sunlit fractions");
     const std::vector<double> lit = sunlitFractions(scene, toSun);
     timings.stop();

@@ -13,6 +13,7 @@ int runSubdivide(const Options& options);
 int runThermal(const Options& options);
 int runSkyView(const Options& options);
 int runSun(const Options& options);
+int runIrradiance(const Options& options);
 int runCheck(const Options& options);
 int runBench(const Options& options);
 int runBenchRun(const Options& options);

@@ -20,9 +20,10 @@
 namespace hemirad {
 namespace {
 
-const std::set<std::string> kCommands = {"formfactors", "solve", "render", "thermal", "sky-view", "sun", "info", "subdivide", "check", "bench", "bench-run", "help"};
-const std::set<std::string> kComputing = {"formfactors", "solve", "render", "thermal", "sky-view", "bench", "bench-run"};
-const std::set<std::string> kSolving = {"solve", "render", "thermal", "bench", "bench-run"};
+const std::set<std::string> kCommands = {"formfactors", "solve", "render", "thermal", "sky-view", "sun", "irradiance", "info", "subdivide", "check", "bench", "bench-run", "help"};
+const std::set<std::string> kComputing = {"formfactors", "solve", "render", "thermal", "sky-view", "irradiance", "bench", "bench-run"};
+const std::set<std::string> kSolving = {"solve", "render", "thermal", "irradiance", "bench", "bench-run"};
+const std::set<std::string> kSun = {"sun", "irradiance"};
 const std::set<std::string> kThermal = {"thermal"};
 
 const std::set<std::string> kBench = {"bench"};
@@ -105,7 +106,7 @@ std::string joined(const std::vector<std::string>& names, const std::string& las
 /// The formats each writing command offers; the first is the default on standard output.
 const std::vector<std::string>& outputFormats(const std::string& command) {
     static const std::map<std::string, std::vector<std::string>> formats = {
-        {"formfactors", {"mtx", "hff"}}, {"solve", {"csv", "ply"}}, {"render", {"png"}}, {"thermal", {"csv"}}, {"sky-view", {"csv"}}, {"sun", {"csv"}}};
+        {"formfactors", {"mtx", "hff"}}, {"solve", {"csv", "ply"}}, {"render", {"png"}}, {"thermal", {"csv"}}, {"sky-view", {"csv"}}, {"sun", {"csv"}}, {"irradiance", {"csv"}}};
     static const std::vector<std::string> none;
     const auto it = formats.find(command);
     return it == formats.end() ? none : it->second;
@@ -119,7 +120,7 @@ struct Flag {
 
 const std::map<std::string, Flag>& flags() {
     static const std::map<std::string, Flag> table = {
-        {"-o", {{"formfactors", "solve", "render", "thermal", "sky-view", "sun", "subdivide", "bench"}, true,
+        {"-o", {{"formfactors", "solve", "render", "thermal", "sky-view", "sun", "irradiance", "subdivide", "bench"}, true,
                 [](Options& o, const std::string&, const std::string& v) { o.output = v; }}},
         {"--format", {{"formfactors", "solve", "render"}, true,
                       [](Options& o, const std::string& f, const std::string& v) {
@@ -229,7 +230,7 @@ const std::map<std::string, Flag>& flags() {
                     }}},
         {"--gr-threshold", {kThermal, true,
                             [](Options& o, const std::string& f, const std::string& v) { o.couplingThreshold = parseNumber(f, v, 0.0, 0.5); }}},
-        {"--unit", {kThermal, true,
+        {"--unit", {{"thermal", "irradiance"}, true,
                     [](Options& o, const std::string& f, const std::string& v) {
                         try {
                             metresPerUnit(v);
@@ -239,26 +240,27 @@ const std::map<std::string, Flag>& flags() {
                         if (v.empty()) throw UsageError(f + " expects a length unit (m, cm, mm, in, ft)");
                         o.lengthUnit = v;
                     }}},
-        {"--sun-direction", {{"sun"}, true,
+        {"--sun-direction", {kSun, true,
                              [](Options& o, const std::string& f, const std::string& v) {
                                  const auto c = parseList(f, v, 3);
                                  o.sunDirectionVector = Vec3(c[0], c[1], c[2]);
                                  if (!(o.sunDirectionVector->norm() > 0.0)) throw UsageError(f + " must not be the zero vector");
                              }}},
-        {"--sun-time", {{"sun"}, true, [](Options& o, const std::string&, const std::string& v) { o.sunTime = v; }}},
-        {"--latitude", {{"sun"}, true, [](Options& o, const std::string& f, const std::string& v) { o.latitude = parseNumber(f, v, -90, 90); }}},
-        {"--longitude", {{"sun"}, true, [](Options& o, const std::string& f, const std::string& v) { o.longitude = parseNumber(f, v, -180, 180); }}},
-        {"--up", {{"sun"}, true,
+        {"--sun-time", {kSun, true, [](Options& o, const std::string&, const std::string& v) { o.sunTime = v; }}},
+        {"--latitude", {kSun, true, [](Options& o, const std::string& f, const std::string& v) { o.latitude = parseNumber(f, v, -90, 90); }}},
+        {"--longitude", {kSun, true, [](Options& o, const std::string& f, const std::string& v) { o.longitude = parseNumber(f, v, -180, 180); }}},
+        {"--up", {kSun, true,
                   [](Options& o, const std::string& f, const std::string& v) {
                       if (v != "z" && v != "y") throw UsageError(f + " expects z or y, got '" + v + "'");
                       o.upAxis = v;
                   }}},
-        {"--north", {{"sun"}, true,
+        {"--north", {kSun, true,
                      [](Options& o, const std::string& f, const std::string& v) {
                          const auto c = parseList(f, v, 3);
                          o.north = Vec3(c[0], c[1], c[2]);
                      }}},
-        {"--dni", {{"sun"}, true, [](Options& o, const std::string& f, const std::string& v) { o.dni = parseNumber(f, v, 0, 1e5); }}},
+        {"--dni", {kSun, true, [](Options& o, const std::string& f, const std::string& v) { o.dni = parseNumber(f, v, 0, 1e5); }}},
+        {"--dhi", {{"irradiance"}, true, [](Options& o, const std::string& f, const std::string& v) { o.dhi = parseNumber(f, v, 0, 1e5); }}},
         {"--objects", {{"solve", "thermal"}, true,
                        [](Options& o, const std::string& f, const std::string& v) {
                            if (lowerExtension(v) != ".csv") throw UsageError(f + " writes a CSV table: '" + v + "' must end in .csv");
@@ -480,7 +482,7 @@ Options parseOptions(int argc, const char* const* argv) {
     if (o.inputs.size() != 1)
         throw UsageError("'" + o.command + "' takes exactly one input file, got " + std::to_string(o.inputs.size()));
     const bool needsOutput = o.command == "formfactors" || o.command == "subdivide" || o.command == "bench" || o.command == "sky-view" ||
-                             o.command == "sun";
+                             o.command == "sun" || o.command == "irradiance";
     if (needsOutput && o.output.empty()) throw UsageError("'" + o.command + "' needs -o OUTPUT");
     if (o.command == "render" && o.output.empty()) throw UsageError("'render' needs -o IMAGE.png");
     if (!o.falseColour) {
@@ -495,12 +497,16 @@ Options parseOptions(int argc, const char* const* argv) {
     if (o.command == "solve" && o.output.empty() && o.ffPath.empty() && o.objectsPath.empty())
         throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F, or --objects T.csv)");
     if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
-    if (o.command == "sun") {
+    if (o.command == "irradiance" &&
+        std::none_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--tolerance"; }))
+        o.solver.tolerance = 1e-10;  // the power balance is read to many digits
+    if (o.command == "irradiance" && !o.dni) throw UsageError("'irradiance' needs --dni W (and --dhi W for the sky)");
+    if (o.command == "sun" || o.command == "irradiance") {
         const bool byTime = !o.sunTime.empty() || o.latitude || o.longitude;
         if (o.sunDirectionVector && byTime)
             throw UsageError("give --sun-direction or --sun-time with --latitude and --longitude, not both");
         if (!o.sunDirectionVector && !(!o.sunTime.empty() && o.latitude && o.longitude))
-            throw UsageError("'sun' needs --sun-direction x,y,z, or --sun-time T --latitude LAT --longitude LON");
+            throw UsageError("'" + o.command + "' needs --sun-direction x,y,z, or --sun-time T --latitude LAT --longitude LON");
     }
     if (o.command == "thermal") {
         // Heat balances are read to many digits (and a flux condition's row has reflectance 1): the
@@ -586,7 +592,7 @@ std::uint64_t optionsHash(const Options& o) {
     if (o.sunDirectionVector) vector(*o.sunDirectionVector);
     text(o.sunTime); optional(o.latitude); optional(o.longitude); text(o.upAxis); h.addValue(o.north.has_value());
     if (o.north) vector(*o.north);
-    optional(o.dni);
+    optional(o.dni); h.addValue(o.dhi);
     h.addValue(o.maxEdge); h.addValue(o.sliverRatio); h.addValue(o.relativeTolerance);
     h.addValue(std::uint64_t(o.benchMethods.size()));
     for (const MethodSettings& m : o.benchMethods) settings(m);
@@ -644,6 +650,8 @@ commands:
                                          surface blocks it, front or back) and through mirrors
   sun SCENE -o SUN.csv                   the direct sun per patch: sunlit fraction (exact shadow
                                          polygons) and direct irradiance
+  irradiance SCENE --dni W --dhi W -o E.csv   one hour of sun and isotropic sky: direct sun, direct
+                                         sky, reflected, total and absorbed irradiance per patch
   info F.hff|F.mtx                       check an F file (or a shard manifest and its shards) and
                                          describe it
   subdivide SCENE -o OUT.obj --max-edge L   split patches until no edge exceeds L
@@ -740,6 +748,8 @@ sun:
   --up z|y               the scene's up axis (default z), --north x,y,z its north (default +y for z
                          up, -z for y up)
   --dni W                direct-normal irradiance (W/m^2) for the direct-irradiance column
+  --dhi W                (irradiance) diffuse-horizontal irradiance of an isotropic sky (W/m^2)
+  --unit m|cm|mm|in|ft   (irradiance) the scene's length unit where the OBJ states none (powers in W)
 check:
   --sliver-ratio R       a sliver's longest edge / minimum width exceeds R (default 20)
   --relative-tolerance R positions within R x the scene extent are one point (default 1e-6)

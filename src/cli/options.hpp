@@ -75,6 +75,7 @@ struct Options {
     std::string upAxis = "z";            ///< --up z|y
     std::optional<Vec3> north;           ///< --north x,y,z (default +y for z up, -z for y up)
     std::optional<double> dni;           ///< --dni W/m^2: direct-normal irradiance
+    double dhi = 0.0;                    ///< --dhi W/m^2: diffuse-horizontal irradiance (irradiance command)
 
     // subdivide command.
     double maxEdge = 0.0;

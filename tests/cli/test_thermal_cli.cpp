@@ -110,3 +110,20 @@ TEST_CASE("hemirad sun takes a given direction or a time and place, and writes t
     CHECK(r.status == 2);
     CHECK(r.output.find("'sun' needs --sun-direction x,y,z, or --sun-time T --latitude LAT --longitude LON") != std::string::npos);
 }
+
+TEST_CASE("hemirad irradiance writes the direct sun, sky, reflected, total and absorbed irradiance, balanced") {
+    const auto dir = tempDir("irradiance-cli");
+    const std::string out = (dir / "E.csv").string();
+    const CommandResult r = runCommand(std::string(HEMIRAD_BINARY) + " irradiance " + example("radiator.obj") +
+                                       " --sun-direction 0.3,-0.4,0.9 --dni 850 --dhi 110 -o " + out + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(readText(out).find("patch,object,direct_sun (W/m^2),direct_sky (W/m^2),reflected (W/m^2),total (W/m^2),absorbed (W/m^2)\n0,radiator,") == 0);
+    const std::size_t at = r.output.find("; balance ");
+    REQUIRE(at != std::string::npos);
+    CHECK(std::stod(r.output.substr(at + 10)) <= 1e-9);
+    const CommandResult noDni = runCommand(std::string(HEMIRAD_BINARY) + " irradiance " + example("radiator.obj") +
+                                           " --sun-direction 0,0,1 -o " + out + " 2>&1");
+    CHECK(noDni.status == 2);
+    CHECK(noDni.output.find("'irradiance' needs --dni W") != std::string::npos);
+}

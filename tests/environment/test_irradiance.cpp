@@ -1,0 +1,65 @@
+// One hour of sun and sky: the decomposition against a dense solve written in the test, and the
+// power balance (incident = absorbed + escaped) to 1e-9.
+#include "support.hpp"
+
+#include "engine/error.hpp"
+#include "environment/irradiance.hpp"
+#include "environment/sky_view.hpp"
+#include "environment/sunlit.hpp"
+#include "preprocess/form_factor_job.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
+
+#include <Eigen/Dense>
+#include <doctest/doctest.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+TEST_CASE("Irradiance of a ground patch and a wall in sun and sky: direct, sky, reflected by a 2 x 2 solve, balanced to 1e-9") {
+    SceneBuilder b;
+    const std::uint32_t ground = b.material("ground", Rgb::Constant(0.3));
+    const std::uint32_t wall = b.material("wall", Rgb(0.5, 0.6, 0.7), Rgb::Zero(), 0.2);
+    b.rectangle(2, 0.0, 0, 1, 0, 1, true, ground);   // z = 0 facing up, x in [0, 1]
+    b.rectangle(0, 0.0, 0, 1, 0, 2, true, wall);     // x = 0 facing +x, height 2
+    const Scene& s = b.scene;
+    const Vec3 sun(1, 0.3, 1.2);
+    const double dni = 800, dhi = 120;
+    IrradianceInputs in;
+    in.directSun = directIrradiance(s, sun, dni, sunlitFractions(s, sun));
+    in.skyView = skyViewFactors(s, MethodSettings::of(HemisphereOptions{})).direct;
+    in.dhi = dhi;
+    const FormFactors F = computeFormFactors(s, MethodSettings::of(HemisphereOptions{}), neededRows(s, true)).F;
+    SolverOptions lu;
+    lu.solver = "lu";
+    const IrradianceResult r = solarIrradiance(s, F, in, 1.0, lu);
+    // The wall faces the sun (x > 0): lit whole; the ground too (nothing between it and the sun).
+    CHECK(r.directSun[0] == doctest::Approx(dni * sun.normalized().z()));
+    CHECK(r.directSun[1] == doctest::Approx(dni * sun.normalized().x()));
+    CHECK(r.directSky[0] == doctest::Approx(dhi * (1 - c14(1, 2, 1))).epsilon(1e-4));
+    // By hand: J = rho (E + F J), rho the mean Kd (0.3 and 0.6).
+    const double rho[2] = {0.3, 0.6};
+    Eigen::Matrix2d A = Eigen::Matrix2d::Identity();
+    Eigen::Vector2d e;
+    for (int i = 0; i < 2; ++i) {
+        e[i] = rho[i] * (r.directSun[i] + r.directSky[i]);
+        for (int j = 0; j < 2; ++j) A(i, j) -= rho[i] * F.at(i, j);
+    }
+    const Eigen::Vector2d J = A.fullPivLu().solve(e);
+    for (int i = 0; i < 2; ++i) {
+        const double H = F.at(i, 0) * J[0] + F.at(i, 1) * J[1];
+        CHECK(r.reflected[i] == doctest::Approx(H).epsilon(1e-12));
+        CHECK(r.absorbed[i] == doctest::Approx((1 - rho[i] - s.patches[i].specular) * (r.directSun[i] + r.directSky[i] + H)).epsilon(1e-12));
+    }
+    MESSAGE("incident " << r.incidentPower << " W, absorbed " << r.absorbedPower << ", escaped " << r.escapedPower << ", balance " << r.balance);
+    CHECK(r.balance <= 1e-9);
+}
+
+TEST_CASE("Irradiance inputs of the wrong size are refused") {
+    SceneBuilder b;
+    b.rectangle(2, 0.0, 0, 1, 0, 1, true);
+    const FormFactors F = computeFormFactors(b.scene, MethodSettings::of(HemisphereOptions{}), neededRows(b.scene, true)).F;
+    IrradianceInputs in;
+    in.directSun = {1.0, 2.0};
+    in.skyView = {1.0};
+    CHECK_THROWS_WITH_AS(solarIrradiance(b.scene, F, in, 1.0, SolverOptions{}), doctest::Contains("one entry per patch"), Error);
+}
