@@ -20,10 +20,11 @@
 namespace hemirad {
 namespace {
 
-const std::set<std::string> kCommands = {"formfactors", "solve", "render", "thermal", "sky-view", "sun", "irradiance", "info", "subdivide", "check", "bench", "bench-run", "help"};
-const std::set<std::string> kComputing = {"formfactors", "solve", "render", "thermal", "sky-view", "irradiance", "bench", "bench-run"};
-const std::set<std::string> kSolving = {"solve", "render", "thermal", "irradiance", "bench", "bench-run"};
+const std::set<std::string> kCommands = {"formfactors", "solve", "render", "thermal", "sky-view", "sun", "irradiance", "year", "info", "subdivide", "check", "bench", "bench-run", "help"};
+const std::set<std::string> kComputing = {"formfactors", "solve", "render", "thermal", "sky-view", "irradiance", "year", "bench", "bench-run"};
+const std::set<std::string> kSolving = {"solve", "render", "thermal", "irradiance", "year", "bench", "bench-run"};
 const std::set<std::string> kSun = {"sun", "irradiance"};
+const std::set<std::string> kOrientation = {"sun", "irradiance", "year"};
 const std::set<std::string> kThermal = {"thermal"};
 
 const std::set<std::string> kBench = {"bench"};
@@ -106,7 +107,7 @@ std::string joined(const std::vector<std::string>& names, const std::string& las
 /// The formats each writing command offers; the first is the default on standard output.
 const std::vector<std::string>& outputFormats(const std::string& command) {
     static const std::map<std::string, std::vector<std::string>> formats = {
-        {"formfactors", {"mtx", "hff"}}, {"solve", {"csv", "ply"}}, {"render", {"png"}}, {"thermal", {"csv"}}, {"sky-view", {"csv"}}, {"sun", {"csv"}}, {"irradiance", {"csv"}}};
+        {"formfactors", {"mtx", "hff"}}, {"solve", {"csv", "ply"}}, {"render", {"png"}}, {"thermal", {"csv"}}, {"sky-view", {"csv"}}, {"sun", {"csv"}}, {"irradiance", {"csv"}}, {"year", {"csv"}}};
     static const std::vector<std::string> none;
     const auto it = formats.find(command);
     return it == formats.end() ? none : it->second;
@@ -120,7 +121,7 @@ struct Flag {
 
 const std::map<std::string, Flag>& flags() {
     static const std::map<std::string, Flag> table = {
-        {"-o", {{"formfactors", "solve", "render", "thermal", "sky-view", "sun", "irradiance", "subdivide", "bench"}, true,
+        {"-o", {{"formfactors", "solve", "render", "thermal", "sky-view", "sun", "irradiance", "year", "subdivide", "bench"}, true,
                 [](Options& o, const std::string&, const std::string& v) { o.output = v; }}},
         {"--format", {{"formfactors", "solve", "render"}, true,
                       [](Options& o, const std::string& f, const std::string& v) {
@@ -230,7 +231,7 @@ const std::map<std::string, Flag>& flags() {
                     }}},
         {"--gr-threshold", {kThermal, true,
                             [](Options& o, const std::string& f, const std::string& v) { o.couplingThreshold = parseNumber(f, v, 0.0, 0.5); }}},
-        {"--unit", {{"thermal", "irradiance"}, true,
+        {"--unit", {{"thermal", "irradiance", "year"}, true,
                     [](Options& o, const std::string& f, const std::string& v) {
                         try {
                             metresPerUnit(v);
@@ -249,17 +250,19 @@ const std::map<std::string, Flag>& flags() {
         {"--sun-time", {kSun, true, [](Options& o, const std::string&, const std::string& v) { o.sunTime = v; }}},
         {"--latitude", {kSun, true, [](Options& o, const std::string& f, const std::string& v) { o.latitude = parseNumber(f, v, -90, 90); }}},
         {"--longitude", {kSun, true, [](Options& o, const std::string& f, const std::string& v) { o.longitude = parseNumber(f, v, -180, 180); }}},
-        {"--up", {kSun, true,
+        {"--up", {kOrientation, true,
                   [](Options& o, const std::string& f, const std::string& v) {
                       if (v != "z" && v != "y") throw UsageError(f + " expects z or y, got '" + v + "'");
                       o.upAxis = v;
                   }}},
-        {"--north", {kSun, true,
+        {"--north", {kOrientation, true,
                      [](Options& o, const std::string& f, const std::string& v) {
                          const auto c = parseList(f, v, 3);
                          o.north = Vec3(c[0], c[1], c[2]);
                      }}},
         {"--dni", {kSun, true, [](Options& o, const std::string& f, const std::string& v) { o.dni = parseNumber(f, v, 0, 1e5); }}},
+        {"--weather", {{"year"}, true, pathWith(&Options::weatherPath, ".epw")}},
+        {"--hourly", {{"year"}, true, pathWith(&Options::hourlyPath, ".npy")}},
         {"--dhi", {{"irradiance"}, true, [](Options& o, const std::string& f, const std::string& v) { o.dhi = parseNumber(f, v, 0, 1e5); }}},
         {"--objects", {{"solve", "thermal"}, true,
                        [](Options& o, const std::string& f, const std::string& v) {
@@ -482,7 +485,7 @@ Options parseOptions(int argc, const char* const* argv) {
     if (o.inputs.size() != 1)
         throw UsageError("'" + o.command + "' takes exactly one input file, got " + std::to_string(o.inputs.size()));
     const bool needsOutput = o.command == "formfactors" || o.command == "subdivide" || o.command == "bench" || o.command == "sky-view" ||
-                             o.command == "sun" || o.command == "irradiance";
+                             o.command == "sun" || o.command == "irradiance" || o.command == "year";
     if (needsOutput && o.output.empty()) throw UsageError("'" + o.command + "' needs -o OUTPUT");
     if (o.command == "render" && o.output.empty()) throw UsageError("'render' needs -o IMAGE.png");
     if (!o.falseColour) {
@@ -497,7 +500,8 @@ Options parseOptions(int argc, const char* const* argv) {
     if (o.command == "solve" && o.output.empty() && o.ffPath.empty() && o.objectsPath.empty())
         throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F, or --objects T.csv)");
     if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
-    if (o.command == "irradiance" &&
+    if (o.command == "year" && o.weatherPath.empty()) throw UsageError("'year' needs --weather FILE.epw");
+    if ((o.command == "irradiance" || o.command == "year") &&
         std::none_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--tolerance"; }))
         o.solver.tolerance = 1e-10;  // the power balance is read to many digits
     if (o.command == "irradiance" && !o.dni) throw UsageError("'irradiance' needs --dni W (and --dhi W for the sky)");
@@ -592,7 +596,7 @@ std::uint64_t optionsHash(const Options& o) {
     if (o.sunDirectionVector) vector(*o.sunDirectionVector);
     text(o.sunTime); optional(o.latitude); optional(o.longitude); text(o.upAxis); h.addValue(o.north.has_value());
     if (o.north) vector(*o.north);
-    optional(o.dni); h.addValue(o.dhi);
+    optional(o.dni); h.addValue(o.dhi); text(o.weatherPath); text(o.hourlyPath);
     h.addValue(o.maxEdge); h.addValue(o.sliverRatio); h.addValue(o.relativeTolerance);
     h.addValue(std::uint64_t(o.benchMethods.size()));
     for (const MethodSettings& m : o.benchMethods) settings(m);
@@ -652,6 +656,8 @@ commands:
                                          polygons) and direct irradiance
   irradiance SCENE --dni W --dhi W -o E.csv   one hour of sun and isotropic sky: direct sun, direct
                                          sky, reflected, total and absorbed irradiance per patch
+  year SCENE --weather W.epw -o ANNUAL.csv   every hour of a weather file against one F: annual sums
+                                         per patch (--hourly H.npy: each hour's total irradiance)
   info F.hff|F.mtx                       check an F file (or a shard manifest and its shards) and
                                          describe it
   subdivide SCENE -o OUT.obj --max-edge L   split patches until no edge exceeds L
@@ -749,6 +755,8 @@ sun:
                          up, -z for y up)
   --dni W                direct-normal irradiance (W/m^2) for the direct-irradiance column
   --dhi W                (irradiance) diffuse-horizontal irradiance of an isotropic sky (W/m^2)
+  --weather FILE.epw     (year) an EnergyPlus weather file: location, hourly DNI and DHI
+  --hourly FILE.npy      (year) the total irradiance of each solved hour and patch (NumPy float64)
   --unit m|cm|mm|in|ft   (irradiance) the scene's length unit where the OBJ states none (powers in W)
 check:
   --sliver-ratio R       a sliver's longest edge / minimum width exceeds R (default 20)

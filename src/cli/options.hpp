@@ -76,6 +76,8 @@ struct Options {
     std::optional<Vec3> north;           ///< --north x,y,z (default +y for z up, -z for y up)
     std::optional<double> dni;           ///< --dni W/m^2: direct-normal irradiance
     double dhi = 0.0;                    ///< --dhi W/m^2: diffuse-horizontal irradiance (irradiance command)
+    std::string weatherPath;             ///< year --weather FILE.epw
+    std::string hourlyPath;              ///< year --hourly FILE.npy: total irradiance per hour and patch
 
     // subdivide command.
     double maxEdge = 0.0;

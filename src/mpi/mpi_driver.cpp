@@ -428,7 +428,7 @@ int runUnderMpi(int argc, char** argv) {
             Job job(context, quiet);
             runBenchRun(job);
         } else {
-            // help, info, subdivide, check, sky-view, sun, irradiance: one process's work, done by rank 0.
+            // help, info, subdivide, check, sky-view, sun, irradiance, year: one process's work, done by rank 0.
             int status = 0;
             context.collectively([&] {
                 if (command == "bench")
@@ -442,6 +442,7 @@ int runUnderMpi(int argc, char** argv) {
                 else if (command == "sky-view") status = runSkyView(options);
                 else if (command == "sun") status = runSun(options);
                 else if (command == "irradiance") status = runIrradiance(options);
+                else if (command == "year") status = runYear(options);
                 else throw UsageError("unknown command '" + command + "'");
             });
             MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);

@@ -127,3 +127,18 @@ TEST_CASE("hemirad irradiance writes the direct sun, sky, reflected, total and a
     CHECK(noDni.status == 2);
     CHECK(noDni.output.find("'irradiance' needs --dni W") != std::string::npos);
 }
+
+TEST_CASE("hemirad year solves a weather file's hours against one F: annual sums and each hour's totals") {
+    const auto dir = tempDir("year-cli");
+    const std::string out = (dir / "annual.csv").string(), hourly = (dir / "total.npy").string();
+    const CommandResult r = runCommand(std::string(HEMIRAD_BINARY) + " year " + example("radiator.obj") + " --weather '" +
+                                       sourcePath("tests/data/weather/excerpt.epw") + "' -o " + out + " --hourly " + hourly + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("weather: Munich Test, BY, DEU, latitude 48.13, longitude 11.7, UTC+1; 48 hours") != std::string::npos);
+    CHECK(readText(out).find("patch,object,direct_sun (Wh/m^2),direct_sky (Wh/m^2),reflected (Wh/m^2),total (Wh/m^2),absorbed (Wh/m^2)\n0,radiator,") == 0);
+    CHECK(readText(hourly).find("'shape': (32, 3)") != std::string::npos);
+    const CommandResult bad = runCommand(std::string(HEMIRAD_BINARY) + " year " + example("radiator.obj") + " -o " + out + " 2>&1");
+    CHECK(bad.status == 2);
+    CHECK(bad.output.find("'year' needs --weather FILE.epw") != std::string::npos);
+}

@@ -1,0 +1,75 @@
+// `hemirad year SCENE --weather W.epw -o ANNUAL.csv [--hourly H.npy]`: a year of hours against one F.
+#include "cli/commands.hpp"
+#include "cli/pipeline.hpp"
+#include "engine/atomic_file.hpp"
+#include "environment/sky_view.hpp"
+#include "environment/year.hpp"
+
+#include <chrono>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+namespace hemirad {
+
+int runYear(const Options& options) {
+    Reporter reporter(options.quiet, reportsToStandardError(options));
+    Warnings warnings;
+    Timings timings;
+    const Scene scene = loadScene(options, timings, reporter, warnings);
+    timings.start("read weather");
+    const Weather weather = readEpw(options.weatherPath);
+    timings.stop();
+    YearOptions yo;
+    yo.up = options.upAxis == "z" ? Vec3(0, 0, 1) : Vec3(0, 1, 0);
+    yo.north = options.north ? *options.north : options.upAxis == "z" ? Vec3(0, 1, 0) : Vec3(0, 0, -1);
+    if (!scene.unit.empty()) yo.metresPerUnit = metresPerUnit(scene.unit);
+    else if (!options.lengthUnit.empty()) yo.metresPerUnit = metresPerUnit(options.lengthUnit);
+    else warnings.add("unit", "the scene states no length unit: lengths are taken as metres (give --unit)");
+    std::ostringstream where;
+    where << "weather: " << weather.place << ", latitude " << weather.latitude << ", longitude " << weather.longitude << ", UTC"
+          << std::showpos << weather.timeZone << std::noshowpos << "; " << weather.hours.size() << " hours";
+    reporter.line(where.str());
+
+    timings.start("sky view factors");
+    const std::vector<double> sky = skyViewFactors(scene, options.formFactors).direct;
+    timings.stop();
+    Options withRows = options;
+    withRows.allRows = true;
+    const FormFactors F = obtainFormFactors(scene, withRows, timings, reporter, warnings);
+    timings.start("hours");
+    const auto t0 = std::chrono::steady_clock::now();
+    const YearResult year = solveYear(scene, F, sky, weather, yo, options.solver);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    timings.stop();
+    std::ostringstream line;
+    line.precision(4);
+    line << "year: " << year.hours.size() << " hours with sun or sky solved in " << seconds << " s ("
+         << (year.hours.empty() ? 0.0 : 1e3 * seconds / double(year.hours.size())) << " ms per hour); "
+         << year.incidentWh / 1e3 << " kWh arrive, " << year.absorbedWh / 1e3 << " kWh absorbed; worst hourly balance "
+         << year.worstBalance;
+    reporter.line(line.str());
+
+    timings.start("write results");
+    {
+        AtomicFile file(options.output, false);
+        std::ostream& out = file.stream();
+        out << std::setprecision(std::numeric_limits<double>::max_digits10);
+        out << "patch,object,direct_sun (Wh/m^2),direct_sky (Wh/m^2),reflected (Wh/m^2),total (Wh/m^2),absorbed (Wh/m^2)\n";
+        for (PatchId i = 0; i < scene.size(); ++i) {
+            std::string name = scene.objects[scene.patches[i].object];
+            if (name.find_first_of(",\"") != std::string::npos) name = "\"" + name + "\"";
+            out << i << ',' << name << ',' << year.directSun[i] << ',' << year.directSky[i] << ',' << year.reflected[i] << ','
+                << year.sum[i] << ',' << year.absorbed[i] << '\n';
+        }
+        file.commit();
+    }
+    if (!options.hourlyPath.empty()) writeNpy(options.hourlyPath, year.total, year.hours.size(), scene.size());
+    timings.stop();
+    reporter.line("wrote " + outputName(options.output) + " (per patch: annual sums)" +
+                  (options.hourlyPath.empty() ? std::string() : " and " + options.hourlyPath + " (hours x patches, W/m^2)"));
+    finishCommand(reporter, timings, warnings);
+    return 0;
+}
+
+}  // namespace hemirad

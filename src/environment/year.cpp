@@ -1,0 +1,115 @@
+// The year's hours in batches of right-hand sides on one F.
+#include "environment/year.hpp"
+
+#include "engine/atomic_file.hpp"
+#include "engine/error.hpp"
+#include "environment/solar_position.hpp"
+#include "environment/sunlit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+namespace hemirad {
+
+YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector<double>& skyView, const Weather& weather,
+                     const YearOptions& options, const SolverOptions& solver) {
+    const std::size_t n = scene.size();
+    if (skyView.size() != n || F.size() != n) throw Error("year: the sky view factors and F need one entry per patch");
+    for (std::size_t i = 0; i < n; ++i)
+        if (!F.rowComputed(i)) throw Error("year: row " + std::to_string(i) + " of F was not computed (compute every row)");
+    YearResult out;
+    out.directSun.assign(n, 0.0);
+    out.directSky.assign(n, 0.0);
+    out.reflected.assign(n, 0.0);
+    out.sum.assign(n, 0.0);
+    out.absorbed.assign(n, 0.0);
+    std::vector<double> rho(n), absorptance(n), landedFrom(n, 0.0), area(n);
+    const double m2 = options.metresPerUnit * options.metresPerUnit;
+    for (std::size_t i = 0; i < n; ++i) {
+        rho[i] = std::clamp(scene.patches[i].rho.mean(), 0.0, 1.0 - scene.patches[i].specular);
+        absorptance[i] = std::max(0.0, 1.0 - rho[i] - scene.patches[i].specular);
+        area[i] = scene.patches[i].area * m2;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const double w = area[i] * (1.0 - scene.patches[i].specular);
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) landedFrom[F.columns()[k]] += w * double(F.values()[k]);
+    }
+    for (std::size_t h = 0; h < weather.hours.size(); ++h)
+        if (weather.hours[h].dni > 0.0 || weather.hours[h].dhi > 0.0) out.hours.push_back(h);
+    out.total.assign(out.hours.size() * n, 0.0);
+
+    std::vector<std::vector<double>> sun, sky;
+    for (std::size_t first = 0; first < out.hours.size(); first += options.batch) {
+        const std::size_t last = std::min(out.hours.size(), first + options.batch);
+        std::vector<Band> bands(last - first);
+        sun.assign(last - first, {});
+        sky.assign(last - first, {});
+        for (std::size_t b = first; b < last; ++b) {
+            const WeatherHour& hour = weather.hours[out.hours[b]];
+            std::vector<double>& direct = sun[b - first];
+            direct.assign(n, 0.0);
+            const SolarPosition p = solarPosition(middleOfHourUtc(hour, weather.timeZone), weather.latitude, weather.longitude);
+            if (p.elevation > 0.0 && hour.dni > 0.0) {
+                const Vec3 toSun = sunDirection(p, options.up, options.north);
+                direct = directIrradiance(scene, toSun, hour.dni, sunlitFractions(scene, toSun));
+            }
+            std::vector<double>& diffuse = sky[b - first];
+            diffuse.resize(n);
+            Band& band = bands[b - first];
+            band.name = "hour " + std::to_string(hour.line);
+            band.rho = rho;
+            band.source.resize(n);
+            for (std::size_t i = 0; i < n; ++i) {
+                diffuse[i] = hour.dhi * skyView[i];
+                band.source[i] = rho[i] * (direct[i] + diffuse[i]);
+            }
+        }
+        const BandSolution solved = solveBands(scene, F, bands, solver);
+        for (std::size_t b = first; b < last; ++b) {
+            const std::vector<double>& J = solved.X[b - first];
+            double incident = 0.0, absorbed = 0.0, escaped = 0.0;
+            for (std::size_t i = 0; i < n; ++i) {
+                double H = 0.0;
+                for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) H += double(F.values()[k]) * J[F.columns()[k]];
+                const double firstArrival = sun[b - first][i] + sky[b - first][i], total = firstArrival + H;
+                out.total[b * n + i] = total;
+                out.directSun[i] += sun[b - first][i];
+                out.directSky[i] += sky[b - first][i];
+                out.reflected[i] += H;
+                out.sum[i] += total;
+                out.absorbed[i] += absorptance[i] * total;
+                incident += area[i] * firstArrival;
+                absorbed += area[i] * absorptance[i] * total;
+                escaped += area[i] * scene.patches[i].specular * firstArrival + J[i] * (area[i] - landedFrom[i]);
+            }
+            out.incidentWh += incident;
+            out.absorbedWh += absorbed;
+            if (incident > 0.0) out.worstBalance = std::max(out.worstBalance, std::abs(incident - absorbed - escaped) / incident);
+        }
+    }
+    return out;
+}
+
+void writeNpy(const std::string& path, const std::vector<double>& values, std::size_t rows, std::size_t columns) {
+    if (values.size() != rows * columns) throw Error("npy: " + std::to_string(values.size()) + " values are not " +
+                                                     std::to_string(rows) + " x " + std::to_string(columns));
+    std::string header = "{'descr': '<f8', 'fortran_order': False, 'shape': (" + std::to_string(rows) + ", " +
+                         std::to_string(columns) + "), }";
+    // Magic (6) + version (2) + length (2) + header, padded with spaces to a multiple of 64, ending in \n.
+    const std::size_t total = 10 + header.size() + 1;
+    header.append((64 - total % 64) % 64, ' ');
+    header += '\n';
+    AtomicFile file(path, true);
+    std::ostream& out = file.stream();
+    out.write("\x93NUMPY\x01\x00", 8);
+    const std::uint16_t length = std::uint16_t(header.size());
+    const char lengthBytes[2] = {char(length & 0xff), char(length >> 8)};
+    out.write(lengthBytes, 2);
+    out.write(header.data(), std::streamsize(header.size()));
+    out.write(reinterpret_cast<const char*>(values.data()), std::streamsize(values.size() * sizeof(double)));
+    file.commit();
+}
+
+}  // namespace hemirad

@@ -1,0 +1,40 @@
+// A year of hours against one F: each hour's sun (position, exact sunlit fractions) and isotropic
+// sky (DHI x sky view factor) inter-reflected through the same F, the hours' right-hand sides solved
+// in batches (one factorisation or one set of sweeps' set-up per batch), annual sums per patch, and
+// the hourly totals as a NumPy .npy array.
+#pragma once
+
+#include "engine/form_factors.hpp"
+#include "engine/scene.hpp"
+#include "environment/weather.hpp"
+#include "solve/solver.hpp"
+
+#include <string>
+#include <vector>
+
+namespace hemirad {
+
+struct YearOptions {
+    Vec3 up = Vec3(0, 0, 1), north = Vec3(0, 1, 0);
+    double metresPerUnit = 1.0;
+    std::size_t batch = 168;  ///< hours solved together
+};
+
+struct YearResult {
+    std::vector<std::size_t> hours;       ///< the weather rows solved (sun or sky above 0)
+    std::vector<double> total;            ///< per solved hour, per patch (row-major: hours x patches), W/m^2
+    /// Per patch over the year, Wh/m^2: direct sun, direct sky, reflected, total and absorbed.
+    std::vector<double> directSun, directSky, reflected, sum, absorbed;
+    double worstBalance = 0.0;            ///< the largest hourly |incident - absorbed - escaped| / incident
+    double incidentWh = 0.0, absorbedWh = 0.0;  ///< over the year (W h; scene units^2 x W/m^2 h without a unit)
+};
+
+/// Solves every hour of `weather` with sun or sky on `F` (every row computed) with the direct sky
+/// view factors `skyView`. Throws hemirad::Error as solarIrradiance does.
+YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector<double>& skyView, const Weather& weather,
+                     const YearOptions& options, const SolverOptions& solver);
+
+/// Writes rows x columns doubles as a NumPy .npy file (format 1.0, little-endian float64, C order), atomically.
+void writeNpy(const std::string& path, const std::vector<double>& values, std::size_t rows, std::size_t columns);
+
+}  // namespace hemirad

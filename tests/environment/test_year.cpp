@@ -1,0 +1,123 @@
+// A year of hours against one F: the EPW reader (and its errors by file and line), each hour of
+// the batched solve equal to that hour solved alone, and the annual sums.
+#include "support.hpp"
+
+#include "engine/error.hpp"
+#include "environment/irradiance.hpp"
+#include "environment/sky_view.hpp"
+#include "environment/solar_position.hpp"
+#include "environment/sunlit.hpp"
+#include "environment/weather.hpp"
+#include "environment/year.hpp"
+#include "preprocess/form_factor_job.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+namespace {
+
+std::string excerpt() { return sourcePath("tests/data/weather/excerpt.epw"); }
+
+/// A 10 x 10 courtyard-like scene: ground, a box on it, a tall wall.
+Scene smallDistrict() {
+    SceneBuilder b;
+    const std::uint32_t ground = b.material("ground", Rgb::Constant(0.2));
+    const std::uint32_t wall = b.material("wall", Rgb::Constant(0.5));
+    b.rectangle(2, 0.0, -5, 5, -5, 5, true, ground);
+    b.rectangle(2, 3.0, -1, 1, -1, 1, true, wall);
+    b.rectangle(0, -1, -1, 1, 0, 3, false, wall);
+    b.rectangle(0, 1, -1, 1, 0, 3, true, wall);
+    b.rectangle(1, -1, 0, 3, -1, 1, false, wall);
+    b.rectangle(1, 1, 0, 3, -1, 1, true, wall);
+    b.rectangle(1, -4, 0, 6, -5, 5, true, wall);  // a wall along y = -4 facing +y (north), 6 high
+    return b.scene;
+}
+
+}  // namespace
+
+TEST_CASE("EPW: the location, the hours' DNI and DHI (fields 15 and 16), and the middle of each hour in UTC") {
+    const Weather w = readEpw(excerpt());
+    CHECK(w.place == "Munich Test, BY, DEU");
+    CHECK(w.latitude == 48.13);
+    CHECK(w.longitude == 11.70);
+    CHECK(w.timeZone == 1.0);
+    REQUIRE(w.hours.size() == 48);
+    CHECK(w.hours[12].hour == 13);
+    CHECK(w.hours[12].dni > 800);
+    CHECK(w.hours[12].line == 21);
+    // Hour 13 local standard time (UTC+1) is 12:00-13:00 UTC+1: its middle 11:30 UTC.
+    CHECK(middleOfHourUtc(w.hours[12], w.timeZone) == "1995-06-21T11:30:00Z");
+    // Hour 1 of the 21st is 00:00-01:00 UTC+1: 23:30 UTC on the 20th.
+    CHECK(middleOfHourUtc(w.hours[0], w.timeZone) == "1995-06-20T23:30:00Z");
+}
+
+TEST_CASE("EPW errors name the file and the line") {
+    const std::string good = readText(excerpt());
+    auto fails = [&](const std::string& text, const std::string& message) {
+        CHECK_THROWS_WITH_AS(parseEpw(text, "w.epw"), doctest::Contains(message.c_str()), Error);
+    };
+    fails("DESIGN CONDITIONS,0\n", "w.epw:1: an EPW file starts with LOCATION");
+    std::string row = good.substr(0, good.find("1995,6,21,1,"));
+    fails(row + "1995,6,21,1,60,x,18\n", "w.epw:9: a data row has 7 fields");
+    fails(row + "1995,6,21,25,60,?,18,10,60,95000,1300,1360,350,0,0,0\n", "w.epw:9: month 6, day 21 or hour 25 is out of range");
+    fails(row + "1995,6,21,1,60,?,18,10,60,95000,1300,1360,350,0,abc,0\n", "w.epw:9: direct-normal irradiance 'abc' is not a number");
+    fails(row + "1995,6,21,1,60,?,18,10,60,95000,1300,1360,350,0,9999,0\n", "w.epw:9: irradiance marked missing (9999)");
+    fails(row, "no hourly data");
+}
+
+TEST_CASE("A year's hours solved in batches equal each hour solved alone, and the annual sums add them up") {
+    const Scene s = smallDistrict();
+    const MethodSettings method = MethodSettings::of(HemisphereOptions{});
+    const FormFactors F = computeFormFactors(s, method, neededRows(s, true)).F;
+    const std::vector<double> sky = skyViewFactors(s, method).direct;
+    const Weather w = readEpw(excerpt());
+    YearOptions options;
+    options.batch = 7;  // batches that do not divide the hours
+    SolverOptions lu;
+    lu.solver = "lu";
+    const YearResult year = solveYear(s, F, sky, w, options, lu);
+    std::size_t lit = 0;
+    for (const WeatherHour& h : w.hours) lit += h.dni > 0 || h.dhi > 0;
+    CHECK(year.hours.size() == lit);  // the hours with sun or sky in the excerpt
+    CHECK(lit > 20);
+    CHECK(year.worstBalance <= 1e-9);
+    double worst = 0.0;
+    std::vector<double> sum(s.size(), 0.0);
+    for (std::size_t k = 0; k < year.hours.size(); ++k) {
+        const WeatherHour& hour = w.hours[year.hours[k]];
+        IrradianceInputs in;
+        in.directSun.assign(s.size(), 0.0);
+        const SolarPosition p = solarPosition(middleOfHourUtc(hour, w.timeZone), w.latitude, w.longitude);
+        if (p.elevation > 0.0) {
+            const Vec3 toSun = sunDirection(p, options.up, options.north);
+            in.directSun = directIrradiance(s, toSun, hour.dni, sunlitFractions(s, toSun));
+        }
+        in.skyView = sky;
+        in.dhi = hour.dhi;
+        const IrradianceResult alone = solarIrradiance(s, F, in, 1.0, lu);
+        for (PatchId i = 0; i < s.size(); ++i) {
+            worst = std::max(worst, std::abs(year.total[k * s.size() + i] - alone.total[i]) / std::max(1.0, alone.total[i]));
+            sum[i] += alone.total[i];
+        }
+    }
+    MESSAGE("largest difference between an hour of the year and the hour alone: " << worst);
+    CHECK(worst <= 1e-9);
+    for (PatchId i = 0; i < s.size(); ++i) CHECK(year.sum[i] == doctest::Approx(sum[i]).epsilon(1e-12));
+    // The tall wall faces north (+y): at Munich in June it sees the sun only early and late.
+    CHECK(year.directSun[6] < 0.2 * year.directSun[0]);
+}
+
+TEST_CASE("The .npy writer writes a header NumPy reads: magic, version 1.0, a 64-byte aligned header, the shape") {
+    const auto dir = tempDir("npy");
+    writeNpy((dir / "a.npy").string(), {1, 2, 3, 4, 5, 6}, 2, 3);
+    const std::string bytes = readText(dir / "a.npy");
+    CHECK(bytes.substr(0, 8) == std::string("\x93NUMPY\x01\x00", 8));
+    const std::size_t headerLength = std::uint8_t(bytes[8]) + 256u * std::uint8_t(bytes[9]);
+    CHECK((10 + headerLength) % 64 == 0);
+    CHECK(bytes.find("'shape': (2, 3)") != std::string::npos);
+    CHECK(bytes.size() == 10 + headerLength + 6 * sizeof(double));
+    CHECK_THROWS_AS(writeNpy((dir / "b.npy").string(), {1, 2, 3}, 2, 3), Error);
+}
