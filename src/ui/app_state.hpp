@@ -10,6 +10,7 @@
 #include "render/false_colour.hpp"
 #include "solve/solver.hpp"
 #include "preprocess/backend_registry.hpp"
+#include "ui/up_axis.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -199,6 +200,14 @@ public:
     /// labelled, and power (sum A B) in W where it is known; written by the next save. Not an edit
     /// of the results (nothing is recomputed) and not undone.
     void setUnit(const std::string& unit);
+    /// The scene's up axis (1 y, 2 z; upAxisOf) and where it came from.
+    int upAxis() const { return hasScene() ? upAxisOf(*m_scene) : 1; }
+    UpAxisSource upAxisSource() const { return m_upSource; }
+    /// The Scene panel's choice of up axis (1 y, 2 z): stated in the scene (written by the next save)
+    /// and remembered for its file in `upAxes`. Not an edit of the results and not undone.
+    void setUpAxis(int axis);
+    /// The up axes chosen per scene file; a scene loaded takes the one chosen for its file.
+    UpAxisMemory upAxes;
 
     void select(PatchId id, bool additive);
     void clearSelection();
@@ -270,6 +279,7 @@ private:
     std::vector<double> m_meshEdges;        ///< per object, 0 = as loaded
     std::uint64_t m_sceneId = 0;
     std::string m_scenePath;
+    UpAxisSource m_upSource = UpAxisSource::Guessed;
     std::uint64_t m_revision = 1;
     std::shared_ptr<const FormFactors> m_F;
     std::optional<MethodSettings> m_fSettings;  ///< the settings m_F was made with

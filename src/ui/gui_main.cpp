@@ -55,6 +55,7 @@ struct GuiOptions {
     bool objects = false;        ///< --objects-window: start with View > Object table open
     double mesh = 0.0;          ///< --mesh L: the meshing panel's Apply for the whole scene
     double meshSelected = 0.0;  ///< --mesh-selected L: the same for the objects of --select
+    int up = 0;                 ///< --up y|z: the Scene panel's up-axis choice (0: none)
     int width = 1280, height = 800;
     PipelineSettings settings;
     long select = -1;  ///< patch to select after loading (scripted screenshots)
@@ -64,7 +65,7 @@ const char* kUsage =
     "usage: hemirad-gui [SCENE.obj|SCENE.stl] [--materials FILE.mtl] [--subdivide L] [--method NAME]\n"
     "                   [back-end options, see 'hemirad help']\n"
     "                   [--max-depth D] [--exposure X] [--check-tooltips] [--help-window] [--objects-window]\n"
-    "                   [--mesh L | --select PATCH --mesh-selected L]\n"
+    "                   [--mesh L | --select PATCH --mesh-selected L] [--up y|z]\n"
     "                   [--size WxH] [--select PATCH] [--hover PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
     "                   [--quit-after S] [--false-color Q [--scale linear|log]] [--layer NAME]\n"
     "  --run          compute form factors and solve after loading\n"
@@ -73,6 +74,8 @@ const char* kUsage =
     "  --exposure X   display scale of the view, as hemirad render's (default automatic)\n"
     "  --mesh L       mesh the scene to edges <= L as the Pipeline panel's Apply does (undoable);\n"
     "                 --mesh-selected L only the objects of --select\n"
+    "  --up y|z       the scene's up axis, as the Scene panel's choice (remembered for the file;\n"
+    "                 else the OBJ's '# hemirad up z', else guessed from the bounding box)\n"
     "  --screenshot   once the view shows the results, save the window (with the UI) as a PNG\n"
     "  --exit         quit after the screenshot (or at once without one), print the log,\n"
     "                 exit 1 if it holds an error\n"
@@ -142,7 +145,11 @@ GuiOptions parse(int argc, char** argv) {
             if (!o.layer) throw Error("--layer expects radiosity, patch-id, emission, reflectance, specular or f-row, got '" + v + "'");
         } else if (a == "--mesh") o.mesh = number(value(k, "--mesh"), "--mesh");
         else if (a == "--mesh-selected") o.meshSelected = number(value(k, "--mesh-selected"), "--mesh-selected");
-        else if (a == "--method") method = value(k, "--method");
+        else if (a == "--up") {
+            const std::string v = value(k, "--up");
+            if (v != "y" && v != "z") throw Error("--up expects y or z, got '" + v + "'");
+            o.up = v == "z" ? 2 : 1;
+        } else if (a == "--method") method = value(k, "--method");
         else if (a == "--max-depth") maxDepth = std::uint32_t(integer(value(k, "--max-depth"), "--max-depth", 254, "0 to 254"));
         else if (const BackendOption* option = findBackendOption(a)) {
             backendFlags.emplace_back(a, option->kind == OptionKind::Switch ? "yes" : value(k, a.c_str()));
@@ -211,11 +218,13 @@ void screenshot(const std::string& path, int width, int height, GLenum buffer) {
     writePng(path, width, height, flipped);
 }
 
-std::string recentFilesPath() {
+/// A file of hemirad-gui's settings ("recent-files", "up-axes") in $XDG_CONFIG_HOME/hemirad (else
+/// ~/.config/hemirad); "" without either.
+std::string configPath(const std::string& name) {
     const char* config = std::getenv("XDG_CONFIG_HOME");
     const char* home = std::getenv("HOME");
-    if (config && *config) return std::string(config) + "/hemirad/recent-files";
-    if (home && *home) return std::string(home) + "/.config/hemirad/recent-files";
+    if (config && *config) return std::string(config) + "/hemirad/" + name;
+    if (home && *home) return std::string(home) + "/.config/hemirad/" + name;
     return {};
 }
 
@@ -272,7 +281,8 @@ int main(int argc, char** argv) {
             app.exposure = options.exposure;
         }
         OrbitCamera camera;
-        Panels panels(recentFilesPath());
+        app.upAxes = UpAxisMemory(configPath("up-axes"));
+        Panels panels(configPath("recent-files"));
         if (options.help) panels.toggleHelp();
         if (options.objects) panels.showObjectTable();
         Input input;
@@ -286,6 +296,10 @@ int main(int argc, char** argv) {
             // Part of loading: the meshing panel can still go back to the patches as loaded.
             if (app.hasScene() && options.subdivide > 0 && !app.mesh(options.subdivide, MeshTarget::Scene, true))
                 throw Error("--subdivide " + std::to_string(options.subdivide) + ": " + app.log().back().text);
+        }
+        if (options.up && app.hasScene()) {
+            app.setUpAxis(options.up);
+            camera.frame(app.scene());
         }
         if (options.select >= 0 && app.hasScene()) {
             if (std::size_t(options.select) >= app.scene().size())
@@ -480,7 +494,12 @@ int main(int argc, char** argv) {
                     else std::printf("hemirad-gui: false colour: %s, %s scale %.9g .. %.9g\n", falseColourTitle(app.falseColour.quantity).c_str(),
                                      falseColourScaleName(view.range.scale), view.range.min, view.range.max);
                 }
-                if (app.hasScene()) std::printf("hemirad-gui: scene: %s\n", sceneCounts(app.scene()).c_str());
+                if (app.hasScene()) {
+                    std::printf("hemirad-gui: scene: %s\n", sceneCounts(app.scene()).c_str());
+                    const Vec3 from = (camera.eye() - camera.target).normalized();
+                    std::printf("hemirad-gui: up axis %s, %s; view from %.3f %.3f %.3f\n", upAxisName(app.upAxis()),
+                                upAxisSourceText(app.upAxisSource()), from.x(), from.y(), from.z());
+                }
                 std::printf("hemirad-gui: status: %s\n", panels.status().c_str());
                 for (const std::vector<std::string>& row : panels.objectTable()) {
                     std::string line;

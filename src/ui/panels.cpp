@@ -31,7 +31,7 @@ const std::pair<const char*, const char*> kMouseAndKeys[] = {
     {"click", "select the patch (or, with Pick: object, its object)"},
     {"Ctrl/Shift + click", "add to the selection"},
     {"hover", "the status bar reads the patch out: B, H, E, rho, s, F from the selected patch"},
-    {"F", "frame the scene (from its camera's or its open side)"},
+    {"F", "frame the scene (from its camera's or its open side, upright about its up axis)"},
     {"S", "frame the selection"},
     {"C", "the scene's camera"},
     {"Esc", "close this window or a dialog, else select none"},
@@ -295,14 +295,17 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
         if (ImGui::MenuItem("Frame selection", "S", false, app.hasScene() && !app.selection().empty()))
             camera.frameSelection(app.scene(), app.selection());
         if (ImGui::BeginMenu("Look from", app.hasScene())) {
-            static const struct {
-                const char* label;
+            // Top and bottom along the scene's up axis, then the other two axes.
+            const int up = app.upAxis(), side = 3 - up;
+            const struct {
+                std::string label;
                 int axis;
                 bool positive;
-            } views[] = {{"Top (+y)", 1, true}, {"Bottom (-y)", 1, false}, {"+x", 0, true},
-                         {"-x", 0, false},      {"+z", 2, true},           {"-z", 2, false}};
+            } views[] = {{std::string("Top (+") + upAxisName(up) + ")", up, true}, {std::string("Bottom (-") + upAxisName(up) + ")", up, false},
+                         {"+x", 0, true}, {"-x", 0, false}, {std::string("+") + "xyz"[side], side, true},
+                         {std::string("-") + "xyz"[side], side, false}};
             for (const auto& v : views)
-                if (ImGui::MenuItem(v.label)) camera.lookAlong(app.scene(), v.axis, v.positive);
+                if (ImGui::MenuItem(v.label.c_str())) camera.lookAlong(app.scene(), v.axis, v.positive);
             ImGui::EndMenu();
         }
         if (ImGui::MenuItem("Scene camera", "C", false, app.hasScene())) camera.useSceneCamera(app.scene());
@@ -340,6 +343,20 @@ void Panels::scenePanel(AppState& app, OrbitCamera& camera) {
         }
         ImGui::EndCombo();
     }
+    int up = app.upAxis();
+    ImGui::Text("Up:");
+    ImGui::SameLine();
+    const bool upY = ImGui::RadioButton("y##up", &up, 1);
+    tip("The scene's up axis is y (the OBJ convention): F frames it, the view orbits about it");
+    ImGui::SameLine();
+    const bool upZ = ImGui::RadioButton("z##up", &up, 2);
+    tip("The scene's up axis is z (sites, CAD data): F frames it, the view orbits about it");
+    if (upY || upZ) {
+        app.setUpAxis(up);
+        camera.frame(s);
+    }
+    ImGui::SameLine();
+    ImGui::TextDisabled("(%s)", upAxisSourceText(app.upAxisSource()));
     int mode = int(app.selectionMode);
     ImGui::Text("Pick:");
     ImGui::SameLine();
