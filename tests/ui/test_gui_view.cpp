@@ -1,4 +1,5 @@
-// hemirad-gui's view under Xvfb (issue 38): the up axis the camera frames and orbits about.
+// hemirad-gui's view under Xvfb (issue 38): the up axis the camera frames and orbits about, and the
+// selection drawn as an outline that leaves the selected patches' colours as they are.
 // Needs xvfb-run (scripts/install-deps.sh); without it the tests fail, never skip.
 #include "ui/gui_run.hpp"
 
@@ -101,4 +102,54 @@ TEST_CASE("hemirad-gui's up-axis choice is remembered for the scene's file and s
     image = runGui("gui-up-forgotten-run", scene + " --layer patch-id", log);
     CHECK(upAxisLine(log).find("up axis y, guessed from the bounding box") != std::string::npos);
     CHECK_FALSE(postStands(image));
+}
+
+TEST_CASE("hemirad-gui outlines the selection: a selected patch keeps its false colour, a ring around it shows it (issue 38 #7)") {
+    // The tint over the false colour changed the selected patch's colour, so its value could not be
+    // read against the legend, and a single selected patch was barely visible.
+    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256";
+    std::string log;
+    // The patch in the middle of the back wall, from the patch-id layer.
+    const Image ids = runGui("gui-outline-ids", scene + " --layer patch-id", log);
+    const int vx = ids.width / 2 + 60, vy = ids.height / 2 - 120;
+    std::uint32_t patch = 0;
+    while (patch < 5000 && !near(ids.at(vx, vy), idColour(patch))) ++patch;
+    REQUIRE(patch < 5000);
+    const std::string falseColour = scene + " --false-color irradiance --run";
+    const Image plain = runGui("gui-outline-plain", falseColour, log);
+    const Image selected = runGui("gui-outline-selected", falseColour + " --select " + std::to_string(patch), log);
+    INFO(log);
+    // Inside the patch (its pixels in the id layer, those next to another patch left out) the false
+    // colour is as without a selection; around it, within 3 px, the outline: orange, then black.
+    std::size_t inside = 0, same = 0, ring = 0, orange = 0;
+    for (int y = 40; y < 590; ++y)
+        for (int x = 370; x < 910; ++x) {
+            bool interior = true, nearPatch = false;
+            for (int dy = -3; dy <= 3; ++dy)
+                for (int dx = -3; dx <= 3; ++dx) {
+                    const bool on = near(ids.at(x + dx, y + dy), idColour(patch));
+                    if (std::max(std::abs(dx), std::abs(dy)) <= 1) interior &= on;
+                    nearPatch |= on;
+                }
+            const unsigned char *a = plain.at(x, y), *b = selected.at(x, y);
+            const bool changed = a[0] != b[0] || a[1] != b[1] || a[2] != b[2];
+            if (interior) {
+                ++inside;
+                same += !changed;
+            } else if (changed) {
+                ++ring;
+                CHECK(nearPatch);  // nothing changes away from the selection
+                orange += b[0] == 255 && b[1] == 89 && b[2] == 0;
+            }
+        }
+    MESSAGE("patch ", patch, ": ", inside, " pixels inside, ", same, " unchanged; ", ring, " changed around it, ", orange, " orange");
+    CHECK(inside > 200);
+    CHECK(same == inside);
+    CHECK(orange > 100);  // 2 px around a patch of about 20 x 20 px
+    // In the radiosity view the same ring stands out of the shading.
+    const Image radiosity = runGui("gui-outline-radiosity", scene + " --run --select " + std::to_string(patch), log);
+    std::size_t shown = 0;
+    for (int y = 40; y < 590; ++y)
+        for (int x = 370; x < 910; ++x) shown += radiosity.at(x, y)[0] == 255 && radiosity.at(x, y)[1] == 89 && radiosity.at(x, y)[2] == 0;
+    CHECK(shown > 100);
 }
