@@ -841,6 +841,11 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
                 picked = e;
                 doubleClicked = ImGui::IsMouseDoubleClicked(0);
             }
+            // The first rows' places, for scripted clicks.
+            if (const std::size_t row = std::size_t(&e - m_browser.entries().data()); row < 3) {
+                const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+                m_panelRects["FilesRow" + std::to_string(row)] = {lo.x, lo.y, hi.x - lo.x, hi.y - lo.y};
+            }
             if (!e.directory) {
                 ImGui::SameLine(480);
                 ImGui::TextDisabled("%s", formatBytes(e.size).c_str());
@@ -848,9 +853,9 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
         }
         ImGui::EndChild();
         if (picked) {
-            m_browser.pick(*picked);
+            // A double-click on a folder enters it once (issue 38 #1): click() ignores its second click.
+            chosen = m_browser.click(*picked, doubleClicked);
             std::snprintf(m_pathBuffer, sizeof m_pathBuffer, "%s", m_browser.typed.c_str());
-            if (!picked->directory && doubleClicked) chosen = m_browser.confirm(m_browser.typed);
             m_focusPath = true;
         }
         if (!m_browser.error().empty()) {

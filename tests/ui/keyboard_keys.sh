@@ -1,8 +1,10 @@
 #!/bin/bash
 # Taps keys in hemirad-gui under Xvfb (run inside xvfb-run), then lets --quit-after end it: the GUI
 # prints its log and the panels of its last frame. Each tap is a press and release in one xdotool call,
-# then a wait of several frames' time (see keyboard_open.sh for why).
-# usage: keyboard_keys.sh HEMIRAD_GUI LOG SECONDS "GUI ARGUMENTS" KEY...
+# then a wait of several frames' time (see keyboard_open.sh for why). A step may also be
+# type:TEXT (typed), click:X,Y (a left click there), dblclick:X,Y (a double-click at human speed,
+# 150 ms between the clicks: ImGui's limit is 300 ms) or hold:X,Y,S (the button held S seconds).
+# usage: keyboard_keys.sh HEMIRAD_GUI LOG SECONDS "GUI ARGUMENTS" STEP...
 set -u
 gui=$1 log=$2 seconds=$3 arguments=$4
 shift 4
@@ -13,8 +15,15 @@ win=$(timeout 60 xdotool search --sync --onlyvisible --name '^Hemirad' | head -1
 [ -n "$win" ] || { echo "keyboard_keys: no hemirad-gui window"; kill $pid; exit 1; }
 sleep 2
 xdotool windowfocus --sync "$win"
-for key in "$@"; do
-    xdotool keydown "$key" keyup "$key"
+for step in "$@"; do
+    case $step in
+        type:*) xdotool type --delay 40 "${step#type:}" ;;
+        click:*) xy=${step#click:}; xdotool mousemove --window "$win" ${xy/,/ }; sleep 1; xdotool click 1 ;;
+        dblclick:*) xy=${step#dblclick:}; xdotool mousemove --window "$win" ${xy/,/ }; sleep 1; xdotool click --repeat 2 --delay 150 1 ;;
+        hold:*) IFS=, read -r x y held <<< "${step#hold:}"; xdotool mousemove --window "$win" "$x" "$y"; sleep 1
+                xdotool mousedown 1; sleep "$held"; xdotool mouseup 1 ;;
+        *) xdotool keydown "$step" keyup "$step" ;;
+    esac
     sleep 5
 done
 wait $pid

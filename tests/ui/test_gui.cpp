@@ -10,30 +10,6 @@
 
 using namespace hemirad::test;
 
-namespace {
-
-struct Panel {
-    std::string name;
-    double x, y, w, h;
-};
-
-/// The panel rectangles a scripted run prints ("hemirad-gui: panel NAME at X,Y size WxH").
-std::vector<Panel> panelsOf(const std::string& log) {
-    std::vector<Panel> panels;
-    std::size_t at = 0;
-    while ((at = log.find("hemirad-gui: panel ", at)) != std::string::npos) {
-        char name[64] = {};
-        Panel p;
-        REQUIRE(std::sscanf(log.c_str() + at, "hemirad-gui: panel %63s at %lf,%lf size %lfx%lf", name, &p.x, &p.y, &p.w, &p.h) == 5);
-        p.name = name;
-        panels.push_back(p);
-        ++at;
-    }
-    return panels;
-}
-
-}  // namespace
-
 TEST_CASE("hemirad-gui renders the Cornell box under Xvfb: walls in their halves, the UI drawn") {
     const std::string log = runGuiAndCheckPicture("gui", "--samples 768");
     CHECK(log.find("form factors: hemisphere") != std::string::npos);

@@ -1,0 +1,30 @@
+// hemirad-gui driven by mouse and keyboard under Xvfb (issue 38): the file browser's double-click.
+// Needs xvfb-run and xdotool (scripts/install-deps.sh).
+#include "ui/gui_run.hpp"
+
+#include <cstdlib>
+
+using namespace hemirad::test;
+
+TEST_CASE("hemirad-gui's file browser: a double-click on a folder enters it and opens nothing (issue 38 #1)") {
+    // The folder's second click landed on the new listing's row under the pointer, a file, and opened it.
+    const auto dir = tempDir("gui-double-click");
+    REQUIRE(setenv("XDG_CONFIG_HOME", (dir / "config").c_str(), 1) == 0);  // no recent folders: a fixed layout
+    const auto browse = dir / "browse";
+    std::filesystem::create_directories(browse / "sub");
+    writeFile(browse / "sub/m.mtl", "newmtl white\nKd 0.5 0.5 0.5\n");
+    for (const char* name : {"b.obj", "c.obj"})
+        writeFile(browse / "sub" / name, "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl white\nf 1 2 3\n");
+    // The browser lists "..", "sub/" in the folder the GUI starts in, then "..", b.obj, c.obj in sub:
+    // sub's row is b.obj's. Where the rows are: a first run opens the browser and prints them.
+    const std::string log = (dir / "gui.log").string();
+    runKeyboardScript("keyboard_keys.sh", log + " 12 '' ctrl+o", browse.string());
+    const Panel row = panelOf(readText(log), "FilesRow1");
+    const std::string at = std::to_string(int(row.x + 40)) + "," + std::to_string(int(row.y + row.h / 2));
+    // Double-click sub/, then type c.obj and Enter: only c.obj is opened, from sub.
+    runKeyboardScript("keyboard_keys.sh", log + " 25 '' ctrl+o dblclick:" + at + " type:c.obj Return", browse.string());
+    const std::string output = readText(log);
+    INFO(output);
+    CHECK(output.find("b.obj") == std::string::npos);
+    CHECK(output.find("loaded " + (browse / "sub/c.obj").string()) != std::string::npos);
+}
