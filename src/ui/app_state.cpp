@@ -98,6 +98,7 @@ void AppState::setScene(Scene scene, const std::string& path) {
     m_scene = std::make_unique<Scene>(std::move(scene));
     m_source = std::make_unique<const Scene>(*m_scene);
     ++m_sceneId;
+    ++m_meshRevision;
     m_meshEdges.assign(std::max<std::size_t>(m_scene->objects.size(), 1), 0.0);
     m_scenePath = path;
     m_upSource = m_scene->up ? UpAxisSource::Stated : UpAxisSource::Guessed;

@@ -64,7 +64,9 @@ struct FormFactorEstimate {
     std::string workUnit;
     std::string description;        ///< the back end's run description (what "auto" picks, e.g.)
     double memoryBound = 0.0;       ///< bytes F takes at most while it is built
-    std::optional<double> seconds;  ///< from the rate of the last run of this method; none before one
+    /// From the rate of the last run of this method on this mesh; none before one (a rate measured on
+    /// another scene or mesh says little here: fixed costs dominate small scenes).
+    std::optional<double> seconds;
 };
 
 /// What the Selection panel shows for a selection of one or many patches.
@@ -283,7 +285,9 @@ private:
     std::uint64_t m_revision = 1;
     std::shared_ptr<const FormFactors> m_F;
     std::optional<MethodSettings> m_fSettings;  ///< the settings m_F was made with
-    std::map<std::string, double> m_workPerSecond;  ///< measured rays (pixels) per second, by method
+    /// Measured rays (pixels) per second, by method and mesh (m_meshRevision).
+    std::map<std::pair<std::string, std::uint64_t>, double> m_workPerSecond;
+    std::uint64_t m_meshRevision = 0;  ///< bumped by every scene set and every meshing
     std::optional<FormFactorStats> m_stats;
     std::uint64_t m_fGeometryHash = 0;
     std::uint64_t m_materialsRevision = 0;  ///< bumped by every material edit

@@ -31,6 +31,7 @@ struct AppState::Job {
     PipelineSettings settings;
     std::vector<Rgb> warmStart;
     std::uint64_t materialsRevision = 0;
+    std::uint64_t meshRevision = 0;
 
     // Outputs.
     std::shared_ptr<const FormFactors> newF;
@@ -144,6 +145,7 @@ void AppState::startJob(bool computeF, std::shared_ptr<const FormFactors> F) {
     m_job->settings = settings;
     m_job->warmStart = m_B;
     m_job->materialsRevision = m_materialsRevision;
+    m_job->meshRevision = m_meshRevision;
     m_job->thread = std::thread([job = m_job.get()] { job->run(); });
 }
 
@@ -162,7 +164,7 @@ FormFactorEstimate AppState::formFactorEstimate() const {
     e.rows = RadiosityPipeline(policy, {}).missingRows(*m_scene, reuse ? m_F.get() : nullptr).size();
     e.reusesF = reuse;
     e.memoryBound = formFactorMemoryBound(*m_scene, method, e.rows);
-    if (const auto it = m_workPerSecond.find(method.method); it != m_workPerSecond.end())
+    if (const auto it = m_workPerSecond.find({method.method, m_meshRevision}); it != m_workPerSecond.end())
         e.seconds = double(e.rows) * e.workPerRow / it->second;
     return e;
 }
@@ -247,7 +249,7 @@ bool AppState::poll() {
     if (job->scene.size() == m_scene->size()) m_B = job->result.B;
     m_reports = job->result.reports;
     m_timings = job->timings;
-    if (job->workPerSecond > 0.0) m_workPerSecond[job->settings.formFactors.method] = job->workPerSecond;
+    if (job->workPerSecond > 0.0) m_workPerSecond[{job->settings.formFactors.method, job->meshRevision}] = job->workPerSecond;
     for (const SolveReport& r : m_reports) {
         std::ostringstream msg;
         msg << "solve: " << r.solver << " (" << r.channels << ") " << (r.converged ? "converged" : "NOT converged") << " in "

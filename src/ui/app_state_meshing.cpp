@@ -116,6 +116,7 @@ void AppState::applyMesh(const Mesh& next) {
     m_scene->unit = unit;
     m_scene->up = up;
     m_meshEdges = next.edges;
+    ++m_meshRevision;  // a rate measured on the old mesh does not time this one
     m_B = std::move(B);
     m_selection = std::move(selection);
     m_corner.clear();

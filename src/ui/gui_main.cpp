@@ -11,6 +11,7 @@
 #include "ui/tooltip_check.hpp"
 #include "ui/units.hpp"
 #include "ui/panels.hpp"
+#include "ui/run_estimate.hpp"
 #include "ui/viewer.hpp"
 
 #include <GLFW/glfw3.h>
@@ -501,6 +502,7 @@ int main(int argc, char** argv) {
                                 upAxisSourceText(app.upAxisSource()), from.x(), from.y(), from.z());
                 }
                 std::printf("hemirad-gui: status: %s\n", panels.status().c_str());
+                if (app.hasScene()) std::printf("hemirad-gui: %s\n", runEstimateText(app.formFactorEstimate()).c_str());
                 for (const std::vector<std::string>& row : panels.objectTable()) {
                     std::string line;
                     for (const std::string& cell : row) line += (line.empty() ? "" : " | ") + cell;

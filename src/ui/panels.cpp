@@ -6,6 +6,7 @@
 #include "preprocess/backend_registry.hpp"
 #include "rays/ray_scene.hpp"
 #include "solve/solver_registry.hpp"
+#include "ui/run_estimate.hpp"
 #include "ui/units.hpp"
 
 #include <imgui.h>
@@ -607,14 +608,7 @@ void Panels::pipelinePanel(AppState& app) {
         const FormFactorEstimate e = app.formFactorEstimate();
         ImGui::PushTextWrapPos(0.0f);
         ImGui::TextDisabled("%s", e.description.c_str());
-        if (e.rows == 0) {
-            ImGui::TextDisabled("Run: F is current, it only solves");
-        } else {
-            ImGui::TextDisabled("Run: %zu rows x %s %s, F at most %.1f MiB, %s", e.rows, formatNumber(e.workPerRow).c_str(),
-                                e.workUnit.c_str(), e.memoryBound / 1048576.0,
-                                e.seconds ? ("about " + formatNumber(*e.seconds) + " s").c_str()
-                                          : "time known after a first run");
-        }
+        ImGui::TextDisabled("%s", runEstimateText(e).c_str());
         ImGui::PopTextWrapPos();
     }
     const bool solverOpen = ImGui::BeginCombo("Solver", st.solver.solver.c_str());

@@ -1,5 +1,5 @@
-// hemirad-gui driven by mouse and keyboard under Xvfb (issue 38): the file browser's double-click.
-// Needs xvfb-run and xdotool (scripts/install-deps.sh).
+// hemirad-gui driven by mouse and keyboard under Xvfb (issue 38): the file browser's double-click,
+// the Run estimate after opening another scene. Needs xvfb-run and xdotool (scripts/install-deps.sh).
 #include "ui/gui_run.hpp"
 
 #include <cstdlib>
@@ -27,4 +27,20 @@ TEST_CASE("hemirad-gui's file browser: a double-click on a folder enters it and 
     INFO(output);
     CHECK(output.find("b.obj") == std::string::npos);
     CHECK(output.find("loaded " + (browse / "sub/c.obj").string()) != std::string::npos);
+}
+
+TEST_CASE("hemirad-gui times Run from a run on the same mesh only: after another scene it says nothing yet (issue 38 #5)") {
+    // After the 20-patch Cornell box, a 315-patch mesh was announced at "about 14.22 s" and took 0.11 s.
+    const auto dir = tempDir("gui-estimate");
+    const std::string log = (dir / "gui.log").string();
+    runKeyboardScript("keyboard_keys.sh", log + " 30 '" + sourcePath("scenes/cornell_box.obj") + " --run' ctrl+o type:" +
+                                              sourcePath("scenes/cornell_mirror.obj") + " Return");
+    const std::string output = readText(log);
+    INFO(output);
+    REQUIRE(output.find("loaded " + sourcePath("scenes/cornell_mirror.obj")) != std::string::npos);
+    const std::size_t at = output.find("hemirad-gui: Run: ");
+    REQUIRE(at != std::string::npos);
+    const std::string line = output.substr(at, output.find('\n', at) - at);
+    CHECK(line.find("time known after a first run on this mesh") != std::string::npos);
+    CHECK(line.find("about") == std::string::npos);
 }
