@@ -62,6 +62,7 @@ struct FormFactorEstimate {
     bool reusesF = false;
     double workPerRow = 0.0;        ///< rays or pixels (workUnit) per row
     std::string workUnit;
+    bool analytic = false;          ///< analytic factors: the rays are shadow rays, no directions cast
     std::string description;        ///< the back end's run description (what "auto" picks, e.g.)
     double memoryBound = 0.0;       ///< bytes F takes at most while it is built
     /// From the rate of the last run of this method on this mesh; none before one (a rate measured on

@@ -3,6 +3,7 @@
 #include "ui/app_state.hpp"
 
 #include "engine/error.hpp"
+#include "engine/form_factor_notes.hpp"
 #include "pipeline/radiosity_pipeline.hpp"
 #include "preprocess/form_factor_job.hpp"
 
@@ -75,6 +76,8 @@ struct AppState::Job {
                 << ".." << run.stats.rowSumMax << ", reciprocity (mean) " << run.stats.reciprocityMean << "; "
                 << lostPowerText(run.counts, description.lossFromRays);
             messages.push_back(msg.str());
+            // What a row sum of 0 or a reciprocity max near 1 means, as the CLI's report says it.
+            for (const std::string& note : formFactorStatsNotes(run.stats)) messages.push_back("form factors: " + note);
             if (run.rowsComputed > 0 && run.computeSeconds > 0.0)
                 workPerSecond = double(run.rowsComputed) * expectedWorkPerRow(s, method) / run.computeSeconds;
         };
@@ -155,14 +158,17 @@ FormFactorEstimate AppState::formFactorEstimate() const {
     const MethodSettings& method = settings.formFactors;
     const BackendDescriptor& backend = findBackend(method.method);
     e.workUnit = backend.workUnit;
-    e.description = backend.describe(*m_scene, method).settings;
     e.workPerRow = backend.workPerRow(*m_scene, method);
+    const RunDescription description = backend.describe(*m_scene, method);
+    e.analytic = std::find(description.record.begin(), description.record.end(),
+                           std::pair<std::string, std::string>("estimator", "analytic")) != description.record.end();
     // The rows Run would compute: the missing ones of a reusable F, else every row needed.
     FormFactorPolicy policy;
     policy.backend = method;
     const bool reuse = m_F && !m_fStale && formFactorsMatchSettings();
     e.rows = RadiosityPipeline(policy, {}).missingRows(*m_scene, reuse ? m_F.get() : nullptr).size();
     e.reusesF = reuse;
+    e.description = description.settings;
     e.memoryBound = formFactorMemoryBound(*m_scene, method, e.rows);
     if (const auto it = m_workPerSecond.find({method.method, m_meshRevision}); it != m_workPerSecond.end())
         e.seconds = double(e.rows) * e.workPerRow / it->second;

@@ -5,6 +5,7 @@
 #include "engine/threads.hpp"
 #include "gl/gl_api.hpp"
 #include "ui/app_state.hpp"
+#include "ui/frame_pacing.hpp"
 #include "ui/inspector.hpp"
 #include "ui/key_taps.hpp"
 #include "ui/orbit_camera.hpp"
@@ -31,6 +32,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 using namespace hemirad;
@@ -181,12 +183,25 @@ struct Input {
     /// press (synthetic input, a slow frame).
     std::vector<std::pair<int, int>> shortcuts;
     KeyTaps taps;                  // a tap shorter than a frame still reaches ImGui
+    bool eventSeen = false;        // some input arrived since the last frame (FramePacing)
     GLFWkeyfun imguiKey = nullptr;  // ImGui's key callback (which chains onKey)
 };
 
 void onKey(GLFWwindow* window, int key, int, int action, int mods) {
     auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
+    if (input) input->eventSeen = true;
     if (input && action == GLFW_PRESS && (mods & GLFW_MOD_CONTROL)) input->shortcuts.emplace_back(key, mods);
+}
+
+/// Installed before ImGui's back end, which chains them: any input keeps frames coming (FramePacing).
+void onButton(GLFWwindow* window, int, int, int) {
+    if (auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window))) input->eventSeen = true;
+}
+void onScroll(GLFWwindow* window, double, double) {
+    if (auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window))) input->eventSeen = true;
+}
+void onChar(GLFWwindow* window, unsigned int) {
+    if (auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window))) input->eventSeen = true;
 }
 
 /// Installed in front of ImGui's key callback: a key's second change before a frame has seen its first waits.
@@ -199,10 +214,12 @@ void onKeyTap(GLFWwindow* window, int key, int scancode, int action, int mods) {
 void onDrop(GLFWwindow* window, int count, const char** paths) {
     auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
     for (int k = 0; k < count; ++k) input->dropped.emplace_back(paths[k]);
+    input->eventSeen = true;
 }
 
 void onCursor(GLFWwindow* window, double, double) {
-    static_cast<Input*>(glfwGetWindowUserPointer(window))->pointerSeen = true;
+    auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
+    input->pointerSeen = input->eventSeen = true;
 }
 
 void onGlfwError(int code, const char* text) { std::fprintf(stderr, "hemirad-gui: GLFW error %d: %s\n", code, text); }
@@ -264,7 +281,10 @@ int main(int argc, char** argv) {
         ImGui::CreateContext();
         ImGui::GetIO().IniFilename = nullptr;  // layouts are not persisted between runs
         ImGui::StyleColorsDark();
-        glfwSetKeyCallback(window, onKey);  // before ImGui's back end, which chains it
+        glfwSetKeyCallback(window, onKey);  // before ImGui's back end, which chains them
+        glfwSetMouseButtonCallback(window, onButton);
+        glfwSetScrollCallback(window, onScroll);
+        glfwSetCharCallback(window, onChar);
         ImGui_ImplGlfw_InitForOpenGL(window, true);
         ImGui_ImplOpenGL3_Init("#version 450");
 
@@ -329,23 +349,20 @@ int main(int argc, char** argv) {
             const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
             long frames = 0;
             std::string windowTitle = "Hemirad";
-            int settleFrames = 3;
+            FramePacing pacing;
             TooltipCheck tooltips;
             while (!glfwWindowShouldClose(window) && !requests.quit) {
                 const bool scripted = !options.screenshot.empty() || options.exitAfter;
-                if (scripted) {
-                    glfwPollEvents();
-                } else if (app.job().running) {
-                    glfwWaitEventsTimeout(1.0 / 30.0);
-                    settleFrames = 3;
-                } else if (settleFrames > 0 || input.taps.pending()) {
-                    glfwPollEvents();
-                    settleFrames = std::max(settleFrames - 1, 0);
-                } else {
-                    const double limit = options.quitAfter > 0 ? std::max(options.quitAfter - seconds(), 1e-3) : 2.0;
-                    glfwWaitEventsTimeout(std::min(2.0, limit));
-                    settleFrames = 2;
+                switch (pacing.next(scripted, app.job().running, input.taps.pending())) {
+                    case FramePacing::Wait::Poll: glfwPollEvents(); break;
+                    case FramePacing::Wait::Job: glfwWaitEventsTimeout(1.0 / 30.0); break;
+                    case FramePacing::Wait::Idle: {
+                        const double limit = options.quitAfter > 0 ? std::max(options.quitAfter - seconds(), 1e-3) : 2.0;
+                        glfwWaitEventsTimeout(std::min(2.0, limit));
+                        break;
+                    }
                 }
+                pacing.eventsProcessed(std::exchange(input.eventSeen, false));
                 if (options.quitAfter > 0 && seconds() >= options.quitAfter) requests.quit = true;
                 // The title names the scene and says when it has unsaved edits.
                 const std::string title = app.hasScene() ? "Hemirad - " + std::filesystem::path(app.scenePath()).filename().string() +
@@ -489,6 +506,8 @@ int main(int argc, char** argv) {
             }
             if (scriptedExit) {
                 std::printf("hemirad-gui: %ld frames drawn in %.2f s\n", frames, seconds());
+                if (pacing.leastFramesAfterInput() >= 0)
+                    std::printf("hemirad-gui: after input, at least %d frames before sleeping\n", pacing.leastFramesAfterInput());
                 if (app.layer == Layer::FalseColour) {
                     const FalseColourView view = app.falseColourView();
                     if (!view.error.empty()) std::printf("hemirad-gui: %s\n", view.error.c_str());
@@ -503,6 +522,11 @@ int main(int argc, char** argv) {
                 }
                 std::printf("hemirad-gui: status: %s\n", panels.status().c_str());
                 if (app.hasScene()) std::printf("hemirad-gui: %s\n", runEstimateText(app.formFactorEstimate()).c_str());
+                if (!panels.legendTicks().empty()) {
+                    std::string ticks;
+                    for (const std::string& t : panels.legendTicks()) ticks += (ticks.empty() ? "" : " | ") + t;
+                    std::printf("hemirad-gui: legend ticks: %s\n", ticks.c_str());
+                }
                 for (const std::vector<std::string>& row : panels.objectTable()) {
                     std::string line;
                     for (const std::string& cell : row) line += (line.empty() ? "" : " | ") + cell;

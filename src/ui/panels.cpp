@@ -1,8 +1,10 @@
 // ImGui panels of hemirad-gui.
 #include "ui/panels.hpp"
+#include "ui/panel_tip.hpp"
 
 #include "engine/atomic_file.hpp"
 #include "engine/error.hpp"
+#include "engine/form_factor_notes.hpp"
 #include "preprocess/backend_registry.hpp"
 #include "rays/ray_scene.hpp"
 #include "solve/solver_registry.hpp"
@@ -50,11 +52,6 @@ std::string formatBytes(std::uintmax_t bytes) {
     else if (bytes < 1024 * 1024) std::snprintf(text, sizeof text, "%.1f KiB", double(bytes) / 1024.0);
     else std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / 1048576.0);
     return text;
-}
-
-/// The last control's tooltip (shown also when it is disabled, to say why).
-void tip(const char* text) {
-    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", text);
 }
 
 bool isObjPath(const std::string& path) {
@@ -183,11 +180,17 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
     m_selectionHidden = app.selection().empty();
     if (beginPanel("Log", l.log, relayout)) logPanel(app);
     ImGui::End();
-    if (app.layer == Layer::FalseColour && app.hasScene()) {
-        if (beginPanel("Legend", l.legend, relayout || m_legendHidden)) legendPanel(app);
+    // The false colour's legend, or the F-row layer's scale.
+    const bool legend = app.hasScene() && (app.layer == Layer::FalseColour || app.layer == Layer::FormFactorRow);
+    m_legendTicks.clear();
+    if (legend) {
+        if (beginPanel("Legend", l.legend, relayout || m_legendHidden)) {
+            if (app.layer == Layer::FalseColour) legendPanel(app);
+            else rowLegendPanel(app);
+        }
         ImGui::End();
     }
-    m_legendHidden = app.layer != Layer::FalseColour;
+    m_legendHidden = !legend;
     if (!m_showObjects || !app.hasScene()) m_objectTable.clear();
     if (m_showObjects && app.hasScene()) {
         ImGui::SetNextWindowSize(ImVec2(620, 260), ImGuiCond_FirstUseEver);
@@ -649,8 +652,12 @@ void Panels::pipelinePanel(AppState& app) {
         if (ImGui::Button("Recompute F")) app.recomputeFormFactors();
         tip("Compute the whole F again with the settings above, even when it is current, then solve");
     }
-    if (app.formFactors() && !app.formFactorsStale() && !app.formFactorsMatchSettings())
-        ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "F was made with other settings: Run computes it again");
+    if (app.formFactors() && !app.formFactorsStale() && !app.formFactorsMatchSettings()) {
+        // Wrapped: a line wider than the panel was clipped (issue 38 #15).
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.6f, 0.2f, 1));
+        ImGui::TextWrapped("F was made with other settings: Run computes it again");
+        ImGui::PopStyleColor();
+    }
     ImGui::Separator();
     if (!app.formFactors()) {
         ImGui::TextDisabled("no form factors yet");
@@ -661,82 +668,16 @@ void Panels::pipelinePanel(AppState& app) {
         if (const auto& stats = app.formFactorStats()) {
             ImGui::TextWrapped("row sums %.4f / %.4f / %.4f (min/mean/max)", stats->rowSumMin, stats->rowSumMean, stats->rowSumMax);
             ImGui::TextWrapped("reciprocity: mean %.4f, max %.4f", stats->reciprocityMean, stats->reciprocityMax);
+            // What a row sum of 0 or a reciprocity max near 1 means, as the CLI says it.
+            ImGui::PushTextWrapPos(0.0f);
+            for (const std::string& note : formFactorStatsNotes(*stats)) ImGui::TextDisabled("%s", note.c_str());
+            ImGui::PopTextWrapPos();
         }
     }
     for (const auto& [stage, seconds] : app.timings()) ImGui::Text("%-26s %8.3f s", stage.c_str(), seconds);
     for (const SolveReport& r : app.solveReports())
         ImGui::Text("%s (%s): %s, %d it, residual %.2e", r.solver.c_str(), r.channels.c_str(),
                     r.converged ? "converged" : "NOT converged", r.iterations, r.residual);
-}
-
-void Panels::legendPanel(AppState& app) {
-    // The false-colour settings, then the legend: title, unit, the bar (max on top), five values.
-    FalseColourSettings& fc = app.falseColour;
-    static const char* kQuantities[] = {"radiosity B", "irradiance H", "emission E"};
-    int quantity = int(fc.quantity);
-    if (ImGui::Combo("##quantity", &quantity, kQuantities, 3)) fc.quantity = FalseColourQuantity(quantity);
-    tip("Radiosity B (what leaves), irradiance H = (B - E)/rho (what a meter on the surface reads),\n"
-        "or emission E; all in W/m^2 as luminance Y");
-    int scale = int(fc.scale);
-    ImGui::RadioButton("linear", &scale, 0);
-    tip("Colours evenly spaced in the value");
-    ImGui::SameLine();
-    ImGui::RadioButton("log", &scale, 1);
-    tip("Colours evenly spaced in the value's logarithm (for ranges over decades; values <= 0 show as the minimum);\n"
-        "the automatic range spans at most 4 decades: its minimum is at least max/1e4");
-    fc.scale = FalseColourScale(scale);
-    ImGui::Checkbox("automatic range", &fc.automatic);
-    tip("The range is the values' minimum and maximum (log: the minimum at least max/1e4); off: type min and max");
-    const FalseColourView view = app.falseColourView();
-    if (fc.automatic) {
-        fc.min = view.range.min;  // the fields start from the data when switched to manual
-        fc.max = view.range.max;
-    } else {
-        ImGui::InputDouble("max", &fc.max, 0.0, 0.0, "%.4g");
-        tip("The value at the top of the colour bar (W/m^2); larger values show its colour");
-        ImGui::InputDouble("min", &fc.min, 0.0, 0.0, "%.4g");
-        tip("The value at the bottom of the colour bar (W/m^2); smaller values show its colour");
-    }
-    if (!view.error.empty()) {
-        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.4f, 1.0f));
-        ImGui::TextWrapped("%s", view.error.c_str());
-        ImGui::PopStyleColor();
-    } else {
-        falseColourBar(view, fc.quantity);
-    }
-    if (view.noData) {
-        ImGui::ColorButton("##nodata", ImVec4(0.5f, 0.5f, 0.5f, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
-        ImGui::SameLine();
-        ImGui::TextDisabled(view.error.empty() ? "no data (rho = 0)" : "no data");
-    }
-}
-
-void Panels::falseColourBar(const FalseColourView& view, FalseColourQuantity quantity) {
-    ImGui::Text("%s", falseColourTitle(quantity).c_str());
-    ImGui::TextDisabled("W/m^2, luminance Y");
-    const ImVec2 origin = ImGui::GetCursorScreenPos();
-    const float barWidth = 24.0f, barHeight = std::max(60.0f, std::min(220.0f, ImGui::GetContentRegionAvail().y - 40.0f));
-    const float x0 = std::floor(origin.x), y0 = std::floor(origin.y + 6.0f);
-    const int rows = int(barHeight);
-    ImDrawList* draw = ImGui::GetWindowDrawList();
-    for (int y = 0; y < rows; ++y) {
-        const auto c = viridis(double(rows - 1 - y) / double(rows - 1));
-        draw->AddRectFilled(ImVec2(x0, y0 + y), ImVec2(x0 + barWidth, y0 + y + 1), IM_COL32(c[0], c[1], c[2], 255));
-    }
-    m_panelRects["LegendBar"] = {x0, y0, barWidth, float(rows)};
-    for (int k = 0; k <= 4; ++k) {
-        const double t = k / 4.0;
-        const FalseColourRange& r = view.range;
-        const double v = r.scale == FalseColourScale::Log ? r.min * std::pow(r.max / r.min, t) : r.min + t * (r.max - r.min);
-        const float y = y0 + float(rows - 1) * float(1.0 - t);
-        draw->AddLine(ImVec2(x0 + barWidth, y), ImVec2(x0 + barWidth + 5, y), IM_COL32(230, 230, 230, 255));
-        draw->AddText(ImVec2(x0 + barWidth + 9, y - 7), IM_COL32(230, 230, 230, 255), formatNumber(v).c_str());
-    }
-    ImGui::Dummy(ImVec2(barWidth + 80, barHeight + 12));
-    ImGui::PushTextWrapPos(0.0f);
-    ImGui::TextDisabled("%s scale%s%s", falseColourScaleName(view.range.scale), view.range.automatic ? ", " : "",
-                        falseColourRangeNote(view.range).c_str());
-    ImGui::PopTextWrapPos();
 }
 
 void Panels::objectsPanel(AppState& app) {

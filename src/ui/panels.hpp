@@ -49,6 +49,8 @@ public:
     /// The object table as drawn in the last frame: the headings, then a row per object, each cell's
     /// text (empty when the window was not drawn); scripted runs print it.
     const std::vector<std::vector<std::string>>& objectTable() const { return m_objectTable; }
+    /// The legend's tick labels as drawn in the last frame, bottom to top (empty without a legend).
+    const std::vector<std::string>& legendTicks() const { return m_legendTicks; }
     /// Help > Keyboard and mouse (F1): shows or hides the help window.
     void toggleHelp() { m_showHelp = !m_showHelp; }
     /// Esc: closes the help window; returns whether it was open.
@@ -77,9 +79,14 @@ private:
     void meshingSection(AppState& app);
     void logPanel(AppState& app);
     void statusBar(AppState& app, const Rect& rect, std::optional<PatchId> hovered, double viewExposure);
+    /// The false colour's settings and legend (legend_panel.cpp).
     void legendPanel(AppState& app);
-    /// The legend's title, colour bar, its five values and the scale.
-    void falseColourBar(const FalseColourView& view, FalseColourQuantity quantity);
+    /// The F-row layer's scale: F from the selected patch, log over 4 decades (legend_panel.cpp).
+    void rowLegendPanel(AppState& app);
+    /// A colour bar of `colourAt(t)` (t 0 at the bottom .. 1 at the top) labelled with round values
+    /// of `range` (legendTicks), then the scale's note.
+    void colourBar(const FalseColourRange& range, const std::function<std::array<std::uint8_t, 3>(double)>& colourAt,
+                   const std::string& note);
     void objectsPanel(AppState& app);
     void helpPanel();
     void modals(AppState& app, OrbitCamera& camera, LoopRequests& requests);
@@ -101,6 +108,12 @@ private:
     float m_layoutWidth = 0, m_layoutHeight = 0;  ///< the window size the layout was applied for
     bool m_selectionHidden = true;                 ///< the Selection panel was not drawn last frame
     bool m_legendHidden = true;                    ///< the Legend panel was not drawn last frame
+    std::vector<std::string> m_legendTicks;        ///< the legend's tick labels as drawn last
+    // The F-row legend's row: for which patch and F, and its largest factor.
+    std::optional<PatchId> m_rowPatch;
+    const FormFactors* m_rowF = nullptr;
+    std::uint64_t m_rowRevision = 0;
+    double m_rowMax = 0.0;
     bool m_showObjects = false;                    ///< View > Object table
     std::vector<std::vector<std::string>> m_objectTable;  ///< the object table as drawn last
     bool m_showHelp = false;                       ///< Help > Keyboard and mouse (F1)

@@ -8,8 +8,8 @@
 
 namespace hemirad::ui {
 
-/// "Run: 315 rows x 3072 rays, F at most 1.2 MiB, about 0.4 s"; without a rate measured on this
-/// mesh the time is not guessed.
+/// "Run: 315 rows x 3072 rays, F at most 1.2 MiB, about 0.4 s"; analytic factors say they cast
+/// shadow rays, not directions; without a rate measured on this mesh the time is not guessed.
 std::string runEstimateText(const FormFactorEstimate& e);
 
 }  // namespace hemirad::ui

@@ -507,6 +507,18 @@ TEST_CASE("GUI state: Run's time comes from a run of the method on the same mesh
     CHECK_FALSE(app.formFactorEstimate().seconds.has_value());  // another scene
 }
 
+TEST_CASE("GUI state: the analytic estimator's Run line counts shadow rays, not directions (issue 38 #15)") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/cornell_box.obj")));
+    app.settings.formFactors.as<HemisphereOptions>().estimator = Estimator::Analytic;
+    const FormFactorEstimate e = app.formFactorEstimate();
+    CHECK(e.analytic);
+    const std::string text = ui::runEstimateText(e);
+    CHECK(text.find("Run: 20 rows of analytic factors (20 shadow rays a row, no directions cast)") == 0);
+    app.settings.formFactors.as<HemisphereOptions>().estimator = Estimator::Rays;
+    CHECK(ui::runEstimateText(app.formFactorEstimate()).find("Run: 20 rows x 3072 rays") == 0);
+}
+
 TEST_CASE("GUI state: meshing the selected object previews its patch count, keeps edits, makes F stale, and undoes") {
     AppState app;
     REQUIRE(app.loadScene(sourcePath("scenes/cornell_box.obj")));

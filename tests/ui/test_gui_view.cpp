@@ -3,7 +3,9 @@
 // Needs xvfb-run (scripts/install-deps.sh); without it the tests fail, never skip.
 #include "ui/gui_run.hpp"
 
+#include <cctype>
 #include <cstdlib>
+#include <sstream>
 
 using namespace hemirad::test;
 
@@ -152,4 +154,58 @@ TEST_CASE("hemirad-gui outlines the selection: a selected patch keeps its false 
     for (int y = 40; y < 590; ++y)
         for (int x = 370; x < 910; ++x) shown += radiosity.at(x, y)[0] == 255 && radiosity.at(x, y)[1] == 89 && radiosity.at(x, y)[2] == 0;
     CHECK(shown > 100);
+}
+
+namespace {
+
+/// The legend's tick labels a scripted run printed.
+std::vector<std::string> legendTicksOf(const std::string& log) {
+    const std::size_t at = log.find("hemirad-gui: legend ticks: ");
+    REQUIRE(at != std::string::npos);
+    std::istringstream line(log.substr(at + 27, log.find('\n', at) - at - 27));
+    std::vector<std::string> ticks;
+    for (std::string tick; std::getline(line, tick, '|');) ticks.push_back(tick.substr(tick.find_first_not_of(' '), tick.find_last_not_of(' ') + 1));
+    return ticks;
+}
+
+/// Significant digits of a label: "0.8751" 4, "0.2" 1, "150" 2, "1e-05" 1.
+int significantDigits(const std::string& label) {
+    std::string digits;
+    for (char c : label.substr(0, label.find('e')))
+        if (std::isdigit(static_cast<unsigned char>(c))) digits += c;
+    digits.erase(0, std::min(digits.find_first_not_of('0'), digits.size()));
+    while (!digits.empty() && digits.back() == '0') digits.pop_back();
+    return int(digits.size());
+}
+
+}  // namespace
+
+TEST_CASE("hemirad-gui's legend is labelled with round values: at most two significant digits each (issue 38 #15)") {
+    std::string log;
+    runGui("gui-legend-ticks", sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256 --false-color irradiance --run", log);
+    INFO(log);
+    const std::vector<std::string> ticks = legendTicksOf(log);
+    CHECK(ticks.size() >= 2);
+    CHECK(ticks.size() <= 7);
+    for (const std::string& t : ticks) {
+        CAPTURE(t);
+        CHECK(significantDigits(t) <= 2);
+    }
+    CHECK(significantDigits("0.8751") == 4);  // what the legend showed
+}
+
+TEST_CASE("hemirad-gui's F-row layer has a scale: the legend's bar in the layer's colours, log values from the row's largest factor (issue 38 #15)") {
+    std::string log;
+    const Image image =
+        runGui("gui-row-legend", sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256 --layer f-row --select 0 --run", log);
+    INFO(log);
+    const Panel bar = panelOf(log, "LegendBar");
+    // The ramp of viewer_present.frag at its ends: dark blue at the bottom, yellow at the top.
+    const unsigned char* top = image.at(int(bar.x + bar.w / 2), int(bar.y));
+    const unsigned char* bottom = image.at(int(bar.x + bar.w / 2), int(bar.y + bar.h) - 1);
+    CHECK(near(top, {255, 194, 25}));
+    CHECK(near(bottom, {0, 26, 229}));
+    const std::vector<std::string> ticks = legendTicksOf(log);
+    REQUIRE(ticks.size() >= 4);  // the powers of ten across 4 decades
+    CHECK(std::stod(ticks.back()) / std::stod(ticks.front()) >= 999.0);
 }
