@@ -118,7 +118,13 @@ struct JobStatus {
     std::string stage;      ///< "form factors", "solve"
     double progress = 0.0;  ///< 0..1 within the stage
     double elapsed = 0.0;
+    bool cancelling = false;  ///< Cancel was pressed; the job is stopping
+    int workers = 0;          ///< worker threads it computes with
 };
+
+/// Worker threads for a job: `requested` when > 0; for 0 (all cores) one fewer than the cores, at
+/// least 1, so that the window keeps a core to draw and to take Cancel (issue 38 #4).
+int jobWorkers(int requested);
 
 class AppState {
 public:
@@ -243,6 +249,8 @@ public:
     /// Solves with the current F (warm start from the last radiosity), first computing the rows the
     /// materials need that it lacks (runPipeline).
     void resolve();
+    /// Asks the running job to stop (it does between rows, and between solver sweeps); nothing
+    /// without one. Never starts work.
     void cancel();
     /// Called once a frame: applies a finished job's results. Returns true if something changed.
     bool poll();
@@ -324,6 +332,7 @@ private:
     std::vector<Rgb> m_corner;
     std::uint64_t m_cornerRevision = 0;
     std::unique_ptr<Job> m_job;
+    std::optional<int> m_framesSinceCancel;  ///< poll() calls since cancel(), while the job stops
 };
 
 }  // namespace hemirad::ui

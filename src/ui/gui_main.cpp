@@ -539,6 +539,8 @@ int main(int argc, char** argv) {
                 }
                 for (const auto& [name, r] : panels.panelRects())
                     std::printf("hemirad-gui: panel %s at %.0f,%.0f size %.0fx%.0f\n", name.c_str(), r.x, r.y, r.width, r.height);
+                for (const auto& [name, r] : panels.itemRects())
+                    std::printf("hemirad-gui: item %s at %.0f,%.0f size %.0fx%.0f\n", name.c_str(), r.x, r.y, r.width, r.height);
             }
         }
         ImGui_ImplOpenGL3_Shutdown();

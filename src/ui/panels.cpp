@@ -157,6 +157,8 @@ bool Panels::beginPanel(const char* name, const Rect& rect, bool relayout) {
 
 void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, double viewExposure, LoopRequests& requests,
                   std::optional<PatchId> hovered) {
+    m_panelRects.clear();
+    m_itemRects.clear();
     menuBar(app, camera, requests);
     const float width = ImGui::GetIO().DisplaySize.x, height = ImGui::GetIO().DisplaySize.y;
     // The layout is applied at start and whenever the window's size changes; in between the user
@@ -165,7 +167,6 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
     m_layoutWidth = width;
     m_layoutHeight = height;
     const Layout l = layout(width, height);
-    m_panelRects.clear();
     if (beginPanel("Scene", l.scene, relayout)) {
         scenePanel(app, camera);
         materialPanel(app);
@@ -320,8 +321,16 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
         ImGui::EndMenu();
     }
     const JobStatus job = app.job();
-    if (job.running) ImGui::Text("   %s %.0f%%  (%.1f s)", job.stage.c_str(), 100.0 * job.progress, job.elapsed);
-    else if (app.formFactorsStale()) ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "   F is stale: press Run");
+    if (job.running) {
+        ImGui::Text("   %s %.0f%%  (%.1f s)", job.stage.c_str(), 100.0 * job.progress, job.elapsed);
+        // Cancel where it is always in sight (the Pipeline panel's may be scrolled away).
+        ImGui::BeginDisabled(job.cancelling);
+        if (ImGui::SmallButton(job.cancelling ? "cancelling" : "Cancel")) app.cancel();
+        ImGui::EndDisabled();
+        tip("Stop the running job (between rows, or solver sweeps); the scene and the last results stay");
+        const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+        m_itemRects["CancelButton"] = {lo.x, lo.y, hi.x - lo.x, hi.y - lo.y};
+    } else if (app.formFactorsStale()) ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "   F is stale: press Run");
     else if (app.radiosityStale() && app.formFactors()) ImGui::TextColored(ImVec4(1, 0.9f, 0.3f, 1), "   radiosity out of date");
     ImGui::EndMainMenuBar();
 }
@@ -637,21 +646,28 @@ void Panels::pipelinePanel(AppState& app) {
     tip("Emission and diffuse edits solve again at once with the current F (warm start)");
     ImGui::PopItemWidth();
 
+    // The buttons keep their places whether a job runs or not, Cancel on its own row: a click meant
+    // for Cancel that lands after the job ended finds Cancel disabled, never Run (issue 38 #4).
     const JobStatus job = app.job();
-    if (job.running) {
-        ImGui::ProgressBar(float(job.progress), ImVec2(-1, 0), job.stage.c_str());
-        if (ImGui::Button("Cancel")) app.cancel();
-        tip("Stop the running job; the scene and the last results stay");
-    } else {
-        if (ImGui::Button("Run", ImVec2(100, 0))) app.runPipeline();
-        tip("Compute F where it is missing, stale or made with other settings, then solve");
-        ImGui::SameLine();
-        if (ImGui::Button("Re-solve", ImVec2(100, 0))) app.resolve();
-        tip("Solve again with the current F (after edits or a solver change)");
-        ImGui::SameLine();
-        if (ImGui::Button("Recompute F")) app.recomputeFormFactors();
-        tip("Compute the whole F again with the settings above, even when it is current, then solve");
-    }
+    ImGui::BeginDisabled(job.running);
+    if (ImGui::Button("Run", ImVec2(100, 0))) app.runPipeline();
+    tip("Compute F where it is missing, stale or made with other settings, then solve");
+    ImGui::SameLine();
+    if (ImGui::Button("Re-solve", ImVec2(100, 0))) app.resolve();
+    tip("Solve again with the current F (after edits or a solver change)");
+    ImGui::SameLine();
+    if (ImGui::Button("Recompute F")) app.recomputeFormFactors();
+    tip("Compute the whole F again with the settings above, even when it is current, then solve");
+    ImGui::EndDisabled();
+    ImGui::ProgressBar(job.running ? float(job.progress) : 0.0f, ImVec2(-108.0f, 0),
+                       job.running ? job.stage.c_str() : "no job running");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!job.running || job.cancelling);
+    if (ImGui::Button(job.cancelling ? "cancelling###cancel" : "Cancel###cancel", ImVec2(100, 0))) app.cancel();
+    ImGui::EndDisabled();
+    const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+    m_itemRects["PipelineCancel"] = {lo.x, lo.y, hi.x - lo.x, hi.y - lo.y};  // for scripted clicks
+    tip("Stop the running job (between rows, or solver sweeps); the scene and the last results stay");
     if (app.formFactors() && !app.formFactorsStale() && !app.formFactorsMatchSettings()) {
         // Wrapped: a line wider than the panel was clipped (issue 38 #15).
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.6f, 0.2f, 1));
@@ -678,6 +694,11 @@ void Panels::pipelinePanel(AppState& app) {
     for (const SolveReport& r : app.solveReports())
         ImGui::Text("%s (%s): %s, %d it, residual %.2e", r.solver.c_str(), r.channels.c_str(),
                     r.converged ? "converged" : "NOT converged", r.iterations, r.residual);
+    // The content never shrinks: ImGui pulls a panel scrolled to its end down by what went (fewer
+    // timing lines after a run), which moved Run under a pointer aimed at Cancel (issue 38 #4).
+    const float end = ImGui::GetCursorPosY();
+    if (end < m_pipelineEnd) ImGui::Dummy(ImVec2(1.0f, m_pipelineEnd - end));
+    m_pipelineEnd = std::max(m_pipelineEnd, end);
 }
 
 void Panels::objectsPanel(AppState& app) {
@@ -779,7 +800,7 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
             // The first rows' places, for scripted clicks.
             if (const std::size_t row = std::size_t(&e - m_browser.entries().data()); row < 3) {
                 const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
-                m_panelRects["FilesRow" + std::to_string(row)] = {lo.x, lo.y, hi.x - lo.x, hi.y - lo.y};
+                m_itemRects["FilesRow" + std::to_string(row)] = {lo.x, lo.y, hi.x - lo.x, hi.y - lo.y};
             }
             if (!e.directory) {
                 ImGui::SameLine(480);

@@ -62,6 +62,9 @@ public:
     /// Where each panel drawn in the last frame was (window pixels), by name: scripted runs print
     /// them and a test checks they stay inside the window and apart.
     const std::map<std::string, Rect>& panelRects() const { return m_panelRects; }
+    /// Where some controls were in the last frame, for scripted clicks: "CancelButton" (the menu
+    /// bar's, while a job runs), "PipelineCancel", "FilesRow0".."FilesRow2" (the browser's listing).
+    const std::map<std::string, Rect>& itemRects() const { return m_itemRects; }
     /// The default layout for a window of this size.
     struct Layout {
         Rect scene, pipeline, selection, log, legend, status;
@@ -122,7 +125,8 @@ private:
     bool m_meshSelected = false;
     std::uint64_t m_meshSceneId = 0;  ///< the scene the suggested edge length was made for
     std::vector<double> m_meshEdgesSeen;  ///< the mesh's edge lengths the fields were last set from
-    std::map<std::string, Rect> m_panelRects;
+    float m_pipelineEnd = 0.0f;  ///< the Pipeline panel's tallest content so far (it never shrinks)
+    std::map<std::string, Rect> m_panelRects, m_itemRects;
     std::string m_status;
 };
 

@@ -38,14 +38,16 @@ struct Panel {
     double x, y, w, h;
 };
 
-/// The panel rectangles a scripted run prints ("hemirad-gui: panel NAME at X,Y size WxH").
-inline std::vector<Panel> panelsOf(const std::string& log) {
+/// The panel rectangles a scripted run prints ("hemirad-gui: panel NAME at X,Y size WxH"), or with
+/// `kind` "item" the controls' ("hemirad-gui: item NAME ...").
+inline std::vector<Panel> panelsOf(const std::string& log, const std::string& kind = "panel") {
     std::vector<Panel> panels;
     std::size_t at = 0;
-    while ((at = log.find("hemirad-gui: panel ", at)) != std::string::npos) {
+    const std::string prefix = "hemirad-gui: " + kind + " ";
+    while ((at = log.find(prefix, at)) != std::string::npos) {
         char name[64] = {};
         Panel p;
-        REQUIRE(std::sscanf(log.c_str() + at, "hemirad-gui: panel %63s at %lf,%lf size %lfx%lf", name, &p.x, &p.y, &p.w, &p.h) == 5);
+        REQUIRE(std::sscanf(log.c_str() + at + prefix.size(), "%63s at %lf,%lf size %lfx%lf", name, &p.x, &p.y, &p.w, &p.h) == 5);
         p.name = name;
         panels.push_back(p);
         ++at;
@@ -53,11 +55,12 @@ inline std::vector<Panel> panelsOf(const std::string& log) {
     return panels;
 }
 
-/// The panel `name` a scripted run printed; fails the test when there is none.
-inline Panel panelOf(const std::string& log, const std::string& name) {
-    for (const Panel& p : panelsOf(log))
+/// The panel (or with `kind` "item", the control) `name` a scripted run printed; fails the test
+/// when there is none.
+inline Panel panelOf(const std::string& log, const std::string& name, const std::string& kind = "panel") {
+    for (const Panel& p : panelsOf(log, kind))
         if (p.name == name) return p;
-    FAIL("no panel " << name << " in the log");
+    FAIL("no " << kind << " " << name << " in the log");
     return {};
 }
 

@@ -3,7 +3,8 @@
 # prints its log and the panels of its last frame. Each tap is a press and release in one xdotool call,
 # then a wait of several frames' time (see keyboard_open.sh for why). A step may also be
 # type:TEXT (typed), click:X,Y (a left click there), dblclick:X,Y (a double-click at human speed,
-# 150 ms between the clicks: ImGui's limit is 300 ms) or hold:X,Y,S (the button held S seconds).
+# 150 ms between the clicks: ImGui's limit is 300 ms), hold:X,Y,S (the button held S seconds) or
+# wheel:X,Y,N (N steps of the wheel down there).
 # usage: keyboard_keys.sh HEMIRAD_GUI LOG SECONDS "GUI ARGUMENTS" STEP...
 set -u
 gui=$1 log=$2 seconds=$3 arguments=$4
@@ -20,6 +21,8 @@ for step in "$@"; do
         type:*) xdotool type --delay 40 "${step#type:}" ;;
         click:*) xy=${step#click:}; xdotool mousemove --window "$win" ${xy/,/ }; sleep 1; xdotool click 1 ;;
         dblclick:*) xy=${step#dblclick:}; xdotool mousemove --window "$win" ${xy/,/ }; sleep 1; xdotool click --repeat 2 --delay 150 1 ;;
+        wheel:*) IFS=, read -r x y n <<< "${step#wheel:}"; xdotool mousemove --window "$win" "$x" "$y"; sleep 1
+                 xdotool click --repeat "$n" --delay 50 5 ;;
         hold:*) IFS=, read -r x y held <<< "${step#hold:}"; xdotool mousemove --window "$win" "$x" "$y"; sleep 1
                 xdotool mousedown 1; sleep "$held"; xdotool mouseup 1 ;;
         *) xdotool keydown "$step" keyup "$step" ;;

@@ -1,7 +1,10 @@
 // hemirad-gui driven by mouse and keyboard under Xvfb (issue 38): the file browser's double-click,
 // the Run estimate after opening another scene, frames after every input. Needs xvfb-run and
 // xdotool (scripts/install-deps.sh).
+#include "engine/threads.hpp"
 #include "ui/gui_run.hpp"
+
+#include <algorithm>
 
 #include <cstdlib>
 
@@ -20,7 +23,7 @@ TEST_CASE("hemirad-gui's file browser: a double-click on a folder enters it and 
     // sub's row is b.obj's. Where the rows are: a first run opens the browser and prints them.
     const std::string log = (dir / "gui.log").string();
     runKeyboardScript("keyboard_keys.sh", log + " 12 '' ctrl+o", browse.string());
-    const Panel row = panelOf(readText(log), "FilesRow1");
+    const Panel row = panelOf(readText(log), "FilesRow1", "item");
     const std::string at = std::to_string(int(row.x + 40)) + "," + std::to_string(int(row.y + row.h / 2));
     // Double-click sub/, then type c.obj and Enter: only c.obj is opened, from sub.
     runKeyboardScript("keyboard_keys.sh", log + " 25 '' ctrl+o dblclick:" + at + " type:c.obj Return", browse.string());
@@ -61,4 +64,40 @@ TEST_CASE("hemirad-gui keeps drawing after every input, also one that comes whil
     REQUIRE(at != std::string::npos);
     REQUIRE(std::sscanf(output.c_str() + at, "hemirad-gui: after input, at least %d frames", &frames) == 1);
     CHECK(frames >= 3);  // the frame that took it, one for ImGui to act, one for a new popup to show
+}
+
+TEST_CASE("hemirad-gui takes Cancel while a run holds all cores within a frame or two, and a late click starts nothing (issue 38 #4)") {
+    // Cancel at 40 % of a run on all threads came late or not at all, and once a late click started
+    // a new solve: with the Pipeline panel scrolled to its end, the content shrank when the job ended
+    // (the progress row went), ImGui pulled it down, and Run came under the pointer aimed at Cancel.
+    // The Cornell box at 20 mm, rays, 12288 directions: half a minute of F on two cores.
+    const auto dir = tempDir("gui-cancel");
+    const std::string log = (dir / "gui.log").string();
+    const std::string run = "'" + sourcePath("scenes/cornell_box.obj") + " --subdivide 20 --estimator rays --samples 12288 --run'";
+    const std::string scroll = " wheel:1100,200,40";  // the Pipeline panel to its end, where Run and Cancel are
+    // Where the panel's Cancel is, scrolled so, while the job runs: a first run prints it.
+    runKeyboardScript("keyboard_keys.sh", log + " 10 " + run + scroll);
+    const Panel cancel = panelOf(readText(log), "PipelineCancel", "item");
+    const std::string at = std::to_string(int(cancel.x + cancel.w / 2)) + "," + std::to_string(int(cancel.y + cancel.h / 2));
+    // A click on it cancels; a late second click on the same place (the window seemed slow) comes
+    // once the job has ended.
+    runKeyboardScript("keyboard_keys.sh", log + " 20 " + run + scroll + " click:" + at + " click:" + at);
+    const std::string output = readText(log);
+    INFO(output);
+    // The job left the window a core (the panel's threads: 0, all cores).
+    const int cores = hemirad::resolveThreads(0), workers = std::max(1, cores - 1);
+    CHECK(output.find("running: form factors and solve, " + std::to_string(workers) + (workers == 1 ? " thread" : " threads") +
+                      " (all cores but one, left for the window)") != std::string::npos);
+    const std::size_t cancelling = output.find("hemirad-gui: cancelling...");
+    REQUIRE(cancelling != std::string::npos);
+    int frames = -1;
+    const std::size_t stopped = output.find("hemirad-gui: cancelled: the job stopped ");
+    REQUIRE(stopped != std::string::npos);
+    REQUIRE(std::sscanf(output.c_str() + stopped, "hemirad-gui: cancelled: the job stopped %d frame", &frames) == 1);
+    CHECK(frames >= 1);
+    CHECK(frames <= 2);
+    // Nothing ran to its end, and nothing started after Cancel.
+    CHECK(output.find("rows in ") == std::string::npos);
+    CHECK(output.find("running:", cancelling) == std::string::npos);
+    CHECK(output.find("solve:", cancelling) == std::string::npos);
 }
