@@ -184,6 +184,7 @@ struct Input {
     std::vector<std::pair<int, int>> shortcuts;
     KeyTaps taps;                  // a tap shorter than a frame still reaches ImGui
     bool eventSeen = false;        // some input arrived since the last frame (FramePacing)
+    bool typedTaps = false;        // KeyTaps holds changes that came while a text field had the keyboard
     GLFWkeyfun imguiKey = nullptr;  // ImGui's key callback (which chains onKey)
 };
 
@@ -432,11 +433,17 @@ int main(int argc, char** argv) {
                     else if (key == GLFW_KEY_Y) app.redo();
                 }
                 input.shortcuts.clear();
-                if (!io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F1)) panels.toggleHelp();
+                // Key changes KeyTaps held back while a text field had the keyboard are still typing
+                // when they reach ImGui after it closed: the last letters of "stuff.hff" typed fast,
+                // then Enter, pressed F again a frame later and framed the view (issue 38 #16).
+                if (io.WantCaptureKeyboard && input.taps.pending()) input.typedTaps = true;
+                if (!input.taps.pending()) input.typedTaps = false;
+                const bool viewKeys = !io.WantCaptureKeyboard && !input.typedTaps;
+                if (viewKeys && ImGui::IsKeyPressed(GLFW_KEY_F1)) panels.toggleHelp();
                 // Esc closes the help window, else selects none.
-                const bool escape = !io.WantCaptureKeyboard && !io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_ESCAPE);
+                const bool escape = viewKeys && !io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_ESCAPE);
                 if (escape && !panels.closeHelp() && app.hasScene()) app.clearSelection();
-                if (!io.WantCaptureKeyboard && app.hasScene() && !io.KeyCtrl) {
+                if (viewKeys && app.hasScene() && !io.KeyCtrl) {
                     if (ImGui::IsKeyPressed(GLFW_KEY_F)) camera.frame(app.scene());
                     if (ImGui::IsKeyPressed(GLFW_KEY_S) && !app.selection().empty()) camera.frameSelection(app.scene(), app.selection());
                     if (ImGui::IsKeyPressed(GLFW_KEY_C)) camera.useSceneCamera(app.scene());

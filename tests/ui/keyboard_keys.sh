@@ -3,8 +3,9 @@
 # prints its log and the panels of its last frame. Each tap is a press and release in one xdotool call,
 # then a wait of several frames' time (see keyboard_open.sh for why). A step may also be
 # type:TEXT (typed), click:X,Y (a left click there), dblclick:X,Y (a double-click at human speed,
-# 150 ms between the clicks: ImGui's limit is 300 ms), hold:X,Y,S (the button held S seconds) or
-# wheel:X,Y,N (N steps of the wheel down there).
+# 150 ms between the clicks: ImGui's limit is 300 ms), hold:X,Y,S (the button held S seconds),
+# wheel:X,Y,N (N steps of the wheel down there), drag:X,Y,X2,Y2 (a left drag) or enter:TEXT (typed
+# as fast as xdotool can, then Return, in one go).
 # usage: keyboard_keys.sh HEMIRAD_GUI LOG SECONDS "GUI ARGUMENTS" STEP...
 set -u
 gui=$1 log=$2 seconds=$3 arguments=$4
@@ -23,6 +24,13 @@ for step in "$@"; do
         dblclick:*) xy=${step#dblclick:}; xdotool mousemove --window "$win" ${xy/,/ }; sleep 1; xdotool click --repeat 2 --delay 150 1 ;;
         wheel:*) IFS=, read -r x y n <<< "${step#wheel:}"; xdotool mousemove --window "$win" "$x" "$y"; sleep 1
                  xdotool click --repeat "$n" --delay 50 5 ;;
+        drag:*) IFS=, read -r x y x2 y2 <<< "${step#drag:}"; xdotool mousemove --window "$win" "$x" "$y"; sleep 1
+                xdotool mousedown 1; sleep 0.2
+                for k in 1 2 3 4 5 6 7 8 9 10; do
+                    xdotool mousemove --window "$win" $((x + (x2 - x) * k / 10)) $((y + (y2 - y) * k / 10)); sleep 0.05
+                done
+                sleep 0.2; xdotool mouseup 1 ;;
+        enter:*) xdotool type --delay 5 "${step#enter:}"; xdotool key Return ;;
         hold:*) IFS=, read -r x y held <<< "${step#hold:}"; xdotool mousemove --window "$win" "$x" "$y"; sleep 1
                 xdotool mousedown 1; sleep "$held"; xdotool mouseup 1 ;;
         *) xdotool keydown "$step" keyup "$step" ;;

@@ -1,6 +1,6 @@
 // hemirad-gui driven by mouse and keyboard under Xvfb (issue 38): the file browser's double-click,
-// the Run estimate after opening another scene, frames after every input. Needs xvfb-run and
-// xdotool (scripts/install-deps.sh).
+// the Run estimate after opening another scene, frames after every input, Cancel while a run holds
+// the cores, a path typed fast. Needs xvfb-run and xdotool (scripts/install-deps.sh).
 #include "engine/threads.hpp"
 #include "ui/gui_run.hpp"
 
@@ -100,4 +100,24 @@ TEST_CASE("hemirad-gui takes Cancel while a run holds all cores within a frame o
     CHECK(output.find("rows in ") == std::string::npos);
     CHECK(output.find("running:", cancelling) == std::string::npos);
     CHECK(output.find("solve:", cancelling) == std::string::npos);
+}
+
+TEST_CASE("hemirad-gui: letters typed fast into the file browser do not reach the view after it closes (issue 38 #16)") {
+    // Seen once: the view re-framed after Export F with a typed path. KeyTaps held back the repeated
+    // letters of a path typed fast ("stuff": f, f) and gave them to ImGui a frame or two after Enter
+    // had closed the browser, where an F is the view's Frame key (C the scene camera's).
+    const auto dir = tempDir("gui-typed-keys");
+    REQUIRE(setenv("XDG_CONFIG_HOME", (dir / "config").c_str(), 1) == 0);
+    const std::string log = (dir / "gui.log").string();
+    // Orbit away from the scene camera's view (from -z), then Save as a path typed fast.
+    runKeyboardScript("keyboard_keys.sh", log + " 20 '" + sourcePath("scenes/cornell_box.obj") +
+                                              "' drag:640,400,760,400 ctrl+shift+s enter:" + (dir / "stuff.obj").string());
+    const std::string output = readText(log);
+    INFO(output);
+    REQUIRE(output.find("saved " + (dir / "stuff.obj").string()) != std::string::npos);
+    const std::size_t at = output.find("view from ");
+    REQUIRE(at != std::string::npos);
+    double x = 0, y = 0, z = 0;
+    REQUIRE(std::sscanf(output.c_str() + at, "view from %lf %lf %lf", &x, &y, &z) == 3);
+    CHECK(std::abs(x) > 0.2);  // still orbited: not framed again from the camera's side
 }
