@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -185,6 +186,11 @@ struct Input {
     KeyTaps taps;                  // a tap shorter than a frame still reaches ImGui
     bool eventSeen = false;        // some input arrived since the last frame (FramePacing)
     bool typedTaps = false;        // KeyTaps holds changes that came while a text field had the keyboard
+    // Where the pointer was at each button's last press and release event (the last motion event
+    // before it): a frame sees a click late, when the hand may have moved on.
+    double cursorX = 0, cursorY = 0;
+    double downX[3] = {}, downY[3] = {}, upX[3] = {}, upY[3] = {};
+    bool down[3] = {};  // as the button events say (ImGui reports a release a frame after the press)
     GLFWkeyfun imguiKey = nullptr;  // ImGui's key callback (which chains onKey)
 };
 
@@ -195,8 +201,15 @@ void onKey(GLFWwindow* window, int key, int, int action, int mods) {
 }
 
 /// Installed before ImGui's back end, which chains them: any input keeps frames coming (FramePacing).
-void onButton(GLFWwindow* window, int, int, int) {
-    if (auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window))) input->eventSeen = true;
+void onButton(GLFWwindow* window, int button, int action, int) {
+    auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
+    if (!input) return;
+    input->eventSeen = true;
+    if (button < 0 || button > 2) return;
+    if (!input->pointerSeen) glfwGetCursorPos(window, &input->cursorX, &input->cursorY);
+    (action == GLFW_PRESS ? input->downX : input->upX)[button] = input->cursorX;
+    (action == GLFW_PRESS ? input->downY : input->upY)[button] = input->cursorY;
+    input->down[button] = action == GLFW_PRESS;
 }
 void onScroll(GLFWwindow* window, double, double) {
     if (auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window))) input->eventSeen = true;
@@ -218,9 +231,11 @@ void onDrop(GLFWwindow* window, int count, const char** paths) {
     input->eventSeen = true;
 }
 
-void onCursor(GLFWwindow* window, double, double) {
+void onCursor(GLFWwindow* window, double x, double y) {
     auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
     input->pointerSeen = input->eventSeen = true;
+    input->cursorX = x;
+    input->cursorY = y;
 }
 
 void onGlfwError(int code, const char* text) { std::fprintf(stderr, "hemirad-gui: GLFW error %d: %s\n", code, text); }
@@ -397,25 +412,34 @@ int main(int argc, char** argv) {
                             input.dragging = true;
                             input.moved = false;
                             input.button = b;
-                            input.pressX = input.lastX = x;
-                            input.pressY = input.lastY = y;
+                            input.pressX = input.lastX = input.downX[b];
+                            input.pressY = input.lastY = input.downY[b];
                         }
                     if (io.MouseWheel != 0.0f) camera.zoom(io.MouseWheel);
                 } else {
                     hovered.reset();
                 }
                 if (input.dragging) {
-                    const double dx = x - input.lastX, dy = y - input.lastY;
-                    if (std::abs(x - input.pressX) + std::abs(y - input.pressY) > 3) input.moved = true;
+                    // A click or a drag is told by where the button went down and up (its events),
+                    // not where the pointer is when a frame sees them: a quick click, the hand moving
+                    // on at once, orbited instead of selecting (issue 38 #16).
+                    const bool released = ImGui::IsMouseReleased(input.button);
+                    // Up already (its release event came with the press, ImGui tells it next frame):
+                    // the drag ended where the button went up.
+                    const bool up = released || !input.down[input.button];
+                    const double px = up ? input.upX[input.button] : x, py = up ? input.upY[input.button] : y;
+                    const double dx = px - input.lastX, dy = py - input.lastY;
+                    if (std::hypot(px - input.pressX, py - input.pressY) > io.MouseDragThreshold) input.moved = true;
                     if (input.moved) {
                         if (input.button == 0 && !io.KeyShift) camera.orbit(dx, dy);
                         else camera.pan(dx, dy, height);
                     }
-                    input.lastX = x;
-                    input.lastY = y;
-                    if (ImGui::IsMouseReleased(input.button)) {
+                    input.lastX = px;
+                    input.lastY = py;
+                    if (released) {
                         if (!input.moved && input.button == 0) {
-                            if (const auto id = viewer.pick(int(x), int(y))) app.select(*id, io.KeyCtrl || io.KeyShift);
+                            if (const auto id = viewer.pick(int(input.pressX), int(input.pressY)))
+                                app.select(*id, io.KeyCtrl || io.KeyShift);
                             else app.clearSelection();
                         }
                         input.dragging = false;

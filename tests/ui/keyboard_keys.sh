@@ -4,8 +4,8 @@
 # then a wait of several frames' time (see keyboard_open.sh for why). A step may also be
 # type:TEXT (typed), click:X,Y (a left click there), dblclick:X,Y (a double-click at human speed,
 # 150 ms between the clicks: ImGui's limit is 300 ms), hold:X,Y,S (the button held S seconds),
-# wheel:X,Y,N (N steps of the wheel down there), drag:X,Y,X2,Y2 (a left drag) or enter:TEXT (typed
-# as fast as xdotool can, then Return, in one go).
+# wheel:X,Y,N (N steps of the wheel down there), drag:X,Y,X2,Y2 (a left drag), clickaway:X,Y (a
+# click there, the pointer moving on at once), enter:TEXT (typed fast, then Return) or wait:S.
 # usage: keyboard_keys.sh HEMIRAD_GUI LOG SECONDS "GUI ARGUMENTS" STEP...
 set -u
 gui=$1 log=$2 seconds=$3 arguments=$4
@@ -30,6 +30,9 @@ for step in "$@"; do
                     xdotool mousemove --window "$win" $((x + (x2 - x) * k / 10)) $((y + (y2 - y) * k / 10)); sleep 0.05
                 done
                 sleep 0.2; xdotool mouseup 1 ;;
+        clickaway:*) xy=${step#clickaway:}; xdotool mousemove --window "$win" ${xy/,/ }; sleep 1
+                     xdotool click 1 mousemove_relative 40 0 mousemove_relative 40 0 ;;
+        wait:*) sleep "${step#wait:}" ;;
         enter:*) xdotool type --delay 5 "${step#enter:}"; xdotool key Return ;;
         hold:*) IFS=, read -r x y held <<< "${step#hold:}"; xdotool mousemove --window "$win" "$x" "$y"; sleep 1
                 xdotool mousedown 1; sleep "$held"; xdotool mouseup 1 ;;
