@@ -1,6 +1,6 @@
 #version 450
 // Viewer present pass: shows one layer of the offscreen target in the window, tone-mapped where it
-// holds radiance, with the selection and the hovered patch highlighted.
+// holds radiance, with the selection outlined and the hovered patch highlighted.
 in vec2 uv;
 layout(binding = 0) uniform usampler2D ids;
 layout(binding = 1) uniform sampler2D layerTexture;
@@ -14,6 +14,7 @@ uniform int layer;        // 0 radiance, 1 patch id, 2 emission, 3 reflectance, 
 uniform float exposure;
 uniform uint hovered;     // patch id + 1, 0 = none
 uniform float rowMax;     // largest F_ij of the inspected row (log colour scale)
+uniform bool anySelected; // some patch is selected: look for the outline
 
 out vec4 color;
 
@@ -30,6 +31,25 @@ vec3 hashColor(uint id) {
 // Perceptual ramp (dark blue -> yellow) for form factors on a log scale over 4 decades.
 vec3 ramp(float t) {
     return clamp(vec3(-0.3 + 1.6 * t, 0.1 + 0.9 * t * (1.4 - t) + 0.3 * t, 0.6 - 0.5 * t + 0.3 * (1.0 - t)), 0.0, 1.0);
+}
+
+bool selectedAt(ivec2 q) {
+    const uint i = texelFetch(ids, clamp(q, ivec2(0), textureSize(ids, 0) - 1), 0).r;
+    return i != 0u && (flags[i - 1u] & 1u) != 0u;
+}
+
+// The selection's outline, drawn outside it so that its own pixels keep their colour (a false-colour
+// value stays readable against the legend): 2 px of orange, then 1 px of black, so that it shows on
+// the map's yellow and on a dark background alike. 0: no outline here, 1 orange, 2 black.
+int outline(ivec2 p) {
+    if (!anySelected || selectedAt(p)) return 0;
+    int nearest = 4;  // Chebyshev distance to the nearest selected pixel, up to 3
+    for (int dy = -3; dy <= 3; ++dy)
+        for (int dx = -3; dx <= 3; ++dx) {
+            const int d = max(abs(dx), abs(dy));
+            if (d < nearest && selectedAt(p + ivec2(dx, dy))) nearest = d;
+        }
+    return nearest <= 2 ? 1 : nearest == 3 ? 2 : 0;
 }
 
 void main() {
@@ -49,9 +69,9 @@ void main() {
         const vec3 value = texelFetch(layerTexture, p, 0).rgb;
         c = (layer == 0 || layer == 2) ? srgb(value * exposure) : value;
     }
-    if (id != 0u) {
-        if ((flags[id - 1u] & 1u) != 0u) c = mix(c, vec3(1.0, 0.55, 0.1), 0.35);
-        if (id == hovered) c = mix(c, vec3(1.0), 0.25);
-    }
+    if (id != 0u && id == hovered) c = mix(c, vec3(1.0), 0.25);
+    const int edge = outline(p);
+    if (edge == 1) c = vec3(1.0, 0.35, 0.0);
+    else if (edge == 2) c = vec3(0.0);
     color = vec4(c, 1.0);
 }

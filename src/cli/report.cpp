@@ -2,6 +2,7 @@
 #include "cli/report.hpp"
 
 #include "engine/console.hpp"
+#include "engine/form_factor_notes.hpp"
 #include "preprocess/hemisphere/emitter_rule.hpp"
 
 #include <cstdio>
@@ -136,9 +137,7 @@ void Reporter::formFactorStats(const FormFactorStats& s, std::size_t memoryBytes
         << "; reciprocity |A_i F_ij - A_j F_ji| / max: max " << s.reciprocityMax << ", area-weighted mean "
         << s.reciprocityMean;
     if (s.selfFactors) out << "; " << s.selfFactors << " rows with F_ii > 0";
-    if (s.reciprocityMax > 0.5)
-        out << "\n  (the reciprocity max compares single pairs, where a few rays or pixels decide; judge the "
-               "area-weighted mean, which falls with more directions, origins or resolution)";
+    for (const std::string& note : formFactorStatsNotes(s)) out << "\n  (" << note << ")";
     out << "\n  F: " << s.nonZeros << " nonzeros (" << std::setprecision(1)
         << (s.computedRows ? double(s.nonZeros) / s.computedRows : 0.0) << " per row), " << std::setprecision(1)
         << memoryBytes / 1048576.0 << " MiB";

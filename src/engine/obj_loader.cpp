@@ -188,6 +188,13 @@ void readUnit(const TextReader& r, Scene& scene) {
     scene.unit = std::string(t[3]);
 }
 
+void readUp(const TextReader& r, Scene& scene) {
+    const auto& t = r.tokens();
+    if (t.size() != 4 || (t[3] != "y" && t[3] != "z" && t[3] != "Y" && t[3] != "Z"))
+        r.fail("'# hemirad up' needs the up axis, y or z" + (t.size() == 4 ? ", got " + quote(t[3]) : std::string()));
+    scene.up = t[3] == "y" || t[3] == "Y" ? 1 : 2;
+}
+
 void readCamera(const TextReader& r, Scene& scene) {
     const auto& t = r.tokens();
     if (t.size() != 10) r.fail("'# hemirad camera' needs ex ey ez tx ty tz fov (7 numbers)");
@@ -264,6 +271,7 @@ Scene parseObj(const std::string& path, std::string_view text, MaterialSource& l
         if (key[0] == '#') {
             if (t.size() >= 3 && key == "#" && t[1] == "hemirad" && t[2] == "camera") readCamera(r, scene);
             if (t.size() >= 3 && key == "#" && t[1] == "hemirad" && t[2] == "unit") readUnit(r, scene);
+            if (t.size() >= 3 && key == "#" && t[1] == "hemirad" && t[2] == "up") readUp(r, scene);
             continue;
         }
         if (key == "v") {

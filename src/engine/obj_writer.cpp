@@ -95,6 +95,7 @@ void saveObj(const Scene& scene, const std::string& path) {
     std::ostream& out = obj.stream();
     out << "# Hemirad scene, " << scene.size() << " patches\n";
     if (!scene.unit.empty()) out << "# hemirad unit " << scene.unit << '\n';
+    if (scene.up != 0) out << "# hemirad up " << (scene.up == 2 ? 'z' : 'y') << '\n';
     if (scene.camera) {
         const Camera& c = *scene.camera;
         out << "# hemirad camera " << Shortest{c.eye.x()} << ' ' << Shortest{c.eye.y()} << ' ' << Shortest{c.eye.z()} << ' '

@@ -77,6 +77,7 @@ public:
     std::vector<Parent> parents;
     std::optional<Camera> camera;           ///< "# hemirad camera ex ey ez tx ty tz fov" in the OBJ
     std::string unit;                       ///< length unit, "# hemirad unit mm" in the OBJ ("": not stated)
+    int up = 0;                             ///< up axis, "# hemirad up z" in the OBJ: 1 y, 2 z (0: not stated)
 
     std::size_t size() const { return patches.size(); }
     Vec3 corner(const Patch& p, std::uint32_t k) const { return vertices[corners[p.firstCorner + k]]; }

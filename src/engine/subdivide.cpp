@@ -195,6 +195,7 @@ Scene subdivide(const Scene& in, const std::vector<double>& maxEdgeByObject) {
     out.objects = in.objects;
     out.camera = in.camera;
     out.unit = in.unit;
+    out.up = in.up;
     SubdivisionBuilder b(in, out);
     for (PatchId id = 0; id < in.size(); ++id) {
         const Patch& p = in.patches[id];

@@ -139,10 +139,16 @@ FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& setti
         }
         done.set_value();
     });
-    // Wake every 100 ms for progress and cancellation, and at once when the rows are done.
-    while (finished.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) {
+    // Wake every 20 ms for cancellation (the GUI's Cancel stops the rows within a frame or two), every
+    // 100 ms for progress, and at once when the rows are done.
+    auto reported = t1;
+    while (finished.wait_for(std::chrono::milliseconds(20)) != std::future_status::ready) {
         if (cancel && cancel->load()) builder.cancel();
-        if (progress) progress(builder.rowsDone(), rows.size(), std::chrono::duration<double>(Clock::now() - t1).count());
+        const auto now = Clock::now();
+        if (progress && now - reported >= std::chrono::milliseconds(100)) {
+            reported = now;
+            progress(builder.rowsDone(), rows.size(), std::chrono::duration<double>(now - t1).count());
+        }
     }
     worker.join();
     if (failure) std::rethrow_exception(failure);

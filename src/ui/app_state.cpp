@@ -98,8 +98,10 @@ void AppState::setScene(Scene scene, const std::string& path) {
     m_scene = std::make_unique<Scene>(std::move(scene));
     m_source = std::make_unique<const Scene>(*m_scene);
     ++m_sceneId;
+    ++m_meshRevision;
     m_meshEdges.assign(std::max<std::size_t>(m_scene->objects.size(), 1), 0.0);
     m_scenePath = path;
+    m_upSource = m_scene->up ? UpAxisSource::Stated : UpAxisSource::Guessed;
     m_F.reset();
     m_fSettings.reset();
     m_stats.reset();
@@ -122,11 +124,15 @@ bool AppState::loadScene(const std::string& path) {
         std::vector<std::string> warnings;
         Warnings sink([&](const std::string& m) { warnings.push_back(m); });
         Scene scene = hemirad::loadScene(path, sink, loading);
+        const int stated = scene.up;
+        if (const int remembered = upAxes.recall(path); remembered && remembered != stated) scene.up = remembered;
         setScene(std::move(scene), path);
+        if (m_scene->up != stated) m_upSource = UpAxisSource::Remembered;
         for (const std::string& w : warnings) addLog("warning: " + w, false);
         std::ostringstream msg;
         msg << "loaded " << path << ": " << m_scene->size() << " patches" << (m_scene->hasMirrors() ? ", with mirrors" : "");
         if (sink.count()) msg << "; " << sink.summary();
+        msg << "; up axis " << upAxisName(upAxis()) << ", " << upAxisSourceText(m_upSource);
         info(msg.str());
         return true;
     } catch (const std::exception& e) {
@@ -148,6 +154,18 @@ void AppState::setUnit(const std::string& unit) {
     source->unit = unit;
     m_source = std::move(source);
     info(unit.empty() ? std::string("scene unit: not stated") : "scene unit: " + unit + " (saved with the scene)");
+}
+
+void AppState::setUpAxis(int axis) {
+    if (!hasScene() || (axis != 1 && axis != 2)) return;
+    if (!m_scenePath.empty()) upAxes.remember(m_scenePath, axis);
+    if (m_scene->up == axis && m_upSource != UpAxisSource::Guessed) return;
+    m_scene->up = axis;
+    auto source = std::make_unique<Scene>(*m_source);
+    source->up = axis;
+    m_source = std::move(source);
+    m_upSource = UpAxisSource::Remembered;
+    info(std::string("up axis: ") + upAxisName(axis) + " (saved with the scene, remembered for this file)");
 }
 
 bool AppState::saveScene(const std::string& path) {

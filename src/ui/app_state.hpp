@@ -10,6 +10,7 @@
 #include "render/false_colour.hpp"
 #include "solve/solver.hpp"
 #include "preprocess/backend_registry.hpp"
+#include "ui/up_axis.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -61,9 +62,12 @@ struct FormFactorEstimate {
     bool reusesF = false;
     double workPerRow = 0.0;        ///< rays or pixels (workUnit) per row
     std::string workUnit;
+    bool analytic = false;          ///< analytic factors: the rays are shadow rays, no directions cast
     std::string description;        ///< the back end's run description (what "auto" picks, e.g.)
     double memoryBound = 0.0;       ///< bytes F takes at most while it is built
-    std::optional<double> seconds;  ///< from the rate of the last run of this method; none before one
+    /// From the rate of the last run of this method on this mesh; none before one (a rate measured on
+    /// another scene or mesh says little here: fixed costs dominate small scenes).
+    std::optional<double> seconds;
 };
 
 /// What the Selection panel shows for a selection of one or many patches.
@@ -114,7 +118,13 @@ struct JobStatus {
     std::string stage;      ///< "form factors", "solve"
     double progress = 0.0;  ///< 0..1 within the stage
     double elapsed = 0.0;
+    bool cancelling = false;  ///< Cancel was pressed; the job is stopping
+    int workers = 0;          ///< worker threads it computes with
 };
+
+/// Worker threads for a job: `requested` when > 0; for 0 (all cores) one fewer than the cores, at
+/// least 1, so that the window keeps a core to draw and to take Cancel (issue 38 #4).
+int jobWorkers(int requested);
 
 class AppState {
 public:
@@ -199,6 +209,14 @@ public:
     /// labelled, and power (sum A B) in W where it is known; written by the next save. Not an edit
     /// of the results (nothing is recomputed) and not undone.
     void setUnit(const std::string& unit);
+    /// The scene's up axis (1 y, 2 z; upAxisOf) and where it came from.
+    int upAxis() const { return hasScene() ? upAxisOf(*m_scene) : 1; }
+    UpAxisSource upAxisSource() const { return m_upSource; }
+    /// The Scene panel's choice of up axis (1 y, 2 z): stated in the scene (written by the next save)
+    /// and remembered for its file in `upAxes`. Not an edit of the results and not undone.
+    void setUpAxis(int axis);
+    /// The up axes chosen per scene file; a scene loaded takes the one chosen for its file.
+    UpAxisMemory upAxes;
 
     void select(PatchId id, bool additive);
     void clearSelection();
@@ -231,6 +249,8 @@ public:
     /// Solves with the current F (warm start from the last radiosity), first computing the rows the
     /// materials need that it lacks (runPipeline).
     void resolve();
+    /// Asks the running job to stop (it does between rows, and between solver sweeps); nothing
+    /// without one. Never starts work.
     void cancel();
     /// Called once a frame: applies a finished job's results. Returns true if something changed.
     bool poll();
@@ -270,10 +290,13 @@ private:
     std::vector<double> m_meshEdges;        ///< per object, 0 = as loaded
     std::uint64_t m_sceneId = 0;
     std::string m_scenePath;
+    UpAxisSource m_upSource = UpAxisSource::Guessed;
     std::uint64_t m_revision = 1;
     std::shared_ptr<const FormFactors> m_F;
     std::optional<MethodSettings> m_fSettings;  ///< the settings m_F was made with
-    std::map<std::string, double> m_workPerSecond;  ///< measured rays (pixels) per second, by method
+    /// Measured rays (pixels) per second, by method and mesh (m_meshRevision).
+    std::map<std::pair<std::string, std::uint64_t>, double> m_workPerSecond;
+    std::uint64_t m_meshRevision = 0;  ///< bumped by every scene set and every meshing
     std::optional<FormFactorStats> m_stats;
     std::uint64_t m_fGeometryHash = 0;
     std::uint64_t m_materialsRevision = 0;  ///< bumped by every material edit
@@ -309,6 +332,7 @@ private:
     std::vector<Rgb> m_corner;
     std::uint64_t m_cornerRevision = 0;
     std::unique_ptr<Job> m_job;
+    std::optional<int> m_framesSinceCancel;  ///< poll() calls since cancel(), while the job stops
 };
 
 }  // namespace hemirad::ui

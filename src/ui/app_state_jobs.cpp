@@ -3,12 +3,16 @@
 #include "ui/app_state.hpp"
 
 #include "engine/error.hpp"
+#include "engine/form_factor_notes.hpp"
+#include "engine/threads.hpp"
 #include "pipeline/radiosity_pipeline.hpp"
 #include "preprocess/form_factor_job.hpp"
 
 #include <algorithm>
 #include <exception>
 #include <sstream>
+
+#include <omp.h>
 
 namespace hemirad::ui {
 
@@ -31,6 +35,8 @@ struct AppState::Job {
     PipelineSettings settings;
     std::vector<Rgb> warmStart;
     std::uint64_t materialsRevision = 0;
+    std::uint64_t meshRevision = 0;
+    int workers = 1;  ///< jobWorkers(the panel's threads)
 
     // Outputs.
     std::shared_ptr<const FormFactors> newF;
@@ -55,6 +61,7 @@ struct AppState::Job {
     RadiosityPipeline pipeline() {
         FormFactorPolicy policy;
         policy.backend = settings.formFactors;
+        policy.backend.common.threads = workers;  // not part of F's settings: a reuse ignores it
         policy.statistics = true;  // the pipeline panel shows them
         PipelineEvents events;
         events.cancel = &cancel;
@@ -74,6 +81,8 @@ struct AppState::Job {
                 << ".." << run.stats.rowSumMax << ", reciprocity (mean) " << run.stats.reciprocityMean << "; "
                 << lostPowerText(run.counts, description.lossFromRays);
             messages.push_back(msg.str());
+            // What a row sum of 0 or a reciprocity max near 1 means, as the CLI's report says it.
+            for (const std::string& note : formFactorStatsNotes(run.stats)) messages.push_back("form factors: " + note);
             if (run.rowsComputed > 0 && run.computeSeconds > 0.0)
                 workPerSecond = double(run.rowsComputed) * expectedWorkPerRow(s, method) / run.computeSeconds;
         };
@@ -81,6 +90,10 @@ struct AppState::Job {
     }
 
     void run() {
+        // The solver's OpenMP team gets the job's count too (this thread's own setting). The job
+        // keeps its priority: with nice 10 its one worker lost the CPU to a compiler on a shared
+        // 2-core machine (F of the 20 mm Cornell box 52.7 s, against 7.0 s on two normal workers).
+        omp_set_num_threads(workers);
         try {
             const RadiosityPipeline radiosity = pipeline();
             std::shared_ptr<const FormFactors> F = this->F;
@@ -95,6 +108,7 @@ struct AppState::Job {
             setStage("solve", 0.0);
             SolverOptions solver = settings.solver;
             solver.progress = [this](int sweep, const std::vector<Rgb>& B) {
+                if (cancel) throw Error("cancelled");  // between sweeps
                 // At most ten updates a second reach the view.
                 const auto now = Clock::now();
                 if (now - lastIntermediate < std::chrono::milliseconds(100)) return;
@@ -121,11 +135,15 @@ AppState::~AppState() {
     }
 }
 
+int jobWorkers(int requested) { return requested > 0 ? requested : std::max(1, resolveThreads(0) - 1); }
+
 JobStatus AppState::job() const {
     if (!m_job) return {};
     std::lock_guard<std::mutex> lock(m_job->mutex);
     JobStatus s = m_job->status;
     s.running = !m_job->finished;
+    s.cancelling = m_job->cancel;
+    s.workers = m_job->workers;
     s.elapsed = std::chrono::duration<double>(Clock::now() - m_job->start).count();
     return s;
 }
@@ -144,6 +162,9 @@ void AppState::startJob(bool computeF, std::shared_ptr<const FormFactors> F) {
     m_job->settings = settings;
     m_job->warmStart = m_B;
     m_job->materialsRevision = m_materialsRevision;
+    m_job->meshRevision = m_meshRevision;
+    m_job->workers = jobWorkers(settings.formFactors.common.threads);
+    m_framesSinceCancel.reset();
     m_job->thread = std::thread([job = m_job.get()] { job->run(); });
 }
 
@@ -153,16 +174,19 @@ FormFactorEstimate AppState::formFactorEstimate() const {
     const MethodSettings& method = settings.formFactors;
     const BackendDescriptor& backend = findBackend(method.method);
     e.workUnit = backend.workUnit;
-    e.description = backend.describe(*m_scene, method).settings;
     e.workPerRow = backend.workPerRow(*m_scene, method);
+    const RunDescription description = backend.describe(*m_scene, method);
+    e.analytic = std::find(description.record.begin(), description.record.end(),
+                           std::pair<std::string, std::string>("estimator", "analytic")) != description.record.end();
     // The rows Run would compute: the missing ones of a reusable F, else every row needed.
     FormFactorPolicy policy;
     policy.backend = method;
     const bool reuse = m_F && !m_fStale && formFactorsMatchSettings();
     e.rows = RadiosityPipeline(policy, {}).missingRows(*m_scene, reuse ? m_F.get() : nullptr).size();
     e.reusesF = reuse;
+    e.description = description.settings;
     e.memoryBound = formFactorMemoryBound(*m_scene, method, e.rows);
-    if (const auto it = m_workPerSecond.find(method.method); it != m_workPerSecond.end())
+    if (const auto it = m_workPerSecond.find({method.method, m_meshRevision}); it != m_workPerSecond.end())
         e.seconds = double(e.rows) * e.workPerRow / it->second;
     return e;
 }
@@ -179,7 +203,10 @@ void AppState::runPipeline() {
     FormFactorPolicy policy;
     policy.backend = settings.formFactors;
     const bool needF = !reuse || !RadiosityPipeline(policy, {}).missingRows(*m_scene, m_F.get()).empty();
-    info(needF ? "running: form factors and solve" : "running: solve (form factors are current)");
+    const int threads = settings.formFactors.common.threads, workers = jobWorkers(threads);
+    info(std::string(needF ? "running: form factors and solve" : "running: solve (form factors are current)") + ", " +
+         std::to_string(workers) + (workers == 1 ? " thread" : " threads") +
+         (threads == 0 ? " (all cores but one, left for the window)" : ""));
     startJob(needF, reuse ? m_F : nullptr);
 }
 
@@ -208,8 +235,9 @@ void AppState::resolve() {
 }
 
 void AppState::cancel() {
-    if (m_job && !m_job->finished) {
+    if (m_job && !m_job->finished && !m_job->cancel) {
         m_job->cancel = true;
+        m_framesSinceCancel = 0;
         info("cancelling...");
     }
 }
@@ -219,6 +247,7 @@ void AppState::wait() {
 }
 
 bool AppState::poll() {
+    if (m_framesSinceCancel) ++*m_framesSinceCancel;
     if (m_job && !m_job->finished) {
         // Progressive display: show the solve's newest intermediate radiosity.
         std::lock_guard<std::mutex> lock(m_job->mutex);
@@ -233,8 +262,10 @@ bool AppState::poll() {
     std::unique_ptr<Job> job = std::move(m_job);
     for (const std::string& m : job->messages) info(m);
     if (!job->error.empty()) {
-        if (job->error.find("cancelled") != std::string::npos) info("cancelled");
+        if (job->error.find("cancelled") != std::string::npos)
+            info("cancelled: the job stopped " + std::to_string(m_framesSinceCancel.value_or(0)) + " frame(s) after Cancel");
         else error(job->error);
+        m_framesSinceCancel.reset();
         return false;
     }
     if (job->newF) {
@@ -247,7 +278,7 @@ bool AppState::poll() {
     if (job->scene.size() == m_scene->size()) m_B = job->result.B;
     m_reports = job->result.reports;
     m_timings = job->timings;
-    if (job->workPerSecond > 0.0) m_workPerSecond[job->settings.formFactors.method] = job->workPerSecond;
+    if (job->workPerSecond > 0.0) m_workPerSecond[{job->settings.formFactors.method, job->meshRevision}] = job->workPerSecond;
     for (const SolveReport& r : m_reports) {
         std::ostringstream msg;
         msg << "solve: " << r.solver << " (" << r.channels << ") " << (r.converged ? "converged" : "NOT converged") << " in "

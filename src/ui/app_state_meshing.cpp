@@ -110,10 +110,13 @@ void AppState::applyMesh(const Mesh& next) {
         B[j] = from[j] < m_B.size() ? m_B[from[j]] : next.scene.patches[j].emission;
         if (wasSelected[from[j]]) selection.push_back(j);
     }
-    const std::string unit = m_scene->unit;  // a setting of the scene, not of a mesh: undo keeps it
+    const std::string unit = m_scene->unit;  // settings of the scene, not of a mesh: undo keeps them
+    const int up = m_scene->up;
     *m_scene = next.scene;
     m_scene->unit = unit;
+    m_scene->up = up;
     m_meshEdges = next.edges;
+    ++m_meshRevision;  // a rate measured on the old mesh does not time this one
     m_B = std::move(B);
     m_selection = std::move(selection);
     m_corner.clear();

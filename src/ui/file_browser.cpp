@@ -61,6 +61,7 @@ bool FileBrowser::changeDirectory(const std::string& path) {
 }
 
 void FileBrowser::list() {
+    ++m_listing;
     std::vector<Entry> folders, files;
     std::error_code ec;
     for (fs::directory_iterator it(m_directory, ec), end; !ec && it != end; it.increment(ec)) {
@@ -92,6 +93,19 @@ void FileBrowser::pick(const Entry& entry) {
         typed = entry.name;
         m_error.clear();
     }
+}
+
+std::optional<std::string> FileBrowser::click(const Entry& entry, bool doubleClick) {
+    if (doubleClick) {
+        const bool sameEntry = m_clickListing == m_listing && m_clickName == entry.name;
+        m_clickName.clear();
+        if (!sameEntry) return std::nullopt;
+        if (!entry.directory) return confirm(entry.name);
+    }
+    m_clickListing = m_listing;
+    m_clickName = entry.name;
+    pick(entry);
+    return std::nullopt;
 }
 
 std::optional<std::string> FileBrowser::confirm(const std::string& text) {

@@ -37,6 +37,12 @@ public:
     bool changeDirectory(const std::string& path);
     /// A click on an entry: a folder is entered, a file becomes the typed path (its name).
     void pick(const Entry& entry);
+    /// A click on an entry of the listing shown, `doubleClick` when it completes a double-click: a
+    /// single click picks; a double-click on a file gives its absolute path (as confirm). The second
+    /// click of a double-click is ignored unless its first fell on the same entry of the same listing:
+    /// a double-click on a folder enters it once and must not also open (or enter) what lands under
+    /// the pointer in the new listing.
+    std::optional<std::string> click(const Entry& entry, bool doubleClick);
     /// Enter or OK on the typed path: a folder is entered (none returned); a file gives its absolute
     /// path (relative paths are relative to the folder shown). A missing file where one must exist,
     /// or an empty path, sets error() and gives none.
@@ -55,6 +61,9 @@ private:
     std::vector<std::string> m_extensions;
     std::vector<Entry> m_entries;
     bool m_mustExist = false;
+    std::uint64_t m_listing = 0;  ///< bumped by every listing made
+    std::uint64_t m_clickListing = 0;  ///< the listing the last single click fell on
+    std::string m_clickName;           ///< and its entry
 };
 
 }  // namespace hemirad::ui

@@ -5,12 +5,14 @@
 #include "engine/threads.hpp"
 #include "gl/gl_api.hpp"
 #include "ui/app_state.hpp"
+#include "ui/frame_pacing.hpp"
 #include "ui/inspector.hpp"
 #include "ui/key_taps.hpp"
 #include "ui/orbit_camera.hpp"
 #include "ui/tooltip_check.hpp"
 #include "ui/units.hpp"
 #include "ui/panels.hpp"
+#include "ui/run_estimate.hpp"
 #include "ui/viewer.hpp"
 
 #include <GLFW/glfw3.h>
@@ -20,6 +22,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -30,6 +33,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 using namespace hemirad;
@@ -55,6 +59,7 @@ struct GuiOptions {
     bool objects = false;        ///< --objects-window: start with View > Object table open
     double mesh = 0.0;          ///< --mesh L: the meshing panel's Apply for the whole scene
     double meshSelected = 0.0;  ///< --mesh-selected L: the same for the objects of --select
+    int up = 0;                 ///< --up y|z: the Scene panel's up-axis choice (0: none)
     int width = 1280, height = 800;
     PipelineSettings settings;
     long select = -1;  ///< patch to select after loading (scripted screenshots)
@@ -64,7 +69,7 @@ const char* kUsage =
     "usage: hemirad-gui [SCENE.obj|SCENE.stl] [--materials FILE.mtl] [--subdivide L] [--method NAME]\n"
     "                   [back-end options, see 'hemirad help']\n"
     "                   [--max-depth D] [--exposure X] [--check-tooltips] [--help-window] [--objects-window]\n"
-    "                   [--mesh L | --select PATCH --mesh-selected L]\n"
+    "                   [--mesh L | --select PATCH --mesh-selected L] [--up y|z]\n"
     "                   [--size WxH] [--select PATCH] [--hover PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
     "                   [--quit-after S] [--false-color Q [--scale linear|log]] [--layer NAME]\n"
     "  --run          compute form factors and solve after loading\n"
@@ -73,6 +78,8 @@ const char* kUsage =
     "  --exposure X   display scale of the view, as hemirad render's (default automatic)\n"
     "  --mesh L       mesh the scene to edges <= L as the Pipeline panel's Apply does (undoable);\n"
     "                 --mesh-selected L only the objects of --select\n"
+    "  --up y|z       the scene's up axis, as the Scene panel's choice (remembered for the file;\n"
+    "                 else the OBJ's '# hemirad up z', else guessed from the bounding box)\n"
     "  --screenshot   once the view shows the results, save the window (with the UI) as a PNG\n"
     "  --exit         quit after the screenshot (or at once without one), print the log,\n"
     "                 exit 1 if it holds an error\n"
@@ -142,7 +149,11 @@ GuiOptions parse(int argc, char** argv) {
             if (!o.layer) throw Error("--layer expects radiosity, patch-id, emission, reflectance, specular or f-row, got '" + v + "'");
         } else if (a == "--mesh") o.mesh = number(value(k, "--mesh"), "--mesh");
         else if (a == "--mesh-selected") o.meshSelected = number(value(k, "--mesh-selected"), "--mesh-selected");
-        else if (a == "--method") method = value(k, "--method");
+        else if (a == "--up") {
+            const std::string v = value(k, "--up");
+            if (v != "y" && v != "z") throw Error("--up expects y or z, got '" + v + "'");
+            o.up = v == "z" ? 2 : 1;
+        } else if (a == "--method") method = value(k, "--method");
         else if (a == "--max-depth") maxDepth = std::uint32_t(integer(value(k, "--max-depth"), "--max-depth", 254, "0 to 254"));
         else if (const BackendOption* option = findBackendOption(a)) {
             backendFlags.emplace_back(a, option->kind == OptionKind::Switch ? "yes" : value(k, a.c_str()));
@@ -173,12 +184,38 @@ struct Input {
     /// press (synthetic input, a slow frame).
     std::vector<std::pair<int, int>> shortcuts;
     KeyTaps taps;                  // a tap shorter than a frame still reaches ImGui
+    bool eventSeen = false;        // some input arrived since the last frame (FramePacing)
+    bool typedTaps = false;        // KeyTaps holds changes that came while a text field had the keyboard
+    // Where the pointer was at each button's last press and release event (the last motion event
+    // before it): a frame sees a click late, when the hand may have moved on.
+    double cursorX = 0, cursorY = 0;
+    double downX[3] = {}, downY[3] = {}, upX[3] = {}, upY[3] = {};
+    bool down[3] = {};  // as the button events say (ImGui reports a release a frame after the press)
     GLFWkeyfun imguiKey = nullptr;  // ImGui's key callback (which chains onKey)
 };
 
 void onKey(GLFWwindow* window, int key, int, int action, int mods) {
     auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
+    if (input) input->eventSeen = true;
     if (input && action == GLFW_PRESS && (mods & GLFW_MOD_CONTROL)) input->shortcuts.emplace_back(key, mods);
+}
+
+/// Installed before ImGui's back end, which chains them: any input keeps frames coming (FramePacing).
+void onButton(GLFWwindow* window, int button, int action, int) {
+    auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
+    if (!input) return;
+    input->eventSeen = true;
+    if (button < 0 || button > 2) return;
+    if (!input->pointerSeen) glfwGetCursorPos(window, &input->cursorX, &input->cursorY);
+    (action == GLFW_PRESS ? input->downX : input->upX)[button] = input->cursorX;
+    (action == GLFW_PRESS ? input->downY : input->upY)[button] = input->cursorY;
+    input->down[button] = action == GLFW_PRESS;
+}
+void onScroll(GLFWwindow* window, double, double) {
+    if (auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window))) input->eventSeen = true;
+}
+void onChar(GLFWwindow* window, unsigned int) {
+    if (auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window))) input->eventSeen = true;
 }
 
 /// Installed in front of ImGui's key callback: a key's second change before a frame has seen its first waits.
@@ -191,10 +228,14 @@ void onKeyTap(GLFWwindow* window, int key, int scancode, int action, int mods) {
 void onDrop(GLFWwindow* window, int count, const char** paths) {
     auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
     for (int k = 0; k < count; ++k) input->dropped.emplace_back(paths[k]);
+    input->eventSeen = true;
 }
 
-void onCursor(GLFWwindow* window, double, double) {
-    static_cast<Input*>(glfwGetWindowUserPointer(window))->pointerSeen = true;
+void onCursor(GLFWwindow* window, double x, double y) {
+    auto* input = static_cast<Input*>(glfwGetWindowUserPointer(window));
+    input->pointerSeen = input->eventSeen = true;
+    input->cursorX = x;
+    input->cursorY = y;
 }
 
 void onGlfwError(int code, const char* text) { std::fprintf(stderr, "hemirad-gui: GLFW error %d: %s\n", code, text); }
@@ -211,11 +252,13 @@ void screenshot(const std::string& path, int width, int height, GLenum buffer) {
     writePng(path, width, height, flipped);
 }
 
-std::string recentFilesPath() {
+/// A file of hemirad-gui's settings ("recent-files", "up-axes") in $XDG_CONFIG_HOME/hemirad (else
+/// ~/.config/hemirad); "" without either.
+std::string configPath(const std::string& name) {
     const char* config = std::getenv("XDG_CONFIG_HOME");
     const char* home = std::getenv("HOME");
-    if (config && *config) return std::string(config) + "/hemirad/recent-files";
-    if (home && *home) return std::string(home) + "/.config/hemirad/recent-files";
+    if (config && *config) return std::string(config) + "/hemirad/" + name;
+    if (home && *home) return std::string(home) + "/.config/hemirad/" + name;
     return {};
 }
 
@@ -254,7 +297,10 @@ int main(int argc, char** argv) {
         ImGui::CreateContext();
         ImGui::GetIO().IniFilename = nullptr;  // layouts are not persisted between runs
         ImGui::StyleColorsDark();
-        glfwSetKeyCallback(window, onKey);  // before ImGui's back end, which chains it
+        glfwSetKeyCallback(window, onKey);  // before ImGui's back end, which chains them
+        glfwSetMouseButtonCallback(window, onButton);
+        glfwSetScrollCallback(window, onScroll);
+        glfwSetCharCallback(window, onChar);
         ImGui_ImplGlfw_InitForOpenGL(window, true);
         ImGui_ImplOpenGL3_Init("#version 450");
 
@@ -272,7 +318,8 @@ int main(int argc, char** argv) {
             app.exposure = options.exposure;
         }
         OrbitCamera camera;
-        Panels panels(recentFilesPath());
+        app.upAxes = UpAxisMemory(configPath("up-axes"));
+        Panels panels(configPath("recent-files"));
         if (options.help) panels.toggleHelp();
         if (options.objects) panels.showObjectTable();
         Input input;
@@ -286,6 +333,10 @@ int main(int argc, char** argv) {
             // Part of loading: the meshing panel can still go back to the patches as loaded.
             if (app.hasScene() && options.subdivide > 0 && !app.mesh(options.subdivide, MeshTarget::Scene, true))
                 throw Error("--subdivide " + std::to_string(options.subdivide) + ": " + app.log().back().text);
+        }
+        if (options.up && app.hasScene()) {
+            app.setUpAxis(options.up);
+            camera.frame(app.scene());
         }
         if (options.select >= 0 && app.hasScene()) {
             if (std::size_t(options.select) >= app.scene().size())
@@ -314,23 +365,20 @@ int main(int argc, char** argv) {
             const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
             long frames = 0;
             std::string windowTitle = "Hemirad";
-            int settleFrames = 3;
+            FramePacing pacing;
             TooltipCheck tooltips;
             while (!glfwWindowShouldClose(window) && !requests.quit) {
                 const bool scripted = !options.screenshot.empty() || options.exitAfter;
-                if (scripted) {
-                    glfwPollEvents();
-                } else if (app.job().running) {
-                    glfwWaitEventsTimeout(1.0 / 30.0);
-                    settleFrames = 3;
-                } else if (settleFrames > 0 || input.taps.pending()) {
-                    glfwPollEvents();
-                    settleFrames = std::max(settleFrames - 1, 0);
-                } else {
-                    const double limit = options.quitAfter > 0 ? std::max(options.quitAfter - seconds(), 1e-3) : 2.0;
-                    glfwWaitEventsTimeout(std::min(2.0, limit));
-                    settleFrames = 2;
+                switch (pacing.next(scripted, app.job().running, input.taps.pending())) {
+                    case FramePacing::Wait::Poll: glfwPollEvents(); break;
+                    case FramePacing::Wait::Job: glfwWaitEventsTimeout(1.0 / 30.0); break;
+                    case FramePacing::Wait::Idle: {
+                        const double limit = options.quitAfter > 0 ? std::max(options.quitAfter - seconds(), 1e-3) : 2.0;
+                        glfwWaitEventsTimeout(std::min(2.0, limit));
+                        break;
+                    }
                 }
+                pacing.eventsProcessed(std::exchange(input.eventSeen, false));
                 if (options.quitAfter > 0 && seconds() >= options.quitAfter) requests.quit = true;
                 // The title names the scene and says when it has unsaved edits.
                 const std::string title = app.hasScene() ? "Hemirad - " + std::filesystem::path(app.scenePath()).filename().string() +
@@ -364,25 +412,34 @@ int main(int argc, char** argv) {
                             input.dragging = true;
                             input.moved = false;
                             input.button = b;
-                            input.pressX = input.lastX = x;
-                            input.pressY = input.lastY = y;
+                            input.pressX = input.lastX = input.downX[b];
+                            input.pressY = input.lastY = input.downY[b];
                         }
                     if (io.MouseWheel != 0.0f) camera.zoom(io.MouseWheel);
                 } else {
                     hovered.reset();
                 }
                 if (input.dragging) {
-                    const double dx = x - input.lastX, dy = y - input.lastY;
-                    if (std::abs(x - input.pressX) + std::abs(y - input.pressY) > 3) input.moved = true;
+                    // A click or a drag is told by where the button went down and up (its events),
+                    // not where the pointer is when a frame sees them: a quick click, the hand moving
+                    // on at once, orbited instead of selecting (issue 38 #16).
+                    const bool released = ImGui::IsMouseReleased(input.button);
+                    // Up already (its release event came with the press, ImGui tells it next frame):
+                    // the drag ended where the button went up.
+                    const bool up = released || !input.down[input.button];
+                    const double px = up ? input.upX[input.button] : x, py = up ? input.upY[input.button] : y;
+                    const double dx = px - input.lastX, dy = py - input.lastY;
+                    if (std::hypot(px - input.pressX, py - input.pressY) > io.MouseDragThreshold) input.moved = true;
                     if (input.moved) {
                         if (input.button == 0 && !io.KeyShift) camera.orbit(dx, dy);
                         else camera.pan(dx, dy, height);
                     }
-                    input.lastX = x;
-                    input.lastY = y;
-                    if (ImGui::IsMouseReleased(input.button)) {
+                    input.lastX = px;
+                    input.lastY = py;
+                    if (released) {
                         if (!input.moved && input.button == 0) {
-                            if (const auto id = viewer.pick(int(x), int(y))) app.select(*id, io.KeyCtrl || io.KeyShift);
+                            if (const auto id = viewer.pick(int(input.pressX), int(input.pressY)))
+                                app.select(*id, io.KeyCtrl || io.KeyShift);
                             else app.clearSelection();
                         }
                         input.dragging = false;
@@ -400,11 +457,17 @@ int main(int argc, char** argv) {
                     else if (key == GLFW_KEY_Y) app.redo();
                 }
                 input.shortcuts.clear();
-                if (!io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F1)) panels.toggleHelp();
+                // Key changes KeyTaps held back while a text field had the keyboard are still typing
+                // when they reach ImGui after it closed: the last letters of "stuff.hff" typed fast,
+                // then Enter, pressed F again a frame later and framed the view (issue 38 #16).
+                if (io.WantCaptureKeyboard && input.taps.pending()) input.typedTaps = true;
+                if (!input.taps.pending()) input.typedTaps = false;
+                const bool viewKeys = !io.WantCaptureKeyboard && !input.typedTaps;
+                if (viewKeys && ImGui::IsKeyPressed(GLFW_KEY_F1)) panels.toggleHelp();
                 // Esc closes the help window, else selects none.
-                const bool escape = !io.WantCaptureKeyboard && !io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_ESCAPE);
+                const bool escape = viewKeys && !io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_ESCAPE);
                 if (escape && !panels.closeHelp() && app.hasScene()) app.clearSelection();
-                if (!io.WantCaptureKeyboard && app.hasScene() && !io.KeyCtrl) {
+                if (viewKeys && app.hasScene() && !io.KeyCtrl) {
                     if (ImGui::IsKeyPressed(GLFW_KEY_F)) camera.frame(app.scene());
                     if (ImGui::IsKeyPressed(GLFW_KEY_S) && !app.selection().empty()) camera.frameSelection(app.scene(), app.selection());
                     if (ImGui::IsKeyPressed(GLFW_KEY_C)) camera.useSceneCamera(app.scene());
@@ -474,14 +537,27 @@ int main(int argc, char** argv) {
             }
             if (scriptedExit) {
                 std::printf("hemirad-gui: %ld frames drawn in %.2f s\n", frames, seconds());
+                if (pacing.leastFramesAfterInput() >= 0)
+                    std::printf("hemirad-gui: after input, at least %d frames before sleeping\n", pacing.leastFramesAfterInput());
                 if (app.layer == Layer::FalseColour) {
                     const FalseColourView view = app.falseColourView();
                     if (!view.error.empty()) std::printf("hemirad-gui: %s\n", view.error.c_str());
                     else std::printf("hemirad-gui: false colour: %s, %s scale %.9g .. %.9g\n", falseColourTitle(app.falseColour.quantity).c_str(),
                                      falseColourScaleName(view.range.scale), view.range.min, view.range.max);
                 }
-                if (app.hasScene()) std::printf("hemirad-gui: scene: %s\n", sceneCounts(app.scene()).c_str());
+                if (app.hasScene()) {
+                    std::printf("hemirad-gui: scene: %s\n", sceneCounts(app.scene()).c_str());
+                    const Vec3 from = (camera.eye() - camera.target).normalized();
+                    std::printf("hemirad-gui: up axis %s, %s; view from %.3f %.3f %.3f\n", upAxisName(app.upAxis()),
+                                upAxisSourceText(app.upAxisSource()), from.x(), from.y(), from.z());
+                }
                 std::printf("hemirad-gui: status: %s\n", panels.status().c_str());
+                if (app.hasScene()) std::printf("hemirad-gui: %s\n", runEstimateText(app.formFactorEstimate()).c_str());
+                if (!panels.legendTicks().empty()) {
+                    std::string ticks;
+                    for (const std::string& t : panels.legendTicks()) ticks += (ticks.empty() ? "" : " | ") + t;
+                    std::printf("hemirad-gui: legend ticks: %s\n", ticks.c_str());
+                }
                 for (const std::vector<std::string>& row : panels.objectTable()) {
                     std::string line;
                     for (const std::string& cell : row) line += (line.empty() ? "" : " | ") + cell;
@@ -494,6 +570,8 @@ int main(int argc, char** argv) {
                 }
                 for (const auto& [name, r] : panels.panelRects())
                     std::printf("hemirad-gui: panel %s at %.0f,%.0f size %.0fx%.0f\n", name.c_str(), r.x, r.y, r.width, r.height);
+                for (const auto& [name, r] : panels.itemRects())
+                    std::printf("hemirad-gui: item %s at %.0f,%.0f size %.0fx%.0f\n", name.c_str(), r.x, r.y, r.width, r.height);
             }
         }
         ImGui_ImplOpenGL3_Shutdown();

@@ -1,6 +1,8 @@
 // Orbit camera.
 #include "ui/orbit_camera.hpp"
 
+#include "ui/up_axis.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,15 +11,16 @@ namespace hemirad::ui {
 
 namespace {
 
-/// The outward direction of the vertical bounding-box face (+-x, +-z) that patches lying on it cover
-/// least, when it is covered less than half as much as the best covered one (an open side); else zero.
-Vec3 openSide(const Scene& scene, const Vec3& lo, const Vec3& hi) {
+/// The outward direction of the vertical bounding-box face (+-x, and +-z for y up or +-y for z up)
+/// that patches lying on it cover least, when it is covered less than half as much as the best
+/// covered one (an open side); else zero.
+Vec3 openSide(const Scene& scene, const Vec3& lo, const Vec3& hi, int up) {
     const Vec3 size = hi - lo;
     Vec3 best = Vec3::Zero();
     double least = 2.0, most = 0.0;
-    for (int axis : {0, 2}) {
-        const int other = 2 - axis;
-        const double faceArea = size[other] * size[1];
+    for (int axis : {0, 3 - up}) {
+        const int other = 3 - up - axis;  // the other horizontal axis
+        const double faceArea = size[other] * size[up];
         if (!(faceArea > 0.0)) continue;
         for (int side = 0; side < 2; ++side) {
             // Patches facing across the face within 2 % of the box from it (walls of modelled rooms,
@@ -46,7 +49,14 @@ void OrbitCamera::fit(const Vec3& lo, const Vec3& hi) {
     distance = radius / std::sin(0.5 * fovY * kPi / 180.0) * 1.1;
 }
 
-void OrbitCamera::setDirection(const Vec3& d) {
+Vec3 OrbitCamera::toLocal(const Vec3& d) const { return upAxis == 2 ? Vec3(d.x(), d.z(), -d.y()) : d; }
+
+Vec3 OrbitCamera::toScene(const Vec3& d) const { return upAxis == 2 ? Vec3(d.x(), -d.z(), d.y()) : d; }
+
+Vec3 OrbitCamera::upVector() const { return upAxis == 2 ? Vec3(0, 0, 1) : Vec3(0, 1, 0); }
+
+void OrbitCamera::setDirection(const Vec3& direction) {
+    const Vec3 d = toLocal(direction);
     const double length = std::max(d.norm(), 1e-300);
     pitch = std::clamp(std::asin(std::clamp(d.y() / length, -1.0, 1.0)), -1.55, 1.55);
     yaw = std::atan2(d.x(), d.z());
@@ -56,13 +66,14 @@ void OrbitCamera::frame(const Scene& scene) {
     Vec3 lo, hi;
     scene.bounds(lo, hi);
     sceneRadius = std::max(0.5 * (hi - lo).norm(), 1e-9);
+    upAxis = upAxisOf(scene);
     fovY = 40.0;
     yaw = -0.35;
     pitch = 0.3;
     if (scene.camera) {
         setDirection(scene.camera->eye - scene.camera->target);
-    } else if (const Vec3 open = openSide(scene, lo, hi); open != Vec3::Zero()) {
-        setDirection(open + Vec3(0, 0.3, 0));  // from outside the open side, slightly above
+    } else if (const Vec3 open = openSide(scene, lo, hi, upAxis); open != Vec3::Zero()) {
+        setDirection(open + 0.3 * upVector());  // from outside the open side, slightly above
     }
     fit(lo, hi);
 }
@@ -85,6 +96,7 @@ void OrbitCamera::lookAlong(const Scene& scene, int axis, bool positive) {
     Vec3 lo, hi;
     scene.bounds(lo, hi);
     sceneRadius = std::max(0.5 * (hi - lo).norm(), 1e-9);
+    upAxis = upAxisOf(scene);
     Vec3 d = Vec3::Zero();
     d[axis] = positive ? 1.0 : -1.0;
     setDirection(d);
@@ -120,14 +132,14 @@ void OrbitCamera::pan(double dx, double dy, int height) {
 void OrbitCamera::zoom(double steps) { distance = std::max(distance * std::pow(0.9, steps), 1e-6 * sceneRadius); }
 
 Vec3 OrbitCamera::eye() const {
-    return target + distance * Vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+    return target + distance * toScene(Vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw)));
 }
 
 Eigen::Matrix4d OrbitCamera::view() const {
     const Vec3 e = eye();
     const Vec3 f = (target - e).normalized();
-    Vec3 u = up;
-    if (std::abs(f.dot(u)) > 0.999) u = Vec3(0, 0, 1);
+    Vec3 u = upVector();
+    if (std::abs(f.dot(u)) > 0.999) u = toScene(Vec3(0, 0, 1));
     const Vec3 r = f.cross(u).normalized();
     const Vec3 t = r.cross(f);
     Eigen::Matrix4d m = Eigen::Matrix4d::Identity();

@@ -1,11 +1,14 @@
 // ImGui panels of hemirad-gui.
 #include "ui/panels.hpp"
+#include "ui/panel_tip.hpp"
 
 #include "engine/atomic_file.hpp"
 #include "engine/error.hpp"
+#include "engine/form_factor_notes.hpp"
 #include "preprocess/backend_registry.hpp"
 #include "rays/ray_scene.hpp"
 #include "solve/solver_registry.hpp"
+#include "ui/run_estimate.hpp"
 #include "ui/units.hpp"
 
 #include <imgui.h>
@@ -31,7 +34,7 @@ const std::pair<const char*, const char*> kMouseAndKeys[] = {
     {"click", "select the patch (or, with Pick: object, its object)"},
     {"Ctrl/Shift + click", "add to the selection"},
     {"hover", "the status bar reads the patch out: B, H, E, rho, s, F from the selected patch"},
-    {"F", "frame the scene (from its camera's or its open side)"},
+    {"F", "frame the scene (from its camera's or its open side, upright about its up axis)"},
     {"S", "frame the selection"},
     {"C", "the scene's camera"},
     {"Esc", "close this window or a dialog, else select none"},
@@ -49,11 +52,6 @@ std::string formatBytes(std::uintmax_t bytes) {
     else if (bytes < 1024 * 1024) std::snprintf(text, sizeof text, "%.1f KiB", double(bytes) / 1024.0);
     else std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / 1048576.0);
     return text;
-}
-
-/// The last control's tooltip (shown also when it is disabled, to say why).
-void tip(const char* text) {
-    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", text);
 }
 
 bool isObjPath(const std::string& path) {
@@ -159,6 +157,8 @@ bool Panels::beginPanel(const char* name, const Rect& rect, bool relayout) {
 
 void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, double viewExposure, LoopRequests& requests,
                   std::optional<PatchId> hovered) {
+    m_panelRects.clear();
+    m_itemRects.clear();
     menuBar(app, camera, requests);
     const float width = ImGui::GetIO().DisplaySize.x, height = ImGui::GetIO().DisplaySize.y;
     // The layout is applied at start and whenever the window's size changes; in between the user
@@ -167,7 +167,6 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
     m_layoutWidth = width;
     m_layoutHeight = height;
     const Layout l = layout(width, height);
-    m_panelRects.clear();
     if (beginPanel("Scene", l.scene, relayout)) {
         scenePanel(app, camera);
         materialPanel(app);
@@ -182,11 +181,17 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
     m_selectionHidden = app.selection().empty();
     if (beginPanel("Log", l.log, relayout)) logPanel(app);
     ImGui::End();
-    if (app.layer == Layer::FalseColour && app.hasScene()) {
-        if (beginPanel("Legend", l.legend, relayout || m_legendHidden)) legendPanel(app);
+    // The false colour's legend, or the F-row layer's scale.
+    const bool legend = app.hasScene() && (app.layer == Layer::FalseColour || app.layer == Layer::FormFactorRow);
+    m_legendTicks.clear();
+    if (legend) {
+        if (beginPanel("Legend", l.legend, relayout || m_legendHidden)) {
+            if (app.layer == Layer::FalseColour) legendPanel(app);
+            else rowLegendPanel(app);
+        }
         ImGui::End();
     }
-    m_legendHidden = app.layer != Layer::FalseColour;
+    m_legendHidden = !legend;
     if (!m_showObjects || !app.hasScene()) m_objectTable.clear();
     if (m_showObjects && app.hasScene()) {
         ImGui::SetNextWindowSize(ImVec2(620, 260), ImGuiCond_FirstUseEver);
@@ -295,14 +300,17 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
         if (ImGui::MenuItem("Frame selection", "S", false, app.hasScene() && !app.selection().empty()))
             camera.frameSelection(app.scene(), app.selection());
         if (ImGui::BeginMenu("Look from", app.hasScene())) {
-            static const struct {
-                const char* label;
+            // Top and bottom along the scene's up axis, then the other two axes.
+            const int up = app.upAxis(), side = 3 - up;
+            const struct {
+                std::string label;
                 int axis;
                 bool positive;
-            } views[] = {{"Top (+y)", 1, true}, {"Bottom (-y)", 1, false}, {"+x", 0, true},
-                         {"-x", 0, false},      {"+z", 2, true},           {"-z", 2, false}};
+            } views[] = {{std::string("Top (+") + upAxisName(up) + ")", up, true}, {std::string("Bottom (-") + upAxisName(up) + ")", up, false},
+                         {"+x", 0, true}, {"-x", 0, false}, {std::string("+") + "xyz"[side], side, true},
+                         {std::string("-") + "xyz"[side], side, false}};
             for (const auto& v : views)
-                if (ImGui::MenuItem(v.label)) camera.lookAlong(app.scene(), v.axis, v.positive);
+                if (ImGui::MenuItem(v.label.c_str())) camera.lookAlong(app.scene(), v.axis, v.positive);
             ImGui::EndMenu();
         }
         if (ImGui::MenuItem("Scene camera", "C", false, app.hasScene())) camera.useSceneCamera(app.scene());
@@ -313,8 +321,16 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
         ImGui::EndMenu();
     }
     const JobStatus job = app.job();
-    if (job.running) ImGui::Text("   %s %.0f%%  (%.1f s)", job.stage.c_str(), 100.0 * job.progress, job.elapsed);
-    else if (app.formFactorsStale()) ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "   F is stale: press Run");
+    if (job.running) {
+        ImGui::Text("   %s %.0f%%  (%.1f s)", job.stage.c_str(), 100.0 * job.progress, job.elapsed);
+        // Cancel where it is always in sight (the Pipeline panel's may be scrolled away).
+        ImGui::BeginDisabled(job.cancelling);
+        if (ImGui::SmallButton(job.cancelling ? "cancelling" : "Cancel")) app.cancel();
+        ImGui::EndDisabled();
+        tip("Stop the running job (between rows, or solver sweeps); the scene and the last results stay");
+        const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+        m_itemRects["CancelButton"] = {lo.x, lo.y, hi.x - lo.x, hi.y - lo.y};
+    } else if (app.formFactorsStale()) ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "   F is stale: press Run");
     else if (app.radiosityStale() && app.formFactors()) ImGui::TextColored(ImVec4(1, 0.9f, 0.3f, 1), "   radiosity out of date");
     ImGui::EndMainMenuBar();
 }
@@ -340,6 +356,20 @@ void Panels::scenePanel(AppState& app, OrbitCamera& camera) {
         }
         ImGui::EndCombo();
     }
+    int up = app.upAxis();
+    ImGui::Text("Up:");
+    ImGui::SameLine();
+    const bool upY = ImGui::RadioButton("y##up", &up, 1);
+    tip("The scene's up axis is y (the OBJ convention): F frames it, the view orbits about it");
+    ImGui::SameLine();
+    const bool upZ = ImGui::RadioButton("z##up", &up, 2);
+    tip("The scene's up axis is z (sites, CAD data): F frames it, the view orbits about it");
+    if (upY || upZ) {
+        app.setUpAxis(up);
+        camera.frame(s);
+    }
+    ImGui::SameLine();
+    ImGui::TextDisabled("(%s)", upAxisSourceText(app.upAxisSource()));
     int mode = int(app.selectionMode);
     ImGui::Text("Pick:");
     ImGui::SameLine();
@@ -590,14 +620,7 @@ void Panels::pipelinePanel(AppState& app) {
         const FormFactorEstimate e = app.formFactorEstimate();
         ImGui::PushTextWrapPos(0.0f);
         ImGui::TextDisabled("%s", e.description.c_str());
-        if (e.rows == 0) {
-            ImGui::TextDisabled("Run: F is current, it only solves");
-        } else {
-            ImGui::TextDisabled("Run: %zu rows x %s %s, F at most %.1f MiB, %s", e.rows, formatNumber(e.workPerRow).c_str(),
-                                e.workUnit.c_str(), e.memoryBound / 1048576.0,
-                                e.seconds ? ("about " + formatNumber(*e.seconds) + " s").c_str()
-                                          : "time known after a first run");
-        }
+        ImGui::TextDisabled("%s", runEstimateText(e).c_str());
         ImGui::PopTextWrapPos();
     }
     const bool solverOpen = ImGui::BeginCombo("Solver", st.solver.solver.c_str());
@@ -623,23 +646,34 @@ void Panels::pipelinePanel(AppState& app) {
     tip("Emission and diffuse edits solve again at once with the current F (warm start)");
     ImGui::PopItemWidth();
 
+    // The buttons keep their places whether a job runs or not, Cancel on its own row: a click meant
+    // for Cancel that lands after the job ended finds Cancel disabled, never Run (issue 38 #4).
     const JobStatus job = app.job();
-    if (job.running) {
-        ImGui::ProgressBar(float(job.progress), ImVec2(-1, 0), job.stage.c_str());
-        if (ImGui::Button("Cancel")) app.cancel();
-        tip("Stop the running job; the scene and the last results stay");
-    } else {
-        if (ImGui::Button("Run", ImVec2(100, 0))) app.runPipeline();
-        tip("Compute F where it is missing, stale or made with other settings, then solve");
-        ImGui::SameLine();
-        if (ImGui::Button("Re-solve", ImVec2(100, 0))) app.resolve();
-        tip("Solve again with the current F (after edits or a solver change)");
-        ImGui::SameLine();
-        if (ImGui::Button("Recompute F")) app.recomputeFormFactors();
-        tip("Compute the whole F again with the settings above, even when it is current, then solve");
+    ImGui::BeginDisabled(job.running);
+    if (ImGui::Button("Run", ImVec2(100, 0))) app.runPipeline();
+    tip("Compute F where it is missing, stale or made with other settings, then solve");
+    ImGui::SameLine();
+    if (ImGui::Button("Re-solve", ImVec2(100, 0))) app.resolve();
+    tip("Solve again with the current F (after edits or a solver change)");
+    ImGui::SameLine();
+    if (ImGui::Button("Recompute F")) app.recomputeFormFactors();
+    tip("Compute the whole F again with the settings above, even when it is current, then solve");
+    ImGui::EndDisabled();
+    ImGui::ProgressBar(job.running ? float(job.progress) : 0.0f, ImVec2(-108.0f, 0),
+                       job.running ? job.stage.c_str() : "no job running");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!job.running || job.cancelling);
+    if (ImGui::Button(job.cancelling ? "cancelling###cancel" : "Cancel###cancel", ImVec2(100, 0))) app.cancel();
+    ImGui::EndDisabled();
+    const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+    m_itemRects["PipelineCancel"] = {lo.x, lo.y, hi.x - lo.x, hi.y - lo.y};  // for scripted clicks
+    tip("Stop the running job (between rows, or solver sweeps); the scene and the last results stay");
+    if (app.formFactors() && !app.formFactorsStale() && !app.formFactorsMatchSettings()) {
+        // Wrapped: a line wider than the panel was clipped (issue 38 #15).
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.6f, 0.2f, 1));
+        ImGui::TextWrapped("F was made with other settings: Run computes it again");
+        ImGui::PopStyleColor();
     }
-    if (app.formFactors() && !app.formFactorsStale() && !app.formFactorsMatchSettings())
-        ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "F was made with other settings: Run computes it again");
     ImGui::Separator();
     if (!app.formFactors()) {
         ImGui::TextDisabled("no form factors yet");
@@ -650,82 +684,21 @@ void Panels::pipelinePanel(AppState& app) {
         if (const auto& stats = app.formFactorStats()) {
             ImGui::TextWrapped("row sums %.4f / %.4f / %.4f (min/mean/max)", stats->rowSumMin, stats->rowSumMean, stats->rowSumMax);
             ImGui::TextWrapped("reciprocity: mean %.4f, max %.4f", stats->reciprocityMean, stats->reciprocityMax);
+            // What a row sum of 0 or a reciprocity max near 1 means, as the CLI says it.
+            ImGui::PushTextWrapPos(0.0f);
+            for (const std::string& note : formFactorStatsNotes(*stats)) ImGui::TextDisabled("%s", note.c_str());
+            ImGui::PopTextWrapPos();
         }
     }
     for (const auto& [stage, seconds] : app.timings()) ImGui::Text("%-26s %8.3f s", stage.c_str(), seconds);
     for (const SolveReport& r : app.solveReports())
         ImGui::Text("%s (%s): %s, %d it, residual %.2e", r.solver.c_str(), r.channels.c_str(),
                     r.converged ? "converged" : "NOT converged", r.iterations, r.residual);
-}
-
-void Panels::legendPanel(AppState& app) {
-    // The false-colour settings, then the legend: title, unit, the bar (max on top), five values.
-    FalseColourSettings& fc = app.falseColour;
-    static const char* kQuantities[] = {"radiosity B", "irradiance H", "emission E"};
-    int quantity = int(fc.quantity);
-    if (ImGui::Combo("##quantity", &quantity, kQuantities, 3)) fc.quantity = FalseColourQuantity(quantity);
-    tip("Radiosity B (what leaves), irradiance H = (B - E)/rho (what a meter on the surface reads),\n"
-        "or emission E; all in W/m^2 as luminance Y");
-    int scale = int(fc.scale);
-    ImGui::RadioButton("linear", &scale, 0);
-    tip("Colours evenly spaced in the value");
-    ImGui::SameLine();
-    ImGui::RadioButton("log", &scale, 1);
-    tip("Colours evenly spaced in the value's logarithm (for ranges over decades; values <= 0 show as the minimum);\n"
-        "the automatic range spans at most 4 decades: its minimum is at least max/1e4");
-    fc.scale = FalseColourScale(scale);
-    ImGui::Checkbox("automatic range", &fc.automatic);
-    tip("The range is the values' minimum and maximum (log: the minimum at least max/1e4); off: type min and max");
-    const FalseColourView view = app.falseColourView();
-    if (fc.automatic) {
-        fc.min = view.range.min;  // the fields start from the data when switched to manual
-        fc.max = view.range.max;
-    } else {
-        ImGui::InputDouble("max", &fc.max, 0.0, 0.0, "%.4g");
-        tip("The value at the top of the colour bar (W/m^2); larger values show its colour");
-        ImGui::InputDouble("min", &fc.min, 0.0, 0.0, "%.4g");
-        tip("The value at the bottom of the colour bar (W/m^2); smaller values show its colour");
-    }
-    if (!view.error.empty()) {
-        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.4f, 1.0f));
-        ImGui::TextWrapped("%s", view.error.c_str());
-        ImGui::PopStyleColor();
-    } else {
-        falseColourBar(view, fc.quantity);
-    }
-    if (view.noData) {
-        ImGui::ColorButton("##nodata", ImVec4(0.5f, 0.5f, 0.5f, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
-        ImGui::SameLine();
-        ImGui::TextDisabled(view.error.empty() ? "no data (rho = 0)" : "no data");
-    }
-}
-
-void Panels::falseColourBar(const FalseColourView& view, FalseColourQuantity quantity) {
-    ImGui::Text("%s", falseColourTitle(quantity).c_str());
-    ImGui::TextDisabled("W/m^2, luminance Y");
-    const ImVec2 origin = ImGui::GetCursorScreenPos();
-    const float barWidth = 24.0f, barHeight = std::max(60.0f, std::min(220.0f, ImGui::GetContentRegionAvail().y - 40.0f));
-    const float x0 = std::floor(origin.x), y0 = std::floor(origin.y + 6.0f);
-    const int rows = int(barHeight);
-    ImDrawList* draw = ImGui::GetWindowDrawList();
-    for (int y = 0; y < rows; ++y) {
-        const auto c = viridis(double(rows - 1 - y) / double(rows - 1));
-        draw->AddRectFilled(ImVec2(x0, y0 + y), ImVec2(x0 + barWidth, y0 + y + 1), IM_COL32(c[0], c[1], c[2], 255));
-    }
-    m_panelRects["LegendBar"] = {x0, y0, barWidth, float(rows)};
-    for (int k = 0; k <= 4; ++k) {
-        const double t = k / 4.0;
-        const FalseColourRange& r = view.range;
-        const double v = r.scale == FalseColourScale::Log ? r.min * std::pow(r.max / r.min, t) : r.min + t * (r.max - r.min);
-        const float y = y0 + float(rows - 1) * float(1.0 - t);
-        draw->AddLine(ImVec2(x0 + barWidth, y), ImVec2(x0 + barWidth + 5, y), IM_COL32(230, 230, 230, 255));
-        draw->AddText(ImVec2(x0 + barWidth + 9, y - 7), IM_COL32(230, 230, 230, 255), formatNumber(v).c_str());
-    }
-    ImGui::Dummy(ImVec2(barWidth + 80, barHeight + 12));
-    ImGui::PushTextWrapPos(0.0f);
-    ImGui::TextDisabled("%s scale%s%s", falseColourScaleName(view.range.scale), view.range.automatic ? ", " : "",
-                        falseColourRangeNote(view.range).c_str());
-    ImGui::PopTextWrapPos();
+    // The content never shrinks: ImGui pulls a panel scrolled to its end down by what went (fewer
+    // timing lines after a run), which moved Run under a pointer aimed at Cancel (issue 38 #4).
+    const float end = ImGui::GetCursorPosY();
+    if (end < m_pipelineEnd) ImGui::Dummy(ImVec2(1.0f, m_pipelineEnd - end));
+    m_pipelineEnd = std::max(m_pipelineEnd, end);
 }
 
 void Panels::objectsPanel(AppState& app) {
@@ -824,6 +797,11 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
                 picked = e;
                 doubleClicked = ImGui::IsMouseDoubleClicked(0);
             }
+            // The first rows' places, for scripted clicks.
+            if (const std::size_t row = std::size_t(&e - m_browser.entries().data()); row < 3) {
+                const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+                m_itemRects["FilesRow" + std::to_string(row)] = {lo.x, lo.y, hi.x - lo.x, hi.y - lo.y};
+            }
             if (!e.directory) {
                 ImGui::SameLine(480);
                 ImGui::TextDisabled("%s", formatBytes(e.size).c_str());
@@ -831,9 +809,9 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
         }
         ImGui::EndChild();
         if (picked) {
-            m_browser.pick(*picked);
+            // A double-click on a folder enters it once (issue 38 #1): click() ignores its second click.
+            chosen = m_browser.click(*picked, doubleClicked);
             std::snprintf(m_pathBuffer, sizeof m_pathBuffer, "%s", m_browser.typed.c_str());
-            if (!picked->directory && doubleClicked) chosen = m_browser.confirm(m_browser.typed);
             m_focusPath = true;
         }
         if (!m_browser.error().empty()) {

@@ -49,6 +49,8 @@ public:
     /// The object table as drawn in the last frame: the headings, then a row per object, each cell's
     /// text (empty when the window was not drawn); scripted runs print it.
     const std::vector<std::vector<std::string>>& objectTable() const { return m_objectTable; }
+    /// The legend's tick labels as drawn in the last frame, bottom to top (empty without a legend).
+    const std::vector<std::string>& legendTicks() const { return m_legendTicks; }
     /// Help > Keyboard and mouse (F1): shows or hides the help window.
     void toggleHelp() { m_showHelp = !m_showHelp; }
     /// Esc: closes the help window; returns whether it was open.
@@ -60,6 +62,9 @@ public:
     /// Where each panel drawn in the last frame was (window pixels), by name: scripted runs print
     /// them and a test checks they stay inside the window and apart.
     const std::map<std::string, Rect>& panelRects() const { return m_panelRects; }
+    /// Where some controls were in the last frame, for scripted clicks: "CancelButton" (the menu
+    /// bar's, while a job runs), "PipelineCancel", "FilesRow0".."FilesRow2" (the browser's listing).
+    const std::map<std::string, Rect>& itemRects() const { return m_itemRects; }
     /// The default layout for a window of this size.
     struct Layout {
         Rect scene, pipeline, selection, log, legend, status;
@@ -77,9 +82,14 @@ private:
     void meshingSection(AppState& app);
     void logPanel(AppState& app);
     void statusBar(AppState& app, const Rect& rect, std::optional<PatchId> hovered, double viewExposure);
+    /// The false colour's settings and legend (legend_panel.cpp).
     void legendPanel(AppState& app);
-    /// The legend's title, colour bar, its five values and the scale.
-    void falseColourBar(const FalseColourView& view, FalseColourQuantity quantity);
+    /// The F-row layer's scale: F from the selected patch, log over 4 decades (legend_panel.cpp).
+    void rowLegendPanel(AppState& app);
+    /// A colour bar of `colourAt(t)` (t 0 at the bottom .. 1 at the top) labelled with round values
+    /// of `range` (legendTicks), then the scale's note.
+    void colourBar(const FalseColourRange& range, const std::function<std::array<std::uint8_t, 3>(double)>& colourAt,
+                   const std::string& note);
     void objectsPanel(AppState& app);
     void helpPanel();
     void modals(AppState& app, OrbitCamera& camera, LoopRequests& requests);
@@ -101,6 +111,12 @@ private:
     float m_layoutWidth = 0, m_layoutHeight = 0;  ///< the window size the layout was applied for
     bool m_selectionHidden = true;                 ///< the Selection panel was not drawn last frame
     bool m_legendHidden = true;                    ///< the Legend panel was not drawn last frame
+    std::vector<std::string> m_legendTicks;        ///< the legend's tick labels as drawn last
+    // The F-row legend's row: for which patch and F, and its largest factor.
+    std::optional<PatchId> m_rowPatch;
+    const FormFactors* m_rowF = nullptr;
+    std::uint64_t m_rowRevision = 0;
+    double m_rowMax = 0.0;
     bool m_showObjects = false;                    ///< View > Object table
     std::vector<std::vector<std::string>> m_objectTable;  ///< the object table as drawn last
     bool m_showHelp = false;                       ///< Help > Keyboard and mouse (F1)
@@ -109,7 +125,8 @@ private:
     bool m_meshSelected = false;
     std::uint64_t m_meshSceneId = 0;  ///< the scene the suggested edge length was made for
     std::vector<double> m_meshEdgesSeen;  ///< the mesh's edge lengths the fields were last set from
-    std::map<std::string, Rect> m_panelRects;
+    float m_pipelineEnd = 0.0f;  ///< the Pipeline panel's tallest content so far (it never shrinks)
+    std::map<std::string, Rect> m_panelRects, m_itemRects;
     std::string m_status;
 };
 

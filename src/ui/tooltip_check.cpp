@@ -80,16 +80,25 @@ void TooltipCheck::observe() {
     std::snprintf(name, sizeof name, "##Tooltip_%02d", g.TooltipOverrideCount);
     const ImGuiWindow* tooltip = ImGui::FindWindowByName(name);
     if (!(tooltip && tooltip->Active)) m_missing.emplace(g.HoveredId, at);
+    // Put over the controls below the pointer (ImGui's place, down right of it) where the window had
+    // room above (the panels' tooltips are at most 5 lines, under 120 px). Its position, not its
+    // size: ImGui's auto-fit size lags a frame behind when the tooltip changes.
+    else if (tooltip->Pos.y > at.y && at.y > 150.0f) m_below.emplace(g.HoveredId, at);
 }
 
 std::string TooltipCheck::report() const {
     char line[256];
-    std::snprintf(line, sizeof line, "tooltips: %zu points, %zu controls hovered, %zu without a tooltip\n", m_points,
-                  m_controls.size(), m_missing.size());
+    std::snprintf(line, sizeof line, "tooltips: %zu points, %zu controls hovered, %zu without a tooltip, %zu below the pointer\n",
+                  m_points, m_controls.size(), m_missing.size(), m_below.size());
     std::string text = line;
     for (const auto& [id, at] : m_missing) {
         std::snprintf(line, sizeof line, "no tooltip: panel %s at %.0f,%.0f (scrolled %.0f)\n", at.panel.c_str(), at.x, at.y,
                       at.scroll);
+        text += line;
+    }
+    for (const auto& [id, at] : m_below) {
+        std::snprintf(line, sizeof line, "tooltip below the pointer: panel %s at %.0f,%.0f (scrolled %.0f)\n", at.panel.c_str(), at.x,
+                      at.y, at.scroll);
         text += line;
     }
     return text;

@@ -28,9 +28,12 @@ public:
     /// After the panels are drawn (before ImGui::Render): notes the item under the mouse, if any, and
     /// whether a tooltip was drawn for it.
     void observe();
-    /// "N points, M controls hovered, K without a tooltip" and a line per control without one.
+    /// "N points, M controls hovered, K without a tooltip, L below the pointer" and a line per
+    /// control without one or whose tooltip reaches below the pointer (over the controls under it)
+    /// although the window had room for it above.
     std::string report() const;
     std::size_t missing() const { return m_missing.size(); }
+    std::size_t below() const { return m_below.size(); }
 
 private:
     struct Point {
@@ -52,6 +55,7 @@ private:
     bool m_planned = false, m_finished = false;
     std::set<unsigned> m_controls;        ///< ImGui ids of the items hovered
     std::map<unsigned, Point> m_missing;  ///< items hovered without a tooltip: where first
+    std::map<unsigned, Point> m_below;    ///< items whose tooltip reached below the pointer: where first
 };
 
 }  // namespace hemirad::ui

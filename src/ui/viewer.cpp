@@ -344,6 +344,7 @@ void Viewer::render(AppState& app, const OrbitCamera& camera, int width, int hei
     gl::Uniform1f(m_present.uniform("exposure"), float(m_exposure));
     gl::Uniform1ui(m_present.uniform("hovered"), hovered ? *hovered + 1u : 0u);
     gl::Uniform1f(m_present.uniform("rowMax"), float(m_rowMax));
+    gl::Uniform1i(m_present.uniform("anySelected"), app.selection().empty() ? 0 : 1);
     gl::ActiveTexture(GL_TEXTURE0);
     gl::BindTexture(GL_TEXTURE_2D, m_layers[0].id());
     gl::ActiveTexture(GL_TEXTURE1);

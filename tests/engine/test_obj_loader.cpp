@@ -4,6 +4,7 @@
 #include "engine/error.hpp"
 #include "engine/obj_loader.hpp"
 #include "engine/obj_writer.hpp"
+#include "engine/subdivide.hpp"
 
 #include <doctest/doctest.h>
 
@@ -297,6 +298,22 @@ TEST_CASE("OBJ: a hemirad unit line states the length unit, an unknown one names
     const auto dir = tempDir("unit");
     saveObj(s, (dir / "copy.obj").string());
     CHECK(loadObj((dir / "copy.obj").string(), w).unit == "cm");
+}
+
+TEST_CASE("OBJ: a hemirad up line states the up axis (y or z), another value names file, line and value, saving keeps it") {
+    // Issue 38 #12: Z-up models open edge-on in the GUI unless it knows their up axis.
+    Warnings w = quietWarnings();
+    CHECK(loadText("none.obj", kTriangleHead + "f 1 2 3\n", kMtl, w).up == 0);
+    CHECK(loadText("y.obj", "# hemirad up y\n" + kTriangleHead + "f 1 2 3\n", kMtl, w).up == 1);
+    const Scene s = loadText("z.obj", "# hemirad up z\n" + kTriangleHead + "f 1 2 3\n", kMtl, w);
+    CHECK(s.up == 2);
+    CHECK_THROWS_WITH_AS(loadText("x.obj", kTriangleHead + "# hemirad up x\nf 1 2 3\n", kMtl, w),
+                         doctest::Contains("x.obj:6: '# hemirad up' needs the up axis, y or z, got 'x'"), Error);
+    const auto dir = tempDir("up");
+    saveObj(s, (dir / "copy.obj").string());
+    CHECK(readText(dir / "copy.obj").find("# hemirad up z\n") != std::string::npos);
+    CHECK(loadObj((dir / "copy.obj").string(), w).up == 2);
+    CHECK(subdivide(s, 0.1).up == 2);
 }
 
 TEST_CASE("checkCamera refuses a non-finite eye or target, a field of view outside (0, 180) and a coinciding eye and target, naming the value") {

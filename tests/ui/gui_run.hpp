@@ -32,6 +32,38 @@ struct Image {
     }
 };
 
+/// A panel's rectangle in window pixels.
+struct Panel {
+    std::string name;
+    double x, y, w, h;
+};
+
+/// The panel rectangles a scripted run prints ("hemirad-gui: panel NAME at X,Y size WxH"), or with
+/// `kind` "item" the controls' ("hemirad-gui: item NAME ...").
+inline std::vector<Panel> panelsOf(const std::string& log, const std::string& kind = "panel") {
+    std::vector<Panel> panels;
+    std::size_t at = 0;
+    const std::string prefix = "hemirad-gui: " + kind + " ";
+    while ((at = log.find(prefix, at)) != std::string::npos) {
+        char name[64] = {};
+        Panel p;
+        REQUIRE(std::sscanf(log.c_str() + at + prefix.size(), "%63s at %lf,%lf size %lfx%lf", name, &p.x, &p.y, &p.w, &p.h) == 5);
+        p.name = name;
+        panels.push_back(p);
+        ++at;
+    }
+    return panels;
+}
+
+/// The panel (or with `kind` "item", the control) `name` a scripted run printed; fails the test
+/// when there is none.
+inline Panel panelOf(const std::string& log, const std::string& name, const std::string& kind = "panel") {
+    for (const Panel& p : panelsOf(log, kind))
+        if (p.name == name) return p;
+    FAIL("no " << kind << " " << name << " in the log");
+    return {};
+}
+
 /// A PNG's pixels as 8-bit RGB.
 inline Image loadImage(const std::string& png) {
     Image image;
@@ -67,12 +99,12 @@ inline Image runGui(const std::string& name, const std::string& arguments, std::
 }
 
 /// Runs tests/ui/SCRIPT, a keyboard script (xdotool taps keys into hemirad-gui under Xvfb), with the
-/// GUI's binary and `arguments`, and checks that the script and the GUI exited 0. Returns the script's
-/// output; the GUI's log is where `arguments` told the script to put it.
-inline std::string runKeyboardScript(const std::string& script, const std::string& arguments) {
+/// GUI's binary and `arguments` (in `folder` when given), and checks that the script and the GUI
+/// exited 0. Returns the script's output; the GUI's log is where `arguments` told the script to put it.
+inline std::string runKeyboardScript(const std::string& script, const std::string& arguments, const std::string& folder = "") {
     REQUIRE_MESSAGE(std::system("command -v xvfb-run > /dev/null && command -v xdotool > /dev/null") == 0,
                     "xvfb-run or xdotool is missing (scripts/install-deps.sh)");
-    const CommandResult run = runCommand("ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 xvfb-run -a -s '-screen 0 1400x900x24' " +
+    const CommandResult run = runCommand((folder.empty() ? std::string() : "cd '" + folder + "' && ") + "ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 xvfb-run -a -s '-screen 0 1400x900x24' " +
                                          sourcePath("tests/ui/" + script) + " " + HEMIRAD_GUI_BINARY + " " + arguments + " 2>&1");
     INFO(run.output);
     CHECK(run.status == 0);

@@ -10,6 +10,7 @@
 #include "preprocess/backend_registry.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
 #include "ui/app_state.hpp"
+#include "ui/run_estimate.hpp"
 
 #include <doctest/doctest.h>
 
@@ -486,6 +487,36 @@ TEST_CASE("GUI state: before Run the panel knows the rows, the work, the memory 
     CHECK(e.rows == 6);  // other settings: every row again
     REQUIRE(e.seconds.has_value());
     CHECK(*e.seconds > 0.0);
+}
+
+TEST_CASE("GUI state: Run's time comes from a run of the method on the same mesh, never from another scene or mesh (issue 38 #5)") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/cornell_box.obj")));
+    app.settings.formFactors.as<HemisphereOptions>().samples = 384;
+    app.settings.formFactors.as<HemisphereOptions>().estimator = Estimator::Rays;
+    app.runPipeline();
+    runToEnd(app);
+    app.settings.formFactors.as<HemisphereOptions>().samples = 768;
+    CHECK(app.formFactorEstimate().seconds.has_value());  // the same mesh: its rate
+    CHECK(ui::runEstimateText(app.formFactorEstimate()).find("about ") != std::string::npos);
+    REQUIRE(app.mesh(200.0, ui::MeshTarget::Scene));
+    CHECK_FALSE(app.formFactorEstimate().seconds.has_value());  // a finer mesh: no basis yet
+    CHECK(ui::runEstimateText(app.formFactorEstimate()).find("time known after a first run on this mesh") != std::string::npos);
+    app.undo();
+    REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
+    CHECK_FALSE(app.formFactorEstimate().seconds.has_value());  // another scene
+}
+
+TEST_CASE("GUI state: the analytic estimator's Run line counts shadow rays, not directions (issue 38 #15)") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/cornell_box.obj")));
+    app.settings.formFactors.as<HemisphereOptions>().estimator = Estimator::Analytic;
+    const FormFactorEstimate e = app.formFactorEstimate();
+    CHECK(e.analytic);
+    const std::string text = ui::runEstimateText(e);
+    CHECK(text.find("Run: 20 rows of analytic factors (20 shadow rays a row, no directions cast)") == 0);
+    app.settings.formFactors.as<HemisphereOptions>().estimator = Estimator::Rays;
+    CHECK(ui::runEstimateText(app.formFactorEstimate()).find("Run: 20 rows x 3072 rays") == 0);
 }
 
 TEST_CASE("GUI state: meshing the selected object previews its patch count, keeps edits, makes F stale, and undoes") {

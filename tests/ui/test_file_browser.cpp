@@ -72,3 +72,26 @@ TEST_CASE("The file browser lists folders, then the files of the purpose's exten
     // Recent folders: newest first, once each.
     CHECK(FileBrowser::recentFolders({"/a/x.obj", "/b/y.obj", "/a/z.obj"}) == std::vector<std::string>{"/a", "/b"});
 }
+
+TEST_CASE("The file browser's double-click on a folder enters it once, a double-click on a file opens it (issue 38 #1)") {
+    const fs::path dir = tempDir("file-browser-double");
+    fs::create_directories(dir / "sub" / "deeper");
+    for (const char* name : {"sub/b.obj", "top.obj"}) std::ofstream(dir / name) << "# x\n";
+    FileBrowser b;
+    b.start("Open OBJ", {".obj"}, (dir / "top.obj").string(), true);
+    REQUIRE(names(b) == std::vector<std::string>{"../", "sub/", "top.obj"});
+    // Its first click enters sub; its second lands on the new listing's row 1 (deeper/, then b.obj
+    // in row 2) and is ignored: neither entered nor opened.
+    CHECK_FALSE(b.click(b.entries()[1], false));
+    REQUIRE(names(b) == std::vector<std::string>{"../", "deeper/", "b.obj"});
+    CHECK_FALSE(b.click(b.entries()[1], true));
+    CHECK(b.directory() == fs::canonical(dir / "sub").string());
+    CHECK_FALSE(b.click(b.entries()[2], true));
+    CHECK(b.typed.empty());
+    // A double-click on a file (both clicks on it) gives its path.
+    CHECK_FALSE(b.click(b.entries()[2], false));
+    CHECK(b.typed == "b.obj");
+    const auto chosen = b.click(b.entries()[2], true);
+    REQUIRE(chosen);
+    CHECK(*chosen == (fs::canonical(dir / "sub") / "b.obj").string());
+}
