@@ -112,7 +112,9 @@ void Panels::browse(const std::string& purpose, const std::string& initial) {
         {"Open OBJ", {{".obj", ".stl"}, true}},        {"Save scene", {{".obj"}, false}},
         {"Import F", {{".hff", ".mtx"}, true}}, {"Export F", {{".hff", ".mtx"}, false}},
         {"Export PNG", {{".png"}, false}},      {"Export PLY", {{".ply"}, false}},
-        {"Export object table", {{".csv"}, false}}};
+        {"Export object table", {{".csv"}, false}},
+        {"Thermal properties", {{".toml"}, true}}, {"Boundary conditions", {{".toml"}, true}},
+        {"Export exchange table", {{".csv"}, false}}};
     const auto kind = kinds.at(purpose);
     // One dialog at a time: the help window would stand over the browser (issue 38 #11).
     m_showHelp = false;
@@ -168,9 +170,11 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
     m_layoutHeight = height;
     const Layout l = layout(width, height);
     m_panelRects.clear();
+    const ThermalPanel::Browse browseFile = [this](const std::string& purpose, const std::string& initial) { browse(purpose, initial); };
     if (beginPanel("Scene", l.scene, relayout)) {
         scenePanel(app, camera);
         materialPanel(app);
+        m_thermal.section(app, browseFile);
     }
     ImGui::End();
     if (beginPanel("Pipeline", l.pipeline, relayout)) pipelinePanel(app);
@@ -187,6 +191,9 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
         ImGui::End();
     }
     m_legendHidden = app.layer != Layer::FalseColour;
+    if (m_legendHidden || !app.hasScene()) m_legend = {};
+    m_thermal.exchangeWindow(app, browseFile, width, height);
+    if (const auto& r = m_thermal.exchangeRect()) m_panelRects["Thermal exchange"] = {(*r)[0], (*r)[1], (*r)[2], (*r)[3]};
     if (!m_showObjects || !app.hasScene()) m_objectTable.clear();
     if (m_showObjects && app.hasScene()) {
         ImGui::SetNextWindowSize(ImVec2(620, 260), ImGuiCond_FirstUseEver);
@@ -271,6 +278,8 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
         if (ImGui::MenuItem("Export PLY...", nullptr, false, app.hasScene())) prompt("Export PLY", stem + ".ply");
         if (ImGui::MenuItem("Export object table (CSV)...", nullptr, false, app.hasScene()))
             prompt("Export object table", stem + "_objects.csv");
+        if (ImGui::MenuItem("Export thermal exchange (CSV)...", nullptr, false, app.thermalResult() != nullptr))
+            prompt("Export exchange table", stem + "_exchange.csv");
         ImGui::Separator();
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) guarded(app, "quit", [&requests] { requests.quit = true; });
         ImGui::EndMenu();
@@ -286,6 +295,7 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
             if (ImGui::MenuItem(kLayerNames[k], nullptr, int(app.layer) == k)) app.layer = Layer(k);
         ImGui::Separator();
         ImGui::MenuItem("Object table", nullptr, &m_showObjects, app.hasScene());
+        ImGui::MenuItem("Thermal exchange table", nullptr, &m_thermal.showExchange, app.thermalResult() != nullptr);
         ImGui::Separator();
         ImGui::MenuItem("Gouraud shading", nullptr, &app.gouraud);
         ImGui::MenuItem("Mirrors show reflections", nullptr, &app.showReflections);
@@ -661,11 +671,17 @@ void Panels::pipelinePanel(AppState& app) {
 void Panels::legendPanel(AppState& app) {
     // The false-colour settings, then the legend: title, unit, the bar (max on top), five values.
     FalseColourSettings& fc = app.falseColour;
-    static const char* kQuantities[] = {"radiosity B", "irradiance H", "emission E"};
-    int quantity = int(fc.quantity);
-    if (ImGui::Combo("##quantity", &quantity, kQuantities, 3)) fc.quantity = FalseColourQuantity(quantity);
+    m_legend = {};
+    static const char* kQuantities[] = {"radiosity B", "irradiance H", "emission E", "temperature T (thermal)",
+                                        "net heat flux q (thermal)"};
+    int quantity = fc.thermal == FalseColourSettings::Thermal::None ? int(fc.quantity) : 2 + int(fc.thermal);
+    if (ImGui::Combo("##quantity", &quantity, kQuantities, 5)) {
+        fc.thermal = quantity < 3 ? FalseColourSettings::Thermal::None : FalseColourSettings::Thermal(quantity - 2);
+        if (quantity < 3) fc.quantity = FalseColourQuantity(quantity);
+    }
     tip("Radiosity B (what leaves), irradiance H = (B - E)/rho (what a meter on the surface reads),\n"
-        "or emission E; all in W/m^2 as luminance Y");
+        "or emission E; all in W/m^2 as luminance Y. Thermal: the last Run thermal's temperature T (K)\n"
+        "or net heat flux q leaving each patch (W/m^2)");
     int scale = int(fc.scale);
     ImGui::RadioButton("linear", &scale, 0);
     tip("Colours evenly spaced in the value");
@@ -682,27 +698,30 @@ void Panels::legendPanel(AppState& app) {
         fc.max = view.range.max;
     } else {
         ImGui::InputDouble("max", &fc.max, 0.0, 0.0, "%.4g");
-        tip("The value at the top of the colour bar (W/m^2); larger values show its colour");
+        tip("The value at the top of the colour bar (in the legend's unit); larger values show its colour");
         ImGui::InputDouble("min", &fc.min, 0.0, 0.0, "%.4g");
-        tip("The value at the bottom of the colour bar (W/m^2); smaller values show its colour");
+        tip("The value at the bottom of the colour bar (in the legend's unit); smaller values show its colour");
     }
     if (!view.error.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.4f, 1.0f));
         ImGui::TextWrapped("%s", view.error.c_str());
         ImGui::PopStyleColor();
     } else {
-        falseColourBar(view, fc.quantity);
+        m_legend = app.falseColourLegend();
+        falseColourBar(view, m_legend);
     }
     if (view.noData) {
         ImGui::ColorButton("##nodata", ImVec4(0.5f, 0.5f, 0.5f, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
         ImGui::SameLine();
-        ImGui::TextDisabled(view.error.empty() ? "no data (rho = 0)" : "no data");
+        ImGui::TextDisabled(!view.error.empty() ? "no data"
+                            : fc.thermal == FalseColourSettings::Thermal::None ? "no data (rho = 0)"
+                                                                               : "no data (eps = 0: no temperature)");
     }
 }
 
-void Panels::falseColourBar(const FalseColourView& view, FalseColourQuantity quantity) {
-    ImGui::Text("%s", falseColourTitle(quantity).c_str());
-    ImGui::TextDisabled("W/m^2, luminance Y");
+void Panels::falseColourBar(const FalseColourView& view, const std::pair<std::string, std::string>& legend) {
+    ImGui::Text("%s", legend.first.c_str());
+    ImGui::TextDisabled("%s", legend.second.c_str());
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     const float barWidth = 24.0f, barHeight = std::max(60.0f, std::min(220.0f, ImGui::GetContentRegionAvail().y - 40.0f));
     const float x0 = std::floor(origin.x), y0 = std::floor(origin.y + 6.0f);
@@ -875,6 +894,9 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
             else if (purpose == "Export PNG") requests.exportImage = path;
             else if (purpose == "Export PLY") app.exportPly(path);
             else if (purpose == "Export object table") app.exportObjectTable(path);
+            else if (purpose == "Thermal properties") app.loadThermalProperties(path);
+            else if (purpose == "Boundary conditions") app.loadThermalConditions(path);
+            else if (purpose == "Export exchange table") app.exportThermalExchange(path);
         }
         ImGui::EndPopup();
     }

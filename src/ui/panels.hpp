@@ -6,6 +6,7 @@
 #include "ui/inspector.hpp"
 #include "ui/material_fields.hpp"
 #include "ui/orbit_camera.hpp"
+#include "ui/thermal_panel.hpp"
 
 #include <deque>
 #include <functional>
@@ -40,7 +41,8 @@ public:
     void open(AppState& app, OrbitCamera& camera, const std::string& path);
     const std::deque<std::string>& recentFiles() const { return m_recent; }
     /// Opens the file browser for `purpose` ("Open OBJ", "Save scene", "Import F", "Export F",
-    /// "Export PNG", "Export PLY", "Export object table") at `initial`; the help window closes.
+    /// "Export PNG", "Export PLY", "Export object table", "Thermal properties", "Boundary conditions",
+    /// "Export exchange table") at `initial`; the help window closes.
     void browse(const std::string& purpose, const std::string& initial);
     /// File > Save (Ctrl+S): over the scene's .obj, or through the browser when it has none.
     void save(AppState& app);
@@ -49,6 +51,12 @@ public:
     /// The object table as drawn in the last frame: the headings, then a row per object, each cell's
     /// text (empty when the window was not drawn); scripted runs print it.
     const std::vector<std::vector<std::string>>& objectTable() const { return m_objectTable; }
+    /// View > Thermal exchange table: shows its window (once there is a thermal result).
+    void showThermalExchange() { m_thermal.showExchange = true; }
+    /// The thermal section and exchange table as drawn in the last frame (scripted runs print them).
+    const ThermalPanel& thermal() const { return m_thermal; }
+    /// The legend's title and unit as drawn in the last frame (empty when it was not drawn).
+    const std::pair<std::string, std::string>& legend() const { return m_legend; }
     /// Help > Keyboard and mouse (F1): shows or hides the help window.
     void toggleHelp() { m_showHelp = !m_showHelp; }
     /// Esc: closes the help window; returns whether it was open.
@@ -79,7 +87,7 @@ private:
     void statusBar(AppState& app, const Rect& rect, std::optional<PatchId> hovered, double viewExposure);
     void legendPanel(AppState& app);
     /// The legend's title, colour bar, its five values and the scale.
-    void falseColourBar(const FalseColourView& view, FalseColourQuantity quantity);
+    void falseColourBar(const FalseColourView& view, const std::pair<std::string, std::string>& legend);
     void objectsPanel(AppState& app);
     void helpPanel();
     void modals(AppState& app, OrbitCamera& camera, LoopRequests& requests);
@@ -109,6 +117,8 @@ private:
     bool m_meshSelected = false;
     std::uint64_t m_meshSceneId = 0;  ///< the scene the suggested edge length was made for
     std::vector<double> m_meshEdgesSeen;  ///< the mesh's edge lengths the fields were last set from
+    ThermalPanel m_thermal;                        ///< the Scene panel's Thermal section, the exchange table
+    std::pair<std::string, std::string> m_legend;  ///< the legend's title and unit as drawn last
     std::map<std::string, Rect> m_panelRects;
     std::string m_status;
 };
