@@ -228,6 +228,9 @@ std::string Panels::statusText(const AppState& app, std::optional<PatchId> hover
         text += " | rho " + rgb(r->rho) + " s " + formatNumber(r->specular);
         if (r->fromSelected)
             text += " | F " + std::to_string(*r->selected) + "->" + std::to_string(r->patch) + " " + formatNumber(*r->fromSelected);
+        // The last thermal run's values of the patch (the Thermal section's Run thermal).
+        if (const ThermalResult* t = app.thermalResult())
+            text += " | T " + formatNumber(t->solution.T[r->patch]) + " K, q " + formatNumber(t->solution.q[r->patch]) + " W/m^2";
     } else {
         text += "hover a patch for its values";
     }

@@ -31,7 +31,7 @@ public:
     void draw(AppState& app, OrbitCamera& camera, Inspector& inspector, double viewExposure, LoopRequests& requests,
               std::optional<PatchId> hovered = std::nullopt);
     /// The status bar's text: the hovered (else selected) patch's id, object, B, H, E, rho, s and F_ij
-    /// from the selected patch, the view's exposure, F's memory.
+    /// from the selected patch, T and q after a thermal run, the view's exposure, F's memory.
     static std::string statusText(const AppState& app, std::optional<PatchId> hovered, double viewExposure);
     /// The status bar's text in the last frame (scripted runs print it).
     const std::string& status() const { return m_status; }

@@ -40,8 +40,15 @@ double cliRadiatorT() {
 TEST_CASE("hemirad-gui runs thermal on the radiator: its T in the Scene panel as hemirad thermal's, T in false colour in K") {
     const double cliT = cliRadiatorT();
     std::string log;
-    Image image = runGui("gui-thermal", sourcePath(kScene) + thermalFiles() + " --thermal --false-color temperature --thermal-window", log);
+    Image image = runGui("gui-thermal", sourcePath(kScene) + thermalFiles() + " --thermal --false-color temperature --thermal-window --hover 0",
+                         log);
     INFO(log);
+    // The status bar reads the hovered radiator patch's T (4 digits) and q out.
+    char expected[64];
+    std::snprintf(expected, sizeof expected, " | T %.4g K, q ", cliT);
+    const std::size_t status = log.find("hemirad-gui: status: patch 0 'radiator'");
+    REQUIRE(status != std::string::npos);
+    CHECK(log.find(expected, status) != std::string::npos);
     // The Scene panel's Thermal section draws the isothermal node's T and the balance.
     CHECK(numberAfter(log, "hemirad-gui: thermal panel: isothermal 'radiator': T = ") == doctest::Approx(cliT).epsilon(1e-5));
     CHECK(log.find("hemirad-gui: thermal panel: energy balance ") != std::string::npos);
