@@ -3,6 +3,8 @@
 // false-colour T and q with their legend, the exchange table's CSV.
 #include "support.hpp"
 
+#include "engine/subdivide.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
 #include "ui/app_state.hpp"
 
 #include <doctest/doctest.h>
@@ -215,16 +217,29 @@ TEST_CASE("hemirad-gui exports the object exchange table as hemirad thermal --ex
     CHECK(total == doctest::Approx(250.0 + solar).epsilon(1e-6));
 }
 
-TEST_CASE("hemirad-gui's thermal run is refused without conditions, and cancelled runs change nothing") {
+TEST_CASE("hemirad-gui's thermal run is refused without conditions and names the objects that lack one") {
     AppState app;
     REQUIRE(app.loadScene(sourcePath("examples/thermal/radiator.obj")));
     app.runThermal();
     CHECK_FALSE(app.job().running);
     CHECK(logged(app, "no boundary condition for 'radiator', 'shield', 'baffle'"));
-    REQUIRE(app.loadThermalConditions(sourcePath(kConditions)));
+    CHECK(app.thermalResult() == nullptr);
+}
+
+TEST_CASE("hemirad-gui's thermal run is cancelled during a long form-factor computation and keeps the state") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
+    app.setScene(subdivide(app.scene(), 0.05), "fine cube");  // 2,400 patches
+    app.settings.formFactors.as<HemisphereOptions>().samples = 3072;
+    app.settings.formFactors.as<HemisphereOptions>().origins = 64;
+    // Conditions set per object in the panel (no file): every object held at 300 K.
+    for (const ObjectThermalRow& r : rows(app)) REQUIRE(app.setObjectCondition(r.object, {ObjectCondition::Kind::Temperature, 300.0}));
     app.runThermal();
+    CHECK(app.job().running);
     app.cancel();
     runToEnd(app);
-    // Cancelled before or after the solve: either the run finished or nothing was kept.
-    if (logged(app, "cancelled")) CHECK(app.thermalResult() == nullptr);
+    CHECK_FALSE(app.job().running);
+    CHECK(logged(app, "cancelled"));
+    CHECK(app.thermalResult() == nullptr);
+    CHECK(app.formFactors() == nullptr);
 }
