@@ -30,9 +30,12 @@ const char* kKinds[] = {"temperature", "flux", "power (isothermal)", "adiabatic"
 }  // namespace
 
 void ThermalPanel::sync(const AppState& app) {
+    // A new mesh changes the objects' patch counts (not app.revision(): it moves with every progressive
+    // solve and would reload a field while it is typed into).
     if (app.thermalRevision() == m_thermalRevision && app.materialsRevision() == m_materialsRevision &&
-        app.sceneId() == m_sceneId && m_celsius == m_shownCelsius)
+        app.sceneId() == m_sceneId && app.scene().size() == m_patches && m_celsius == m_shownCelsius)
         return;
+    m_patches = app.scene().size();
     m_thermalRevision = app.thermalRevision();
     m_materialsRevision = app.materialsRevision();
     m_sceneId = app.sceneId();

@@ -53,6 +53,7 @@ private:
     double m_environment = 3.0;   ///< as shown: K or C
     bool m_celsius = false;       ///< temperatures shown and typed in C
     std::uint64_t m_thermalRevision = ~std::uint64_t(0), m_materialsRevision = 0, m_sceneId = 0;
+    std::size_t m_patches = 0;      ///< the scene's patch count the rows were made for
     bool m_shownCelsius = false;
     bool m_openedForFiles = false;  ///< the section was opened for the thermal files loaded
     char m_propertiesPath[1024] = {}, m_conditionsPath[1024] = {};

@@ -120,7 +120,9 @@ TEST_CASE("hemirad-gui refuses thermal edits the library refuses and keeps the v
     loadRadiator(app);
     std::vector<ObjectThermalRow> r = rows(app);
     const std::uint32_t radiator = r[0].object, shield = r[1].object, baffle = r[2].object;
+    const std::uint64_t revision = app.thermalRevision();
     CHECK_FALSE(app.setObjectEmissivity(radiator, 1.5));
+    CHECK(app.thermalRevision() != revision);  // the panel's field reloads the value in effect
     CHECK(logged(app, "emissivity of 'radiator' refused"));
     CHECK_FALSE(app.setObjectEmissivity(shield, 0.2));  // the shield's s = 0.9: eps + s > 1
     CHECK(logged(app, "emissivity of 'shield' refused"));
