@@ -29,31 +29,8 @@ const char* kKinds[] = {"temperature", "flux", "power (isothermal)", "adiabatic"
 
 }  // namespace
 
-void ThermalPanel::sync(const AppState& app) {
-    // A new mesh changes the objects' patch counts (not app.revision(): it moves with every progressive
-    // solve and would reload a field while it is typed into).
-    if (app.thermalRevision() == m_thermalRevision && app.materialsRevision() == m_materialsRevision &&
-        app.sceneId() == m_sceneId && app.scene().size() == m_patches && m_celsius == m_shownCelsius)
-        return;
-    m_patches = app.scene().size();
-    m_thermalRevision = app.thermalRevision();
-    m_materialsRevision = app.materialsRevision();
-    m_sceneId = app.sceneId();
-    m_shownCelsius = m_celsius;
-    std::optional<double> environment;
-    m_rows = app.thermalObjects(environment, m_rowsError);
-    const double offset = m_celsius ? thermal::kCelsiusZero : 0.0;
-    m_closed = !environment;
-    if (environment) m_environment = *environment - offset;
-    m_fields.assign(m_rows.size(), {});
-    for (std::size_t k = 0; k < m_rows.size(); ++k) {
-        const ObjectThermalRow& r = m_rows[k];
-        m_fields[k].emissivity = r.emissivity;
-        if (r.condition) {
-            m_fields[k].kind = int(r.condition->kind);
-            m_fields[k].value = r.condition->value - (r.condition->kind == ObjectCondition::Kind::Temperature ? offset : 0.0);
-        }
-    }
+void ThermalPanel::syncPaths(const AppState& app) {
+    // The path fields follow the files loaded (a typed path stays until another file is loaded).
     const ThermalSetup& setup = app.thermalSetup();
     if (setup.propertiesPath != m_propertiesSeen) {
         m_propertiesSeen = setup.propertiesPath;
@@ -95,7 +72,8 @@ void ThermalPanel::section(AppState& app, const Browse& browse) {
     const bool open = ImGui::CollapsingHeader("Thermal");
     tip("Radiative heat transfer on F (hemirad thermal): properties and conditions per object, T and q");
     if (!open) return;
-    sync(app);
+    m_fields.sync(app);
+    syncPaths(app);
     fileRow(app, browse, true);
     fileRow(app, browse, false);
     if (!app.thermalLoadError().empty()) {
@@ -103,21 +81,22 @@ void ThermalPanel::section(AppState& app, const Browse& browse) {
         ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.4f, 1.0f), "%s", app.thermalLoadError().c_str());
         ImGui::PopTextWrapPos();
     }
-    const double offset = m_celsius ? thermal::kCelsiusZero : 0.0;
-    const char* unit = m_celsius ? "C" : "K";
-    bool environment = !m_closed;
-    if (ImGui::Checkbox("Environment", &environment))
-        app.setThermalEnvironment(environment ? std::optional<double>(m_environment + offset) : std::nullopt);
+    const char* unit = m_fields.celsius ? "C" : "K";
+    bool environment = !m_fields.closed;
+    if (ImGui::Checkbox("Environment", &environment)) {
+        m_fields.closed = !environment;
+        m_fields.applyEnvironment(app);
+    }
     tip("The deep-space, sky or ambient temperature that takes what leaves an open scene; off: a closed scene");
-    if (!m_closed) {
+    if (!m_fields.closed) {
         ImGui::SameLine();
         ImGui::SetNextItemWidth(90);
-        ImGui::InputDouble(unit, &m_environment, 0.0, 0.0, "%.6g");
-        if (ImGui::IsItemDeactivatedAfterEdit()) app.setThermalEnvironment(m_environment + offset);
+        ImGui::InputDouble(unit, &m_fields.environment, 0.0, 0.0, "%.6g");
+        if (ImGui::IsItemDeactivatedAfterEdit()) m_fields.applyEnvironment(app);
         tip("The environment's temperature; below 0 K is refused");
     }
     ImGui::SameLine();
-    ImGui::Checkbox("in C", &m_celsius);
+    ImGui::Checkbox("in C", &m_fields.celsius);
     tip("Show and type temperatures in degrees Celsius instead of kelvin");
     objectTable(app);
     const bool running = app.job().running;
@@ -139,9 +118,9 @@ void ThermalPanel::section(AppState& app, const Browse& browse) {
 }
 
 void ThermalPanel::objectTable(AppState& app) {
-    if (!m_rowsError.empty()) {
+    if (!m_fields.error.empty()) {
         ImGui::PushTextWrapPos(0.0f);
-        ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.4f, 1.0f), "%s", m_rowsError.c_str());
+        ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.4f, 1.0f), "%s", m_fields.error.c_str());
         ImGui::PopTextWrapPos();
         return;
     }
@@ -161,10 +140,13 @@ void ThermalPanel::objectTable(AppState& app) {
         ImGui::TableHeader(kHeadings[c].first);
         tip(kHeadings[c].second);
     }
-    const double offset = m_celsius ? thermal::kCelsiusZero : 0.0;
-    for (std::size_t k = 0; k < m_rows.size(); ++k) {
-        const ObjectThermalRow& r = m_rows[k];
-        Fields& f = m_fields[k];
+    // An apply reloads the rows (this frame's references go): the row's widgets are drawn first, the
+    // apply comes after them and ends this frame's table.
+    enum class Apply { None, Emissivity, Kind, Value };
+    for (std::size_t k = 0; k < m_fields.rows.size(); ++k) {
+        ThermalFields::Row& f = m_fields.rows[k];
+        const ObjectThermalRow& r = f.object;
+        Apply apply = Apply::None;
         ImGui::PushID(int(k));
         ImGui::TableNextRow();
         ImGui::TableNextColumn();
@@ -173,7 +155,7 @@ void ThermalPanel::objectTable(AppState& app) {
         ImGui::TableNextColumn();
         ImGui::SetNextItemWidth(-1);
         ImGui::InputDouble("##eps", &f.emissivity, 0.0, 0.0, "%.4g");
-        if (ImGui::IsItemDeactivatedAfterEdit()) app.setObjectEmissivity(r.object, f.emissivity);
+        if (ImGui::IsItemDeactivatedAfterEdit()) apply = Apply::Emissivity;
         tip(r.emissivityEdited ? "IR emissivity (edited here; area-weighted mean shown); eps + s <= 1"
                                : "IR emissivity from the properties file (or 1 - mean(Kd) - s); eps + s <= 1");
         ImGui::TableNextColumn();
@@ -182,27 +164,32 @@ void ThermalPanel::objectTable(AppState& app) {
             "editor (then Run thermal computes F again)");
         ImGui::TableNextColumn();
         ImGui::SetNextItemWidth(-1);
-        if (ImGui::Combo("##kind", &f.kind, kKinds, 4)) {
-            const auto kind = ObjectCondition::Kind(f.kind);
-            const double value = kind == ObjectCondition::Kind::Temperature ? 293.15 : 0.0;  // a start the user types over
-            app.setObjectCondition(r.object, {kind, value});
+        int kind = int(f.kind);
+        if (ImGui::Combo("##kind", &kind, kKinds, 4)) {
+            f.kind = ObjectCondition::Kind(kind);
+            apply = Apply::Kind;
         }
         tip("The object's boundary condition: temperature, net heat flux leaving (W/m^2), net power of an\n"
             "isothermal node (W, 0: a thin shield) or adiabatic (reradiating)");
         ImGui::TableNextColumn();
         if (!r.condition) {
             ImGui::TextDisabled("none");
-        } else if (ObjectCondition::Kind(f.kind) != ObjectCondition::Kind::Adiabatic) {
-            const auto kind = ObjectCondition::Kind(f.kind);
-            const bool temperature = kind == ObjectCondition::Kind::Temperature;
+        } else if (f.kind != ObjectCondition::Kind::Adiabatic) {
             // The unit follows the number in the field (ImGui reads the number back and drops it).
-            const char* format = temperature ? (m_celsius ? "%.6g C" : "%.6g K") : kind == ObjectCondition::Kind::Flux ? "%.6g W/m^2" : "%.6g W";
+            const char* format = f.kind == ObjectCondition::Kind::Temperature ? (m_fields.celsius ? "%.6g C" : "%.6g K")
+                                 : f.kind == ObjectCondition::Kind::Flux      ? "%.6g W/m^2"
+                                                                              : "%.6g W";
             ImGui::SetNextItemWidth(-1);
             ImGui::InputDouble("##value", &f.value, 0.0, 0.0, format);
-            if (ImGui::IsItemDeactivatedAfterEdit()) app.setObjectCondition(r.object, {kind, f.value + (temperature ? offset : 0.0)});
+            if (ImGui::IsItemDeactivatedAfterEdit()) apply = Apply::Value;
             tip("The condition's value; one the library refuses (below 0 K, ...) is put back");
         }
         ImGui::PopID();
+        if (apply == Apply::None) continue;
+        if (apply == Apply::Emissivity) m_fields.applyEmissivity(app, k);
+        else if (apply == Apply::Kind) m_fields.applyKind(app, k);
+        else m_fields.applyValue(app, k);
+        break;
     }
     ImGui::EndTable();
 }

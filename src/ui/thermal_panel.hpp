@@ -4,6 +4,7 @@
 #pragma once
 
 #include "ui/app_state.hpp"
+#include "ui/thermal_fields.hpp"
 
 #include <array>
 #include <cstdint>
@@ -34,27 +35,13 @@ public:
     const std::optional<std::array<float, 4>>& exchangeRect() const { return m_exchangeRect; }
 
 private:
-    /// Reloads the rows and fields from `app` after every load, edit (accepted or refused), material
-    /// edit and scene change: a field never keeps a value that is not in effect.
-    void sync(const AppState& app);
+    /// The path fields follow the files loaded.
+    void syncPaths(const AppState& app);
     void fileRow(AppState& app, const Browse& browse, bool properties);
     void objectTable(AppState& app);
     void results(AppState& app);
 
-    struct Fields {
-        double emissivity = 0.0;
-        int kind = int(ObjectCondition::Kind::Adiabatic);
-        double value = 0.0;  ///< as shown: K or C for a temperature
-    };
-    std::vector<ObjectThermalRow> m_rows;
-    std::vector<Fields> m_fields;
-    std::string m_rowsError;
-    bool m_closed = true;         ///< no environment (a closed scene)
-    double m_environment = 3.0;   ///< as shown: K or C
-    bool m_celsius = false;       ///< temperatures shown and typed in C
-    std::uint64_t m_thermalRevision = ~std::uint64_t(0), m_materialsRevision = 0, m_sceneId = 0;
-    std::size_t m_patches = 0;      ///< the scene's patch count the rows were made for
-    bool m_shownCelsius = false;
+    ThermalFields m_fields;
     bool m_openedForFiles = false;  ///< the section was opened for the thermal files loaded
     char m_propertiesPath[1024] = {}, m_conditionsPath[1024] = {};
     std::string m_propertiesSeen, m_conditionsSeen;  ///< the setup's paths the fields were set from
