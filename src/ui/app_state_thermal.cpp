@@ -160,7 +160,8 @@ void AppState::runThermal() {
         return;
     }
     if (m_thermal.propertiesPath.empty())
-        info("thermal: no properties file: emissivity = 1 - mean(Kd) - s from the MTL (the visible diffuse reflectance taken as the IR one)");
+        info("thermal: no properties file: emissivity = 1 - mean(Kd) - s from the MTL (the visible diffuse "
+             "reflectance taken as the IR one)");
     if (m_scene->unit.empty()) info("thermal: the scene states no length unit: lengths are taken as metres");
     // Only an F made for this geometry and these settings is reused; its missing rows are added.
     const bool reuse = m_F && !m_fStale && formFactorsMatchSettings();

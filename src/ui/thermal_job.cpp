@@ -71,13 +71,17 @@ std::shared_ptr<const FormFactors> ThermalJob::completeRows(const Scene& scene, 
     events.message = [this](const std::string& text) { messages.push_back(text); };
     events.progress = [this](const std::string& label, double, const std::string&) -> ProgressCallback {
         setStage(label, 0.0);
-        return [this, label](std::size_t done, std::size_t total, double) { setStage(label, total ? double(done) / double(total) : 1.0); };
+        return [this, label](std::size_t done, std::size_t total, double) {
+            setStage(label, total ? double(done) / double(total) : 1.0);
+        };
     };
     events.formFactorsComputed = [this](const FormFactorRun& run, const Scene&, const MethodSettings& method) {
-        messages.push_back("form factors: " + method.method + ", " + std::to_string(run.rowsComputed) + " rows (every row, for thermal) in " +
+        messages.push_back("form factors: " + method.method + ", " + std::to_string(run.rowsComputed) +
+                           " rows (every row, for thermal) in " +
                            figure(run.computeSeconds, 3) + " s");
     };
-    FormFactorUpdate update = RadiosityPipeline(policy, std::move(events)).updateFormFactors(scene, current ? FormFactors(*current) : FormFactors());
+    const RadiosityPipeline pipeline(policy, std::move(events));
+    FormFactorUpdate update = pipeline.updateFormFactors(scene, current ? FormFactors(*current) : FormFactors());
     if (keepStats) stats = update.stats;
     return std::make_shared<FormFactors>(std::move(update.F));
 }
@@ -104,7 +108,8 @@ void ThermalJob::run() {
             result.solar = thermal::solveSolar(m_scene, *solarF, m_inputs.solar, model.metresPerUnit, solver);
             timings.emplace_back("solar band", std::chrono::duration<double>(Clock::now() - start).count());
             model.absorbedExternal = result.solar->absorbed;
-            messages.push_back("solar band: " + figure(result.solar->incidentPower) + " W arrive, " + figure(result.solar->absorbedPower) +
+            messages.push_back("solar band: " + figure(result.solar->incidentPower) + " W arrive, " +
+                               figure(result.solar->absorbedPower) +
                                " W absorbed, " + figure(result.solar->escapedPower) + " W leave; balance " +
                                figure(result.solar->balance, 3));
         }

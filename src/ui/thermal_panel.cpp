@@ -57,7 +57,8 @@ void ThermalPanel::fileRow(AppState& app, const Browse& browse, bool properties)
     tip("Read the file typed; an error names its file and line and changes nothing");
     if ((enter || load) && buffer[0]) properties ? app.loadThermalProperties(buffer) : app.loadThermalConditions(buffer);
     ImGui::SameLine();
-    if (ImGui::Button("...")) browse(purpose, buffer[0] ? std::string(buffer) : std::filesystem::path(app.scenePath()).parent_path().string() + "/");
+    const std::string folder = std::filesystem::path(app.scenePath()).parent_path().string() + "/";
+    if (ImGui::Button("...")) browse(purpose, buffer[0] ? std::string(buffer) : folder);
     tip("Choose the file in the file browser");
     ImGui::PopID();
 }
@@ -204,7 +205,8 @@ void ThermalPanel::results(AppState& app) {
     m_resultLines.push_back("energy balance " + figure(s.balance) + " (|sum Q + Q_env| / max |Q|); environment gives " +
                             figure(s.environmentPower) + " W");
     if (r->solar)
-        m_resultLines.push_back("solar band: " + figure(r->solar->absorbedPower) + " W absorbed of " + figure(r->solar->incidentPower) + " W");
+        m_resultLines.push_back("solar band: " + figure(r->solar->absorbedPower) + " W absorbed of " +
+                                figure(r->solar->incidentPower) + " W");
     for (std::size_t k = 0; k < r->model.isothermal.size(); ++k)
         m_resultLines.push_back("isothermal '" + r->model.isothermal[k].name + "': T = " + figure(s.isothermalT[k]) + " K (" +
                                 figure(s.isothermalT[k] - thermal::kCelsiusZero) + " C)");
@@ -226,14 +228,16 @@ void ThermalPanel::exchangeWindow(AppState& app, const Browse& browse, float wid
         const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
         m_exchangeRect = std::array<float, 4>{pos.x, pos.y, size.x, size.y};
         ImGui::TextDisabled("net power from row to column, W (the rows sum to each object's Q)");
-        if (ImGui::Button("Export CSV...")) browse("Export exchange table", std::filesystem::path(app.scenePath()).replace_extension().string() + "_exchange.csv");
+        const std::string stem = std::filesystem::path(app.scenePath()).replace_extension().string();
+        if (ImGui::Button("Export CSV...")) browse("Export exchange table", stem + "_exchange.csv");
         tip("Write the table as CSV, units in the header (as hemirad thermal --exchange)");
         std::vector<std::string> headings = {"Q from \\ to (W)"};
         for (const std::string& o : r->objects) headings.push_back(o);
         headings.push_back("environment");
         headings.push_back("total");
         m_exchangeTable.push_back(headings);
-        const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollX | ImGuiTableFlags_ScrollY;
+        const ImGuiTableFlags flags =
+            ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollX | ImGuiTableFlags_ScrollY;
         if (ImGui::BeginTable("exchange", int(headings.size()), flags)) {
             ImGui::TableSetupScrollFreeze(1, 1);
             for (const std::string& h : headings) ImGui::TableSetupColumn(h.c_str());

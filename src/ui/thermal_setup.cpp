@@ -34,7 +34,8 @@ ObjectCondition fromFile(const thermal::Conditions& c, PatchId i) {
     case thermal::Condition::Kind::Flux: break;
     }
     // adiabatic = true and flux_W_m2 = 0 are the same condition.
-    return p.value == 0.0 ? ObjectCondition{ObjectCondition::Kind::Adiabatic, 0.0} : ObjectCondition{ObjectCondition::Kind::Flux, p.value};
+    return p.value == 0.0 ? ObjectCondition{ObjectCondition::Kind::Adiabatic, 0.0}
+                          : ObjectCondition{ObjectCondition::Kind::Flux, p.value};
 }
 
 std::string describe(const ObjectCondition& c) {

@@ -40,8 +40,8 @@ double cliRadiatorT() {
 TEST_CASE("hemirad-gui runs thermal on the radiator: its T in the Scene panel as hemirad thermal's, T in false colour in K") {
     const double cliT = cliRadiatorT();
     std::string log;
-    Image image = runGui("gui-thermal", sourcePath(kScene) + thermalFiles() + " --thermal --false-color temperature --thermal-window --hover 0",
-                         log);
+    const std::string flags = " --thermal --false-color temperature --thermal-window --hover 0";
+    Image image = runGui("gui-thermal", sourcePath(kScene) + thermalFiles() + flags, log);
     INFO(log);
     // The status bar reads the hovered radiator patch's T (4 digits) and q out.
     char expected[64];

@@ -214,7 +214,8 @@ TEST_CASE("hemirad-gui exports the object exchange table as hemirad thermal --ex
     for (const double q : r->exchange[0]) total += q;
     REQUIRE(r->model.absorbedExternal.size() == app.scene().size());
     for (PatchId i = 0; i < app.scene().size(); ++i)
-        if (app.scene().objects[app.scene().patches[i].object] == "radiator") solar += r->solution.areaM2[i] * r->model.absorbedExternal[i];
+        if (app.scene().objects[app.scene().patches[i].object] == "radiator")
+            solar += r->solution.areaM2[i] * r->model.absorbedExternal[i];
     CHECK(solar > 0.0);
     CHECK(total == doctest::Approx(250.0 + solar).epsilon(1e-6));
 }
