@@ -227,7 +227,8 @@ void ThermalPanel::exchangeWindow(AppState& app, const Browse& browse, float wid
     if (ImGui::Begin("Thermal exchange", &showExchange)) {
         const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
         m_exchangeRect = std::array<float, 4>{pos.x, pos.y, size.x, size.y};
-        ImGui::TextDisabled("net power from row to column, W (the rows sum to each object's Q)");
+        ImGui::TextDisabled("net IR power from row to column, W; a row sums to the object's net IR leaving (its Q plus the\n"
+                            "sunlight it absorbs)");
         const std::string stem = std::filesystem::path(app.scenePath()).replace_extension().string();
         if (ImGui::Button("Export CSV...")) browse("Export exchange table", stem + "_exchange.csv");
         tip("Write the table as CSV, units in the header (as hemirad thermal --exchange)");
