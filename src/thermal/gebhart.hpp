@@ -60,7 +60,7 @@ Conductors computeConductors(const Scene& scene, const FormFactors& F, const The
 /// Net power between nodes from a thermal solution, W: Q[I][J] = sum_{i in I, j in J} sigma GR_ij
 /// (T_i^4 - T_j^4) with the per-patch temperatures (exact for non-isothermal objects too, since it
 /// uses every patch's own Gebhart row); the last column is the environment. Row sums equal each
-/// node's Q (to the solve's residual).
+/// node's net IR leaving: its Q plus the external heat (sun) it absorbs (to the solve's residual).
 std::vector<std::vector<double>> exchangeMatrix(const Scene& scene, const FormFactors& F, const ThermalModel& model,
                                                 const ThermalSolution& solution, const std::vector<std::vector<PatchId>>& nodes,
                                                 const SolverOptions& solver);

@@ -2,6 +2,7 @@
 // meshing, the worker job and file exports live in app_state_*.cpp.
 #include "ui/app_state.hpp"
 
+#include "engine/error.hpp"
 #include "engine/obj_writer.hpp"
 #include "engine/scene_loader.hpp"
 #include "engine/tone_map.hpp"
@@ -30,7 +31,14 @@ FalseColourView AppState::falseColourView() const {
     const auto pack = [](const std::array<std::uint8_t, 3>& c) { return std::uint32_t(c[0]) << 16 | std::uint32_t(c[1]) << 8 | c[2]; };
     view.colours.assign(m_scene->size(), pack(kFalseColourNoData));
     try {
-        const std::vector<double> values = falseColourValues(*m_scene, m_B, falseColour.quantity);
+        std::vector<double> values;
+        if (falseColour.thermal == FalseColourSettings::Thermal::None) {
+            values = falseColourValues(*m_scene, m_B, falseColour.quantity);
+        } else {
+            const ThermalResult* t = thermalResult();
+            if (!t) throw Error("no thermal result: load the thermal files and press Run thermal (Scene panel)");
+            values = falseColour.thermal == FalseColourSettings::Thermal::Temperature ? t->solution.T : t->solution.q;
+        }
         view.range = falseColourRange(values, falseColour.scale, falseColour.automatic ? std::nullopt : std::optional<double>(falseColour.min),
                                       falseColour.automatic ? std::nullopt : std::optional<double>(falseColour.max));
         for (PatchId i = 0; i < m_scene->size(); ++i) {
@@ -42,6 +50,15 @@ FalseColourView AppState::falseColourView() const {
         view.noData = true;  // every patch is the no-data grey
     }
     return view;
+}
+
+std::pair<std::string, std::string> AppState::falseColourLegend() const {
+    switch (falseColour.thermal) {
+    case FalseColourSettings::Thermal::Temperature: return {"temperature T", "K"};
+    case FalseColourSettings::Thermal::HeatFlux: return {"net heat flux q", "W/m^2, leaving the surface"};
+    case FalseColourSettings::Thermal::None: break;
+    }
+    return {falseColourTitle(falseColour.quantity), "W/m^2, luminance Y"};
 }
 
 std::optional<PatchReadout> AppState::readout(PatchId j) const {
@@ -116,6 +133,11 @@ void AppState::setScene(Scene scene, const std::string& path) {
     m_bStale = true;
     m_cleanDepth = 0;
     m_pendingResolve = false;
+    // Thermal files name objects of the scene they were loaded for.
+    m_thermal = {};
+    m_thermalLoadError.clear();
+    m_thermalResult.reset();
+    ++m_thermalRevision;
     bump();
 }
 

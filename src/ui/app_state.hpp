@@ -11,6 +11,7 @@
 #include "solve/solver.hpp"
 #include "preprocess/backend_registry.hpp"
 #include "ui/up_axis.hpp"
+#include "ui/thermal_setup.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -32,6 +33,9 @@ struct FalseColourSettings {
     FalseColourScale scale = FalseColourScale::Linear;
     bool automatic = true;     ///< the values' extremes, else [min, max]
     double min = 0.0, max = 1.0;
+    /// A thermal quantity instead of `quantity`: the last thermal run's T (K) or q (W/m^2, net leaving).
+    enum class Thermal { None, Temperature, HeatFlux };
+    Thermal thermal = Thermal::None;
 };
 
 /// The false-colour map of the current radiosity: its range and each patch's colour.
@@ -125,6 +129,7 @@ struct JobStatus {
 /// Worker threads for a job: `requested` when > 0; for 0 (all cores) one fewer than the cores, at
 /// least 1, so that the window keeps a core to draw and to take Cancel (issue 38 #4).
 int jobWorkers(int requested);
+class ThermalJob;
 
 class AppState {
 public:
@@ -188,8 +193,11 @@ public:
     bool showReflections = true;
     double creaseDegrees = 45.0;
     FalseColourSettings falseColour;
-    /// The false-colour map of the current radiosity with `falseColour` (as hemirad render's).
+    /// The false-colour map of the current radiosity with `falseColour` (as hemirad render's), or of
+    /// the last thermal run's T or q.
     FalseColourView falseColourView() const;
+    /// The legend's title and unit for `falseColour` ("temperature T", "K").
+    std::pair<std::string, std::string> falseColourLegend() const;
 
     const std::vector<LogEntry>& log() const { return m_log; }
     void info(const std::string& text) { addLog(text, false); }
@@ -265,6 +273,36 @@ public:
     std::vector<ObjectSummary> objectTable() const;
     bool exportObjectTable(const std::string& path);
 
+    // --- Thermal (docs/thermal.md; app_state_thermal.cpp) ----------------------------------------
+    /// The thermal files as loaded and the per-object edits over them (reset with every scene).
+    const ThermalSetup& thermalSetup() const { return m_thermal; }
+    /// Bumped by every thermal file loaded, edit and refused edit: the panel reloads its fields.
+    std::uint64_t thermalRevision() const { return m_thermalRevision; }
+    /// The last thermal file's error as the library threw it (file:line), "" after a good load.
+    const std::string& thermalLoadError() const { return m_thermalLoadError; }
+    /// Reads a properties (boundary-condition) TOML and checks it against the scene; on error nothing
+    /// changes and the error is logged. A properties file's specular reflectances become the scene's
+    /// s (an undoable edit; F must be recomputed). Loading drops the edits of what the file gives.
+    bool loadThermalProperties(const std::string& path);
+    bool loadThermalConditions(const std::string& path);
+    /// Per-object edits over the files; a value the library refuses (eps + s > 1, T < 0 K, ...) is
+    /// logged and changes nothing: returns false.
+    bool setObjectEmissivity(std::uint32_t object, double emissivity);
+    bool setObjectCondition(std::uint32_t object, const ObjectCondition& condition);
+    /// The environment's temperature (K), or none: a closed scene.
+    bool setThermalEnvironment(std::optional<double> kelvin);
+    /// The Scene panel's rows and the environment in effect; `error` says why there are none.
+    std::vector<ObjectThermalRow> thermalObjects(std::optional<double>& environment, std::string& error) const;
+    /// Solves the thermal model on the current F (computing every row it lacks, or F whole when it is
+    /// stale or made with other settings) on the worker thread; cancel() stops it.
+    void runThermal();
+    /// The last thermal run's result for the current mesh (null before one, or after meshing).
+    const ThermalResult* thermalResult() const;
+    /// The result was made with other materials, geometry or thermal inputs than the current ones.
+    bool thermalStale() const;
+    /// The object exchange table (W) as CSV, units in the header (as hemirad thermal --exchange).
+    bool exportThermalExchange(const std::string& path);
+
     /// Per-patch value of row `i` of F (the inspector's layer); empty when F or the row is missing.
     std::vector<float> formFactorRow(PatchId i) const;
     /// Per-corner radiosity for Gouraud shading (cached per revision).
@@ -333,6 +371,16 @@ private:
     std::uint64_t m_cornerRevision = 0;
     std::unique_ptr<Job> m_job;
     std::optional<int> m_framesSinceCancel;  ///< poll() calls since cancel(), while the job stops
+    void pollThermal();
+    /// A job (radiosity or thermal) is running.
+    bool busy() const;
+    ThermalSetup m_thermal;
+    std::uint64_t m_thermalRevision = 0;
+    std::uint64_t m_thermalSetupRevision = 0;  ///< bumped by accepted thermal inputs only (staleness)
+    std::pair<std::uint64_t, std::uint64_t> m_thermalJobRevisions;  ///< materials, setup of the running job
+    std::string m_thermalLoadError;
+    std::optional<ThermalResult> m_thermalResult;
+    std::unique_ptr<ThermalJob> m_thermalJob;
 };
 
 }  // namespace hemirad::ui

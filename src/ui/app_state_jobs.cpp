@@ -7,6 +7,7 @@
 #include "engine/threads.hpp"
 #include "pipeline/radiosity_pipeline.hpp"
 #include "preprocess/form_factor_job.hpp"
+#include "ui/thermal_job.hpp"
 
 #include <algorithm>
 #include <exception>
@@ -138,6 +139,7 @@ AppState::~AppState() {
 int jobWorkers(int requested) { return requested > 0 ? requested : std::max(1, resolveThreads(0) - 1); }
 
 JobStatus AppState::job() const {
+    if (m_thermalJob && (!m_job || m_job->finished)) return m_thermalJob->status();
     if (!m_job) return {};
     std::lock_guard<std::mutex> lock(m_job->mutex);
     JobStatus s = m_job->status;
@@ -148,9 +150,13 @@ JobStatus AppState::job() const {
     return s;
 }
 
+bool AppState::busy() const {
+    return (m_job && !m_job->finished) || (m_thermalJob && !m_thermalJob->finished());
+}
+
 void AppState::startJob(bool computeF, std::shared_ptr<const FormFactors> F) {
     if (!hasScene()) return;
-    if (m_job && !m_job->finished) {
+    if (busy()) {
         error("a computation is running; cancel it first");
         return;
     }
@@ -240,14 +246,20 @@ void AppState::cancel() {
         m_framesSinceCancel = 0;
         info("cancelling...");
     }
+    if (m_thermalJob && !m_thermalJob->finished()) {
+        m_thermalJob->cancel();
+        info("cancelling...");
+    }
 }
 
 void AppState::wait() {
     if (m_job && m_job->thread.joinable()) m_job->thread.join();
+    if (m_thermalJob) m_thermalJob->wait();
 }
 
 bool AppState::poll() {
     if (m_framesSinceCancel) ++*m_framesSinceCancel;
+    if (m_thermalJob && m_thermalJob->finished()) pollThermal();
     if (m_job && !m_job->finished) {
         // Progressive display: show the solve's newest intermediate radiosity.
         std::lock_guard<std::mutex> lock(m_job->mutex);

@@ -47,6 +47,11 @@ struct GuiOptions {
     bool exitAfter = false;
     double quitAfter = 0.0;  ///< --quit-after: seconds of interactive running, then quit as --exit
     std::optional<FalseColourQuantity> falseColour;  ///< --false-color: start in the false-colour view of it
+    FalseColourSettings::Thermal falseColourThermal = FalseColourSettings::Thermal::None;  ///< --false-color temperature|heat-flux
+    /// --properties, --bc (each may repeat): thermal files loaded in order, as the Scene panel's Load
+    std::vector<std::string> properties, conditions;
+    bool thermal = false;                ///< --thermal: Run thermal after loading
+    bool thermalWindow = false;          ///< --thermal-window: the exchange table's window open
     FalseColourScale falseColourScale = FalseColourScale::Linear;
     std::string screenshot;
     double subdivide = 0.0;
@@ -72,6 +77,7 @@ const char* kUsage =
     "                   [--mesh L | --select PATCH --mesh-selected L] [--up y|z]\n"
     "                   [--size WxH] [--select PATCH] [--hover PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
     "                   [--quit-after S] [--false-color Q [--scale linear|log]] [--layer NAME]\n"
+    "                   [--properties P.toml] [--bc BC.toml] [--thermal] [--thermal-window]\n"
     "  --run          compute form factors and solve after loading\n"
     "  --materials FILE.mtl  materials by object name for every scene opened, as hemirad's\n"
     "  --max-depth D  mirror reflections followed by F and shown by the view (default 8, as hemirad)\n"
@@ -86,12 +92,17 @@ const char* kUsage =
     "  --quit-after S run interactively for S seconds, then quit as --exit does\n"
     "  --check-tooltips  once the view is drawn, move the mouse over every panel and list the\n"
     "                 controls that show no tooltip; exit as --exit does (1 if any)\n"
-    "  --false-color Q  start in the false-colour view of Q (radiosity, irradiance, emission);\n"
+    "  --false-color Q  start in the false-colour view of Q (radiosity, irradiance, emission, and after\n"
+    "                 --thermal temperature, heat-flux);\n"
     "                 --scale linear|log its scale\n"
     "  --hover PATCH  read PATCH out in the status bar as if the cursor were on it (scripted runs)\n"
     "  --layer NAME   start in that view: radiosity, patch-id, emission, reflectance, specular, f-row\n"
     "  --help-window  start with Help > Keyboard and mouse open (F1)\n"
     "  --objects-window  start with View > Object table open (scripted runs print it)\n"
+    "  --properties P.toml, --bc BC.toml  load thermal properties and boundary conditions, as the\n"
+    "                 Scene panel's Thermal section does (docs/thermal.md); each may repeat (loaded in order)\n"
+    "  --thermal      Run thermal after loading (every row of F, then T and q)\n"
+    "  --thermal-window  open the thermal exchange table once there is a result (scripted runs print it)\n"
     "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
     "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc close help\n"
     "       (else select none), Ctrl+Z/Y undo/redo, Ctrl+O open, Ctrl+S save (Shift: save as), Ctrl+Q\n"
@@ -132,7 +143,16 @@ GuiOptions parse(int argc, char** argv) {
         else if (a == "--check-tooltips") o.checkTooltips = o.exitAfter = true;
         else if (a == "--help-window") o.help = true;
         else if (a == "--objects-window") o.objects = true;
-        else if (a == "--false-color") o.falseColour = parseFalseColourQuantity(value(k, "--false-color"));
+        else if (a == "--false-color") {
+            const std::string q = value(k, "--false-color");
+            if (q == "temperature") o.falseColourThermal = FalseColourSettings::Thermal::Temperature;
+            else if (q == "heat-flux") o.falseColourThermal = FalseColourSettings::Thermal::HeatFlux;
+            else o.falseColour = parseFalseColourQuantity(q);
+            if (!o.falseColour) o.falseColour = FalseColourQuantity::Irradiance;
+        } else if (a == "--properties") o.properties.push_back(value(k, "--properties"));
+        else if (a == "--bc") o.conditions.push_back(value(k, "--bc"));
+        else if (a == "--thermal") o.thermal = true;
+        else if (a == "--thermal-window") o.thermalWindow = true;
         else if (a == "--scale") o.falseColourScale = parseFalseColourScale(value(k, "--scale"));
         else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
         else if (a == "--screenshot") o.screenshot = value(k, "--screenshot");
@@ -310,6 +330,7 @@ int main(int argc, char** argv) {
         if (options.falseColour) {
             app.layer = Layer::FalseColour;
             app.falseColour.quantity = *options.falseColour;
+            app.falseColour.thermal = options.falseColourThermal;
         }
         app.falseColour.scale = options.falseColourScale;
         if (options.layer) app.layer = *options.layer;
@@ -322,6 +343,7 @@ int main(int argc, char** argv) {
         Panels panels(configPath("recent-files"));
         if (options.help) panels.toggleHelp();
         if (options.objects) panels.showObjectTable();
+        if (options.thermalWindow) panels.showThermalExchange();
         Input input;
         LoopRequests requests;
         glfwSetWindowUserPointer(window, &input);
@@ -353,6 +375,16 @@ int main(int argc, char** argv) {
         if (app.hasScene() && options.meshSelected > 0 && !app.mesh(options.meshSelected, MeshTarget::SelectedObjects))
             throw Error("--mesh-selected: " + app.log().back().text);
         if (options.run && app.hasScene()) app.runPipeline();
+        // Scripted thermal input, as the Scene panel's Load buttons: an error is logged (--exit fails).
+        for (const std::string& path : options.properties)
+            if (app.hasScene()) app.loadThermalProperties(path);
+        for (const std::string& path : options.conditions)
+            if (app.hasScene()) app.loadThermalConditions(path);
+        if (options.thermal && app.hasScene()) {
+            app.wait();  // after --run's job
+            app.poll();
+            app.runThermal();
+        }
         {
             Viewer viewer;
             Inspector inspector;
@@ -542,7 +574,7 @@ int main(int argc, char** argv) {
                 if (app.layer == Layer::FalseColour) {
                     const FalseColourView view = app.falseColourView();
                     if (!view.error.empty()) std::printf("hemirad-gui: %s\n", view.error.c_str());
-                    else std::printf("hemirad-gui: false colour: %s, %s scale %.9g .. %.9g\n", falseColourTitle(app.falseColour.quantity).c_str(),
+                    else std::printf("hemirad-gui: false colour: %s, %s scale %.9g .. %.9g\n", app.falseColourLegend().first.c_str(),
                                      falseColourScaleName(view.range.scale), view.range.min, view.range.max);
                 }
                 if (app.hasScene()) {
@@ -562,6 +594,14 @@ int main(int argc, char** argv) {
                     std::string line;
                     for (const std::string& cell : row) line += (line.empty() ? "" : " | ") + cell;
                     std::printf("hemirad-gui: object table: %s\n", line.c_str());
+                }
+                if (!panels.legend().first.empty())
+                    std::printf("hemirad-gui: legend: %s | %s\n", panels.legend().first.c_str(), panels.legend().second.c_str());
+                for (const std::string& line : panels.thermal().resultLines()) std::printf("hemirad-gui: thermal panel: %s\n", line.c_str());
+                for (const std::vector<std::string>& row : panels.thermal().exchangeTable()) {
+                    std::string line;
+                    for (const std::string& cell : row) line += (line.empty() ? "" : " | ") + cell;
+                    std::printf("hemirad-gui: exchange table: %s\n", line.c_str());
                 }
                 if (options.checkTooltips) {
                     std::istringstream lines(tooltips.report());

@@ -27,11 +27,17 @@ std::array<std::uint8_t, 3> rowRamp(double t) {
 void Panels::legendPanel(AppState& app) {
     // The false-colour settings, then the legend: title, unit, the bar (max on top), round values, the range.
     FalseColourSettings& fc = app.falseColour;
-    static const char* kQuantities[] = {"radiosity B", "irradiance H", "emission E"};
-    int quantity = int(fc.quantity);
-    if (ImGui::Combo("##quantity", &quantity, kQuantities, 3)) fc.quantity = FalseColourQuantity(quantity);
+    m_legend = {};
+    static const char* kQuantities[] = {"radiosity B", "irradiance H", "emission E", "temperature T (thermal)",
+                                        "net heat flux q (thermal)"};
+    int quantity = fc.thermal == FalseColourSettings::Thermal::None ? int(fc.quantity) : 2 + int(fc.thermal);
+    if (ImGui::Combo("##quantity", &quantity, kQuantities, 5)) {
+        fc.thermal = quantity < 3 ? FalseColourSettings::Thermal::None : FalseColourSettings::Thermal(quantity - 2);
+        if (quantity < 3) fc.quantity = FalseColourQuantity(quantity);
+    }
     tip("Radiosity B (what leaves), irradiance H = (B - E)/rho (what a meter on the surface reads),\n"
-        "or emission E; all in W/m^2 as luminance Y");
+        "or emission E; all in W/m^2 as luminance Y. Thermal: the last Run thermal's temperature T (K)\n"
+        "or net heat flux q leaving each patch (W/m^2)");
     int scale = int(fc.scale);
     ImGui::RadioButton("linear", &scale, 0);
     tip("Colours evenly spaced in the value");
@@ -48,17 +54,18 @@ void Panels::legendPanel(AppState& app) {
         fc.max = view.range.max;
     } else {
         ImGui::InputDouble("max", &fc.max, 0.0, 0.0, "%.4g");
-        tip("The value at the top of the colour bar (W/m^2); larger values show its colour");
+        tip("The value at the top of the colour bar (in the legend's unit); larger values show its colour");
         ImGui::InputDouble("min", &fc.min, 0.0, 0.0, "%.4g");
-        tip("The value at the bottom of the colour bar (W/m^2); smaller values show its colour");
+        tip("The value at the bottom of the colour bar (in the legend's unit); smaller values show its colour");
     }
     if (!view.error.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.4f, 1.0f));
         ImGui::TextWrapped("%s", view.error.c_str());
         ImGui::PopStyleColor();
     } else {
-        ImGui::Text("%s", falseColourTitle(fc.quantity).c_str());
-        ImGui::TextDisabled("W/m^2, luminance Y");
+        m_legend = app.falseColourLegend();
+        ImGui::Text("%s", m_legend.first.c_str());
+        ImGui::TextDisabled("%s", m_legend.second.c_str());
         char note[160];
         std::snprintf(note, sizeof note, "%s scale %s .. %s%s%s", falseColourScaleName(view.range.scale), formatNumber(view.range.min).c_str(),
                       formatNumber(view.range.max).c_str(), view.range.automatic ? ", " : "", falseColourRangeNote(view.range).c_str());
@@ -67,7 +74,9 @@ void Panels::legendPanel(AppState& app) {
     if (view.noData) {
         ImGui::ColorButton("##nodata", ImVec4(0.5f, 0.5f, 0.5f, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
         ImGui::SameLine();
-        ImGui::TextDisabled(view.error.empty() ? "no data (rho = 0)" : "no data");
+        ImGui::TextDisabled(!view.error.empty() ? "no data"
+                            : fc.thermal == FalseColourSettings::Thermal::None ? "no data (rho = 0)"
+                                                                               : "no data (eps = 0: no temperature)");
     }
 }
 

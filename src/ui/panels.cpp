@@ -110,7 +110,9 @@ void Panels::browse(const std::string& purpose, const std::string& initial) {
         {"Open OBJ", {{".obj", ".stl"}, true}},        {"Save scene", {{".obj"}, false}},
         {"Import F", {{".hff", ".mtx"}, true}}, {"Export F", {{".hff", ".mtx"}, false}},
         {"Export PNG", {{".png"}, false}},      {"Export PLY", {{".ply"}, false}},
-        {"Export object table", {{".csv"}, false}}};
+        {"Export object table", {{".csv"}, false}},
+        {"Thermal properties", {{".toml"}, true}}, {"Boundary conditions", {{".toml"}, true}},
+        {"Export exchange table", {{".csv"}, false}}};
     const auto kind = kinds.at(purpose);
     // One dialog at a time: the help window would stand over the browser (issue 38 #11).
     m_showHelp = false;
@@ -167,9 +169,11 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
     m_layoutWidth = width;
     m_layoutHeight = height;
     const Layout l = layout(width, height);
+    const ThermalPanel::Browse browseFile = [this](const std::string& purpose, const std::string& initial) { browse(purpose, initial); };
     if (beginPanel("Scene", l.scene, relayout)) {
         scenePanel(app, camera);
         materialPanel(app);
+        m_thermal.section(app, browseFile);
     }
     ImGui::End();
     if (beginPanel("Pipeline", l.pipeline, relayout)) pipelinePanel(app);
@@ -192,6 +196,9 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
         ImGui::End();
     }
     m_legendHidden = !legend;
+    if (app.layer != Layer::FalseColour || !app.hasScene()) m_legend = {};
+    m_thermal.exchangeWindow(app, browseFile, width, height);
+    if (const auto& r = m_thermal.exchangeRect()) m_panelRects["Thermal exchange"] = {(*r)[0], (*r)[1], (*r)[2], (*r)[3]};
     if (!m_showObjects || !app.hasScene()) m_objectTable.clear();
     if (m_showObjects && app.hasScene()) {
         ImGui::SetNextWindowSize(ImVec2(620, 260), ImGuiCond_FirstUseEver);
@@ -226,6 +233,9 @@ std::string Panels::statusText(const AppState& app, std::optional<PatchId> hover
         text += " | rho " + rgb(r->rho) + " s " + formatNumber(r->specular);
         if (r->fromSelected)
             text += " | F " + std::to_string(*r->selected) + "->" + std::to_string(r->patch) + " " + formatNumber(*r->fromSelected);
+        // The last thermal run's values of the patch (the Thermal section's Run thermal).
+        if (const ThermalResult* t = app.thermalResult())
+            text += " | T " + formatNumber(t->solution.T[r->patch]) + " K, q " + formatNumber(t->solution.q[r->patch]) + " W/m^2";
     } else {
         text += "hover a patch for its values";
     }
@@ -276,6 +286,8 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
         if (ImGui::MenuItem("Export PLY...", nullptr, false, app.hasScene())) prompt("Export PLY", stem + ".ply");
         if (ImGui::MenuItem("Export object table (CSV)...", nullptr, false, app.hasScene()))
             prompt("Export object table", stem + "_objects.csv");
+        if (ImGui::MenuItem("Export thermal exchange (CSV)...", nullptr, false, app.thermalResult() != nullptr))
+            prompt("Export exchange table", stem + "_exchange.csv");
         ImGui::Separator();
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) guarded(app, "quit", [&requests] { requests.quit = true; });
         ImGui::EndMenu();
@@ -291,6 +303,7 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
             if (ImGui::MenuItem(kLayerNames[k], nullptr, int(app.layer) == k)) app.layer = Layer(k);
         ImGui::Separator();
         ImGui::MenuItem("Object table", nullptr, &m_showObjects, app.hasScene());
+        ImGui::MenuItem("Thermal exchange table", nullptr, &m_thermal.showExchange, app.thermalResult() != nullptr);
         ImGui::Separator();
         ImGui::MenuItem("Gouraud shading", nullptr, &app.gouraud);
         ImGui::MenuItem("Mirrors show reflections", nullptr, &app.showReflections);
@@ -853,6 +866,9 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
             else if (purpose == "Export PNG") requests.exportImage = path;
             else if (purpose == "Export PLY") app.exportPly(path);
             else if (purpose == "Export object table") app.exportObjectTable(path);
+            else if (purpose == "Thermal properties") app.loadThermalProperties(path);
+            else if (purpose == "Boundary conditions") app.loadThermalConditions(path);
+            else if (purpose == "Export exchange table") app.exportThermalExchange(path);
         }
         ImGui::EndPopup();
     }

@@ -6,6 +6,7 @@
 #include "ui/inspector.hpp"
 #include "ui/material_fields.hpp"
 #include "ui/orbit_camera.hpp"
+#include "ui/thermal_panel.hpp"
 
 #include <deque>
 #include <functional>
@@ -30,7 +31,7 @@ public:
     void draw(AppState& app, OrbitCamera& camera, Inspector& inspector, double viewExposure, LoopRequests& requests,
               std::optional<PatchId> hovered = std::nullopt);
     /// The status bar's text: the hovered (else selected) patch's id, object, B, H, E, rho, s and F_ij
-    /// from the selected patch, the view's exposure, F's memory.
+    /// from the selected patch, T and q after a thermal run, the view's exposure, F's memory.
     static std::string statusText(const AppState& app, std::optional<PatchId> hovered, double viewExposure);
     /// The status bar's text in the last frame (scripted runs print it).
     const std::string& status() const { return m_status; }
@@ -40,7 +41,8 @@ public:
     void open(AppState& app, OrbitCamera& camera, const std::string& path);
     const std::deque<std::string>& recentFiles() const { return m_recent; }
     /// Opens the file browser for `purpose` ("Open OBJ", "Save scene", "Import F", "Export F",
-    /// "Export PNG", "Export PLY", "Export object table") at `initial`; the help window closes.
+    /// "Export PNG", "Export PLY", "Export object table", "Thermal properties", "Boundary conditions",
+    /// "Export exchange table") at `initial`; the help window closes.
     void browse(const std::string& purpose, const std::string& initial);
     /// File > Save (Ctrl+S): over the scene's .obj, or through the browser when it has none.
     void save(AppState& app);
@@ -51,6 +53,12 @@ public:
     const std::vector<std::vector<std::string>>& objectTable() const { return m_objectTable; }
     /// The legend's tick labels as drawn in the last frame, bottom to top (empty without a legend).
     const std::vector<std::string>& legendTicks() const { return m_legendTicks; }
+    /// View > Thermal exchange table: shows its window (once there is a thermal result).
+    void showThermalExchange() { m_thermal.showExchange = true; }
+    /// The thermal section and exchange table as drawn in the last frame (scripted runs print them).
+    const ThermalPanel& thermal() const { return m_thermal; }
+    /// The legend's title and unit as drawn in the last frame (empty when it was not drawn).
+    const std::pair<std::string, std::string>& legend() const { return m_legend; }
     /// Help > Keyboard and mouse (F1): shows or hides the help window.
     void toggleHelp() { m_showHelp = !m_showHelp; }
     /// Esc: closes the help window; returns whether it was open.
@@ -126,6 +134,8 @@ private:
     std::uint64_t m_meshSceneId = 0;  ///< the scene the suggested edge length was made for
     std::vector<double> m_meshEdgesSeen;  ///< the mesh's edge lengths the fields were last set from
     float m_pipelineEnd = 0.0f;  ///< the Pipeline panel's tallest content so far (it never shrinks)
+    ThermalPanel m_thermal;                        ///< the Scene panel's Thermal section, the exchange table
+    std::pair<std::string, std::string> m_legend;  ///< the legend's title and unit as drawn last
     std::map<std::string, Rect> m_panelRects, m_itemRects;
     std::string m_status;
 };

@@ -348,10 +348,14 @@ TEST_CASE("hemirad-gui: every control of every panel shows a tooltip, above it (
     // --check-tooltips moves the mouse over a grid in every panel, scrolling down their content, and
     // lists each control (ImGui's hovered item) that drew no tooltip. Two set-ups show most controls:
     // the hemisphere with a selection (material editor, inspector) and the false-colour legend; the
-    // hemicube's options on the mirror box.
+    // hemicube's options on the mirror box; the thermal section and exchange table on the radiator.
     const std::vector<std::string> setups = {
         sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256 --select 0 --false-color irradiance --exposure 2",
-        sourcePath("scenes/cornell_mirror.obj") + " --method hemicube --resolution 32 --select 4"};
+        sourcePath("scenes/cornell_mirror.obj") + " --method hemicube --resolution 32 --select 4",
+        // The Scene panel's Thermal section (opened by its files) with a result, T in false colour and
+        // the exchange table.
+        sourcePath("examples/thermal/radiator.obj") + " --properties " + sourcePath("examples/thermal/radiator_properties.toml") +
+            " --bc " + sourcePath("examples/thermal/radiator_bc.toml") + " --thermal --false-color temperature --thermal-window"};
     for (const std::string& setup : setups) {
         CAPTURE(setup);
         std::string log;

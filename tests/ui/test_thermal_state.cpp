@@ -1,0 +1,248 @@
+// hemirad-gui's thermal state, driven without a window: the bundled radiator's files loaded, refused
+// files and edits changing nothing, the run on the worker thread against `hemirad thermal`, the
+// false-colour T and q with their legend, the exchange table's CSV.
+#include "support.hpp"
+
+#include "engine/subdivide.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
+#include "ui/app_state.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+using namespace hemirad;
+using namespace hemirad::test;
+using hemirad::ui::AppState;
+using hemirad::ui::FalseColourSettings;
+using hemirad::ui::ObjectCondition;
+using hemirad::ui::ObjectThermalRow;
+
+namespace {
+
+const std::string kProperties = "examples/thermal/radiator_properties.toml";
+const std::string kConditions = "examples/thermal/radiator_bc.toml";
+
+bool logged(const AppState& app, const std::string& text) {
+    for (const auto& e : app.log())
+        if (e.text.find(text) != std::string::npos) return true;
+    return false;
+}
+
+/// The radiator with both files loaded.
+void loadRadiator(AppState& app) {
+    REQUIRE(app.loadScene(sourcePath("examples/thermal/radiator.obj")));
+    REQUIRE(app.loadThermalProperties(sourcePath(kProperties)));
+    REQUIRE(app.loadThermalConditions(sourcePath(kConditions)));
+}
+
+void runToEnd(AppState& app) {
+    app.wait();
+    app.poll();
+}
+
+std::vector<ObjectThermalRow> rows(const AppState& app) {
+    std::optional<double> environment;
+    std::string error;
+    std::vector<ObjectThermalRow> r = app.thermalObjects(environment, error);
+    INFO(error);
+    REQUIRE(error.empty());
+    return r;
+}
+
+/// `hemirad thermal` on the bundled files: its report and the exchange CSV it wrote.
+struct CliRun {
+    std::string output, exchangeCsv;
+};
+CliRun cliThermal(const std::string& name) {
+    const auto dir = tempDir(name);
+    const std::string exchange = (dir / "Q.csv").string();
+    const CommandResult cli = runCommand(std::string(HEMIRAD_BINARY) + " thermal " + sourcePath("examples/thermal/radiator.obj") +
+                                         " --properties " + sourcePath(kProperties) + " --bc " + sourcePath(kConditions) + " -o " +
+                                         (dir / "T.csv").string() + " --exchange " + exchange + " 2>&1");
+    INFO(cli.output);
+    REQUIRE(cli.status == 0);
+    return {cli.output, readText(exchange)};
+}
+
+/// The number after `prefix` in `text`.
+double numberAfter(const std::string& text, const std::string& prefix) {
+    const std::size_t at = text.find(prefix);
+    INFO(prefix);
+    REQUIRE(at != std::string::npos);
+    return std::stod(text.substr(at + prefix.size()));
+}
+
+}  // namespace
+
+TEST_CASE("hemirad-gui loads the radiator's thermal files: per object emissivity, specular and condition") {
+    AppState app;
+    loadRadiator(app);
+    const std::vector<ObjectThermalRow> r = rows(app);
+    REQUIRE(r.size() == 3);
+    CHECK(r[0].name == "radiator");
+    CHECK(r[0].emissivity == doctest::Approx(0.88));
+    REQUIRE(r[0].condition);
+    CHECK(r[0].condition->kind == ObjectCondition::Kind::Power);
+    CHECK(r[0].condition->value == 250.0);
+    CHECK(r[1].specular == doctest::Approx(0.9));  // the properties file's s became the scene's
+    CHECK(r[1].condition->kind == ObjectCondition::Kind::Adiabatic);
+    CHECK(r[1].solar == 1361.0);
+    CHECK(r[2].condition->kind == ObjectCondition::Kind::Temperature);
+    CHECK(r[2].condition->value == doctest::Approx(253.15));  // temperature_C = -20
+    CHECK(app.thermalLoadError().empty());
+}
+
+TEST_CASE("hemirad-gui refuses an invalid boundary-condition file with its file:line and keeps the loaded one") {
+    AppState app;
+    loadRadiator(app);
+    const auto dir = tempDir("gui-thermal-bad-bc");
+    const std::string bad = (dir / "bad_bc.toml").string();
+    std::ofstream(bad) << "[environment]\ntemperature_K = 3\n[objects.radiator]\ntemperature_K = -5\n";
+    const std::uint64_t revision = app.thermalRevision();
+    CHECK_FALSE(app.loadThermalConditions(bad));
+    CHECK(app.thermalLoadError().find(bad + ":4:") != std::string::npos);
+    CHECK(logged(app, bad + ":4:"));
+    CHECK(app.thermalRevision() != revision);  // the panel reloads its fields
+    CHECK(app.thermalSetup().conditionsPath == sourcePath(kConditions));
+    const std::vector<ObjectThermalRow> r = rows(app);
+    CHECK(r[0].condition->kind == ObjectCondition::Kind::Power);  // unchanged
+    CHECK(r[2].condition->value == doctest::Approx(253.15));
+    // A good load clears the error.
+    CHECK(app.loadThermalConditions(sourcePath(kConditions)));
+    CHECK(app.thermalLoadError().empty());
+}
+
+TEST_CASE("hemirad-gui refuses thermal edits the library refuses and keeps the values in effect") {
+    AppState app;
+    loadRadiator(app);
+    std::vector<ObjectThermalRow> r = rows(app);
+    const std::uint32_t radiator = r[0].object, shield = r[1].object, baffle = r[2].object;
+    const std::uint64_t revision = app.thermalRevision();
+    CHECK_FALSE(app.setObjectEmissivity(radiator, 1.5));
+    CHECK(app.thermalRevision() != revision);  // the panel's field reloads the value in effect
+    CHECK(logged(app, "emissivity of 'radiator' refused"));
+    CHECK_FALSE(app.setObjectEmissivity(shield, 0.2));  // the shield's s = 0.9: eps + s > 1
+    CHECK(logged(app, "emissivity of 'shield' refused"));
+    CHECK_FALSE(app.setObjectCondition(baffle, {ObjectCondition::Kind::Temperature, -5.0}));
+    CHECK(logged(app, "condition of 'baffle' refused"));
+    CHECK_FALSE(app.setThermalEnvironment(-1.0));
+    CHECK_FALSE(app.setObjectEmissivity(std::uint32_t(app.scene().objects.size()), 0.5));  // no such object
+    r = rows(app);
+    CHECK(r[0].emissivity == doctest::Approx(0.88));
+    CHECK(r[1].emissivity == doctest::Approx(0.05));
+    CHECK(r[2].condition->value == doctest::Approx(253.15));
+    CHECK_FALSE(r[0].emissivityEdited);
+    // Accepted edits show.
+    CHECK(app.setObjectEmissivity(radiator, 0.5));
+    CHECK(app.setObjectCondition(baffle, {ObjectCondition::Kind::Flux, -20.0}));
+    r = rows(app);
+    CHECK(r[0].emissivity == doctest::Approx(0.5));
+    CHECK(r[0].emissivityEdited);
+    CHECK(r[2].condition->kind == ObjectCondition::Kind::Flux);
+    CHECK(r[2].condition->value == -20.0);
+}
+
+TEST_CASE("hemirad-gui's thermal run gives the radiator's T of hemirad thermal, the balance, T and q in false colour") {
+    const CliRun cli = cliThermal("gui-thermal-cli");
+    AppState app;
+    loadRadiator(app);
+    app.falseColour.thermal = FalseColourSettings::Thermal::Temperature;
+    CHECK_FALSE(app.falseColourView().error.empty());  // no result yet
+    app.runThermal();
+    CHECK(app.job().running);
+    runToEnd(app);
+    const ui::ThermalResult* result = app.thermalResult();
+    REQUIRE(result != nullptr);
+    REQUIRE(result->solution.isothermalT.size() == 1);
+    const double cliT = numberAfter(cli.output, "isothermal 'radiator': T = ");
+    CHECK(result->solution.isothermalT[0] == doctest::Approx(cliT).epsilon(1e-5));
+    CHECK(logged(app, "isothermal 'radiator': T = "));
+    CHECK(logged(app, "energy balance: "));
+    CHECK(logged(app, "solar band: "));
+    CHECK(result->solution.balance < 1e-9);
+    CHECK(app.formFactors() != nullptr);  // F with every row serves the radiosity too
+    CHECK(app.formFactors()->computedRows() == app.scene().size());
+    // T in false colour: the range spans the solved temperatures, the legend says K.
+    ui::FalseColourView view = app.falseColourView();
+    CHECK(view.error.empty());
+    CHECK(view.range.max >= result->solution.isothermalT[0] - 1e-9);
+    CHECK(app.falseColourLegend().first == "temperature T");
+    CHECK(app.falseColourLegend().second == "K");
+    app.falseColour.thermal = FalseColourSettings::Thermal::HeatFlux;
+    view = app.falseColourView();
+    CHECK(view.error.empty());
+    CHECK(app.falseColourLegend().second.find("W/m^2") == 0);
+    // An accepted edit makes the result out of date.
+    CHECK_FALSE(app.thermalStale());
+    CHECK(app.setObjectEmissivity(rows(app)[0].object, 0.7));
+    CHECK(app.thermalStale());
+}
+
+TEST_CASE("hemirad-gui exports the object exchange table as hemirad thermal --exchange writes it, units in the header") {
+    const CliRun cli = cliThermal("gui-thermal-exchange-cli");
+    AppState app;
+    loadRadiator(app);
+    CHECK_FALSE(app.exportThermalExchange((tempDir("gui-thermal-none") / "Q.csv").string()));  // no result yet
+    app.runThermal();
+    runToEnd(app);
+    const std::string path = (tempDir("gui-thermal-exchange") / "Q.csv").string();
+    REQUIRE(app.exportThermalExchange(path));
+    const std::string csv = readText(path);
+    std::istringstream lines(csv);
+    std::string header;
+    std::getline(lines, header);
+    CHECK(header == "Q from \\ to (W),radiator,shield,baffle,environment,total");
+    // The same numbers as the command's (same F settings, same solve).
+    std::istringstream cliLines(cli.exchangeCsv);
+    std::string gui, ref;
+    std::getline(cliLines, ref);
+    CHECK(ref == header);
+    int objects = 0;
+    while (std::getline(lines, gui) && std::getline(cliLines, ref)) {
+        CHECK(gui.substr(0, gui.find(',')) == ref.substr(0, ref.find(',')));
+        const double a = std::stod(gui.substr(gui.rfind(',') + 1)), b = std::stod(ref.substr(ref.rfind(',') + 1));
+        CHECK(a == doctest::Approx(b).epsilon(1e-5));  // each object's total Q
+        ++objects;
+    }
+    CHECK(objects == 3);
+    // The radiator's row sums to the IR it gives off: its 250 W and the sunlight it absorbs.
+    const ui::ThermalResult* r = app.thermalResult();
+    double total = 0.0, solar = 0.0;
+    for (const double q : r->exchange[0]) total += q;
+    REQUIRE(r->model.absorbedExternal.size() == app.scene().size());
+    for (PatchId i = 0; i < app.scene().size(); ++i)
+        if (app.scene().objects[app.scene().patches[i].object] == "radiator")
+            solar += r->solution.areaM2[i] * r->model.absorbedExternal[i];
+    CHECK(solar > 0.0);
+    CHECK(total == doctest::Approx(250.0 + solar).epsilon(1e-6));
+}
+
+TEST_CASE("hemirad-gui's thermal run is refused without conditions and names the objects that lack one") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("examples/thermal/radiator.obj")));
+    app.runThermal();
+    CHECK_FALSE(app.job().running);
+    CHECK(logged(app, "no boundary condition for 'radiator', 'shield', 'baffle'"));
+    CHECK(app.thermalResult() == nullptr);
+}
+
+TEST_CASE("hemirad-gui's thermal run is cancelled during a long form-factor computation and keeps the state") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/unit_cube.obj")));
+    app.setScene(subdivide(app.scene(), 0.05), "fine cube");  // 2,400 patches
+    app.settings.formFactors.as<HemisphereOptions>().samples = 3072;
+    app.settings.formFactors.as<HemisphereOptions>().origins = 64;
+    // Conditions set per object in the panel (no file): every object held at 300 K.
+    for (const ObjectThermalRow& r : rows(app)) REQUIRE(app.setObjectCondition(r.object, {ObjectCondition::Kind::Temperature, 300.0}));
+    app.runThermal();
+    CHECK(app.job().running);
+    app.cancel();
+    runToEnd(app);
+    CHECK_FALSE(app.job().running);
+    CHECK(logged(app, "cancelled"));
+    CHECK(app.thermalResult() == nullptr);
+    CHECK(app.formFactors() == nullptr);
+}
