@@ -264,11 +264,10 @@ void runFormFactors(Job& job) {
     finish(job);
 }
 
-void runSolveOrRender(Job& job, bool render) {
+/// F's rows for solve, render and thermal: reused from --ff (or computed), stored there as the
+/// pipeline's rule says, post-processed, reported.
+void formFactorsWithStore(Job& job, const RadiosityPipeline& pipeline) {
     const Options& options = job.options;
-    job.context.collectively([&] { checkDistributedSolver(options.solver.solver); });
-    const RadiosityPipeline pipeline = makePipeline(options, job.timings, job.reporter);
-    loadScene(job, pipeline);
     // Decided by rank 0, so that every rank takes the same collective path.
     const bool root = job.context.root();
     const bool reuse = job.context.rootDecides(root && !options.ffPath.empty() && !options.recomputeFf &&
@@ -286,6 +285,14 @@ void runSolveOrRender(Job& job, bool render) {
     normalise(job, steps);
     if (rule.storeAfterPostProcessing()) storeFormFactors(job, options.ffPath, sharded, formFactorFormatFor(options.ffPath));
     reportStatistics(job);
+}
+
+void runSolveOrRender(Job& job, bool render) {
+    const Options& options = job.options;
+    job.context.collectively([&] { checkDistributedSolver(options.solver.solver); });
+    const RadiosityPipeline pipeline = makePipeline(options, job.timings, job.reporter);
+    loadScene(job, pipeline);
+    formFactorsWithStore(job, pipeline);
     Radiosity result;
     job.context.collectively([&] {
         const auto t0 = std::chrono::steady_clock::now();
@@ -317,18 +324,7 @@ void runThermal(Job& job) {
     ThermalInputs inputs;
     job.context.collectively([&] { inputs = readThermalModel(job.scene, options, job.reporter, job.warnings); });
     const bool root = job.context.root();
-    const bool reuse = job.context.rootDecides(root && !options.ffPath.empty() && !options.recomputeFf &&
-                                               std::filesystem::exists(options.ffPath));
-    const bool sharded = job.context.rootDecides(
-        root && !options.ffPath.empty() && (options.shards || isShardManifest(options.ffPath)));
-    const StoredFormFactorRule rule = obtainFormFactors(job, reuse ? options.ffPath : "", options.ffPath);
-    if (rule.storeBeforePostProcessing(job.computed))
-        storeFormFactors(job, options.ffPath, sharded, formFactorFormatFor(options.ffPath));
-    const PostProcessing steps = pendingSteps(job, pipeline.policy());
-    reciprocity(job, steps);
-    normalise(job, steps);
-    if (rule.storeAfterPostProcessing()) storeFormFactors(job, options.ffPath, sharded, formFactorFormatFor(options.ffPath));
-    reportStatistics(job);
+    formFactorsWithStore(job, pipeline);
     const FormFactors all = gatherFormFactors(job.context, job.F);
     job.context.collectively([&] {
         // (A solar band with mirrors of its own has its F computed by rank 0 alone.)
