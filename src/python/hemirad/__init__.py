@@ -144,6 +144,15 @@ def _check_scene(scene, name="scene"):
         raise TypeError(f"{name}: expected a hemirad.Scene (from hemirad.load), got {type(scene).__name__}")
 
 
+def _method_flags(method, options):
+    """The back end (None: the default) checked, and its keyword options as command-line flags."""
+    if method is None:
+        method = next(name for name, entry in methods().items() if entry["default"])
+    if method not in methods():
+        raise ValueError(f"method: expected one of {sorted(methods())}, got {method!r}")
+    return method, {"--" + name.replace("_", "-"): _option_text(method, name, value) for name, value in options.items()}
+
+
 def form_factors(scene, method=None, *, max_depth=8, threads=0, all_rows=False,
                  enforce_reciprocity=False, normalize_rows=False, drop_below=0.0, memory_check=True,
                  progress=None, **options):
@@ -165,11 +174,7 @@ def form_factors(scene, method=None, *, max_depth=8, threads=0, all_rows=False,
     seconds) plus ``computed`` (rows computed) and ``provenance`` (for write_form_factors).
     """
     _check_scene(scene)
-    if method is None:
-        method = next(name for name, entry in methods().items() if entry["default"])
-    if method not in methods():
-        raise ValueError(f"method: expected one of {sorted(methods())}, got {method!r}")
-    flags = {"--" + name.replace("_", "-"): _option_text(method, name, value) for name, value in options.items()}
+    method, flags = _method_flags(method, options)
     if progress is not None and not callable(progress):
         raise TypeError("progress: expected a callable progress(done, total, seconds)")
     arrays, report = _hemirad._form_factors(scene, method, flags, int(max_depth), int(threads), bool(all_rows),
@@ -357,9 +362,5 @@ def sky_view_factors(scene, method=None, *, max_depth=8, threads=0, **options):
     (direct + through_mirrors), ``direct`` and ``through_mirrors``, and ``method``.
     """
     _check_scene(scene)
-    if method is None:
-        method = next(name for name, entry in methods().items() if entry["default"])
-    if method not in methods():
-        raise ValueError(f"method: expected one of {sorted(methods())}, got {method!r}")
-    flags = {"--" + name.replace("_", "-"): _option_text(method, name, value) for name, value in options.items()}
+    method, flags = _method_flags(method, options)
     return _hemirad._sky_view(scene, method, flags, int(max_depth), int(threads))
