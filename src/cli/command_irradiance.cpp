@@ -4,6 +4,7 @@
 #include "cli/pipeline.hpp"
 #include "cli/sun_command.hpp"
 #include "engine/atomic_file.hpp"
+#include "engine/csv.hpp"
 #include "environment/irradiance.hpp"
 #include "environment/sky_view.hpp"
 #include "environment/sunlit.hpp"
@@ -51,8 +52,7 @@ int runIrradiance(const Options& options) {
     out << std::setprecision(std::numeric_limits<double>::max_digits10);
     out << "patch,object,direct_sun (W/m^2),direct_sky (W/m^2),reflected (W/m^2),total (W/m^2),absorbed (W/m^2)\n";
     for (PatchId i = 0; i < scene.size(); ++i) {
-        std::string name = scene.objects[scene.patches[i].object];
-        if (name.find_first_of(",\"") != std::string::npos) name = "\"" + name + "\"";
+        const std::string name = csvField(scene.objects[scene.patches[i].object]);
         out << i << ',' << name << ',' << r.directSun[i] << ',' << r.directSky[i] << ',' << r.reflected[i] << ',' << r.total[i]
             << ',' << r.absorbed[i] << '\n';
     }

@@ -4,6 +4,7 @@
 #include "cli/pipeline.hpp"
 #include "cli/sun_command.hpp"
 #include "engine/atomic_file.hpp"
+#include "engine/csv.hpp"
 #include "environment/solar_position.hpp"
 #include "environment/sunlit.hpp"
 
@@ -60,8 +61,7 @@ int runSun(const Options& options) {
     out << "patch,object,area" << unit << ",cos_incidence,sunlit_fraction" << (options.dni ? ",direct_irradiance (W/m^2)" : "") << "\n";
     const std::vector<double> E = options.dni ? directIrradiance(scene, toSun, *options.dni, lit) : std::vector<double>();
     for (PatchId i = 0; i < scene.size(); ++i) {
-        std::string name = scene.objects[scene.patches[i].object];
-        if (name.find_first_of(",\"") != std::string::npos) name = "\"" + name + "\"";
+        const std::string name = csvField(scene.objects[scene.patches[i].object]);
         out << i << ',' << name << ',' << scene.patches[i].area << ',' << std::max(0.0, scene.patches[i].normal.dot(toSun)) << ','
             << lit[i];
         if (options.dni) out << ',' << E[i];

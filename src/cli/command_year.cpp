@@ -2,6 +2,7 @@
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
 #include "engine/atomic_file.hpp"
+#include "engine/csv.hpp"
 #include "environment/sky_view.hpp"
 #include "environment/year.hpp"
 
@@ -57,8 +58,7 @@ int runYear(const Options& options) {
         out << std::setprecision(std::numeric_limits<double>::max_digits10);
         out << "patch,object,direct_sun (Wh/m^2),direct_sky (Wh/m^2),reflected (Wh/m^2),total (Wh/m^2),absorbed (Wh/m^2)\n";
         for (PatchId i = 0; i < scene.size(); ++i) {
-            std::string name = scene.objects[scene.patches[i].object];
-            if (name.find_first_of(",\"") != std::string::npos) name = "\"" + name + "\"";
+            const std::string name = csvField(scene.objects[scene.patches[i].object]);
             out << i << ',' << name << ',' << year.directSun[i] << ',' << year.directSky[i] << ',' << year.reflected[i] << ','
                 << year.sum[i] << ',' << year.absorbed[i] << '\n';
         }

@@ -1,5 +1,6 @@
 // Per-object summaries of a solved scene.
 #include "engine/object_table.hpp"
+#include "engine/csv.hpp"
 
 #include "engine/atomic_file.hpp"
 #include "engine/error.hpp"
@@ -69,12 +70,7 @@ void writeObjectTable(const std::string& path, const std::vector<ObjectSummary>&
     for (const char* column : {"H_mean", "H_min", "H_max"}) out << ',' << column << wm2;
     out << '\n';
     for (const ObjectSummary& o : table) {
-        std::string name = o.name;
-        if (name.find_first_of(",\"") != std::string::npos) {
-            std::string quoted = "\"";
-            for (char c : name) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-            name = quoted + "\"";
-        }
+        const std::string name = csvField(o.name);
         char line[512];
         std::snprintf(line, sizeof line, ",%zu,%.9g,%.9g,%.9g,%.9g,%zu,%.9g,%.9g,%.9g\n", o.patches, o.area, o.bMean, o.bMin,
                       o.bMax, o.hPatches, o.hMean, o.hMin, o.hMax);

@@ -3,6 +3,7 @@
 #include "environment/sky_view.hpp"
 
 #include "engine/atomic_file.hpp"
+#include "engine/csv.hpp"
 #include "engine/error.hpp"
 #include "preprocess/form_factor_job.hpp"
 
@@ -87,13 +88,7 @@ void writeSkyViewCsv(const std::string& path, const Scene& scene, const SkyView&
     out << "patch,object,area" << unit << ",sky_view_factor,direct,through_mirrors\n";
     const std::vector<double> total = sky.total();
     for (PatchId i = 0; i < scene.size(); ++i) {
-        std::string name = scene.objects[scene.patches[i].object];
-        if (name.find_first_of(",\"") != std::string::npos) {
-            std::string quoted = "\"";
-            for (const char c : name) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-            name = quoted + "\"";
-        }
-        out << i << ',' << name << ',' << scene.patches[i].area << ',' << total[i] << ',' << sky.direct[i] << ','
+        out << i << ',' << csvField(scene.objects[scene.patches[i].object]) << ',' << scene.patches[i].area << ',' << total[i] << ',' << sky.direct[i] << ','
             << (sky.mirrored.empty() ? 0.0 : sky.mirrored[i]) << '\n';
     }
     file.commit();

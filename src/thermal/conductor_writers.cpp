@@ -2,6 +2,7 @@
 #include "thermal/conductor_writers.hpp"
 
 #include "engine/atomic_file.hpp"
+#include "engine/csv.hpp"
 #include "engine/error.hpp"
 
 #include <algorithm>
@@ -12,12 +13,6 @@
 namespace hemirad::thermal {
 namespace {
 
-std::string csvName(const std::string& name) {
-    if (name.find_first_of(",\"\n") == std::string::npos) return name;
-    std::string quoted = "\"";
-    for (const char c : name) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return quoted + "\"";
-}
 
 /// Names in the conductor formats' comments: one line, no control characters.
 std::string commentName(const std::string& name) {
@@ -38,7 +33,7 @@ void writePatchTable(const std::string& path, const Scene& scene, const ThermalM
            "q (W/m^2),Q (W)\n";
     for (PatchId i = 0; i < scene.size(); ++i) {
         const Patch& p = scene.patches[i];
-        out << i << ',' << csvName(scene.objects[p.object]) << ',' << s.areaM2[i] << ',' << model.surface[i].emissivity << ','
+        out << i << ',' << csvField(scene.objects[p.object]) << ',' << s.areaM2[i] << ',' << model.surface[i].emissivity << ','
             << model.surface[i].specular << ','
             << (model.condition[i].kind == Condition::Kind::Temperature  ? "temperature"
                 : model.condition[i].kind == Condition::Kind::Flux       ? "flux"
@@ -77,7 +72,7 @@ void writeObjectThermalTable(const std::string& path, const Scene& scene, const 
     for (std::size_t o = 0; o < sums.size(); ++o) {
         const Sum& x = sums[o];
         if (!x.patches) continue;
-        out << csvName(scene.objects[o]) << ',' << x.patches << ',' << x.area << ',';
+        out << csvField(scene.objects[o]) << ',' << x.patches << ',' << x.area << ',';
         if (x.tCovered > 0) out << x.tArea / x.tCovered << ',' << x.tMin << ',' << x.tMax;
         else out << ",,";
         out << ',' << x.Q / x.area << ',' << x.Q << '\n';
@@ -92,10 +87,10 @@ void writeExchangeMatrix(const std::string& path, const std::vector<std::string>
     std::ostream& out = file.stream();
     precise(out);
     out << "Q from \\ to (W)";
-    for (const std::string& n : nodes) out << ',' << csvName(n);
+    for (const std::string& n : nodes) out << ',' << csvField(n);
     out << ",environment,total\n";
     for (std::size_t I = 0; I < nodes.size(); ++I) {
-        out << csvName(nodes[I]);
+        out << csvField(nodes[I]);
         double total = 0.0;
         for (const double q : Q[I]) {
             out << ',' << q;
@@ -134,7 +129,7 @@ void writeConductors(const std::string& path, const std::string& format, const C
     if (format == "csv") {
         out << "node_a,node_b,GR (m^2)\n";
         for (const Coupling& k : c.couplings)
-            out << csvName(c.nodes[k.a]) << ',' << (k.b < K ? csvName(c.nodes[k.b]) : std::string("environment")) << ',' << k.gr << '\n';
+            out << csvField(c.nodes[k.a]) << ',' << (k.b < K ? csvField(c.nodes[k.b]) : std::string("environment")) << ',' << k.gr << '\n';
     } else if (format == "mtx") {
         out << "%%MatrixMarket matrix coordinate real symmetric\n"
                "% hemirad radiative conductors GR_ab (m^2), upper triangle given as lower: row > column\n";

@@ -1,6 +1,7 @@
 // Per-object summaries and their CSV: the header states the units, objects count when they hold patches.
 #include "support.hpp"
 
+#include "engine/csv.hpp"
 #include "engine/object_table.hpp"
 
 #include <doctest/doctest.h>
@@ -33,4 +34,11 @@ TEST_CASE("A scene's objects are those holding patches: the loader's empty defau
     CHECK(objectsWithPatches(s) == 1);
     s.patches.clear();
     CHECK(objectsWithPatches(s) == 0);
+}
+
+TEST_CASE("CSV fields: plain names stay as they are, and a comma, quote or line break is quoted with inner quotes doubled") {
+    CHECK(hemirad::csvField("wall") == "wall");
+    CHECK(hemirad::csvField("north, 2") == "\"north, 2\"");
+    CHECK(hemirad::csvField("the \"big\" one") == "\"the \"\"big\"\" one\"");
+    CHECK(hemirad::csvField("two\nlines") == "\"two\nlines\"");
 }
