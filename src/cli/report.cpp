@@ -102,10 +102,13 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
         out << "\n  point-to-patch terms whose visible part came from shadow polygons (exact partial visibility, no "
                "shadow ray): "
             << c.shadowTerms;
-    if (c.contactPairs)
-        out << "\n  close pairs (within " << int(kNearDistance) << " radii) exact by contour integrals: " << c.contactPairs
-            << "; with a blocker in their shaft: " << c.contactShafts << " (hidden part adaptive, "
+    if (c.contactPairs) {
+        out << "\n  pairs computed whole, exact by contour integrals: " << c.contactPairs << " (close pairs, within "
+            << int(kNearDistance) << " radii";
+        if (c.straddlingPairs) out << ", and " << c.straddlingPairs << " farther ones across a shadow's edge";
+        out << "); with a blocker in their shaft: " << c.contactShafts << " (hidden part adaptive, "
             << c.contactEvaluations << " visible-part evaluations)";
+    }
     if (run.emittedPairs.changed)
         out << "\n  pairs whose two rows disagreed (a receiver split on a silhouette by one row only), set from "
                "the emitting row: "

@@ -23,6 +23,7 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
     contactPairs += o.contactPairs;
     contactShafts += o.contactShafts;
     contactEvaluations += o.contactEvaluations;
+    straddlingPairs += o.straddlingPairs;
     largestDirectSum = std::max(largestDirectSum, o.largestDirectSum);
     return *this;
 }

@@ -26,6 +26,8 @@ public:
         if (x == 0.0) m_touched.push_back(j);
         x += w;
     }
+    /// The weight deposited on j so far (Weights mode).
+    double weight(PatchId j) const { return m_weight[j]; }
     /// Multiplies every weight deposited so far by `factor` (Weights mode).
     void scaleWeights(double factor) {
         for (const std::uint32_t j : m_touched) m_weight[j] *= factor;

@@ -190,9 +190,10 @@ TEST_CASE("--drop-below keeps every pair with an emitter: a patch keeps its entr
     lu.solver = "lu";
     const Radiosity exact = dropping.solve(s, full.F, lu);
     const Radiosity sparse = dropping.solve(s, dropped.F, lu);
-    // Where the light carries at least 1 % of a patch's B, B moves by less than 5 % (the other
-    // entries' rebalancing; the patches lit through a sliver of the light move up to 9 % at this
-    // coarse EPS, as every patch lit only indirectly may).
+    // Where the light carries at least 1 % of a patch's B, B moves by less than 8 % (the other
+    // entries' rebalancing: 4.9 % at most before the pairs across a shadow's edge were computed
+    // whole, 7.0 % since, patch 79; the patches lit through a sliver of the light move up to 9 %
+    // at this coarse EPS, as every patch lit only indirectly may).
     auto change = [&](PatchId i) { return std::abs(luminance(sparse.B[i]) - luminance(exact.B[i])) / luminance(exact.B[i]); };
     double worst = 0.0;
     PatchId worstPatch = 0;
@@ -211,7 +212,7 @@ TEST_CASE("--drop-below keeps every pair with an emitter: a patch keeps its entr
     MESSAGE("largest relative change of B where the light gives 1 % of it or more: " << worst << " (patch " << worstPatch
             << ", " << lit << " patches); patch 83: " << change(83));
     CHECK(lit > 100);
-    CHECK(worst < 0.05);
+    CHECK(worst < 0.08);
     CHECK(change(83) < 0.03);  // 0.43 when its entry to the light was dropped
 }
 

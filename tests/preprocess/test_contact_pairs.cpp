@@ -270,3 +270,63 @@ TEST_CASE("A generated non-conforming district (T-junctions, slivers, touching b
     CHECK(run.stats.reciprocityMax < 2.5e-7);  // F's float rounding, on every pair
     CHECK(run.stats.rowSumMax <= 1.0 + 1e-3);
 }
+
+// Pairs farther apart than the close pairs' 3 radii, integrated by the emitter's rule, with a
+// shadow's edge crossing the emitter: the rule's few points cannot place the edge, so the pair is
+// computed whole (issue 34, "partial visibility"). References as above, independent of Hemirad.
+
+TEST_CASE("A ruled pair whose points see different shares of the receiver past an occluder is computed whole") {
+    // A unit square on the ground, the same square 4 above it (4.7 emitter radii: the 2 x 2 rule),
+    // and a plate at height 2 whose edge x = 0.25 casts a shadow edge that leaves the receiver
+    // halfway across the emitter: from x < 0.5 part of the receiver is hidden, from x > 0.5 none.
+    const Polygon e = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    const Polygon r = {{0, 0, 4}, {0, 1, 4}, {1, 1, 4}, {1, 0, 4}};
+    const Polygon o = {{-3, -3, 2}, {0.25, -3, 2}, {0.25, 4, 2}, {-3, 4, 2}};
+    const double expected = referenceFactor(e, r, o, 1e-9);
+    const double unoccluded = exchangeOf(e, r) / area(e);
+    CHECK(expected < 0.9 * unoccluded);
+    CHECK(expected > 0.5 * unoccluded);
+    SceneBuilder b;
+    b.polygon(e);
+    b.polygon(r);
+    b.polygon(o);
+    const FormFactorRun run = computeFormFactors(b.scene, MethodSettings::of(HemisphereOptions{}), neededRows(b.scene, true));
+    CHECK(run.counts.straddlingPairs >= 1);
+    CHECK(run.F.at(0, 1) == doctest::Approx(expected).epsilon(1e-5));
+    CHECK(reciprocity(run.F, {e, r, o}, 0, 1) < 2.5e-7);
+}
+
+TEST_CASE("A small emitter whose centre sees the receiver hidden and whose corner sees it whole is computed whole") {
+    // A small ground triangle (its centroid is its only point for a receiver 30 radii away) under
+    // the edge of a plate just above it: the centroid sees nothing of the big square overhead, the
+    // corner beyond the plate's edge sees all of it (issue 34's sliver 875 -> wall 127 had 0 for
+    // 0.0036).
+    const Polygon e = {{0, 0, 0}, {0.2, 0, 0}, {0, 0.2, 0}};
+    const Polygon r = {{-1, -1, 3}, {-1, 1, 3}, {1, 1, 3}, {1, -1, 3}};
+    const Polygon o = {{-5, -5, 0.05}, {0.12, -5, 0.05}, {0.12, 5, 0.05}, {-5, 5, 0.05}};
+    const double expected = referenceFactor(e, r, o, 1e-9);
+    CHECK(expected > 0.01);  // the corner's view counts
+    SceneBuilder b;
+    b.polygon(e);
+    b.polygon(r);
+    b.polygon(o);
+    const FormFactorRun run = computeFormFactors(b.scene, MethodSettings::of(HemisphereOptions{}), neededRows(b.scene, true));
+    CHECK(run.counts.straddlingPairs >= 1);
+    CHECK(run.F.at(0, 1) == doctest::Approx(expected).epsilon(1e-5));
+}
+
+TEST_CASE("A touching pair whose occluder hides the receiver only near the emitter's corner is not taken as unobstructed") {
+    // A ground square touching a wall along its far edge, and a small post standing near the
+    // square's opposite corner: only points near that corner see part of the wall hidden. The
+    // first seven points of each of the rule's fan triangles all see the wall whole, and the pair
+    // used to be taken as unobstructed from them (0.20004; the district's wall 593 -> ground 406
+    // had 0.1126 for 0.1104).
+    const Polygon e = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    const Polygon r = {{0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}};
+    const Polygon o = {{0.0, 0.15, 0.0}, {0.15, 0.15, 0.0}, {0.15, 0.15, 0.3}, {0.0, 0.15, 0.3}};
+    const double expected = referenceFactor(facing(e, r), facing(r, e), o, 1e-10);
+    const double unoccluded = exchangeOf(facing(e, r), facing(r, e)) / area(e);
+    CHECK(expected < unoccluded * (1.0 - 1e-3));  // the post matters
+    const FormFactors F = defaultF({facing(e, r), facing(r, e), o});
+    CHECK(F.at(0, 1) == doctest::Approx(expected).epsilon(1e-5));
+}

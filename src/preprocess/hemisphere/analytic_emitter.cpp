@@ -19,6 +19,9 @@ AnalyticEstimator::Workspace AnalyticEstimator::workspace(PairExchange& exchange
     ws.status.assign(n, 0);
     ws.kept.sum.assign(n, -1.0);
     ws.ruled.assign(n, 0);
+    ws.seen.unoccluded.assign(n, 0.0);
+    ws.seen.least.assign(n, 2.0f);
+    ws.seen.most.assign(n, -1.0f);
     ws.byOrder.resize(std::size_t(m_rules.orders().highest()) + 1);  // [0]: the far rule
     ws.reversed.published.assign(n, -1.0f);
     return ws;
@@ -50,8 +53,10 @@ double AnalyticEstimator::addRow(PatchId i, RowAccumulator& row, Workspace& ws, 
     castFarRays(i, ws, counts);
     const double unit = m_rules.unit();
     const EmitterOrders& orders = m_rules.orders();
-    if (orders.lowest() == 1)
+    if (orders.lowest() == 1) {
         direct += addFrom(i, m_rules.geometry().shapes[i].centroid, 0, nullptr, unit, row, ws, counts);
+        direct += replaceStraddlingPairs(i, ws.point.exact, row, ws, counts);
+    }
     for (int m = std::max(2, orders.lowest()); m <= orders.highest(); ++m) {
         if (ws.byOrder[m].empty()) continue;
         m_rules.emitterRule(i, m, ws.rules);
@@ -60,6 +65,7 @@ double AnalyticEstimator::addRow(PatchId i, RowAccumulator& row, Workspace& ws, 
         const std::vector<double>& weights = ws.rules.quadWeights;
         for (std::size_t q = 0; q < points.size(); ++q)
             direct += addFrom(i, points[q], std::uint32_t(q), &ws.byOrder[m], unit * weights[q], row, ws, counts);
+        direct += replaceStraddlingPairs(i, ws.byOrder[m], row, ws, counts);
         for (const PatchId j : ws.byOrder[m]) ws.ruled[j] = 0;
     }
     for (const PatchId j : ws.contacts) {
@@ -183,6 +189,7 @@ double AnalyticEstimator::addFrom(PatchId i, const Vec3& x, std::uint32_t point,
     for (std::size_t k = 0; k < p.candidates.size(); ++k) ws.status[p.candidates[k]] = p.rays.blocked[k] ? 2 : 1;
     double sum = 0.0;
     for (std::size_t k = 0; k < p.exact.size(); ++k) {
+        ws.seen.note(p.exact[k], p.exactVisible[k] / p.exactWhole[k], p.exactWhole[k] * weight);
         ws.status[p.exact[k]] = p.exactVisible[k] >= 0.5 * p.exactWhole[k] ? 1 : 2;  // as its centre's ray would say
         ws.kept.keep(p.exact[k], p.exactVisible[k] > 0.0 ? p.exactVisible[k] * weight : 0.0);
         if (!(p.exactVisible[k] > 0.0)) continue;
@@ -194,6 +201,8 @@ double AnalyticEstimator::addFrom(PatchId i, const Vec3& x, std::uint32_t point,
     for (std::size_t k = 0; k < p.candidates.size(); ++k) {
         const PatchId j = p.candidates[k];
         ws.kept.keep(j, p.rays.blocked[k] ? 0.0 : p.factors[k] * weight);
+        // The centre ray's verdict is the term's share, split or not (as the receiving row sees it).
+        if (candidates) ws.seen.note(j, p.rays.blocked[k] ? 0.0 : 1.0, p.factors[k] * weight);
         if (geometry.onSilhouette(j, ws.status)) {
             p.split.push_back(j);
         } else if (!p.rays.blocked[k]) {
@@ -217,6 +226,44 @@ double AnalyticEstimator::addFrom(PatchId i, const Vec3& x, std::uint32_t point,
         sum += p.factors[k] * weight;
     }
     return sum;
+}
+
+double AnalyticEstimator::replaceStraddlingPairs(PatchId i, const std::vector<PatchId>& receivers, RowAccumulator& row,
+                                                 Workspace& ws, RayCounts& counts) const {
+    Workspace::Seen& seen = ws.seen;
+    double change = 0.0;
+    for (const PatchId j : receivers) {
+        const double unoccluded = seen.unoccluded[j], least = seen.least[j], most = seen.most[j];
+        seen.reset(j);
+        if (most < least || !straddlesWhole(i, j, unoccluded, least, most, ws, counts)) continue;  // no term, or not
+        bool viewed = false;
+        const double value = m_rules.contactValue(i, j, ws.rules, counts, viewed);
+        ++counts.straddlingPairs;
+        const double before = row.weight(j);
+        row.addWeight(j, value - before);
+        change += value - before;
+        ws.kept.keep(j, 0.0);
+        ws.kept.sum[j] = value;
+    }
+    return change;
+}
+
+bool AnalyticEstimator::straddlesWhole(PatchId e, PatchId r, double unoccluded, double least, double most, Workspace& ws,
+                                       RayCounts& counts) const {
+    if (m_rules.straddles(unoccluded, least, most)) return true;
+    // Every term saw about as much, but some of r hidden: a shadow's edge may still cross the
+    // emitter between its points and its rim. Its corners say.
+    if (!(least < 1.0) || !m_rules.straddles(unoccluded, least - 1.0, least)) return false;
+    const PatchShape& emitter = m_rules.geometry().shapes[e];
+    const Vec3* corner = m_rules.geometry().polygon(e);
+    for (std::uint32_t k = 0; k < emitter.count; ++k) {
+        const double share = m_rules.visibleShare(e, r, corner[k] + 0.01 * (emitter.centroid - corner[k]), ws.rules, counts);
+        if (share < 0.0) continue;
+        least = std::min(least, double(float(share)));
+        most = std::max(most, double(float(share)));
+        if (m_rules.straddles(unoccluded, least, most)) return true;
+    }
+    return false;
 }
 
 }  // namespace hemirad

@@ -15,6 +15,7 @@
 #include "preprocess/row_accumulator.hpp"
 #include "rays/ray_scene.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -42,6 +43,18 @@ private:
     /// The far rule's receivers of row i (pairOrder 0): those too large for one shadow ray go to
     /// their rule; the rest get a shadow ray from the centroid, which sets their status.
     void castFarRays(PatchId i, Workspace& ws, RayCounts& counts) const;
+    /// After the centroid pass (its exact terms) and each rule pass of order 2 and up (all terms):
+    /// the receivers straddling a shadow's edge (straddlesWhole) computed whole (contactValue) in
+    /// place of the rule's terms.
+    double replaceStraddlingPairs(PatchId i, const std::vector<PatchId>& receivers, RowAccumulator& row, Workspace& ws,
+                                  RayCounts& counts) const;
+    /// Whether emitter e's pair with r, whose terms saw shares of r from `least` to `most` (one
+    /// share per term: visible / whole for an exact term, its shadow ray's verdict for a ray term)
+    /// with the unoccluded terms summing to `unoccluded` (ray units), straddles a shadow's edge:
+    /// the shares too far apart, or all of them missing a part while a corner of e (a hundredth
+    /// inside) sees a share far enough away. Both rows of the pair decide alike, bit for bit.
+    bool straddlesWhole(PatchId e, PatchId r, double unoccluded, double least, double most, Workspace& ws,
+                        RayCounts& counts) const;
     /// Their entries, scaled by `weight`, once the centroid pass has set its statuses too (the
     /// silhouette test reads the neighbours of both); those on a silhouette join the point's split.
     double addFarPairs(double weight, RowAccumulator& row, Workspace& ws) const;
@@ -54,8 +67,12 @@ private:
     /// The terms row j sums for receiver i, appended to the workspace's reversed terms (with
     /// `rays`, a shadow ray per ray term); false when j has no term for i.
     bool reversedTerms(PatchId j, PatchId i, bool rays, Workspace& ws, RayCounts& counts) const;
+    /// Whether emitter p's terms (with their shadow rays' verdicts) make its pair straddle a shadow's
+    /// edge, as row j decides it as the emitter (replaceStraddlingPairs): then its value whole.
+    bool reversedStraddles(PatchId i, std::size_t p, Workspace& ws, RayCounts& counts) const;
     /// Of those, the emitters on a silhouette seen from i (a mesh neighbour's status differs): their
-    /// ray terms again with i split into pieces, each with its own shadow ray.
+    /// ray terms again with i split into pieces, each with its own shadow ray (not for a pair that
+    /// straddles a shadow's edge: its value is whole).
     void splitReversedSilhouettes(PatchId i, Workspace& ws, RayCounts& counts) const;
 
     HemisphereOptions m_options;
@@ -108,6 +125,22 @@ struct AnalyticEstimator::Workspace {
     std::vector<std::vector<PatchId>> byOrder;
     std::vector<std::uint8_t> ruled;  ///< per patch: in byOrder or a close pair (not in the centroid pass)
     std::vector<PatchId> contacts;
+    /// Per receiver of a rule pass (order 2 and up): the rule's unoccluded terms summed (ray units)
+    /// and the least and most share of the receiver any point saw (least > most: no term yet).
+    struct Seen {
+        std::vector<double> unoccluded;
+        std::vector<float> least, most;
+        void note(PatchId j, double share, double term) {
+            unoccluded[j] += term;
+            least[j] = std::min(least[j], float(share));
+            most[j] = std::max(most[j], float(share));
+        }
+        void reset(PatchId j) {
+            unoccluded[j] = 0.0;
+            least[j] = 2.0f;
+            most[j] = -1.0f;
+        }
+    } seen;
     /// One point's receivers with a shadow ray (candidates: their factors and aims), those with
     /// exact visibility (their visible and whole factors), and those on a silhouette.
     struct Point {
@@ -133,6 +166,8 @@ struct AnalyticEstimator::Workspace {
         std::vector<double> sum;    ///< per emitter: its terms for this row, in ray units
         std::vector<float> handed;  ///< and its entry as the exchange hands it over (-1: from the terms)
         std::vector<double> factors, weights;
+        std::vector<double> wholes;           ///< the unoccluded factor (exact terms: factors holds the visible part)
+        std::vector<std::uint8_t> whole;      ///< per emitter: its pair straddles a shadow's edge, computed whole
         std::vector<Vec3> points;             ///< the emitter's point
         std::vector<std::uint32_t> pointIndex;  ///< its index in the emitter's rule
         std::vector<std::uint32_t> rayOf;     ///< its shadow ray, or kNoRay (exact: shadow polygons)
@@ -151,6 +186,8 @@ struct AnalyticEstimator::Workspace {
             handed.clear();
             factors.clear();
             weights.clear();
+            wholes.clear();
+            whole.clear();
             points.clear();
             pointIndex.clear();
             rayOf.clear();

@@ -34,6 +34,7 @@ double AnalyticEstimator::addReversedPairs(PatchId i, RowAccumulator& row, Works
             rev.handed.push_back(-1.0f);  // from the terms below
         }
         rev.sum.push_back(contact);
+        rev.whole.push_back(0);
         rev.emitters.push_back(j);
         rev.termBegin.push_back(begin);
         rev.termEnd.push_back(std::uint32_t(rev.factors.size()));
@@ -50,6 +51,11 @@ double AnalyticEstimator::addReversedPairs(PatchId i, RowAccumulator& row, Works
             for (std::uint32_t t = rev.termBegin[p]; t < rev.termEnd[p]; ++t) {  // row j's sum for i, in row j's order
                 if (rev.rayOf[t] == rev.kNoRay ? !(rev.factors[t] > 0.0) : rev.rays.blocked[rev.rayOf[t]] != 0) continue;
                 rev.sum[p] += rev.factors[t] * rev.weights[t];
+            }
+            if (reversedStraddles(i, p, ws, counts)) {  // as row j replaces its terms
+                bool viewed = false;
+                rev.sum[p] = m_rules.contactValue(rev.emitters[p], i, ws.rules, counts, viewed);
+                rev.whole[p] = 1;
             }
             rev.handed[p] = m_rules.handedValue(rev.sum[p], rev.emitters[p], i);
         }
@@ -84,8 +90,10 @@ bool AnalyticEstimator::reversedTerms(PatchId j, PatchId i, bool rays, Workspace
     Workspace::Reversed& rev = ws.reversed;
     // A term of row j for i at j's point x (index q); `polygon`: the part of i its shadow ray aims
     // at, null for an exact term (shadow polygons: no ray).
-    auto addTerm = [&](const Vec3& x, std::uint32_t q, double f, double weight, const Vec3* polygon, std::size_t corners) {
+    auto addTerm = [&](const Vec3& x, std::uint32_t q, double f, double whole, double weight, const Vec3* polygon,
+                       std::size_t corners) {
         rev.factors.push_back(f);
+        rev.wholes.push_back(whole);
         rev.weights.push_back(weight);
         rev.points.push_back(x);
         rev.pointIndex.push_back(q);
@@ -106,7 +114,7 @@ bool AnalyticEstimator::reversedTerms(PatchId j, PatchId i, bool rays, Workspace
     if (m == 0) m = m_rules.farPairOrder(j, i, far);  // as castFarRays
     if (m == 0) {  // the far rule: one term, one shadow ray from j's centroid (as addFarPairs)
         if (!(far > 0.0)) return false;
-        addTerm(emitter.centroid, 0, far, unit, geometry.polygon(i), receiver.count);
+        addTerm(emitter.centroid, 0, far, far, unit, geometry.polygon(i), receiver.count);
         return true;
     }
     m_rules.emitterRule(j, m, ws.rules);
@@ -117,11 +125,33 @@ bool AnalyticEstimator::reversedTerms(PatchId j, PatchId i, bool rays, Workspace
         if (!m_rules.pointTerm(j, i, x, ws.rules, counts, term)) continue;
         const double weight = unit * ws.rules.quadWeights[q];  // as row j weighs it (the centroid's weight is 1)
         if (term.exact)  // as addFrom: the visible part from shadow polygons
-            addTerm(x, std::uint32_t(q), term.visible, weight, nullptr, 0);
+            addTerm(x, std::uint32_t(q), term.visible, term.factor, weight, nullptr, 0);
         else
-            addTerm(x, std::uint32_t(q), term.factor, weight, term.polygon, term.corners);
+            addTerm(x, std::uint32_t(q), term.factor, term.factor, weight, term.polygon, term.corners);
     }
     return rev.factors.size() > before;
+}
+
+bool AnalyticEstimator::reversedStraddles(PatchId i, std::size_t p, Workspace& ws, RayCounts& counts) const {
+    const Workspace::Reversed& rev = ws.reversed;
+    const PatchId j = rev.emitters[p];
+    // Which terms row j notes (replaceStraddlingPairs): all of a rule pass's (order 2 and up), the
+    // exact term of the centroid pass, none of the far rule's.
+    double far = 0.0;
+    int m = m_rules.pairOrder(j, i);
+    if (m == 0) m = m_rules.farPairOrder(j, i, far);
+    if (m == 0) return false;
+    double unoccluded = 0.0;
+    float least = 2.0f, most = -1.0f;
+    for (std::uint32_t t = rev.termBegin[p]; t < rev.termEnd[p]; ++t) {
+        const bool exact = rev.rayOf[t] == rev.kNoRay;
+        if (m == 1 && !exact) continue;
+        const double share = exact ? rev.factors[t] / rev.wholes[t] : rev.rays.blocked[rev.rayOf[t]] ? 0.0 : 1.0;
+        unoccluded += rev.wholes[t] * rev.weights[t];
+        least = std::min(least, float(share));
+        most = std::max(most, float(share));
+    }
+    return most >= least && straddlesWhole(j, i, unoccluded, least, most, ws, counts);
 }
 
 void AnalyticEstimator::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCounts& counts) const {
@@ -132,13 +162,27 @@ void AnalyticEstimator::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCo
     Workspace::Reversed& rev = ws.reversed;
     rev.silhouette.clear();
     for (std::size_t p = 0; p < rev.emitters.size(); ++p) {
-        if (!m_rules.geometry().onSilhouette(rev.emitters[p], ws.status)) continue;
+        if (rev.whole[p] || !m_rules.geometry().onSilhouette(rev.emitters[p], ws.status)) continue;
+        if (rev.termBegin[p] == rev.termEnd[p] && rev.sum[p] == 0.0) {
+            // Handed over by row j as a sum: its terms again, with their shadow rays, to tell
+            // whether row j computed the pair whole (a straddling pair keeps the handed value).
+            const std::size_t first = rev.rays.segments();
+            rev.termBegin[p] = std::uint32_t(rev.factors.size());
+            reversedTerms(rev.emitters[p], i, true, ws, counts);
+            rev.termEnd[p] = std::uint32_t(rev.factors.size());
+            const std::size_t added = rev.rays.segments() - first;
+            rev.rays.blocked.resize(first + added, 0);
+            if (added > 0) {
+                m_rays->occludedSegmentPairs(rev.rays.origins.data() + 3 * first, rev.rays.targets.data() + 3 * first,
+                                             added, rev.rays.blocked.data() + first);
+                counts.rays += added;
+            }
+            if (reversedStraddles(i, p, ws, counts)) {
+                rev.whole[p] = 1;
+                continue;
+            }
+        }
         rev.silhouette.push_back(std::uint32_t(p));
-        if (rev.termBegin[p] != rev.termEnd[p]) continue;
-        // Handed over by row j as a sum: its terms again, without shadow rays.
-        rev.termBegin[p] = std::uint32_t(rev.factors.size());
-        reversedTerms(rev.emitters[p], i, false, ws, counts);
-        rev.termEnd[p] = std::uint32_t(rev.factors.size());
     }
     rev.rays.clear();
     rev.pieceOf.clear();

@@ -115,7 +115,7 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
     const TriangleRule& rule = dunavant5();
     const Vec3* receiver = s.receiver.data();
     const std::size_t corners = s.receiver.size();
-    std::uint32_t evaluations = 0, hiddenPoints = 0, visiblePoints = 0;
+    std::uint32_t evaluations = 0;
     const auto estimate = [&](const Vec3& p0, const Vec3& p1, const Vec3& p2) {
         double sum = 0.0;
         for (std::size_t k = 0; k < rule.weight.size(); ++k) {
@@ -123,8 +123,6 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
             const double f = pointToPolygonFactor(x, n, receiver, corners);
             if (!(f > 0.0)) continue;
             const double visible = m_shadows->visibleFactor(x, n, receiver, corners, e, r, f, s.shadow, &s.blockers);
-            hiddenPoints += visible < f;
-            visiblePoints += visible > 0.0;
             sum += rule.weight[k] * (f - visible);
         }
         evaluations += std::uint32_t(rule.weight.size());
@@ -139,9 +137,10 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
         c.error = std::abs(c.fine - c.coarse);
         return c;
     };
-    // First the rule alone on each fan triangle: where every point sees the receiver whole, or
-    // none sees any of it, the pair is taken as wholly visible or hidden (a blocker that the shaft
-    // test found beside the view, or one covering it) at the cost of these points.
+    // The rule on each fan triangle, then its first split, whatever the points see: seven points
+    // that all see the receiver whole (or none of it) do not make the pair unobstructed (or
+    // hidden); the district's ground triangle 593 under a roof's edge saw wall 406 whole from all
+    // seven and is 2 % hidden (0.1126 for 0.1104, a Monte Carlo estimate 0.1097 +- 0.0005).
     s.coarse.clear();
     double area = 0.0;
     for (std::size_t k = 1; k + 1 < s.emitter.size(); ++k) {
@@ -149,8 +148,6 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
         area += triangleArea(p0, p1, p2);
         s.coarse.push_back(estimate(p0, p1, p2));
     }
-    if (hiddenPoints == 0) return 0.0;
-    if (visiblePoints == 0) return exact;
     const auto larger = [](const ContactCell& a, const ContactCell& b) { return a.error < b.error; };
     s.cells.clear();
     double error = 0.0;

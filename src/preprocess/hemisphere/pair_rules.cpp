@@ -44,6 +44,10 @@ void PairRules::build(const Scene& scene, const RayScene& rays, const Hemisphere
     m_shadows.build(m_geometry, blocks);
     m_contacts.build(m_geometry, m_shadows, m_visibility);
     m_exactAbove = m_visibility ? 0.1 * tolerance : std::numeric_limits<double>::infinity();
+    // A ruled pair across a shadow's edge is computed whole where the points' disagreement times
+    // its factor could move it by a hundredth of the pair tolerance (1e-4 by default: a row's
+    // straddling pairs then add up to about its sky view factor's tolerance).
+    m_straddleAbove = m_visibility ? 0.01 * tolerance : std::numeric_limits<double>::infinity();
 }
 
 double PairRules::contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, bool& viewed) const {
@@ -67,6 +71,16 @@ void PairRules::emitterRule(PatchId e, int m, Scratch& s) const {
     }
     polygonQuadrature(m_geometry.polygon(e), m_geometry.shapes[e].count, m_ruleNodes[m], m_ruleWeights[m], s.quadPoints,
                       s.quadWeights);
+}
+
+double PairRules::visibleShare(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts) const {
+    const Vec3& n = m_geometry.shapes[e].normal;
+    const Vec3* polygon = nullptr;
+    std::size_t corners = 0;
+    const double f = pointFactor(r, x, n, s.clipped, polygon, corners);
+    if (!(f > 0.0)) return -1.0;
+    ++counts.shadowTerms;
+    return m_shadows.visibleFactor(x, n, polygon, corners, e, r, f, s.shadow) / f;
 }
 
 bool PairRules::pointTerm(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts, PointTerm& term) const {

@@ -65,6 +65,15 @@ public:
     /// alone; `viewed` says whether it has a view at all (unoccluded value above 0: a term, visible
     /// or hidden, for the silhouette statuses).
     double contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, bool& viewed) const;
+    /// The share of r's factor that point x of e sees past the blockers (visible / whole, exact by
+    /// shadow polygons whatever the factor's size), or -1 when x has no term for r.
+    double visibleShare(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts) const;
+    /// Whether a ruled pair whose points saw between `least` and `most` of the receiver, with the
+    /// rule's unoccluded sum `unoccluded` (ray units), straddles a shadow's edge enough for its
+    /// rule to miss the pair tolerance: then it is computed whole (contactValue), as a close pair is.
+    bool straddles(double unoccluded, double least, double most) const {
+        return most - least > kStraddleSpread && (most - least) * unoccluded > m_straddleAbove * unit();
+    }
     /// The points and weights (summing to 1) of the m x m rule over patch e into s.quadPoints and
     /// s.quadWeights.
     void emitterRule(PatchId e, int m, Scratch& s) const;
@@ -99,6 +108,10 @@ public:
     /// Which patch of a pair integrates the pair's factor over its points (the other is exact): the
     /// smaller one, the lower id on a tie.
     bool emitsFor(PatchId e, PatchId r) const { return hemirad::emitsFor(*m_scene, e, r); }
+
+    /// Visible shares further apart than this across a pair's points (or its emitter's corners) mean
+    /// a shadow's edge crosses the emitter: its few points cannot place it.
+    static constexpr double kStraddleSpread = 0.25;
 
     /// F in ray units: the accumulator's take() scales by 1 / (origins samples).
     double unit() const { return double(m_options.origins) * m_options.samples; }
@@ -142,6 +155,7 @@ private:
     ShadowPolygons m_shadows;  ///< the patches that can obstruct, for exact partial visibility
     ContactPairs m_contacts;   ///< close pairs, exact (contactPair)
     double m_exactAbove = 0.0;
+    double m_straddleAbove = 0.0;  ///< F units: straddles() needs spread x unoccluded above this
     EmitterOrders m_orders{1.0, 1, 1};  ///< the emitter rule's order per pair (emitter_rule.hpp)
     FarRule m_far;  ///< the point-to-point kernel for pairs far from each other's horizon
     double m_farRatio = 0.0;  ///< the smallest FarRule::ratio it serves (0: not used, with --origins > 1)
