@@ -137,12 +137,15 @@ std::vector<Pair> districtPairs() {
     return pairs;
 }
 
-/// F of a scene of the given polygons with default flags (the analytic estimator), every row.
-FormFactors defaultF(const std::vector<Polygon>& polygons) {
+/// The run of a scene of the given polygons with default flags (the analytic estimator), every row.
+FormFactorRun defaultRun(const std::vector<Polygon>& polygons) {
     SceneBuilder b;
     for (const Polygon& p : polygons) b.polygon(p);
-    return computeFormFactors(b.scene, MethodSettings::of(HemisphereOptions{}), neededRows(b.scene, true)).F;
+    return computeFormFactors(b.scene, MethodSettings::of(HemisphereOptions{}), neededRows(b.scene, true));
 }
+
+/// Its F.
+FormFactors defaultF(const std::vector<Polygon>& polygons) { return defaultRun(polygons).F; }
 
 double exchangeOf(const Polygon& e, const Polygon& r) {
     ExchangeAreaScratch scratch;
@@ -286,11 +289,7 @@ TEST_CASE("A ruled pair whose points see different shares of the receiver past a
     const double unoccluded = exchangeOf(e, r) / area(e);
     CHECK(expected < 0.9 * unoccluded);
     CHECK(expected > 0.5 * unoccluded);
-    SceneBuilder b;
-    b.polygon(e);
-    b.polygon(r);
-    b.polygon(o);
-    const FormFactorRun run = computeFormFactors(b.scene, MethodSettings::of(HemisphereOptions{}), neededRows(b.scene, true));
+    const FormFactorRun run = defaultRun({e, r, o});
     CHECK(run.counts.straddlingPairs >= 1);
     CHECK(run.F.at(0, 1) == doctest::Approx(expected).epsilon(1e-5));
     CHECK(reciprocity(run.F, {e, r, o}, 0, 1) < 2.5e-7);
@@ -306,11 +305,7 @@ TEST_CASE("A small emitter whose centre sees the receiver hidden and whose corne
     const Polygon o = {{-5, -5, 0.05}, {0.12, -5, 0.05}, {0.12, 5, 0.05}, {-5, 5, 0.05}};
     const double expected = referenceFactor(e, r, o, 1e-9);
     CHECK(expected > 0.01);  // the corner's view counts
-    SceneBuilder b;
-    b.polygon(e);
-    b.polygon(r);
-    b.polygon(o);
-    const FormFactorRun run = computeFormFactors(b.scene, MethodSettings::of(HemisphereOptions{}), neededRows(b.scene, true));
+    const FormFactorRun run = defaultRun({e, r, o});
     CHECK(run.counts.straddlingPairs >= 1);
     CHECK(run.F.at(0, 1) == doctest::Approx(expected).epsilon(1e-5));
 }

@@ -137,8 +137,9 @@ TEST_CASE("Each pair once: F with pairs handed between rows equals F with every 
         CHECK(F2.columnVector() == reference.columnVector());
         CHECK(F2.valueVector() == reference.valueVector());
         // The work the exchanges save: row by row, each pair's rays and exact terms (through the
-        // mirror too) are cast by both of its rows.
-        CHECK(double(once.rays) < 0.7 * double(separate.rays));
+        // mirror too) are cast by both of its rows (the corner probes for straddling pairs by both
+        // rows either way: 0.73 on the closed box, 0.64 before them).
+        CHECK(double(once.rays) < 0.75 * double(separate.rays));
         CHECK(double(once.shadowTerms) < 0.7 * double(separate.shadowTerms));
     }
 }

@@ -236,9 +236,7 @@ double AnalyticEstimator::replaceStraddlingPairs(PatchId i, const std::vector<Pa
         const double unoccluded = seen.unoccluded[j], least = seen.least[j], most = seen.most[j];
         seen.reset(j);
         if (most < least || !straddlesWhole(i, j, unoccluded, least, most, ws, counts)) continue;  // no term, or not
-        bool viewed = false;
-        const double value = m_rules.contactValue(i, j, ws.rules, counts, viewed);
-        ++counts.straddlingPairs;
+        const double value = m_rules.straddlingValue(i, j, ws.rules, counts);
         const double before = row.weight(j);
         row.addWeight(j, value - before);
         change += value - before;

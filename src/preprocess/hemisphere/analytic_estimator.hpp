@@ -52,7 +52,8 @@ private:
     /// share per term: visible / whole for an exact term, its shadow ray's verdict for a ray term)
     /// with the unoccluded terms summing to `unoccluded` (ray units), straddles a shadow's edge:
     /// the shares too far apart, or all of them missing a part while a corner of e (a hundredth
-    /// inside) sees a share far enough away. Both rows of the pair decide alike, bit for bit.
+    /// inside, PairRules::visibleShare's rays) sees a share far enough away. Both rows of the pair
+    /// decide alike, bit for bit.
     bool straddlesWhole(PatchId e, PatchId r, double unoccluded, double least, double most, Workspace& ws,
                         RayCounts& counts) const;
     /// Their entries, scaled by `weight`, once the centroid pass has set its statuses too (the

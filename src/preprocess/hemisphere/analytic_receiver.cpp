@@ -53,8 +53,7 @@ double AnalyticEstimator::addReversedPairs(PatchId i, RowAccumulator& row, Works
                 rev.sum[p] += rev.factors[t] * rev.weights[t];
             }
             if (reversedStraddles(i, p, ws, counts)) {  // as row j replaces its terms
-                bool viewed = false;
-                rev.sum[p] = m_rules.contactValue(rev.emitters[p], i, ws.rules, counts, viewed);
+                rev.sum[p] = m_rules.straddlingValue(rev.emitters[p], i, ws.rules, counts);
                 rev.whole[p] = 1;
             }
             rev.handed[p] = m_rules.handedValue(rev.sum[p], rev.emitters[p], i);

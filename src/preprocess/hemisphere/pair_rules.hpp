@@ -32,6 +32,9 @@ public:
         std::vector<Vec3> pieces, finer;  ///< a silhouette receiver's pieces, 4 corners each
         ShadowPolygons::Scratch shadow;
         ContactPairs::Scratch contact;
+        std::vector<float> targets;  ///< visibleShare's shadow rays
+        std::vector<double> pieceFactors;
+        std::vector<std::uint8_t> blocked;
     };
 
     /// Row e's term for receiver r at one point x of e's rule.
@@ -65,8 +68,12 @@ public:
     /// alone; `viewed` says whether it has a view at all (unoccluded value above 0: a term, visible
     /// or hidden, for the silhouette statuses).
     double contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, bool& viewed) const;
-    /// The share of r's factor that point x of e sees past the blockers (visible / whole, exact by
-    /// shadow polygons whatever the factor's size), or -1 when x has no term for r.
+    /// A straddling pair's value (straddles()), as contactValue's (a function of the pair alone, for
+    /// both rows), counted apart.
+    double straddlingValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const;
+    /// The share of r's factor that point x of e sees past the blockers, by r's part above x's plane
+    /// in pieces (one split), each piece's factor counted where its shadow ray from x passes; -1
+    /// when x has no term for r. A probe for straddles(), a few rays whatever the blockers.
     double visibleShare(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts) const;
     /// Whether a ruled pair whose points saw between `least` and `most` of the receiver, with the
     /// rule's unoccluded sum `unoccluded` (ray units), straddles a shadow's edge enough for its
