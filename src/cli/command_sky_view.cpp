@@ -1,4 +1,5 @@
-// `hemirad sky-view SCENE -o SVF.csv`: the sky view factor of every patch (src/environment).
+// `hemirad sky-view SCENE -o SVF.csv`: the sky view factor of every patch (src/environment); the same
+// values for solve --sky-view and render --false-color sky_view_factor.
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
 #include "environment/sky_view.hpp"
@@ -8,15 +9,12 @@
 
 namespace hemirad {
 
-int runSkyView(const Options& options) {
-    Reporter reporter(options.quiet, reportsToStandardError(options));
-    Warnings warnings;
-    Timings timings;
-    const Scene scene = loadScene(options, timings, reporter, warnings);
-    timings.start("sky view factors");
-    const SkyView sky = skyViewFactors(scene, options.formFactors);
-    timings.stop();
-    const std::vector<double> total = sky.total();
+namespace {
+
+/// The report line (area-weighted mean, min, max; the largest part through mirrors) and the warning
+/// for mirror chains cut off by --max-depth.
+void reportSkyView(const Scene& scene, const SkyView& sky, const std::vector<double>& total, const Reporter& reporter,
+                   Warnings& warnings) {
     double area = 0.0, weighted = 0.0;
     for (PatchId i = 0; i < scene.size(); ++i) {
         area += scene.patches[i].area;
@@ -34,6 +32,29 @@ int runSkyView(const Options& options) {
         cut << "mirror chains cut off by --max-depth carried " << sky.cutoffWeight << " (counted as sky)";
         warnings.add("mirror depth", cut.str());
     }
+}
+
+}  // namespace
+
+std::vector<double> skyViewTotals(const Options& options, const Scene& scene, Timings& timings, const Reporter& reporter,
+                                  Warnings& warnings) {
+    timings.start("sky view factors");
+    const SkyView sky = skyViewFactors(scene, options.formFactors);
+    timings.stop();
+    std::vector<double> total = sky.total();
+    reportSkyView(scene, sky, total, reporter, warnings);
+    return total;
+}
+
+int runSkyView(const Options& options) {
+    Reporter reporter(options.quiet, reportsToStandardError(options));
+    Warnings warnings;
+    Timings timings;
+    const Scene scene = loadScene(options, timings, reporter, warnings);
+    timings.start("sky view factors");
+    const SkyView sky = skyViewFactors(scene, options.formFactors);
+    timings.stop();
+    reportSkyView(scene, sky, sky.total(), reporter, warnings);
     timings.start("write CSV");
     writeSkyViewCsv(options.output, scene, sky);
     timings.stop();

@@ -269,6 +269,7 @@ const std::map<std::string, Flag>& flags() {
                            if (lowerExtension(v) != ".csv") throw UsageError(f + " writes a CSV table: '" + v + "' must end in .csv");
                            o.objectsPath = v;
                        }}},
+        {"--sky-view", {{"solve"}, false, [](Options& o, const std::string&, const std::string&) { o.skyView = true; }}},
         {"--false-color", {{"render"}, true,
                            [](Options& o, const std::string&, const std::string& v) {
                                try {
@@ -496,7 +497,17 @@ Options parseOptions(int argc, const char* const* argv) {
             if (p.flag == "--exposure" || p.flag == "--spp" || p.flag == "--flat" || p.flag == "--crease")
                 throw UsageError(p.flag + " does not apply with --false-color (one ray per pixel, one colour per patch)");
         if (o.falseColourScale == FalseColourScale::Log && o.rangeMin && !(*o.rangeMin > 0.0)) throw UsageError("--range: a log scale needs MIN > 0");
+        // The sky view factor needs no B: render computes its own F (sky-view's) and solves nothing.
+        if (*o.falseColour == FalseColourQuantity::SkyViewFactor)
+            for (const ParsedFlag& p : parsed)
+                if (p.flag == "--ff" || p.flag == "--recompute-ff" || p.flag == "--reuse-ff-anyway" || p.flag == "--shards" ||
+                    p.flag == "--drop-below" || p.flag == "--solver" || p.flag == "--tolerance" ||
+                    p.flag == "--max-iterations" || p.flag == "--allow-unconverged")
+                    throw UsageError(p.flag + " does not apply with --false-color sky_view_factor (sky view factors "
+                                     "need no stored F and no solve)");
     }
+    if (o.skyView && o.output.empty())
+        throw UsageError("--sky-view adds a column to -o B.csv (a face property to B.ply): it needs -o");
     if (o.command == "solve" && o.output.empty() && o.ffPath.empty() && o.objectsPath.empty())
         throw UsageError("'solve' needs -o B.csv|B.ply (or --ff to only store F, or --objects T.csv)");
     if (o.command == "subdivide" && o.maxEdge <= 0) throw UsageError("'subdivide' needs --max-edge L");
@@ -587,7 +598,7 @@ std::uint64_t optionsHash(const Options& o) {
     if (o.camera) {
         vector(o.camera->eye); vector(o.camera->target); vector(o.camera->up); h.addValue(o.camera->fovY);
     }
-    h.addValue(o.samplesPerPixel); h.addValue(o.exposure); h.addValue(o.flat); text(o.objectsPath);
+    h.addValue(o.samplesPerPixel); h.addValue(o.exposure); h.addValue(o.flat); text(o.objectsPath); h.addValue(o.skyView);
     h.addValue(o.falseColour.has_value()); h.addValue(int(o.falseColour.value_or(FalseColourQuantity::Radiosity)));
     h.addValue(int(o.falseColourScale)); optional(o.rangeMin); optional(o.rangeMax);
     text(o.propertiesPath); text(o.conditionsPath); text(o.conductorsPath); text(o.conductorFormat); text(o.lumping);
@@ -707,17 +718,21 @@ form factors (formfactors, solve, render):
   --exposure X           display scale for PNG/PLY colours (default automatic)
   --objects T.csv        (solve) per object: patches, area, and radiosity B and irradiance
                          H = (B - E)/rho as luminance Y: area-weighted mean, min and max
+  --sky-view             (solve) also each patch's sky view factor (as sky-view's: direct + through
+                         mirrors, 0..1): a sky_view_factor column in B.csv, a float face property
+                         sky_view_factor in B.ply; costs a second F, over the scene made two-sided
 render:
   --size WxH             image size (default 640x640)
   --camera ex,ey,ez,tx,ty,tz,fov   eye, target, vertical field of view in degrees
   --spp N                samples per pixel (default 4)
   --flat                 flat patches instead of Gouraud shading
   --false-color Q        a false-colour map of Q = radiosity (B), irradiance (H = (B - E)/rho, what a
-                         meter on the surface reads) or emission (E), W/m^2 as luminance Y, per
-                         patch, with a legend (colour bar, values, unit) right of the picture
+                         meter on the surface reads) or emission (E), W/m^2 as luminance Y, or
+                         sky_view_factor (unitless, as sky-view's; no solve, so no --ff or solver
+                         flags), per patch, with a legend (colour bar, values, unit) right of the picture
   --scale linear|log     the map's scale (default linear)
   --range MIN:MAX        the map's range (default: the values' extremes, on a log scale the minimum
-                         at least max/1e4 (4 decades); either side may be empty)
+                         at least max/1e4 (4 decades); sky_view_factor: 0..1; either side may be empty)
 bench:
   --methods LIST         back ends to compare, e.g. )" + methodNames + R"(; a back-end option
                          applies to every listed back end that takes it

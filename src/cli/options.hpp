@@ -54,6 +54,7 @@ struct Options {
     double exposure = 0.0;               ///< 0 = automatic
     bool flat = false;
     std::string objectsPath;             ///< solve --objects: the per-object table (CSV)
+    bool skyView = false;                ///< solve --sky-view: a sky_view_factor column (CSV) or face property (PLY)
     std::optional<FalseColourQuantity> falseColour;  ///< --false-color (none: a picture)
     FalseColourScale falseColourScale = FalseColourScale::Linear;  ///< --scale
     std::optional<double> rangeMin, rangeMax;  ///< --range MIN:MAX (either may be empty: automatic)

@@ -36,8 +36,16 @@ FormFactorFormat formFactorOutputFormat(const Options& options);
 /// "standard output" for "-", else the path: for "wrote ..." lines.
 std::string outputName(const std::string& path);
 
-/// Writes B as solve -o asks (CSV per patch, or PLY with vertex radiosity); nothing without -o.
-void writeSolveOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings);
+/// The sky view factor of every patch (direct + through mirrors, 0..1), as `sky-view` computes it with
+/// the run's method settings: a second F, over the scene made two-sided. Timed and reported; a mirror
+/// chain cut off by --max-depth is warned. Throws hemirad::Error as skyViewFactors does.
+std::vector<double> skyViewTotals(const Options& options, const Scene& scene, Timings& timings, const Reporter& reporter,
+                                  Warnings& warnings);
+
+/// Writes B as solve -o asks (CSV per patch, or PLY with vertex radiosity; --sky-view adds each
+/// patch's sky view factor, skyViewTotals); nothing without -o.
+void writeSolveOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings,
+                      const Reporter& reporter, Warnings& warnings);
 /// Vertex radiosity, the camera-ray image and its PNG, as render -o asks.
 void writeRenderOutput(const Options& options, const Scene& scene, const Radiosity& result, Timings& timings,
                        const Reporter& reporter);

@@ -307,8 +307,11 @@ void runSolveOrRender(Job& job, bool render) {
         if (render) {
             writeRenderOutput(options, job.scene, result, job.timings, job.reporter);
         } else {
-            writeSolveOutput(options, job.scene, result, job.timings);
-            if (!options.output.empty()) job.reporter.line("wrote " + outputName(options.output));
+            // --sky-view: rank 0 computes the sky view factors alone, as sky-view under mpirun.
+            writeSolveOutput(options, job.scene, result, job.timings, job.reporter, job.warnings);
+            if (!options.output.empty())
+                job.reporter.line("wrote " + outputName(options.output) +
+                                  (options.skyView ? " (with each patch's sky_view_factor)" : ""));
         }
     });
     finish(job);
@@ -410,11 +413,13 @@ int runUnderMpi(int argc, char** argv) {
                                "was given other options than rank 0: every rank must run the same command "
                                "(--threads alone may differ)");
         const std::string& command = options.command;
+        // render --false-color sky_view_factor solves nothing: one process's work, as sky-view's.
+        const bool skyViewMap = options.falseColour == FalseColourQuantity::SkyViewFactor;
         if (command == "thermal") {
             const Options withRows = thermalFormFactorOptions(options);
             Job job(context, withRows);
             runThermal(job);
-        } else if (command == "formfactors" || command == "solve" || command == "render") {
+        } else if (command == "formfactors" || command == "solve" || (command == "render" && !skyViewMap)) {
             Job job(context, options);
             if (command == "formfactors") runFormFactors(job);
             else runSolveOrRender(job, command == "render");
@@ -424,7 +429,8 @@ int runUnderMpi(int argc, char** argv) {
             Job job(context, quiet);
             runBenchRun(job);
         } else {
-            // help, info, subdivide, check, sky-view, sun, irradiance, year: one process's work, done by rank 0.
+            // help, info, subdivide, check, sky-view, sun, irradiance, year, render of the sky view factor:
+            // one process's work, done by rank 0.
             int status = 0;
             context.collectively([&] {
                 if (command == "bench")
@@ -436,6 +442,7 @@ int runUnderMpi(int argc, char** argv) {
                 else if (command == "subdivide") status = runSubdivide(options);
                 else if (command == "check") status = runCheck(options);
                 else if (command == "sky-view") status = runSkyView(options);
+                else if (command == "render") status = runRender(options);
                 else if (command == "sun") status = runSun(options);
                 else if (command == "irradiance") status = runIrradiance(options);
                 else if (command == "year") status = runYear(options);

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <sstream>
 
 #include <stb/stb_easy_font.h>
 
@@ -59,6 +60,21 @@ std::string label(double v) {
     return text;
 }
 
+/// `text` in lines no wider than `width` pixels in stb_easy_font at scale 1, broken at spaces (a word
+/// wider than that keeps a line of its own).
+std::vector<std::string> wrapText(const std::string& text, int width) {
+    auto pixels = [](std::string s) { return stb_easy_font_width(s.data()); };
+    std::vector<std::string> lines;
+    std::string line, word;
+    std::istringstream words(text);
+    while (words >> word) {
+        if (!line.empty() && pixels(line + ' ' + word) > width) lines.push_back(line), line.clear();
+        line += (line.empty() ? "" : " ") + word;
+    }
+    if (!line.empty() || lines.empty()) lines.push_back(line);
+    return lines;
+}
+
 class Canvas {
 public:
     explicit Canvas(Rgb8Image& image) : m_image(image) {}
@@ -92,7 +108,8 @@ FalseColourQuantity parseFalseColourQuantity(const std::string& name) {
     if (name == "radiosity") return FalseColourQuantity::Radiosity;
     if (name == "irradiance") return FalseColourQuantity::Irradiance;
     if (name == "emission") return FalseColourQuantity::Emission;
-    throw Error("--false-color expects radiosity, irradiance or emission, got '" + name + "'");
+    if (name == "sky_view_factor") return FalseColourQuantity::SkyViewFactor;
+    throw Error("--false-color expects radiosity, irradiance, emission or sky_view_factor, got '" + name + "'");
 }
 
 FalseColourScale parseFalseColourScale(const std::string& name) {
@@ -108,11 +125,26 @@ std::string falseColourTitle(FalseColourQuantity quantity) {
         case FalseColourQuantity::Radiosity: return "radiosity B";
         case FalseColourQuantity::Irradiance: return "irradiance H";
         case FalseColourQuantity::Emission: return "emission E";
+        case FalseColourQuantity::SkyViewFactor: return "sky view factor";
     }
     return "?";
 }
 
+std::string falseColourUnit(FalseColourQuantity quantity) {
+    return quantity == FalseColourQuantity::SkyViewFactor ? "unitless, 0..1" : "W/m^2, luminance Y";
+}
+
+std::pair<std::optional<double>, std::optional<double>> falseColourDefaultRange(FalseColourQuantity quantity,
+                                                                                  FalseColourScale scale) {
+    // A fraction of the hemisphere: maps of different scenes compare on 0..1 (a lone ground plane, all
+    // 1, would otherwise get the uniform quantity's 0.5..1.5).
+    if (quantity != FalseColourQuantity::SkyViewFactor) return {};
+    return {scale == FalseColourScale::Linear ? std::optional<double>(0.0) : std::nullopt, 1.0};
+}
+
 std::vector<double> falseColourValues(const Scene& scene, const std::vector<Rgb>& B, FalseColourQuantity quantity) {
+    if (quantity == FalseColourQuantity::SkyViewFactor)
+        throw Error("internal: false colour: the sky view factor comes from skyViewFactors, not from B");
     if (B.size() != scene.size()) throw Error("false colour: radiosity does not match the scene");
     // Without an emitter B, H and E are 0 everywhere: a map of zeros (once a -1..1 range in one colour)
     // would read as a measurement.
@@ -125,6 +157,7 @@ std::vector<double> falseColourValues(const Scene& scene, const std::vector<Rgb>
             case FalseColourQuantity::Radiosity: values[i] = luminance(B[i]); break;
             case FalseColourQuantity::Emission: values[i] = luminance(p.emission); break;
             case FalseColourQuantity::Irradiance: values[i] = irradianceLuminance(p, B[i]); break;
+            case FalseColourQuantity::SkyViewFactor: break;
         }
     }
     return values;
@@ -210,10 +243,15 @@ Rgb8Image renderFalseColour(const Scene& scene, const RayScene& rays, const std:
 
     // The legend: title and unit, the bar (max at the top), five values beside it, the scale.
     const std::array<std::uint8_t, 3> ink{0, 0, 0};
-    const int left = options.width + 12, barTop = 52, barBottom = image.height - (noData ? 64 : 36);
+    // A title wider than the legend at twice the font's size ("sky view factor") takes two lines,
+    // and the unit and the bar move down by one.
+    const int left = options.width + 12;
+    const std::vector<std::string> title = wrapText(falseColourTitle(quantity), (kFalseColourLegendWidth - 16) / 2);
+    const int titleShift = 16 * (int(title.size()) - 1);
+    const int barTop = 52 + titleShift, barBottom = image.height - (noData ? 64 : 36);
     const int barLeft = left, barRight = left + 28;
-    canvas.text(left, 8, falseColourTitle(quantity), 2, ink);
-    canvas.text(left, 30, "W/m^2, luminance Y", 1, ink);
+    for (std::size_t k = 0; k < title.size(); ++k) canvas.text(left, 8 + 16 * int(k), title[k], 2, ink);
+    canvas.text(left, 30 + titleShift, falseColourUnit(quantity), 1, ink);
     for (int y = barTop; y < barBottom; ++y)
         canvas.fill(barLeft, y, barRight, y + 1, viridis(double(barBottom - 1 - y) / double(barBottom - 1 - barTop)));
     for (int k = 0; k <= 4; ++k) {

@@ -1,5 +1,5 @@
-// False-colour images for engineers: a per-patch quantity (radiosity B, irradiance H, emission E)
-// mapped through a perceptually uniform colour map (viridis) on a linear or log scale, with a legend
+// False-colour images for engineers: a per-patch quantity (radiosity B, irradiance H, emission E,
+// the sky view factor) mapped through a perceptually uniform colour map (viridis) on a linear or log scale, with a legend
 // (colour bar, values, unit) beside the picture.
 #pragma once
 
@@ -10,26 +10,35 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hemirad {
 
-enum class FalseColourQuantity { Radiosity, Irradiance, Emission };
+/// SkyViewFactor's values come from skyViewFactors (src/environment), not from B.
+enum class FalseColourQuantity { Radiosity, Irradiance, Emission, SkyViewFactor };
 enum class FalseColourScale { Linear, Log };
 
-/// "radiosity", "irradiance", "emission"; throws hemirad::Error for another name.
+/// "radiosity", "irradiance", "emission", "sky_view_factor"; throws hemirad::Error for another name.
 FalseColourQuantity parseFalseColourQuantity(const std::string& name);
 /// "linear", "log"; throws hemirad::Error for another name.
 FalseColourScale parseFalseColourScale(const std::string& name);
 /// "linear" or "log".
 const char* falseColourScaleName(FalseColourScale scale);
-/// What the legend calls it: "radiosity B", "irradiance H", "emission E".
+/// What the legend calls it: "radiosity B", "irradiance H", "emission E", "sky view factor".
 std::string falseColourTitle(FalseColourQuantity quantity);
+/// Its unit for the legend and reports: "W/m^2, luminance Y", or "unitless, 0..1" for the sky view factor.
+std::string falseColourUnit(FalseColourQuantity quantity);
+/// The range a side of --range left open takes where the quantity has a natural one: 0 and 1 for
+/// the sky view factor (on a log scale the maximum only); none (the values' extremes) otherwise.
+std::pair<std::optional<double>, std::optional<double>> falseColourDefaultRange(FalseColourQuantity quantity,
+                                                                                  FalseColourScale scale);
 
 /// The quantity per patch as one number: the luminance Y (Rec. 709 weights) of the RGB value, in
 /// the scene's emission units (W/m^2). Irradiance H = (B - E) / rho, the flux a patch receives per
 /// area (what a meter on the surface reads); NaN where a channel's rho is 0 (B says nothing there).
-/// Throws hemirad::Error when no patch emits (then every value would be 0).
+/// Throws hemirad::Error when no patch emits (then every value would be 0), and for SkyViewFactor
+/// (not a function of B).
 std::vector<double> falseColourValues(const Scene& scene, const std::vector<Rgb>& B, FalseColourQuantity quantity);
 
 /// An automatic log range spans at most this many decades: its minimum is at least max / 10^4.

@@ -58,7 +58,7 @@ std::pair<std::string, std::string> AppState::falseColourLegend() const {
     case FalseColourSettings::Thermal::HeatFlux: return {"net heat flux q", "W/m^2, leaving the surface"};
     case FalseColourSettings::Thermal::None: break;
     }
-    return {falseColourTitle(falseColour.quantity), "W/m^2, luminance Y"};
+    return {falseColourTitle(falseColour.quantity), falseColourUnit(falseColour.quantity)};
 }
 
 std::optional<PatchReadout> AppState::readout(PatchId j) const {

@@ -147,6 +147,9 @@ GuiOptions parse(int argc, char** argv) {
             const std::string q = value(k, "--false-color");
             if (q == "temperature") o.falseColourThermal = FalseColourSettings::Thermal::Temperature;
             else if (q == "heat-flux") o.falseColourThermal = FalseColourSettings::Thermal::HeatFlux;
+            else if (q == "sky_view_factor")  // a second F over the two-sided scene, not yet a GUI job (issue 37)
+                throw Error("--false-color sky_view_factor is not in the GUI yet: use hemirad render --false-color "
+                            "sky_view_factor, or hemirad sky-view");
             else o.falseColour = parseFalseColourQuantity(q);
             if (!o.falseColour) o.falseColour = FalseColourQuantity::Irradiance;
         } else if (a == "--properties") o.properties.push_back(value(k, "--properties"));

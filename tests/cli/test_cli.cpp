@@ -258,7 +258,7 @@ TEST_CASE("The options hash changes with every option that changes the work and 
     const std::vector<std::vector<std::string>> changes = {
         {"--samples", "512"}, {"--max-depth", "2"},         {"--solver", "jacobi"},      {"--tolerance", "1e-9"},
         {"--subdivide", "80"}, {"--materials", "m.mtl"},   {"--drop-below", "0.01"},   {"--enforce-reciprocity"},
-        {"--ff", "F.hff"},     {"--quiet"},                 {"--objects", "objects.csv"}};
+        {"--ff", "F.hff"},     {"--quiet"},                 {"--objects", "objects.csv"}, {"--sky-view"}};
     for (const auto& extra : changes) {
         CAPTURE(extra[0]);
         CHECK(with(extra) != h);

@@ -165,6 +165,31 @@ TEST_CASE("solve -o - on 2 ranks writes the CSV alone to standard output (the re
     CHECK(count(bytes(dir / "err.txt"), "wrote standard output") == 1);
 }
 
+TEST_CASE("solve --sky-view on 2 ranks writes one process's sky_view_factor column, and the sky view map runs on rank 0") {
+    const auto dir = tempDir("mpi-sky-view");
+    // The Cornell box with a mirror wall is open at the front: its patches see sky, some through the mirror.
+    const std::string scene = sourcePath("scenes/cornell_mirror.obj") + " --threads 1";
+    const Run one = runHemirad(dir, 0, "solve " + scene + " --sky-view -o one.csv --quiet");
+    REQUIRE_MESSAGE(one.status == 0, one.output);
+    const Run two = runHemirad(dir, 2, "solve " + scene + " --sky-view -o two.csv");
+    REQUIRE_MESSAGE(two.status == 0, two.output);
+    CHECK(count(two.output, "sky view factor (") == 1);  // computed once, by rank 0
+    auto skyColumn = [&](const char* name) {
+        std::istringstream in(bytes(dir / name));
+        std::vector<std::string> column;
+        for (std::string line; std::getline(in, line);) column.push_back(line.substr(line.rfind(',') + 1));
+        return column;
+    };
+    const std::vector<std::string> expected = skyColumn("one.csv");
+    REQUIRE(expected.size() == 21);
+    CHECK(expected[0] == "sky_view_factor");
+    CHECK(skyColumn("two.csv") == expected);
+    const Run map = runHemirad(dir, 2, "render " + scene + " --false-color sky_view_factor --size 64x64 -o svf.png");
+    REQUIRE_MESSAGE(map.status == 0, map.output);
+    CHECK(count(map.output, "false colour: sky view factor (unitless, 0..1)") == 1);
+    CHECK(bytes(dir / "svf.png").size() > 1000);
+}
+
 TEST_CASE("Distributed CG on the symmetric form matches LU for a reciprocal F, and refuses a non-reciprocal one") {
     const auto dir = tempDir("mpi-cg");
     // With mirrors: their chains allow row sums above 1, so the averaged pairs stay within the file's bound.

@@ -173,7 +173,28 @@ TEST_CASE("hemirad render --false-color irradiance: colours, range and legend co
     CHECK(r.output.find("--exposure does not apply with --false-color") != std::string::npos);
     r = runCommand(hemirad + "render " + scene + " --false-color lux -o " + png + " 2>&1");
     CHECK(r.status == 2);
-    CHECK(r.output.find("--false-color expects radiosity, irradiance or emission, got 'lux'") != std::string::npos);
+    CHECK(r.output.find("--false-color expects radiosity, irradiance, emission or sky_view_factor, got 'lux'") != std::string::npos);
+}
+
+TEST_CASE("False colour: the sky view factor is unitless on 0..1 by default, and not made from B") {
+    CHECK(parseFalseColourQuantity("sky_view_factor") == FalseColourQuantity::SkyViewFactor);
+    CHECK(falseColourTitle(FalseColourQuantity::SkyViewFactor) == "sky view factor");
+    CHECK(falseColourUnit(FalseColourQuantity::SkyViewFactor) == "unitless, 0..1");
+    CHECK(falseColourUnit(FalseColourQuantity::Irradiance) == "W/m^2, luminance Y");
+    const auto linear = falseColourDefaultRange(FalseColourQuantity::SkyViewFactor, FalseColourScale::Linear);
+    CHECK(linear.first == 0.0);
+    CHECK(linear.second == 1.0);
+    const auto log = falseColourDefaultRange(FalseColourQuantity::SkyViewFactor, FalseColourScale::Log);
+    CHECK_FALSE(log.first.has_value());  // log: the values' smallest, 0 has no place on it
+    CHECK(log.second == 1.0);
+    const auto radiosity = falseColourDefaultRange(FalseColourQuantity::Radiosity, FalseColourScale::Linear);
+    CHECK_FALSE(radiosity.first.has_value());
+    CHECK_FALSE(radiosity.second.has_value());
+    SceneBuilder b;
+    b.rectangle(2, 0, 0, 1, 0, 1, true);
+    b.scene.patches[0].emission = Rgb(1, 1, 1);
+    CHECK_THROWS_WITH_AS(falseColourValues(b.scene, {Rgb(1, 1, 1)}, FalseColourQuantity::SkyViewFactor),
+                         doctest::Contains("comes from skyViewFactors"), Error);
 }
 
 TEST_CASE("False colour: an automatic log range spans at most 4 decades, a given minimum is kept") {
