@@ -34,16 +34,21 @@ void reportSkyView(const Scene& scene, const SkyView& sky, const std::vector<dou
     }
 }
 
+/// The sky view factors with the run's method settings, timed and reported.
+SkyView measuredSkyView(const Options& options, const Scene& scene, Timings& timings, const Reporter& reporter,
+                        Warnings& warnings) {
+    timings.start("sky view factors");
+    const SkyView sky = skyViewFactors(scene, options.formFactors);
+    timings.stop();
+    reportSkyView(scene, sky, sky.total(), reporter, warnings);
+    return sky;
+}
+
 }  // namespace
 
 std::vector<double> skyViewTotals(const Options& options, const Scene& scene, Timings& timings, const Reporter& reporter,
                                   Warnings& warnings) {
-    timings.start("sky view factors");
-    const SkyView sky = skyViewFactors(scene, options.formFactors);
-    timings.stop();
-    std::vector<double> total = sky.total();
-    reportSkyView(scene, sky, total, reporter, warnings);
-    return total;
+    return measuredSkyView(options, scene, timings, reporter, warnings).total();
 }
 
 int runSkyView(const Options& options) {
@@ -51,10 +56,7 @@ int runSkyView(const Options& options) {
     Warnings warnings;
     Timings timings;
     const Scene scene = loadScene(options, timings, reporter, warnings);
-    timings.start("sky view factors");
-    const SkyView sky = skyViewFactors(scene, options.formFactors);
-    timings.stop();
-    reportSkyView(scene, sky, sky.total(), reporter, warnings);
+    const SkyView sky = measuredSkyView(options, scene, timings, reporter, warnings);
     timings.start("write CSV");
     writeSkyViewCsv(options.output, scene, sky);
     timings.stop();

@@ -64,13 +64,9 @@ double PairRules::contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& coun
 }
 
 double PairRules::straddlingValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const {
-    ContactPairs::Cost cost;
-    double unoccluded = 0.0;
-    const double exchange = m_contacts.exchange(e, r, s.contact, cost, unoccluded);
-    ++counts.straddlingPairs;
-    counts.contactShafts += cost.shafts;
-    counts.contactEvaluations += cost.evaluations;
-    return exchange / m_scene->patches[e].area * unit();
+    bool viewed = false;
+    ++counts.straddlingPairs;  // of the pairs contactValue counts
+    return contactValue(e, r, s, counts, viewed);
 }
 
 void PairRules::emitterRule(PatchId e, int m, Scratch& s) const {
