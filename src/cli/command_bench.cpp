@@ -168,6 +168,7 @@ void recordFormFactors(BenchRecord& r, const Options& o, const FormFactorRun& ru
                              (o.normalizeRows ? (o.enforceReciprocity ? "+normalised" : "normalised") : ""));
     r.set("t_bvh", run.prepareSeconds);
     r.set("t_ff", run.computeSeconds);
+    r.set("t_assemble", run.assembleSeconds);
     r.set("t_stats", run.statsSeconds);
     r.set("rows", double(run.rowsComputed));
     r.set("rows_skipped", double(run.rowsSkipped));
@@ -196,7 +197,7 @@ void recordSolve(BenchRecord& r, const Radiosity& B, const std::string& solver, 
     int iterations = 0;
     for (const SolveReport& rep : B.reports) iterations = std::max(iterations, rep.iterations);
     r.set("solve_iterations", double(iterations));
-    r.set("t_total", run.prepareSeconds + run.computeSeconds + seconds);
+    r.set("t_total", run.prepareSeconds + run.computeSeconds + run.assembleSeconds + seconds);
 }
 
 void recordErrors(BenchRecord& r, const Options& o, const Scene& scene, const FormFactors& F, const std::vector<Rgb>& B) {

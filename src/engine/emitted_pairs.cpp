@@ -32,44 +32,43 @@ float receiverValue(const Scene& scene, double fer, PatchId e, PatchId r) {
 EmittedPairsReport takePairsFromEmitters(FormFactors& F, const Scene& scene) {
     const std::size_t n = F.size();
     EmittedPairsReport report;
-    // Received entries take their emitting row's value (emitted entries are never written, so the
-    // rows can be visited in any order); an emitting row without the pair gives 0, removed below.
+    // One walk over the rows, the other entry of each pair found by MirrorCursors:
+    // - a received entry (r, e) takes its emitting row's value; an emitting row without the pair
+    //   gives 0, removed below;
+    // - an emitted entry (e, r) whose receiver's row lacks the pair is kept for insertion.
+    // Emitted entries are never written, so the threads' blocks may be visited in any order.
     std::size_t pairs = 0, changed = 0, zeroed = 0;
     double largest = 0.0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : pairs, changed, zeroed) reduction(max : largest)
-    for (std::int64_t r = 0; r < std::int64_t(n); ++r) {
-        if (!F.rowComputed(std::size_t(r))) continue;
-        for (std::uint64_t k = F.rowBegin(std::size_t(r)); k < F.rowEnd(std::size_t(r)); ++k) {
-            const PatchId e = F.columns()[k];
-            if (e == PatchId(r) || !emitsFor(scene, e, PatchId(r)) || !F.rowComputed(e)) continue;
-            const float value = receiverValue(scene, F.at(e, std::size_t(r)), e, PatchId(r));
-            ++pairs;
-            const double change = std::abs(double(value) - double(F.values()[k]));
-            if (change > kRounding * std::max(double(value), double(F.values()[k]))) ++changed;
-            largest = std::max(largest, change);
-            zeroed += value == 0.0f;
-            F.values()[k] = value;
-        }
-    }
-    // Emitted entries whose receiver's row lacks the pair.
     std::vector<std::vector<Insertion>> perThread(static_cast<std::size_t>(omp_get_max_threads()));
-    ParallelFailure failure;  // a thread's list failing to grow: rethrown after the loop
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::int64_t e = 0; e < std::int64_t(n); ++e) {
-        if (!F.rowComputed(std::size_t(e)) || failure.failed()) continue;
-        failure.run([&] {
-            std::vector<Insertion>& mine = perThread[std::size_t(omp_get_thread_num())];
-            for (std::uint64_t k = F.rowBegin(std::size_t(e)); k < F.rowEnd(std::size_t(e)); ++k) {
-                const PatchId r = F.columns()[k];
-                if (r == PatchId(e) || !emitsFor(scene, PatchId(e), r) || !F.rowComputed(r)) continue;
-                const std::uint32_t* first = F.columns() + F.rowBegin(r);
-                const std::uint32_t* last = F.columns() + F.rowEnd(r);
-                if (std::binary_search(first, last, std::uint32_t(e))) continue;
-                const float value = receiverValue(scene, F.values()[k], PatchId(e), r);
-                if (value > 0.0f) mine.push_back({r, std::uint32_t(e), value});
+    ParallelFailure failure;  // a thread's cursors or list failing to grow: rethrown after the region
+#pragma omp parallel reduction(+ : pairs, changed, zeroed) reduction(max : largest)
+    failure.run([&] {
+        const RowBlock block = nonZeroBlock(F, std::size_t(omp_get_thread_num()), std::size_t(omp_get_num_threads()));
+        if (block.first == block.last) return;
+        std::vector<Insertion>& mine = perThread[std::size_t(omp_get_thread_num())];
+        MirrorCursors mirror(F);
+        for (std::size_t i = block.first; i < block.last; ++i) {
+            if (!F.rowComputed(i)) continue;
+            for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
+                const PatchId j = F.columns()[k];
+                if (j == PatchId(i) || !F.rowComputed(j)) continue;
+                const std::uint64_t at = mirror.find(j, std::uint32_t(i));
+                if (emitsFor(scene, j, PatchId(i))) {
+                    const double fer = at == MirrorCursors::kNone ? 0.0 : double(F.values()[at]);
+                    const float value = receiverValue(scene, fer, j, PatchId(i));
+                    ++pairs;
+                    const double change = std::abs(double(value) - double(F.values()[k]));
+                    if (change > kRounding * std::max(double(value), double(F.values()[k]))) ++changed;
+                    largest = std::max(largest, change);
+                    zeroed += value == 0.0f;
+                    F.values()[k] = value;
+                } else if (at == MirrorCursors::kNone) {
+                    const float value = receiverValue(scene, F.values()[k], PatchId(i), j);
+                    if (value > 0.0f) mine.push_back({j, std::uint32_t(i), value});
+                }
             }
-        });
-    }
+        }
+    });
     failure.rethrowIfFailed();
     std::vector<Insertion> insertions;
     for (std::vector<Insertion>& list : perThread) insertions.insert(insertions.end(), list.begin(), list.end());

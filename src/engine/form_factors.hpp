@@ -3,6 +3,7 @@
 
 #include "engine/math.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -130,6 +131,38 @@ void mergeRowAndColumn(const FormFactors& F, const TransposedFormFactors& Ft, st
         visit(j, fij, fji);
     }
 }
+
+/// The rows of F's block `block` of `blocks`: contiguous, each with about its share of the nonzeros
+/// (rows [first, last)). For splitting a walk over F's entries between threads.
+struct RowBlock {
+    std::size_t first = 0, last = 0;
+};
+RowBlock nonZeroBlock(const FormFactors& F, std::size_t block, std::size_t blocks);
+
+/// F_ji beside F_ij without F^T (which would be F's size again): a cursor per row j that only moves
+/// forward while the rows i that ask grow, so a walk over a block of rows in order costs O(nnz) plus
+/// one binary search per row j met, and the loads of one row are independent (a binary search per
+/// entry was slower than F^T on cornell13k). One per thread; n x 4 bytes.
+class MirrorCursors {
+public:
+    static constexpr std::uint64_t kNone = UINT64_MAX;
+    explicit MirrorCursors(const FormFactors& F) : m_F(F), m_cursor(F.size(), kUnset) {}
+    /// The position of entry (j, i) in F's arrays, kNone when row j lacks column i. Within one
+    /// MirrorCursors, i must not decrease between calls (walk the rows in order).
+    std::uint64_t find(std::uint32_t j, std::uint32_t i) {
+        const std::uint32_t* row = m_F.columns() + m_F.rowBegin(j);
+        const auto length = std::uint32_t(m_F.rowEnd(j) - m_F.rowBegin(j));
+        std::uint32_t& c = m_cursor[j];
+        if (c == kUnset) c = std::uint32_t(std::lower_bound(row, row + length, i) - row);
+        while (c < length && row[c] < i) ++c;
+        return c < length && row[c] == i ? m_F.rowBegin(j) + c : kNone;
+    }
+
+private:
+    static constexpr std::uint32_t kUnset = UINT32_MAX;
+    const FormFactors& m_F;
+    std::vector<std::uint32_t> m_cursor;  ///< offsets into row j
+};
 
 /// Diagnostics of an F against its scene (computed rows only).
 struct FormFactorStats {

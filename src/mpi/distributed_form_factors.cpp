@@ -404,7 +404,11 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
     result.computeSeconds = computeSeconds;
     result.rowsComputed = rows.size();
     result.device = backend->device();
-    if (backend->pairsFromEmitters()) result.emittedPairs = takePairsFromEmittersDistributed(context, scene, result);
+    if (backend->pairsFromEmitters()) {
+        const auto assembling = Clock::now();
+        result.emittedPairs = takePairsFromEmittersDistributed(context, scene, result);
+        result.assembleSeconds = since(assembling);
+    }
     return result;
 }
 

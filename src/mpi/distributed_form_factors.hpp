@@ -22,6 +22,7 @@ struct DistributedFormFactors {
     std::string device;                   ///< rank 0's FormFactorBackend::device()
     double prepareSeconds = 0;            ///< the slowest rank's acceleration structures
     double computeSeconds = 0;            ///< wall time of the rows, first row to the last rank done
+    double assembleSeconds = 0;           ///< each pair from its emitting row, across the ranks
     std::vector<std::uint64_t> rowsPerRank;
     std::vector<double> busySeconds;       ///< per rank: from its first row to its worker's end
     std::size_t rowsComputed = 0;

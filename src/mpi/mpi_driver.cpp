@@ -155,10 +155,12 @@ StoredFormFactorRule obtainFormFactors(Job& job, const std::string& reusePath, c
     added.local.parameters["settings"] = formFactorSettingsText(options.formFactors);  // as one process records it
     job.timings.add("acceleration structure", added.prepareSeconds);
     job.timings.add("form factors", added.computeSeconds);
+    job.timings.add("assemble F", added.assembleSeconds);
     if (context.root()) {
         FormFactorRun& run = job.run;
         run.counts = added.counts;
         run.computeSeconds = added.computeSeconds;
+        run.assembleSeconds = added.assembleSeconds;
         run.prepareSeconds = added.prepareSeconds;
         run.rowsComputed = rows.size();
         run.rowsSkipped = n - rows.size();

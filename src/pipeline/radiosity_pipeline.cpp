@@ -177,6 +177,7 @@ FormFactorUpdate RadiosityPipeline::computeMissingRows(const Scene& scene, FormF
         run.F.parameters["settings"] = formFactorSettingsText(m_policy.backend);
         timing("acceleration structure", run.prepareSeconds);
         timing("form factors", run.computeSeconds);
+        timing("assemble F", run.assembleSeconds);
         timing("F diagnostics", run.statsSeconds);
         if (m_events.formFactorsComputed) m_events.formFactorsComputed(run, scene, method);
         update.rowsComputed = rows.size();

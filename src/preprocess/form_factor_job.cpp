@@ -159,6 +159,7 @@ FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& setti
     run.counts = builder.counts();
     run.stageSeconds = builder.stageSeconds();
     run.device = backend->device();
+    const auto assembling = Clock::now();
     run.F = builder.finish();
     if (backend->pairsFromEmitters()) {
         run.F.provenance = backend->provenance();  // the row-sum bound the pass keeps
@@ -171,6 +172,7 @@ FormFactorRun computeFormFactors(const Scene& scene, const MethodSettings& setti
     run.rowsComputed = rows.size();
     run.rowsSkipped = scene.size() - rows.size();
     const auto t2 = Clock::now();
+    run.assembleSeconds = std::chrono::duration<double>(t2 - assembling).count();
     run.stats = computeStats(run.F, scene);
     run.statsSeconds = std::chrono::duration<double>(Clock::now() - t2).count();
     return run;

@@ -16,6 +16,7 @@ struct FormFactorRun {
     RayCounts counts;
     double prepareSeconds = 0;   ///< acceleration structures (BVH)
     double computeSeconds = 0;   ///< rows
+    double assembleSeconds = 0;  ///< F from the rows: CSR, and each pair from its emitting row
     double statsSeconds = 0;     ///< diagnostics (row sums, reciprocity)
     std::size_t rowsComputed = 0, rowsSkipped = 0;
     std::map<std::string, double> stageSeconds;  ///< back-end stages, thread-seconds (see FormFactorBuilder)

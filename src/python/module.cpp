@@ -202,6 +202,7 @@ py::dict runDict(const FormFactorRun& run, const Scene& scene, const MethodSetti
     py::dict seconds;
     seconds["prepare"] = run.prepareSeconds;
     seconds["compute"] = run.computeSeconds;
+    seconds["assemble"] = run.assembleSeconds;
     seconds["statistics"] = run.statsSeconds;
     d["seconds"] = seconds;
     return d;
@@ -245,6 +246,7 @@ py::tuple formFactors(const ScenePtr& scene, const std::string& method, const st
         computed->counts = run.counts;
         computed->prepareSeconds = run.prepareSeconds;
         computed->computeSeconds = run.computeSeconds;
+        computed->assembleSeconds = run.assembleSeconds;
         computed->statsSeconds = run.statsSeconds;
         computed->rowsComputed = run.rowsComputed;
         computed->rowsSkipped = run.rowsSkipped;
