@@ -37,36 +37,65 @@ void reverse2D(double* xy, std::size_t k) {
 /// (inside a counter-clockwise polygon whose edge a -> b is) into `in`, the rest into `out`.
 void splitByLine(const double* xy, std::size_t k, const double* a, const double* b, std::vector<double>& in,
                  std::vector<double>& out) {
-    in.clear();
-    out.clear();
+    // Each side gets at most k corners and k crossings (k + 1 for a convex polygon, but rounding may
+    // bend a piece): sized once and written by index, as this is the inner loop of every shadow
+    // after the first.
+    in.resize(4 * k);
+    out.resize(4 * k);
+    double* inAt = in.data();
+    double* outAt = out.data();
     const double ex = b[0] - a[0], ey = b[1] - a[1];
     auto side = [&](const double* p) { return ex * (p[1] - a[1]) - ey * (p[0] - a[0]); };
+    double sp = side(xy);
     for (std::size_t i = 0; i < k; ++i) {
         const double* p = xy + 2 * i;
-        const double* q = xy + 2 * ((i + 1) % k);
-        const double sp = side(p), sq = side(q);
-        if (sp >= 0.0) in.insert(in.end(), p, p + 2);
-        if (sp <= 0.0) out.insert(out.end(), p, p + 2);
+        const double* q = xy + 2 * (i + 1 == k ? 0 : i + 1);
+        const double sq = side(q);
+        if (sp >= 0.0) {
+            inAt[0] = p[0], inAt[1] = p[1];
+            inAt += 2;
+        }
+        if (sp <= 0.0) {
+            outAt[0] = p[0], outAt[1] = p[1];
+            outAt += 2;
+        }
         if ((sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0)) {
             const double t = sp / (sp - sq);
-            const double cut[2] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])};
-            in.insert(in.end(), cut, cut + 2);
-            out.insert(out.end(), cut, cut + 2);
+            const double cx = p[0] + t * (q[0] - p[0]), cy = p[1] + t * (q[1] - p[1]);
+            inAt[0] = cx, inAt[1] = cy;
+            outAt[0] = cx, outAt[1] = cy;
+            inAt += 2;
+            outAt += 2;
         }
+        sp = sq;
     }
+    in.resize(std::size_t(inAt - in.data()));
+    out.resize(std::size_t(outAt - out.data()));
 }
 
-/// The part of polygon `poly` with m . y - d >= 0 into `out` (Sutherland-Hodgman).
-void clipToPlane(const std::vector<Vec3>& poly, const Vec3& m, double d, std::vector<Vec3>& out) {
-    out.clear();
+/// The part of polygon `poly` with m . y - d >= 0 into `out` (Sutherland-Hodgman); `side` is
+/// scratch. Returns false, leaving `out` alone, when every corner is on that side: the polygon is
+/// its own part (most planes of a cone cut nothing of a blocker that reaches into it).
+bool clipToPlane(const std::vector<Vec3>& poly, const Vec3& m, double d, std::vector<Vec3>& out,
+                 std::vector<double>& side) {
     const std::size_t k = poly.size();
+    side.resize(k);
+    bool cuts = false;
     for (std::size_t i = 0; i < k; ++i) {
-        const Vec3& p = poly[i];
-        const Vec3& q = poly[(i + 1) % k];
-        const double sp = m.dot(p) - d, sq = m.dot(q) - d;
-        if (sp >= 0.0) out.push_back(p);
-        if ((sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
+        side[i] = m.dot(poly[i]) - d;
+        cuts |= side[i] < 0.0;
     }
+    if (!cuts) return false;
+    out.resize(2 * k);  // k corners and k crossings at most
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < k; ++i) {
+        const std::size_t j = i + 1 == k ? 0 : i + 1;
+        const double sp = side[i], sq = side[j];
+        if (sp >= 0.0) out[at++] = poly[i];
+        if ((sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0)) out[at++] = poly[i] + (poly[j] - poly[i]) * (sp / (sp - sq));
+    }
+    out.resize(at);
+    return true;
 }
 
 /// Cuts the counter-clockwise 2D polygon shadow[0..2 sides) out of every clear piece of s.pieces
@@ -350,8 +379,7 @@ double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p
             // The blocker's part inside the cone, projected from x onto the receiver's plane.
             s.cut.assign(corners, corners + cornerCount);
             for (std::size_t k = 0; k < planes && s.cut.size() >= 3; ++k) {
-                clipToPlane(s.cut, m[k], d[k], s.cutNext);
-                s.cut.swap(s.cutNext);
+                if (clipToPlane(s.cut, m[k], d[k], s.cutNext, s.sides)) s.cut.swap(s.cutNext);
             }
             if (s.cut.size() < 3) return true;
             s.shadow.clear();

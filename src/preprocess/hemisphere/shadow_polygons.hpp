@@ -22,6 +22,7 @@ public:
     struct Scratch {
         std::vector<std::uint32_t> stack;
         std::vector<Vec3> cut, cutNext;           // a blocker clipped to the cone
+        std::vector<double> sides;                // its corners' distances to a plane of the cone
         std::vector<double> pieces, nextPieces;   // clear convex pieces, 2D, as (count, x0, y0, x1, ...)
         std::vector<double> shadow, firstShadow, inside, outside, rest;
         std::vector<Vec3> image, first;           // the shadow's corners on the receiver (3D)
