@@ -103,9 +103,13 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
                "shadow ray): "
             << c.shadowTerms;
     if (c.contactPairs) {
-        out << "\n  pairs computed whole, exact by contour integrals: " << c.contactPairs << " (close pairs, within "
-            << int(kNearDistance) << " radii";
-        if (c.straddlingPairs) out << ", and " << c.straddlingPairs << " farther ones across a shadow's edge";
+        out << "\n  pairs computed whole, exact by contour integrals: " << c.contactPairs;
+        if (run.F.parameters.count("pairs")) {
+            out << " (every pair, --pairs whole";
+        } else {
+            out << " (close pairs, within " << int(kNearDistance) << " radii";
+            if (c.straddlingPairs) out << ", and " << c.straddlingPairs << " farther ones across a shadow's edge";
+        }
         out << "); with a blocker in their shaft: " << c.contactShafts << " (hidden part adaptive, "
             << c.contactEvaluations << " visible-part evaluations)";
     }

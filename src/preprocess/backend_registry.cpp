@@ -150,10 +150,20 @@ std::string formFactorSettingsDifference(const std::string& made, const MethodSe
         differ("--method", method == recorded.end() ? "(not recorded)" : method->second, now.method);
         return out;  // another back end: its options are not this one's
     }
+    // An option a file does not record came after it: the file was made with its default.
+    const BackendDescriptor& backend = findBackend(now.method);
+    MethodSettings defaults = now;
+    if (backend.defaults) defaults.own = backend.defaults();
     for (const auto& [flag, value] : current) {
         const auto it = recorded.find(flag);
-        if (it == recorded.end()) differ(flag, "(not recorded)", value);
-        else if (it->second != value) differ(flag, it->second, value);
+        if (it != recorded.end()) {
+            if (it->second != value) differ(flag, it->second, value);
+            continue;
+        }
+        const BackendOption* option = nullptr;
+        for (const BackendOption& o : backend.options)
+            if (o.flag == flag) option = &o;
+        if (!option || !backend.defaults || option->get(defaults) != value) differ(flag, "(not recorded)", value);
     }
     return out;
 }

@@ -8,6 +8,8 @@
 #include "pipeline/radiosity_pipeline.hpp"
 #include "preprocess/backend_registry.hpp"
 
+#include "preprocess/hemisphere/hemisphere_options.hpp"
+
 #include <doctest/doctest.h>
 
 using namespace hemirad;
@@ -148,4 +150,15 @@ TEST_CASE("Form-factor settings as F records them: one line, compared by the GUI
     CHECK(formFactorSettingsDifference("--method=closed-cube", a) ==
           "--method closed-cube (the file) against " + a.method + " (this run)");
     CHECK(formFactorSettingsDifference("--method=" + a.method, a).find("--max-depth (not recorded) (the file) against 8") == 0);
+}
+
+TEST_CASE("A back-end option that F's settings do not record counts as its default (files from before the option)") {
+    MethodSettings a = MethodSettings::of(HemisphereOptions{});
+    std::string older = formFactorSettingsText(a);
+    const std::size_t at = older.find(" --pairs=rules");
+    REQUIRE(at != std::string::npos);
+    older.erase(at, std::string(" --pairs=rules").size());
+    CHECK(formFactorSettingsDifference(older, a).empty());
+    a.as<HemisphereOptions>().pairs = PairMethod::Whole;
+    CHECK(formFactorSettingsDifference(older, a) == "--pairs (not recorded) (the file) against whole (this run)");
 }

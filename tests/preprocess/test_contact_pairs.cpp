@@ -309,3 +309,33 @@ TEST_CASE("A small emitter whose centre sees the receiver hidden and whose corne
     CHECK(run.counts.straddlingPairs >= 1);
     CHECK(run.F.at(0, 1) == doctest::Approx(expected).epsilon(1e-5));
 }
+
+TEST_CASE("--pairs whole computes every pair by its contour integral: far pairs to closed forms, past an occluder to 1e-6") {
+    // The straddling case above with a wall beside it, 4 emitter radii away and in nobody's shadow:
+    // default flags integrate that pair by the emitter's rule, --pairs whole by its contour integral.
+    const Polygon e = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    const Polygon r = {{0, 0, 4}, {0, 1, 4}, {1, 1, 4}, {1, 0, 4}};
+    const Polygon o = {{-3, -3, 2}, {0.25, -3, 2}, {0.25, 4, 2}, {-3, 4, 2}};
+    const Polygon far = {{4, 0, 0.5}, {4, 1, 0.5}, {4, 1, 1.5}, {4, 0, 1.5}};  // x = 4, below the occluder's height
+    const std::vector<Polygon> polygons = {e, r, o, facing(far, e)};
+    SceneBuilder b;
+    for (const Polygon& p : polygons) b.polygon(p);
+    const auto run = [&](std::uint32_t digits) {
+        HemisphereOptions whole;
+        whole.pairs = PairMethod::Whole;
+        whole.pairDigits = digits;
+        return computeFormFactors(b.scene, MethodSettings::of(whole), neededRows(b.scene, true));
+    };
+    // e and the wall: nothing between them (the occluder lies above both), so its contour integral
+    // is exact whatever the digits: the test's quadrature of Lambert's factor without an occluder.
+    const FormFactorRun coarse = run(2);
+    CHECK(coarse.counts.straddlingPairs == 0);       // no rule to straddle
+    CHECK(coarse.counts.contactPairs >= 4);          // e-r, e-o, e-wall, r-o at least, each once
+    CHECK(coarse.F.parameters.count("pairs") == 1);  // the file says how it was made
+    CHECK(coarse.F.at(0, 3) == doctest::Approx(referenceFactor(e, polygons[3], {}, 1e-11)).epsilon(1e-9));
+    CHECK(reciprocity(coarse.F, polygons, 0, 3) < 2.5e-7);
+    // Past the occluder's edge, the hidden part to 10^-(D+2) of the pair.
+    const FormFactorRun fine = run(4);
+    CHECK(fine.F.at(0, 1) == doctest::Approx(referenceFactor(e, r, o, 1e-10)).epsilon(1e-6));
+    CHECK(reciprocity(fine.F, polygons, 0, 1) < 2.5e-7);
+}

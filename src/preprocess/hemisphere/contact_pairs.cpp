@@ -159,9 +159,9 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
     }
     // The budget shrinks with the blockers in the shaft (each evaluation meets them all): a big
     // patch's pairs in a cluttered scene get one refinement, a touching pair past one blocker 2000.
-    const double allowed = std::max(kHiddenTolerance * exact, kHiddenFloor * area);
-    const std::uint32_t budget =
-        std::max<std::uint32_t>(kLeastEvaluations, kBudget / std::uint32_t(std::max<std::size_t>(s.blockers.size(), 1)));
+    const double allowed = std::max(m_precision.tolerance * exact, m_precision.floor * area);
+    const std::uint32_t budget = std::max<std::uint32_t>(
+        kLeastEvaluations, m_precision.budget / std::uint32_t(std::max<std::size_t>(s.blockers.size(), 1)));
     while (error > allowed && evaluations < budget) {
         std::pop_heap(s.cells.begin(), s.cells.end(), larger);
         const ContactCell worst = s.cells.back();
@@ -180,6 +180,15 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
     for (const ContactCell& c : s.cells) sum += c.fine;
     cost.evaluations += evaluations;
     return sum;
+}
+
+ContactPairs::Precision ContactPairs::precisionFor(std::uint32_t pairDigits) {
+    const double digits = double(pairDigits);
+    Precision p;
+    p.tolerance = std::pow(10.0, -(digits + 2.0));
+    p.floor = std::pow(10.0, -(digits + 3.0));
+    p.budget = std::uint32_t(std::min(2000.0 * std::pow(10.0, digits - 2.0), 2147483648.0));
+    return p;
 }
 
 }  // namespace hemirad

@@ -34,15 +34,20 @@ struct ContactCell {
 /// Far pairs keep the analytic estimator's rules: their factor varies slowly over the emitter.
 class ContactPairs {
 public:
-    /// The hidden part is refined until its triangles' disagreements sum below this fraction of the
-    /// pair's unoccluded value, or below kHiddenFloor of F (whichever is larger). The disagreement
-    /// overstates the error: a touching pair past an occluder comes within 6e-6 relative
-    /// (test_contact_pairs.cpp).
-    static constexpr double kHiddenTolerance = 1e-4;
-    static constexpr double kHiddenFloor = 1e-5;
-    /// Visible-part evaluations one pair's hidden part may take, divided by the blockers in its
-    /// shaft (each evaluation meets them all), and the least: the first split of each triangle.
-    static constexpr std::uint32_t kBudget = 2000;
+    /// How far the hidden part is refined: until its triangles' disagreements sum below
+    /// `tolerance` of the pair's unoccluded value, or below `floor` of F (whichever is larger), or
+    /// `budget` visible-part evaluations divided by the blockers in its shaft (each evaluation meets
+    /// them all) are spent. The disagreement overstates the error: with the defaults (--pair-digits
+    /// 2) a touching pair past an occluder comes within 6e-6 relative (test_contact_pairs.cpp).
+    struct Precision {
+        double tolerance = 1e-4;
+        double floor = 1e-5;
+        std::uint32_t budget = 2000;
+    };
+    /// For --pair-digits D: tolerance 10^-(D+2), floor 10^-(D+3), budget 2000 x 10^(D-2) (at most
+    /// 2^31): two digits past the pair rule's, as the defaults are for D = 2.
+    static Precision precisionFor(std::uint32_t pairDigits);
+    /// The least evaluations: the first split of each triangle of the emitter's fan.
     static constexpr std::uint32_t kLeastEvaluations = 35;
 
     struct Scratch {
@@ -61,11 +66,13 @@ public:
         std::uint64_t evaluations = 0;  ///< visible-part evaluations of those pairs
     };
 
-    /// The geometry and the blockers (both outlive this); `visibility` false: nothing can obstruct.
-    void build(const PatchGeometry& geometry, const ShadowPolygons& shadows, bool visibility) {
+    /// The geometry and the blockers (both outlive this); `visibility` false: nothing can obstruct;
+    /// `precision`: how far hidden parts are refined (precisionFor(--pair-digits)).
+    void build(const PatchGeometry& geometry, const ShadowPolygons& shadows, bool visibility, Precision precision) {
         m_geometry = &geometry;
         m_shadows = &shadows;
         m_visibility = visibility && !shadows.empty();
+        m_precision = precision;
     }
 
     /// A_e F_er (area units of the scene) past the blockers, and in `unoccluded` without them (0: the
@@ -79,6 +86,7 @@ private:
     const PatchGeometry* m_geometry = nullptr;
     const ShadowPolygons* m_shadows = nullptr;
     bool m_visibility = false;
+    Precision m_precision;
 };
 
 }  // namespace hemirad

@@ -82,6 +82,9 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
                                              ", silhouette patches split in " + std::to_string(rules.splitLevels()) +
                                              (rules.splitLevels() == 1 ? " level" : " levels")
                                        : std::string(", no shadow rays (no patch can obstruct: a convex scene)"));
+    if (m_analytic && m_options.pairs == PairMethod::Whole)
+        p["pairs"] = "every pair whole (--pairs whole): contour integrals less the hidden part to 1e-" +
+                     std::to_string(m_options.pairDigits + 2) + " of the pair";
     if (m_analytic && m_mirrors)
         p["mirror_terms"] = m_images ? "virtual images through " + std::to_string(m_images->reflectorCount()) +
                                            " planar mirrors, emitter rule per chain and receiver, a path and its reverse computed once"

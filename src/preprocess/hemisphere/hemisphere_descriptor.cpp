@@ -66,6 +66,9 @@ RunDescription describe(const Scene& scene, const MethodSettings& s) {
         const bool images = mirrorImages(scene, o, &refused);
         d.settings = std::string("analytic estimator (Lambert factors; where some patch can obstruct, the exact visible part for "
                                  "terms above 1e-") + std::to_string(o.pairDigits + 1) + " and one shadow ray for the rest" +
+                     (o.pairs == PairMethod::Whole ? std::string("; every pair whole (--pairs whole), hidden parts to 1e-") +
+                                                         std::to_string(o.pairDigits + 2)
+                                                   : std::string()) +
                      (images ? std::string("; mirror terms by virtual images, no directions cast")
                       : scene.hasMirrors()
                           ? "; " + std::to_string(o.samples) + " directions carry the mirror chains" +
@@ -177,11 +180,18 @@ BackendDescriptor make() {
                          "wall-to-wall factors of a subdivided cube within 1e-6; 4 for reference F, ~2x the time); terms above "
                          "10^-(D+1) get the exact visible part past blockers instead of one shadow ray",
                          &H::pairDigits, 1, 8),
+        choiceOption<H, PairMethod>("--pairs", "Pairs",
+                                    "the analytic estimator's pairs: rules (default: each pair integrated over the "
+                                    "emitter's points, close pairs and pairs across a shadow's edge whole) or whole "
+                                    "(every pair by its double contour integral less the hidden part, refined to "
+                                    "10^-(D+2) of the pair: a converged reference F, O(n^2) contour integrals; "
+                                    "with --pair-digits 4 for 1e-6)",
+                                    &H::pairs, {{"rules", PairMethod::Rules}, {"whole", PairMethod::Whole}}),
     };
     for (BackendOption& option : d.options) {
         if (option.flag == "--samples") option.unusedBecause = unusedSamples;
         if (option.flag == "--fixed-directions") option.unusedBecause = unusedFixedDirections;
-        if (option.flag == "--pair-digits") option.unusedBecause = unusedPairDigits;
+        if (option.flag == "--pair-digits" || option.flag == "--pairs") option.unusedBecause = unusedPairDigits;
         if (option.flag == "--mirror-estimator") option.unusedBecause = unusedMirrorTerms;
     }
     d.defaults = [] { return std::any(H{}); };

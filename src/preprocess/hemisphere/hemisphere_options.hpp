@@ -14,6 +14,11 @@ enum class Estimator { Auto, Rays, Analytic };
 /// or Monte Carlo along the Beckers directions. The ray estimator always follows its own rays.
 enum class MirrorEstimator { Images, Rays };
 
+/// The analytic estimator's pairs: by the emitter's rules (close pairs whole), or every pair whole
+/// (the double contour integral less the adaptive hidden part): a converged reference, O(n^2)
+/// contour integrals.
+enum class PairMethod { Rules, Whole };
+
 struct HemisphereOptions {
     static constexpr const char* kMethod = "hemisphere";
     std::uint32_t samples = 3072;  ///< directions per origin (Beckers cells), >= 1
@@ -25,6 +30,7 @@ struct HemisphereOptions {
     MirrorEstimator mirrorEstimator = MirrorEstimator::Images;
     /// The analytic estimator's emitter rule aims at a relative error of 10^-pairDigits per pair.
     std::uint32_t pairDigits = 2;
+    PairMethod pairs = PairMethod::Rules;
 };
 
 /// Whether the hemisphere back end uses the analytic estimator (auto counts as analytic until

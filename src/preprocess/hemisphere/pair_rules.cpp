@@ -42,7 +42,8 @@ void PairRules::build(const Scene& scene, const RayScene& rays, const Hemisphere
     // Exact partial visibility where one shadow ray's verdict could move the pair by more than a
     // tenth of the pair tolerance in absolute terms (each row sums to at most 1).
     m_shadows.build(m_geometry, blocks);
-    m_contacts.build(m_geometry, m_shadows, m_visibility);
+    m_contacts.build(m_geometry, m_shadows, m_visibility, ContactPairs::precisionFor(options.pairDigits));
+    m_wholePairs = options.pairs == PairMethod::Whole;
     m_exactAbove = m_visibility ? 0.1 * tolerance : std::numeric_limits<double>::infinity();
     // A ruled pair across a shadow's edge is computed whole where the points' disagreement times
     // its factor could move it by as much as a term that gets its exact visible part (1e-3 by

@@ -62,8 +62,9 @@ public:
         return far > m_exactAbove ? ruleOrder(e, r) : 0;
     }
     /// Whether (e, r) is a close pair (within kNearDistance, where the factor varies fastest over e
-    /// and the patches may touch): computed as a whole by contactValue, not by e's rules.
-    bool contactPair(PatchId e, PatchId r) const { return !(ruleRatio(e, r) >= kNearDistance); }
+    /// and the patches may touch), or any pair with --pairs whole: computed as a whole by
+    /// contactValue, not by e's rules.
+    bool contactPair(PatchId e, PatchId r) const { return m_wholePairs || !(ruleRatio(e, r) >= kNearDistance); }
     /// A close pair's value in ray units of row e (A_e F_er / A_e x unit): a function of the pair
     /// alone; `viewed` says whether it has a view at all (unoccluded value above 0: a term, visible
     /// or hidden, for the silhouette statuses).
@@ -161,6 +162,7 @@ private:
     PatchGeometry m_geometry;
     ShadowPolygons m_shadows;  ///< the patches that can obstruct, for exact partial visibility
     ContactPairs m_contacts;   ///< close pairs, exact (contactPair)
+    bool m_wholePairs = false;  ///< --pairs whole: every pair is a close pair
     double m_exactAbove = 0.0;
     double m_straddleAbove = 0.0;  ///< F units: straddles() needs spread x unoccluded above this
     EmitterOrders m_orders{1.0, 1, 1};  ///< the emitter rule's order per pair (emitter_rule.hpp)
