@@ -310,6 +310,22 @@ TEST_CASE("A small emitter whose centre sees the receiver hidden and whose corne
     CHECK(run.F.at(0, 1) == doctest::Approx(expected).epsilon(1e-5));
 }
 
+TEST_CASE("A ruled pair whose points all see the receiver whole and whose corner sees none of it is computed whole") {
+    // A unit square on the ground under a square 4 above (the 2 x 2 rule, points at x, y = 0.21 and
+    // 0.79) and a plate 0.3 above the strip x < 0.15: the emitter's corners under it see little or
+    // none of the receiver, the rule's points all of it, so the rule alone counted the strip whole.
+    const Polygon e = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    const Polygon r = {{0, 0, 4}, {0, 1, 4}, {1, 1, 4}, {1, 0, 4}};
+    const Polygon o = {{-5, -5, 0.3}, {0.15, -5, 0.3}, {0.15, 5, 0.3}, {-5, 5, 0.3}};
+    const double expected = referenceFactor(e, r, o, 1e-8);
+    const double unoccluded = exchangeOf(e, r) / area(e);
+    CHECK(expected < 0.95 * unoccluded);
+    const FormFactorRun run = defaultRun({e, r, o});
+    CHECK(run.counts.straddlingPairs >= 1);
+    CHECK(run.F.at(0, 1) == doctest::Approx(expected).epsilon(1e-5));
+    CHECK(reciprocity(run.F, {e, r, o}, 0, 1) < 2.5e-7);
+}
+
 TEST_CASE("--pairs whole computes every pair by its contour integral: far pairs to closed forms, past an occluder to 1e-6") {
     // The straddling case above with a wall beside it, 4 emitter radii away and in nobody's shadow:
     // default flags integrate that pair by the emitter's rule, --pairs whole by its contour integral.
