@@ -213,12 +213,23 @@ double AnalyticEstimator::addFrom(PatchId i, const Vec3& x, std::uint32_t point,
     if (!candidates) sum += addFarPairs(weight, row, ws);  // the centroid stands for the far rule's point too
     for (const PatchId j : p.candidates) ws.status[j] = 0;
     for (const PatchId j : p.exact) ws.status[j] = 0;
-    if (p.split.empty()) return sum;
+    // A receiver on a silhouette: the edge moves across it, so its centre's ray (all or nothing) is
+    // not its term. Above PairRules' silhouette bound its exact visible part, below it in pieces
+    // with a shadow ray each.
     p.candidates.clear();
     p.factors.clear();
     p.rays.clear();
-    for (const PatchId j : p.split)
+    for (const PatchId j : p.split) {
+        double visible = 0.0;
+        if (m_rules.silhouetteTerm(i, j, x, ws.rules, counts, visible)) {
+            if (!(visible > 0.0)) continue;
+            row.addWeight(j, visible * weight);
+            sum += visible * weight;
+            continue;
+        }
         m_rules.forEachPiece(i, j, x, point, ws.rules, [&](double f, const float target[3]) { aimAt(j, f, target); });
+    }
+    if (p.candidates.empty()) return sum;
     shoot();
     for (std::size_t k = 0; k < p.candidates.size(); ++k) {
         if (p.rays.blocked[k]) continue;

@@ -155,9 +155,10 @@ bool AnalyticEstimator::reversedStraddles(PatchId i, std::size_t p, Workspace& w
 
 void AnalyticEstimator::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCounts& counts) const {
     // An emitter j whose mesh neighbours disagree with it about i sees i past a silhouette, which
-    // moves across i as the point on j moves: each of its ray terms takes i in pieces, each with
-    // its own factor and shadow ray, as row j does where it finds i on a silhouette (the same
-    // pieces, aims and rays: equal values where both rows split). Exact terms stay as they are.
+    // moves across i as the point on j moves: each of its ray terms takes i's exact visible part
+    // (above PairRules' silhouette bound) or i in pieces, each with its own factor and shadow ray,
+    // as row j does where it finds i on a silhouette (the same terms, pieces, aims and rays: equal
+    // values where both rows split). Exact terms stay as they are.
     Workspace::Reversed& rev = ws.reversed;
     rev.silhouette.clear();
     for (std::size_t p = 0; p < rev.emitters.size(); ++p) {
@@ -197,6 +198,11 @@ void AnalyticEstimator::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCo
                 for (std::uint32_t u = rev.termBegin[p]; u < rev.termEnd[p]; ++u)
                     if (rev.rayOf[u] == rev.kNoRay && rev.factors[u] > 0.0) rev.sum[p] += rev.factors[u] * rev.weights[u];
                 split = true;
+            }
+            double visible = 0.0;
+            if (m_rules.silhouetteTerm(j, i, rev.points[t], ws.rules, counts, visible)) {  // as row j decides
+                if (visible > 0.0) rev.sum[p] += visible * rev.weights[t];
+                continue;
             }
             float origin[3];
             m_rules.rayOrigin(j, rev.points[t], origin);

@@ -79,8 +79,10 @@ std::map<std::string, std::string> HemisphereBackend::parameters() const {
                                              " patches that can obstruct) where a point's factor exceeds 1e-" +
                                              std::to_string(m_options.pairDigits + 1) + ", elsewhere shadow rays to " +
                                              (m_options.jitter ? "random points" : "centres") +
-                                             ", silhouette patches split in " + std::to_string(rules.splitLevels()) +
-                                             (rules.splitLevels() == 1 ? " level" : " levels")
+                                             ", receivers on a silhouette (their mesh neighbours' verdicts differ) their "
+                                             "exact visible part above 5e-" + std::to_string(m_options.pairDigits + 2) +
+                                             ", below it split in " + std::to_string(rules.splitLevels()) +
+                                             (rules.splitLevels() == 1 ? " level" : " levels") + " with a ray per piece"
                                        : std::string(", no shadow rays (no patch can obstruct: a convex scene)"));
     if (m_analytic && m_options.pairs == PairMethod::Whole)
         p["pairs"] = "every pair whole (--pairs whole): contour integrals less the hidden part to 1e-" +

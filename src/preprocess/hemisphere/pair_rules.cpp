@@ -51,6 +51,13 @@ void PairRules::build(const Scene& scene, const RayScene& rays, const Hemisphere
     // entries off by more than 1e-4 instead of 945 and the largest row sum 1.9e-3 off instead of
     // 2.8e-3, for cornell13k's F in 1.6x the time instead of 1.27x (31,510 pairs instead of 18,041).
     m_straddleAbove = m_visibility ? 0.1 * tolerance : std::numeric_limits<double>::infinity();
+    // A term on a silhouette (its receiver's mesh neighbours' verdicts differ) is half hidden as
+    // likely as not, and a row of many small terms along an occluder's limb adds their errors up:
+    // exact from half the exact terms' bound (5e-4 by default). Pieces with a ray each left two
+    // concentric faceted spheres' outer rows 4.5e-3 from closing, exact terms 9.1e-4; with the
+    // bound at 1e-4 instead district1k took 1.7x its time (3e-4: 1.4x; 5e-4: 1.04x) for 421
+    // entries off by more than 1e-4 instead of 518, and every silhouette term exact cornell13k 1.6x.
+    m_silhouetteExactAbove = 0.05 * tolerance;
 }
 
 double PairRules::contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, bool& viewed) const {

@@ -82,6 +82,19 @@ public:
     bool straddles(double unoccluded, double least, double most) const {
         return most - least > kStraddleSpread && (most - least) * unoccluded > m_straddleAbove * unit();
     }
+    /// A silhouette receiver's term from point x of e: where its factor exceeds silhouetteExactAbove(),
+    /// Lambert's factor to the part of r that x sees past the blockers (exact, shadow polygons) into
+    /// `visible`, and true; else false (forEachPiece takes it in pieces, a shadow ray each).
+    bool silhouetteTerm(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts, double& visible) const {
+        const Vec3& n = m_geometry.shapes[e].normal;
+        const Vec3* polygon = nullptr;
+        std::size_t corners = 0;
+        const double factor = pointFactor(r, x, n, s.clipped, polygon, corners);
+        if (!(factor > m_silhouetteExactAbove)) return false;
+        ++counts.shadowTerms;
+        visible = m_shadows.visibleFactor(x, n, polygon, corners, e, r, factor, s.shadow);
+        return true;
+    }
     /// The points and weights (summing to 1) of the m x m rule over patch e into s.quadPoints and
     /// s.quadWeights.
     void emitterRule(PatchId e, int m, Scratch& s) const;
@@ -165,6 +178,7 @@ private:
     bool m_wholePairs = false;  ///< --pairs whole: every pair is a close pair
     double m_exactAbove = 0.0;
     double m_straddleAbove = 0.0;  ///< F units: straddles() needs spread x unoccluded above this
+    double m_silhouetteExactAbove = 0.0;  ///< silhouette terms above this get their exact visible part
     EmitterOrders m_orders{1.0, 1, 1};  ///< the emitter rule's order per pair (emitter_rule.hpp)
     FarRule m_far;  ///< the point-to-point kernel for pairs far from each other's horizon
     double m_farRatio = 0.0;  ///< the smallest FarRule::ratio it serves (0: not used, with --origins > 1)
