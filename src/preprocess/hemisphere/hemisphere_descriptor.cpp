@@ -177,7 +177,8 @@ BackendDescriptor make() {
                                          {{"images", MirrorEstimator::Images}, {"rays", MirrorEstimator::Rays}}),
         integerOption<H>("--pair-digits", "Pair digits", "D",
                          "the analytic estimator's rule over each pair aims at a relative error of 10^-D (default 2: "
-                         "wall-to-wall factors of a subdivided cube within 1e-6; 4 for reference F, ~2x the time); terms above "
+                         "wall-to-wall factors of a subdivided cube within 1e-6; 4 for reference F, ~2x the time there, more where "
+                         "close pairs have blockers between them: their hidden parts go to 10^-(D+2)); terms above "
                          "10^-(D+1) get the exact visible part past blockers instead of one shadow ray",
                          &H::pairDigits, 1, 8),
         choiceOption<H, PairMethod>("--pairs", "Pairs",
