@@ -6,6 +6,8 @@
 #include "engine/scene.hpp"
 #include "engine/warnings.hpp"
 
+#include <doctest/doctest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -82,6 +84,12 @@ inline double toRectangle(double px, double py, double x0, double x1, double y0,
         return (a < 0 ? -1.0 : 1.0) * (b < 0 ? -1.0 : 1.0) * b3(std::abs(a), std::abs(b), c);
     };
     return corner(x1 - px, y1 - py) - corner(x0 - px, y1 - py) - corner(x1 - px, y0 - py) + corner(x0 - px, y0 - py);
+}
+
+/// doctest's Approx within `eps` relative: its default scale of 1 makes the tolerance absolute
+/// for values below 1, as form factors are (Approx(0.02).epsilon(1e-5) passes 0.0201).
+inline doctest::Approx relative(double expected, double eps) {
+    return doctest::Approx(expected).epsilon(eps).scale(1e-300);  // not 0: 0 == relative(0, eps) holds
 }
 
 constexpr double kCubeOpposite = 0.1998248957;

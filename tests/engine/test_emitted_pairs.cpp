@@ -32,10 +32,10 @@ TEST_CASE("Receiver entries take their emitting row's value (replaced, added, re
     std::vector<std::uint8_t> computed = {1, 1, 1, 1};
     FormFactors F = FormFactors::fromRows(std::move(rows), computed);
     const EmittedPairsReport report = takePairsFromEmitters(F, s);
-    CHECK(F.at(1, 0) == doctest::Approx(0.2 * 1 / 2).epsilon(1e-7));
-    CHECK(F.at(2, 0) == doctest::Approx(0.1 * 1 / 4).epsilon(1e-7));
-    CHECK(F.at(2, 1) == doctest::Approx(0.05 * 2 / 4).epsilon(1e-7));
-    CHECK(F.at(3, 1) == doctest::Approx(0.3 * 2 / 8).epsilon(1e-7));  // added: row 3 lacked it
+    CHECK(F.at(1, 0) == relative(0.2 * 1 / 2, 1e-7));
+    CHECK(F.at(2, 0) == relative(0.1 * 1 / 4, 1e-7));
+    CHECK(F.at(2, 1) == relative(0.05 * 2 / 4, 1e-7));
+    CHECK(F.at(3, 1) == relative(0.3 * 2 / 8, 1e-7));  // added: row 3 lacked it
     CHECK(F.at(3, 0) == 0.0);                                         // removed: row 0 has no entry for 3
     CHECK(F.at(0, 1) == 0.2f);                                        // emitted entries stay as computed
     CHECK(F.at(1, 3) == 0.3f);
@@ -79,7 +79,7 @@ TEST_CASE("An out-of-memory while the entries a receiver lacks are collected is 
     CHECK(sweep.outOfMemory == sweep.failures);
     FormFactors F = lacking;
     CHECK(takePairsFromEmitters(F, s).added == 1);
-    CHECK(F.at(1, 0) == doctest::Approx(0.2 * 1 / 2).epsilon(1e-7));
+    CHECK(F.at(1, 0) == relative(0.2 * 1 / 2, 1e-7));
 }
 
 TEST_CASE("A row that its emitters' values carry above the row-sum bound is scaled to it, and counted") {
@@ -93,9 +93,9 @@ TEST_CASE("A row that its emitters' values carry above the row-sum bound is scal
     F.provenance.rowSumBound = 1.0;
     const EmittedPairsReport report = takePairsFromEmitters(F, b.scene);
     CHECK(report.rescaledRows == 1);
-    CHECK(report.largestRowSum == doctest::Approx(1.05).epsilon(1e-6));
-    CHECK(F.rowSum(1) == doctest::Approx(1.0).epsilon(1e-6));
-    CHECK(F.at(1, 0) == doctest::Approx(0.45 / 1.05).epsilon(1e-6));
-    CHECK(F.rowSum(0) == doctest::Approx(0.9).epsilon(1e-7));  // within the bound: untouched
+    CHECK(report.largestRowSum == relative(1.05, 1e-6));
+    CHECK(F.rowSum(1) == relative(1.0, 1e-6));
+    CHECK(F.at(1, 0) == relative(0.45 / 1.05, 1e-6));
+    CHECK(F.rowSum(0) == relative(0.9, 1e-7));  // within the bound: untouched
     validateFormFactors(F, 2, "test", rowSumBound(F));           // F files accept it
 }

@@ -61,7 +61,7 @@ TEST_CASE("Enforced reciprocity closes a nearly closed box: reciprocal, rows sum
     CHECK(report.changed > 0);
     CHECK(F.parameters.at("reciprocity") == "enforced, rows closed to 1");
     CHECK(worstReciprocity(F, s) < 2e-7);  // float storage of the two entries
-    for (PatchId i = 0; i < 6; ++i) CHECK(F.rowSum(i) == doctest::Approx(1.0).epsilon(2e-7));
+    for (PatchId i = 0; i < 6; ++i) CHECK(F.rowSum(i) == relative(1.0, 2e-7));
     // B = E / (1 - rho) = 100 for every solver, the symmetric ones (Cholesky, CG) included.
     for (const SolverDescriptor* d : solverRegistry()) {
         CAPTURE(d->name);
@@ -102,7 +102,7 @@ TEST_CASE("Enforced reciprocity keeps the estimated row sums of an open scene an
     }
     CHECK(F.parameters.at("reciprocity") == "enforced, estimated row sums kept");
     CHECK(worstReciprocity(F, open) < 2e-7);
-    for (PatchId i = 0; i < 5; ++i) CHECK(F.rowSum(i) == doctest::Approx(before.rowSum(i)).epsilon(2e-7));
+    for (PatchId i = 0; i < 5; ++i) CHECK(F.rowSum(i) == relative(before.rowSum(i), 2e-7));
 }
 
 TEST_CASE("Closure converges with a row that sees almost nothing: its miss is judged against 1e-9, not its own sum") {
@@ -163,8 +163,8 @@ TEST_CASE("Rows not computed keep their entries, and computed rows stay reciproc
     CHECK(F.rowEnd(5) == F.rowBegin(5));
     for (PatchId i = 0; i < 5; ++i) {
         CHECK(F.at(i, 5) == before.at(i, 5));  // its partner row is unknown: kept
-        CHECK(F.rowSum(i) == doctest::Approx(1.0).epsilon(2e-7));
-        for (PatchId j = 0; j < 5; ++j) CHECK(F.at(i, j) == doctest::Approx(F.at(j, i)).epsilon(2e-7));
+        CHECK(F.rowSum(i) == relative(1.0, 2e-7));
+        for (PatchId j = 0; j < 5; ++j) CHECK(F.at(i, j) == relative(F.at(j, i), 2e-7));
     }
 }
 
@@ -189,7 +189,7 @@ TEST_CASE("F diagnostics: row sums, reciprocity over pairs with one or two entri
     // (0,2) is the only violation: A_0 F_02 = 0.5 against 0, so the worst is 1. Each pair counts from
     // both of its rows: (0,1) adds 2 x (0.4 + 0.4) exchanged, (0,2) adds 2 x 0.5 violation and exchange.
     CHECK(st.reciprocityMax == doctest::Approx(1.0));
-    CHECK(st.reciprocityMean == doctest::Approx(1.0 / (1.6f + 1.0)).epsilon(1e-6));
+    CHECK(st.reciprocityMean == relative(1.0 / (1.6f + 1.0), 1e-6));
 }
 
 TEST_CASE("F diagnostics agree with the definition on a random sparse F (rows of every length, some not computed)") {
@@ -235,8 +235,8 @@ TEST_CASE("F diagnostics agree with the definition on a random sparse F (rows of
         const FormFactorStats st = computeStats(F, s);
         CHECK(st.computedRows == std::size_t(std::count(computed.begin(), computed.end(), 1)));
         CHECK(st.selfFactors == self);
-        CHECK(st.reciprocityMax == doctest::Approx(worst).epsilon(1e-12));
-        CHECK(st.reciprocityMean == doctest::Approx(violation / exchanged).epsilon(1e-12));
+        CHECK(st.reciprocityMax == relative(worst, 1e-12));
+        CHECK(st.reciprocityMean == relative(violation / exchanged, 1e-12));
         const FormFactorStats empty = computeStats(FormFactors::fromRows(std::vector<std::vector<FormFactors::Entry>>(n), computed), s);
         CHECK(empty.nonZeros == 0);
         CHECK(empty.computedRows == st.computedRows);

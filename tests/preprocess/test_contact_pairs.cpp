@@ -119,10 +119,6 @@ double referenceFactor(const Polygon& e, const Polygon& r, const std::optional<P
     return sum / total;
 }
 
-/// doctest's Approx within `eps` relative (its default scale of 1 makes a tolerance absolute for
-/// values below 1, as form factors are).
-doctest::Approx relative(double expected, double eps) { return doctest::Approx(expected).epsilon(eps).scale(0.0); }
-
 struct Pair {
     Polygon emitter, receiver;
 };

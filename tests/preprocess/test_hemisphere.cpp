@@ -49,21 +49,21 @@ FormFactorRun analytic(const Scene& s, std::uint32_t origins, bool jitter = fals
 TEST_CASE("C-11: parallel unit squares at distance 1 (F = 0.199825)") {
     const Scene s = bundledScene("parallel_plates.obj");
     const FormFactorRun r = run(s, 3072, 64);
-    CHECK(r.F.at(0, 1) == doctest::Approx(c11(1, 1, 1)).epsilon(5e-3));
-    CHECK(r.F.at(1, 0) == doctest::Approx(c11(1, 1, 1)).epsilon(5e-3));
-    CHECK(c11(1, 1, 1) == doctest::Approx(0.199825).epsilon(1e-5));
-    CHECK(c11(1, 1, 2) == doctest::Approx(0.068590).epsilon(1e-4));
+    CHECK(r.F.at(0, 1) == relative(c11(1, 1, 1), 5e-3));
+    CHECK(r.F.at(1, 0) == relative(c11(1, 1, 1), 5e-3));
+    CHECK(c11(1, 1, 1) == relative(0.199825, 1e-5));
+    CHECK(c11(1, 1, 2) == relative(0.068590, 1e-4));
 }
 
 TEST_CASE("C-14: perpendicular plates with a common edge, both directions (0.232853 and 0.116426)") {
     const Scene s = bundledScene("perpendicular_plates.obj");
-    CHECK(c14(1, 2, 1) == doctest::Approx(0.232853).epsilon(1e-5));
-    CHECK(c14(2, 1, 1) == doctest::Approx(0.116426).epsilon(1e-5));
+    CHECK(c14(1, 2, 1) == relative(0.232853, 1e-5));
+    CHECK(c14(2, 1, 1) == relative(0.116426, 1e-5));
     const FormFactorRun r = run(s, 3072, 256);
-    CHECK(r.F.at(0, 1) == doctest::Approx(c14(1, 2, 1)).epsilon(1e-2));
-    CHECK(r.F.at(1, 0) == doctest::Approx(c14(2, 1, 1)).epsilon(1e-2));
+    CHECK(r.F.at(0, 1) == relative(c14(1, 2, 1), 1e-2));
+    CHECK(r.F.at(1, 0) == relative(c14(2, 1, 1), 1e-2));
     // Reciprocity A_i F_ij = A_j F_ji within the sampling error of both rows.
-    CHECK(1.0 * r.F.at(0, 1) == doctest::Approx(2.0 * r.F.at(1, 0)).epsilon(1.5e-2));
+    CHECK(1.0 * r.F.at(0, 1) == relative(2.0 * r.F.at(1, 0), 1.5e-2));
 }
 
 TEST_CASE("A coaxial disk whose rim lies on a Beckers ring boundary is seen exactly from the centre") {
@@ -75,10 +75,10 @@ TEST_CASE("A coaxial disk whose rim lies on a Beckers ring boundary is seen exac
     b.disk(Vec3(0, 0, 0), 0.5, 256, true);
     b.disk(Vec3(0, 0, H), R, 256, false);
     const FormFactorRun r = run(b.scene, 96, 1);
-    CHECK(r.F.at(0, 1) == doctest::Approx(fraction).epsilon(1e-6));
+    CHECK(r.F.at(0, 1) == relative(fraction, 1e-6));
     // Area to area, C-41, with origins spread over the emitter.
     const FormFactorRun area = run(b.scene, 3072, 256);
-    CHECK(area.F.at(0, 1) == doctest::Approx(c41(0.5, R, H)).epsilon(1e-2));
+    CHECK(area.F.at(0, 1) == relative(c41(0.5, R, H), 1e-2));
 }
 
 TEST_CASE("Closed unit cube: rows sum to 1, opposite and adjacent factors match the closed forms") {
@@ -87,15 +87,15 @@ TEST_CASE("Closed unit cube: rows sum to 1, opposite and adjacent factors match 
     CHECK(r.counts.misses == 0);
     CHECK(r.counts.backfaces == 0);
     for (PatchId i = 0; i < 6; ++i) {
-        CHECK(r.F.rowSum(i) == doctest::Approx(1.0).epsilon(1e-6));
+        CHECK(r.F.rowSum(i) == relative(1.0, 1e-6));
         CHECK(r.F.at(i, i) == 0.0);
         for (PatchId j = 0; j < 6; ++j) {
             if (i == j) continue;
             const double expected = (i ^ 1) == j ? kCubeOpposite : kCubeAdjacent;
-            CHECK(r.F.at(i, j) == doctest::Approx(expected).epsilon(1e-2));
+            CHECK(r.F.at(i, j) == relative(expected, 3e-2));  // rays: 2.4 % at worst, measured
         }
     }
-    CHECK(r.stats.rowSumMin == doctest::Approx(1.0).epsilon(1e-6));
+    CHECK(r.stats.rowSumMin == relative(1.0, 1e-6));
     CHECK(r.stats.reciprocityMean < 0.01);
 }
 
@@ -124,10 +124,10 @@ TEST_CASE("The lost power is weighted by area: each row's 1 - row sum, and the s
     };
     const FormFactorRun coarseRays = run(coarse, 1024, 1), fineRays = run(fine, 1024, 1);
     const FormFactorRun coarseAnalytic = analytic(coarse, 1), fineAnalytic = analytic(fine, 1);
-    CHECK(coarseRays.counts.lostFraction() == doctest::Approx(fromRows(coarse, coarseRays)).epsilon(1e-5));
-    CHECK(fineRays.counts.lostFraction() == doctest::Approx(fromRows(fine, fineRays)).epsilon(1e-5));
-    CHECK(coarseAnalytic.counts.lostFraction() == doctest::Approx(fromRows(coarse, coarseAnalytic)).epsilon(1e-3));
-    CHECK(fineAnalytic.counts.lostFraction() == doctest::Approx(fromRows(fine, fineAnalytic)).epsilon(1e-3));
+    CHECK(coarseRays.counts.lostFraction() == relative(fromRows(coarse, coarseRays), 1e-5));
+    CHECK(fineRays.counts.lostFraction() == relative(fromRows(fine, fineRays), 1e-5));
+    CHECK(coarseAnalytic.counts.lostFraction() == relative(fromRows(coarse, coarseAnalytic), 1e-3));
+    CHECK(fineAnalytic.counts.lostFraction() == relative(fromRows(fine, fineAnalytic), 1e-3));
     // Meshing one block moves the loss a little (the block's own rows are better resolved); the
     // mean over rows, which the report once gave, moved by a third (18.1 % to 11.45 %).
     CHECK(coarseAnalytic.counts.lostFraction() > 0.1);
@@ -158,8 +158,8 @@ TEST_CASE("Image-method mirror factor of physics.md (Sillion & Puech extended fo
     const FormFactorRun r = run(s, 3072, 256);
     // P1 -> P2 only through the mirror: s (C11(2,1,1) - C11(1,1,1)) = 0.0774454.
     const double expected = 0.9 * (c11(2, 1, 1) - c11(1, 1, 1));
-    CHECK(expected == doctest::Approx(0.0774454).epsilon(1e-5));
-    CHECK(r.F.at(0, 1) == doctest::Approx(expected).epsilon(1.5e-2));
+    CHECK(expected == relative(0.0774454, 1e-5));
+    CHECK(r.F.at(0, 1) == relative(expected, 1.5e-2));
     CHECK(r.counts.bounces > 0);
     // The same scene without mirror recursion sees nothing of P2.
     const FormFactorRun direct = run(s, 3072, 16, true, 0);
@@ -260,9 +260,9 @@ TEST_CASE("Analytic estimator: the closed cube's factors to 5 digits from the ne
     for (const std::uint32_t origins : {1u, 16u}) {
         const FormFactorRun r = analytic(s, origins);
         for (PatchId i = 0; i < 6; ++i) {
-            CHECK(r.F.rowSum(i) == doctest::Approx(1.0).epsilon(1e-6));
+            CHECK(r.F.rowSum(i) == relative(1.0, 1e-6));
             for (PatchId j = 0; j < 6; ++j)
-                if (i != j) CHECK(r.F.at(i, j) == doctest::Approx((i ^ 1) == j ? kCubeOpposite : kCubeAdjacent).epsilon(1e-5));
+                if (i != j) CHECK(r.F.at(i, j) == relative((i ^ 1) == j ? kCubeOpposite : kCubeAdjacent, 1e-5));
         }
         CHECK(r.counts.bounces == 0);
         CHECK(r.counts.rescaledRows == 0);
@@ -273,16 +273,16 @@ TEST_CASE("Analytic estimator: C-14 both ways, and a far small emitter gets the 
     // The factor from a point varies like d log d near the common edge: the 6 x 6 rule is good to
     // 1e-3 on the 2 x 1 emitter, the 12 x 12 rule of 16 origins to 1e-4.
     const FormFactorRun plates = analytic(bundledScene("perpendicular_plates.obj"), 1);
-    CHECK(plates.F.at(0, 1) == doctest::Approx(c14(1, 2, 1)).epsilon(1e-5));
-    CHECK(plates.F.at(1, 0) == doctest::Approx(c14(2, 1, 1)).epsilon(2e-3));
+    CHECK(plates.F.at(0, 1) == relative(c14(1, 2, 1), 1e-5));
+    CHECK(plates.F.at(1, 0) == relative(c14(2, 1, 1), 2e-3));
     const FormFactorRun finer = analytic(bundledScene("perpendicular_plates.obj"), 16);
-    CHECK(finer.F.at(1, 0) == doctest::Approx(c14(2, 1, 1)).epsilon(1e-4));
+    CHECK(finer.F.at(1, 0) == relative(c14(2, 1, 1), 1e-4));
     // A 0.01-wide emitter under the centre of a unit square at height 1 is far (no near-field
     // rule): its centroid sees 4 x B-3(0.5, 0.5, 1), which the 0.01 patch's own spread changes by < 1e-5.
     SceneBuilder b;
     b.rectangle(2, 0, -0.005, 0.005, -0.005, 0.005, true);
     b.rectangle(2, 1, -0.5, 0.5, -0.5, 0.5, false);
-    CHECK(analytic(b.scene, 1).F.at(0, 1) == doctest::Approx(4 * b3(0.5, 0.5, 1)).epsilon(1e-5));
+    CHECK(analytic(b.scene, 1).F.at(0, 1) == relative(4 * b3(0.5, 0.5, 1), 1e-5));
 }
 
 TEST_CASE("Analytic estimator: an occluder hides its shadow exactly, and with one shadow ray per small term silhouettes are split") {
@@ -312,9 +312,9 @@ TEST_CASE("Analytic estimator: an occluder hides its shadow exactly, and with on
         const FormFactorRun r = analytic(s, 1);
         const auto [hidden, split, lit] = columns(r);
         CHECK(hidden == 0.0);
-        CHECK(lit == doctest::Approx(seen).epsilon(1e-4));
+        CHECK(lit == relative(seen, 1e-4));
         // The column's lit part, x in [0.04, 0.1].
-        CHECK(split == doctest::Approx(2 * (b3(0.1, 0.5, 1) - b3(0.04, 0.5, 1))).epsilon(1e-4));
+        CHECK(split == relative(2 * (b3(0.1, 0.5, 1) - b3(0.04, 0.5, 1)), 1e-4));
         CHECK(r.counts.shadowTerms >= 101);  // no term took a shadow ray (the rays cast are the
         CHECK(r.counts.straddlingPairs == 0);  // corner probes of pairs with a hidden part, none straddling)
         CHECK(r.F.rowSum(0) <= 1.0);
@@ -331,10 +331,10 @@ TEST_CASE("Analytic estimator: an occluder hides its shadow exactly, and with on
         const FormFactorRun r = computeFormFactors(s, MethodSettings::of(o, one), neededRows(s, true));
         const auto [hidden, split, lit] = columns(r);
         CHECK(hidden == 0.0);
-        CHECK(lit == doctest::Approx(seen).epsilon(1e-4));
+        CHECK(lit == relative(seen, 1e-4));
         // Its centre (x = 0.05) is lit, so unsplit it would count whole; split once, its left pieces
         // (centres x = 0.025) are hidden and its right ones lit.
-        CHECK(split == doctest::Approx(2 * (b3(0.1, 0.5, 1) - b3(0.05, 0.5, 1))).epsilon(1e-4));
+        CHECK(split == relative(2 * (b3(0.1, 0.5, 1) - b3(0.05, 0.5, 1)), 1e-4));
         CHECK(split < 0.6 * 2 * b3(0.1, 0.5, 1));
         // The first pass aims one shadow ray at each of the 100 quads; the split pieces add more.
         CHECK(r.counts.rays > 100);
@@ -377,7 +377,7 @@ TEST_CASE("Analytic estimator with --mirror-estimator rays: rays carry only the 
     o.mirrorEstimator = MirrorEstimator::Rays;
     const FormFactorRun r = computeFormFactors(s, MethodSettings::of(o), neededRows(s, true));
     const double expected = 0.9 * (c11(2, 1, 1) - c11(1, 1, 1));
-    CHECK(r.F.at(0, 1) == doctest::Approx(expected).epsilon(1.5e-2));
+    CHECK(r.F.at(0, 1) == relative(expected, 2.5e-2));  // the chains' rays: 1.8 %, measured
     CHECK(r.counts.bounces > 0);
     // The factor to the mirror itself is the analytic one alone: the same as with no mirror at all
     // (a ray deposit on top would add about as much again).
@@ -386,7 +386,7 @@ TEST_CASE("Analytic estimator with --mirror-estimator rays: rays carry only the 
     const FormFactorRun direct = analytic(plain, 16, false, 3072);
     REQUIRE(s.patches[2].specular > 0.0);
     CHECK(direct.counts.bounces == 0);
-    CHECK(r.F.at(0, 2) == doctest::Approx(direct.F.at(0, 2)).epsilon(1e-6));
+    CHECK(r.F.at(0, 2) == relative(direct.F.at(0, 2), 1e-6));
 }
 
 TEST_CASE("--drop-below drops the pairs whose entries are both below EPS (none with an emitter), keeps each row's sum and reciprocity, and says what it saved") {
@@ -527,7 +527,7 @@ TEST_CASE("An out-of-memory in a worker thread of the hemisphere's rows is an ex
         const FormFactors F = after.finish();
         CHECK(F.computedRows() == c.scene.size());
         if (c.closed)
-            for (std::size_t i = 0; i < F.size(); ++i) CHECK(F.rowSum(i) == doctest::Approx(1.0).epsilon(1e-2));
+            for (std::size_t i = 0; i < F.size(); ++i) CHECK(F.rowSum(i) == relative(1.0, 1e-2));
     }
 }
 
@@ -546,8 +546,8 @@ TEST_CASE("The ray estimator's F of a subdivided cube with reciprocity enforced:
     CHECK(report.converged);
     const FormFactorStats stats = computeStats(F, s);
     CHECK(stats.reciprocityMax <= 1e-7 * 2);  // float storage rounds each of the pair's entries
-    CHECK(stats.rowSumMin == doctest::Approx(1.0).epsilon(2e-7));
-    CHECK(stats.rowSumMax == doctest::Approx(1.0).epsilon(2e-7));
+    CHECK(stats.rowSumMin == relative(1.0, 2e-7));
+    CHECK(stats.rowSumMax == relative(1.0, 2e-7));
     for (const SolverDescriptor* d : solverRegistry()) {
         CAPTURE(d->name);
         CHECK(furnaceError(s, F, d->name, 0.99) <= 1e-6);
@@ -592,7 +592,7 @@ TEST_CASE("Only a patch with some of the scene on both sides of its plane can ob
         if (cube.patches[i].normal.y() > 0.5)  // floor to ceiling, area-weighted
             for (PatchId j = 0; j < cube.size(); ++j)
                 if (cube.patches[j].normal.y() < -0.5) opposite += cube.patches[i].area * r.F.at(i, j);
-    CHECK(opposite == doctest::Approx(kCubeOpposite).epsilon(1e-3));
+    CHECK(opposite == relative(kCubeOpposite, 1e-3));
 }
 
 TEST_CASE("The analytic F of a subdivided cube is reciprocal by construction, its wall factors within 1e-5 with the default flags") {
@@ -620,8 +620,8 @@ TEST_CASE("The analytic F of a subdivided cube is reciprocal by construction, it
             if (s.patches[j].normal.x() > 0.5) adjacent += s.patches[i].area * r.F.at(i, j);
         }
     }
-    CHECK(opposite / floorArea == doctest::Approx(kCubeOpposite).epsilon(1e-5 / kCubeOpposite));
-    CHECK(adjacent / floorArea == doctest::Approx(kCubeAdjacent).epsilon(1e-5 / kCubeAdjacent));
+    CHECK(opposite / floorArea == relative(kCubeOpposite, 1e-5 / kCubeOpposite));
+    CHECK(adjacent / floorArea == relative(kCubeAdjacent, 1e-5 / kCubeAdjacent));
 }
 
 TEST_CASE("The far rule: C-11 unit squares 10 apart within C rho^-4 of the closed form") {
@@ -638,7 +638,7 @@ TEST_CASE("The far rule: C-11 unit squares 10 apart within C rho^-4 of the close
     const double error = std::abs(rule.factor(geometry, 0, 1, 1.0) - exact) / exact;
     MESSAGE("relative error " << error << " at rho " << ratio);
     CHECK(error <= FarRule::kErrorConstant * std::pow(ratio, -4.0));
-    CHECK(rule.factor(geometry, 1, 0, 1.0) == doctest::Approx(rule.factor(geometry, 0, 1, 1.0)).epsilon(1e-14));
+    CHECK(rule.factor(geometry, 1, 0, 1.0) == relative(rule.factor(geometry, 0, 1, 1.0), 1e-14));
 }
 
 TEST_CASE("--estimator auto is the exact estimator wherever its F fits, the rays where it would not, and says why") {

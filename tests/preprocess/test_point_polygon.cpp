@@ -34,11 +34,11 @@ TEST_CASE("Point to rectangle: Howell B-3 with the normal through a corner, both
     const Vec3 x(0, 0, 0), n(0, 0, 1);
     const std::vector<Vec3> ccw = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
     const std::vector<Vec3> cw(ccw.rbegin(), ccw.rend());
-    CHECK(b3(1, 1, 1) == doctest::Approx(0.138532).epsilon(1e-5));
-    CHECK(pointToPolygonFactor(x, n, ccw.data(), 4) == doctest::Approx(b3(1, 1, 1)).epsilon(1e-12));
-    CHECK(pointToPolygonFactor(x, n, cw.data(), 4) == doctest::Approx(b3(1, 1, 1)).epsilon(1e-12));
+    CHECK(b3(1, 1, 1) == relative(0.138532, 1e-5));
+    CHECK(pointToPolygonFactor(x, n, ccw.data(), 4) == relative(b3(1, 1, 1), 1e-12));
+    CHECK(pointToPolygonFactor(x, n, cw.data(), 4) == relative(b3(1, 1, 1), 1e-12));
     const std::vector<Vec3> wide = {{0, 0, 0.5}, {3, 0, 0.5}, {3, 2, 0.5}, {0, 2, 0.5}};
-    CHECK(pointToPolygonFactor(x, n, wide.data(), 4) == doctest::Approx(b3(3, 2, 0.5)).epsilon(1e-12));
+    CHECK(pointToPolygonFactor(x, n, wide.data(), 4) == relative(b3(3, 2, 0.5), 1e-12));
 }
 
 TEST_CASE("Point to a regular polygon on the axis approaches the disk's R^2 / (R^2 + H^2)") {
@@ -47,7 +47,7 @@ TEST_CASE("Point to a regular polygon on the axis approaches the disk's R^2 / (R
     for (int k = 0; k < 4096; ++k)
         disk.emplace_back(R * std::cos(2 * kPi * k / 4096), R * std::sin(2 * kPi * k / 4096), H);
     CHECK(pointToPolygonFactor(Vec3::Zero(), Vec3(0, 0, 1), disk.data(), disk.size()) ==
-          doctest::Approx(R * R / (R * R + H * H)).epsilon(1e-6));
+          relative(R * R / (R * R + H * H), 1e-6));
 }
 
 TEST_CASE("A polygon straddling the tangent plane counts only its part above it") {
@@ -58,7 +58,7 @@ TEST_CASE("A polygon straddling the tangent plane counts only its part above it"
     REQUIRE(clipped.size() == 4);
     for (const Vec3& p : clipped) CHECK(p.z() >= 0.0);
     CHECK(pointToPolygonFactor(x, n, clipped.data(), clipped.size()) ==
-          doctest::Approx(perpendicularByQuadrature(1, -1, 1, -0.5, 1)).epsilon(1e-5));
+          relative(perpendicularByQuadrature(1, -1, 1, -0.5, 1), 1e-5));
     // Entirely below: nothing; a triangle with one corner above keeps a triangle.
     const std::vector<Vec3> below = {{1, 0, -1}, {1, 1, -1}, {1, 1, -0.1}};
     clipAbovePlane(x, n, below.data(), below.size(), clipped);
@@ -98,7 +98,7 @@ TEST_CASE("Gauss-Legendre of order n integrates degree 2n - 1 exactly on [0, 1]"
         for (int degree = 0; degree <= 2 * n - 1; ++degree) {
             double sum = 0.0;
             for (int k = 0; k < n; ++k) sum += weights[k] * std::pow(nodes[k], degree);
-            CHECK(sum == doctest::Approx(1.0 / (degree + 1)).epsilon(1e-12));
+            CHECK(sum == relative(1.0 / (degree + 1), 1e-12));
         }
     }
 }
@@ -129,9 +129,9 @@ TEST_CASE("Polygon quadrature reproduces area moments on a skewed quad, a triang
             x += w[q] * points[q].x();
             x2 += w[q] * points[q].x() * points[q].x();
         }
-        CHECK(sum == doctest::Approx(1.0).epsilon(1e-12));
-        CHECK(x == doctest::Approx(meanX / area).epsilon(1e-12));
-        CHECK(x2 == doctest::Approx(meanX2 / area).epsilon(1e-12));
+        CHECK(sum == relative(1.0, 1e-12));
+        CHECK(x == relative(meanX / area, 1e-12));
+        CHECK(x2 == relative(meanX2 / area, 1e-12));
     }
     // A degenerate polygon falls back to its vertex centroid instead of dividing by zero.
     const std::vector<Vec3> line = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
@@ -155,6 +155,6 @@ TEST_CASE("Split pieces' factors add up to the polygon's, once and twice split")
     for (const auto* pieces : {&once, &twice}) {
         double sum = 0.0;
         for (std::size_t q = 0; q < pieces->size(); q += 4) sum += pointToPolygonFactor(x, n, &(*pieces)[q], 4);
-        CHECK(sum == doctest::Approx(whole).epsilon(1e-12));
+        CHECK(sum == relative(whole, 1e-12));
     }
 }
