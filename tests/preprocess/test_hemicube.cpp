@@ -46,12 +46,12 @@ TEST_CASE("Delta form factors: the shares of physics.md and the midpoint oversho
         const HemicubeLayout layout(R);
         CHECK(layout.width() == 3 * R);
         // The overshoot is ~1e-4: compare it as a ratio (Approx's default scale of 1 would accept anything).
-        CHECK((layout.rawSum() - 1.0) * double(R) * R == doctest::Approx(0.54).epsilon(0.05));
+        CHECK((layout.rawSum() - 1.0) * double(R) * R == relative(0.54, 0.05));
         double sum = 0.0;
         for (float w : layout.weights()) sum += w;
-        CHECK(sum == doctest::Approx(1.0).epsilon(1e-6));
-        CHECK(layout.faceShare(HemicubeLayout::Top) == doctest::Approx(0.55412642).epsilon(1e-3));
-        for (int f = 1; f < 5; ++f) CHECK(layout.faceShare(f) == doctest::Approx(0.11146839).epsilon(1e-3));
+        CHECK(sum == relative(1.0, 1e-6));
+        CHECK(layout.faceShare(HemicubeLayout::Top) == relative(0.55412642, 1e-3));
+        for (int f = 1; f < 5; ++f) CHECK(layout.faceShare(f) == relative(0.11146839, 1e-3));
     }
     CHECK_THROWS_WITH_AS(HemicubeLayout(127), doctest::Contains("must be an even number"), Error);
 }
@@ -72,8 +72,8 @@ TEST_CASE("Parallel plates from the centroid: the point-to-area factor 4 B3(1/2,
     const double A = 0.5, B = 0.5, a = A / std::sqrt(1 + A * A), b = B / std::sqrt(1 + B * B);
     const double point = 4.0 / (2 * kPi) * (a * std::atan(B / std::sqrt(1 + A * A)) + b * std::atan(A / std::sqrt(1 + B * B)));
     const FormFactorRun r = hemicube(bundledScene("parallel_plates.obj"), 256);
-    CHECK(r.F.at(0, 1) == doctest::Approx(point).epsilon(2e-3));
-    CHECK(r.F.at(1, 0) == doctest::Approx(point).epsilon(2e-3));
+    CHECK(r.F.at(0, 1) == relative(point, 2e-3));
+    CHECK(r.F.at(1, 0) == relative(point, 2e-3));
 }
 
 TEST_CASE("--origins 16 at R = 256: area-sampled hemicubes meet C-11 and C-14 within 1e-3 (the centroid misses by 0.04)") {
@@ -156,13 +156,13 @@ TEST_CASE("Batched hemicubes (one instanced draw into B atlas layers) give the r
         CHECK(maxRowDifference(cpu.F, gpu.F) < 1e-6);
         CHECK(cpu.counts.misses == rowByRow.counts.misses);
         CHECK(gpu.counts.misses == rowByRow.counts.misses);
-        CHECK(gpu.counts.lostWeight == doctest::Approx(rowByRow.counts.lostWeight).epsilon(1e-6));
+        CHECK(gpu.counts.lostWeight == relative(rowByRow.counts.lostWeight, 1e-6));
         // Each row's loss reaches its row, however rows share a pass: 1 - its row sum (no mirrors), by area.
         double lost = 0.0, area = 0.0;
         for (PatchId i = 0; i < s.size(); ++i) lost += s.patches[i].area * (1.0 - rowByRow.F.rowSum(i)), area += s.patches[i].area;
-        CHECK(rowByRow.counts.lostFraction() == doctest::Approx(lost / area).epsilon(1e-4));
-        CHECK(cpu.counts.lostFraction() == doctest::Approx(lost / area).epsilon(1e-4));
-        CHECK(gpu.counts.lostFraction() == doctest::Approx(lost / area).epsilon(1e-4));
+        CHECK(rowByRow.counts.lostFraction() == relative(lost / area, 1e-4));
+        CHECK(cpu.counts.lostFraction() == relative(lost / area, 1e-4));
+        CHECK(gpu.counts.lostFraction() == relative(lost / area, 1e-4));
     }
 }
 
@@ -257,8 +257,8 @@ TEST_CASE("Passes in flight and row threads (rows summed beside the GL thread) g
                     for (PatchId j = 0; j < s.size(); ++j) differing += one.F.at(i, j) != other.F.at(i, j);
                 CHECK(differing == 0);
                 CHECK(other.counts.misses == one.counts.misses);
-                CHECK(other.counts.lostWeight == doctest::Approx(one.counts.lostWeight).epsilon(1e-12));
-                CHECK(other.counts.lostFraction() == doctest::Approx(one.counts.lostFraction()).epsilon(1e-9));  // per row
+                CHECK(other.counts.lostWeight == relative(one.counts.lostWeight, 1e-12));
+                CHECK(other.counts.lostFraction() == relative(one.counts.lostFraction(), 1e-9));  // per row
                 CHECK(other.counts.rays == one.counts.rays);
             }
         }
@@ -308,8 +308,8 @@ TEST_CASE("Subdivided closed cube: rows sum to 1 and face-to-face factors match 
     const Scene s = subdivide(unitCube(), 0.125);  // 8 x 8 patches per face
     const FormFactorRun r = hemicube(s, 128);
     CHECK(r.counts.misses == 0);
-    CHECK(r.stats.rowSumMin == doctest::Approx(1.0).epsilon(1e-5));
-    CHECK(r.stats.rowSumMax == doctest::Approx(1.0).epsilon(1e-5));
+    CHECK(r.stats.rowSumMin == relative(1.0, 1e-5));
+    CHECK(r.stats.rowSumMax == relative(1.0, 1e-5));
     // Area-weighted sums over each face's patches give the face-to-face factors.
     const std::size_t per = s.size() / 6;
     for (std::size_t a = 0; a < 6; ++a)
@@ -319,7 +319,7 @@ TEST_CASE("Subdivided closed cube: rows sum to 1 and face-to-face factors match 
             for (std::size_t i = a * per; i < (a + 1) * per; ++i)
                 for (std::size_t j = b * per; j < (b + 1) * per; ++j) sum += r.F.at(i, j);
             const double expected = (a ^ 1) == b ? kCubeOpposite : kCubeAdjacent;
-            CHECK(sum / double(per) == doctest::Approx(expected).epsilon(5e-3));
+            CHECK(sum / double(per) == relative(expected, 5e-3));
         }
 }
 
@@ -331,7 +331,7 @@ TEST_CASE("Drawing subdivided parents whole gives the F of drawing every patch")
     // one gets it), and on outer edges (a big triangle's edge and a row of small ones rasterise the
     // same line, but ties on it can fall either way).
     CHECK(meanRowL1(whole.F, each.F) < 1e-3);
-    for (PatchId i = 0; i < s.size(); ++i) CHECK(whole.F.rowSum(i) == doctest::Approx(each.F.rowSum(i)).epsilon(2e-4));
+    for (PatchId i = 0; i < s.size(); ++i) CHECK(whole.F.rowSum(i) == relative(each.F.rowSum(i), 2e-4));
     CHECK(whole.F.parameters.at("parent_polygons") == "yes");
     CHECK(each.F.parameters.at("parent_polygons") == "no");
 }
@@ -374,7 +374,7 @@ TEST_CASE("GPU reduction counts pixels below one fixed-point unit as lost power 
     const FormFactorRun r = computeFormFactors(unitCube(), MethodSettings::of(o, one), {0});
     CHECK(r.counts.misses == 0);
     CHECK(r.counts.backfaces == 0);
-    CHECK(r.counts.lostWeight == doctest::Approx(below).epsilon(1e-3));
+    CHECK(r.counts.lostWeight == relative(below, 1e-3));
 }
 
 TEST_CASE("A failing GL context is a clear error, auto falls back to OSMesa, and OSMesa is loaded only when needed") {
@@ -420,7 +420,7 @@ TEST_CASE("Hemicube mirror portals give the image-method factor of physics.md") 
     double viaMirror = 0.0;
     for (PatchId i = 0; i < 64; ++i)
         for (PatchId j = 64; j < 128; ++j) viaMirror += r.F.at(i, j) / 64.0;
-    CHECK(viaMirror == doctest::Approx(0.9 * (c11(2, 1, 1) - c11(1, 1, 1))).epsilon(2e-3));
+    CHECK(viaMirror == relative(0.9 * (c11(2, 1, 1) - c11(1, 1, 1)), 2e-3));
     CHECK(r.counts.bounces > 0);  // portal passes ran
     CHECK(r.F.parameters.at("mirrors") == "portals");
 }
@@ -457,7 +457,7 @@ TEST_CASE("Computing F leaves the process environment alone: no setenv while wor
     std::vector<std::string> after;
     for (char** e = environ; *e; ++e) after.emplace_back(*e);
     if (previous) ::setenv("LP_NUM_THREADS", kept.c_str(), 1);
-    CHECK(r.F.rowSum(0) == doctest::Approx(1.0).epsilon(1e-3));
+    CHECK(r.F.rowSum(0) == relative(1.0, 1e-3));
     CHECK(after == before);
 }
 

@@ -67,9 +67,9 @@ TEST_CASE("Every solver reproduces the unit-cube table of physics.md") {
             CAPTURE(kind);
             const Radiosity r = solveWith(cubeWith(row.rho), F, kind);
             const double tol = 1e-6 / (1 - row.rho);
-            CHECK(r.B[0][0] == doctest::Approx(row.floor).epsilon(tol));
-            CHECK(r.B[1][0] == doctest::Approx(row.ceiling).epsilon(tol));
-            for (int w = 2; w < 6; ++w) CHECK(r.B[w][0] == doctest::Approx(row.wall).epsilon(tol));
+            CHECK(r.B[0][0] == relative(row.floor, tol));
+            CHECK(r.B[1][0] == relative(row.ceiling, tol));
+            for (int w = 2; w < 6; ++w) CHECK(r.B[w][0] == relative(row.wall, tol));
             REQUIRE(r.reports.size() == 1);  // grey: the three channels are one solve
             CHECK(r.reports[0].channels == "rgb");
             CHECK(r.reports[0].converged);
@@ -88,9 +88,9 @@ TEST_CASE("Furnace: a closed box with uniform rho and E has B = E / (1 - rho) fo
         const Radiosity r = solveWith(s, F, kind);
         for (const Rgb& b : r.B) {
             // Float F rows sum to 1 within 1e-7: B is exact to that relative error / (1 - rho).
-            CHECK(b[0] == doctest::Approx(1 / 0.7).epsilon(1e-6));
-            CHECK(b[1] == doctest::Approx(2 / 0.4).epsilon(1e-6));
-            CHECK(b[2] == doctest::Approx(3 / 0.1).epsilon(1e-5));
+            CHECK(b[0] == relative(1 / 0.7, 1e-6));
+            CHECK(b[1] == relative(2 / 0.4, 1e-6));
+            CHECK(b[2] == relative(3 / 0.1, 1e-5));
         }
         CHECK(r.reports.size() == 3);  // distinct channels are solved separately
     }
@@ -112,7 +112,7 @@ TEST_CASE("All solvers agree on one non-symmetric system, and the symmetric form
         CAPTURE(kind);
         const Radiosity r = solveWith(s, F, kind, 1e-11);
         for (int i = 0; i < 6; ++i)
-            for (int c = 0; c < 3; ++c) CHECK(r.B[i][c] == doctest::Approx(lu.B[i][c]).epsilon(1e-8));
+            for (int c = 0; c < 3; ++c) CHECK(r.B[i][c] == relative(lu.B[i][c], 1e-8));
     }
 }
 
@@ -160,7 +160,7 @@ TEST_CASE("Black patches (rho = 0) keep B = E and their rows need not be compute
         const Radiosity full = solveWith(s, F, kind);
         const Radiosity partial = solveWith(s, skipped, kind);
         CHECK(partial.B[0][0] == doctest::Approx(2.0));
-        for (int i = 0; i < 6; ++i) CHECK(partial.B[i][1] == doctest::Approx(full.B[i][1]).epsilon(1e-8));
+        for (int i = 0; i < 6; ++i) CHECK(partial.B[i][1] == relative(full.B[i][1], 1e-8));
     }
     s.patches[0].rho = Rgb(0.2, 0, 0);
     CHECK_THROWS_WITH_AS(solveWith(s, skipped, "gauss-seidel"),
@@ -244,7 +244,7 @@ TEST_CASE("Jacobi and Gauss-Seidel hand each sweep's radiosity to a progress cal
         REQUIRE(sweeps.size() >= 10);
         for (std::size_t k = 1; k < sweeps.size(); ++k) CHECK(sweeps[k] == sweeps[k - 1] + 1);
         CHECK(errors.back() < 0.1 * errors.front());  // the view converges toward the answer
-        CHECK(r.B[1][0] == doctest::Approx(exact.B[1][0]).epsilon(1e-6));
+        CHECK(r.B[1][0] == relative(exact.B[1][0], 1e-6));
     }
 }
 
