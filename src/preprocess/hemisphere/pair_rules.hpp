@@ -82,9 +82,10 @@ public:
     bool straddles(double unoccluded, double least, double most) const {
         return most - least > kStraddleSpread && (most - least) * unoccluded > m_straddleAbove * unit();
     }
-    /// A silhouette receiver's term from point x of e: where its factor exceeds silhouetteExactAbove(),
-    /// Lambert's factor to the part of r that x sees past the blockers (exact, shadow polygons) into
-    /// `visible`, and true; else false (forEachPiece takes it in pieces, a shadow ray each).
+    /// A silhouette receiver's term from point x of e: where its factor exceeds the silhouette bound
+    /// (m_silhouetteExactAbove, half of exactAbove()), Lambert's factor to the part of r that x sees
+    /// past the blockers (exact, shadow polygons, as pointTerm's exact terms) into `visible`, and
+    /// true; else false (forEachPiece takes it in pieces, a shadow ray each).
     bool silhouetteTerm(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts, double& visible) const {
         const Vec3& n = m_geometry.shapes[e].normal;
         const Vec3* polygon = nullptr;
