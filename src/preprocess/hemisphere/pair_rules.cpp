@@ -126,10 +126,7 @@ bool PairRules::pointTerm(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCo
     term.factor = pointFactor(r, x, n, s.clipped, term.polygon, term.corners);
     if (!(term.factor > 0.0)) return false;
     term.exact = term.factor > m_exactAbove;  // too large for one shadow ray's verdict
-    if (term.exact) {
-        ++counts.shadowTerms;
-        term.visible = m_shadows.visibleFactor(x, n, term.polygon, term.corners, e, r, term.factor, s.shadow);
-    }
+    if (term.exact) term.visible = exactVisible(e, r, x, term, s, counts);
     return true;
 }
 

@@ -87,13 +87,10 @@ public:
     /// past the blockers (exact, shadow polygons, as pointTerm's exact terms) into `visible`, and
     /// true; else false (forEachPiece takes it in pieces, a shadow ray each).
     bool silhouetteTerm(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts, double& visible) const {
-        const Vec3& n = m_geometry.shapes[e].normal;
-        const Vec3* polygon = nullptr;
-        std::size_t corners = 0;
-        const double factor = pointFactor(r, x, n, s.clipped, polygon, corners);
-        if (!(factor > m_silhouetteExactAbove)) return false;
-        ++counts.shadowTerms;
-        visible = m_shadows.visibleFactor(x, n, polygon, corners, e, r, factor, s.shadow);
+        PointTerm term;
+        term.factor = pointFactor(r, x, m_geometry.shapes[e].normal, s.clipped, term.polygon, term.corners);
+        if (!(term.factor > m_silhouetteExactAbove)) return false;
+        visible = exactVisible(e, r, x, term, s, counts);
         return true;
     }
     /// The points and weights (summing to 1) of the m x m rule over patch e into s.quadPoints and
@@ -160,6 +157,13 @@ private:
     /// behind r; `polygon` and `corners` say which part.
     double pointFactor(PatchId r, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer, const Vec3*& polygon,
                        std::size_t& corners) const;
+    /// The visible part of `term` (its factor and polygon set) from x past the blockers, by shadow
+    /// polygons; counted as a shadow term.
+    double exactVisible(PatchId e, PatchId r, const Vec3& x, const PointTerm& term, Scratch& s, RayCounts& counts) const {
+        ++counts.shadowTerms;
+        return m_shadows.visibleFactor(x, m_geometry.shapes[e].normal, term.polygon, term.corners, e, r, term.factor,
+                                       s.shadow);
+    }
     /// Patch j's polygon, clipped to the half-space above (x, n) into `buffer` when it straddles
     /// the plane; returns the corner count (0 when nothing lies above).
     std::size_t polygonAbove(PatchId j, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer,
