@@ -14,8 +14,9 @@
 
 #include <array>
 #include <cmath>
-#include <functional>
+#include <limits>
 #include <optional>
+#include <queue>
 
 using namespace hemirad;
 using namespace hemirad::test;
@@ -75,9 +76,11 @@ Polygon clip(const Polygon& p, const Vec3& o, const Vec3& m) {
 
 /// F from emitter e to receiver r: the integral over e of Lambert's factor to r's part above e's
 /// plane (zero where x is behind r's plane) less, with an occluder o lying between them, the factor
-/// of r's part inside the cone from x through o; adaptive 4-way subdivision of e's fan triangles
-/// with Dunavant's degree-5 rule until a triangle and its children agree within `tolerance` x its
-/// share of e's area (so that F is within about `tolerance`).
+/// of r's part inside the cone from x through o. Globally adaptive quadrature: e's fan triangles,
+/// each with Dunavant's degree-5 rule and its four children's, the child sum's departure from the
+/// parent as the error; the triangle of largest error is split until the errors sum to at most
+/// `tolerance` x e's area (so that F is within about `tolerance`). NaN if that takes more than
+/// 2 million splits.
 double referenceFactor(const Polygon& e, const Polygon& r, const std::optional<Polygon>& o, double tolerance) {
     const Vec3 ne = newell(e), nr = newell(r);
     const Polygon above = clip(r, e[0], ne);
@@ -104,18 +107,45 @@ double referenceFactor(const Polygon& e, const Polygon& r, const std::optional<P
         sum += w2 * (integrand(a2 * p + b2 * q + b2 * s) + integrand(b2 * p + a2 * q + b2 * s) + integrand(b2 * p + b2 * q + a2 * s));
         return sum * 0.5 * (q - p).cross(s - p).norm();
     };
+    struct Piece {
+        std::array<Vec3, 3> corners;
+        std::array<double, 4> children;  // the rule on each child: corner p's, q's, s's, the middle
+        double error;
+        bool operator<(const Piece& other) const { return error < other.error; }
+    };
+    const auto piece = [&](const Vec3& p, const Vec3& q, const Vec3& s, double coarse) {
+        const Vec3 pq = 0.5 * (p + q), qs = 0.5 * (q + s), sp = 0.5 * (s + p);
+        Piece t{{p, q, s}, {rule(p, pq, sp), rule(pq, q, qs), rule(sp, qs, s), rule(pq, qs, sp)}, 0.0};
+        t.error = std::abs(t.children[0] + t.children[1] + t.children[2] + t.children[3] - coarse);
+        return t;
+    };
+    std::priority_queue<Piece> pieces;
+    for (std::size_t k = 1; k + 1 < e.size(); ++k) pieces.push(piece(e[0], e[k], e[k + 1], rule(e[0], e[k], e[k + 1])));
     const double total = area(e);
-    std::function<double(const Vec3&, const Vec3&, const Vec3&, double, int)> adapt =
-        [&](const Vec3& p, const Vec3& q, const Vec3& s, double coarse, int depth) {
-            const Vec3 pq = 0.5 * (p + q), qs = 0.5 * (q + s), sp = 0.5 * (s + p);
-            const std::array<double, 4> fine = {rule(p, pq, sp), rule(pq, q, qs), rule(sp, qs, s), rule(pq, qs, sp)};
-            const double sum = fine[0] + fine[1] + fine[2] + fine[3];
-            if (depth >= 24 || std::abs(sum - coarse) <= tolerance * 0.5 * (q - p).cross(s - p).norm()) return sum;
-            return adapt(p, pq, sp, fine[0], depth + 1) + adapt(pq, q, qs, fine[1], depth + 1) +
-                   adapt(sp, qs, s, fine[2], depth + 1) + adapt(pq, qs, sp, fine[3], depth + 1);
-        };
+    const auto errorSum = [&] {
+        double sum = 0.0;
+        for (auto copy = pieces; !copy.empty(); copy.pop()) sum += copy.top().error;
+        return sum;
+    };
+    double error = errorSum();
+    for (int splits = 0; error > tolerance * total || (error = errorSum()) > tolerance * total; ++splits) {
+        if (splits > 2000000) return std::numeric_limits<double>::quiet_NaN();
+        const Piece t = pieces.top();
+        pieces.pop();
+        error -= t.error;
+        const auto& [p, q, s] = t.corners;
+        const Vec3 pq = 0.5 * (p + q), qs = 0.5 * (q + s), sp = 0.5 * (s + p);
+        for (const Piece& child : {piece(p, pq, sp, t.children[0]), piece(pq, q, qs, t.children[1]),
+                                   piece(sp, qs, s, t.children[2]), piece(pq, qs, sp, t.children[3])}) {
+            error += child.error;
+            pieces.push(child);
+        }
+    }
     double sum = 0.0;
-    for (std::size_t k = 1; k + 1 < e.size(); ++k) sum += adapt(e[0], e[k], e[k + 1], rule(e[0], e[k], e[k + 1]), 0);
+    for (; !pieces.empty(); pieces.pop()) {
+        const auto& c = pieces.top().children;
+        sum += c[0] + c[1] + c[2] + c[3];
+    }
     return sum / total;
 }
 
@@ -215,8 +245,8 @@ TEST_CASE("A shared corner's tilted neighbour, a corner on a patch and a patch c
     const Polygon beside = {{4, 0, 0}, {6, 0, 0}, {6, 4, 0}, {4, 4, 0}};           // coplanar neighbour
     for (const Polygon& other : {onCorner, inside}) {
         const FormFactors F = defaultF({ground, other});
-        CHECK(F.at(0, 1) == relative(referenceFactor(ground, other, std::nullopt, 1e-8), 1e-6));
-        CHECK(F.at(1, 0) == relative(referenceFactor(other, ground, std::nullopt, 1e-8), 1e-6));
+        CHECK(F.at(0, 1) == relative(referenceFactor(ground, other, std::nullopt, 1e-10), 1e-6));
+        CHECK(F.at(1, 0) == relative(referenceFactor(other, ground, std::nullopt, 1e-10), 1e-6));
     }
     const FormFactors F = defaultF({ground, beside});
     CHECK(F.nonZeros() == 0);

@@ -171,7 +171,7 @@ TEST_CASE("A radiation shield between concentric spheres: an isothermal node at 
     addSphere(s, Vec3::Zero(), 1.501, 2, true, 1, 0);
     addSphere(s, Vec3::Zero(), 2.0, 2, false, 2, 0);
     FormFactors F = computedF(s);
-    // The shield's inner side is a concave enclosure around an occluder: its rows close to ~4e-3 with
+    // The shield's inner side is a concave enclosure around an occluder: its rows close to ~5e-4 with
     // the default F (issue 34: small terms behind an occluder), and what does not close is lost to a
     // 0 K environment. Closed rows isolate the exchange from that estimate.
     const double closure = normalizeRows(F);
