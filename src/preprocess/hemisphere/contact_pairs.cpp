@@ -158,7 +158,8 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
         std::push_heap(s.cells.begin(), s.cells.end(), larger);
     }
     // The budget shrinks with the blockers in the shaft (each evaluation meets them all): a big
-    // patch's pairs in a cluttered scene get one refinement, a touching pair past one blocker 2000.
+    // patch's pairs in a cluttered scene get one refinement, a touching pair past one blocker the
+    // whole budget (2000 at the default --pair-digits 2, 2000 x 10^(D-2) at D).
     const double allowed = std::max(m_precision.tolerance * exact, m_precision.floor * area);
     const std::uint32_t budget = std::max<std::uint32_t>(
         kLeastEvaluations, m_precision.budget / std::uint32_t(std::max<std::size_t>(s.blockers.size(), 1)));
