@@ -70,7 +70,7 @@ TEST_CASE("hemirad-gui sleeps while idle: a few frames, not one per refresh") {
 TEST_CASE("hemirad-gui's panels stay inside a 1280x800 window and apart, the Selection panel included") {
     // Issue 14: at the default size the Pipeline and Selection panels ran past the window's edge and
     // over each other, hiding the F diagnostics and the inspector.
-    const std::string log = runGuiAndCheckPicture("gui-layout", "--samples 256 --select 0", false);
+    const std::string log = runGuiAndCheckPicture("gui-layout", "--estimator rays --samples 256 --select 0", false);
     const std::vector<Panel> panels = panelsOf(log);
     REQUIRE(panels.size() == 5);  // Scene, Pipeline, Selection, Log, Status
     for (const Panel& p : panels) {
@@ -98,7 +98,7 @@ TEST_CASE("hemirad-gui's panels stay inside a 1280x800 window and apart, the Sel
 
 TEST_CASE("hemirad-gui's false-colour view: patches in the map's colours, a legend whose bar and range come from the data") {
     Image image;
-    const std::string log = runGuiAndCheckPicture("gui-false-colour", "--samples 256 --false-color irradiance", false, &image);
+    const std::string log = runGuiAndCheckPicture("gui-false-colour", "--estimator rays --samples 256 --false-color irradiance", false, &image);
     // The range equals hemirad render's for the same scene and settings.
     double guiMin = 0, guiMax = 0;
     const std::size_t at = log.find("hemirad-gui: false colour: irradiance H, linear scale ");
@@ -106,7 +106,7 @@ TEST_CASE("hemirad-gui's false-colour view: patches in the map's colours, a lege
     REQUIRE(std::sscanf(log.c_str() + at, "hemirad-gui: false colour: irradiance H, linear scale %lf .. %lf", &guiMin, &guiMax) == 2);
     const auto dir = tempDir("gui-false-colour-cli");
     const CommandResult cli = runCommand(std::string(HEMIRAD_BINARY) + " render " + sourcePath("scenes/cornell_box.obj") +
-                                         " --subdivide 60 --samples 256 --false-color irradiance --size 64x64 -o " +
+                                         " --subdivide 60 --estimator rays --samples 256 --false-color irradiance --size 64x64 -o " +
                                          (dir / "H.png").string() + " 2>&1");
     REQUIRE(cli.status == 0);
     double cliMin = 0, cliMax = 0;
@@ -173,7 +173,7 @@ TEST_CASE("hemirad-gui's false colour of a scene where nothing emits says so, ev
     writeFile(dir / "cornell_box.obj", readText(sourcePath("scenes/cornell_box.obj")));
     writeFile(dir / "cornell_box.mtl", mtl);
     std::string log;
-    const Image image = runGui("gui-no-emitter-run", (dir / "cornell_box.obj").string() + " --subdivide 60 --samples 64 --false-color irradiance --run", log);
+    const Image image = runGui("gui-no-emitter-run", (dir / "cornell_box.obj").string() + " --subdivide 60 --estimator rays --samples 64 --false-color irradiance --run", log);
     INFO(log);
     CHECK(log.find("hemirad-gui: false colour: nothing emits") != std::string::npos);
     CHECK(log.find("scale -1 .. 1") == std::string::npos);
@@ -193,7 +193,7 @@ TEST_CASE("hemirad-gui meshes a selected object as the Pipeline panel's Apply do
     const std::size_t expected = hemirad::subdividedSize(source, edges);
     REQUIRE(expected > loaded.size());
     Image image;
-    const std::string log = runGuiAndCheckPicture("gui-mesh", "--samples 256 --select 17 --mesh-selected 25 --layer patch-id", false, &image);
+    const std::string log = runGuiAndCheckPicture("gui-mesh", "--estimator rays --samples 256 --select 17 --mesh-selected 25 --layer patch-id", false, &image);
     CHECK(log.find("meshed 1 object(s) to edges <= 25: " + std::to_string(loaded.size()) + " -> " + std::to_string(expected) +
                    " patches") != std::string::npos);
     CHECK(log.find(", " + std::to_string(expected) + " rows in ") != std::string::npos);  // F for the new mesh
@@ -239,7 +239,7 @@ TEST_CASE("hemirad-gui reports the lost power area-weighted, as the CLI: meshing
 
 TEST_CASE("hemirad-gui's status bar reads out a known patch: B, H, E, rho, s as the CLI's CSV, and F_ij from the selected patch") {
     // Patch 200 of the 60 mm Cornell box is on the light; patch 0 (the floor) is selected.
-    const std::string log = runGuiAndCheckPicture("gui-readout", "--samples 256 --select 0 --hover 200", false);
+    const std::string log = runGuiAndCheckPicture("gui-readout", "--samples 256 --pair-digits 1 --select 0 --hover 200", false);
     const std::size_t at = log.find("hemirad-gui: status: patch 200 'light' | B ");
     REQUIRE(at != std::string::npos);
     double B[3], H[3], E[3], rho[3], s = -1, F = -1;
@@ -250,7 +250,7 @@ TEST_CASE("hemirad-gui's status bar reads out a known patch: B, H, E, rho, s as 
     // The CLI's per-patch CSV and F for the same scene and settings.
     const auto dir = tempDir("gui-readout-cli");
     const std::string csv = (dir / "B.csv").string(), mtx = (dir / "F.mtx").string();
-    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256 ";
+    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256 --pair-digits 1 ";
     REQUIRE(runCommand(std::string(HEMIRAD_BINARY) + " solve " + scene + "-o " + csv + " 2>&1").status == 0);
     REQUIRE(runCommand(std::string(HEMIRAD_BINARY) + " formfactors " + scene + "-o " + mtx + " 2>&1").status == 0);
     std::istringstream rows(readText(csv));
@@ -353,7 +353,7 @@ TEST_CASE("hemirad-gui: every control of every panel shows a tooltip, above it (
     // the hemisphere with a selection (material editor, inspector) and the false-colour legend; the
     // hemicube's options on the mirror box; the thermal section and exchange table on the radiator.
     const std::vector<std::string> setups = {
-        sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256 --select 0 --false-color irradiance --exposure 2",
+        sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256 --pair-digits 1 --select 0 --false-color irradiance --exposure 2",
         sourcePath("scenes/cornell_mirror.obj") + " --method hemicube --resolution 32 --select 4",
         // The Scene panel's Thermal section (opened by its files) with a result, T in false colour and
         // the exchange table.
@@ -409,14 +409,14 @@ TEST_CASE("hemirad-gui's Scene panel counts the objects that hold patches, singu
 
 TEST_CASE("hemirad-gui's object table has H min between H mean and H max, as the CLI's --objects CSV (issue 38 #8)") {
     std::string log;
-    runGui("gui-object-table", sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256 --run --objects-window", log);
+    runGui("gui-object-table", sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --estimator rays --samples 256 --run --objects-window", log);
     CHECK(log.find("hemirad-gui: object table: object | patches | area (mm^2) | B mean | B min | B max | "
                    "H mean | H min | H max\n") != std::string::npos);
     // The floor's row against `hemirad solve --objects` for the same scene and settings.
     const auto dir = tempDir("gui-object-table-cli");
     const std::string csv = (dir / "objects.csv").string();
     REQUIRE(runCommand(std::string(HEMIRAD_BINARY) + " solve " + sourcePath("scenes/cornell_box.obj") +
-                       " --subdivide 60 --samples 256 --objects " + csv + " -o " + (dir / "B.csv").string() + " 2>&1").status == 0);
+                       " --subdivide 60 --estimator rays --samples 256 --objects " + csv + " -o " + (dir / "B.csv").string() + " 2>&1").status == 0);
     std::istringstream rows(readText(csv));
     std::string line;
     double f[9] = {};

@@ -109,7 +109,7 @@ TEST_CASE("hemirad-gui's up-axis choice is remembered for the scene's file and s
 TEST_CASE("hemirad-gui outlines the selection: a selected patch keeps its false colour, a ring around it shows it (issue 38 #7)") {
     // The tint over the false colour changed the selected patch's colour, so its value could not be
     // read against the legend, and a single selected patch was barely visible.
-    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256";
+    const std::string scene = sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --estimator rays --samples 256";
     std::string log;
     // The patch in the middle of the back wall, from the patch-id layer.
     const Image ids = runGui("gui-outline-ids", scene + " --layer patch-id", log);
@@ -182,7 +182,7 @@ int significantDigits(const std::string& label) {
 
 TEST_CASE("hemirad-gui's legend is labelled with round values: at most two significant digits each (issue 38 #15)") {
     std::string log;
-    runGui("gui-legend-ticks", sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256 --false-color irradiance --run", log);
+    runGui("gui-legend-ticks", sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --estimator rays --samples 256 --false-color irradiance --run", log);
     INFO(log);
     const std::vector<std::string> ticks = legendTicksOf(log);
     CHECK(ticks.size() >= 2);
@@ -197,7 +197,7 @@ TEST_CASE("hemirad-gui's legend is labelled with round values: at most two signi
 TEST_CASE("hemirad-gui's F-row layer has a scale: the legend's bar in the layer's colours, log values from the row's largest factor (issue 38 #15)") {
     std::string log;
     const Image image =
-        runGui("gui-row-legend", sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --samples 256 --layer f-row --select 0 --run", log);
+        runGui("gui-row-legend", sourcePath("scenes/cornell_box.obj") + " --subdivide 60 --estimator rays --samples 256 --layer f-row --select 0 --run", log);
     INFO(log);
     const Panel bar = panelOf(log, "LegendBar");
     // The ramp of viewer_present.frag at its ends: dark blue at the bottom, yellow at the top.
