@@ -15,6 +15,7 @@ int runSkyView(const Options& options);
 int runSun(const Options& options);
 int runIrradiance(const Options& options);
 int runYear(const Options& options);
+int runSensors(const Options& options);
 int runCheck(const Options& options);
 int runBench(const Options& options);
 int runBenchRun(const Options& options);

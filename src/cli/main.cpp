@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
         if (options.command == "sky-view") return runSkyView(options);
         if (options.command == "sun") return runSun(options);
         if (options.command == "irradiance") return runIrradiance(options);
+        if (options.command == "sensors") return runSensors(options);
         if (options.command == "year") return runYear(options);
         if (options.command == "check") return runCheck(options);
         if (options.command == "bench") return runBench(options);

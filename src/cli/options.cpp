@@ -20,11 +20,11 @@
 namespace hemirad {
 namespace {
 
-const std::set<std::string> kCommands = {"formfactors", "solve", "render", "thermal", "sky-view", "sun", "irradiance", "year", "info", "subdivide", "check", "bench", "bench-run", "help"};
-const std::set<std::string> kComputing = {"formfactors", "solve", "render", "thermal", "sky-view", "irradiance", "year", "bench", "bench-run"};
-const std::set<std::string> kSolving = {"solve", "render", "thermal", "irradiance", "year", "bench", "bench-run"};
-const std::set<std::string> kSun = {"sun", "irradiance"};
-const std::set<std::string> kOrientation = {"sun", "irradiance", "year"};
+const std::set<std::string> kCommands = {"formfactors", "solve", "render", "thermal", "sky-view", "sun", "irradiance", "year", "sensors", "info", "subdivide", "check", "bench", "bench-run", "help"};
+const std::set<std::string> kComputing = {"formfactors", "solve", "render", "thermal", "sky-view", "irradiance", "year", "sensors", "bench", "bench-run"};
+const std::set<std::string> kSolving = {"solve", "render", "thermal", "irradiance", "year", "sensors", "bench", "bench-run"};
+const std::set<std::string> kSun = {"sun", "irradiance", "sensors"};
+const std::set<std::string> kOrientation = {"sun", "irradiance", "year", "sensors"};
 const std::set<std::string> kThermal = {"thermal"};
 
 const std::set<std::string> kBench = {"bench"};
@@ -107,7 +107,7 @@ std::string joined(const std::vector<std::string>& names, const std::string& las
 /// The formats each writing command offers; the first is the default on standard output.
 const std::vector<std::string>& outputFormats(const std::string& command) {
     static const std::map<std::string, std::vector<std::string>> formats = {
-        {"formfactors", {"mtx", "hff"}}, {"solve", {"csv", "ply"}}, {"render", {"png"}}, {"thermal", {"csv"}}, {"sky-view", {"csv"}}, {"sun", {"csv"}}, {"irradiance", {"csv"}}, {"year", {"csv"}}};
+        {"formfactors", {"mtx", "hff"}}, {"solve", {"csv", "ply"}}, {"render", {"png"}}, {"thermal", {"csv"}}, {"sky-view", {"csv"}}, {"sun", {"csv"}}, {"irradiance", {"csv"}}, {"year", {"csv"}}, {"sensors", {"csv"}}};
     static const std::vector<std::string> none;
     const auto it = formats.find(command);
     return it == formats.end() ? none : it->second;
@@ -121,7 +121,7 @@ struct Flag {
 
 const std::map<std::string, Flag>& flags() {
     static const std::map<std::string, Flag> table = {
-        {"-o", {{"formfactors", "solve", "render", "thermal", "sky-view", "sun", "irradiance", "year", "subdivide", "bench"}, true,
+        {"-o", {{"formfactors", "solve", "render", "thermal", "sky-view", "sun", "irradiance", "year", "sensors", "subdivide", "bench"}, true,
                 [](Options& o, const std::string&, const std::string& v) { o.output = v; }}},
         {"--format", {{"formfactors", "solve", "render"}, true,
                       [](Options& o, const std::string& f, const std::string& v) {
@@ -231,7 +231,7 @@ const std::map<std::string, Flag>& flags() {
                     }}},
         {"--gr-threshold", {kThermal, true,
                             [](Options& o, const std::string& f, const std::string& v) { o.couplingThreshold = parseNumber(f, v, 0.0, 0.5); }}},
-        {"--unit", {{"thermal", "irradiance", "year"}, true,
+        {"--unit", {{"thermal", "irradiance", "year", "sensors"}, true,
                     [](Options& o, const std::string& f, const std::string& v) {
                         try {
                             metresPerUnit(v);
@@ -263,7 +263,16 @@ const std::map<std::string, Flag>& flags() {
         {"--dni", {kSun, true, [](Options& o, const std::string& f, const std::string& v) { o.dni = parseNumber(f, v, 0, 1e5); }}},
         {"--weather", {{"year"}, true, pathWith(&Options::weatherPath, ".epw")}},
         {"--hourly", {{"year"}, true, pathWith(&Options::hourlyPath, ".npy")}},
-        {"--dhi", {{"irradiance"}, true, [](Options& o, const std::string& f, const std::string& v) { o.dhi = parseNumber(f, v, 0, 1e5); }}},
+        {"--dhi", {{"irradiance", "sensors"}, true, [](Options& o, const std::string& f, const std::string& v) { o.dhi = parseNumber(f, v, 0, 1e5); }}},
+        {"--sensors", {{"sensors"}, true, pathWith(&Options::sensorsPath, ".csv")}},
+        {"--grid", {{"sensors"}, true,
+                    [](Options& o, const std::string& f, const std::string& v) {
+                        if (v.empty()) throw UsageError(f + " expects an object name");
+                        o.gridObject = v;
+                    }}},
+        {"--spacing", {{"sensors"}, true, [](Options& o, const std::string& f, const std::string& v) { o.gridSpacing = parseNumber(f, v, 0, 1e300); }}},
+        {"--height", {{"sensors"}, true, [](Options& o, const std::string& f, const std::string& v) { o.gridHeight = parseNumber(f, v, -1e300, 1e300); }}},
+        {"--factors", {{"sensors"}, true, pathWith(&Options::sensorFactorsPath, ".mtx")}},
         {"--objects", {{"solve", "thermal"}, true,
                        [](Options& o, const std::string& f, const std::string& v) {
                            if (lowerExtension(v) != ".csv") throw UsageError(f + " writes a CSV table: '" + v + "' must end in .csv");
@@ -486,7 +495,7 @@ Options parseOptions(int argc, const char* const* argv) {
     if (o.inputs.size() != 1)
         throw UsageError("'" + o.command + "' takes exactly one input file, got " + std::to_string(o.inputs.size()));
     const bool needsOutput = o.command == "formfactors" || o.command == "subdivide" || o.command == "bench" || o.command == "sky-view" ||
-                             o.command == "sun" || o.command == "irradiance" || o.command == "year";
+                             o.command == "sun" || o.command == "irradiance" || o.command == "year" || o.command == "sensors";
     if (needsOutput && o.output.empty()) throw UsageError("'" + o.command + "' needs -o OUTPUT");
     if (o.command == "render" && o.output.empty()) throw UsageError("'render' needs -o IMAGE.png");
     if (!o.falseColour) {
@@ -516,7 +525,21 @@ Options parseOptions(int argc, const char* const* argv) {
         std::none_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--tolerance"; }))
         o.solver.tolerance = 1e-10;  // the power balance is read to many digits
     if (o.command == "irradiance" && !o.dni) throw UsageError("'irradiance' needs --dni W (and --dhi W for the sky)");
-    if (o.command == "sun" || o.command == "irradiance") {
+    if (o.command == "sensors") {
+        if (o.sensorsPath.empty() == o.gridObject.empty())
+            throw UsageError("'sensors' needs --sensors FILE.csv or --grid OBJECT --spacing D (one of them)");
+        const bool spaced = std::any_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--spacing"; });
+        const bool lifted = std::any_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--height"; });
+        if (!o.gridObject.empty() && !(o.gridSpacing > 0.0)) throw UsageError("--grid needs --spacing D > 0");
+        if (o.gridObject.empty() && (spaced || lifted)) throw UsageError("--spacing and --height lay a --grid OBJECT");
+        const bool sunGiven = o.sunDirectionVector || !o.sunTime.empty() || o.latitude || o.longitude;
+        const bool skyGiven = std::any_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--dhi"; });
+        if (!o.dni && (sunGiven || skyGiven))
+            throw UsageError("'sensors' gives irradiance with --dni W (and the sun, and --dhi W for the sky)");
+        if (std::none_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--tolerance"; }))
+            o.solver.tolerance = 1e-10;
+    }
+    if (o.command == "sun" || o.command == "irradiance" || (o.command == "sensors" && o.dni)) {
         const bool byTime = !o.sunTime.empty() || o.latitude || o.longitude;
         if (o.sunDirectionVector && byTime)
             throw UsageError("give --sun-direction or --sun-time with --latitude and --longitude, not both");
@@ -669,6 +692,9 @@ commands:
                                          sky, reflected, total and absorbed irradiance per patch
   year SCENE --weather W.epw -o ANNUAL.csv   every hour of a weather file against one F: annual sums
                                          per patch (--hourly H.npy: each hour's total irradiance)
+  sensors SCENE --sensors S.csv -o OUT.csv   sensor points (or --grid OBJECT --spacing D): each
+                                         point's sky view factor and exact factors to the patches
+                                         (--factors F.mtx); with --dni and the sun, one hour's irradiance
   info F.hff|F.mtx                       check an F file (or a shard manifest and its shards) and
                                          describe it
   subdivide SCENE -o OUT.obj --max-edge L   split patches until no edge exceeds L
@@ -769,10 +795,16 @@ sun:
   --up z|y               the scene's up axis (default z), --north x,y,z its north (default +y for z
                          up, -z for y up)
   --dni W                direct-normal irradiance (W/m^2) for the direct-irradiance column
-  --dhi W                (irradiance) diffuse-horizontal irradiance of an isotropic sky (W/m^2)
+  --dhi W                (irradiance, sensors) diffuse-horizontal irradiance of an isotropic sky (W/m^2)
   --weather FILE.epw     (year) an EnergyPlus weather file: location, hourly DNI and DHI
   --hourly FILE.npy      (year) the total irradiance of each solved hour and patch (NumPy float64)
   --unit m|cm|mm|in|ft   (irradiance) the scene's length unit where the OBJ states none (powers in W)
+sensors:
+  --sensors FILE.csv     points with normals, a line each: x,y,z,nx,ny,nz[,name] (a header line and
+                         # comments allowed)
+  --grid OBJECT          or a grid over OBJECT's faces: --spacing D between points (scene units),
+  --height H             lifted H along each face's normal (default 0)
+  --factors F.mtx        the sensors x patches factors (Matrix Market, 1-based; row s = sensor s)
 check:
   --sliver-ratio R       a sliver's longest edge / minimum width exceeds R (default 20)
   --relative-tolerance R positions within R x the scene extent are one point (default 1e-6)

@@ -79,6 +79,11 @@ struct Options {
     double dhi = 0.0;                    ///< --dhi W/m^2: diffuse-horizontal irradiance (irradiance command)
     std::string weatherPath;             ///< year --weather FILE.epw
     std::string hourlyPath;              ///< year --hourly FILE.npy: total irradiance per hour and patch
+    std::string sensorsPath;             ///< sensors --sensors FILE.csv: x,y,z,nx,ny,nz[,name] per line
+    std::string gridObject;              ///< sensors --grid OBJECT: a grid over the object's faces
+    double gridSpacing = 0.0;            ///< --spacing D (scene units)
+    double gridHeight = 0.0;             ///< --height H above the faces (scene units)
+    std::string sensorFactorsPath;       ///< sensors --factors F.mtx: sensors x patches
 
     // subdivide command.
     double maxEdge = 0.0;

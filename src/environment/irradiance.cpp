@@ -31,6 +31,7 @@ IrradianceResult solarIrradiance(const Scene& scene, const FormFactors& F, const
     }
     thermal::SolarSolution solar = thermal::solveSolar(scene, F, band, metresPerUnit, options);
     out.reflected = std::move(solar.H);
+    out.radiosity = std::move(solar.J);
     out.absorbed = std::move(solar.absorbed);
     out.total.resize(n);
     for (std::size_t i = 0; i < n; ++i) out.total[i] = band.incident[i] + out.reflected[i];

@@ -19,6 +19,7 @@ struct IrradianceInputs {
 
 struct IrradianceResult {
     std::vector<double> directSun, directSky, reflected, total, absorbed;  ///< W/m^2 per patch
+    std::vector<double> radiosity;  ///< W/m^2 per patch: the diffuse radiosity J leaving it (what sensors see of it)
     double incidentPower = 0.0;   ///< W (scene units^2 x W/m^2 when the scene has no unit): the first arrivals
     double absorbedPower = 0.0;
     double escapedPower = 0.0;    ///< what leaves to the sky: diffuse reflections F does not land, specular first reflections

@@ -1,6 +1,7 @@
 // hemirad._hemirad: the C++ library seen from Python. A thin layer over the pipeline, the back-end and
 // solver registries and the F files; hemirad/__init__.py turns its arrays into scipy/numpy objects.
 #include "engine/error.hpp"
+#include "environment/sensors.hpp"
 #include "environment/sky_view.hpp"
 #include "engine/form_factor_file.hpp"
 #include "engine/obj_writer.hpp"
@@ -501,6 +502,54 @@ py::dict skyView(const ScenePtr& scene, const std::string& method, const std::ma
     return out;
 }
 
+/// Sensors from (S, 3) positions and normals: their factors (CSR arrays for scipy) and sky view factors.
+py::dict sensorFactorsOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> positions,
+                         py::array_t<double, py::array::c_style | py::array::forcecast> normals, int threads) {
+    if (positions.ndim() != 2 || positions.shape(1) != 3 || normals.ndim() != 2 || normals.shape(1) != 3 ||
+        normals.shape(0) != positions.shape(0))
+        throw py::value_error("sensor_factors: positions and normals must be arrays of shape (S, 3), the same S");
+    Sensors sensors;
+    const double* x = positions.data();
+    const double* n = normals.data();
+    for (py::ssize_t s = 0; s < positions.shape(0); ++s) {
+        const Vec3 p(x[3 * s], x[3 * s + 1], x[3 * s + 2]), d(n[3 * s], n[3 * s + 1], n[3 * s + 2]);
+        if (!p.allFinite()) throw py::value_error("sensor_factors: position " + std::to_string(s) + " is not finite");
+        if (!d.allFinite() || !(d.norm() > 0.0))
+            throw py::value_error("sensor_factors: normal " + std::to_string(s) + " is not a direction");
+        sensors.position.push_back(p);
+        sensors.normal.push_back(d.normalized());
+        sensors.name.push_back(std::to_string(s));
+    }
+    SensorFactors f;
+    {
+        py::gil_scoped_release release;
+        f = sensorFactors(*scene, sensors, threads);
+    }
+    py::array_t<std::int64_t> indptr(py::ssize_t(f.rowStart.size()));
+    std::copy(f.rowStart.begin(), f.rowStart.end(), indptr.mutable_data());
+    py::array_t<std::int32_t> indices(py::ssize_t(f.columns.size()));
+    std::copy(f.columns.begin(), f.columns.end(), indices.mutable_data());
+    py::dict out;
+    out["indptr"] = indptr;
+    out["indices"] = indices;
+    out["data"] = numpyVector(f.values);
+    out["sky_view_factor"] = numpyVector(f.skyView);
+    out["patches"] = f.patches;
+    return out;
+}
+
+/// A grid over an object's faces: (positions, normals, names).
+py::tuple sensorGridOf(const ScenePtr& scene, const std::string& object, double spacing, double height) {
+    const Sensors g = sensorGrid(*scene, object, spacing, height);
+    py::array_t<double> positions({py::ssize_t(g.size()), py::ssize_t(3)}), normals({py::ssize_t(g.size()), py::ssize_t(3)});
+    for (std::size_t s = 0; s < g.size(); ++s)
+        for (int a = 0; a < 3; ++a) {
+            positions.mutable_data()[3 * s + std::size_t(a)] = g.position[s][a];
+            normals.mutable_data()[3 * s + std::size_t(a)] = g.normal[s][a];
+        }
+    return py::make_tuple(positions, normals, g.name);
+}
+
 py::dict conductors(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
                     py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
                     py::array_t<double, py::array::c_style> emissivity, py::array_t<double, py::array::c_style> specular,
@@ -604,6 +653,8 @@ PYBIND11_MODULE(_hemirad, m) {
     m.def("_thermal", &thermalSolve);
     m.def("_conductors", &conductors);
     m.def("_sky_view", &skyView);
+    m.def("_sensor_factors", &sensorFactorsOf);
+    m.def("_sensor_grid", &sensorGridOf);
     m.def("_read_form_factors", &readFormFactors);
     m.def("_write_form_factors", &writeFormFactors);
     m.def("_render", &render);

@@ -492,6 +492,35 @@ def test_thermal_sun_and_bands():
         hemirad.thermal(plates, F, 0.8, flux=np.zeros(n), band_limits_um=[5.0], band_emissivity=np.full((3, n), 0.8))
 
 
+def test_sensor_factors_under_a_plate():
+    # A sensor at the middle of the bottom plate facing up sees the top plate (1 above, a unit
+    # square) by the closed form for a point under a rectangle's corner, four times; the rest is sky.
+    plates = hemirad.load(scene_path("parallel_plates.obj"))
+
+    def corner(A):  # a point under the corner of an A x A square (in units of its distance)
+        t = A / np.sqrt(1 + A * A)
+        return 2 * t * np.arctan(t) / (2 * np.pi)
+
+    positions, normals, names = hemirad.sensor_grid(plates, "bottom_plate", 0.5)
+    assert positions.shape == (4, 3) and normals.shape == (4, 3) and len(names) == 4
+    assert np.all(normals == [0, 0, 1]) and np.all(positions[:, 2] == 0)
+    out = hemirad.sensor_factors(plates, [[0.5, 0.5, 0.0], [0.5, 0.5, 0.5]], [[0, 0, 1], [0, 0, -2]])
+    F = out["F"]
+    assert isinstance(F, scipy.sparse.csr_array) and F.shape == (2, 2) and F.dtype == np.float64
+    assert F[0, 1] == pytest.approx(4 * corner(0.5), rel=1e-12)
+    assert F[0, 0] == 0.0  # the plate it lies on
+    assert out["sky_view_factor"][0] == pytest.approx(1 - 4 * corner(0.5), rel=1e-12)
+    # Facing down, 0.5 above the bottom plate: it, and no sky below it.
+    assert F[1, 0] == pytest.approx(4 * corner(1.0), rel=1e-12) and F[1, 1] == 0.0
+    assert out["sky_view_factor"][1] == pytest.approx(1 - 4 * corner(1.0), rel=1e-12)
+    with pytest.raises(ValueError):
+        hemirad.sensor_factors(plates, [[0, 0, 0]], [[0, 0, 0]])
+    with pytest.raises(ValueError):
+        hemirad.sensor_factors(plates, [[0, 0, 0, 1]], [[0, 0, 1, 0]])
+    with pytest.raises(hemirad.Error):
+        hemirad.sensor_grid(plates, "roof", 0.5)
+
+
 def test_sky_view_factors_of_plates():
     # Two unit squares facing each other at distance 1: each sees the other (C-11, 0.199825) and the
     # rest is sky; the same as the command line's.

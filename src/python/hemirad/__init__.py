@@ -21,7 +21,7 @@ import scipy.sparse as _sparse
 from . import _hemirad
 from ._hemirad import Error, Scene
 
-__all__ = ["Error", "Scene", "load", "form_factors", "solve", "thermal", "conductors", "sky_view_factors", "read_form_factors", "write_form_factors",
+__all__ = ["Error", "Scene", "load", "form_factors", "solve", "thermal", "conductors", "sky_view_factors", "sensor_factors", "sensor_grid", "read_form_factors", "write_form_factors",
            "render", "methods", "solvers"]
 
 
@@ -352,6 +352,33 @@ def conductors(scene, F, emissivity, specular=None, *, lump="patches", threshold
     absorbed = GR + _sparse.diags(_np.append(r["self"], 0.0))  # a node absorbs some of its own emission too
     B = _sparse.diags(scale) @ absorbed
     return GR, B.tocsr(), list(r["nodes"])
+
+
+def sensor_factors(scene, positions, normals, *, threads=0):
+    """Sensor points: each point's exact factors to the patches and its sky view factor.
+
+    positions, normals: arrays of shape (S, 3) (normals need not be unit); threads: 0 for every core.
+    A sensor sees the scene
+    without being part of it. Each factor is Lambert's to the part of a patch's front the point sees
+    past every other patch (shadow polygons; mirrors not followed); the sky view factor is 1 less
+    the factors to every patch seen, front or back.
+
+    Returns a dict: ``F`` a ``scipy.sparse.csr_array`` of shape (S, N), float64, and
+    ``sky_view_factor`` an array of S.
+    """
+    _check_scene(scene)
+    out = _hemirad._sensor_factors(scene, _np.asarray(positions, dtype=_np.float64),
+                                   _np.asarray(normals, dtype=_np.float64), int(threads))
+    F = _sparse.csr_array((out["data"], out["indices"], out["indptr"]), shape=(len(out["indptr"]) - 1, out["patches"]))
+    return {"F": F, "sky_view_factor": out["sky_view_factor"]}
+
+
+def sensor_grid(scene, object, spacing, height=0.0):
+    """A grid of sensors over an object's faces: the points of a square lattice of ``spacing`` on
+    each of its patches, lifted ``height`` along the normal. Returns ``(positions, normals, names)``:
+    arrays of shape (S, 3) and a list of names OBJECT:PATCH:K (for :func:`sensor_factors`)."""
+    _check_scene(scene)
+    return _hemirad._sensor_grid(scene, str(object), float(spacing), float(height))
 
 
 def sky_view_factors(scene, method=None, *, max_depth=8, threads=0, **options):

@@ -1,0 +1,84 @@
+// `hemirad sensors SCENE --sensors S.csv | --grid OBJECT --spacing D -o OUT.csv`: each sensor point's
+// sky view factor and exact factors to the patches (--factors F.mtx), and with --dni and the sun one
+// hour's irradiance there: direct sun, direct sky and what the patches reflect (src/environment).
+#include "cli/commands.hpp"
+#include "cli/pipeline.hpp"
+#include "cli/sun_command.hpp"
+#include "environment/irradiance.hpp"
+#include "environment/sensors.hpp"
+#include "environment/sky_view.hpp"
+#include "environment/sunlit.hpp"
+
+#include <iomanip>
+#include <numeric>
+#include <sstream>
+
+namespace hemirad {
+
+int runSensors(const Options& options) {
+    Reporter reporter(options.quiet, reportsToStandardError(options));
+    Warnings warnings;
+    Timings timings;
+    const Scene scene = loadScene(options, timings, reporter, warnings);
+
+    timings.start("sensors");
+    const Sensors sensors = options.sensorsPath.empty()
+                                ? sensorGrid(scene, options.gridObject, options.gridSpacing, options.gridHeight)
+                                : readSensorsCsv(options.sensorsPath);
+    reporter.line("sensors: " + std::to_string(sensors.size()) +
+                  (options.sensorsPath.empty() ? " on a grid over '" + options.gridObject + "'" : " from " + options.sensorsPath));
+    timings.start("sensor factors");
+    const SensorFactors factors = sensorFactors(scene, sensors, options.formFactors.common.threads);
+    timings.stop();
+    {
+        const double mean = std::accumulate(factors.skyView.begin(), factors.skyView.end(), 0.0) / double(sensors.size());
+        std::ostringstream line;
+        line << std::setprecision(4) << "sensor factors: exact (Lambert's factors to the visible parts, shadow polygons), "
+             << factors.terms << " sensor-patch terms, " << factors.values.size() << " nonzeros; sky view factor mean "
+             << mean << ", min " << *std::min_element(factors.skyView.begin(), factors.skyView.end()) << ", max "
+             << *std::max_element(factors.skyView.begin(), factors.skyView.end());
+        reporter.line(line.str());
+    }
+
+    SensorIrradiance irradiance;
+    if (options.dni) {
+        double metres = 1.0;
+        if (!scene.unit.empty()) metres = metresPerUnit(scene.unit);
+        else if (!options.lengthUnit.empty()) metres = metresPerUnit(options.lengthUnit);
+        const Vec3 toSun = sunDirectionFromOptions(options, reporter);
+        // The patches' hour as `irradiance` solves it: their radiosity is what the sensors see reflected.
+        timings.start("sunlit fractions");
+        IrradianceInputs in;
+        in.directSun = directIrradiance(scene, toSun, *options.dni, sunlitFractions(scene, toSun));
+        const std::vector<double> lit = sensorSunlit(scene, sensors, toSun);
+        timings.start("sky view factors");
+        in.skyView = skyViewFactors(scene, options.formFactors).direct;
+        timings.stop();
+        in.dhi = options.dhi;
+        Options withRows = options;
+        withRows.allRows = true;
+        const FormFactors F = obtainFormFactors(scene, withRows, timings, reporter, warnings);
+        timings.start("inter-reflection");
+        const IrradianceResult patches = solarIrradiance(scene, F, in, metres, options.solver);
+        irradiance = sensorIrradiance(sensors, factors, lit, toSun, *options.dni, options.dhi, patches.radiosity);
+        timings.stop();
+        std::ostringstream line;
+        line << std::setprecision(6) << "sensors: the patches' hour balances to " << std::setprecision(3) << patches.balance
+             << " (" << patches.report.solver << "); " << std::accumulate(lit.begin(), lit.end(), 0.0) << " of "
+             << sensors.size() << " sensors in the sun";
+        reporter.line(line.str());
+    }
+
+    timings.start("write CSV");
+    writeSensorsCsv(options.output, sensors, factors, options.dni ? &irradiance : nullptr);
+    if (!options.sensorFactorsPath.empty()) writeSensorFactorsMtx(options.sensorFactorsPath, factors);
+    timings.stop();
+    reporter.line("wrote " + outputName(options.output) + " (per sensor: position, normal, sky view factor" +
+                  (options.dni ? std::string(", direct sun, direct sky, reflected, total") : std::string()) + ")" +
+                  (options.sensorFactorsPath.empty() ? "" : " and " + outputName(options.sensorFactorsPath) +
+                                                               " (sensors x patches)"));
+    finishCommand(reporter, timings, warnings);
+    return 0;
+}
+
+}  // namespace hemirad

@@ -1,0 +1,84 @@
+// Sensor points: points with normals where a user wants what a surface there would receive (mean
+// radiant temperature, daylight), without a patch of their own. Read from a CSV or laid as a grid
+// over an object's faces; each sensor gets its point-to-patch factors (Lambert's exact factor to the
+// part of every patch it sees, past every other patch: shadow polygons, no rays), its direct sky
+// view factor, and one hour's irradiance from the sun, the isotropic sky and the patches' radiosity.
+// Sensors see the scene and are not part of it: they block nothing, not even one another.
+#pragma once
+
+#include "engine/math.hpp"
+#include "engine/scene.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hemirad {
+
+struct Sensors {
+    std::vector<Vec3> position;
+    std::vector<Vec3> normal;  ///< unit
+    std::vector<std::string> name;
+    std::size_t size() const { return position.size(); }
+};
+
+/// Sensors from CSV text: one per line, x,y,z,nx,ny,nz[,name]; lines starting with '#' and empty
+/// lines are skipped, and a first line whose first field is not a number is a header. The normal is
+/// normalised; a sensor without a name is named by its index. Throws hemirad::Error naming `file`,
+/// the line and the value for a field that is not a finite number, a zero normal or a wrong number
+/// of fields, and for a file without sensors.
+Sensors parseSensorsCsv(const std::string& text, const std::string& file);
+/// The same from a file (hemirad::Error when it cannot be read).
+Sensors readSensorsCsv(const std::string& path);
+
+/// A grid over the faces of `object`: on each of its patches, the points of a square lattice of
+/// `spacing` in the patch's plane (axes from its normal, lattice offset half a spacing from the
+/// origin, so a horizontal face's grid runs along x and y) that lie inside it, each lifted `height`
+/// along the normal and facing it. A point on an edge two of its patches share belongs to one of
+/// them; one on the object's boundary (an edge of one patch only: a ground's edge at a wall's foot)
+/// to none. Named OBJECT:PATCH:K. Throws hemirad::Error for an unknown object, a spacing that is not
+/// > 0, a height that is not finite, or more than `limit` points.
+Sensors sensorGrid(const Scene& scene, const std::string& object, double spacing, double height,
+                   std::size_t limit = 10000000);
+
+/// Sensors x patches, CSR: F[s][j] the factor from sensor s to the part of patch j's front that it
+/// sees (0 where it sees j's back or nothing of it), and each sensor's direct sky view factor: 1 less
+/// the factors to every patch it sees, front or back (every surface blocks the sky).
+struct SensorFactors {
+    std::vector<std::uint64_t> rowStart;  ///< sensors + 1
+    std::vector<PatchId> columns;
+    std::vector<double> values;
+    std::vector<double> skyView;
+    std::size_t patches = 0;
+    std::uint64_t terms = 0;  ///< sensor-patch terms whose visible part was computed (the work)
+};
+
+/// The factors of every sensor. Exact for convex planar patches (as the analytic estimator's exact
+/// terms): each term is Lambert's factor to what the blockers leave of the patch's part above the
+/// sensor's plane; a patch whose plane holds the sensor (within 1e-12 of the extent) is seen edge-on
+/// and counts for nothing. Mirrors are not followed (direct factors only). Sensors run in parallel
+/// on `threads` threads (0: every core).
+SensorFactors sensorFactors(const Scene& scene, const Sensors& sensors, int threads = 0);
+
+/// Per sensor, 1 where the sun (direction `toSun`, any length > 0) reaches the point past every
+/// patch (front or back), else 0; 0 where the sensor faces away from it. Throws hemirad::Error for a
+/// direction that is zero or not finite.
+std::vector<double> sensorSunlit(const Scene& scene, const Sensors& sensors, const Vec3& toSun);
+
+/// One hour at the sensors, W/m^2: direct sun DNI cos(theta) x sunlit, direct sky DHI x sky view
+/// factor (isotropic), reflected sum_j F[s][j] J_j from the patches' diffuse radiosity J (e.g.
+/// IrradianceResult::radiosity), and their total.
+struct SensorIrradiance {
+    std::vector<double> directSun, directSky, reflected, total;
+};
+SensorIrradiance sensorIrradiance(const Sensors& sensors, const SensorFactors& factors, const std::vector<double>& sunlit,
+                                  const Vec3& toSun, double dni, double dhi, const std::vector<double>& radiosity);
+
+/// sensor,name,x,y,z,nx,ny,nz,sky_view_factor[,direct_sun,direct_sky,reflected,total (W/m^2)] (CSV,
+/// atomic).
+void writeSensorsCsv(const std::string& path, const Sensors& sensors, const SensorFactors& factors,
+                     const SensorIrradiance* irradiance);
+/// The sensors x patches factors as a Matrix Market coordinate file (1-based, general, atomic).
+void writeSensorFactorsMtx(const std::string& path, const SensorFactors& factors);
+
+}  // namespace hemirad

@@ -1,0 +1,257 @@
+// Sensor points against references computed here, independently of the production path: Lambert's
+// point-to-polygon factor in the arc-cosine form, on visible parts worked out by hand (a courtyard's
+// opening, a receiver half behind a plate); the grid's lattice, the CSV's errors, the sun past a
+// roof, and one hour's irradiance under a ground that sees nothing else.
+#include "support.hpp"
+
+#include "environment/irradiance.hpp"
+#include "environment/sensors.hpp"
+#include "preprocess/form_factor_job.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
+
+#include <doctest/doctest.h>
+
+#include <set>
+
+using namespace hemirad;
+using namespace hemirad::test;
+
+namespace {
+
+using Polygon = std::vector<Vec3>;
+
+/// Lambert's factor from x (unit normal n) to the polygon p (wholly above x's plane).
+double lambert(const Vec3& x, const Vec3& n, const Polygon& p) {
+    double sum = 0.0;
+    for (std::size_t k = 0; k < p.size(); ++k) {
+        const Vec3 a = (p[k] - x).normalized(), b = (p[(k + 1) % p.size()] - x).normalized();
+        const Vec3 c = a.cross(b);
+        if (c.norm() < 1e-300) continue;
+        sum += std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * n.dot(c) / c.norm();
+    }
+    return std::abs(sum) / (2.0 * kPi);
+}
+
+Sensors sensorsOf(const std::vector<std::pair<Vec3, Vec3>>& points) {
+    Sensors s;
+    for (const auto& [x, n] : points) {
+        s.position.push_back(x);
+        s.normal.push_back(n.normalized());
+        s.name.push_back(std::to_string(s.name.size()));
+    }
+    return s;
+}
+
+double factor(const SensorFactors& f, std::size_t sensor, PatchId patch) {
+    for (std::uint64_t k = f.rowStart[sensor]; k < f.rowStart[sensor + 1]; ++k)
+        if (f.columns[k] == patch) return f.values[k];
+    return 0.0;
+}
+
+/// A courtyard: a regular `sides`-gon floor of circumradius r (z = 0, facing up) and its walls up to
+/// height h, facing in; the floor is patch 0, wall k patch 1 + k.
+Scene courtyard(int sides, double r, double h) {
+    SceneBuilder b;
+    b.disk(Vec3::Zero(), r, sides, true);
+    for (int k = 0; k < sides; ++k) {
+        const double a0 = 2 * kPi * k / sides, a1 = 2 * kPi * (k + 1) / sides;
+        const Vec3 p0(r * std::cos(a0), r * std::sin(a0), 0), p1(r * std::cos(a1), r * std::sin(a1), 0);
+        b.polygon({p0, p0 + Vec3(0, 0, h), p1 + Vec3(0, 0, h), p1});  // facing the axis
+    }
+    return b.scene;
+}
+
+}  // namespace
+
+TEST_CASE("Sensors: the centre of a courtyard's floor sees its opening as sky, the walls as the rest, exactly") {
+    const int sides = 16;
+    const double r = 5.0, h = 8.0;
+    const Scene s = courtyard(sides, r, h);
+    for (int k = 1; k <= sides; ++k) REQUIRE(s.patches[PatchId(k)].normal.dot(-s.patches[PatchId(k)].centroid) > 0.0);
+    // On the floor facing up, and 3 above it facing down (it sees the floor and the walls below it).
+    const Sensors sensors = sensorsOf({{Vec3(0, 0, 0), Vec3(0, 0, 1)}, {Vec3(0, 0, 3), Vec3(0, 0, -1)}});
+    const SensorFactors f = sensorFactors(s, sensors);
+    Polygon opening;
+    for (int k = 0; k < sides; ++k) opening.push_back(Vec3(r * std::cos(2 * kPi * k / sides), r * std::sin(2 * kPi * k / sides), h));
+    const double sky = lambert(Vec3::Zero(), Vec3(0, 0, 1), opening);
+    MESSAGE("courtyard centre: sky view " << f.skyView[0] << ", the opening's factor " << sky << ", the circle's R^2/(R^2+H^2) "
+                                          << r * r / (r * r + h * h));
+    CHECK(f.skyView[0] == relative(sky, 1e-12));
+    CHECK(factor(f, 0, 0) == 0.0);  // the floor it lies on
+    for (int k = 1; k <= sides; ++k) {
+        CAPTURE(k);
+        CHECK(factor(f, 0, PatchId(k)) == relative(lambert(Vec3::Zero(), Vec3(0, 0, 1), s.polygon(PatchId(k))), 1e-12));
+    }
+    // Facing down: the floor and the walls' parts below z = 3 close the hemisphere; no sky.
+    CHECK(f.skyView[1] <= 1e-12);
+    CHECK(factor(f, 1, 0) == relative(lambert(Vec3(0, 0, 3), Vec3(0, 0, -1), s.polygon(0)), 1e-12));
+    double sum = 0.0;
+    for (std::uint64_t k = f.rowStart[1]; k < f.rowStart[2]; ++k) sum += f.values[k];
+    CHECK(sum == relative(1.0, 1e-12));
+}
+
+TEST_CASE("Sensors: a receiver half behind a plate, either way the plate faces; its back hides the sky but has no factor") {
+    // Sensor at the origin facing up, a receiver [-1, 1]^2 at z = 2 facing down, and a plate over
+    // x < 0 at z = 1: its shadow from the origin covers the receiver's half x < 0.
+    for (const bool plateDown : {true, false}) {
+        CAPTURE(plateDown);
+        SceneBuilder b;
+        b.rectangle(2, 2.0, -1, 1, -1, 1, false);              // the receiver, facing -z
+        b.rectangle(2, 1.0, -5, 0, -5, 5, !plateDown);         // the plate
+        const SensorFactors f = sensorFactors(b.scene, sensorsOf({{Vec3::Zero(), Vec3(0, 0, 1)}}));
+        const Vec3 x = Vec3::Zero(), n(0, 0, 1);
+        const double visible = lambert(x, n, {{0, -1, 2}, {1, -1, 2}, {1, 1, 2}, {0, 1, 2}});
+        const double plate = lambert(x, n, {{-5, -5, 1}, {0, -5, 1}, {0, 5, 1}, {-5, 5, 1}});
+        CHECK(factor(f, 0, 0) == relative(visible, 1e-12));
+        CHECK(factor(f, 0, 1) == (plateDown ? relative(plate, 1e-12) : relative(0.0, 1e-12)));
+        // A back seen is its reversed twin 1e-6 x the extent behind it, a little farther: the plate's
+        // back covers a little less sky (the sky view factor 9e-7 larger, relative).
+        MESSAGE("sky view " << f.skyView[0] << ", by hand " << 1.0 - visible - plate << ", relative " << f.skyView[0] / (1.0 - visible - plate) - 1.0);
+        CHECK(f.skyView[0] == relative(1.0 - visible - plate, plateDown ? 1e-12 : 5e-6));
+    }
+}
+
+TEST_CASE("Sensors: a grid over an object's faces is the lattice, each point once where two triangles share an edge") {
+    SceneBuilder b;
+    b.polygon({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}});  // the unit square split along its diagonal, which
+    b.polygon({{0, 0, 0}, {1, 1, 0}, {0, 1, 0}});  // runs through the lattice points (k, k)
+    b.scene.objects[0] = "ground";
+    const Sensors g = sensorGrid(b.scene, "ground", 0.25, 0.5);
+    REQUIRE(g.size() == 16);
+    std::set<std::pair<double, double>> seen;
+    for (std::size_t s = 0; s < g.size(); ++s) {
+        CHECK(g.position[s].z() == 0.5);
+        CHECK(g.normal[s] == Vec3(0, 0, 1));
+        seen.insert({g.position[s].x(), g.position[s].y()});
+    }
+    CHECK(seen.size() == 16);
+    for (const double x : {0.125, 0.375, 0.625, 0.875})
+        for (const double y : {0.125, 0.375, 0.625, 0.875}) CHECK(seen.count({x, y}) == 1);
+    CHECK(g.name[0].rfind("ground:", 0) == 0);
+    CHECK_THROWS_WITH_AS(sensorGrid(b.scene, "roof", 0.25, 0.5), doctest::Contains("no object 'roof'"), Error);
+    CHECK_THROWS_WITH_AS(sensorGrid(b.scene, "ground", 0.0, 0.5), doctest::Contains("spacing"), Error);
+    CHECK_THROWS_WITH_AS(sensorGrid(b.scene, "ground", 10.0, 0.5), doctest::Contains("no lattice point"), Error);
+}
+
+TEST_CASE("Sensors: a grid leaves out the object's boundary, and a sensor standing in a wall's plane sees it edge-on") {
+    // Lattice points at 0.25 + 0.5 k: those on the ground's left and right edges (x = 0.25, 1.25)
+    // would stand in the planes of walls on them, so only x = 0.75 remains.
+    SceneBuilder b;
+    b.rectangle(2, 0.0, 0.25, 1.25, 0, 1, true);
+    b.scene.objects[0] = "ground";
+    const Sensors g = sensorGrid(b.scene, "ground", 0.5, 0.1);
+    REQUIRE(g.size() == 2);
+    CHECK(g.position[0].x() == 0.75);
+    CHECK(g.position[1].x() == 0.75);
+    // A closed box [0, 1]^3 (faces outward) and a sensor facing up in the plane of its face y = 0,
+    // 0.2 up: its half y > 0 is the box's inside (back faces all round), y < 0 the sky: the sky view
+    // factor 1/2 (less the twins' offset, 1.4e-6 here). A sensor 1e-4 outside sees that face's
+    // front over the half instead, and nothing else of the box.
+    SceneBuilder box;
+    box.rectangle(1, 0, 0, 1, 0, 1, false);  // y = 0, facing -y
+    box.rectangle(1, 1, 0, 1, 0, 1, true);
+    box.rectangle(0, 0, 0, 1, 0, 1, false);
+    box.rectangle(0, 1, 0, 1, 0, 1, true);
+    box.rectangle(2, 0, 0, 1, 0, 1, false);
+    box.rectangle(2, 1, 0, 1, 0, 1, true);
+    const Vec3 up(0, 0, 1);
+    const SensorFactors f = sensorFactors(box.scene, sensorsOf({{Vec3(0.5, 0, 0.2), up}, {Vec3(0.5, -1e-4, 0.2), up}}));
+    MESSAGE("in the wall's plane " << f.skyView[0] << ", 1e-4 outside " << f.skyView[1]);
+    CHECK(f.skyView[0] == relative(0.5, 1e-5));
+    CHECK(factor(f, 0, 0) == 0.0);  // edge-on
+    const double front = lambert(Vec3(0.5, -1e-4, 0.2), up, {{0, 0, 0.2}, {1, 0, 0.2}, {1, 0, 1}, {0, 0, 1}});
+    CHECK(factor(f, 1, 0) == relative(front, 1e-12));
+    CHECK(f.skyView[1] == relative(1.0 - front, 1e-9));
+}
+
+TEST_CASE("Sensors from a CSV: a header and comments skipped, a name optional, errors with file, line and value") {
+    const Sensors s = parseSensorsCsv("x,y,z,nx,ny,nz,name\n# a comment\n\n1,2,3,0,0,2,north door\n4, 5, 6, 1, 0, 0\n", "s.csv");
+    REQUIRE(s.size() == 2);
+    CHECK(s.position[0] == Vec3(1, 2, 3));
+    CHECK(s.normal[0] == Vec3(0, 0, 1));  // normalised
+    CHECK(s.name[0] == "north door");
+    CHECK(s.name[1] == "1");
+    CHECK_THROWS_WITH_AS(parseSensorsCsv("1,2,3,0,0,1\n1,abc,3,0,0,1\n", "s.csv"), "s.csv:2: y 'abc' is not a finite number", Error);
+    CHECK_THROWS_WITH_AS(parseSensorsCsv("1,2,3,0,0,0\n", "s.csv"), doctest::Contains("s.csv:1: the normal (0, 0, 0)"), Error);
+    CHECK_THROWS_WITH_AS(parseSensorsCsv("1,2,3,0,0\n", "s.csv"), doctest::Contains("s.csv:1: a sensor is x,y,z,nx,ny,nz[,name]: 5 fields"), Error);
+    CHECK_THROWS_WITH_AS(parseSensorsCsv("1,2,3,0,0,nan\n", "s.csv"), doctest::Contains("nz 'nan'"), Error);
+    CHECK_THROWS_WITH_AS(parseSensorsCsv("# nothing\n", "s.csv"), doctest::Contains("no sensor"), Error);
+    CHECK_THROWS_WITH_AS(readSensorsCsv("/nonexistent/s.csv"), doctest::Contains("cannot open"), Error);
+}
+
+TEST_CASE("Sensors in the sun: under a roof in shadow, beside it lit, facing away dark, whatever the roof's facing") {
+    SceneBuilder b;
+    b.rectangle(2, 3.0, 0, 2, 0, 2, false);  // a roof [0, 2]^2 at z = 3, facing down
+    b.rectangle(2, 3.0, 2, 4, 0, 2, true);   // its neighbour [2, 4] x [0, 2], facing up
+    const Sensors s = sensorsOf({{Vec3(1, 1, 0), Vec3(0, 0, 1)},
+                                 {Vec3(3, 1, 0), Vec3(0, 0, 1)},
+                                 {Vec3(5, 1, 0), Vec3(0, 0, 1)},
+                                 {Vec3(5, 1, 0), Vec3(0, 0, -1)},
+                                 {Vec3(1, 1, 3), Vec3(0, 0, 1)}});  // on the roof's plane, above nothing
+    const std::vector<double> lit = sensorSunlit(b.scene, s, Vec3(0, 0, 1));
+    CHECK(lit == std::vector<double>{0.0, 0.0, 1.0, 0.0, 1.0});
+    // A low sun from +x: the point at x = 5 is past the roofs' end, the one at x = 1 under them.
+    const std::vector<double> low = sensorSunlit(b.scene, s, Vec3(1, 0, 1));
+    CHECK(low[0] == 0.0);
+    CHECK(low[2] == 1.0);
+    CHECK_THROWS_AS(sensorSunlit(b.scene, s, Vec3::Zero()), Error);
+}
+
+TEST_CASE("Sensors' hour: a sensor over a ground sees its reflected radiosity F rho (DNI cos + DHI), the sky the rest") {
+    SceneBuilder b;
+    const std::uint32_t grey = b.material("grey", Rgb::Constant(0.4));
+    b.rectangle(2, 0.0, -1, 1, -1, 1, true, grey);  // the ground [-1, 1]^2, facing up: it sees nothing
+    const Scene& scene = b.scene;
+    const Sensors s = sensorsOf({{Vec3(0, 0, 1), Vec3(0, 0, -1)}, {Vec3(0.5, 0, 1), Vec3(0, 0, 1)}});
+    const SensorFactors f = sensorFactors(scene, s);
+    const Vec3 toSun = Vec3(1, 0, 2).normalized();
+    const double dni = 800, dhi = 100, cosGround = toSun.z();
+    const FormFactors F = computeFormFactors(scene, MethodSettings::of(HemisphereOptions{}), neededRows(scene, true)).F;
+    IrradianceInputs in;
+    in.directSun = {dni * cosGround};
+    in.skyView = {1.0};
+    in.dhi = dhi;
+    const IrradianceResult patches = solarIrradiance(scene, F, in, 1.0, SolverOptions{});
+    REQUIRE(patches.radiosity.size() == 1);
+    CHECK(patches.radiosity[0] == relative(0.4 * (dni * cosGround + dhi), 1e-12));
+    const std::vector<double> lit = sensorSunlit(scene, s, toSun);
+    const SensorIrradiance e = sensorIrradiance(s, f, lit, toSun, dni, dhi, patches.radiosity);
+    const double down = lambert(Vec3(0, 0, 1), Vec3(0, 0, -1), scene.polygon(0));
+    CHECK(e.directSun[0] == 0.0);  // facing the ground
+    CHECK(e.reflected[0] == relative(down * 0.4 * (dni * cosGround + dhi), 1e-12));
+    CHECK(e.directSky[0] == relative(dhi * (1.0 - down), 1e-12));  // what no patch covers is sky
+    CHECK(e.total[0] == relative(e.directSky[0] + e.reflected[0], 1e-15));
+    // Facing up beside it: the sun and the whole sky, nothing reflected.
+    CHECK(e.directSun[1] == relative(dni * cosGround, 1e-15));
+    CHECK(e.directSky[1] == relative(dhi, 1e-15));
+    CHECK(e.reflected[1] == 0.0);
+}
+
+TEST_CASE("hemirad sensors: the CSV and the factors' Matrix Market file, the grid, and usage errors") {
+    const auto dir = tempDir("sensors-cli");
+    const std::string csv = writeFile(dir / "s.csv", "x,y,z,nx,ny,nz,name\n278,1,280,0,1,0,floor middle\n278,540,280,0,-1,0,under the light\n");
+    const std::string hemirad = std::string(HEMIRAD_BINARY) + " sensors " + sourcePath("scenes/cornell_box.obj");
+    CommandResult r = runCommand(hemirad + " --sensors " + csv + " -o " + (dir / "out.csv").string() + " --factors " +
+                                 (dir / "F.mtx").string() + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    const std::string out = readText(dir / "out.csv");
+    CHECK(out.rfind("sensor,name,x,y,z,nx,ny,nz,sky_view_factor\n0,floor middle,278,1,280,0,1,0,", 0) == 0);
+    const std::string mtx = readText(dir / "F.mtx");
+    CHECK(mtx.rfind("%%MatrixMarket matrix coordinate real general\n", 0) == 0);
+    CHECK(mtx.find("\n2 20 ") != std::string::npos);  // 2 sensors x 20 patches
+    r = runCommand(hemirad + " --grid floor --spacing 100 --height 1 --dni 800 --dhi 100 --sun-direction 0,1,0 -o " +
+                   (dir / "grid.csv").string() + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(readText(dir / "grid.csv").find(",direct_sun (W/m^2),direct_sky (W/m^2),reflected (W/m^2),total (W/m^2)\n") != std::string::npos);
+    CHECK(r.output.find("sensors: 35 on a grid over 'floor'") != std::string::npos);
+    // One source of sensors, a grid with its spacing, the sun and sky with --dni.
+    for (const std::string& bad : {std::string(" -o x.csv"), " --sensors " + csv + " --grid floor --spacing 1 -o x.csv",
+                                   std::string(" --grid floor -o x.csv"), " --sensors " + csv + " --spacing 2 -o x.csv",
+                                   " --sensors " + csv + " --dhi 100 -o x.csv", " --sensors " + csv + " --dni 800 -o x.csv"}) {
+        CAPTURE(bad);
+        r = runCommand(hemirad + bad + " 2>&1");
+        CHECK(r.status == 2);
+    }
+}
