@@ -431,7 +431,7 @@ int runUnderMpi(int argc, char** argv) {
             Job job(context, quiet);
             runBenchRun(job);
         } else {
-            // help, info, subdivide, check, sky-view, sun, irradiance, year, render of the sky view factor:
+            // help, info, subdivide, check, sky-view, sun, irradiance, year, sensors, render of the sky view factor:
             // one process's work, done by rank 0.
             int status = 0;
             context.collectively([&] {
@@ -448,6 +448,7 @@ int runUnderMpi(int argc, char** argv) {
                 else if (command == "sun") status = runSun(options);
                 else if (command == "irradiance") status = runIrradiance(options);
                 else if (command == "year") status = runYear(options);
+                else if (command == "sensors") status = runSensors(options);
                 else throw UsageError("unknown command '" + command + "'");
             });
             MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
