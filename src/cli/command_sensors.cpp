@@ -3,6 +3,7 @@
 // hour's irradiance there: direct sun, direct sky and what the patches reflect (src/environment).
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
+#include "cli/sensor_command.hpp"
 #include "cli/sun_command.hpp"
 #include "environment/irradiance.hpp"
 #include "environment/sensors.hpp"
@@ -15,6 +16,15 @@
 
 namespace hemirad {
 
+Sensors sensorsFromOptions(const Scene& scene, const Options& options, const Reporter& reporter) {
+    Sensors sensors = options.sensorsPath.empty()
+                          ? sensorGrid(scene, options.gridObject, options.gridSpacing, options.gridHeight)
+                          : readSensorsCsv(options.sensorsPath);
+    reporter.line("sensors: " + std::to_string(sensors.size()) +
+                  (options.sensorsPath.empty() ? " on a grid over '" + options.gridObject + "'" : " from " + options.sensorsPath));
+    return sensors;
+}
+
 int runSensors(const Options& options) {
     Reporter reporter(options.quiet, reportsToStandardError(options));
     Warnings warnings;
@@ -22,11 +32,7 @@ int runSensors(const Options& options) {
     const Scene scene = loadScene(options, timings, reporter, warnings);
 
     timings.start("sensors");
-    const Sensors sensors = options.sensorsPath.empty()
-                                ? sensorGrid(scene, options.gridObject, options.gridSpacing, options.gridHeight)
-                                : readSensorsCsv(options.sensorsPath);
-    reporter.line("sensors: " + std::to_string(sensors.size()) +
-                  (options.sensorsPath.empty() ? " on a grid over '" + options.gridObject + "'" : " from " + options.sensorsPath));
+    const Sensors sensors = sensorsFromOptions(scene, options, reporter);
     timings.start("sensor factors");
     const SensorFactors factors = sensorFactors(scene, sensors, options.formFactors.common.threads);
     timings.stop();

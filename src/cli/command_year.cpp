@@ -1,6 +1,7 @@
 // `hemirad year SCENE --weather W.epw -o ANNUAL.csv [--hourly H.npy]`: a year of hours against one F.
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
+#include "cli/sensor_command.hpp"
 #include "engine/atomic_file.hpp"
 #include "engine/csv.hpp"
 #include "environment/sky_view.hpp"
@@ -34,6 +35,16 @@ int runYear(const Options& options) {
 
     timings.start("sky view factors");
     const std::vector<double> sky = skyViewFactors(scene, options.formFactors).direct;
+    Sensors sensors;
+    SensorFactors sensorFactorsOf;
+    if (!options.sensorsPath.empty() || !options.gridObject.empty()) {
+        timings.start("sensors");
+        sensors = sensorsFromOptions(scene, options, reporter);
+        timings.start("sensor factors");
+        sensorFactorsOf = sensorFactors(scene, sensors, options.formFactors.common.threads);
+        yo.sensors = &sensors;
+        yo.sensorFactors = &sensorFactorsOf;
+    }
     timings.stop();
     Options withRows = options;
     withRows.allRows = true;
@@ -65,9 +76,23 @@ int runYear(const Options& options) {
         file.commit();
     }
     if (!options.hourlyPath.empty()) writeNpy(options.hourlyPath, year.total, year.hours.size(), scene.size());
+    if (yo.sensors) {
+        AtomicFile file(options.sensorOutputPath, false);
+        std::ostream& out = file.stream();
+        out << std::setprecision(std::numeric_limits<double>::max_digits10);
+        out << "sensor,name,sky_view_factor,direct_sun (Wh/m^2),direct_sky (Wh/m^2),reflected (Wh/m^2),total (Wh/m^2)\n";
+        for (std::size_t s = 0; s < sensors.size(); ++s)
+            out << s << ',' << csvField(sensors.name[s]) << ',' << sensorFactorsOf.skyView[s] << ',' << year.sensorDirectSun[s] << ','
+                << year.sensorDirectSky[s] << ',' << year.sensorReflected[s] << ',' << year.sensorSum[s] << '\n';
+        file.commit();
+        if (!options.sensorHourlyPath.empty())
+            writeNpy(options.sensorHourlyPath, year.sensorTotal, year.hours.size(), sensors.size());
+    }
     timings.stop();
     reporter.line("wrote " + outputName(options.output) + " (per patch: annual sums)" +
-                  (options.hourlyPath.empty() ? std::string() : " and " + options.hourlyPath + " (hours x patches, W/m^2)"));
+                  (options.hourlyPath.empty() ? std::string() : " and " + options.hourlyPath + " (hours x patches, W/m^2)") +
+                  (yo.sensors ? ", " + outputName(options.sensorOutputPath) + " (per sensor: annual sums)" : std::string()) +
+                  (options.sensorHourlyPath.empty() ? std::string() : " and " + options.sensorHourlyPath + " (hours x sensors, W/m^2)"));
     finishCommand(reporter, timings, warnings);
     return 0;
 }

@@ -264,15 +264,17 @@ const std::map<std::string, Flag>& flags() {
         {"--weather", {{"year"}, true, pathWith(&Options::weatherPath, ".epw")}},
         {"--hourly", {{"year"}, true, pathWith(&Options::hourlyPath, ".npy")}},
         {"--dhi", {{"irradiance", "sensors"}, true, [](Options& o, const std::string& f, const std::string& v) { o.dhi = parseNumber(f, v, 0, 1e5); }}},
-        {"--sensors", {{"sensors"}, true, pathWith(&Options::sensorsPath, ".csv")}},
-        {"--grid", {{"sensors"}, true,
+        {"--sensors", {{"sensors", "year"}, true, pathWith(&Options::sensorsPath, ".csv")}},
+        {"--grid", {{"sensors", "year"}, true,
                     [](Options& o, const std::string& f, const std::string& v) {
                         if (v.empty()) throw UsageError(f + " expects an object name");
                         o.gridObject = v;
                     }}},
-        {"--spacing", {{"sensors"}, true, [](Options& o, const std::string& f, const std::string& v) { o.gridSpacing = parseNumber(f, v, 0, 1e300); }}},
-        {"--height", {{"sensors"}, true, [](Options& o, const std::string& f, const std::string& v) { o.gridHeight = parseNumber(f, v, -1e300, 1e300); }}},
+        {"--spacing", {{"sensors", "year"}, true, [](Options& o, const std::string& f, const std::string& v) { o.gridSpacing = parseNumber(f, v, 0, 1e300); }}},
+        {"--height", {{"sensors", "year"}, true, [](Options& o, const std::string& f, const std::string& v) { o.gridHeight = parseNumber(f, v, -1e300, 1e300); }}},
         {"--factors", {{"sensors"}, true, pathWith(&Options::sensorFactorsPath, ".mtx")}},
+        {"--sensor-output", {{"year"}, true, pathWith(&Options::sensorOutputPath, ".csv")}},
+        {"--sensor-hourly", {{"year"}, true, pathWith(&Options::sensorHourlyPath, ".npy")}},
         {"--objects", {{"solve", "thermal"}, true,
                        [](Options& o, const std::string& f, const std::string& v) {
                            if (lowerExtension(v) != ".csv") throw UsageError(f + " writes a CSV table: '" + v + "' must end in .csv");
@@ -525,13 +527,22 @@ Options parseOptions(int argc, const char* const* argv) {
         std::none_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--tolerance"; }))
         o.solver.tolerance = 1e-10;  // the power balance is read to many digits
     if (o.command == "irradiance" && !o.dni) throw UsageError("'irradiance' needs --dni W (and --dhi W for the sky)");
-    if (o.command == "sensors") {
-        if (o.sensorsPath.empty() == o.gridObject.empty())
+    if (o.command == "sensors" || o.command == "year") {
+        const bool given = !o.sensorsPath.empty() || !o.gridObject.empty();
+        if (!o.sensorsPath.empty() && !o.gridObject.empty())
+            throw UsageError("give --sensors FILE.csv or --grid OBJECT --spacing D, not both");
+        if (o.command == "sensors" && !given)
             throw UsageError("'sensors' needs --sensors FILE.csv or --grid OBJECT --spacing D (one of them)");
         const bool spaced = std::any_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--spacing"; });
         const bool lifted = std::any_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--height"; });
         if (!o.gridObject.empty() && !(o.gridSpacing > 0.0)) throw UsageError("--grid needs --spacing D > 0");
         if (o.gridObject.empty() && (spaced || lifted)) throw UsageError("--spacing and --height lay a --grid OBJECT");
+        if (o.command == "year" && given && o.sensorOutputPath.empty())
+            throw UsageError("'year' with sensors writes their annual sums to --sensor-output FILE.csv: give it");
+        if (o.command == "year" && !given && (!o.sensorOutputPath.empty() || !o.sensorHourlyPath.empty()))
+            throw UsageError("--sensor-output and --sensor-hourly need --sensors FILE.csv or --grid OBJECT --spacing D");
+    }
+    if (o.command == "sensors") {
         const bool sunGiven = o.sunDirectionVector || !o.sunTime.empty() || o.latitude || o.longitude;
         const bool skyGiven = std::any_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--dhi"; });
         if (!o.dni && (sunGiven || skyGiven))
@@ -805,6 +816,9 @@ sensors:
   --grid OBJECT          or a grid over OBJECT's faces: --spacing D between points (scene units),
   --height H             lifted H along each face's normal (default 0)
   --factors F.mtx        the sensors x patches factors (Matrix Market, 1-based; row s = sensor s)
+  --sensor-output S.csv  (year, with --sensors or --grid) annual sums per sensor: direct sun, direct
+                         sky, reflected, total (Wh/m^2)
+  --sensor-hourly S.npy  (year) each solved hour's total irradiance per sensor (NumPy float64)
 check:
   --sliver-ratio R       a sliver's longest edge / minimum width exceeds R (default 20)
   --relative-tolerance R positions within R x the scene extent are one point (default 1e-6)

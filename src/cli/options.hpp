@@ -84,6 +84,8 @@ struct Options {
     double gridSpacing = 0.0;            ///< --spacing D (scene units)
     double gridHeight = 0.0;             ///< --height H above the faces (scene units)
     std::string sensorFactorsPath;       ///< sensors --factors F.mtx: sensors x patches
+    std::string sensorOutputPath;        ///< year --sensor-output FILE.csv: annual sums per sensor
+    std::string sensorHourlyPath;        ///< year --sensor-hourly FILE.npy: hours x sensors, W/m^2
 
     // subdivide command.
     double maxEdge = 0.0;

@@ -39,13 +39,25 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
     for (std::size_t h = 0; h < weather.hours.size(); ++h)
         if (weather.hours[h].dni > 0.0 || weather.hours[h].dhi > 0.0) out.hours.push_back(h);
     out.total.assign(out.hours.size() * n, 0.0);
+    const std::size_t sensors = options.sensors ? options.sensors->size() : 0;
+    if (options.sensors && (!options.sensorFactors || options.sensorFactors->skyView.size() != sensors ||
+                            options.sensorFactors->patches != n))
+        throw Error("year: the sensors need their factors against this scene (sensorFactors)");
+    out.sensorTotal.assign(out.hours.size() * sensors, 0.0);
+    out.sensorDirectSun.assign(sensors, 0.0);
+    out.sensorDirectSky.assign(sensors, 0.0);
+    out.sensorReflected.assign(sensors, 0.0);
+    out.sensorSum.assign(sensors, 0.0);
 
-    std::vector<std::vector<double>> sun, sky;
+    std::vector<std::vector<double>> sun, sky, sensorLit;
+    std::vector<Vec3> toSuns;
     for (std::size_t first = 0; first < out.hours.size(); first += options.batch) {
         const std::size_t last = std::min(out.hours.size(), first + options.batch);
         std::vector<Band> bands(last - first);
         sun.assign(last - first, {});
         sky.assign(last - first, {});
+        sensorLit.assign(last - first, std::vector<double>(sensors, 0.0));
+        toSuns.assign(last - first, Vec3(0, 0, 1));
         for (std::size_t b = first; b < last; ++b) {
             const WeatherHour& hour = weather.hours[out.hours[b]];
             std::vector<double>& direct = sun[b - first];
@@ -54,6 +66,8 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
             if (p.elevation > 0.0 && hour.dni > 0.0) {
                 const Vec3 toSun = sunDirection(p, options.up, options.north);
                 direct = directIrradiance(scene, toSun, hour.dni, sunlitFractions(scene, toSun));
+                toSuns[b - first] = toSun;
+                if (sensors) sensorLit[b - first] = sensorSunlit(scene, *options.sensors, toSun);
             }
             std::vector<double>& diffuse = sky[b - first];
             diffuse.resize(n);
@@ -83,6 +97,18 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                 incident += area[i] * firstArrival;
                 absorbed += area[i] * absorptance[i] * total;
                 escaped += area[i] * scene.patches[i].specular * firstArrival + J[i] * (area[i] - landedFrom[i]);
+            }
+            if (sensors) {
+                const WeatherHour& hour = weather.hours[out.hours[b]];
+                const SensorIrradiance at = sensorIrradiance(*options.sensors, *options.sensorFactors, sensorLit[b - first],
+                                                             toSuns[b - first], hour.dni, hour.dhi, J);
+                for (std::size_t s = 0; s < sensors; ++s) {
+                    out.sensorTotal[b * sensors + s] = at.total[s];
+                    out.sensorDirectSun[s] += at.directSun[s];
+                    out.sensorDirectSky[s] += at.directSky[s];
+                    out.sensorReflected[s] += at.reflected[s];
+                    out.sensorSum[s] += at.total[s];
+                }
             }
             out.incidentWh += incident;
             out.absorbedWh += absorbed;

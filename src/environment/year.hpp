@@ -6,6 +6,7 @@
 
 #include "engine/form_factors.hpp"
 #include "engine/scene.hpp"
+#include "environment/sensors.hpp"
 #include "environment/weather.hpp"
 #include "solve/solver.hpp"
 
@@ -18,6 +19,10 @@ struct YearOptions {
     Vec3 up = Vec3(0, 0, 1), north = Vec3(0, 1, 0);
     double metresPerUnit = 1.0;
     std::size_t batch = 168;  ///< hours solved together
+    /// Sensor points and their factors (sensorFactors of the same scene), or none: each hour's
+    /// irradiance at them as sensorIrradiance gives it, from that hour's patch radiosity.
+    const Sensors* sensors = nullptr;
+    const SensorFactors* sensorFactors = nullptr;
 };
 
 struct YearResult {
@@ -27,6 +32,10 @@ struct YearResult {
     std::vector<double> directSun, directSky, reflected, sum, absorbed;
     double worstBalance = 0.0;            ///< the largest hourly |incident - absorbed - escaped| / incident
     double incidentWh = 0.0, absorbedWh = 0.0;  ///< over the year (W h; scene units^2 x W/m^2 h without a unit)
+    /// With sensors: per solved hour, per sensor (hours x sensors), W/m^2, and per sensor over the
+    /// year, Wh/m^2: direct sun, direct sky, reflected and total.
+    std::vector<double> sensorTotal;
+    std::vector<double> sensorDirectSun, sensorDirectSky, sensorReflected, sensorSum;
 };
 
 /// Solves every hour of `weather` with sun or sky on `F` (every row computed) with the direct sky

@@ -246,6 +246,19 @@ TEST_CASE("hemirad sensors: the CSV and the factors' Matrix Market file, the gri
     REQUIRE(r.status == 0);
     CHECK(readText(dir / "grid.csv").find(",direct_sun (W/m^2),direct_sky (W/m^2),reflected (W/m^2),total (W/m^2)\n") != std::string::npos);
     CHECK(r.output.find("sensors: 35 on a grid over 'floor'") != std::string::npos);
+    // A year at the sensors: their annual sums and each hour (NumPy, hours x sensors).
+    r = runCommand(std::string(HEMIRAD_BINARY) + " year " + sourcePath("scenes/cornell_box.obj") + " --up y --unit mm --weather " +
+                   sourcePath("tests/data/weather/excerpt.epw") + " --sensors " + csv + " --sensor-output " +
+                   (dir / "ys.csv").string() + " --sensor-hourly " + (dir / "ys.npy").string() + " -o " +
+                   (dir / "ya.csv").string() + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(readText(dir / "ys.csv").rfind("sensor,name,sky_view_factor,direct_sun (Wh/m^2),direct_sky (Wh/m^2),reflected (Wh/m^2),total (Wh/m^2)\n0,floor middle,", 0) == 0);
+    CHECK(readText(dir / "ys.npy").find(", 2), }") != std::string::npos);  // hours x 2 sensors
+    const std::string year = std::string(HEMIRAD_BINARY) + " year " + sourcePath("scenes/cornell_box.obj") + " --weather " +
+                             sourcePath("tests/data/weather/excerpt.epw") + " -o x.csv";
+    CHECK(runCommand(year + " --sensors " + csv + " 2>&1").status == 2);  // where do their sums go?
+    CHECK(runCommand(year + " --sensor-output s.csv 2>&1").status == 2);  // which sensors?
     // One source of sensors, a grid with its spacing, the sun and sky with --dni.
     for (const std::string& bad : {std::string(" -o x.csv"), " --sensors " + csv + " --grid floor --spacing 1 -o x.csv",
                                    std::string(" --grid floor -o x.csv"), " --sensors " + csv + " --spacing 2 -o x.csv",

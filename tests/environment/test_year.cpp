@@ -4,6 +4,7 @@
 
 #include "engine/error.hpp"
 #include "environment/irradiance.hpp"
+#include "environment/sensors.hpp"
 #include "environment/sky_view.hpp"
 #include "environment/solar_position.hpp"
 #include "environment/sunlit.hpp"
@@ -108,6 +109,60 @@ TEST_CASE("A year's hours solved in batches equal each hour solved alone, and th
     for (PatchId i = 0; i < s.size(); ++i) CHECK(year.sum[i] == relative(sum[i], 1e-12));
     // The tall wall faces north (+y): at Munich in June it sees the sun only early and late.
     CHECK(year.directSun[6] < 0.2 * year.directSun[0]);
+}
+
+TEST_CASE("Sensors through a year: each hour at each sensor equals that hour's irradiance there from the hour solved alone") {
+    const Scene s = smallDistrict();
+    const MethodSettings method = MethodSettings::of(HemisphereOptions{});
+    const FormFactors F = computeFormFactors(s, method, neededRows(s, true)).F;
+    const std::vector<double> sky = skyViewFactors(s, method).direct;
+    const Weather w = readEpw(excerpt());
+    // In the open, north of the tall wall facing it, under nothing and beside the box facing west.
+    Sensors sensors;
+    sensors.position = {Vec3(3, 3, 1), Vec3(0, -3, 1), Vec3(-1.5, 0, 1)};
+    sensors.normal = {Vec3(0, 0, 1), Vec3(0, -1, 0), Vec3(-1, 0, 0)};
+    sensors.name = {"open", "facing the wall", "beside the box"};
+    const SensorFactors factors = sensorFactors(s, sensors);
+    YearOptions options;
+    options.batch = 5;
+    options.sensors = &sensors;
+    options.sensorFactors = &factors;
+    SolverOptions lu;
+    lu.solver = "lu";
+    const YearResult year = solveYear(s, F, sky, w, options, lu);
+    REQUIRE(year.sensorTotal.size() == year.hours.size() * 3);
+    double worst = 0.0;
+    std::vector<double> sum(3, 0.0), reflected(3, 0.0);
+    for (std::size_t k = 0; k < year.hours.size(); ++k) {
+        const WeatherHour& hour = w.hours[year.hours[k]];
+        IrradianceInputs in;
+        in.directSun.assign(s.size(), 0.0);
+        std::vector<double> lit(3, 0.0);
+        Vec3 toSun(0, 0, 1);
+        const SolarPosition p = solarPosition(middleOfHourUtc(hour, w.timeZone), w.latitude, w.longitude);
+        if (p.elevation > 0.0 && hour.dni > 0.0) {
+            toSun = sunDirection(p, options.up, options.north);
+            in.directSun = directIrradiance(s, toSun, hour.dni, sunlitFractions(s, toSun));
+            lit = sensorSunlit(s, sensors, toSun);
+        }
+        in.skyView = sky;
+        in.dhi = hour.dhi;
+        const IrradianceResult alone = solarIrradiance(s, F, in, 1.0, lu);
+        const SensorIrradiance at = sensorIrradiance(sensors, factors, lit, toSun, hour.dni, hour.dhi, alone.radiosity);
+        for (std::size_t q = 0; q < 3; ++q) {
+            worst = std::max(worst, std::abs(year.sensorTotal[k * 3 + q] - at.total[q]) / std::max(1.0, at.total[q]));
+            sum[q] += at.total[q];
+            reflected[q] += at.reflected[q];
+        }
+    }
+    MESSAGE("largest difference between a sensor's hour in the year and the hour alone: " << worst);
+    CHECK(worst <= 1e-9);
+    for (std::size_t q = 0; q < 3; ++q) {
+        CHECK(year.sensorSum[q] == relative(sum[q], 1e-12));
+        CHECK(year.sensorReflected[q] == relative(reflected[q], 1e-9));
+    }
+    CHECK(year.sensorReflected[1] > year.sensorReflected[0]);  // the wall it faces reflects to it
+    CHECK(year.sensorDirectSun[0] > year.sensorDirectSun[1]);   // the wall shades the one facing it from the southern sun
 }
 
 TEST_CASE("The .npy writer writes a header NumPy reads: magic, version 1.0, a 64-byte aligned header, the shape") {

@@ -1,0 +1,14 @@
+// Sensor points as the command line gives them, shared by `sensors` and `year`.
+#pragma once
+
+#include "cli/options.hpp"
+#include "cli/report.hpp"
+#include "environment/sensors.hpp"
+
+namespace hemirad {
+
+/// The sensors of --sensors FILE.csv, or of --grid OBJECT --spacing D --height H over `scene`;
+/// reports how many. Throws hemirad::Error.
+Sensors sensorsFromOptions(const Scene& scene, const Options& options, const Reporter& reporter);
+
+}  // namespace hemirad
