@@ -1,8 +1,11 @@
 // hemirad._hemirad: the C++ library seen from Python. A thin layer over the pipeline, the back-end and
 // solver registries and the F files; hemirad/__init__.py turns its arrays into scipy/numpy objects.
 #include "engine/error.hpp"
+#include "environment/irradiance.hpp"
 #include "environment/sensors.hpp"
 #include "environment/sky_view.hpp"
+#include "environment/solar_position.hpp"
+#include "environment/sunlit.hpp"
 #include "engine/form_factor_file.hpp"
 #include "engine/obj_writer.hpp"
 #include "engine/result_writer.hpp"
@@ -538,6 +541,77 @@ py::dict sensorFactorsOf(const ScenePtr& scene, py::array_t<double, py::array::c
     return out;
 }
 
+Vec3 vectorOf(py::array_t<double, py::array::c_style | py::array::forcecast> v, const std::string& name) {
+    if (v.ndim() != 1 || v.shape(0) != 3) throw py::value_error(name + ": expected 3 values");
+    const Vec3 x(v.data()[0], v.data()[1], v.data()[2]);
+    if (!x.allFinite() || !(x.norm() > 0.0)) throw py::value_error(name + ": expected a finite non-zero vector");
+    return x;
+}
+
+py::dict solarPositionOf(const std::string& time, double latitude, double longitude) {
+    const SolarPosition p = solarPosition(time, latitude, longitude);
+    py::dict out;
+    out["elevation"] = p.elevation;
+    out["azimuth"] = p.azimuth;
+    return out;
+}
+
+py::array_t<double> sunDirectionOf(double elevation, double azimuth, py::array_t<double, py::array::c_style | py::array::forcecast> up,
+                                   py::array_t<double, py::array::c_style | py::array::forcecast> north) {
+    SolarPosition p;
+    p.elevation = elevation;
+    p.azimuth = azimuth;
+    const Vec3 d = sunDirection(p, vectorOf(up, "up"), vectorOf(north, "north"));
+    return numpyVector({d.x(), d.y(), d.z()});
+}
+
+py::array_t<double> sunlitOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> toSun) {
+    const Vec3 d = vectorOf(toSun, "to_sun");
+    std::vector<double> f;
+    {
+        py::gil_scoped_release release;
+        f = sunlitFractions(*scene, d);
+    }
+    return numpyVector(f);
+}
+
+py::dict irradianceOf(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
+                      py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
+                      py::array_t<double, py::array::c_style | py::array::forcecast> directSun,
+                      py::array_t<double, py::array::c_style | py::array::forcecast> skyView, double dhi, double metres,
+                      const std::string& solverName, double tolerance) {
+    const GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");
+    const std::size_t n = scene->size();
+    if (directSun.ndim() != 1 || std::size_t(directSun.size()) != n || skyView.ndim() != 1 || std::size_t(skyView.size()) != n)
+        throw py::value_error("irradiance: direct_sun and sky_view need one value per patch");
+    IrradianceInputs in;
+    in.directSun.assign(directSun.data(), directSun.data() + n);
+    in.skyView.assign(skyView.data(), skyView.data() + n);
+    in.dhi = dhi;
+    SolverOptions options;
+    options.solver = solverName;
+    options.tolerance = tolerance;
+    if (!(metres > 0.0)) metres = scene->unit.empty() ? 1.0 : metresPerUnit(scene->unit);  // the scene's unit, else metres
+    IrradianceResult r;
+    {
+        py::gil_scoped_release release;
+        r = solarIrradiance(*scene, given.get(), in, metres, options);
+    }
+    py::dict out;
+    out["direct_sun"] = numpyVector(r.directSun);
+    out["direct_sky"] = numpyVector(r.directSky);
+    out["reflected"] = numpyVector(r.reflected);
+    out["total"] = numpyVector(r.total);
+    out["absorbed"] = numpyVector(r.absorbed);
+    out["radiosity"] = numpyVector(r.radiosity);
+    out["incident_power"] = r.incidentPower;
+    out["absorbed_power"] = r.absorbedPower;
+    out["escaped_power"] = r.escapedPower;
+    out["balance"] = r.balance;
+    out["solver"] = r.report.solver;
+    return out;
+}
+
 /// A grid over an object's faces: (positions, normals, names).
 py::tuple sensorGridOf(const ScenePtr& scene, const std::string& object, double spacing, double height) {
     const Sensors g = sensorGrid(*scene, object, spacing, height);
@@ -654,6 +728,10 @@ PYBIND11_MODULE(_hemirad, m) {
     m.def("_conductors", &conductors);
     m.def("_sky_view", &skyView);
     m.def("_sensor_factors", &sensorFactorsOf);
+    m.def("_solar_position", &solarPositionOf);
+    m.def("_sun_direction", &sunDirectionOf);
+    m.def("_sunlit", &sunlitOf);
+    m.def("_irradiance", &irradianceOf);
     m.def("_sensor_grid", &sensorGridOf);
     m.def("_read_form_factors", &readFormFactors);
     m.def("_write_form_factors", &writeFormFactors);

@@ -521,6 +521,34 @@ def test_sensor_factors_under_a_plate():
         hemirad.sensor_grid(plates, "roof", 0.5)
 
 
+def test_sun_and_one_hour_of_irradiance_as_the_command_line():
+    # The solar position of the CLI's --sun-time, the sunlit fractions, and one hour's irradiance
+    # equal to hemirad irradiance's CSV for the same scene, sun and sky.
+    p = hemirad.solar_position("2024-06-21T12:00:00+02:00", 48.14, 11.58)
+    assert 60.6 < p["elevation"] < 61.6 and 141.5 < p["azimuth"] < 142.6  # 10:00 UTC, before solar noon
+    to_sun = hemirad.sun_direction(p)
+    assert to_sun.shape == (3,) and abs(np.linalg.norm(to_sun) - 1) < 1e-12 and to_sun[2] > 0.8
+    cornell = hemirad.load(scene_path("cornell_box.obj"))
+    d = np.array([0.3, 1.0, 0.2])
+    lit = hemirad.sunlit_fractions(cornell, d)
+    assert lit.shape == (len(cornell),) and np.all((lit >= 0) & (lit <= 1))
+    F, _ = hemirad.form_factors(cornell, all_rows=True)
+    out = hemirad.irradiance(cornell, F, d, 800.0, 100.0)
+    assert out["balance"] < 1e-9
+    assert np.any(out["radiosity"] > 0)
+    csv = os.path.join(os.environ.get("TMPDIR", "/tmp"), "hemirad-py-irradiance.csv")
+    r = subprocess.run([os.environ["HEMIRAD_BINARY"], "irradiance", scene_path("cornell_box.obj"), "--sun-direction",
+                        "0.3,1,0.2", "--dni", "800", "--dhi", "100", "-o", csv, "--quiet"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    table = np.genfromtxt(csv, delimiter=",", skip_header=1, usecols=(2, 3, 4, 5, 6))
+    for k, name in enumerate(["direct_sun", "direct_sky", "reflected", "total", "absorbed"]):
+        assert np.allclose(out[name], table[:, k], rtol=1e-9, atol=1e-9), name
+    with pytest.raises(ValueError):
+        hemirad.sunlit_fractions(cornell, [0, 0, 0])
+    with pytest.raises(hemirad.Error):
+        hemirad.solar_position("2024-13-01T00:00", 0, 0)
+
+
 def test_sky_view_factors_of_plates():
     # Two unit squares facing each other at distance 1: each sees the other (C-11, 0.199825) and the
     # rest is sky; the same as the command line's.
