@@ -6,8 +6,6 @@
 #include "engine/atomic_file.hpp"
 #include "engine/csv.hpp"
 #include "environment/irradiance.hpp"
-#include "environment/sky_view.hpp"
-#include "environment/sunlit.hpp"
 
 #include <iomanip>
 #include <limits>
@@ -20,25 +18,9 @@ int runIrradiance(const Options& options) {
     Warnings warnings;
     Timings timings;
     const Scene scene = loadScene(options, timings, reporter, warnings);
-    double metres = 1.0;
-    if (!scene.unit.empty()) metres = metresPerUnit(scene.unit);
-    else if (!options.lengthUnit.empty()) metres = metresPerUnit(options.lengthUnit);
-    else warnings.add("unit", "the scene states no length unit: lengths are taken as metres (give --unit)");
+    const double metres = metresFromOptions(scene, options, warnings);
     const Vec3 toSun = sunDirectionFromOptions(options, reporter);
-
-    timings.start("sunlit fractions");
-    IrradianceInputs in;
-    in.directSun = directIrradiance(scene, toSun, *options.dni, sunlitFractions(scene, toSun));
-    timings.start("sky view factors");
-    in.skyView = skyViewFactors(scene, options.formFactors).direct;
-    timings.stop();
-    in.dhi = options.dhi;
-    Options withRows = options;
-    withRows.allRows = true;
-    const FormFactors F = obtainFormFactors(scene, withRows, timings, reporter, warnings);
-    timings.start("inter-reflection");
-    const IrradianceResult r = solarIrradiance(scene, F, in, metres, options.solver);
-    timings.stop();
+    const IrradianceResult r = patchHour(scene, options, toSun, metres, timings, reporter, warnings);
     std::ostringstream line;
     line.precision(6);
     line << "irradiance: " << r.incidentPower << " W arrive (sun and sky), " << r.absorbedPower << " W absorbed, "

@@ -5,10 +5,7 @@
 #include "cli/pipeline.hpp"
 #include "cli/sensor_command.hpp"
 #include "cli/sun_command.hpp"
-#include "environment/irradiance.hpp"
 #include "environment/sensors.hpp"
-#include "environment/sky_view.hpp"
-#include "environment/sunlit.hpp"
 
 #include <iomanip>
 #include <numeric>
@@ -48,24 +45,12 @@ int runSensors(const Options& options) {
 
     SensorIrradiance irradiance;
     if (options.dni) {
-        double metres = 1.0;
-        if (!scene.unit.empty()) metres = metresPerUnit(scene.unit);
-        else if (!options.lengthUnit.empty()) metres = metresPerUnit(options.lengthUnit);
+        const double metres = metresFromOptions(scene, options, warnings);
         const Vec3 toSun = sunDirectionFromOptions(options, reporter);
         // The patches' hour as `irradiance` solves it: their radiosity is what the sensors see reflected.
-        timings.start("sunlit fractions");
-        IrradianceInputs in;
-        in.directSun = directIrradiance(scene, toSun, *options.dni, sunlitFractions(scene, toSun));
+        const IrradianceResult patches = patchHour(scene, options, toSun, metres, timings, reporter, warnings);
+        timings.start("sensors in the sun");
         const std::vector<double> lit = sensorSunlit(scene, sensors, toSun);
-        timings.start("sky view factors");
-        in.skyView = skyViewFactors(scene, options.formFactors).direct;
-        timings.stop();
-        in.dhi = options.dhi;
-        Options withRows = options;
-        withRows.allRows = true;
-        const FormFactors F = obtainFormFactors(scene, withRows, timings, reporter, warnings);
-        timings.start("inter-reflection");
-        const IrradianceResult patches = solarIrradiance(scene, F, in, metres, options.solver);
         irradiance = sensorIrradiance(sensors, factors, lit, toSun, *options.dni, options.dhi, patches.radiosity);
         timings.stop();
         std::ostringstream line;

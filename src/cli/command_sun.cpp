@@ -5,6 +5,8 @@
 #include "cli/sun_command.hpp"
 #include "engine/atomic_file.hpp"
 #include "engine/csv.hpp"
+#include "environment/irradiance.hpp"
+#include "environment/sky_view.hpp"
 #include "environment/solar_position.hpp"
 #include "environment/sunlit.hpp"
 
@@ -32,6 +34,31 @@ Vec3 sunDirectionFromOptions(const Options& options, const Reporter& reporter) {
     }
     reporter.line(where.str());
     return toSun;
+}
+
+double metresFromOptions(const Scene& scene, const Options& options, Warnings& warnings) {
+    if (!scene.unit.empty()) return metresPerUnit(scene.unit);
+    if (!options.lengthUnit.empty()) return metresPerUnit(options.lengthUnit);
+    warnings.add("unit", "the scene states no length unit: lengths are taken as metres (give --unit)");
+    return 1.0;
+}
+
+IrradianceResult patchHour(const Scene& scene, const Options& options, const Vec3& toSun, double metres, Timings& timings,
+                           const Reporter& reporter, Warnings& warnings) {
+    timings.start("sunlit fractions");
+    IrradianceInputs in;
+    in.directSun = directIrradiance(scene, toSun, *options.dni, sunlitFractions(scene, toSun));
+    timings.start("sky view factors");
+    in.skyView = skyViewFactors(scene, options.formFactors).direct;
+    timings.stop();
+    in.dhi = options.dhi;
+    Options withRows = options;
+    withRows.allRows = true;
+    const FormFactors F = obtainFormFactors(scene, withRows, timings, reporter, warnings);
+    timings.start("inter-reflection");
+    IrradianceResult r = solarIrradiance(scene, F, in, metres, options.solver);
+    timings.stop();
+    return r;
 }
 
 int runSun(const Options& options) {

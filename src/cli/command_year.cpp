@@ -2,6 +2,7 @@
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
 #include "cli/sensor_command.hpp"
+#include "cli/sun_command.hpp"
 #include "engine/atomic_file.hpp"
 #include "engine/csv.hpp"
 #include "environment/sky_view.hpp"
@@ -25,9 +26,7 @@ int runYear(const Options& options) {
     YearOptions yo;
     yo.up = options.upAxis == "z" ? Vec3(0, 0, 1) : Vec3(0, 1, 0);
     yo.north = options.north ? *options.north : options.upAxis == "z" ? Vec3(0, 1, 0) : Vec3(0, 0, -1);
-    if (!scene.unit.empty()) yo.metresPerUnit = metresPerUnit(scene.unit);
-    else if (!options.lengthUnit.empty()) yo.metresPerUnit = metresPerUnit(options.lengthUnit);
-    else warnings.add("unit", "the scene states no length unit: lengths are taken as metres (give --unit)");
+    yo.metresPerUnit = metresFromOptions(scene, options, warnings);
     std::ostringstream where;
     where << "weather: " << weather.place << ", latitude " << weather.latitude << ", longitude " << weather.longitude << ", UTC"
           << std::showpos << weather.timeZone << std::noshowpos << "; " << weather.hours.size() << " hours";

@@ -37,6 +37,14 @@ Scene smallDistrict() {
     return b.scene;
 }
 
+/// The small district's F (every row), its direct sky view factors and the bundled excerpt.
+struct Prepared {
+    Scene s = smallDistrict();
+    FormFactors F = computeFormFactors(s, MethodSettings::of(HemisphereOptions{}), neededRows(s, true)).F;
+    std::vector<double> sky = skyViewFactors(s, MethodSettings::of(HemisphereOptions{})).direct;
+    Weather w = readEpw(excerpt());
+};
+
 }  // namespace
 
 TEST_CASE("EPW: the location, the hours' DNI and DHI (fields 15 and 16), and the middle of each hour in UTC") {
@@ -70,11 +78,11 @@ TEST_CASE("EPW errors name the file and the line") {
 }
 
 TEST_CASE("A year's hours solved in batches equal each hour solved alone, and the annual sums add them up") {
-    const Scene s = smallDistrict();
-    const MethodSettings method = MethodSettings::of(HemisphereOptions{});
-    const FormFactors F = computeFormFactors(s, method, neededRows(s, true)).F;
-    const std::vector<double> sky = skyViewFactors(s, method).direct;
-    const Weather w = readEpw(excerpt());
+    const Prepared prepared;
+    const Scene& s = prepared.s;
+    const FormFactors& F = prepared.F;
+    const std::vector<double>& sky = prepared.sky;
+    const Weather& w = prepared.w;
     YearOptions options;
     options.batch = 7;  // batches that do not divide the hours
     SolverOptions lu;
@@ -112,11 +120,11 @@ TEST_CASE("A year's hours solved in batches equal each hour solved alone, and th
 }
 
 TEST_CASE("Sensors through a year: each hour at each sensor equals that hour's irradiance there from the hour solved alone") {
-    const Scene s = smallDistrict();
-    const MethodSettings method = MethodSettings::of(HemisphereOptions{});
-    const FormFactors F = computeFormFactors(s, method, neededRows(s, true)).F;
-    const std::vector<double> sky = skyViewFactors(s, method).direct;
-    const Weather w = readEpw(excerpt());
+    const Prepared prepared;
+    const Scene& s = prepared.s;
+    const FormFactors& F = prepared.F;
+    const std::vector<double>& sky = prepared.sky;
+    const Weather& w = prepared.w;
     // In the open, north of the tall wall facing it, under nothing and beside the box facing west.
     Sensors sensors;
     sensors.position = {Vec3(3, 3, 1), Vec3(0, -3, 1), Vec3(-1.5, 0, 1)};
