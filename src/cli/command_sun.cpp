@@ -6,6 +6,7 @@
 #include "engine/atomic_file.hpp"
 #include "engine/csv.hpp"
 #include "environment/irradiance.hpp"
+#include "environment/reflected_sun.hpp"
 #include "environment/sky_view.hpp"
 #include "environment/solar_position.hpp"
 #include "environment/sunlit.hpp"
@@ -79,25 +80,49 @@ int runSun(const Options& options) {
     summary.precision(6);
     summary << "sunlit: " << (area > 0 ? litArea / area : 0.0) << " of the area (exact shadow polygons)";
     reporter.line(summary.str());
+    // The sun's first reflections by mirrors, with --dni: a column, and the hot spots with --glare.
+    const bool mirrored = options.dni && scene.hasMirrors();
+    ReflectedSun reflected;
+    if (mirrored) {
+        timings.start("reflected sun");
+        reflected = reflectedSun(scene, toSun, *options.dni);
+        timings.stop();
+        std::ostringstream line;
+        line.precision(4);
+        line << "reflected sun: " << reflected.mirrorsLit << " mirror(s) in the sun reach " << reflected.spots.size()
+             << " (mirror, receiver) pair(s), exact footprints (first reflections)";
+        if (!reflected.spots.empty())
+            line << "; the brightest: mirror " << reflected.spots[0].mirror << " on patch " << reflected.spots[0].receiver << ", "
+                 << reflected.spots[0].peak << " W/m^2 over " << reflected.spots[0].litArea << " of its area";
+        reporter.line(line.str());
+    }
+    if (!options.glarePath.empty()) {
+        if (!mirrored) warnings.add("glare", "the scene has no mirror (s > 0): --glare " + options.glarePath + " lists no spot");
+        writeGlareCsv(options.glarePath, scene, reflected);
+    }
 
     timings.start("write CSV");
     AtomicFile file(options.output, false);
     std::ostream& out = file.stream();
     out << std::setprecision(std::numeric_limits<double>::max_digits10);
     const std::string unit = scene.unit.empty() ? "" : " (" + scene.unit + "^2)";
-    out << "patch,object,area" << unit << ",cos_incidence,sunlit_fraction" << (options.dni ? ",direct_irradiance (W/m^2)" : "") << "\n";
+    out << "patch,object,area" << unit << ",cos_incidence,sunlit_fraction" << (options.dni ? ",direct_irradiance (W/m^2)" : "")
+        << (mirrored ? ",reflected_sun (W/m^2)" : "") << "\n";
     const std::vector<double> E = options.dni ? directIrradiance(scene, toSun, *options.dni, lit) : std::vector<double>();
     for (PatchId i = 0; i < scene.size(); ++i) {
         const std::string name = csvField(scene.objects[scene.patches[i].object]);
         out << i << ',' << name << ',' << scene.patches[i].area << ',' << std::max(0.0, scene.patches[i].normal.dot(toSun)) << ','
             << lit[i];
         if (options.dni) out << ',' << E[i];
+        if (mirrored) out << ',' << reflected.irradiance[i];
         out << '\n';
     }
     file.commit();
     timings.stop();
     reporter.line("wrote " + outputName(options.output) + " (per patch: cos of incidence, sunlit fraction" +
-                  (options.dni ? std::string(", direct irradiance") : std::string()) + ")");
+                  (options.dni ? std::string(", direct irradiance") : std::string()) +
+                  (mirrored ? std::string(", the sun reflected by mirrors") : std::string()) + ")" +
+                  (options.glarePath.empty() ? std::string() : " and " + outputName(options.glarePath) + " (reflected-sun spots)"));
     finishCommand(reporter, timings, warnings);
     return 0;
 }

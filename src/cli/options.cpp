@@ -274,6 +274,7 @@ const std::map<std::string, Flag>& flags() {
         {"--height", {{"sensors", "year"}, true, [](Options& o, const std::string& f, const std::string& v) { o.gridHeight = parseNumber(f, v, -1e300, 1e300); }}},
         {"--factors", {{"sensors"}, true, pathWith(&Options::sensorFactorsPath, ".mtx")}},
         {"--sensor-output", {{"year"}, true, pathWith(&Options::sensorOutputPath, ".csv")}},
+        {"--glare", {{"sun"}, true, pathWith(&Options::glarePath, ".csv")}},
         {"--sensor-hourly", {{"year"}, true, pathWith(&Options::sensorHourlyPath, ".npy")}},
         {"--objects", {{"solve", "thermal"}, true,
                        [](Options& o, const std::string& f, const std::string& v) {
@@ -550,6 +551,7 @@ Options parseOptions(int argc, const char* const* argv) {
         if (std::none_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--tolerance"; }))
             o.solver.tolerance = 1e-10;
     }
+    if (!o.glarePath.empty() && !o.dni) throw UsageError("--glare needs --dni W (the reflected sun's irradiance)");
     if (o.command == "sun" || o.command == "irradiance" || (o.command == "sensors" && o.dni)) {
         const bool byTime = !o.sunTime.empty() || o.latitude || o.longitude;
         if (o.sunDirectionVector && byTime)
@@ -805,7 +807,9 @@ sun:
                          without an offset), degrees north and east (Michalsky 1988, 0.01 deg, 1950-2050)
   --up z|y               the scene's up axis (default z), --north x,y,z its north (default +y for z
                          up, -z for y up)
-  --dni W                direct-normal irradiance (W/m^2) for the direct-irradiance column
+  --dni W                direct-normal irradiance (W/m^2) for the direct-irradiance column (sun: and,
+                         in a scene with mirrors, a reflected_sun column: their first reflections)
+  --glare FILE.csv       (sun) each mirror's reflected sun per receiver: irradiance, peak, lit area
   --dhi W                (irradiance, sensors) diffuse-horizontal irradiance of an isotropic sky (W/m^2)
   --weather FILE.epw     (year) an EnergyPlus weather file: location, hourly DNI and DHI
   --hourly FILE.npy      (year) the total irradiance of each solved hour and patch (NumPy float64)

@@ -85,6 +85,7 @@ struct Options {
     double gridHeight = 0.0;             ///< --height H above the faces (scene units)
     std::string sensorFactorsPath;       ///< sensors --factors F.mtx: sensors x patches
     std::string sensorOutputPath;        ///< year --sensor-output FILE.csv: annual sums per sensor
+    std::string glarePath;               ///< sun --glare FILE.csv: the sun reflected by mirrors, per (mirror, receiver)
     std::string sensorHourlyPath;        ///< year --sensor-hourly FILE.npy: hours x sensors, W/m^2
 
     // subdivide command.

@@ -70,15 +70,11 @@ std::vector<std::vector<Vec2>> subtractConvex(const std::vector<std::vector<Vec2
     return out;
 }
 
-std::vector<double> sunlitFractions(const Scene& scene, const Vec3& toSunGiven) {
-    if (!toSunGiven.allFinite() || !(toSunGiven.norm() > 0.0)) throw Error("sun: the direction to the sun must be a finite non-zero vector");
-    const Vec3 d = toSunGiven.normalized();
+std::vector<std::vector<PatchId>> beamCandidates(const Scene& scene, const Vec3& direction) {
+    // Patches whose boxes overlap as the beam sees them (coordinates across its rays).
     const std::size_t n = scene.size();
-    const double tolerance = 1e-9 * std::max(scene.extent(), 1e-300);
-
-    // Candidates: patches whose boxes overlap as the sun sees them (coordinates across the rays).
     Vec3 a, b;
-    orthonormalBasis(d, a, b);
+    orthonormalBasis(direction.normalized(), a, b);
     std::vector<Box> boxes(n);
     for (PatchId i = 0; i < n; ++i) {
         const Patch& p = scene.patches[i];
@@ -97,52 +93,88 @@ std::vector<double> sunlitFractions(const Scene& scene, const Vec3& toSunGiven) 
         candidates[i].push_back(j);
         candidates[j].push_back(i);
     });
+    return candidates;
+}
+
+std::vector<double> sunlitFractions(const Scene& scene, const Vec3& toSunGiven) {
+    if (!toSunGiven.allFinite() || !(toSunGiven.norm() > 0.0)) throw Error("sun: the direction to the sun must be a finite non-zero vector");
+    const Vec3 d = toSunGiven.normalized();
+    const std::size_t n = scene.size();
+    const double tolerance = 1e-9 * std::max(scene.extent(), 1e-300);
+
+    const std::vector<std::vector<PatchId>> candidates = beamCandidates(scene, d);
 
     std::vector<double> fraction(n, 0.0);
 #pragma omp parallel for schedule(dynamic, 64)
     for (std::int64_t ii = 0; ii < std::int64_t(n); ++ii) {
         const PatchId i = PatchId(ii);
         const Patch& p = scene.patches[i];
-        const double facing = p.normal.dot(d);
-        if (!(facing > 0.0)) continue;
+        if (!(p.normal.dot(d) > 0.0)) continue;
         Vec3 u, v;
         orthonormalBasis(p.normal, u, v);
-        const Vec3 origin = scene.corner(p, 0);
-        std::vector<std::vector<Vec2>> pieces(1);
-        for (std::uint32_t k = 0; k < p.cornerCount; ++k) {
-            const Vec3 c = scene.corner(p, k) - origin;
-            pieces[0].emplace_back(c.dot(u), c.dot(v));
-        }
-        const double whole = polygonArea2d(pieces[0]);
+        const double whole = polygonArea2d(planeCoordinates(scene.polygon(i), scene.corner(p, 0), u, v));
         if (!(whole > 0.0)) continue;
-        std::vector<Vec3> cut;
-        std::vector<Vec2> shadow;
-        for (const PatchId j : candidates[i]) {
-            const Patch& q = scene.patches[j];
-            // The blocker's part in front of the receiver's plane (height h = n . (x - origin) >= 0).
-            cut.clear();
-            bool ahead = false;
-            for (std::uint32_t k = 0; k < q.cornerCount; ++k) {
-                const Vec3 c0 = scene.corner(q, k), c1 = scene.corner(q, (k + 1) % q.cornerCount);
-                const double h0 = p.normal.dot(c0 - origin), h1 = p.normal.dot(c1 - origin);
-                ahead = ahead || h0 > tolerance;
-                if (h0 >= 0.0) cut.push_back(c0);
-                if ((h0 > 0.0 && h1 < 0.0) || (h0 < 0.0 && h1 > 0.0)) cut.push_back(c0 + (c1 - c0) * (h0 / (h0 - h1)));
-            }
-            if (!ahead || cut.size() < 3) continue;
-            shadow.clear();
-            for (const Vec3& c : cut) {
-                const Vec3 x = c - d * (p.normal.dot(c - origin) / facing) - origin;
-                shadow.emplace_back(x.dot(u), x.dot(v));
-            }
-            pieces = subtractConvex(pieces, shadow);
-            if (pieces.empty()) break;
-        }
         double clear = 0.0;
-        for (const std::vector<Vec2>& piece : pieces) clear += polygonArea2d(piece);
+        for (const std::vector<Vec2>& piece : sunlitPieces(scene, i, d, candidates[i], u, v, tolerance)) clear += polygonArea2d(piece);
         fraction[i] = std::clamp(clear / whole, 0.0, 1.0);
     }
     return fraction;
+}
+
+std::vector<Vec2> planeCoordinates(const std::vector<Vec3>& points, const Vec3& origin, const Vec3& u, const Vec3& v) {
+    std::vector<Vec2> out;
+    out.reserve(points.size());
+    for (const Vec3& c : points) out.emplace_back((c - origin).dot(u), (c - origin).dot(v));
+    return out;
+}
+
+std::vector<std::vector<Vec2>> shadowedPieces(const Scene& scene, std::vector<std::vector<Vec2>> pieces, const Vec3& origin,
+                                              const Vec3& normal, const Vec3& u, const Vec3& v, const Vec3& toSource,
+                                              const std::vector<PatchId>& blockers, PatchId self, const Plane* slab,
+                                              double tolerance) {
+    const double facing = normal.dot(toSource);
+    std::vector<Vec3> cut, next;
+    std::vector<Vec2> shadow;
+    for (const PatchId j : blockers) {
+        if (j == self || pieces.empty()) continue;
+        // The blocker's part in front of the plane (height h = normal . (x - origin) >= 0), and of
+        // the slab's plane where one is given.
+        cut = scene.polygon(j);
+        bool ahead = false;
+        for (const Vec3& c : cut) ahead = ahead || normal.dot(c - origin) > tolerance;
+        if (!ahead) continue;
+        clipToHalfSpace(cut, normal, normal.dot(origin), next);
+        if (slab && cut.size() >= 3) clipToHalfSpace(cut, slab->normal, slab->offset, next);
+        if (cut.size() < 3) continue;
+        shadow.clear();
+        for (const Vec3& c : cut) {
+            const Vec3 x = c - toSource * (normal.dot(c - origin) / facing) - origin;
+            shadow.emplace_back(x.dot(u), x.dot(v));
+        }
+        pieces = subtractConvex(pieces, shadow);
+    }
+    return pieces;
+}
+
+std::vector<std::vector<Vec2>> sunlitPieces(const Scene& scene, PatchId i, const Vec3& toSun, const std::vector<PatchId>& blockers,
+                                            const Vec3& u, const Vec3& v, double tolerance) {
+    const Patch& p = scene.patches[i];
+    const Vec3 origin = scene.corner(p, 0);
+    return shadowedPieces(scene, {planeCoordinates(scene.polygon(i), origin, u, v)}, origin, p.normal, u, v, toSun.normalized(),
+                          blockers, i, nullptr, tolerance);
+}
+
+void clipToHalfSpace(std::vector<Vec3>& polygon, const Vec3& m, double offset, std::vector<Vec3>& scratch) {
+    scratch.clear();
+    for (std::size_t k = 0; k < polygon.size(); ++k) {
+        const Vec3& a = polygon[k];
+        const Vec3& b = polygon[(k + 1) % polygon.size()];
+        const double ha = m.dot(a) - offset, hb = m.dot(b) - offset;
+        if (ha >= 0.0) scratch.push_back(a);
+        if ((ha > 0.0 && hb < 0.0) || (ha < 0.0 && hb > 0.0)) scratch.push_back(a + (b - a) * (ha / (ha - hb)));
+    }
+    polygon.swap(scratch);
+    if (polygon.size() < 3) polygon.clear();
 }
 
 std::vector<double> directIrradiance(const Scene& scene, const Vec3& toSun, double dni, const std::vector<double>& sunlit) {
