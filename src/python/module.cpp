@@ -2,6 +2,7 @@
 // solver registries and the F files; hemirad/__init__.py turns its arrays into scipy/numpy objects.
 #include "engine/error.hpp"
 #include "environment/irradiance.hpp"
+#include "environment/reflected_sun.hpp"
 #include "environment/sensors.hpp"
 #include "environment/sky_view.hpp"
 #include "environment/solar_position.hpp"
@@ -612,6 +613,34 @@ py::dict irradianceOf(const ScenePtr& scene, py::array_t<std::int64_t, py::array
     return out;
 }
 
+py::dict reflectedSunOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> toSun, double dni) {
+    const Vec3 d = vectorOf(toSun, "to_sun");
+    ReflectedSun r;
+    {
+        py::gil_scoped_release release;
+        r = reflectedSun(*scene, d, dni);
+    }
+    py::array_t<std::int64_t> mirror(py::ssize_t(r.spots.size())), receiver(py::ssize_t(r.spots.size()));
+    std::vector<double> mean, peak, area;
+    for (std::size_t k = 0; k < r.spots.size(); ++k) {
+        mirror.mutable_data()[k] = r.spots[k].mirror;
+        receiver.mutable_data()[k] = r.spots[k].receiver;
+        mean.push_back(r.spots[k].irradiance);
+        peak.push_back(r.spots[k].peak);
+        area.push_back(r.spots[k].litArea);
+    }
+    py::dict spots;
+    spots["mirror"] = mirror;
+    spots["receiver"] = receiver;
+    spots["irradiance"] = numpyVector(mean);
+    spots["peak"] = numpyVector(peak);
+    spots["lit_area"] = numpyVector(area);
+    py::dict out;
+    out["irradiance"] = numpyVector(r.irradiance);
+    out["spots"] = spots;
+    return out;
+}
+
 /// A grid over an object's faces: (positions, normals, names).
 py::tuple sensorGridOf(const ScenePtr& scene, const std::string& object, double spacing, double height) {
     const Sensors g = sensorGrid(*scene, object, spacing, height);
@@ -731,6 +760,7 @@ PYBIND11_MODULE(_hemirad, m) {
     m.def("_solar_position", &solarPositionOf);
     m.def("_sun_direction", &sunDirectionOf);
     m.def("_sunlit", &sunlitOf);
+    m.def("_reflected_sun", &reflectedSunOf);
     m.def("_irradiance", &irradianceOf);
     m.def("_sensor_grid", &sensorGridOf);
     m.def("_read_form_factors", &readFormFactors);

@@ -543,6 +543,15 @@ def test_sun_and_one_hour_of_irradiance_as_the_command_line():
     table = np.genfromtxt(csv, delimiter=",", skip_header=1, usecols=(2, 3, 4, 5, 6))
     for k, name in enumerate(["direct_sun", "direct_sky", "reflected", "total", "absorbed"]):
         assert np.allclose(out[name], table[:, k], rtol=1e-9, atol=1e-9), name
+    # The mirror box: the reflected sun as the command line's --glare reports it, spots brightest first.
+    mirror_box = hemirad.load(scene_path("cornell_mirror.obj"))
+    glare = hemirad.reflected_sun(mirror_box, [1.0, 0.5, -1.0], 800.0)  # through the open front onto the mirror wall
+    assert glare["irradiance"].shape == (len(mirror_box),)
+    spots = glare["spots"]
+    assert len(spots["mirror"]) == len(spots["receiver"]) == len(spots["peak"]) > 0
+    assert np.all(np.diff(spots["irradiance"]) <= 0)
+    for m, r, e in zip(spots["mirror"], spots["receiver"], spots["irradiance"]):
+        assert mirror_box.specular[m] > 0 and e > 0
     with pytest.raises(ValueError):
         hemirad.sunlit_fractions(cornell, [0, 0, 0])
     with pytest.raises(hemirad.Error):

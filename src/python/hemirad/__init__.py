@@ -22,7 +22,7 @@ from . import _hemirad
 from ._hemirad import Error, Scene
 
 __all__ = ["Error", "Scene", "load", "form_factors", "solve", "thermal", "conductors", "sky_view_factors", "sensor_factors", "sensor_grid", "solar_position", "sun_direction", "sunlit_fractions",
-           "irradiance", "read_form_factors", "write_form_factors",
+           "reflected_sun", "irradiance", "read_form_factors", "write_form_factors",
            "render", "methods", "solvers"]
 
 
@@ -378,6 +378,16 @@ def sunlit_fractions(scene, to_sun):
     or back, blocks it; 0 where it faces away). to_sun: the direction toward the sun (any length)."""
     _check_scene(scene)
     return _hemirad._sunlit(scene, _np.asarray(to_sun, dtype=_np.float64))
+
+
+def reflected_sun(scene, to_sun, dni):
+    """The sun's first reflections by the scene's mirrors (s > 0): exact footprints of each mirror's
+    sunlit part on the patches facing its beam, past the patches between (as ``hemirad sun --dni
+    --glare``). Returns a dict: ``irradiance`` per patch (W/m^2, averaged over it) and ``spots``, a
+    dict of arrays per (mirror, receiver) pair, brightest first: ``mirror``, ``receiver``,
+    ``irradiance``, ``peak`` (s DNI cos, W/m^2) and ``lit_area`` (the footprint, scene units^2)."""
+    _check_scene(scene)
+    return _hemirad._reflected_sun(scene, _np.asarray(to_sun, dtype=_np.float64), float(dni))
 
 
 def irradiance(scene, F, to_sun, dni, dhi=0.0, *, sky_view=None, unit=None, solver="auto", tolerance=1e-10):
