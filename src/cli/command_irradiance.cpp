@@ -32,11 +32,15 @@ int runIrradiance(const Options& options) {
     AtomicFile file(options.output, false);
     std::ostream& out = file.stream();
     out << std::setprecision(std::numeric_limits<double>::max_digits10);
-    out << "patch,object,direct_sun (W/m^2),direct_sky (W/m^2),reflected (W/m^2),total (W/m^2),absorbed (W/m^2)\n";
+    const bool mirrors = scene.hasMirrors();  // then a column for the sun they reflect
+    out << "patch,object,direct_sun (W/m^2),direct_sky (W/m^2),reflected (W/m^2),total (W/m^2),absorbed (W/m^2)"
+        << (mirrors ? ",reflected_sun (W/m^2)" : "") << "\n";
     for (PatchId i = 0; i < scene.size(); ++i) {
         const std::string name = csvField(scene.objects[scene.patches[i].object]);
         out << i << ',' << name << ',' << r.directSun[i] << ',' << r.directSky[i] << ',' << r.reflected[i] << ',' << r.total[i]
-            << ',' << r.absorbed[i] << '\n';
+            << ',' << r.absorbed[i];
+        if (mirrors) out << ',' << r.reflectedSun[i];
+        out << '\n';
     }
     file.commit();
     timings.stop();

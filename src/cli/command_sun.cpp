@@ -53,6 +53,11 @@ IrradianceResult patchHour(const Scene& scene, const Options& options, const Vec
     in.skyView = skyViewFactors(scene, options.formFactors).direct;
     timings.stop();
     in.dhi = options.dhi;
+    if (scene.hasMirrors()) {
+        timings.start("reflected sun");
+        in.reflectedSun = reflectedSun(scene, toSun, *options.dni).irradiance;
+        timings.stop();
+    }
     Options withRows = options;
     withRows.allRows = true;
     const FormFactors F = obtainFormFactors(scene, withRows, timings, reporter, warnings);

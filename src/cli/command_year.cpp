@@ -66,11 +66,15 @@ int runYear(const Options& options) {
         AtomicFile file(options.output, false);
         std::ostream& out = file.stream();
         out << std::setprecision(std::numeric_limits<double>::max_digits10);
-        out << "patch,object,direct_sun (Wh/m^2),direct_sky (Wh/m^2),reflected (Wh/m^2),total (Wh/m^2),absorbed (Wh/m^2)\n";
+        const bool mirrors = scene.hasMirrors();  // then a column for the sun they reflect
+        out << "patch,object,direct_sun (Wh/m^2),direct_sky (Wh/m^2),reflected (Wh/m^2),total (Wh/m^2),absorbed (Wh/m^2)"
+            << (mirrors ? ",reflected_sun (Wh/m^2)" : "") << "\n";
         for (PatchId i = 0; i < scene.size(); ++i) {
             const std::string name = csvField(scene.objects[scene.patches[i].object]);
             out << i << ',' << name << ',' << year.directSun[i] << ',' << year.directSky[i] << ',' << year.reflected[i] << ','
-                << year.sum[i] << ',' << year.absorbed[i] << '\n';
+                << year.sum[i] << ',' << year.absorbed[i];
+            if (mirrors) out << ',' << year.reflectedSun[i];
+            out << '\n';
         }
         file.commit();
     }

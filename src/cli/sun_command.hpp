@@ -15,8 +15,8 @@ Vec3 sunDirectionFromOptions(const Options& options, const Reporter& reporter);
 double metresFromOptions(const Scene& scene, const Options& options, Warnings& warnings);
 
 /// One hour of sun (--dni along `toSun`) and isotropic sky (--dhi) on the patches, as `irradiance`
-/// solves it: sunlit fractions, direct sky view factors, F with every row (obtained as the options
-/// say), the inter-reflection. Throws hemirad::Error.
+/// solves it: sunlit fractions, direct sky view factors, the sun reflected by mirrors, F with every
+/// row (obtained as the options say), the inter-reflection. Throws hemirad::Error.
 IrradianceResult patchHour(const Scene& scene, const Options& options, const Vec3& toSun, double metres, Timings& timings,
                            const Reporter& reporter, Warnings& warnings);
 

@@ -15,10 +15,14 @@ struct IrradianceInputs {
     std::vector<double> directSun;  ///< W/m^2 per patch: DNI cos(theta) x sunlit fraction
     std::vector<double> skyView;    ///< per patch: the direct sky view factor (environment/sky_view.hpp)
     double dhi = 0.0;               ///< diffuse-horizontal irradiance of an isotropic sky, W/m^2
+    /// W/m^2 per patch: the sun reflected onto it by mirrors (environment/reflected_sun.hpp), or
+    /// empty. Part of the mirrors' specular reflection of the direct sun: it lands instead of leaving.
+    std::vector<double> reflectedSun;
 };
 
 struct IrradianceResult {
     std::vector<double> directSun, directSky, reflected, total, absorbed;  ///< W/m^2 per patch
+    std::vector<double> reflectedSun;  ///< W/m^2 per patch: the mirrors' reflection of the sun (zeros without)
     std::vector<double> radiosity;  ///< W/m^2 per patch: the diffuse radiosity J leaving it (what sensors see of it)
     double incidentPower = 0.0;   ///< W (scene units^2 x W/m^2 when the scene has no unit): the first arrivals
     double absorbedPower = 0.0;
@@ -30,9 +34,11 @@ struct IrradianceResult {
 /// Inter-reflects the first arrivals (direct sun + direct sky) through F (every row computed) with
 /// each patch's broadband diffuse reflectance (the mean of its Kd) and mirror reflectance s: the
 /// diffuse radiosity J = rho (E + F J); reflected irradiance F J; absorbed (1 - rho - s) x total.
-/// The specular part of the first arrivals leaves the scene (the sun's and sky's images through
-/// mirrors are not yet followed). Throws hemirad::Error for inputs of the wrong size or an
-/// unconverged solve.
+/// The first arrivals are the direct sun, the direct sky and the sun reflected by mirrors (given);
+/// the specular part of the direct sun that lands as that reflected sun does not leave, the rest of
+/// the first arrivals' specular part does (the sky's images through mirrors are not followed). The
+/// incident power counts what comes from outside: the direct sun and sky. Throws hemirad::Error for
+/// inputs of the wrong size or an unconverged solve.
 IrradianceResult solarIrradiance(const Scene& scene, const FormFactors& F, const IrradianceInputs& inputs,
                                  double metresPerUnit, const SolverOptions& options);
 

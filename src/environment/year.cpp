@@ -3,6 +3,7 @@
 
 #include "engine/atomic_file.hpp"
 #include "engine/error.hpp"
+#include "environment/reflected_sun.hpp"
 #include "environment/solar_position.hpp"
 #include "environment/sunlit.hpp"
 
@@ -43,19 +44,22 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
     if (options.sensors && (!options.sensorFactors || options.sensorFactors->skyView.size() != sensors ||
                             options.sensorFactors->patches != n))
         throw Error("year: the sensors need their factors against this scene (sensorFactors)");
+    out.reflectedSun.assign(n, 0.0);
+    const bool mirrors = scene.hasMirrors();
     out.sensorTotal.assign(out.hours.size() * sensors, 0.0);
     out.sensorDirectSun.assign(sensors, 0.0);
     out.sensorDirectSky.assign(sensors, 0.0);
     out.sensorReflected.assign(sensors, 0.0);
     out.sensorSum.assign(sensors, 0.0);
 
-    std::vector<std::vector<double>> sun, sky, sensorLit;
+    std::vector<std::vector<double>> sun, sky, bounced, sensorLit;
     std::vector<Vec3> toSuns;
     for (std::size_t first = 0; first < out.hours.size(); first += options.batch) {
         const std::size_t last = std::min(out.hours.size(), first + options.batch);
         std::vector<Band> bands(last - first);
         sun.assign(last - first, {});
         sky.assign(last - first, {});
+        bounced.assign(last - first, std::vector<double>(n, 0.0));
         sensorLit.assign(last - first, std::vector<double>(sensors, 0.0));
         toSuns.assign(last - first, Vec3(0, 0, 1));
         for (std::size_t b = first; b < last; ++b) {
@@ -67,6 +71,7 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                 const Vec3 toSun = sunDirection(p, options.up, options.north);
                 direct = directIrradiance(scene, toSun, hour.dni, sunlitFractions(scene, toSun));
                 toSuns[b - first] = toSun;
+                if (mirrors) bounced[b - first] = reflectedSun(scene, toSun, hour.dni).irradiance;
                 if (sensors) sensorLit[b - first] = sensorSunlit(scene, *options.sensors, toSun);
             }
             std::vector<double>& diffuse = sky[b - first];
@@ -77,7 +82,7 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
             band.source.resize(n);
             for (std::size_t i = 0; i < n; ++i) {
                 diffuse[i] = hour.dhi * skyView[i];
-                band.source[i] = rho[i] * (direct[i] + diffuse[i]);
+                band.source[i] = rho[i] * (direct[i] + diffuse[i] + bounced[b - first][i]);
             }
         }
         const BandSolution solved = solveBands(scene, F, bands, solver);
@@ -87,16 +92,20 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
             for (std::size_t i = 0; i < n; ++i) {
                 double H = 0.0;
                 for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) H += double(F.values()[k]) * J[F.columns()[k]];
-                const double firstArrival = sun[b - first][i] + sky[b - first][i], total = firstArrival + H;
+                // The sun reflected by mirrors arrives first too; it came in as the direct sun on them.
+                const double outside = sun[b - first][i] + sky[b - first][i], reflectedSun = bounced[b - first][i];
+                const double firstArrival = outside + reflectedSun, total = firstArrival + H;
                 out.total[b * n + i] = total;
                 out.directSun[i] += sun[b - first][i];
                 out.directSky[i] += sky[b - first][i];
+                out.reflectedSun[i] += reflectedSun;
                 out.reflected[i] += H;
                 out.sum[i] += total;
                 out.absorbed[i] += absorptance[i] * total;
-                incident += area[i] * firstArrival;
+                incident += area[i] * outside;
                 absorbed += area[i] * absorptance[i] * total;
-                escaped += area[i] * scene.patches[i].specular * firstArrival + J[i] * (area[i] - landedFrom[i]);
+                escaped += area[i] * scene.patches[i].specular * firstArrival + J[i] * (area[i] - landedFrom[i]) -
+                           area[i] * reflectedSun;  // the mirrors' reflection that landed did not leave
             }
             if (sensors) {
                 const WeatherHour& hour = weather.hours[out.hours[b]];

@@ -30,6 +30,7 @@ struct YearResult {
     std::vector<double> total;            ///< per solved hour, per patch (row-major: hours x patches), W/m^2
     /// Per patch over the year, Wh/m^2: direct sun, direct sky, reflected, total and absorbed.
     std::vector<double> directSun, directSky, reflected, sum, absorbed;
+    std::vector<double> reflectedSun;     ///< per patch over the year, Wh/m^2: the sun reflected onto it by mirrors (in sum)
     double worstBalance = 0.0;            ///< the largest hourly |incident - absorbed - escaped| / incident
     double incidentWh = 0.0, absorbedWh = 0.0;  ///< over the year (W h; scene units^2 x W/m^2 h without a unit)
     /// With sensors: per solved hour, per sensor (hours x sensors), W/m^2, and per sensor over the

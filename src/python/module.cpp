@@ -579,7 +579,8 @@ py::array_t<double> sunlitOf(const ScenePtr& scene, py::array_t<double, py::arra
 py::dict irradianceOf(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
                       py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
                       py::array_t<double, py::array::c_style | py::array::forcecast> directSun,
-                      py::array_t<double, py::array::c_style | py::array::forcecast> skyView, double dhi, double metres,
+                      py::array_t<double, py::array::c_style | py::array::forcecast> skyView, double dhi,
+                      py::array_t<double, py::array::c_style | py::array::forcecast> reflected, double metres,
                       const std::string& solverName, double tolerance) {
     const GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");
     const std::size_t n = scene->size();
@@ -589,6 +590,10 @@ py::dict irradianceOf(const ScenePtr& scene, py::array_t<std::int64_t, py::array
     in.directSun.assign(directSun.data(), directSun.data() + n);
     in.skyView.assign(skyView.data(), skyView.data() + n);
     in.dhi = dhi;
+    if (reflected.size() > 0) {
+        if (reflected.ndim() != 1 || std::size_t(reflected.size()) != n) throw py::value_error("irradiance: reflected sun needs one value per patch");
+        in.reflectedSun.assign(reflected.data(), reflected.data() + n);
+    }
     SolverOptions options;
     options.solver = solverName;
     options.tolerance = tolerance;
@@ -605,6 +610,7 @@ py::dict irradianceOf(const ScenePtr& scene, py::array_t<std::int64_t, py::array
     out["total"] = numpyVector(r.total);
     out["absorbed"] = numpyVector(r.absorbed);
     out["radiosity"] = numpyVector(r.radiosity);
+    out["reflected_sun"] = numpyVector(r.reflectedSun);
     out["incident_power"] = r.incidentPower;
     out["absorbed_power"] = r.absorbedPower;
     out["escaped_power"] = r.escapedPower;

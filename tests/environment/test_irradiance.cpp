@@ -4,6 +4,7 @@
 
 #include "engine/error.hpp"
 #include "environment/irradiance.hpp"
+#include "environment/reflected_sun.hpp"
 #include "environment/sky_view.hpp"
 #include "environment/sunlit.hpp"
 #include "preprocess/form_factor_job.hpp"
@@ -52,6 +53,44 @@ TEST_CASE("Irradiance of a ground patch and a wall in sun and sky: direct, sky, 
     }
     MESSAGE("incident " << r.incidentPower << " W, absorbed " << r.absorbedPower << ", escaped " << r.escapedPower << ", balance " << r.balance);
     CHECK(r.balance <= 1e-9);
+}
+
+TEST_CASE("Irradiance with a mirror: the sun it reflects lands on the wall as a first arrival, and the power still balances") {
+    // The mirror [0, 1]^2 at z = 0 (s = 0.8, Kd 0.1) under a 45-degree sun, the wall x = -2 facing it:
+    // the beam's footprint 1 of the wall's 15 (test_reflected_sun.cpp), s DNI cos 45 where it lands.
+    SceneBuilder b;
+    const std::uint32_t mirror = b.material("mirror", Rgb::Constant(0.1), Rgb::Zero(), 0.8);
+    const std::uint32_t wall = b.material("wall", Rgb::Constant(0.5));
+    b.rectangle(2, 0.0, 0, 1, 0, 1, true, mirror);
+    b.rectangle(0, -2.0, -1, 2, 0, 5, true, wall);
+    const Scene& s = b.scene;
+    const Vec3 sun(1, 0, 1);
+    const double dni = 800, dhi = 100;
+    IrradianceInputs in;
+    in.directSun = directIrradiance(s, sun, dni, sunlitFractions(s, sun));
+    in.skyView = skyViewFactors(s, MethodSettings::of(HemisphereOptions{})).direct;
+    in.dhi = dhi;
+    in.reflectedSun = reflectedSun(s, sun, dni).irradiance;
+    const FormFactors F = computeFormFactors(s, MethodSettings::of(HemisphereOptions{}), neededRows(s, true)).F;
+    SolverOptions lu;
+    lu.solver = "lu";
+    const IrradianceResult r = solarIrradiance(s, F, in, 1.0, lu);
+    const double landed = 0.8 * dni * std::sqrt(0.5) / 15.0;
+    CHECK(r.reflectedSun[1] == relative(landed, 1e-12));
+    CHECK(r.directSun[1] == relative(dni * std::sqrt(0.5), 1e-12));  // the wall faces the sun too
+    CHECK(r.total[1] == relative(r.directSun[1] + r.directSky[1] + landed + r.reflected[1], 1e-12));
+    // Only the sun and sky come from outside: the landed beam is part of the mirror's reflection.
+    const double outside = 1.0 * (r.directSun[0] + r.directSky[0]) + 15.0 * (r.directSun[1] + r.directSky[1]);
+    CHECK(r.incidentPower == relative(outside, 1e-12));
+    MESSAGE("incident " << r.incidentPower << " W, absorbed " << r.absorbedPower << ", escaped " << r.escapedPower << ", balance " << r.balance);
+    CHECK(r.balance <= 1e-9);
+    // Without it, the mirror's whole specular reflection leaves: the same power comes in, less is absorbed.
+    in.reflectedSun.clear();
+    const IrradianceResult without = solarIrradiance(s, F, in, 1.0, lu);
+    CHECK(without.balance <= 1e-9);
+    CHECK(without.incidentPower == relative(r.incidentPower, 1e-12));
+    CHECK(without.absorbedPower < r.absorbedPower);
+    CHECK(without.escapedPower > r.escapedPower);
 }
 
 TEST_CASE("Irradiance inputs of the wrong size are refused") {

@@ -4,6 +4,7 @@
 
 #include "engine/error.hpp"
 #include "environment/irradiance.hpp"
+#include "environment/reflected_sun.hpp"
 #include "environment/sensors.hpp"
 #include "environment/sky_view.hpp"
 #include "environment/solar_position.hpp"
@@ -117,6 +118,47 @@ TEST_CASE("A year's hours solved in batches equal each hour solved alone, and th
     for (PatchId i = 0; i < s.size(); ++i) CHECK(year.sum[i] == relative(sum[i], 1e-12));
     // The tall wall faces north (+y): at Munich in June it sees the sun only early and late.
     CHECK(year.directSun[6] < 0.2 * year.directSun[0]);
+}
+
+TEST_CASE("A year with a mirror: each hour with the sun it reflects equals the hour alone, and every hour balances") {
+    Scene s = smallDistrict();
+    s.patches[6].specular = 0.6;  // the tall wall along y = -4, facing north: the morning and evening sun
+    s.patches[6].rho = Rgb::Constant(0.3);
+    const MethodSettings method = MethodSettings::of(HemisphereOptions{});
+    const FormFactors F = computeFormFactors(s, method, neededRows(s, true)).F;
+    const std::vector<double> sky = skyViewFactors(s, method).direct;
+    const Weather w = readEpw(excerpt());
+    YearOptions options;
+    SolverOptions lu;
+    lu.solver = "lu";
+    const YearResult year = solveYear(s, F, sky, w, options, lu);
+    CHECK(year.worstBalance <= 1e-9);
+    double worst = 0.0, landed = 0.0;
+    for (std::size_t k = 0; k < year.hours.size(); ++k) {
+        const WeatherHour& hour = w.hours[year.hours[k]];
+        IrradianceInputs in;
+        in.directSun.assign(s.size(), 0.0);
+        const SolarPosition p = solarPosition(middleOfHourUtc(hour, w.timeZone), w.latitude, w.longitude);
+        if (p.elevation > 0.0 && hour.dni > 0.0) {
+            const Vec3 toSun = sunDirection(p, options.up, options.north);
+            in.directSun = directIrradiance(s, toSun, hour.dni, sunlitFractions(s, toSun));
+            in.reflectedSun = reflectedSun(s, toSun, hour.dni).irradiance;
+        }
+        in.skyView = sky;
+        in.dhi = hour.dhi;
+        const IrradianceResult alone = solarIrradiance(s, F, in, 1.0, lu);
+        CHECK(alone.balance <= 1e-9);
+        for (PatchId i = 0; i < s.size(); ++i) {
+            worst = std::max(worst, std::abs(year.total[k * s.size() + i] - alone.total[i]) / std::max(1.0, alone.total[i]));
+            landed += alone.reflectedSun[i] * s.patches[i].area;
+        }
+    }
+    MESSAGE("with a mirror: largest difference from the hours alone " << worst << ", reflected sun landed " << landed << " Wh");
+    CHECK(worst <= 1e-9);
+    CHECK(landed > 0.0);
+    double annual = 0.0;
+    for (PatchId i = 0; i < s.size(); ++i) annual += year.reflectedSun[i] * s.patches[i].area;
+    CHECK(annual == relative(landed, 1e-12));
 }
 
 TEST_CASE("Sensors through a year: each hour at each sensor equals that hour's irradiance there from the hour solved alone") {

@@ -552,6 +552,16 @@ def test_sun_and_one_hour_of_irradiance_as_the_command_line():
     assert np.all(np.diff(spots["irradiance"]) <= 0)
     for m, r, e in zip(spots["mirror"], spots["receiver"], spots["irradiance"]):
         assert mirror_box.specular[m] > 0 and e > 0
+    # With the mirror: the reflected sun arrives first, as the command line's reflected_sun column.
+    Fm, _ = hemirad.form_factors(mirror_box, all_rows=True)
+    hour = hemirad.irradiance(mirror_box, Fm, [1.0, 0.5, -1.0], 800.0, 100.0)
+    assert hour["balance"] < 1e-9 and np.any(hour["reflected_sun"] > 0)
+    r = subprocess.run([os.environ["HEMIRAD_BINARY"], "irradiance", scene_path("cornell_mirror.obj"), "--sun-direction",
+                        "1,0.5,-1", "--dni", "800", "--dhi", "100", "-o", csv, "--quiet"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    table = np.genfromtxt(csv, delimiter=",", skip_header=1, usecols=(5, 7))
+    assert np.allclose(hour["total"], table[:, 0], rtol=1e-9, atol=1e-9)
+    assert np.allclose(hour["reflected_sun"], table[:, 1], rtol=1e-12, atol=0)
     with pytest.raises(ValueError):
         hemirad.sunlit_fractions(cornell, [0, 0, 0])
     with pytest.raises(hemirad.Error):

@@ -392,12 +392,12 @@ def reflected_sun(scene, to_sun, dni):
 
 def irradiance(scene, F, to_sun, dni, dhi=0.0, *, sky_view=None, unit=None, solver="auto", tolerance=1e-10):
     """One hour of sun and isotropic sky on ``scene``, inter-reflected through F (every row computed),
-    as the command line's ``irradiance``: the direct sun DNI cos x the sunlit fraction, the direct
-    sky DHI x the direct sky view factor (``sky_view``: per patch; None computes it), each patch's
+    as the command line's ``irradiance``: the direct sun DNI cos x the sunlit fraction, the sun
+    reflected by mirrors (:func:`reflected_sun`), the direct sky DHI x the direct sky view factor (``sky_view``: per patch; None computes it), each patch's
     mean Kd as its reflectance. unit: metres per scene unit for the powers (None: the scene's, else 1).
 
     Returns a dict of per-patch arrays (W/m^2) ``direct_sun``, ``direct_sky``, ``reflected``,
-    ``total``, ``absorbed`` and ``radiosity`` (the diffuse J leaving each patch, what
+    ``total``, ``absorbed``, ``reflected_sun`` and ``radiosity`` (the diffuse J leaving each patch, what
     :func:`sensor_factors`' F turns into a sensor's reflected irradiance), and ``incident_power``,
     ``absorbed_power``, ``escaped_power`` (W), ``balance``, ``solver``.
     """
@@ -411,8 +411,11 @@ def irradiance(scene, F, to_sun, dni, dhi=0.0, *, sky_view=None, unit=None, solv
     sky = _patch_values("sky_view", sky_view, n)
     indptr, indices, data = _canonical(F, n)
     metres = 0.0 if unit is None else float(unit)
-    return _hemirad._irradiance(scene, indptr, indices, data, _np.ascontiguousarray(direct), sky, float(dhi), metres,
-                                str(solver), float(tolerance))
+    mirrored = _np.zeros(0)
+    if _np.any(_np.asarray(scene.specular) > 0):
+        mirrored = reflected_sun(scene, to_sun, dni)["irradiance"]
+    return _hemirad._irradiance(scene, indptr, indices, data, _np.ascontiguousarray(direct), sky, float(dhi), mirrored,
+                                metres, str(solver), float(tolerance))
 
 
 def sensor_factors(scene, positions, normals, *, threads=0):
