@@ -33,6 +33,9 @@ int runSensors(const Options& options) {
     timings.start("sensor factors");
     const SensorFactors factors = sensorFactors(scene, sensors, options.formFactors.common.threads);
     timings.stop();
+    if (scene.hasMirrors())
+        warnings.add("mirrors", "the sensors' factors and sky view factors are direct: what they would see through the "
+                                "scene's mirrors is not counted (the patches' radiosity includes the mirrors)");
     {
         const double mean = std::accumulate(factors.skyView.begin(), factors.skyView.end(), 0.0) / double(sensors.size());
         std::ostringstream line;
