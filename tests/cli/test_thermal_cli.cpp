@@ -101,7 +101,8 @@ TEST_CASE("hemirad sun takes a given direction or a time and place, and writes t
     INFO(r.output);
     REQUIRE(r.status == 0);
     const std::string csv = readText(out);
-    CHECK(csv.find("patch,object,area (m^2),cos_incidence,sunlit_fraction,direct_irradiance (W/m^2)\n0,radiator,1,1,") == 0);
+    // The radiator example has a mirror (its aluminium shield, illum 3): the sun it reflects is a column too.
+    CHECK(csv.find("patch,object,area (m^2),cos_incidence,sunlit_fraction,direct_irradiance (W/m^2),reflected_sun (W/m^2)\n0,radiator,1,1,") == 0);
     r = runCommand(std::string(HEMIRAD_BINARY) + " sun " + example("radiator.obj") +
                    " --sun-time 2026-06-21T13:15+02:00 --latitude 48.1 --longitude 11.6 -o " + out + " 2>&1");
     CHECK(r.status == 0);
@@ -118,7 +119,8 @@ TEST_CASE("hemirad irradiance writes the direct sun, sky, reflected, total and a
                                        " --sun-direction 0.3,-0.4,0.9 --dni 850 --dhi 110 -o " + out + " 2>&1");
     INFO(r.output);
     REQUIRE(r.status == 0);
-    CHECK(readText(out).find("patch,object,direct_sun (W/m^2),direct_sky (W/m^2),reflected (W/m^2),total (W/m^2),absorbed (W/m^2)\n0,radiator,") == 0);
+    CHECK(readText(out).find("patch,object,direct_sun (W/m^2),direct_sky (W/m^2),reflected (W/m^2),total (W/m^2),absorbed (W/m^2),"
+                             "reflected_sun (W/m^2)\n0,radiator,") == 0);  // the radiator has a mirror
     const std::size_t at = r.output.find("; balance ");
     REQUIRE(at != std::string::npos);
     CHECK(std::stod(r.output.substr(at + 10)) <= 1e-9);
@@ -136,7 +138,8 @@ TEST_CASE("hemirad year solves a weather file's hours against one F: annual sums
     INFO(r.output);
     REQUIRE(r.status == 0);
     CHECK(r.output.find("weather: Munich Test, BY, DEU, latitude 48.13, longitude 11.7, UTC+1; 48 hours") != std::string::npos);
-    CHECK(readText(out).find("patch,object,direct_sun (Wh/m^2),direct_sky (Wh/m^2),reflected (Wh/m^2),total (Wh/m^2),absorbed (Wh/m^2)\n0,radiator,") == 0);
+    CHECK(readText(out).find("patch,object,direct_sun (Wh/m^2),direct_sky (Wh/m^2),reflected (Wh/m^2),total (Wh/m^2),absorbed (Wh/m^2),"
+                             "reflected_sun (Wh/m^2)\n0,radiator,") == 0);  // the radiator has a mirror
     CHECK(readText(hourly).find("'shape': (32, 3)") != std::string::npos);
     const CommandResult bad = runCommand(std::string(HEMIRAD_BINARY) + " year " + example("radiator.obj") + " -o " + out + " 2>&1");
     CHECK(bad.status == 2);
