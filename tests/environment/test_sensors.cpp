@@ -90,7 +90,7 @@ TEST_CASE("Sensors: the centre of a courtyard's floor sees its opening as sky, t
     CHECK(sum == relative(1.0, 1e-12));
 }
 
-TEST_CASE("Sensors: a receiver half behind a plate, either way the plate faces; its back hides the sky but has no factor") {
+TEST_CASE("Sensors: a receiver half behind a plate, either way the plate faces, whose back hides the sky but has no factor") {
     // Sensor at the origin facing up, a receiver [-1, 1]^2 at z = 2 facing down, and a plate over
     // x < 0 at z = 1: its shadow from the origin covers the receiver's half x < 0.
     for (const bool plateDown : {true, false}) {
