@@ -46,6 +46,31 @@ struct Prepared {
     Weather w = readEpw(excerpt());
 };
 
+/// One weather hour solved alone, as the year solves it: its sun (and the sun the mirrors reflect)
+/// and sky on F; `toSun` where the sun is up with a direct beam (`sun`), else straight up.
+struct HourAlone {
+    IrradianceResult result;
+    Vec3 toSun = Vec3(0, 0, 1);
+    bool sun = false;  ///< the sun up with a direct beam
+};
+HourAlone hourAlone(const Scene& s, const FormFactors& F, const std::vector<double>& sky, const Weather& w, const WeatherHour& hour,
+                    const YearOptions& options, const SolverOptions& solver) {
+    HourAlone out;
+    IrradianceInputs in;
+    in.directSun.assign(s.size(), 0.0);
+    const SolarPosition p = solarPosition(middleOfHourUtc(hour, w.timeZone), w.latitude, w.longitude);
+    if (p.elevation > 0.0 && hour.dni > 0.0) {
+        out.toSun = sunDirection(p, options.up, options.north);
+        out.sun = true;
+        in.directSun = directIrradiance(s, out.toSun, hour.dni, sunlitFractions(s, out.toSun));
+        in.reflectedSun = reflectedSun(s, out.toSun, hour.dni).irradiance;
+    }
+    in.skyView = sky;
+    in.dhi = hour.dhi;
+    out.result = solarIrradiance(s, F, in, 1.0, solver);
+    return out;
+}
+
 }  // namespace
 
 TEST_CASE("EPW: the location, the hours' DNI and DHI (fields 15 and 16), and the middle of each hour in UTC") {
@@ -97,17 +122,7 @@ TEST_CASE("A year's hours solved in batches equal each hour solved alone, and th
     double worst = 0.0;
     std::vector<double> sum(s.size(), 0.0);
     for (std::size_t k = 0; k < year.hours.size(); ++k) {
-        const WeatherHour& hour = w.hours[year.hours[k]];
-        IrradianceInputs in;
-        in.directSun.assign(s.size(), 0.0);
-        const SolarPosition p = solarPosition(middleOfHourUtc(hour, w.timeZone), w.latitude, w.longitude);
-        if (p.elevation > 0.0) {
-            const Vec3 toSun = sunDirection(p, options.up, options.north);
-            in.directSun = directIrradiance(s, toSun, hour.dni, sunlitFractions(s, toSun));
-        }
-        in.skyView = sky;
-        in.dhi = hour.dhi;
-        const IrradianceResult alone = solarIrradiance(s, F, in, 1.0, lu);
+        const IrradianceResult alone = hourAlone(s, F, sky, w, w.hours[year.hours[k]], options, lu).result;
         for (PatchId i = 0; i < s.size(); ++i) {
             worst = std::max(worst, std::abs(year.total[k * s.size() + i] - alone.total[i]) / std::max(1.0, alone.total[i]));
             sum[i] += alone.total[i];
@@ -135,18 +150,7 @@ TEST_CASE("A year with a mirror: each hour with the sun it reflects equals the h
     CHECK(year.worstBalance <= 1e-9);
     double worst = 0.0, landed = 0.0;
     for (std::size_t k = 0; k < year.hours.size(); ++k) {
-        const WeatherHour& hour = w.hours[year.hours[k]];
-        IrradianceInputs in;
-        in.directSun.assign(s.size(), 0.0);
-        const SolarPosition p = solarPosition(middleOfHourUtc(hour, w.timeZone), w.latitude, w.longitude);
-        if (p.elevation > 0.0 && hour.dni > 0.0) {
-            const Vec3 toSun = sunDirection(p, options.up, options.north);
-            in.directSun = directIrradiance(s, toSun, hour.dni, sunlitFractions(s, toSun));
-            in.reflectedSun = reflectedSun(s, toSun, hour.dni).irradiance;
-        }
-        in.skyView = sky;
-        in.dhi = hour.dhi;
-        const IrradianceResult alone = solarIrradiance(s, F, in, 1.0, lu);
+        const IrradianceResult alone = hourAlone(s, F, sky, w, w.hours[year.hours[k]], options, lu).result;
         CHECK(alone.balance <= 1e-9);
         for (PatchId i = 0; i < s.size(); ++i) {
             worst = std::max(worst, std::abs(year.total[k * s.size() + i] - alone.total[i]) / std::max(1.0, alone.total[i]));
@@ -185,20 +189,9 @@ TEST_CASE("Sensors through a year: each hour at each sensor equals that hour's i
     std::vector<double> sum(3, 0.0), reflected(3, 0.0);
     for (std::size_t k = 0; k < year.hours.size(); ++k) {
         const WeatherHour& hour = w.hours[year.hours[k]];
-        IrradianceInputs in;
-        in.directSun.assign(s.size(), 0.0);
-        std::vector<double> lit(3, 0.0);
-        Vec3 toSun(0, 0, 1);
-        const SolarPosition p = solarPosition(middleOfHourUtc(hour, w.timeZone), w.latitude, w.longitude);
-        if (p.elevation > 0.0 && hour.dni > 0.0) {
-            toSun = sunDirection(p, options.up, options.north);
-            in.directSun = directIrradiance(s, toSun, hour.dni, sunlitFractions(s, toSun));
-            lit = sensorSunlit(s, sensors, toSun);
-        }
-        in.skyView = sky;
-        in.dhi = hour.dhi;
-        const IrradianceResult alone = solarIrradiance(s, F, in, 1.0, lu);
-        const SensorIrradiance at = sensorIrradiance(sensors, factors, lit, toSun, hour.dni, hour.dhi, alone.radiosity);
+        const HourAlone alone = hourAlone(s, F, sky, w, hour, options, lu);
+        const std::vector<double> lit = alone.sun ? sensorSunlit(s, sensors, alone.toSun) : std::vector<double>(3, 0.0);
+        const SensorIrradiance at = sensorIrradiance(sensors, factors, lit, alone.toSun, hour.dni, hour.dhi, alone.result.radiosity);
         for (std::size_t q = 0; q < 3; ++q) {
             worst = std::max(worst, std::abs(year.sensorTotal[k * 3 + q] - at.total[q]) / std::max(1.0, at.total[q]));
             sum[q] += at.total[q];
