@@ -7,6 +7,7 @@
 #include "engine/csv.hpp"
 #include "engine/error.hpp"
 #include "environment/sunlit.hpp"
+#include "preprocess/hemisphere/point_polygon.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -90,16 +91,18 @@ ReflectedSun reflectedSun(const Scene& scene, const Vec3& toSunGiven, double dni
             orthonormalBasis(receiver.normal, ur, vr);
             const Vec3 origin = scene.corner(receiver, 0);
             // The receiver's part in front of the mirror, counter-clockwise in its plane.
-            std::vector<Vec3> part = scene.polygon(r), scratch;
-            clipToHalfSpace(part, front.normal, front.offset, scratch);
+            const std::vector<Vec3> whole = scene.polygon(r);
+            std::vector<Vec3> part;
+            clipAbovePlane(front.offset * front.normal, front.normal, whole.data(), whole.size(), part);
             if (part.empty()) continue;
             std::vector<Vec2> window = planeCoordinates(part, origin, ur, vr);
             if (signedArea2d(window) < 0.0) std::reverse(window.begin(), window.end());
             // The mirror's sunlit pieces in front of the receiver, carried along the beam onto its plane.
             std::vector<std::vector<Vec2>> pieces;
             const double offset = receiver.normal.dot(origin) + tolerance;
-            for (std::vector<Vec3> piece : lit) {
-                clipToHalfSpace(piece, receiver.normal, offset, scratch);
+            std::vector<Vec3> piece;
+            for (const std::vector<Vec3>& sent : lit) {
+                clipAbovePlane(offset * receiver.normal, receiver.normal, sent.data(), sent.size(), piece);
                 if (piece.empty()) continue;
                 std::vector<Vec2> footprint;
                 for (const Vec3& c : piece) {

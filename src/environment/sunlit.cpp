@@ -5,6 +5,7 @@
 
 #include "engine/box_grid.hpp"
 #include "engine/error.hpp"
+#include "preprocess/hemisphere/point_polygon.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -136,15 +137,20 @@ std::vector<std::vector<Vec2>> shadowedPieces(const Scene& scene, std::vector<st
     std::vector<Vec3> cut, next;
     std::vector<Vec2> shadow;
     for (const PatchId j : blockers) {
-        if (j == self || pieces.empty()) continue;
+        if (pieces.empty()) break;
+        if (j == self) continue;
         // The blocker's part in front of the plane (height h = normal . (x - origin) >= 0), and of
         // the slab's plane where one is given.
         cut = scene.polygon(j);
         bool ahead = false;
         for (const Vec3& c : cut) ahead = ahead || normal.dot(c - origin) > tolerance;
         if (!ahead) continue;
-        clipToHalfSpace(cut, normal, normal.dot(origin), next);
-        if (slab && cut.size() >= 3) clipToHalfSpace(cut, slab->normal, slab->offset, next);
+        clipAbovePlane(origin, normal, cut.data(), cut.size(), next);
+        cut.swap(next);
+        if (slab && cut.size() >= 3) {
+            clipAbovePlane(slab->offset * slab->normal, slab->normal, cut.data(), cut.size(), next);
+            cut.swap(next);
+        }
         if (cut.size() < 3) continue;
         shadow.clear();
         for (const Vec3& c : cut) {
@@ -162,19 +168,6 @@ std::vector<std::vector<Vec2>> sunlitPieces(const Scene& scene, PatchId i, const
     const Vec3 origin = scene.corner(p, 0);
     return shadowedPieces(scene, {planeCoordinates(scene.polygon(i), origin, u, v)}, origin, p.normal, u, v, toSun.normalized(),
                           blockers, i, nullptr, tolerance);
-}
-
-void clipToHalfSpace(std::vector<Vec3>& polygon, const Vec3& m, double offset, std::vector<Vec3>& scratch) {
-    scratch.clear();
-    for (std::size_t k = 0; k < polygon.size(); ++k) {
-        const Vec3& a = polygon[k];
-        const Vec3& b = polygon[(k + 1) % polygon.size()];
-        const double ha = m.dot(a) - offset, hb = m.dot(b) - offset;
-        if (ha >= 0.0) scratch.push_back(a);
-        if ((ha > 0.0 && hb < 0.0) || (ha < 0.0 && hb > 0.0)) scratch.push_back(a + (b - a) * (ha / (ha - hb)));
-    }
-    polygon.swap(scratch);
-    if (polygon.size() < 3) polygon.clear();
 }
 
 std::vector<double> directIrradiance(const Scene& scene, const Vec3& toSun, double dni, const std::vector<double>& sunlit) {

@@ -52,9 +52,6 @@ std::vector<std::vector<Vec2>> shadowedPieces(const Scene& scene, std::vector<st
 std::vector<std::vector<Vec2>> sunlitPieces(const Scene& scene, PatchId i, const Vec3& toSun, const std::vector<PatchId>& blockers,
                                             const Vec3& u, const Vec3& v, double tolerance);
 
-/// Sutherland-Hodgman: `polygon` becomes its part with m . y >= offset (empty below 3 corners).
-void clipToHalfSpace(std::vector<Vec3>& polygon, const Vec3& m, double offset, std::vector<Vec3>& scratch);
-
 /// The area of the convex polygon p (2D, counter-clockwise or not: the absolute area).
 double polygonArea2d(const std::vector<Vec2>& p);
 
