@@ -25,17 +25,12 @@
 namespace hemirad {
 namespace {
 
+/// The line's fields (splitCsvLine), spaces and tabs around each trimmed.
 std::vector<std::string> splitFields(const std::string& line) {
-    std::vector<std::string> out;
-    std::size_t start = 0;
-    while (true) {
-        const std::size_t comma = line.find(',', start);
-        std::string field = line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    std::vector<std::string> out = splitCsvLine(line);
+    for (std::string& field : out) {
         const std::size_t first = field.find_first_not_of(" \t");
-        const std::size_t last = field.find_last_not_of(" \t");
-        out.push_back(first == std::string::npos ? std::string() : field.substr(first, last - first + 1));
-        if (comma == std::string::npos) break;
-        start = comma + 1;
+        field = first == std::string::npos ? std::string() : field.substr(first, field.find_last_not_of(" \t") - first + 1);
     }
     return out;
 }

@@ -1,6 +1,7 @@
 // EPW reader: the LOCATION line and the hourly rows' date, hour, DNI and DHI.
 #include "environment/weather.hpp"
 
+#include "engine/csv.hpp"
 #include "engine/error.hpp"
 
 #include <cmath>
@@ -12,18 +13,6 @@
 
 namespace hemirad {
 namespace {
-
-std::vector<std::string> fields(const std::string& line) {
-    std::vector<std::string> out;
-    std::size_t start = 0;
-    while (true) {
-        const std::size_t comma = line.find(',', start);
-        out.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-        if (comma == std::string::npos) break;
-        start = comma + 1;
-    }
-    return out;
-}
 
 double number(const std::string& text, const std::string& name, int line, const char* what) {
     char* end = nullptr;
@@ -53,7 +42,7 @@ Weather parseEpw(const std::string& text, const std::string& name) {
         ++number_;
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (line.empty()) continue;
-        const std::vector<std::string> f = fields(line);
+        const std::vector<std::string> f = splitCsvLine(line);
         if (number_ <= 8) {  // the header records
             if (f[0] == "LOCATION") {
                 if (f.size() < 10) throw Error(name, number_, "LOCATION has " + std::to_string(f.size()) + " fields, expected 10");
