@@ -4,6 +4,7 @@
 #include "engine/csv.hpp"
 #include "engine/error.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -96,6 +97,11 @@ std::string middleOfHourUtc(const WeatherHour& h, double timeZone) {
     std::snprintf(buffer, sizeof buffer, "%04d-%02d-%02dT%02d:%02d:%02dZ", out.tm_year + 1900, out.tm_mon + 1, out.tm_mday,
                   out.tm_hour, out.tm_min, out.tm_sec);
     return buffer;
+}
+
+int dayOfYear(const WeatherHour& hour) {
+    static constexpr int kBefore[12] = {0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334};
+    return std::min(365, kBefore[std::clamp(hour.month, 1, 12) - 1] + hour.day);
 }
 
 }  // namespace hemirad

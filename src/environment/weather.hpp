@@ -30,4 +30,7 @@ Weather parseEpw(const std::string& text, const std::string& name);
 /// with a year outside 1950-2050 (typical-year files mix years) replaced by 2001.
 std::string middleOfHourUtc(const WeatherHour& hour, double timeZone);
 
+/// The row's day of the year, 1..365 (a typical year: 29 February counts as 28 February's day + 1).
+int dayOfYear(const WeatherHour& hour);
+
 }  // namespace hemirad

@@ -14,10 +14,18 @@
 
 namespace hemirad {
 
+namespace {
+constexpr double kDegree = kPi / 180.0;
+}  // namespace
+
 YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector<double>& skyView, const Weather& weather,
                      const YearOptions& options, const SolverOptions& solver) {
     const std::size_t n = scene.size();
-    if (skyView.size() != n || F.size() != n) throw Error("year: the sky view factors and F need one entry per patch");
+    const SkyCoefficients* model = options.sky;
+    if ((!model && skyView.size() != n) || F.size() != n) throw Error("year: the sky view factors and F need one entry per patch");
+    if (model && (std::size_t(model->direct.rows()) != n || (scene.hasMirrors() && std::size_t(model->mirrored.rows()) != n)))
+        throw Error("year: the sky's coefficients are not this scene's");
+    if (model && options.sensors) throw Error("year: sensors take the isotropic sky only, not the " + options.skyModel.name() + " sky");
     for (std::size_t i = 0; i < n; ++i)
         if (!F.rowComputed(i)) throw Error("year: row " + std::to_string(i) + " of F was not computed (compute every row)");
     YearResult out;
@@ -45,6 +53,7 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                             options.sensorFactors->patches != n))
         throw Error("year: the sensors need their factors against this scene (sensorFactors)");
     out.reflectedSun.assign(n, 0.0);
+    out.reflectedSky.assign(n, 0.0);
     const bool mirrors = scene.hasMirrors();
     out.sensorTotal.assign(out.hours.size() * sensors, 0.0);
     out.sensorDirectSun.assign(sensors, 0.0);
@@ -52,7 +61,7 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
     out.sensorReflected.assign(sensors, 0.0);
     out.sensorSum.assign(sensors, 0.0);
 
-    std::vector<std::vector<double>> sun, sky, bounced, sensorLit;
+    std::vector<std::vector<double>> sun, sky, bounced, skyBounced, sensorLit;
     std::vector<Vec3> toSuns;
     for (std::size_t first = 0; first < out.hours.size(); first += options.batch) {
         const std::size_t last = std::min(out.hours.size(), first + options.batch);
@@ -60,6 +69,11 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
         sun.assign(last - first, {});
         sky.assign(last - first, {});
         bounced.assign(last - first, std::vector<double>(n, 0.0));
+        skyBounced.assign(last - first, std::vector<double>(n, 0.0));
+        // A sky model's hours: each hour's cell radiances, then all of the batch's direct (and
+        // mirrored) sky in one matrix product with the coefficients.
+        Eigen::MatrixXd radiance;
+        if (model) radiance = Eigen::MatrixXd::Zero(Eigen::Index(model->grid.size()), Eigen::Index(last - first));
         sensorLit.assign(last - first, std::vector<double>(sensors, 0.0));
         toSuns.assign(last - first, Vec3(0, 0, 1));
         for (std::size_t b = first; b < last; ++b) {
@@ -74,6 +88,24 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                 if (mirrors) bounced[b - first] = reflectedSun(scene, toSun, hour.dni).irradiance;
                 if (sensors) sensorLit[b - first] = sensorSunlit(scene, *options.sensors, toSun);
             }
+            if (model && hour.dhi > 0.0) {
+                SkyConditions c;
+                c.toSun = skyDirection(p.elevation * kDegree, p.azimuth * kDegree);
+                c.dni = hour.dni;
+                c.dhi = hour.dhi;
+                c.dayOfYear = dayOfYear(hour);
+                const std::vector<double> L = skyRadiance(model->grid, model->samples, options.skyModel, c);
+                radiance.col(Eigen::Index(b - first)) = Eigen::Map<const Eigen::VectorXd>(L.data(), Eigen::Index(L.size()));
+            }
+        }
+        Eigen::MatrixXd skyDirect, skyMirrored;
+        if (model) {
+            skyDirect = model->direct * radiance;
+            if (mirrors) skyMirrored = model->mirrored * radiance;
+        }
+        for (std::size_t b = first; b < last; ++b) {
+            const WeatherHour& hour = weather.hours[out.hours[b]];
+            const std::vector<double>& direct = sun[b - first];
             std::vector<double>& diffuse = sky[b - first];
             diffuse.resize(n);
             Band& band = bands[b - first];
@@ -81,8 +113,9 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
             band.rho = rho;
             band.source.resize(n);
             for (std::size_t i = 0; i < n; ++i) {
-                diffuse[i] = hour.dhi * skyView[i];
-                band.source[i] = rho[i] * (direct[i] + diffuse[i] + bounced[b - first][i]);
+                diffuse[i] = model ? skyDirect(Eigen::Index(i), Eigen::Index(b - first)) : hour.dhi * skyView[i];
+                if (model && mirrors) skyBounced[b - first][i] = skyMirrored(Eigen::Index(i), Eigen::Index(b - first));
+                band.source[i] = rho[i] * (direct[i] + diffuse[i] + bounced[b - first][i] + skyBounced[b - first][i]);
             }
         }
         const BandSolution solved = solveBands(scene, F, bands, solver);
@@ -92,20 +125,23 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
             for (std::size_t i = 0; i < n; ++i) {
                 double H = 0.0;
                 for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) H += double(F.values()[k]) * J[F.columns()[k]];
-                // The sun reflected by mirrors arrives first too; it came in as the direct sun on them.
-                const double outside = sun[b - first][i] + sky[b - first][i], reflectedSun = bounced[b - first][i];
-                const double firstArrival = outside + reflectedSun, total = firstArrival + H;
+                // The sun (and sky) reflected by mirrors arrives first too; it came in as the direct sun
+                // (and sky) on them.
+                const double outside = sun[b - first][i] + sky[b - first][i];
+                const double reflectedSun = bounced[b - first][i], reflectedSky = skyBounced[b - first][i];
+                const double firstArrival = outside + reflectedSun + reflectedSky, total = firstArrival + H;
                 out.total[b * n + i] = total;
                 out.directSun[i] += sun[b - first][i];
                 out.directSky[i] += sky[b - first][i];
                 out.reflectedSun[i] += reflectedSun;
+                out.reflectedSky[i] += reflectedSky;
                 out.reflected[i] += H;
                 out.sum[i] += total;
                 out.absorbed[i] += absorptance[i] * total;
                 incident += area[i] * outside;
                 absorbed += area[i] * absorptance[i] * total;
                 escaped += area[i] * scene.patches[i].specular * firstArrival + J[i] * (area[i] - landedFrom[i]) -
-                           area[i] * reflectedSun;  // the mirrors' reflection that landed did not leave
+                           area[i] * (reflectedSun + reflectedSky);  // the mirrors' reflection that landed did not leave
             }
             if (sensors) {
                 const WeatherHour& hour = weather.hours[out.hours[b]];

@@ -7,6 +7,7 @@
 #include "engine/form_factors.hpp"
 #include "engine/scene.hpp"
 #include "environment/sensors.hpp"
+#include "environment/sky_coefficients.hpp"
 #include "environment/weather.hpp"
 #include "solve/solver.hpp"
 
@@ -23,6 +24,11 @@ struct YearOptions {
     /// irradiance at them as sensorIrradiance gives it, from that hour's patch radiosity.
     const Sensors* sensors = nullptr;
     const SensorFactors* sensorFactors = nullptr;
+    /// A sky model's daylight coefficients (of the same scene, oriented by up and north), or none for
+    /// the isotropic sky (DHI x the sky view factors). Each hour's cells then take the model's
+    /// radiance for that hour's sun, DNI and DHI; not with sensors (their sky is isotropic).
+    const SkyCoefficients* sky = nullptr;
+    SkyModel skyModel;
 };
 
 struct YearResult {
@@ -31,6 +37,7 @@ struct YearResult {
     /// Per patch over the year, Wh/m^2: direct sun, direct sky, reflected, total and absorbed.
     std::vector<double> directSun, directSky, reflected, sum, absorbed;
     std::vector<double> reflectedSun;     ///< per patch over the year, Wh/m^2: the sun reflected onto it by mirrors (in sum)
+    std::vector<double> reflectedSky;     ///< per patch over the year, Wh/m^2: a sky model's sky seen through mirrors (in sum)
     double worstBalance = 0.0;            ///< the largest hourly |incident - absorbed - escaped| / incident
     double incidentWh = 0.0, absorbedWh = 0.0;  ///< over the year (W h; scene units^2 x W/m^2 h without a unit)
     /// With sensors: per solved hour, per sensor (hours x sensors), W/m^2, and per sensor over the
@@ -40,7 +47,8 @@ struct YearResult {
 };
 
 /// Solves every hour of `weather` with sun or sky on `F` (every row computed) with the direct sky
-/// view factors `skyView`. Throws hemirad::Error as solarIrradiance does.
+/// view factors `skyView` (or the sky model's coefficients in `options`, when `skyView` may be
+/// empty). Throws hemirad::Error as solarIrradiance does.
 YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector<double>& skyView, const Weather& weather,
                      const YearOptions& options, const SolverOptions& solver);
 
