@@ -1,4 +1,4 @@
-// `hemirad irradiance SCENE (sun) --dni W --dhi W -o E.csv`: one hour of sun and isotropic sky, the
+// `hemirad irradiance SCENE (sun) --dni W --dhi W [--sky MODEL] -o E.csv`: one hour of sun and sky, the
 // direct, sky and reflected irradiance per patch (src/environment).
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
@@ -32,14 +32,16 @@ int runIrradiance(const Options& options) {
     AtomicFile file(options.output, false);
     std::ostream& out = file.stream();
     out << std::setprecision(std::numeric_limits<double>::max_digits10);
-    const bool mirrors = scene.hasMirrors();  // then a column for the sun they reflect
+    const bool mirrors = scene.hasMirrors();  // then a column for the sun they reflect (and a sky model's sky)
+    const bool skyThrough = mirrors && options.skyModel != "isotropic";
     out << "patch,object,direct_sun (W/m^2),direct_sky (W/m^2),reflected (W/m^2),total (W/m^2),absorbed (W/m^2)"
-        << (mirrors ? ",reflected_sun (W/m^2)" : "") << "\n";
+        << (mirrors ? ",reflected_sun (W/m^2)" : "") << (skyThrough ? ",reflected_sky (W/m^2)" : "") << "\n";
     for (PatchId i = 0; i < scene.size(); ++i) {
         const std::string name = csvField(scene.objects[scene.patches[i].object]);
         out << i << ',' << name << ',' << r.directSun[i] << ',' << r.directSky[i] << ',' << r.reflected[i] << ',' << r.total[i]
             << ',' << r.absorbed[i];
         if (mirrors) out << ',' << r.reflectedSun[i];
+        if (skyThrough) out << ',' << r.reflectedSky[i];
         out << '\n';
     }
     file.commit();

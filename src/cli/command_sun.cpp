@@ -26,9 +26,7 @@ Vec3 sunDirectionFromOptions(const Options& options, const Reporter& reporter) {
         where << "sun: direction " << toSun.transpose() << " (given)";
     } else {
         const SolarPosition p = solarPosition(options.sunTime, *options.latitude, *options.longitude);
-        const Vec3 up = options.upAxis == "z" ? Vec3(0, 0, 1) : Vec3(0, 1, 0);
-        const Vec3 north = options.north ? *options.north : options.upAxis == "z" ? Vec3(0, 1, 0) : Vec3(0, 0, -1);
-        toSun = sunDirection(p, up, north);
+        toSun = sunDirection(p, upFromOptions(options), northFromOptions(options));
         where << "sun: elevation " << p.elevation << " deg, azimuth " << p.azimuth << " deg from north (Michalsky 1988) at "
               << options.sunTime << ", latitude " << *options.latitude << ", longitude " << *options.longitude
               << "; direction " << toSun.transpose();
@@ -49,10 +47,14 @@ IrradianceResult patchHour(const Scene& scene, const Options& options, const Vec
     timings.start("sunlit fractions");
     IrradianceInputs in;
     in.directSun = directIrradiance(scene, toSun, *options.dni, sunlitFractions(scene, toSun));
-    timings.start("sky view factors");
-    in.skyView = skyViewFactors(scene, options.formFactors).direct;
-    timings.stop();
     in.dhi = options.dhi;
+    if (options.skyModel == "isotropic") {
+        timings.start("sky view factors");
+        in.skyView = skyViewFactors(scene, options.formFactors).direct;
+        timings.stop();
+    } else {
+        modelSkyHour(skyCoefficientsFromOptions(scene, options, timings, reporter), options, toSun, in, reporter);
+    }
     if (scene.hasMirrors()) {
         timings.start("reflected sun");
         in.reflectedSun = reflectedSun(scene, toSun, *options.dni).irradiance;

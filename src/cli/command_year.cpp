@@ -24,16 +24,24 @@ int runYear(const Options& options) {
     const Weather weather = readEpw(options.weatherPath);
     timings.stop();
     YearOptions yo;
-    yo.up = options.upAxis == "z" ? Vec3(0, 0, 1) : Vec3(0, 1, 0);
-    yo.north = options.north ? *options.north : options.upAxis == "z" ? Vec3(0, 1, 0) : Vec3(0, 0, -1);
+    yo.up = upFromOptions(options);
+    yo.north = northFromOptions(options);
     yo.metresPerUnit = metresFromOptions(scene, options, warnings);
     std::ostringstream where;
     where << "weather: " << weather.place << ", latitude " << weather.latitude << ", longitude " << weather.longitude << ", UTC"
           << std::showpos << weather.timeZone << std::noshowpos << "; " << weather.hours.size() << " hours";
     reporter.line(where.str());
 
-    timings.start("sky view factors");
-    const std::vector<double> sky = skyViewFactors(scene, options.formFactors).direct;
+    std::vector<double> sky;
+    SkyCoefficients coefficients;
+    if (options.skyModel == "isotropic") {
+        timings.start("sky view factors");
+        sky = skyViewFactors(scene, options.formFactors).direct;
+    } else {
+        coefficients = skyCoefficientsFromOptions(scene, options, timings, reporter);
+        yo.sky = &coefficients;
+        yo.skyModel = parseSkyModel(options.skyModel);
+    }
     Sensors sensors;
     SensorFactors sensorFactorsOf;
     if (!options.sensorsPath.empty() || !options.gridObject.empty()) {
@@ -66,14 +74,16 @@ int runYear(const Options& options) {
         AtomicFile file(options.output, false);
         std::ostream& out = file.stream();
         out << std::setprecision(std::numeric_limits<double>::max_digits10);
-        const bool mirrors = scene.hasMirrors();  // then a column for the sun they reflect
+        const bool mirrors = scene.hasMirrors();  // then a column for the sun they reflect (and a sky model's sky)
+        const bool skyThrough = mirrors && yo.sky;
         out << "patch,object,direct_sun (Wh/m^2),direct_sky (Wh/m^2),reflected (Wh/m^2),total (Wh/m^2),absorbed (Wh/m^2)"
-            << (mirrors ? ",reflected_sun (Wh/m^2)" : "") << "\n";
+            << (mirrors ? ",reflected_sun (Wh/m^2)" : "") << (skyThrough ? ",reflected_sky (Wh/m^2)" : "") << "\n";
         for (PatchId i = 0; i < scene.size(); ++i) {
             const std::string name = csvField(scene.objects[scene.patches[i].object]);
             out << i << ',' << name << ',' << year.directSun[i] << ',' << year.directSky[i] << ',' << year.reflected[i] << ','
                 << year.sum[i] << ',' << year.absorbed[i];
             if (mirrors) out << ',' << year.reflectedSun[i];
+            if (skyThrough) out << ',' << year.reflectedSky[i];
             out << '\n';
         }
         file.commit();

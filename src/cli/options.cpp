@@ -4,6 +4,7 @@
 
 #include "engine/atomic_file.hpp"
 #include "engine/hash.hpp"
+#include "environment/sky_model.hpp"
 #include "rays/ray_scene.hpp"
 #include "solve/solver_registry.hpp"
 
@@ -264,6 +265,19 @@ const std::map<std::string, Flag>& flags() {
         {"--weather", {{"year"}, true, pathWith(&Options::weatherPath, ".epw")}},
         {"--hourly", {{"year"}, true, pathWith(&Options::hourlyPath, ".npy")}},
         {"--dhi", {{"irradiance", "sensors"}, true, [](Options& o, const std::string& f, const std::string& v) { o.dhi = parseNumber(f, v, 0, 1e5); }}},
+        {"--sky", {{"irradiance", "year"}, true,
+                   [](Options& o, const std::string& f, const std::string& v) {
+                       if (v != "isotropic") try {
+                               parseSkyModel(v);
+                           } catch (const Error& e) {
+                               throw UsageError(f + ": " + e.what() + " (or isotropic, the default)");
+                           }
+                       o.skyModel = v;
+                   }}},
+        {"--sky-subdivision", {{"irradiance", "year"}, true,
+                               [](Options& o, const std::string& f, const std::string& v) { o.skySubdivision = int(parseInteger(f, v, 1, 8)); }}},
+        {"--sky-samples", {{"irradiance", "year"}, true,
+                           [](Options& o, const std::string& f, const std::string& v) { o.skySamples = int(parseInteger(f, v, 1, 16)); }}},
         {"--sensors", {{"sensors", "year"}, true, pathWith(&Options::sensorsPath, ".csv")}},
         {"--grid", {{"sensors", "year"}, true,
                     [](Options& o, const std::string& f, const std::string& v) {
@@ -552,6 +566,12 @@ Options parseOptions(int argc, const char* const* argv) {
             o.solver.tolerance = 1e-10;
     }
     if (!o.glarePath.empty() && !o.dni) throw UsageError("--glare needs --dni W (the reflected sun's irradiance)");
+    if (o.skyModel == "isotropic" && std::any_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) {
+            return p.flag == "--sky-subdivision" || p.flag == "--sky-samples";
+        }))
+        throw UsageError("--sky-subdivision and --sky-samples cut a sky model's cells: give --sky MODEL (the isotropic sky has none)");
+    if (o.skyModel != "isotropic" && o.command == "year" && (!o.sensorsPath.empty() || !o.gridObject.empty()))
+        throw UsageError("sensors take the isotropic sky only (yet): --sky " + o.skyModel + " does not apply with --sensors or --grid");
     if (o.command == "sun" || o.command == "irradiance" || (o.command == "sensors" && o.dni)) {
         const bool byTime = !o.sunTime.empty() || o.latitude || o.longitude;
         if (o.sunDirectionVector && byTime)
@@ -644,6 +664,7 @@ std::uint64_t optionsHash(const Options& o) {
     text(o.sunTime); optional(o.latitude); optional(o.longitude); text(o.upAxis); h.addValue(o.north.has_value());
     if (o.north) vector(*o.north);
     optional(o.dni); h.addValue(o.dhi); text(o.weatherPath); text(o.hourlyPath);
+    text(o.skyModel); h.addValue(std::int64_t(o.skySubdivision)); h.addValue(std::int64_t(o.skySamples));
     h.addValue(o.maxEdge); h.addValue(o.sliverRatio); h.addValue(o.relativeTolerance);
     h.addValue(std::uint64_t(o.benchMethods.size()));
     for (const MethodSettings& m : o.benchMethods) settings(m);
@@ -701,8 +722,9 @@ commands:
                                          surface blocks it, front or back) and through mirrors
   sun SCENE -o SUN.csv                   the direct sun per patch: sunlit fraction (exact shadow
                                          polygons) and direct irradiance
-  irradiance SCENE --dni W --dhi W -o E.csv   one hour of sun and isotropic sky: direct sun, direct
-                                         sky, reflected, total and absorbed irradiance per patch
+  irradiance SCENE --dni W --dhi W -o E.csv   one hour of sun and sky (isotropic, or --sky MODEL):
+                                         direct sun, direct sky, reflected, total and absorbed
+                                         irradiance per patch
   year SCENE --weather W.epw -o ANNUAL.csv   every hour of a weather file against one F: annual sums
                                          per patch (--hourly H.npy: each hour's total irradiance)
   sensors SCENE --sensors S.csv -o OUT.csv   sensor points (or --grid OBJECT --spacing D): each
@@ -810,7 +832,16 @@ sun:
   --dni W                direct-normal irradiance (W/m^2) for the direct-irradiance column (sun: and,
                          in a scene with mirrors, a reflected_sun column: their first reflections)
   --glare FILE.csv       (sun) each mirror's reflected sun per receiver: irradiance, peak, lit area
-  --dhi W                (irradiance, sensors) diffuse-horizontal irradiance of an isotropic sky (W/m^2)
+  --dhi W                (irradiance, sensors) diffuse-horizontal irradiance of the sky (W/m^2)
+  --sky MODEL            (irradiance, year) the sky's radiance: isotropic (default: DHI x each patch's
+                         exact sky view factor), or a model over the upper hemisphere, scaled to the
+                         DHI on a horizontal plane: uniform, cie-overcast (1 + 2 sin(altitude)),
+                         cie:1 .. cie:15 (ISO 15469 / CIE S 011 general skies; the sun from --sun-*),
+                         perez (Perez 1993 all-weather, from DNI, DHI and the sun); the sky through
+                         mirrors too (first reflections). Below the horizon is dark: model the ground
+  --sky-subdivision M    (--sky MODEL) Reinhart's 144 M^2 + 1 sky cells, 1..8 (default 2; 1: Tregenza's 145)
+  --sky-samples Q        (--sky MODEL) Q x Q directions per cell, each an exact shadow pass, 1..16
+                         (default 1; the error falls about as 1/(cells x Q^2))
   --weather FILE.epw     (year) an EnergyPlus weather file: location, hourly DNI and DHI
   --hourly FILE.npy      (year) the total irradiance of each solved hour and patch (NumPy float64)
   --unit m|cm|mm|in|ft   (irradiance) the scene's length unit where the OBJ states none (powers in W)

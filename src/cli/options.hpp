@@ -87,6 +87,9 @@ struct Options {
     std::string sensorOutputPath;        ///< year --sensor-output FILE.csv: annual sums per sensor
     std::string glarePath;               ///< sun --glare FILE.csv: the sun reflected by mirrors, per (mirror, receiver)
     std::string sensorHourlyPath;        ///< year --sensor-hourly FILE.npy: hours x sensors, W/m^2
+    std::string skyModel = "isotropic";  ///< --sky: isotropic (DHI x sky view factor) or a model (environment/sky_model.hpp)
+    int skySubdivision = 2;              ///< --sky-subdivision M: Reinhart's 144 M^2 + 1 cells (1: Tregenza's 145)
+    int skySamples = 1;                  ///< --sky-samples Q: Q x Q directions per cell
 
     // subdivide command.
     double maxEdge = 0.0;

@@ -4,6 +4,7 @@
 #include "cli/options.hpp"
 #include "cli/report.hpp"
 #include "environment/irradiance.hpp"
+#include "environment/sky_coefficients.hpp"
 
 namespace hemirad {
 
@@ -11,12 +12,27 @@ namespace hemirad {
 /// --latitude, --longitude in the frame --up and --north set; reports it. Throws hemirad::Error.
 Vec3 sunDirectionFromOptions(const Options& options, const Reporter& reporter);
 
+/// The scene's up and north as --up and --north give them (north: +y for z up, -z for y up).
+Vec3 upFromOptions(const Options& options);
+Vec3 northFromOptions(const Options& options);
+
+/// --sky MODEL's daylight coefficients for `scene` (cells and directions as --sky-subdivision and
+/// --sky-samples say), timed and reported. Throws hemirad::Error.
+SkyCoefficients skyCoefficientsFromOptions(const Scene& scene, const Options& options, Timings& timings, const Reporter& reporter);
+
+/// One hour of a sky model on the patches: the direct sky and the sky through mirrors (W/m^2) from
+/// the coefficients, for the sun `toSun` (scene frame), --dni and --dhi, on --sun-time's day of the
+/// year (the mean Sun-Earth distance with --sun-direction); reports Perez's clearness and brightness.
+void modelSkyHour(const SkyCoefficients& sky, const Options& options, const Vec3& toSun, IrradianceInputs& in,
+                  const Reporter& reporter);
+
 /// Metres per scene unit: the scene's stated unit, else --unit, else 1 with a warning.
 double metresFromOptions(const Scene& scene, const Options& options, Warnings& warnings);
 
-/// One hour of sun (--dni along `toSun`) and isotropic sky (--dhi) on the patches, as `irradiance`
-/// solves it: sunlit fractions, direct sky view factors, the sun reflected by mirrors, F with every
-/// row (obtained as the options say), the inter-reflection. Throws hemirad::Error.
+/// One hour of sun (--dni along `toSun`) and sky (--dhi: isotropic, or --sky MODEL) on the patches,
+/// as `irradiance` solves it: sunlit fractions, direct sky view factors (or the model's daylight
+/// coefficients), the sun (and the model's sky) reflected by mirrors, F with every row (obtained as
+/// the options say), the inter-reflection. Throws hemirad::Error.
 IrradianceResult patchHour(const Scene& scene, const Options& options, const Vec3& toSun, double metres, Timings& timings,
                            const Reporter& reporter, Warnings& warnings);
 

@@ -80,12 +80,20 @@ std::vector<Vec3> cellSamples(const SkyGrid::Cell& cell, int samples) {
     return out;
 }
 
-Vec3 skyToScene(const Vec3& d, const Vec3& up, const Vec3& north) {
+namespace {
+/// The sky's frame in the scene: columns east, north, up.
+Eigen::Matrix3d skyFrame(const Vec3& up, const Vec3& north) {
     const Vec3 u = up.normalized();
     const Vec3 n = (north - north.dot(u) * u).normalized();
-    const Vec3 east = n.cross(u);
-    return d.x() * east + d.y() * n + d.z() * u;
+    Eigen::Matrix3d m;
+    m << n.cross(u), n, u;
+    return m;
 }
+}  // namespace
+
+Vec3 skyToScene(const Vec3& d, const Vec3& up, const Vec3& north) { return skyFrame(up, north) * d; }
+
+Vec3 sceneToSky(const Vec3& d, const Vec3& up, const Vec3& north) { return skyFrame(up, north).transpose() * d; }
 
 std::string SkyModel::name() const {
     switch (kind) {

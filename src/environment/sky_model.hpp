@@ -41,6 +41,9 @@ std::vector<Vec3> cellSamples(const SkyGrid::Cell& cell, int samples);
 /// A direction from the sky's frame into a scene's: east = north x up (north made perpendicular to up).
 Vec3 skyToScene(const Vec3& skyFrame, const Vec3& up, const Vec3& north);
 
+/// The inverse: a scene direction in the sky's frame.
+Vec3 sceneToSky(const Vec3& sceneFrame, const Vec3& up, const Vec3& north);
+
 struct SkyModel {
     enum class Kind { Uniform, CieOvercast, CieStandard, Perez };
     Kind kind = Kind::Uniform;

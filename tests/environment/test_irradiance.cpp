@@ -102,3 +102,23 @@ TEST_CASE("Irradiance inputs of the wrong size are refused") {
     in.skyView = {1.0};
     CHECK_THROWS_WITH_AS(solarIrradiance(b.scene, F, in, 1.0, SolverOptions{}), doctest::Contains("one entry per patch"), Error);
 }
+
+TEST_CASE("hemirad irradiance --sky MODEL: the model's cells reported, the sky through mirrors a column, and usage errors") {
+    const auto dir = tempDir("irradiance-sky");
+    const std::string hemirad = std::string(HEMIRAD_BINARY) + " irradiance " + sourcePath("scenes/cornell_mirror.obj") +
+                                " --up y --unit mm --sun-direction 0.2,1,0.5 --dni 700 --dhi 100";
+    CommandResult r = runCommand(hemirad + " --sky cie-overcast --sky-subdivision 1 -o " + (dir / "e.csv").string() + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("sky: cie-overcast, 145 cells (Tregenza) x 1 direction(s)") != std::string::npos);
+    CHECK(readText(dir / "e.csv").find(",reflected_sun (W/m^2),reflected_sky (W/m^2)\n") != std::string::npos);
+    r = runCommand(hemirad + " --sky perez --sun-time 2026-06-21T10:00Z -o x.csv 2>&1");  // a time with a direction
+    CHECK(r.status == 2);
+    r = runCommand(hemirad + " --sky clear -o x.csv 2>&1");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("'clear' is not a sky model") != std::string::npos);
+    r = runCommand(hemirad + " --sky-samples 2 -o x.csv 2>&1");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("give --sky MODEL") != std::string::npos);
+    CHECK(runCommand(hemirad + " --sky perez --sky-subdivision 9 -o x.csv 2>&1").status == 2);
+}

@@ -259,6 +259,9 @@ TEST_CASE("hemirad sensors: the CSV and the factors' Matrix Market file, the gri
                              sourcePath("tests/data/weather/excerpt.epw") + " -o x.csv";
     CHECK(runCommand(year + " --sensors " + csv + " 2>&1").status == 2);  // where do their sums go?
     CHECK(runCommand(year + " --sensor-output s.csv 2>&1").status == 2);  // which sensors?
+    r = runCommand(year + " --sensors " + csv + " --sensor-output s.csv --sky perez 2>&1");  // sensors' sky is isotropic
+    CHECK(r.status == 2);
+    CHECK(r.output.find("sensors take the isotropic sky only") != std::string::npos);
     // One source of sensors, a grid with its spacing, the sun and sky with --dni.
     for (const std::string& bad : {std::string(" -o x.csv"), " --sensors " + csv + " --grid floor --spacing 1 -o x.csv",
                                    std::string(" --grid floor -o x.csv"), " --sensors " + csv + " --spacing 2 -o x.csv",

@@ -6,6 +6,7 @@
 #include "environment/irradiance.hpp"
 #include "environment/reflected_sun.hpp"
 #include "environment/sensors.hpp"
+#include "environment/sky_coefficients.hpp"
 #include "environment/sky_view.hpp"
 #include "environment/solar_position.hpp"
 #include "environment/sunlit.hpp"
@@ -55,6 +56,7 @@ struct HourAlone {
 };
 HourAlone hourAlone(const Scene& s, const FormFactors& F, const std::vector<double>& sky, const Weather& w, const WeatherHour& hour,
                     const YearOptions& options, const SolverOptions& solver) {
+    // With a sky model (options.sky), that hour's cells' radiance through the coefficients.
     HourAlone out;
     IrradianceInputs in;
     in.directSun.assign(s.size(), 0.0);
@@ -67,6 +69,18 @@ HourAlone hourAlone(const Scene& s, const FormFactors& F, const std::vector<doub
     }
     in.skyView = sky;
     in.dhi = hour.dhi;
+    if (options.sky && hour.dhi > 0.0) {
+        SkyConditions c;
+        c.toSun = skyDirection(p.elevation * kPi / 180, p.azimuth * kPi / 180);
+        c.dni = hour.dni;
+        c.dhi = hour.dhi;
+        c.dayOfYear = dayOfYear(hour);
+        const std::vector<double> L = skyRadiance(options.sky->grid, options.sky->samples, options.skyModel, c);
+        in.directSky = skyIrradiance(options.sky->direct, L);
+        if (s.hasMirrors()) in.reflectedSky = skyIrradiance(options.sky->mirrored, L);
+    } else if (options.sky) {
+        in.directSky.assign(s.size(), 0.0);
+    }
     out.result = solarIrradiance(s, F, in, 1.0, solver);
     return out;
 }
@@ -163,6 +177,50 @@ TEST_CASE("A year with a mirror: each hour with the sun it reflects equals the h
     double annual = 0.0;
     for (PatchId i = 0; i < s.size(); ++i) annual += year.reflectedSun[i] * s.patches[i].area;
     CHECK(annual == relative(landed, 1e-12));
+}
+
+TEST_CASE("A year under Perez's sky with a mirror: each hour equals the hour alone, the sky through the mirror lands, all balance") {
+    Scene s = smallDistrict();
+    s.patches[6].specular = 0.6;
+    s.patches[6].rho = Rgb::Constant(0.3);
+    const FormFactors F = computeFormFactors(s, MethodSettings::of(HemisphereOptions{}), neededRows(s, true)).F;
+    const Weather w = readEpw(excerpt());
+    YearOptions options;
+    const SkyCoefficients sky = skyCoefficients(s, 1, 1, options.up, options.north);
+    options.sky = &sky;
+    options.skyModel = parseSkyModel("perez");
+    SolverOptions lu;
+    lu.solver = "lu";
+    const YearResult year = solveYear(s, F, {}, w, options, lu);
+    CHECK(year.worstBalance <= 1e-9);
+    double worst = 0.0, landed = 0.0, skyPower = 0.0;
+    for (std::size_t k = 0; k < year.hours.size(); ++k) {
+        const WeatherHour& hour = w.hours[year.hours[k]];
+        const IrradianceResult alone = hourAlone(s, F, {}, w, hour, options, lu).result;
+        CHECK(alone.balance <= 1e-9);
+        double hourLanded = 0.0;
+        for (PatchId i = 0; i < s.size(); ++i) {
+            worst = std::max(worst, std::abs(year.total[k * s.size() + i] - alone.total[i]) / std::max(1.0, alone.total[i]));
+            hourLanded += alone.reflectedSky[i] * s.patches[i].area;
+            skyPower += alone.directSky[i] * s.patches[i].area;
+        }
+        // What lands through the mirror is part of its specular reflection of the sky on it.
+        CHECK(hourLanded <= 0.6 * alone.directSky[6] * s.patches[6].area * (1 + 1e-12));
+        landed += hourLanded;
+    }
+    MESSAGE("Perez sky: largest difference from the hours alone " << worst << ", sky through the mirror " << landed << " Wh of "
+                                                                   << skyPower << " Wh of direct sky");
+    CHECK(worst <= 1e-9);
+    CHECK(landed > 0.0);
+    double annual = 0.0;
+    for (PatchId i = 0; i < s.size(); ++i) annual += year.reflectedSky[i] * s.patches[i].area;
+    CHECK(annual == relative(landed, 1e-12));
+    // The coefficients are of one scene, and sensors keep the isotropic sky.
+    Scene other = smallDistrict();
+    other.patches.pop_back();
+    CHECK_THROWS_WITH_AS(solveYear(other, computeFormFactors(other, MethodSettings::of(HemisphereOptions{}), neededRows(other, true)).F, {}, w,
+                                   options, lu),
+                         doctest::Contains("not this scene's"), Error);
 }
 
 TEST_CASE("Sensors through a year: each hour at each sensor equals that hour's irradiance there from the hour solved alone") {

@@ -1,0 +1,57 @@
+// --sky MODEL on the command line: the daylight coefficients and one hour's sky from them, shared by
+// `irradiance` and `year`.
+#include "cli/sun_command.hpp"
+#include "environment/sky_model.hpp"
+#include "environment/weather.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+namespace hemirad {
+
+Vec3 upFromOptions(const Options& options) { return options.upAxis == "z" ? Vec3(0, 0, 1) : Vec3(0, 1, 0); }
+
+Vec3 northFromOptions(const Options& options) {
+    return options.north ? *options.north : options.upAxis == "z" ? Vec3(0, 1, 0) : Vec3(0, 0, -1);
+}
+
+SkyCoefficients skyCoefficientsFromOptions(const Scene& scene, const Options& options, Timings& timings, const Reporter& reporter) {
+    timings.start("daylight coefficients");
+    SkyCoefficients sky = skyCoefficients(scene, options.skySubdivision, options.skySamples, upFromOptions(options), northFromOptions(options));
+    timings.stop();
+    std::ostringstream line;
+    line << "sky: " << parseSkyModel(options.skyModel).name() << ", " << sky.grid.size() << " cells ("
+         << (options.skySubdivision == 1 ? std::string("Tregenza") : "Reinhart subdivision " + std::to_string(options.skySubdivision))
+         << ") x " << options.skySamples * options.skySamples << " direction(s), each an exact shadow pass"
+         << (scene.hasMirrors() ? " and the cells through mirrors (first reflections)" : "") << "; below the horizon is dark";
+    reporter.line(line.str());
+    return sky;
+}
+
+void modelSkyHour(const SkyCoefficients& sky, const Options& options, const Vec3& toSun, IrradianceInputs& in, const Reporter& reporter) {
+    SkyConditions c;
+    c.toSun = sceneToSky(toSun, upFromOptions(options), northFromOptions(options));
+    c.dni = options.dni ? *options.dni : 0.0;
+    c.dhi = options.dhi;
+    int year = 0, month = 0, day = 0;
+    if (!options.sunTime.empty() && std::sscanf(options.sunTime.c_str(), "%d-%d-%d", &year, &month, &day) == 3) {
+        WeatherHour date;
+        date.month = month;
+        date.day = day;
+        c.dayOfYear = dayOfYear(date);
+    }
+    const SkyModel model = parseSkyModel(options.skyModel);
+    if (model.kind == SkyModel::Kind::Perez && c.dhi > 0.0) {
+        const PerezParameters p = perezParameters(c);
+        std::ostringstream line;
+        line.precision(4);
+        line << "sky: Perez clearness " << p.epsilon << " (bin " << p.bin + 1 << " of 8), brightness " << p.delta
+             << (c.dayOfYear > 0 ? "" : " (mean Sun-Earth distance: no date with --sun-direction)");
+        reporter.line(line.str());
+    }
+    const std::vector<double> L = skyRadiance(sky.grid, sky.samples, model, c);
+    in.directSky = skyIrradiance(sky.direct, L);
+    if (sky.mirrored.size() > 0) in.reflectedSky = skyIrradiance(sky.mirrored, L);
+}
+
+}  // namespace hemirad
