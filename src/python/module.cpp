@@ -4,6 +4,7 @@
 #include "environment/irradiance.hpp"
 #include "environment/reflected_sun.hpp"
 #include "environment/sensors.hpp"
+#include "environment/sky_coefficients.hpp"
 #include "environment/sky_view.hpp"
 #include "environment/solar_position.hpp"
 #include "environment/sunlit.hpp"
@@ -580,15 +581,26 @@ py::dict irradianceOf(const ScenePtr& scene, py::array_t<std::int64_t, py::array
                       py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
                       py::array_t<double, py::array::c_style | py::array::forcecast> directSun,
                       py::array_t<double, py::array::c_style | py::array::forcecast> skyView, double dhi,
-                      py::array_t<double, py::array::c_style | py::array::forcecast> reflected, double metres,
+                      py::array_t<double, py::array::c_style | py::array::forcecast> reflected,
+                      py::array_t<double, py::array::c_style | py::array::forcecast> modelSky,
+                      py::array_t<double, py::array::c_style | py::array::forcecast> modelSkyReflected, double metres,
                       const std::string& solverName, double tolerance) {
     const GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");
     const std::size_t n = scene->size();
-    if (directSun.ndim() != 1 || std::size_t(directSun.size()) != n || skyView.ndim() != 1 || std::size_t(skyView.size()) != n)
-        throw py::value_error("irradiance: direct_sun and sky_view need one value per patch");
+    const auto perPatch = [n](const py::array_t<double, py::array::c_style | py::array::forcecast>& a) {
+        return a.ndim() == 1 && std::size_t(a.size()) == n;
+    };
+    if (!perPatch(directSun) || (modelSky.size() == 0 && !perPatch(skyView)) || (modelSky.size() > 0 && !perPatch(modelSky)) ||
+        (modelSkyReflected.size() > 0 && !perPatch(modelSkyReflected)))
+        throw py::value_error("irradiance: direct_sun and sky_view (or a sky model's sky) need one value per patch");
     IrradianceInputs in;
     in.directSun.assign(directSun.data(), directSun.data() + n);
-    in.skyView.assign(skyView.data(), skyView.data() + n);
+    if (modelSky.size() > 0) {
+        in.directSky.assign(modelSky.data(), modelSky.data() + n);
+        if (modelSkyReflected.size() > 0) in.reflectedSky.assign(modelSkyReflected.data(), modelSkyReflected.data() + n);
+    } else {
+        in.skyView.assign(skyView.data(), skyView.data() + n);
+    }
     in.dhi = dhi;
     if (reflected.size() > 0) {
         if (reflected.ndim() != 1 || std::size_t(reflected.size()) != n) throw py::value_error("irradiance: reflected sun needs one value per patch");
@@ -611,12 +623,76 @@ py::dict irradianceOf(const ScenePtr& scene, py::array_t<std::int64_t, py::array
     out["absorbed"] = numpyVector(r.absorbed);
     out["radiosity"] = numpyVector(r.radiosity);
     out["reflected_sun"] = numpyVector(r.reflectedSun);
+    out["reflected_sky"] = numpyVector(r.reflectedSky);
     out["incident_power"] = r.incidentPower;
     out["absorbed_power"] = r.absorbedPower;
     out["escaped_power"] = r.escapedPower;
     out["balance"] = r.balance;
     out["solver"] = r.report.solver;
     return out;
+}
+
+/// A patches x cells matrix as a C-ordered NumPy array.
+py::array_t<double> numpyMatrix(const Eigen::MatrixXd& m) {
+    py::array_t<double> out({py::ssize_t(m.rows()), py::ssize_t(m.cols())});
+    double* p = out.mutable_data();
+    for (Eigen::Index i = 0; i < m.rows(); ++i)
+        for (Eigen::Index k = 0; k < m.cols(); ++k) *p++ = m(i, k);
+    return out;
+}
+
+py::dict skyCoefficientsOf(const ScenePtr& scene, int subdivision, int samples, py::array_t<double, py::array::c_style | py::array::forcecast> up,
+                           py::array_t<double, py::array::c_style | py::array::forcecast> north) {
+    const Vec3 u = vectorOf(up, "up"), no = vectorOf(north, "north");
+    SkyCoefficients c;
+    {
+        py::gil_scoped_release release;
+        c = skyCoefficients(*scene, subdivision, samples, u, no);
+    }
+    std::vector<double> low, high, west, east;
+    py::array_t<double> directions({py::ssize_t(c.grid.size()), py::ssize_t(3)});
+    constexpr double kDegrees = 180.0 / kPi;
+    for (std::size_t k = 0; k < c.grid.size(); ++k) {
+        const SkyGrid::Cell& cell = c.grid.cells[k];
+        low.push_back(cell.altitudeLow * kDegrees);
+        high.push_back(cell.altitudeHigh * kDegrees);
+        west.push_back(cell.azimuthLow * kDegrees);
+        east.push_back(cell.azimuthHigh * kDegrees);
+        const Vec3 d = skyToScene(k + 1 == c.grid.size() ? Vec3(0, 0, 1)
+                                                         : skyDirection((cell.altitudeLow + cell.altitudeHigh) / 2, (cell.azimuthLow + cell.azimuthHigh) / 2),
+                                  u, no);
+        for (int a = 0; a < 3; ++a) directions.mutable_data()[3 * k + std::size_t(a)] = d[a];
+    }
+    py::dict cells;
+    cells["altitude_low"] = numpyVector(low);
+    cells["altitude_high"] = numpyVector(high);
+    cells["azimuth_low"] = numpyVector(west);
+    cells["azimuth_high"] = numpyVector(east);
+    cells["direction"] = directions;
+    std::vector<double> omega;
+    for (const SkyGrid::Cell& cell : c.grid.cells) omega.push_back(cell.solidAngle());
+    cells["solid_angle"] = numpyVector(omega);
+    cells["horizontal"] = numpyVector(c.horizontal);
+    py::dict out;
+    out["direct"] = numpyMatrix(c.direct);
+    out["mirrored"] = c.mirrored.size() > 0 ? py::object(numpyMatrix(c.mirrored)) : py::object(py::none());
+    out["cells"] = cells;
+    out["subdivision"] = subdivision;
+    out["samples"] = samples;
+    return out;
+}
+
+py::array_t<double> skyRadianceOf(const std::string& model, py::array_t<double, py::array::c_style | py::array::forcecast> toSun,
+                                  double dni, double dhi, int subdivision, int samples, int dayOfYear,
+                                  py::array_t<double, py::array::c_style | py::array::forcecast> up,
+                                  py::array_t<double, py::array::c_style | py::array::forcecast> north) {
+    if (dayOfYear < 0 || dayOfYear > 366) throw py::value_error("sky_radiance: day_of_year must be 1..366 (or 0: the mean distance)");
+    SkyConditions c;
+    c.toSun = sceneToSky(vectorOf(toSun, "to_sun"), vectorOf(up, "up"), vectorOf(north, "north"));
+    c.dni = dni;
+    c.dhi = dhi;
+    c.dayOfYear = dayOfYear;
+    return numpyVector(skyRadiance(skyGrid(subdivision), samples, parseSkyModel(model), c));
 }
 
 py::dict reflectedSunOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> toSun, double dni) {
@@ -768,6 +844,8 @@ PYBIND11_MODULE(_hemirad, m) {
     m.def("_sunlit", &sunlitOf);
     m.def("_reflected_sun", &reflectedSunOf);
     m.def("_irradiance", &irradianceOf);
+    m.def("_sky_coefficients", &skyCoefficientsOf);
+    m.def("_sky_radiance", &skyRadianceOf);
     m.def("_sensor_grid", &sensorGridOf);
     m.def("_read_form_factors", &readFormFactors);
     m.def("_write_form_factors", &writeFormFactors);

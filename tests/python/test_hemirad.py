@@ -568,6 +568,41 @@ def test_sun_and_one_hour_of_irradiance_as_the_command_line():
         hemirad.solar_position("2024-13-01T00:00", 0, 0)
 
 
+def test_a_sky_model_through_the_daylight_coefficients_as_the_command_line():
+    # Perez's sky on the mirror box (y up, the open front toward +z): the cells' radiance puts the DHI
+    # on a horizontal plane, the direct sky is the coefficients times it, the sky through the mirror
+    # lands, the power balances, and the hour equals hemirad irradiance --sky perez's CSV.
+    box = hemirad.load(scene_path("cornell_mirror.obj"))
+    up = (0, 1, 0)
+    sky = hemirad.sky_coefficients(box, 1, 1, up=up)
+    cells = sky["cells"]
+    assert sky["direct"].shape == (len(box), 145) and sky["mirrored"].shape == (len(box), 145)
+    assert abs(cells["solid_angle"].sum() - 2 * np.pi) < 1e-12 and cells["altitude_high"][-1] == 90.0
+    to_sun = np.array([0.2, 1.0, 0.5])
+    L = hemirad.sky_radiance("perez", to_sun, 700.0, 100.0, 1, 1, day_of_year=172, up=up)
+    assert L.shape == (145,) and np.all(L >= 0) and abs(cells["horizontal"] @ L - 100.0) < 1e-10
+    F, _ = hemirad.form_factors(box, all_rows=True)
+    hour = hemirad.irradiance(box, F, to_sun, 700.0, 100.0, sky="perez", coefficients=sky, day_of_year=172, up=up)
+    assert hour["balance"] < 1e-9
+    assert np.allclose(hour["direct_sky"], sky["direct"] @ L, rtol=1e-12, atol=1e-12)
+    assert np.any(hour["reflected_sky"] > 0)
+    csv = os.path.join(os.environ.get("TMPDIR", "/tmp"), "hemirad-py-sky.csv")
+    r = subprocess.run([os.environ["HEMIRAD_BINARY"], "irradiance", scene_path("cornell_mirror.obj"), "--up", "y",
+                        "--sun-time", "2026-06-21T10:00Z", "--latitude", "48.1", "--longitude", "11.6", "--dni", "700",
+                        "--dhi", "100", "--sky", "perez", "--sky-subdivision", "1", "-o", csv, "--quiet"],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    table = np.genfromtxt(csv, delimiter=",", skip_header=1, usecols=(3, 5, 8))
+    at = hemirad.sun_direction(hemirad.solar_position("2026-06-21T10:00Z", 48.1, 11.6), up=up)
+    same = hemirad.irradiance(box, F, at, 700.0, 100.0, sky="perez", coefficients=sky, day_of_year=172, up=up)
+    for k, name in enumerate(["direct_sky", "total", "reflected_sky"]):
+        assert np.allclose(same[name], table[:, k], rtol=1e-9, atol=1e-9), name
+    with pytest.raises(ValueError):
+        hemirad.irradiance(box, F, to_sun, 700.0, 100.0, sky="perez", coefficients=sky, sky_view=np.zeros(len(box)))
+    with pytest.raises(hemirad.Error):
+        hemirad.sky_radiance("clear", to_sun, 700.0, 100.0)
+
+
 def test_sky_view_factors_of_plates():
     # Two unit squares facing each other at distance 1: each sees the other (C-11, 0.199825) and the
     # rest is sky; the same as the command line's.

@@ -22,7 +22,7 @@ from . import _hemirad
 from ._hemirad import Error, Scene
 
 __all__ = ["Error", "Scene", "load", "form_factors", "solve", "thermal", "conductors", "sky_view_factors", "sensor_factors", "sensor_grid", "solar_position", "sun_direction", "sunlit_fractions",
-           "reflected_sun", "irradiance", "read_form_factors", "write_form_factors",
+           "reflected_sun", "irradiance", "sky_coefficients", "sky_radiance", "read_form_factors", "write_form_factors",
            "render", "methods", "solvers"]
 
 
@@ -366,11 +366,8 @@ def solar_position(time, latitude, longitude):
 def sun_direction(position, up=(0, 0, 1), north=None):
     """The unit vector toward the sun (a :func:`solar_position` dict) in a scene whose up and north
     are given (north defaults to +y for z up, -z for y up; east = north x up)."""
-    up = _np.asarray(up, dtype=_np.float64)
-    if north is None:
-        north = (0, 0, -1) if abs(up[1]) > abs(up[2]) else (0, 1, 0)
-    return _hemirad._sun_direction(float(position["elevation"]), float(position["azimuth"]), up,
-                                   _np.asarray(north, dtype=_np.float64))
+    up, north = _frame(up, north)
+    return _hemirad._sun_direction(float(position["elevation"]), float(position["azimuth"]), up, north)
 
 
 def sunlit_fractions(scene, to_sun):
@@ -390,32 +387,89 @@ def reflected_sun(scene, to_sun, dni):
     return _hemirad._reflected_sun(scene, _np.asarray(to_sun, dtype=_np.float64), float(dni))
 
 
-def irradiance(scene, F, to_sun, dni, dhi=0.0, *, sky_view=None, unit=None, solver="auto", tolerance=1e-10):
-    """One hour of sun and isotropic sky on ``scene``, inter-reflected through F (every row computed),
-    as the command line's ``irradiance``: the direct sun DNI cos x the sunlit fraction, the sun
-    reflected by mirrors (:func:`reflected_sun`), the direct sky DHI x the direct sky view factor (``sky_view``: per patch; None computes it), each patch's
-    mean Kd as its reflectance. unit: metres per scene unit for the powers (None: the scene's, else 1).
+def _frame(up, north):
+    up = _np.asarray(up, dtype=_np.float64)
+    if north is None:
+        north = (0, 0, -1) if abs(up[1]) > abs(up[2]) else (0, 1, 0)
+    return up, _np.asarray(north, dtype=_np.float64)
+
+
+def sky_coefficients(scene, subdivision=2, samples=1, *, up=(0, 0, 1), north=None):
+    """Daylight coefficients: per patch and sky cell, the irradiance (W/m^2) a cell of unit radiance
+    (W/(m^2 sr)) gives the patch past the scene's shadows, and through its mirrors (first
+    reflections), as ``hemirad irradiance --sky MODEL`` computes them: ``samples`` x ``samples``
+    directions per cell of Reinhart's subdivision (1: Tregenza's 145 cells; 2: 577), each an exact
+    shadow pass. Below the horizon nothing comes: model the ground.
+
+    Returns a dict: ``direct`` and ``mirrored`` (arrays patches x cells; ``mirrored`` None without
+    mirrors), ``cells`` (arrays ``altitude_low``, ``altitude_high``, ``azimuth_low``, ``azimuth_high``
+    in degrees, azimuth clockwise from north; ``direction`` cells x 3 in the scene's frame;
+    ``solid_angle`` and ``horizontal``, sr), ``subdivision`` and ``samples``. A sky's irradiance on the
+    patches is then ``direct @ sky_radiance(...)``.
+    """
+    _check_scene(scene)
+    up, north = _frame(up, north)
+    return _hemirad._sky_coefficients(scene, int(subdivision), int(samples), up, north)
+
+
+def sky_radiance(model, to_sun, dni, dhi, subdivision=2, samples=1, *, day_of_year=0, up=(0, 0, 1), north=None):
+    """Each sky cell's radiance, W/(m^2 sr), under ``model``: "uniform", "cie-overcast" (Moon &
+    Spencer's 1 + 2 sin(altitude)), "cie:1" .. "cie:15" (ISO 15469 / CIE S 011 general skies) or
+    "perez" (Perez, Seals & Michalsky 1993, from the DNI, the DHI and the sun), averaged over each
+    cell's ``samples`` x ``samples`` directions and scaled so that an unobstructed horizontal plane
+    receives the DHI. to_sun: toward the sun in the scene's frame (up and north orient the sky);
+    day_of_year (1..366) sets Perez's extraterrestrial irradiance (0: the mean Sun-Earth distance).
+    """
+    up, north = _frame(up, north)
+    return _hemirad._sky_radiance(str(model), _np.asarray(to_sun, dtype=_np.float64), float(dni), float(dhi),
+                                  int(subdivision), int(samples), int(day_of_year), up, north)
+
+
+def irradiance(scene, F, to_sun, dni, dhi=0.0, *, sky_view=None, sky="isotropic", coefficients=None, day_of_year=0,
+               up=(0, 0, 1), north=None, unit=None, solver="auto", tolerance=1e-10):
+    """One hour of sun and sky on ``scene``, inter-reflected through F (every row computed), as the
+    command line's ``irradiance``: the direct sun DNI cos x the sunlit fraction, the sun reflected by
+    mirrors (:func:`reflected_sun`), and the direct sky: for ``sky="isotropic"`` DHI x the direct sky
+    view factor (``sky_view``: per patch; None computes it), else a model's (:func:`sky_radiance`)
+    through the daylight coefficients (``coefficients`` from :func:`sky_coefficients`; None computes
+    them with its defaults, up and north), with the sky seen through mirrors. Each patch's mean Kd is
+    its reflectance. unit: metres per scene unit for the powers (None: the scene's, else 1).
 
     Returns a dict of per-patch arrays (W/m^2) ``direct_sun``, ``direct_sky``, ``reflected``,
-    ``total``, ``absorbed``, ``reflected_sun`` and ``radiosity`` (the diffuse J leaving each patch, what
-    :func:`sensor_factors`' F turns into a sensor's reflected irradiance), and ``incident_power``,
-    ``absorbed_power``, ``escaped_power`` (W), ``balance``, ``solver``.
+    ``total``, ``absorbed``, ``reflected_sun``, ``reflected_sky`` (a model's sky through mirrors) and
+    ``radiosity`` (the diffuse J leaving each patch, what :func:`sensor_factors`' F turns into a
+    sensor's reflected irradiance), and ``incident_power``, ``absorbed_power``, ``escaped_power`` (W),
+    ``balance``, ``solver``.
     """
     _check_scene(scene)
     n = len(scene)
     to_sun = _np.asarray(to_sun, dtype=_np.float64)
     direct = _np.asarray(sunlit_fractions(scene, to_sun)) * float(dni) * _np.maximum(
         0.0, _np.asarray(scene.normal) @ (to_sun / _np.linalg.norm(to_sun)))
-    if sky_view is None:
-        sky_view = sky_view_factors(scene)["direct"]
-    sky = _patch_values("sky_view", sky_view, n)
+    model_sky, model_reflected, sky_values = _np.zeros(0), _np.zeros(0), _np.zeros(0)
+    if sky == "isotropic":
+        if sky_view is None:
+            sky_view = sky_view_factors(scene)["direct"]
+        sky_values = _patch_values("sky_view", sky_view, n)
+    else:
+        if sky_view is not None:
+            raise ValueError("irradiance: sky_view is the isotropic sky's; a sky model uses the daylight coefficients")
+        if coefficients is None:
+            coefficients = sky_coefficients(scene, up=up, north=north)
+        if coefficients["direct"].shape[0] != n:
+            raise ValueError("irradiance: the coefficients have %d rows for %d patches" % (coefficients["direct"].shape[0], n))
+        radiance = sky_radiance(sky, to_sun, dni, dhi, coefficients["subdivision"], coefficients["samples"],
+                                day_of_year=day_of_year, up=up, north=north)
+        model_sky = _np.ascontiguousarray(coefficients["direct"] @ radiance)
+        if coefficients["mirrored"] is not None:
+            model_reflected = _np.ascontiguousarray(coefficients["mirrored"] @ radiance)
     indptr, indices, data = _canonical(F, n)
     metres = 0.0 if unit is None else float(unit)
     mirrored = _np.zeros(0)
     if _np.any(_np.asarray(scene.specular) > 0):
         mirrored = reflected_sun(scene, to_sun, dni)["irradiance"]
-    return _hemirad._irradiance(scene, indptr, indices, data, _np.ascontiguousarray(direct), sky, float(dhi), mirrored,
-                                metres, str(solver), float(tolerance))
+    return _hemirad._irradiance(scene, indptr, indices, data, _np.ascontiguousarray(direct), sky_values, float(dhi), mirrored,
+                                model_sky, model_reflected, metres, str(solver), float(tolerance))
 
 
 def sensor_factors(scene, positions, normals, *, threads=0):
