@@ -67,6 +67,9 @@ int runYear(const Options& options) {
          << (year.hours.empty() ? 0.0 : 1e3 * seconds / double(year.hours.size())) << " ms per hour); "
          << year.incidentWh / 1e3 << " kWh arrive, " << year.absorbedWh / 1e3 << " kWh absorbed; worst hourly balance "
          << year.worstBalance;
+    if (year.skyClampedHours > 0)
+        line << "; Perez's clearness or brightness kept within the model's fitted ranges in " << year.skyClampedHours
+             << " hour(s) (the sun low, where the air mass explodes)";
     reporter.line(line.str());
 
     timings.start("write results");

@@ -46,6 +46,7 @@ void modelSkyHour(const SkyCoefficients& sky, const Options& options, const Vec3
         std::ostringstream line;
         line.precision(4);
         line << "sky: Perez clearness " << p.epsilon << " (bin " << p.bin + 1 << " of 8), brightness " << p.delta
+             << (p.clamped ? " (kept within the ranges the model was fitted over: clearness <= 12.01, brightness 0.01..0.6)" : "")
              << (c.dayOfYear > 0 ? "" : " (mean Sun-Earth distance: no date with --sun-direction)");
         reporter.line(line.str());
     }

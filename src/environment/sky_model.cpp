@@ -140,6 +140,11 @@ PerezParameters perezParameters(const SkyConditions& c) {
         eccentricity = 1.00011 + 0.034221 * std::cos(g) + 0.00128 * std::sin(g) + 0.000719 * std::cos(2 * g) + 0.000077 * std::sin(2 * g);
     }
     p.delta = c.dhi * airMass / (1367.0 * eccentricity);
+    // The ranges the model was fitted over, as Radiance's gendaylit keeps them: beyond (the sun near
+    // or below the horizon, where the air mass explodes) the luminance turns negative everywhere.
+    p.clamped = p.delta < 0.01 || p.delta > 0.6 || p.epsilon > 12.01;
+    p.delta = std::clamp(p.delta, 0.01, 0.6);
+    p.epsilon = std::min(p.epsilon, 12.01);
     p.bin = 0;
     while (p.bin < 7 && p.epsilon >= kPerezBins[p.bin + 1]) ++p.bin;
     const double* x = kPerez[p.bin];

@@ -66,9 +66,13 @@ struct SkyConditions {
 
 /// Perez's (1990) sky clearness epsilon and brightness Delta, the bin (0..7) of epsilon, and the
 /// all-weather model's coefficients a..e (Perez, Seals & Michalsky 1993, Table 1 and eqns 6-8, with
-/// the first bin's c and d by eqns 7-8). Sun zenith clamped to 90 degrees; air mass Kasten (1966).
+/// the first bin's c and d by eqns 7-8). Sun zenith clamped to 90 degrees; air mass Kasten (1966);
+/// epsilon kept at 12.01 or less and Delta within 0.01..0.6, the ranges the model was fitted over
+/// (as Radiance's gendaylit does: twilight hours with diffuse light would otherwise get a sky of
+/// negative luminance everywhere).
 struct PerezParameters {
     double epsilon = 1.0, delta = 0.0;
+    bool clamped = false;  ///< epsilon or Delta was outside those ranges
     int bin = 0;
     double a = 0.0, b = 0.0, c = 0.0, d = 0.0, e = 0.0;
 };

@@ -94,7 +94,14 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                 c.dni = hour.dni;
                 c.dhi = hour.dhi;
                 c.dayOfYear = dayOfYear(hour);
-                const std::vector<double> L = skyRadiance(model->grid, model->samples, options.skyModel, c);
+                if (options.skyModel.kind == SkyModel::Kind::Perez && perezParameters(c).clamped) ++out.skyClampedHours;
+                std::vector<double> L;
+                try {
+                    L = skyRadiance(model->grid, model->samples, options.skyModel, c);
+                } catch (const Error& e) {
+                    throw Error(std::string(e.what()) + " (the weather's line " + std::to_string(hour.line) + ": DNI " +
+                                std::to_string(hour.dni) + ", DHI " + std::to_string(hour.dhi) + ")");
+                }
                 radiance.col(Eigen::Index(b - first)) = Eigen::Map<const Eigen::VectorXd>(L.data(), Eigen::Index(L.size()));
             }
         }

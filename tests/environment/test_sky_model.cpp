@@ -126,6 +126,16 @@ TEST_CASE("Perez's sky: clearness and brightness from DNI and DHI, the overcast 
     CHECK(zenith / horizon < 4.0);
     c.dayOfYear = 3;  // perihelion: more extraterrestrial irradiance, a darker relative sky
     CHECK(perezParameters(c).delta < p.delta);
+    // Twilight: the sun just below the horizon with diffuse light. The air mass there (36) would put
+    // Delta at 1.3 and the sky's luminance below 0 everywhere; Delta is kept at 0.6, as gendaylit does.
+    c.toSun = Vec3(0, 1, -0.01);
+    c.dhi = 50;
+    p = perezParameters(c);
+    CHECK(p.clamped);
+    CHECK(p.delta == 0.6);
+    L = skyRadiance(g, 2, parseSkyModel("perez"), c);
+    CHECK(std::inner_product(L.begin(), L.end(), horizontalWeights(g, 2).begin(), 0.0) == doctest::Approx(50.0).epsilon(1e-13));
+    CHECK(*std::min_element(L.begin(), L.end()) > 0.0);
 }
 
 TEST_CASE("The CIE overcast sky on an unobstructed vertical plane gives (pi/6 + 4/9) / (7 pi/9) of the DHI") {
