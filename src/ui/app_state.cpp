@@ -32,7 +32,9 @@ FalseColourView AppState::falseColourView() const {
     view.colours.assign(m_scene->size(), pack(kFalseColourNoData));
     try {
         std::vector<double> values;
-        if (falseColour.thermal == FalseColourSettings::Thermal::None) {
+        if (falseColour.sun != FalseColourSettings::Sun::None) {
+            values = sunSkyValues(falseColour.sun);
+        } else if (falseColour.thermal == FalseColourSettings::Thermal::None) {
             values = falseColourValues(*m_scene, m_B, falseColour.quantity);
         } else {
             const ThermalResult* t = thermalResult();
@@ -53,6 +55,7 @@ FalseColourView AppState::falseColourView() const {
 }
 
 std::pair<std::string, std::string> AppState::falseColourLegend() const {
+    if (falseColour.sun != FalseColourSettings::Sun::None) return sunSkyLegend(falseColour.sun);
     switch (falseColour.thermal) {
     case FalseColourSettings::Thermal::Temperature: return {"temperature T", "K"};
     case FalseColourSettings::Thermal::HeatFlux: return {"net heat flux q", "W/m^2, leaving the surface"};

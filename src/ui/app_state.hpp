@@ -11,6 +11,7 @@
 #include "solve/solver.hpp"
 #include "preprocess/backend_registry.hpp"
 #include "ui/up_axis.hpp"
+#include "ui/sun_sky_setup.hpp"
 #include "ui/thermal_setup.hpp"
 
 #include <atomic>
@@ -36,7 +37,16 @@ struct FalseColourSettings {
     /// A thermal quantity instead of `quantity`: the last thermal run's T (K) or q (W/m^2, net leaving).
     enum class Thermal { None, Temperature, HeatFlux };
     Thermal thermal = Thermal::None;
+    /// A quantity of the last Sky and sun run instead (it takes precedence over `thermal`).
+    enum class Sun { None, SunlitFraction, SkyView, DirectSun, DirectSky, Reflected, Total, Absorbed };
+    Sun sun = Sun::None;
 };
+
+/// The Sky and sun quantities' names as hemirad-gui --false-color takes them ("sunlit_fraction",
+/// "sky_view_factor", "direct_sun", "direct_sky", "reflected_solar", "total_solar", "absorbed_solar"),
+/// and back (none for another name).
+const char* sunQuantityName(FalseColourSettings::Sun quantity);
+std::optional<FalseColourSettings::Sun> parseSunQuantity(const std::string& name);
 
 /// The false-colour map of the current radiosity: its range and each patch's colour.
 struct FalseColourView {
@@ -130,6 +140,7 @@ struct JobStatus {
 /// least 1, so that the window keeps a core to draw and to take Cancel (issue 38 #4).
 int jobWorkers(int requested);
 class ThermalJob;
+class SunSkyJob;
 
 class AppState {
 public:
@@ -303,6 +314,23 @@ public:
     /// The object exchange table (W) as CSV, units in the header (as hemirad thermal --exchange).
     bool exportThermalExchange(const std::string& path);
 
+    // --- Sky and sun (app_state_sun_sky.cpp; src/environment) ---------------------------------------
+    /// The section's inputs (time and place or a direction, DNI, DHI, the sky); read when Run starts.
+    SunSkySetup sunSky;
+    /// One hour of sun and sky on the current F (computing every row it lacks, or F whole when it is
+    /// stale or made with other settings), the sky view factors or the sky model's coefficients, on the
+    /// worker thread; cancel() stops it. A bad input (a time that does not parse) is logged.
+    void runSunSky();
+    /// The last run's result for the current mesh (null before one, or after meshing).
+    const SunSkyResult* sunSkyResult() const;
+    /// The result was made with other geometry or materials than the current ones.
+    bool sunSkyStale() const;
+    /// Per patch, a quantity of the last result (the false-colour map's values); throws hemirad::Error
+    /// saying what to run when there is none (or, for the sky view factor, when a sky model ran).
+    std::vector<double> sunSkyValues(FalseColourSettings::Sun quantity) const;
+    /// The legend's title and unit of a Sky and sun quantity.
+    static std::pair<std::string, std::string> sunSkyLegend(FalseColourSettings::Sun quantity);
+
     /// Per-patch value of row `i` of F (the inspector's layer); empty when F or the row is missing.
     std::vector<float> formFactorRow(PatchId i) const;
     /// Per-corner radiosity for Gouraud shading (cached per revision).
@@ -381,6 +409,10 @@ private:
     std::string m_thermalLoadError;
     std::optional<ThermalResult> m_thermalResult;
     std::unique_ptr<ThermalJob> m_thermalJob;
+    void pollSunSky();
+    std::unique_ptr<SunSkyJob> m_sunSkyJob;
+    std::uint64_t m_sunSkyJobMaterials = 0;
+    std::optional<SunSkyResult> m_sunSkyResult;
 };
 
 }  // namespace hemirad::ui

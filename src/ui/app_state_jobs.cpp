@@ -7,6 +7,7 @@
 #include "engine/threads.hpp"
 #include "pipeline/radiosity_pipeline.hpp"
 #include "preprocess/form_factor_job.hpp"
+#include "ui/sun_sky_job.hpp"
 #include "ui/thermal_job.hpp"
 
 #include <algorithm>
@@ -140,6 +141,7 @@ int jobWorkers(int requested) { return requested > 0 ? requested : std::max(1, r
 
 JobStatus AppState::job() const {
     if (m_thermalJob && (!m_job || m_job->finished)) return m_thermalJob->status();
+    if (m_sunSkyJob && (!m_job || m_job->finished)) return m_sunSkyJob->status();
     if (!m_job) return {};
     std::lock_guard<std::mutex> lock(m_job->mutex);
     JobStatus s = m_job->status;
@@ -151,7 +153,7 @@ JobStatus AppState::job() const {
 }
 
 bool AppState::busy() const {
-    return (m_job && !m_job->finished) || (m_thermalJob && !m_thermalJob->finished());
+    return (m_job && !m_job->finished) || (m_thermalJob && !m_thermalJob->finished()) || (m_sunSkyJob && !m_sunSkyJob->finished());
 }
 
 void AppState::startJob(bool computeF, std::shared_ptr<const FormFactors> F) {
@@ -250,16 +252,22 @@ void AppState::cancel() {
         m_thermalJob->cancel();
         info("cancelling...");
     }
+    if (m_sunSkyJob && !m_sunSkyJob->finished()) {
+        m_sunSkyJob->cancel();
+        info("cancelling...");
+    }
 }
 
 void AppState::wait() {
     if (m_job && m_job->thread.joinable()) m_job->thread.join();
     if (m_thermalJob) m_thermalJob->wait();
+    if (m_sunSkyJob) m_sunSkyJob->wait();
 }
 
 bool AppState::poll() {
     if (m_framesSinceCancel) ++*m_framesSinceCancel;
     if (m_thermalJob && m_thermalJob->finished()) pollThermal();
+    if (m_sunSkyJob && m_sunSkyJob->finished()) pollSunSky();
     if (m_job && !m_job->finished) {
         // Progressive display: show the solve's newest intermediate radiosity.
         std::lock_guard<std::mutex> lock(m_job->mutex);

@@ -52,6 +52,9 @@ struct GuiOptions {
     std::vector<std::string> properties, conditions;
     bool thermal = false;                ///< --thermal: Run thermal after loading
     bool thermalWindow = false;          ///< --thermal-window: the exchange table's window open
+    std::optional<FalseColourSettings::Sun> falseColourSun;  ///< --false-color sunlit_fraction, total_solar, ...
+    bool sunSky = false;                 ///< --sun-sky: Run sky and sun after loading
+    SunSkySetup sunSkySetup;             ///< --sun-time, --latitude, --longitude, --sun-direction, --dni, --dhi, --sky
     FalseColourScale falseColourScale = FalseColourScale::Linear;
     std::string screenshot;
     double subdivide = 0.0;
@@ -78,6 +81,8 @@ const char* kUsage =
     "                   [--size WxH] [--select PATCH] [--hover PATCH] [--run] [--screenshot OUT.png] [--exit]\n"
     "                   [--quit-after S] [--false-color Q [--scale linear|log]] [--layer NAME]\n"
     "                   [--properties P.toml] [--bc BC.toml] [--thermal] [--thermal-window]\n"
+    "                   [--sun-sky [--sun-time T --latitude LAT --longitude LON | --sun-direction x,y,z]\n"
+    "                    [--dni W] [--dhi W] [--sky MODEL]]\n"
     "  --run          compute form factors and solve after loading\n"
     "  --materials FILE.mtl  materials by object name for every scene opened, as hemirad's\n"
     "  --max-depth D  mirror reflections followed by F and shown by the view (default 8, as hemirad)\n"
@@ -93,7 +98,8 @@ const char* kUsage =
     "  --check-tooltips  once the view is drawn, move the mouse over every panel and list the\n"
     "                 controls that show no tooltip; exit as --exit does (1 if any)\n"
     "  --false-color Q  start in the false-colour view of Q (radiosity, irradiance, emission, and after\n"
-    "                 --thermal temperature, heat-flux);\n"
+    "                 --thermal temperature, heat-flux; after --sun-sky sunlit_fraction, sky_view_factor,\n"
+    "                 direct_sun, direct_sky, reflected_solar, total_solar, absorbed_solar);\n"
     "                 --scale linear|log its scale\n"
     "  --hover PATCH  read PATCH out in the status bar as if the cursor were on it (scripted runs)\n"
     "  --layer NAME   start in that view: radiosity, patch-id, emission, reflectance, specular, f-row\n"
@@ -103,6 +109,10 @@ const char* kUsage =
     "                 Scene panel's Thermal section does (docs/thermal.md); each may repeat (loaded in order)\n"
     "  --thermal      Run thermal after loading (every row of F, then T and q)\n"
     "  --thermal-window  open the thermal exchange table once there is a result (scripted runs print it)\n"
+    "  --sun-sky      Run sky and sun after loading, as the Scene panel's Sky and sun section: the sun at\n"
+    "                 --sun-time (default 2026-06-21T12:00Z) at --latitude, --longitude (default 48.14,\n"
+    "                 11.58), or along --sun-direction; --dni, --dhi W/m^2 (default 800, 100); --sky\n"
+    "                 isotropic (default), uniform, cie-overcast, cie:N or perez (hemirad help: --sky)\n"
     "mouse: left drag orbits, right/middle drag (or shift + left) pans, wheel zooms, click selects\n"
     "       (ctrl/shift + click adds); keys: F frame, S frame selection, C scene camera, Esc close help\n"
     "       (else select none), Ctrl+Z/Y undo/redo, Ctrl+O open, Ctrl+S save (Shift: save as), Ctrl+Q\n"
@@ -122,6 +132,14 @@ GuiOptions parse(int argc, char** argv) {
         char* end = nullptr;
         const double v = std::strtod(text.c_str(), &end);
         if (text.empty() || *end || !(v > 0)) throw Error(std::string(flag) + " expects a positive number, got '" + text + "'");
+        return v;
+    };
+    // A number in [lo, hi].
+    auto real = [](const std::string& text, const char* flag, double lo, double hi) {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end || !(v >= lo && v <= hi))
+            throw Error(std::string(flag) + " expects a number in " + std::to_string(lo) + " .. " + std::to_string(hi) + ", got '" + text + "'");
         return v;
     };
     // A whole number in [0, hi]; `expects` says what in the error.
@@ -147,15 +165,31 @@ GuiOptions parse(int argc, char** argv) {
             const std::string q = value(k, "--false-color");
             if (q == "temperature") o.falseColourThermal = FalseColourSettings::Thermal::Temperature;
             else if (q == "heat-flux") o.falseColourThermal = FalseColourSettings::Thermal::HeatFlux;
-            else if (q == "sky_view_factor")  // a second F over the two-sided scene, not yet a GUI job (issue 37)
-                throw Error("--false-color sky_view_factor is not in the GUI yet: use hemirad render --false-color "
-                            "sky_view_factor, or hemirad sky-view");
+            else if (const auto sun = parseSunQuantity(q)) o.falseColourSun = sun;
             else o.falseColour = parseFalseColourQuantity(q);
             if (!o.falseColour) o.falseColour = FalseColourQuantity::Irradiance;
         } else if (a == "--properties") o.properties.push_back(value(k, "--properties"));
         else if (a == "--bc") o.conditions.push_back(value(k, "--bc"));
         else if (a == "--thermal") o.thermal = true;
         else if (a == "--thermal-window") o.thermalWindow = true;
+        else if (a == "--sun-sky") o.sunSky = true;
+        else if (a == "--sun-time") {
+            o.sunSkySetup.time = value(k, "--sun-time");
+            o.sunSkySetup.byTime = true;
+        } else if (a == "--latitude") o.sunSkySetup.latitude = real(value(k, "--latitude"), "--latitude", -90, 90);
+        else if (a == "--longitude") o.sunSkySetup.longitude = real(value(k, "--longitude"), "--longitude", -180, 180);
+        else if (a == "--dni") o.sunSkySetup.dni = real(value(k, "--dni"), "--dni", 0, 1e5);
+        else if (a == "--dhi") o.sunSkySetup.dhi = real(value(k, "--dhi"), "--dhi", 0, 1e5);
+        else if (a == "--sky") o.sunSkySetup.sky = value(k, "--sky");
+        else if (a == "--sun-direction") {
+            const std::string v = value(k, "--sun-direction");
+            double x = 0, y = 0, z = 0;
+            char tail = 0;
+            if (std::sscanf(v.c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &tail) != 3 || !Vec3(x, y, z).allFinite() || Vec3(x, y, z).norm() == 0.0)
+                throw Error("--sun-direction expects x,y,z (not all 0), got '" + v + "'");
+            o.sunSkySetup.direction = Vec3(x, y, z);
+            o.sunSkySetup.byTime = false;
+        }
         else if (a == "--scale") o.falseColourScale = parseFalseColourScale(value(k, "--scale"));
         else if (a == "--quit-after") o.quitAfter = number(value(k, "--quit-after"), "--quit-after");
         else if (a == "--screenshot") o.screenshot = value(k, "--screenshot");
@@ -330,11 +364,16 @@ int main(int argc, char** argv) {
         AppState app;
         app.settings = options.settings;
         app.loading.materials = options.materials;
-        if (options.falseColour) {
+        if (options.falseColour && !options.falseColourSun) {
             app.layer = Layer::FalseColour;
             app.falseColour.quantity = *options.falseColour;
             app.falseColour.thermal = options.falseColourThermal;
         }
+        if (options.falseColourSun) {
+            app.layer = Layer::FalseColour;
+            app.falseColour.sun = *options.falseColourSun;
+        }
+        app.sunSky = options.sunSkySetup;
         app.falseColour.scale = options.falseColourScale;
         if (options.layer) app.layer = *options.layer;
         if (options.exposure > 0.0) {
@@ -387,6 +426,11 @@ int main(int argc, char** argv) {
             app.wait();  // after --run's job
             app.poll();
             app.runThermal();
+        }
+        if (options.sunSky && app.hasScene()) {
+            app.wait();  // after --run's or --thermal's job
+            app.poll();
+            app.runSunSky();
         }
         {
             Viewer viewer;
@@ -601,6 +645,10 @@ int main(int argc, char** argv) {
                 if (!panels.legend().first.empty())
                     std::printf("hemirad-gui: legend: %s | %s\n", panels.legend().first.c_str(), panels.legend().second.c_str());
                 for (const std::string& line : panels.thermal().resultLines()) std::printf("hemirad-gui: thermal panel: %s\n", line.c_str());
+                for (const std::string& line : panels.sunSky().resultLines())
+                    std::printf("hemirad-gui: sky and sun panel: %s\n", line.c_str());
+                if (!panels.sunSky().sunMark().empty())
+                    std::printf("hemirad-gui: sun drawn at %.0f,%.0f\n", panels.sunSky().sunMark()[0], panels.sunSky().sunMark()[1]);
                 for (const std::vector<std::string>& row : panels.thermal().exchangeTable()) {
                     std::string line;
                     for (const std::string& cell : row) line += (line.empty() ? "" : " | ") + cell;

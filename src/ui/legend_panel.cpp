@@ -28,16 +28,23 @@ void Panels::legendPanel(AppState& app) {
     // The false-colour settings, then the legend: title, unit, the bar (max on top), round values, the range.
     FalseColourSettings& fc = app.falseColour;
     m_legend = {};
+    // Radiosity's three, the thermal two, then Sky and sun's seven (FalseColourSettings::Sun's order).
     static const char* kQuantities[] = {"radiosity B", "irradiance H", "emission E", "temperature T (thermal)",
-                                        "net heat flux q (thermal)"};
-    int quantity = fc.thermal == FalseColourSettings::Thermal::None ? int(fc.quantity) : 2 + int(fc.thermal);
-    if (ImGui::Combo("##quantity", &quantity, kQuantities, 5)) {
-        fc.thermal = quantity < 3 ? FalseColourSettings::Thermal::None : FalseColourSettings::Thermal(quantity - 2);
+                                        "net heat flux q (thermal)", "sunlit fraction (sun)", "sky view factor (sun)",
+                                        "direct sun (sun)", "direct sky (sun)", "reflected (sun)", "total irradiance (sun)",
+                                        "absorbed (sun)"};
+    int quantity = fc.sun != FalseColourSettings::Sun::None            ? 4 + int(fc.sun)
+                   : fc.thermal == FalseColourSettings::Thermal::None ? int(fc.quantity)
+                                                                      : 2 + int(fc.thermal);
+    if (ImGui::Combo("##quantity", &quantity, kQuantities, IM_ARRAYSIZE(kQuantities))) {
+        fc.sun = quantity < 5 ? FalseColourSettings::Sun::None : FalseColourSettings::Sun(quantity - 4);
+        fc.thermal = quantity < 3 || quantity >= 5 ? FalseColourSettings::Thermal::None : FalseColourSettings::Thermal(quantity - 2);
         if (quantity < 3) fc.quantity = FalseColourQuantity(quantity);
     }
     tip("Radiosity B (what leaves), irradiance H = (B - E)/rho (what a meter on the surface reads),\n"
         "or emission E; all in W/m^2 as luminance Y. Thermal: the last Run thermal's temperature T (K)\n"
-        "or net heat flux q leaving each patch (W/m^2)");
+        "or net heat flux q leaving each patch (W/m^2). Sun: the last Run sky and sun's sunlit fraction,\n"
+        "sky view factor, or irradiance's parts (W/m^2)");
     int scale = int(fc.scale);
     ImGui::RadioButton("linear", &scale, 0);
     tip("Colours evenly spaced in the value");
@@ -75,6 +82,7 @@ void Panels::legendPanel(AppState& app) {
         ImGui::ColorButton("##nodata", ImVec4(0.5f, 0.5f, 0.5f, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
         ImGui::SameLine();
         ImGui::TextDisabled(!view.error.empty() ? "no data"
+                            : fc.sun != FalseColourSettings::Sun::None         ? "no data"
                             : fc.thermal == FalseColourSettings::Thermal::None ? "no data (rho = 0)"
                                                                                : "no data (eps = 0: no temperature)");
     }

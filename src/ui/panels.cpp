@@ -174,8 +174,10 @@ void Panels::draw(AppState& app, OrbitCamera& camera, Inspector& inspector, doub
         scenePanel(app, camera);
         materialPanel(app);
         m_thermal.section(app, browseFile);
+        m_sunSky.section(app);
     }
     ImGui::End();
+    if (app.hasScene()) m_sunSky.drawSun(app, camera, width, height);
     if (beginPanel("Pipeline", l.pipeline, relayout)) pipelinePanel(app);
     ImGui::End();
     if (!app.selection().empty()) {
@@ -236,6 +238,9 @@ std::string Panels::statusText(const AppState& app, std::optional<PatchId> hover
         // The last thermal run's values of the patch (the Thermal section's Run thermal).
         if (const ThermalResult* t = app.thermalResult())
             text += " | T " + formatNumber(t->solution.T[r->patch]) + " K, q " + formatNumber(t->solution.q[r->patch]) + " W/m^2";
+        // The last Sky and sun run's values of the patch.
+        if (const SunSkyResult* e = app.sunSkyResult())
+            text += " | sunlit " + formatNumber(e->sunlit[r->patch]) + ", solar " + formatNumber(e->irradiance.total[r->patch]) + " W/m^2";
     } else {
         text += "hover a patch for its values";
     }

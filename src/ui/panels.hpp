@@ -6,6 +6,7 @@
 #include "ui/inspector.hpp"
 #include "ui/material_fields.hpp"
 #include "ui/orbit_camera.hpp"
+#include "ui/sun_sky_panel.hpp"
 #include "ui/thermal_panel.hpp"
 
 #include <deque>
@@ -57,6 +58,8 @@ public:
     void showThermalExchange() { m_thermal.showExchange = true; }
     /// The thermal section and exchange table as drawn in the last frame (scripted runs print them).
     const ThermalPanel& thermal() const { return m_thermal; }
+    /// The Sky and sun section as drawn in the last frame (scripted runs print it).
+    const SunSkyPanel& sunSky() const { return m_sunSky; }
     /// The legend's title and unit as drawn in the last frame (empty when it was not drawn).
     const std::pair<std::string, std::string>& legend() const { return m_legend; }
     /// Help > Keyboard and mouse (F1): shows or hides the help window.
@@ -134,7 +137,8 @@ private:
     std::uint64_t m_meshSceneId = 0;  ///< the scene the suggested edge length was made for
     std::vector<double> m_meshEdgesSeen;  ///< the mesh's edge lengths the fields were last set from
     float m_pipelineEnd = 0.0f;  ///< the Pipeline panel's tallest content so far (it never shrinks)
-    ThermalPanel m_thermal;                        ///< the Scene panel's Thermal section, the exchange table
+    ThermalPanel m_thermal;
+    SunSkyPanel m_sunSky;                        ///< the Scene panel's Thermal section, the exchange table
     std::pair<std::string, std::string> m_legend;  ///< the legend's title and unit as drawn last
     std::map<std::string, Rect> m_panelRects, m_itemRects;
     std::string m_status;

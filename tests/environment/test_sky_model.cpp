@@ -73,7 +73,7 @@ TEST_CASE("Sky grids: Tregenza's 145 cells and Reinhart's 144 m^2 + 1 tile the h
     CHECK(parseSkyModel("cie:12").cieType == 12);
 }
 
-TEST_CASE("Every sky model puts the DHI on an unobstructed horizontal plane; CIE type 5 is the uniform sky") {
+TEST_CASE("Every sky model puts the DHI on an unobstructed horizontal plane, and CIE type 5 is the uniform sky") {
     const SkyGrid g = skyGrid(1);
     const std::vector<double> H = horizontalWeights(g, 3);
     CHECK(std::accumulate(H.begin(), H.end(), 0.0) == doctest::Approx(kPi).epsilon(2e-3));  // the midpoint rule's error

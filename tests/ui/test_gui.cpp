@@ -35,9 +35,11 @@ TEST_CASE("hemirad-gui takes the back ends' flags from the registry and refuses 
     CHECK(readText(log).find("option '--resolution' does not apply to --method hemisphere") != std::string::npos);
     CHECK(run("--method cube") == 2);
     CHECK(readText(log).find("unknown --method 'cube' (hemisphere, hemicube)") != std::string::npos);
-    // The CLI's sky view factor map is not a GUI view yet: said, not shown as another quantity.
-    CHECK(run("--false-color sky_view_factor") == 2);
-    CHECK(readText(log).find("--false-color sky_view_factor is not in the GUI yet") != std::string::npos);
+    // Sky and sun's inputs are checked as they are read.
+    CHECK(run("--sun-sky --sun-direction 0,0,0") == 2);
+    CHECK(readText(log).find("--sun-direction expects x,y,z (not all 0), got '0,0,0'") != std::string::npos);
+    CHECK(run("--sun-sky --dni -5") == 2);
+    CHECK(readText(log).find("--dni expects a number in 0") != std::string::npos);
 }
 
 TEST_CASE("hemirad-gui sleeps while idle: a few frames, not one per refresh") {

@@ -1,0 +1,91 @@
+// hemirad-gui's hour of sun and sky, by the library (src/environment) as hemirad irradiance.
+#include "ui/sun_sky_job.hpp"
+
+#include "engine/error.hpp"
+#include "environment/reflected_sun.hpp"
+#include "environment/sky_coefficients.hpp"
+#include "environment/sky_view.hpp"
+#include "environment/solar_position.hpp"
+#include "environment/sunlit.hpp"
+#include "environment/weather.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+namespace hemirad::ui {
+
+Vec3 sceneUp(int upAxis) { return upAxis == 2 ? Vec3(0, 0, 1) : Vec3(0, 1, 0); }
+Vec3 sceneNorth(int upAxis) { return upAxis == 2 ? Vec3(0, 1, 0) : Vec3(0, 0, -1); }
+
+SunSkyJob::SunSkyJob(Scene scene, std::shared_ptr<const FormFactors> F, SunSkySetup setup, int upAxis, double metres,
+                     PipelineSettings settings)
+    : WorkerJob(std::move(scene), std::move(F), std::move(settings), "sun and sky"), m_setup(std::move(setup)), m_upAxis(upAxis),
+      m_metres(metres) {
+    start();
+}
+
+SunSkyJob::~SunSkyJob() { stop(); }
+
+void SunSkyJob::work() {
+    const Vec3 up = sceneUp(m_upAxis), north = sceneNorth(m_upAxis);
+    result.setup = m_setup;
+    std::ostringstream where;
+    where.precision(4);
+    int dayOfYearValue = 0;
+    if (m_setup.byTime) {
+        const SolarPosition p = solarPosition(m_setup.time, m_setup.latitude, m_setup.longitude);
+        if (!(p.elevation > 0.0)) where << "below the horizon: ";
+        result.toSun = sunDirection(p, up, north);
+        where << "elevation " << p.elevation << " deg, azimuth " << p.azimuth << " deg from north at " << m_setup.time;
+        int year = 0, month = 0, day = 0;
+        if (std::sscanf(m_setup.time.c_str(), "%d-%d-%d", &year, &month, &day) == 3) {
+            WeatherHour date;
+            date.month = month;
+            date.day = day;
+            dayOfYearValue = dayOfYear(date);
+        }
+    } else {
+        if (!m_setup.direction.allFinite() || m_setup.direction.norm() == 0.0)
+            throw Error("the direction to the sun must be a finite non-zero vector");
+        result.toSun = m_setup.direction.normalized();
+        where << "direction " << result.toSun.transpose() << " (given)";
+    }
+    result.where = where.str();
+    messages.push_back("sun: " + result.where);
+    std::shared_ptr<const FormFactors> F = completeRows(m_scene, m_F, true);
+    if (F != m_F) newF = F;
+    checkCancel();
+    IrradianceInputs in;
+    result.sunlit = timed("sunlit fractions", [&] { return sunlitFractions(m_scene, result.toSun); });
+    in.directSun = directIrradiance(m_scene, result.toSun, m_setup.dni, result.sunlit);
+    in.dhi = m_setup.dhi;
+    checkCancel();
+    if (m_setup.sky == "isotropic") {
+        result.skyView = timed("sky view factors", [&] { return skyViewFactors(m_scene, m_settings.formFactors).direct; });
+        in.skyView = result.skyView;
+    } else {
+        const SkyModel model = parseSkyModel(m_setup.sky);
+        const SkyCoefficients sky =
+            timed("daylight coefficients", [&] { return skyCoefficients(m_scene, m_setup.subdivision, 1, up, north); });
+        SkyConditions c;
+        c.toSun = sceneToSky(result.toSun, up, north);
+        c.dni = m_setup.dni;
+        c.dhi = m_setup.dhi;
+        c.dayOfYear = dayOfYearValue;
+        const std::vector<double> L = skyRadiance(sky.grid, sky.samples, model, c);
+        in.directSky = skyIrradiance(sky.direct, L);
+        if (sky.mirrored.size() > 0) in.reflectedSky = skyIrradiance(sky.mirrored, L);
+        messages.push_back("sky: " + model.name() + ", " + std::to_string(sky.grid.size()) + " cells");
+    }
+    checkCancel();
+    if (m_scene.hasMirrors()) in.reflectedSun = timed("reflected sun", [&] { return reflectedSun(m_scene, result.toSun, m_setup.dni).irradiance; });
+    SolverOptions solver = m_settings.solver;
+    solver.tolerance = std::min(solver.tolerance, 1e-10);  // the power balance is read to many digits
+    result.irradiance = timed("inter-reflection", [&] { return solarIrradiance(m_scene, *F, in, m_metres, solver); });
+    const IrradianceResult& r = result.irradiance;
+    messages.push_back("irradiance: " + jobFigure(r.incidentPower) + " W arrive (sun and sky), " + jobFigure(r.absorbedPower) +
+                       " W absorbed, " + jobFigure(r.escapedPower) + " W leave; balance " + jobFigure(r.balance, 3));
+    result.geometryHash = m_scene.geometryHash();
+}
+
+}  // namespace hemirad::ui
