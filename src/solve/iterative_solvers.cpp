@@ -37,20 +37,34 @@ struct Block {
     }
 };
 
+/// The channels a kernel handles: M when fixed (1..3, unrolled), else the block's (any number: a
+/// year's hours solved together read F once a sweep for all of them).
+template <int M>
+int widthOf(const Block& b) {
+    return M > 0 ? M : b.m;
+}
+
 template <int M>
 void jacobiSweep(const FormFactors& F, const Block& b, std::vector<double>& next) {
     const auto n = static_cast<std::ptrdiff_t>(F.size());
     const std::uint32_t* col = F.columns();
     const float* val = F.values();
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
-        double sum[M] = {};
-        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
-            const double v = val[k];
-            const double* x = &b.B[std::size_t(col[k]) * M];
-            for (int c = 0; c < M; ++c) sum[c] += v * x[c];
+    const int m = widthOf<M>(b);
+#pragma omp parallel
+    {
+        std::vector<double> dynamic(M > 0 ? 0 : std::size_t(m));
+        double fixed[M > 0 ? M : 1];
+        double* sum = M > 0 ? fixed : dynamic.data();
+#pragma omp for schedule(dynamic, 256)
+        for (std::ptrdiff_t i = 0; i < n; ++i) {
+            std::fill(sum, sum + m, 0.0);
+            for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
+                const double v = val[k];
+                const double* x = &b.B[std::size_t(col[k]) * m];
+                for (int c = 0; c < m; ++c) sum[c] += v * x[c];
+            }
+            for (int c = 0; c < m; ++c) next[i * m + c] = b.E[i * m + c] + b.rho[i * m + c] * sum[c];
         }
-        for (int c = 0; c < M; ++c) next[i * M + c] = b.E[i * M + c] + b.rho[i * M + c] * sum[c];
     }
 }
 
@@ -59,8 +73,12 @@ template <int M>
 void gaussSeidelSweep(const FormFactors& F, Block& b, double* change) {
     const std::uint32_t* col = F.columns();
     const float* val = F.values();
+    const int m = widthOf<M>(b);
+    std::vector<double> dynamic(M > 0 ? 0 : std::size_t(m));
+    double fixed[M > 0 ? M : 1];
+    double* sum = M > 0 ? fixed : dynamic.data();
     for (std::size_t i = 0; i < F.size(); ++i) {
-        double sum[M] = {};
+        std::fill(sum, sum + m, 0.0);
         double self = 0.0;
         for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
             const std::size_t j = col[k];
@@ -68,12 +86,12 @@ void gaussSeidelSweep(const FormFactors& F, Block& b, double* change) {
                 self = val[k];
                 continue;
             }
-            const double* x = &b.B[j * M];
+            const double* x = &b.B[j * m];
             const double v = val[k];
-            for (int c = 0; c < M; ++c) sum[c] += v * x[c];
+            for (int c = 0; c < m; ++c) sum[c] += v * x[c];
         }
-        for (int c = 0; c < M; ++c) {
-            const std::size_t at = i * M + c;
+        for (int c = 0; c < m; ++c) {
+            const std::size_t at = i * m + c;
             const double value = (b.E[at] + b.rho[at] * sum[c]) / (1.0 - b.rho[at] * self);
             change[c] += (value - b.B[at]) * (value - b.B[at]);
             b.B[at] = value;
@@ -132,14 +150,15 @@ void iterate(const FormFactors& F, std::vector<Channel*>& channels, const Solver
 template <int M>
 void jacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options, const SweepHook& hook) {
     Block b(channels);
+    const int m = widthOf<M>(b);
     std::vector<double> next(b.B.size());
     iterate(F, channels, options, hook, b, [&] {
         jacobiSweep<M>(F, b, next);
         double worst = 0.0;  // ||B' - B|| / ||E|| is exactly the residual of B
-        for (int c = 0; c < M; ++c) {
+        for (int c = 0; c < m; ++c) {
             double step = 0.0;
-            for (std::size_t i = c; i < next.size(); i += M) step += (next[i] - b.B[i]) * (next[i] - b.B[i]);
-            worst = std::max(worst, std::sqrt(step) / b.normE[c]);
+            for (std::size_t i = std::size_t(c); i < next.size(); i += std::size_t(m)) step += (next[i] - b.B[i]) * (next[i] - b.B[i]);
+            worst = std::max(worst, std::sqrt(step) / b.normE[std::size_t(c)]);
         }
         b.B.swap(next);
         return worst;
@@ -152,11 +171,13 @@ template <int M>
 void gaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options,
                  const SweepHook& hook) {
     Block b(channels);
+    const int m = widthOf<M>(b);
+    std::vector<double> change(static_cast<std::size_t>(m));
     iterate(F, channels, options, hook, b, [&] {
-        double change[M] = {};
-        gaussSeidelSweep<M>(F, b, change);
+        std::fill(change.begin(), change.end(), 0.0);
+        gaussSeidelSweep<M>(F, b, change.data());
         double worst = 0.0;
-        for (int c = 0; c < M; ++c) worst = std::max(worst, std::sqrt(change[c]) / b.normE[c]);
+        for (int c = 0; c < m; ++c) worst = std::max(worst, std::sqrt(change[std::size_t(c)]) / b.normE[std::size_t(c)]);
         return worst;
     });
 }
@@ -166,7 +187,8 @@ void solveJacobi(const FormFactors& F, std::vector<Channel*>& channels, const So
     switch (channels.size()) {
     case 1: jacobi<1>(F, channels, options, afterSweep); break;
     case 2: jacobi<2>(F, channels, options, afterSweep); break;
-    default: jacobi<3>(F, channels, options, afterSweep); break;
+    case 3: jacobi<3>(F, channels, options, afterSweep); break;
+    default: jacobi<0>(F, channels, options, afterSweep); break;  // any number of channels
     }
 }
 
@@ -175,7 +197,8 @@ void solveGaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, con
     switch (channels.size()) {
     case 1: gaussSeidel<1>(F, channels, options, afterSweep); break;
     case 2: gaussSeidel<2>(F, channels, options, afterSweep); break;
-    default: gaussSeidel<3>(F, channels, options, afterSweep); break;
+    case 3: gaussSeidel<3>(F, channels, options, afterSweep); break;
+    default: gaussSeidel<0>(F, channels, options, afterSweep); break;  // any number of channels
     }
 }
 
