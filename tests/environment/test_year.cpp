@@ -149,6 +149,31 @@ TEST_CASE("A year's hours solved in batches equal each hour solved alone, and th
     CHECK(year.directSun[6] < 0.2 * year.directSun[0]);
 }
 
+TEST_CASE("A year's batches solved by the iterative solvers (many hours in one pass over F) equal each hour solved alone") {
+    // The solver above 2,000 patches: Gauss-Seidel (or Jacobi) over a batch of hours at once.
+    const Prepared prepared;
+    SolverOptions lu;
+    lu.solver = "lu";
+    for (const std::string kind : {"gauss-seidel", "jacobi"}) {
+        CAPTURE(kind);
+        SolverOptions iterative;
+        iterative.solver = kind;
+        iterative.tolerance = 1e-13;
+        YearOptions options;
+        options.batch = 24;
+        const YearResult year = solveYear(prepared.s, prepared.F, prepared.sky, prepared.w, options, iterative);
+        REQUIRE(year.hours.size() > 20);
+        double worst = 0.0;
+        for (std::size_t k = 0; k < year.hours.size(); ++k) {
+            const IrradianceResult alone = hourAlone(prepared.s, prepared.F, prepared.sky, prepared.w, prepared.w.hours[year.hours[k]], options, lu).result;
+            for (PatchId i = 0; i < prepared.s.size(); ++i)
+                worst = std::max(worst, std::abs(year.total[k * prepared.s.size() + i] - alone.total[i]) / std::max(1.0, alone.total[i]));
+        }
+        MESSAGE(kind << ": largest difference from the hours alone (LU) " << worst);
+        CHECK(worst <= 1e-9);
+    }
+}
+
 TEST_CASE("A year with a mirror: each hour with the sun it reflects equals the hour alone, and every hour balances") {
     Scene s = smallDistrict();
     s.patches[6].specular = 0.6;  // the tall wall along y = -4, facing north: the morning and evening sun
