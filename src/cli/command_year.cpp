@@ -70,6 +70,8 @@ int runYear(const Options& options) {
     if (year.skyClampedHours > 0)
         line << "; Perez's clearness or brightness kept within the model's fitted ranges in " << year.skyClampedHours
              << " hour(s) (the sun low, where the air mass explodes)";
+    if (year.skyUniformHours > 0)
+        line << "; " << year.skyUniformHours << " hour(s) where Perez's sky was dark everywhere even so took a uniform sky";
     reporter.line(line.str());
 
     timings.start("write results");

@@ -50,7 +50,9 @@ void modelSkyHour(const SkyCoefficients& sky, const Options& options, const Vec3
              << (c.dayOfYear > 0 ? "" : " (mean Sun-Earth distance: no date with --sun-direction)");
         reporter.line(line.str());
     }
-    const std::vector<double> L = skyRadiance(sky.grid, sky.samples, model, c);
+    bool uniform = false;
+    const std::vector<double> L = skyRadiance(sky.grid, sky.samples, model, c, &uniform);
+    if (uniform) reporter.line("sky: Perez's sky is dark everywhere for this hour, even within its fitted ranges: the DHI comes from a uniform sky");
     in.directSky = skyIrradiance(sky.direct, L);
     if (sky.mirrored.size() > 0) in.reflectedSky = skyIrradiance(sky.mirrored, L);
 }

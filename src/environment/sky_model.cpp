@@ -147,6 +147,12 @@ PerezParameters perezParameters(const SkyConditions& c) {
     p.epsilon = std::min(p.epsilon, 12.01);
     p.bin = 0;
     while (p.bin < 7 && p.epsilon >= kPerezBins[p.bin + 1]) ++p.bin;
+    // Bins 2-4 with a dark sky (low sun, thin diffuse light) give a gradation a < -1 with b near 0:
+    // negative everywhere. Radiance's gendaymtx keeps Delta at 0.2 or more there; so do we.
+    if (p.epsilon > 1.065 && p.epsilon < 2.8 && p.delta < 0.2) {
+        p.delta = 0.2;
+        p.clamped = true;
+    }
     const double* x = kPerez[p.bin];
     const auto linear = [&](int k) { return x[4 * k] + x[4 * k + 1] * Z + p.delta * (x[4 * k + 2] + x[4 * k + 3] * Z); };
     p.a = linear(0);
@@ -194,7 +200,8 @@ std::vector<double> horizontalWeights(const SkyGrid& grid, int samples) {
     return H;
 }
 
-std::vector<double> skyRadiance(const SkyGrid& grid, int samples, const SkyModel& model, const SkyConditions& c) {
+std::vector<double> skyRadiance(const SkyGrid& grid, int samples, const SkyModel& model, const SkyConditions& c, bool* uniformFallback) {
+    if (uniformFallback) *uniformFallback = false;
     if (!(std::isfinite(c.dhi) && c.dhi >= 0.0) || !(std::isfinite(c.dni) && c.dni >= 0.0))
         throw Error("sky: the direct-normal and diffuse-horizontal irradiance must be finite and >= 0");
     if (!c.toSun.allFinite() || c.toSun.norm() == 0.0) throw Error("sky: the sun's direction must be finite and not zero");
@@ -212,7 +219,14 @@ std::vector<double> skyRadiance(const SkyGrid& grid, int samples, const SkyModel
         L[k] = sum / double(parts.size());
     }
     const std::vector<double> H = horizontalWeights(grid, samples);
-    const double horizontal = std::inner_product(L.begin(), L.end(), H.begin(), 0.0);
+    double horizontal = std::inner_product(L.begin(), L.end(), H.begin(), 0.0);
+    if (!(horizontal > 0.0) && model.kind == SkyModel::Kind::Perez) {
+        // The fitted model can still be dark everywhere at the edges of its range: the DHI then comes
+        // from a uniform sky, and the caller is told.
+        std::fill(L.begin(), L.end(), 1.0);
+        horizontal = std::accumulate(H.begin(), H.end(), 0.0);
+        if (uniformFallback) *uniformFallback = true;
+    }
     if (!(horizontal > 0.0)) throw Error("sky: the " + model.name() + " sky gives no light on a horizontal plane for this hour");
     for (double& v : L) v *= c.dhi / horizontal;
     return L;

@@ -69,7 +69,8 @@ struct SkyConditions {
 /// the first bin's c and d by eqns 7-8). Sun zenith clamped to 90 degrees; air mass Kasten (1966);
 /// epsilon kept at 12.01 or less and Delta within 0.01..0.6, the ranges the model was fitted over
 /// (as Radiance's gendaylit does: twilight hours with diffuse light would otherwise get a sky of
-/// negative luminance everywhere).
+/// negative luminance everywhere), and Delta at 0.2 or more for 1.065 < epsilon < 2.8 (as
+/// Radiance's gendaymtx: a low sun's thin diffuse light there gives a gradation below 0 everywhere).
 struct PerezParameters {
     double epsilon = 1.0, delta = 0.0;
     bool clamped = false;  ///< epsilon or Delta was outside those ranges
@@ -85,9 +86,12 @@ double relativeRadiance(const SkyModel& model, const PerezParameters& perez, con
 /// Each cell's radiance, W/(m^2 sr): the model's mean over the cell's `samples` x `samples` parts,
 /// scaled so that sum_k L_k H_k = DHI, H_k = sum over the cell's parts of (solid angle x sin(altitude)),
 /// the cell's irradiance on an unobstructed horizontal plane per unit radiance. All zeros when the
-/// DHI is 0. Throws hemirad::Error for a DHI or DNI that is negative or not finite, or a sun direction
+/// DHI is 0. Where Perez's sky is dark everywhere (it can be at the edges of its fitted range, after
+/// the clamps of perezParameters) the DHI comes from a uniform sky and `uniformFallback` (when given)
+/// is set. Throws hemirad::Error for a DHI or DNI that is negative or not finite, or a sun direction
 /// that is zero or not finite.
-std::vector<double> skyRadiance(const SkyGrid& grid, int samples, const SkyModel& model, const SkyConditions& conditions);
+std::vector<double> skyRadiance(const SkyGrid& grid, int samples, const SkyModel& model, const SkyConditions& conditions,
+                                bool* uniformFallback = nullptr);
 
 /// H_k of skyRadiance: per cell, sr.
 std::vector<double> horizontalWeights(const SkyGrid& grid, int samples);

@@ -97,7 +97,9 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                 if (options.skyModel.kind == SkyModel::Kind::Perez && perezParameters(c).clamped) ++out.skyClampedHours;
                 std::vector<double> L;
                 try {
-                    L = skyRadiance(model->grid, model->samples, options.skyModel, c);
+                    bool uniform = false;
+                    L = skyRadiance(model->grid, model->samples, options.skyModel, c, &uniform);
+                    out.skyUniformHours += uniform;
                 } catch (const Error& e) {
                     throw Error(std::string(e.what()) + " (the weather's line " + std::to_string(hour.line) + ": DNI " +
                                 std::to_string(hour.dni) + ", DHI " + std::to_string(hour.dhi) + ")");

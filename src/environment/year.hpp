@@ -40,6 +40,7 @@ struct YearResult {
     std::vector<double> reflectedSky;     ///< per patch over the year, Wh/m^2: a sky model's sky seen through mirrors (in sum)
     double worstBalance = 0.0;            ///< the largest hourly |incident - absorbed - escaped| / incident
     std::size_t skyClampedHours = 0;      ///< Perez's sky: hours whose clearness or brightness was kept in the model's range
+    std::size_t skyUniformHours = 0;      ///< Perez's sky: hours dark everywhere even so, given a uniform sky (skyRadiance)
     double incidentWh = 0.0, absorbedWh = 0.0;  ///< over the year (W h; scene units^2 x W/m^2 h without a unit)
     /// With sensors: per solved hour, per sensor (hours x sensors), W/m^2, and per sensor over the
     /// year, Wh/m^2: direct sun, direct sky, reflected and total.

@@ -141,6 +141,7 @@ void AppState::setScene(Scene scene, const std::string& path) {
     m_thermalLoadError.clear();
     m_thermalResult.reset();
     ++m_thermalRevision;
+    m_sunSkyResult.reset();  // another scene's sun and sky (the inputs stay: a place and an hour)
     bump();
 }
 

@@ -89,6 +89,10 @@ void AppState::pollSunSky() {
         m_fGeometryHash = job->scene().geometryHash();
         m_fStale = false;
     }
+    if (job->scene().size() != m_scene->size() || job->scene().geometryHash() != m_scene->geometryHash()) {
+        info("sky and sun: the scene changed while it ran; its result is dropped (Run sky and sun again)");
+        return;
+    }
     m_sunSkyResult = std::move(job->result);
     m_sunSkyResult->materialsRevision = m_sunSkyJobMaterials;
     m_timings = job->timings;

@@ -72,7 +72,9 @@ void SunSkyJob::work() {
         c.dni = m_setup.dni;
         c.dhi = m_setup.dhi;
         c.dayOfYear = dayOfYearValue;
-        const std::vector<double> L = skyRadiance(sky.grid, sky.samples, model, c);
+        bool uniform = false;
+        const std::vector<double> L = skyRadiance(sky.grid, sky.samples, model, c, &uniform);
+        if (uniform) messages.push_back("sky: Perez's sky is dark everywhere for this hour: the DHI comes from a uniform sky");
         in.directSky = skyIrradiance(sky.direct, L);
         if (sky.mirrored.size() > 0) in.reflectedSky = skyIrradiance(sky.mirrored, L);
         messages.push_back("sky: " + model.name() + ", " + std::to_string(sky.grid.size()) + " cells");

@@ -136,6 +136,24 @@ TEST_CASE("Perez's sky: clearness and brightness from DNI and DHI, the overcast 
     L = skyRadiance(g, 2, parseSkyModel("perez"), c);
     CHECK(std::inner_product(L.begin(), L.end(), horizontalWeights(g, 2).begin(), 0.0) == doctest::Approx(50.0).epsilon(1e-13));
     CHECK(*std::min_element(L.begin(), L.end()) > 0.0);
+    // A low sun (7 degrees) with a thin beam and diffuse light (DNI 101, DHI 21): epsilon 2.15 and
+    // Delta 0.12 give a gradation a = -1.01 with b = 0.001, below 0 everywhere; gendaymtx's Delta >= 0.2
+    // in 1.065 < epsilon < 2.8 keeps the sky bright, brightest toward the sun.
+    const double low = 7 * kPi / 180;
+    c.toSun = Vec3(std::cos(low), 0, std::sin(low));
+    c.dni = 101;
+    c.dhi = 21;
+    p = perezParameters(c);
+    CHECK(p.bin == 4);
+    CHECK(p.clamped);
+    CHECK(p.delta == 0.2);
+    bool uniform = true;
+    L = skyRadiance(g, 2, parseSkyModel("perez"), c, &uniform);
+    CHECK_FALSE(uniform);
+    CHECK(*std::min_element(L.begin(), L.end()) > 0.0);
+    brightest = std::size_t(std::max_element(L.begin(), L.end()) - L.begin());
+    CHECK(skyDirection((g.cells[brightest].altitudeLow + g.cells[brightest].altitudeHigh) / 2,
+                       (g.cells[brightest].azimuthLow + g.cells[brightest].azimuthHigh) / 2).x() > 0.5);  // toward the sun (east)
 }
 
 TEST_CASE("The CIE overcast sky on an unobstructed vertical plane gives (pi/6 + 4/9) / (7 pi/9) of the DHI") {
