@@ -157,11 +157,11 @@ const std::map<std::string, Flag>& flags() {
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.memoryCheck = false; }}},
         {"--normalize-rows",
          {kComputing, false, [](Options& o, const std::string&, const std::string&) { o.normalizeRows = true; }}},
-        {"--ff", {{"solve", "render", "thermal"}, true, [](Options& o, const std::string&, const std::string& v) { o.ffPath = v; }}},
+        {"--ff", {{"solve", "render", "thermal", "irradiance", "year"}, true, [](Options& o, const std::string&, const std::string& v) { o.ffPath = v; }}},
         {"--shards", {{"formfactors", "solve", "render", "thermal"}, false,
                       [](Options& o, const std::string&, const std::string&) { o.shards = true; }}},
-        {"--recompute-ff", {{"solve", "render", "thermal"}, false, [](Options& o, const std::string&, const std::string&) { o.recomputeFf = true; }}},
-        {"--reuse-ff-anyway", {{"solve", "render", "thermal"}, false, [](Options& o, const std::string&, const std::string&) { o.reuseFfAnyway = true; }}},
+        {"--recompute-ff", {{"solve", "render", "thermal", "irradiance", "year"}, false, [](Options& o, const std::string&, const std::string&) { o.recomputeFf = true; }}},
+        {"--reuse-ff-anyway", {{"solve", "render", "thermal", "irradiance", "year"}, false, [](Options& o, const std::string&, const std::string&) { o.reuseFfAnyway = true; }}},
         {"--solver", {kSolving, true,
                       [](Options& o, const std::string& f, const std::string& v) {
                           try {
@@ -759,12 +759,13 @@ form factors (formfactors, solve, render):
                          rebalance: reciprocal, rows keep their sums
   --normalize-rows       rescale every row to sum 1 (closed scenes without mirrors; after reciprocity)
   --no-memory-check      compute F even when its estimated size exceeds the available memory
-  --ff FILE              (solve, render) reuse F from FILE when its scene hash and form-factor
-                         settings match (a file made with other settings is refused, naming them);
-                         create FILE when it does not exist (stored post-processed; a reuse applies
-                         only the post-processing the file does not record)
-  --recompute-ff         (solve, render) recompute F and overwrite FILE
-  --reuse-ff-anyway      (solve, render) reuse FILE although it was made with other settings
+  --ff FILE              (solve, render, thermal, irradiance, year) reuse F from FILE when its scene
+                         hash and form-factor settings match (a file made with other settings is
+                         refused, naming them); create FILE when it does not exist (stored
+                         post-processed; a reuse applies only the post-processing the file does not
+                         record)
+  --recompute-ff         (the same commands) recompute F and overwrite FILE
+  --reuse-ff-anyway      (the same commands) reuse FILE although it was made with other settings
                          (--method, its options, --max-depth): the difference is warned
   --shards               store F as shard files (one per MPI rank, one in one process), each
                          written by its rank alone, plus a small manifest at the F path that
