@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace hemirad {
 
@@ -23,6 +24,10 @@ double polygonArea2d(const std::vector<Vec2>& p) {
 }
 
 namespace {
+
+/// Pieces of one patch's lit part beyond which the exact subtraction gives up with an error (a bound
+/// on memory: each piece is a few corners).
+constexpr std::size_t kMaxPieces = 200000;
 
 double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
@@ -51,7 +56,7 @@ void splitByLine(const std::vector<Vec2>& poly, const Vec2& a, const Vec2& b, st
 
 }  // namespace
 
-std::vector<std::vector<Vec2>> subtractConvex(const std::vector<std::vector<Vec2>>& pieces, std::vector<Vec2> shadow) {
+std::vector<std::vector<Vec2>> subtractConvex(const std::vector<std::vector<Vec2>>& pieces, std::vector<Vec2> shadow, double minArea) {
     // Counter-clockwise shadow: its interior is left of every edge.
     double signedArea = 0.0;
     for (std::size_t k = 0; k < shadow.size(); ++k) signedArea += cross2(shadow[k], shadow[(k + 1) % shadow.size()]);
@@ -63,7 +68,7 @@ std::vector<std::vector<Vec2>> subtractConvex(const std::vector<std::vector<Vec2
         std::vector<Vec2> rest = piece;
         for (std::size_t k = 0; k < shadow.size() && !rest.empty(); ++k) {
             splitByLine(rest, shadow[k], shadow[(k + 1) % shadow.size()], inside, outside);
-            if (!outside.empty()) out.push_back(outside);
+            if (!outside.empty() && (minArea == 0.0 || polygonArea2d(outside) > minArea)) out.push_back(outside);
             rest = inside;
         }
         // What is left of `rest` lies inside the shadow: dropped.
@@ -106,19 +111,26 @@ std::vector<double> sunlitFractions(const Scene& scene, const Vec3& toSunGiven) 
     const std::vector<std::vector<PatchId>> candidates = beamCandidates(scene, d);
 
     std::vector<double> fraction(n, 0.0);
+    std::string failure;  // an error inside the parallel loop, thrown after it
 #pragma omp parallel for schedule(dynamic, 64)
     for (std::int64_t ii = 0; ii < std::int64_t(n); ++ii) {
         const PatchId i = PatchId(ii);
         const Patch& p = scene.patches[i];
         if (!(p.normal.dot(d) > 0.0)) continue;
-        Vec3 u, v;
-        orthonormalBasis(p.normal, u, v);
-        const double whole = polygonArea2d(planeCoordinates(scene.polygon(i), scene.corner(p, 0), u, v));
-        if (!(whole > 0.0)) continue;
-        double clear = 0.0;
-        for (const std::vector<Vec2>& piece : sunlitPieces(scene, i, d, candidates[i], u, v, tolerance)) clear += polygonArea2d(piece);
-        fraction[i] = std::clamp(clear / whole, 0.0, 1.0);
+        try {
+            Vec3 u, v;
+            orthonormalBasis(p.normal, u, v);
+            const double whole = polygonArea2d(planeCoordinates(scene.polygon(i), scene.corner(p, 0), u, v));
+            if (!(whole > 0.0)) continue;
+            double clear = 0.0;
+            for (const std::vector<Vec2>& piece : sunlitPieces(scene, i, d, candidates[i], u, v, tolerance)) clear += polygonArea2d(piece);
+            fraction[i] = std::clamp(clear / whole, 0.0, 1.0);
+        } catch (const std::exception& e) {
+#pragma omp critical(hemirad_sunlit_failure)
+            if (failure.empty()) failure = e.what();
+        }
     }
+    if (!failure.empty()) throw Error(failure);
     return fraction;
 }
 
@@ -136,6 +148,11 @@ std::vector<std::vector<Vec2>> shadowedPieces(const Scene& scene, std::vector<st
     const double facing = normal.dot(toSource);
     std::vector<Vec3> cut, next;
     std::vector<Vec2> shadow;
+    // Slivers of rounding size are dropped as they appear: shadows whose edges run along the pieces'
+    // (a grid-aligned district under a sun along the grid) would otherwise multiply them without end.
+    double area = 0.0;
+    for (const std::vector<Vec2>& piece : pieces) area += polygonArea2d(piece);
+    const double sliver = 1e-13 * area;
     for (const PatchId j : blockers) {
         if (pieces.empty()) break;
         if (j == self) continue;
@@ -157,7 +174,10 @@ std::vector<std::vector<Vec2>> shadowedPieces(const Scene& scene, std::vector<st
             const Vec3 x = c - toSource * (normal.dot(c - origin) / facing) - origin;
             shadow.emplace_back(x.dot(u), x.dot(v));
         }
-        pieces = subtractConvex(pieces, shadow);
+        pieces = subtractConvex(pieces, shadow, sliver);
+        if (pieces.size() > kMaxPieces)
+            throw Error("sun: patch " + std::to_string(self) + "'s lit part splits into more than " + std::to_string(kMaxPieces) +
+                        " pieces under the shadows of " + std::to_string(blockers.size()) + " candidate patches");
     }
     return pieces;
 }

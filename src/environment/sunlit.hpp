@@ -55,7 +55,9 @@ std::vector<std::vector<Vec2>> sunlitPieces(const Scene& scene, PatchId i, const
 /// The area of the convex polygon p (2D, counter-clockwise or not: the absolute area).
 double polygonArea2d(const std::vector<Vec2>& p);
 
-/// The parts of the convex pieces outside the convex polygon `shadow` (2D), as convex pieces.
-std::vector<std::vector<Vec2>> subtractConvex(const std::vector<std::vector<Vec2>>& pieces, std::vector<Vec2> shadow);
+/// The parts of the convex pieces outside the convex polygon `shadow` (2D), as convex pieces; a part
+/// of area `minArea` or less is dropped (0: only those of no area).
+std::vector<std::vector<Vec2>> subtractConvex(const std::vector<std::vector<Vec2>>& pieces, std::vector<Vec2> shadow,
+                                              double minArea = 0.0);
 
 }  // namespace hemirad
