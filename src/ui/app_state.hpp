@@ -141,6 +141,7 @@ struct JobStatus {
 int jobWorkers(int requested);
 class ThermalJob;
 class SunSkyJob;
+class WorkerJob;
 
 class AppState {
 public:
@@ -400,6 +401,9 @@ private:
     std::unique_ptr<Job> m_job;
     std::optional<int> m_framesSinceCancel;  ///< poll() calls since cancel(), while the job stops
     void pollThermal();
+    /// A finished thermal or sky-and-sun job: joins it, logs its messages, and adopts its F (every
+    /// row) when made for the current geometry. False (logged) when it failed or was cancelled.
+    bool finishWorkerJob(WorkerJob& job, const std::string& what);
     /// A job (radiosity or thermal) is running.
     bool busy() const;
     ThermalSetup m_thermal;

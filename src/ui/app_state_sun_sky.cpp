@@ -75,20 +75,7 @@ void AppState::runSunSky() {
 
 void AppState::pollSunSky() {
     std::unique_ptr<SunSkyJob> job = std::move(m_sunSkyJob);
-    job->wait();
-    for (const std::string& m : job->messages) info(m);
-    if (!job->error.empty()) {
-        if (job->error.find("cancelled") != std::string::npos) info("cancelled");
-        else error("sky and sun: " + job->error);
-        return;
-    }
-    if (job->newF && job->scene().geometryHash() == m_scene->geometryHash() && job->scene().size() == m_scene->size()) {
-        m_F = job->newF;  // every row: it serves the radiosity solves too
-        m_fSettings = job->settings().formFactors;
-        if (job->stats) m_stats = job->stats;
-        m_fGeometryHash = job->scene().geometryHash();
-        m_fStale = false;
-    }
+    if (!finishWorkerJob(*job, "sky and sun")) return;
     if (job->scene().size() != m_scene->size() || job->scene().geometryHash() != m_scene->geometryHash()) {
         info("sky and sun: the scene changed while it ran; its result is dropped (Run sky and sun again)");
         return;

@@ -171,23 +171,28 @@ void AppState::runThermal() {
     m_thermalJobRevisions = {m_materialsRevision, m_thermalSetupRevision};
 }
 
-void AppState::pollThermal() {
-    std::unique_ptr<ThermalJob> job = std::move(m_thermalJob);
-    job->wait();
-    for (const std::string& m : job->messages) info(m);
-    if (!job->error.empty()) {
-        if (job->error.find("cancelled") != std::string::npos) info("cancelled");
-        else error("thermal: " + job->error);
-        return;
+bool AppState::finishWorkerJob(WorkerJob& job, const std::string& what) {
+    job.wait();
+    for (const std::string& m : job.messages) info(m);
+    if (!job.error.empty()) {
+        if (job.error.find("cancelled") != std::string::npos) info("cancelled");
+        else error(what + ": " + job.error);
+        return false;
     }
-    if (job->newF && job->scene().geometryHash() == m_scene->geometryHash() && job->scene().size() == m_scene->size()) {
+    if (job.newF && job.scene().geometryHash() == m_scene->geometryHash() && job.scene().size() == m_scene->size()) {
         // F with every row serves the radiosity solves too.
-        m_F = job->newF;
-        m_fSettings = job->settings().formFactors;
-        if (job->stats) m_stats = job->stats;
-        m_fGeometryHash = job->scene().geometryHash();
+        m_F = job.newF;
+        m_fSettings = job.settings().formFactors;
+        if (job.stats) m_stats = job.stats;
+        m_fGeometryHash = job.scene().geometryHash();
         m_fStale = false;
     }
+    return true;
+}
+
+void AppState::pollThermal() {
+    std::unique_ptr<ThermalJob> job = std::move(m_thermalJob);
+    if (!finishWorkerJob(*job, "thermal")) return;
     m_thermalResult = std::move(job->result);
     m_thermalResult->materialsRevision = m_thermalJobRevisions.first;
     m_thermalResult->setupRevision = m_thermalJobRevisions.second;
