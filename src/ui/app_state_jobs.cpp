@@ -8,6 +8,7 @@
 #include "pipeline/radiosity_pipeline.hpp"
 #include "preprocess/form_factor_job.hpp"
 #include "ui/sun_sky_job.hpp"
+#include "ui/worker_job.hpp"
 #include "ui/thermal_job.hpp"
 
 #include <algorithm>
@@ -65,16 +66,8 @@ struct AppState::Job {
         policy.backend = settings.formFactors;
         policy.backend.common.threads = workers;  // not part of F's settings: a reuse ignores it
         policy.statistics = true;  // the pipeline panel shows them
-        PipelineEvents events;
-        events.cancel = &cancel;
-        events.timing = [this](const std::string& stage, double seconds) { timings.emplace_back(stage, seconds); };
-        events.message = [this](const std::string& text) { messages.push_back(text); };
-        events.progress = [this](const std::string& label, double, const std::string&) -> ProgressCallback {
-            setStage(label, 0.0);
-            return [this, label](std::size_t done, std::size_t total, double) {
-                setStage(label, total ? double(done) / double(total) : 1.0);
-            };
-        };
+        PipelineEvents events =
+            workerEvents(&cancel, timings, messages, [this](const std::string& stage, double progress) { setStage(stage, progress); });
         events.formFactorsComputed = [this](const FormFactorRun& run, const Scene& s, const MethodSettings& method) {
             const RunDescription description = findBackend(method.method).describe(s, method);
             std::ostringstream msg;

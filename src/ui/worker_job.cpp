@@ -16,6 +16,21 @@ std::string jobFigure(double v, int digits) {
     return s.str();
 }
 
+PipelineEvents workerEvents(std::atomic<bool>* cancel, std::vector<std::pair<std::string, double>>& timings,
+                            std::vector<std::string>& messages, std::function<void(const std::string&, double)> setStage) {
+    PipelineEvents events;
+    events.cancel = cancel;
+    events.timing = [&timings](const std::string& stage, double seconds) { timings.emplace_back(stage, seconds); };
+    events.message = [&messages](const std::string& text) { messages.push_back(text); };
+    events.progress = [setStage](const std::string& label, double, const std::string&) -> ProgressCallback {
+        setStage(label, 0.0);
+        return [setStage, label](std::size_t done, std::size_t total, double) {
+            setStage(label, total ? double(done) / double(total) : 1.0);
+        };
+    };
+    return events;
+}
+
 WorkerJob::WorkerJob(Scene scene, std::shared_ptr<const FormFactors> F, PipelineSettings settings, std::string purpose)
     : m_scene(std::move(scene)), m_F(std::move(F)), m_settings(std::move(settings)), m_purpose(std::move(purpose)) {
     m_status.running = true;
@@ -60,16 +75,8 @@ std::shared_ptr<const FormFactors> WorkerJob::completeRows(const Scene& scene, s
     policy.allRows = true;  // every patch's irradiance and escape are needed (as the command line's --all-rows)
     policy.statistics = keepStats;
     if (current && RadiosityPipeline(policy, {}).missingRows(scene, current.get()).empty()) return current;
-    PipelineEvents events;
-    events.cancel = &m_cancel;
-    events.timing = [this](const std::string& stage, double seconds) { timings.emplace_back(stage, seconds); };
-    events.message = [this](const std::string& text) { messages.push_back(text); };
-    events.progress = [this](const std::string& label, double, const std::string&) -> ProgressCallback {
-        setStage(label, 0.0);
-        return [this, label](std::size_t done, std::size_t total, double) {
-            setStage(label, total ? double(done) / double(total) : 1.0);
-        };
-    };
+    PipelineEvents events =
+        workerEvents(&m_cancel, timings, messages, [this](const std::string& stage, double progress) { setStage(stage, progress); });
     events.formFactorsComputed = [this](const FormFactorRun& run, const Scene&, const MethodSettings& method) {
         messages.push_back("form factors: " + method.method + ", " + std::to_string(run.rowsComputed) + " rows (every row, for " +
                            m_purpose + ") in " + jobFigure(run.computeSeconds, 3) + " s");

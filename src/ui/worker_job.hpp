@@ -3,9 +3,11 @@
 // missing rows computed first) for the jobs that need every patch's irradiance (thermal, sun and sky).
 #pragma once
 
+#include "pipeline/radiosity_pipeline.hpp"
 #include "ui/app_state.hpp"
 
 #include <atomic>
+#include <functional>
 #include <chrono>
 #include <memory>
 #include <mutex>
@@ -76,6 +78,12 @@ private:
     std::chrono::steady_clock::time_point m_start = std::chrono::steady_clock::now();
     std::thread m_thread;
 };
+
+/// The pipeline's events as a worker reports them: `cancel` polled, stages timed into `timings`,
+/// messages appended to `messages`, each progress step given to `setStage` (stage, 0..1). The
+/// callbacks keep references: the vectors must outlive the pipeline.
+PipelineEvents workerEvents(std::atomic<bool>* cancel, std::vector<std::pair<std::string, double>>& timings,
+                            std::vector<std::string>& messages, std::function<void(const std::string&, double)> setStage);
 
 /// A number for the job's messages, to `digits` significant digits.
 std::string jobFigure(double v, int digits = 6);
