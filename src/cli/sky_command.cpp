@@ -4,7 +4,6 @@
 #include "environment/sky_model.hpp"
 #include "environment/weather.hpp"
 
-#include <cstdio>
 #include <sstream>
 
 namespace hemirad {
@@ -33,28 +32,22 @@ void modelSkyHour(const SkyCoefficients& sky, const Options& options, const Vec3
     c.toSun = sceneToSky(toSun, upFromOptions(options), northFromOptions(options));
     c.dni = options.dni ? *options.dni : 0.0;
     c.dhi = options.dhi;
-    int year = 0, month = 0, day = 0;
-    if (!options.sunTime.empty() && std::sscanf(options.sunTime.c_str(), "%d-%d-%d", &year, &month, &day) == 3) {
-        WeatherHour date;
-        date.month = month;
-        date.day = day;
-        c.dayOfYear = dayOfYear(date);
-    }
+    c.dayOfYear = dayOfYear(options.sunTime);
     const SkyModel model = parseSkyModel(options.skyModel);
     if (model.kind == SkyModel::Kind::Perez && c.dhi > 0.0) {
         const PerezParameters p = perezParameters(c);
         std::ostringstream line;
         line.precision(4);
         line << "sky: Perez clearness " << p.epsilon << " (bin " << p.bin + 1 << " of 8), brightness " << p.delta
-             << (p.clamped ? " (kept within the ranges the model was fitted over: clearness <= 12.01, brightness 0.01..0.6)" : "")
+             << (p.clamped ? " (kept within the ranges the model was fitted over)" : "")
              << (c.dayOfYear > 0 ? "" : " (mean Sun-Earth distance: no date with --sun-direction)");
         reporter.line(line.str());
     }
-    bool uniform = false;
-    const std::vector<double> L = skyRadiance(sky.grid, sky.samples, model, c, &uniform);
-    if (uniform) reporter.line("sky: Perez's sky is dark everywhere for this hour, even within its fitted ranges: the DHI comes from a uniform sky");
-    in.directSky = skyIrradiance(sky.direct, L);
-    if (sky.mirrored.size() > 0) in.reflectedSky = skyIrradiance(sky.mirrored, L);
+    SkyHour hour = skyHour(sky, model, c);
+    if (hour.uniformFallback)
+        reporter.line("sky: Perez's sky is dark everywhere for this hour, even within its fitted ranges: the DHI comes from a uniform sky");
+    in.directSky = std::move(hour.direct);
+    in.reflectedSky = std::move(hour.mirrored);
 }
 
 }  // namespace hemirad

@@ -43,4 +43,12 @@ std::vector<double> skyIrradiance(const Eigen::MatrixXd& coefficients, const std
     return std::vector<double>(E.data(), E.data() + E.size());
 }
 
+SkyHour skyHour(const SkyCoefficients& c, const SkyModel& model, const SkyConditions& conditions) {
+    SkyHour hour;
+    const std::vector<double> L = skyRadiance(c.grid, c.samples, model, conditions, &hour.uniformFallback);
+    hour.direct = skyIrradiance(c.direct, L);
+    if (c.mirrored.size() > 0) hour.mirrored = skyIrradiance(c.mirrored, L);
+    return hour;
+}
+
 }  // namespace hemirad

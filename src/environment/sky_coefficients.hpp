@@ -34,4 +34,12 @@ SkyCoefficients skyCoefficients(const Scene& scene, int subdivision, int samples
 /// Per patch, W/m^2: the coefficients (direct or mirrored) times the cells' radiance (skyRadiance).
 std::vector<double> skyIrradiance(const Eigen::MatrixXd& coefficients, const std::vector<double>& radiance);
 
+/// One hour of a sky model on the patches: the direct sky and the sky through mirrors (empty without
+/// mirrors), W/m^2, from the cells' radiance under `conditions`; `uniformFallback` as skyRadiance's.
+struct SkyHour {
+    std::vector<double> direct, mirrored;
+    bool uniformFallback = false;
+};
+SkyHour skyHour(const SkyCoefficients& coefficients, const SkyModel& model, const SkyConditions& conditions);
+
 }  // namespace hemirad

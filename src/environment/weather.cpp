@@ -104,4 +104,11 @@ int dayOfYear(const WeatherHour& hour) {
     return std::min(365, kBefore[std::clamp(hour.month, 1, 12) - 1] + hour.day);
 }
 
+int dayOfYear(const std::string& time) {
+    WeatherHour date;
+    int year = 0;
+    if (std::sscanf(time.c_str(), "%d-%d-%d", &year, &date.month, &date.day) != 3) return 0;
+    return dayOfYear(date);
+}
+
 }  // namespace hemirad

@@ -32,5 +32,8 @@ std::string middleOfHourUtc(const WeatherHour& hour, double timeZone);
 
 /// The row's day of the year, 1..365 (a typical year: 29 February counts as 28 February's day + 1).
 int dayOfYear(const WeatherHour& hour);
+/// The day of the year of a time "YYYY-MM-DD..." (as solarPosition takes it), or 0 when it starts
+/// with no date.
+int dayOfYear(const std::string& time);
 
 }  // namespace hemirad

@@ -9,7 +9,6 @@
 #include "environment/sunlit.hpp"
 #include "environment/weather.hpp"
 
-#include <cstdio>
 #include <sstream>
 
 namespace hemirad::ui {
@@ -37,13 +36,7 @@ void SunSkyJob::work() {
         if (!(p.elevation > 0.0)) where << "below the horizon: ";
         result.toSun = sunDirection(p, up, north);
         where << "elevation " << p.elevation << " deg, azimuth " << p.azimuth << " deg from north at " << m_setup.time;
-        int year = 0, month = 0, day = 0;
-        if (std::sscanf(m_setup.time.c_str(), "%d-%d-%d", &year, &month, &day) == 3) {
-            WeatherHour date;
-            date.month = month;
-            date.day = day;
-            dayOfYearValue = dayOfYear(date);
-        }
+        dayOfYearValue = dayOfYear(m_setup.time);
     } else {
         if (!m_setup.direction.allFinite() || m_setup.direction.norm() == 0.0)
             throw Error("the direction to the sun must be a finite non-zero vector");
@@ -72,11 +65,10 @@ void SunSkyJob::work() {
         c.dni = m_setup.dni;
         c.dhi = m_setup.dhi;
         c.dayOfYear = dayOfYearValue;
-        bool uniform = false;
-        const std::vector<double> L = skyRadiance(sky.grid, sky.samples, model, c, &uniform);
-        if (uniform) messages.push_back("sky: Perez's sky is dark everywhere for this hour: the DHI comes from a uniform sky");
-        in.directSky = skyIrradiance(sky.direct, L);
-        if (sky.mirrored.size() > 0) in.reflectedSky = skyIrradiance(sky.mirrored, L);
+        SkyHour hour = skyHour(sky, model, c);
+        if (hour.uniformFallback) messages.push_back("sky: Perez's sky is dark everywhere for this hour: the DHI comes from a uniform sky");
+        in.directSky = std::move(hour.direct);
+        in.reflectedSky = std::move(hour.mirrored);
         messages.push_back("sky: " + model.name() + ", " + std::to_string(sky.grid.size()) + " cells");
     }
     checkCancel();

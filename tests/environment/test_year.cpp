@@ -75,9 +75,9 @@ HourAlone hourAlone(const Scene& s, const FormFactors& F, const std::vector<doub
         c.dni = hour.dni;
         c.dhi = hour.dhi;
         c.dayOfYear = dayOfYear(hour);
-        const std::vector<double> L = skyRadiance(options.sky->grid, options.sky->samples, options.skyModel, c);
-        in.directSky = skyIrradiance(options.sky->direct, L);
-        if (s.hasMirrors()) in.reflectedSky = skyIrradiance(options.sky->mirrored, L);
+        SkyHour sky = skyHour(*options.sky, options.skyModel, c);
+        in.directSky = std::move(sky.direct);
+        in.reflectedSky = std::move(sky.mirrored);
     } else if (options.sky) {
         in.directSky.assign(s.size(), 0.0);
     }
