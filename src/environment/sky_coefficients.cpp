@@ -21,11 +21,12 @@ SkyCoefficients skyCoefficients(const Scene& scene, int subdivision, int samples
     const bool mirrors = scene.hasMirrors();
     out.direct = Eigen::MatrixXd::Zero(Eigen::Index(n), Eigen::Index(cells));
     if (mirrors) out.mirrored = Eigen::MatrixXd::Zero(Eigen::Index(n), Eigen::Index(cells));
+    const BeamShadows shadows(scene);
     for (std::size_t k = 0; k < cells; ++k) {
         const double weight = out.grid.cells[k].solidAngle() / double(samples * samples);
         for (const Vec3& local : cellSamples(out.grid.cells[k], samples)) {
             const Vec3 d = skyToScene(local, up, north);
-            const std::vector<double> lit = sunlitFractions(scene, d);
+            const std::vector<double> lit = shadows.sunlitFractions(d);
             for (std::size_t i = 0; i < n; ++i)
                 out.direct(Eigen::Index(i), Eigen::Index(k)) += weight * std::max(0.0, scene.patches[i].normal.dot(d)) * lit[i];
             if (!mirrors) continue;

@@ -5,6 +5,7 @@
 
 #include "engine/box_grid.hpp"
 #include "engine/error.hpp"
+#include "preprocess/hemisphere/convex_pieces.hpp"
 #include "preprocess/hemisphere/point_polygon.hpp"
 
 #include <algorithm>
@@ -29,49 +30,28 @@ namespace {
 /// on memory: each piece is a few corners).
 constexpr std::size_t kMaxPieces = 200000;
 
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-/// Splits convex `poly` by the line through a, b: the part left of a->b (inside) and right (outside).
-void splitByLine(const std::vector<Vec2>& poly, const Vec2& a, const Vec2& b, std::vector<Vec2>& inside,
-                 std::vector<Vec2>& outside) {
-    inside.clear();
-    outside.clear();
-    const Vec2 d = b - a;
-    for (std::size_t k = 0; k < poly.size(); ++k) {
-        const Vec2& p = poly[k];
-        const Vec2& q = poly[(k + 1) % poly.size()];
-        const double sp = cross2(d, p - a), sq = cross2(d, q - a);
-        if (sp >= 0.0) inside.push_back(p);
-        if (sp <= 0.0) outside.push_back(p);  // a corner on the line belongs to both sides
-        if ((sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0)) {
-            const Vec2 x = p + (q - p) * (sp / (sp - sq));
-            inside.push_back(x);
-            outside.push_back(x);
-        }
-    }
-    // A side reduced to points on the line (no area) is no piece.
-    if (inside.size() < 3 || polygonArea2d(inside) == 0.0) inside.clear();
-    if (outside.size() < 3 || polygonArea2d(outside) == 0.0) outside.clear();
-}
-
 }  // namespace
 
 std::vector<std::vector<Vec2>> subtractConvex(const std::vector<std::vector<Vec2>>& pieces, std::vector<Vec2> shadow, double minArea) {
-    // Counter-clockwise shadow: its interior is left of every edge.
-    double signedArea = 0.0;
-    for (std::size_t k = 0; k < shadow.size(); ++k) signedArea += cross2(shadow[k], shadow[(k + 1) % shadow.size()]);
-    if (signedArea < 0.0) std::reverse(shadow.begin(), shadow.end());
-    if (shadow.size() < 3 || std::abs(signedArea) == 0.0) return pieces;
-    std::vector<std::vector<Vec2>> out;
-    std::vector<Vec2> inside, outside;
+    // The packed pieces of preprocess/hemisphere/convex_pieces.hpp, the shadow counter-clockwise.
+    if (shadow.size() < 3) return pieces;
+    std::vector<double> corners;
+    for (const Vec2& c : shadow) corners.insert(corners.end(), {c.x(), c.y()});
+    const double signedArea = doubleArea(corners.data(), shadow.size());
+    if (signedArea == 0.0) return pieces;
+    if (signedArea < 0.0) reverse2D(corners.data(), shadow.size());
+    ConvexPieces clear;
     for (const std::vector<Vec2>& piece : pieces) {
-        std::vector<Vec2> rest = piece;
-        for (std::size_t k = 0; k < shadow.size() && !rest.empty(); ++k) {
-            splitByLine(rest, shadow[k], shadow[(k + 1) % shadow.size()], inside, outside);
-            if (!outside.empty() && (minArea == 0.0 || polygonArea2d(outside) > minArea)) out.push_back(outside);
-            rest = inside;
-        }
-        // What is left of `rest` lies inside the shadow: dropped.
+        clear.pieces.push_back(double(piece.size()));
+        for (const Vec2& c : piece) clear.pieces.insert(clear.pieces.end(), {c.x(), c.y()});
+    }
+    subtractConvex(corners.data(), shadow.size(), 2.0 * minArea, clear);
+    std::vector<std::vector<Vec2>> out;
+    for (std::size_t at = 0; at < clear.pieces.size();) {
+        const std::size_t k = std::size_t(clear.pieces[at]);
+        std::vector<Vec2>& piece = out.emplace_back();
+        for (std::size_t c = 0; c < k; ++c) piece.emplace_back(clear.pieces[at + 1 + 2 * c], clear.pieces[at + 2 + 2 * c]);
+        at += 1 + 2 * k;
     }
     return out;
 }
@@ -102,37 +82,33 @@ std::vector<std::vector<PatchId>> beamCandidates(const Scene& scene, const Vec3&
     return candidates;
 }
 
-std::vector<double> sunlitFractions(const Scene& scene, const Vec3& toSunGiven) {
+BeamShadows::BeamShadows(const Scene& scene) : m_scene(scene) {
+    m_geometry.build(scene);
+    m_geometry.buildNeighbours(scene);
+    m_shadows.build(m_geometry, std::vector<std::uint8_t>(scene.size(), 1));
+    m_tolerance = 1e-9 * std::max(scene.extent(), 1e-300);
+}
+
+std::vector<double> BeamShadows::sunlitFractions(const Vec3& toSunGiven) const {
     if (!toSunGiven.allFinite() || !(toSunGiven.norm() > 0.0)) throw Error("sun: the direction to the sun must be a finite non-zero vector");
     const Vec3 d = toSunGiven.normalized();
-    const std::size_t n = scene.size();
-    const double tolerance = 1e-9 * std::max(scene.extent(), 1e-300);
-
-    const std::vector<std::vector<PatchId>> candidates = beamCandidates(scene, d);
-
+    const std::size_t n = m_scene.size();
     std::vector<double> fraction(n, 0.0);
-    std::string failure;  // an error inside the parallel loop, thrown after it
-#pragma omp parallel for schedule(dynamic, 64)
-    for (std::int64_t ii = 0; ii < std::int64_t(n); ++ii) {
-        const PatchId i = PatchId(ii);
-        const Patch& p = scene.patches[i];
-        if (!(p.normal.dot(d) > 0.0)) continue;
-        try {
-            Vec3 u, v;
-            orthonormalBasis(p.normal, u, v);
-            const double whole = polygonArea2d(planeCoordinates(scene.polygon(i), scene.corner(p, 0), u, v));
-            if (!(whole > 0.0)) continue;
-            double clear = 0.0;
-            for (const std::vector<Vec2>& piece : sunlitPieces(scene, i, d, candidates[i], u, v, tolerance)) clear += polygonArea2d(piece);
-            fraction[i] = std::clamp(clear / whole, 0.0, 1.0);
-        } catch (const std::exception& e) {
-#pragma omp critical(hemirad_sunlit_failure)
-            if (failure.empty()) failure = e.what();
+#pragma omp parallel
+    {
+        ShadowPolygons::Scratch scratch;
+#pragma omp for schedule(dynamic, 64)
+        for (std::int64_t ii = 0; ii < std::int64_t(n); ++ii) {
+            const PatchId i = PatchId(ii);
+            const PatchShape& shape = m_geometry.shapes[i];
+            if (!(shape.normal.dot(d) > 0.0)) continue;
+            fraction[i] = m_shadows.litFraction(m_geometry.polygon(i), shape.count, shape.normal, i, d, m_tolerance, scratch);
         }
     }
-    if (!failure.empty()) throw Error(failure);
     return fraction;
 }
+
+std::vector<double> sunlitFractions(const Scene& scene, const Vec3& toSun) { return BeamShadows(scene).sunlitFractions(toSun); }
 
 std::vector<Vec2> planeCoordinates(const std::vector<Vec3>& points, const Vec3& origin, const Vec3& u, const Vec3& v) {
     std::vector<Vec2> out;

@@ -4,6 +4,8 @@
 
 #include "engine/math.hpp"
 #include "engine/scene.hpp"
+#include "preprocess/hemisphere/patch_geometry.hpp"
+#include "preprocess/hemisphere/shadow_polygons.hpp"
 
 #include <Eigen/Core>
 
@@ -13,12 +15,30 @@ namespace hemirad {
 
 using Vec2 = Eigen::Vector2d;
 
-/// Per patch, the fraction of its area that the sun's parallel rays reach: 0 where the patch faces
-/// away (n . toSun <= 0), else 1 less the union of the shadows that every other patch's part in
-/// front of its plane casts along the rays (convex patches; exact up to rounding). `toSun`: the
-/// direction from the scene to the sun (any length > 0). Candidate blockers come from the patches'
-/// boxes overlapping as the sun sees them (engine/box_grid.hpp); patches run in parallel (OpenMP).
-/// Throws hemirad::Error for a direction that is zero or not finite.
+/// A scene's patches as blockers of parallel beams, set up once (a bounding-volume tree over them,
+/// connected coplanar tiles whose union is convex merged into one polygon: preprocess/hemisphere/
+/// shadow_polygons.hpp) and asked for any number of directions (a year's suns, a sky's cells).
+class BeamShadows {
+public:
+    /// Keeps a reference to `scene`, which must outlive this.
+    explicit BeamShadows(const Scene& scene);
+
+    /// Per patch, the fraction of its area that parallel rays from `toSun` reach: 0 where the patch
+    /// faces away (n . toSun <= 0), else 1 less the union of the shadows that every other patch's
+    /// part in front of its plane casts along the rays (convex patches; exact up to rounding; every
+    /// patch, front or back, blocks). `toSun`: the direction from the scene to the sun (any length
+    /// > 0). Patches run in parallel (OpenMP). Throws hemirad::Error for a direction that is zero or
+    /// not finite.
+    std::vector<double> sunlitFractions(const Vec3& toSun) const;
+
+private:
+    const Scene& m_scene;
+    PatchGeometry m_geometry;
+    ShadowPolygons m_shadows;
+    double m_tolerance = 0.0;  ///< what lies this close in front of a receiver's plane casts nothing
+};
+
+/// BeamShadows(scene).sunlitFractions(toSun): one direction (several: keep a BeamShadows).
 std::vector<double> sunlitFractions(const Scene& scene, const Vec3& toSun);
 
 /// Direct irradiance per patch, W/m^2: dni (direct-normal irradiance) x cos(theta) x sunlit fraction.

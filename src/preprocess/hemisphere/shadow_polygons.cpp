@@ -2,6 +2,7 @@
 // the receiver's plane and cut out of it; Lambert's factor of what stays clear.
 #include "preprocess/hemisphere/shadow_polygons.hpp"
 
+#include "preprocess/hemisphere/convex_pieces.hpp"
 #include "preprocess/hemisphere/point_polygon.hpp"
 
 #include <algorithm>
@@ -15,63 +16,6 @@ namespace {
 /// A visible part below this fraction of the whole factor is the rounding of the cuts (pieces of
 /// shadows that meet edge to edge), not a view: 0.
 constexpr double kDust = 1e-9;
-
-/// Twice the signed area of the 2D polygon xy[0..2k).
-double doubleArea(const double* xy, std::size_t k) {
-    double a = 0.0;
-    for (std::size_t i = 0; i < k; ++i) {
-        const std::size_t j = (i + 1) % k;
-        a += xy[2 * i] * xy[2 * j + 1] - xy[2 * j] * xy[2 * i + 1];
-    }
-    return a;
-}
-
-void reverse2D(double* xy, std::size_t k) {
-    for (std::size_t i = 0, j = k - 1; i < j; ++i, --j) {
-        std::swap(xy[2 * i], xy[2 * j]);
-        std::swap(xy[2 * i + 1], xy[2 * j + 1]);
-    }
-}
-
-/// Splits the convex 2D polygon xy[0..2k) by the line through a and b: the part on its left
-/// (inside a counter-clockwise polygon whose edge a -> b is) into `in`, the rest into `out`.
-void splitByLine(const double* xy, std::size_t k, const double* a, const double* b, std::vector<double>& in,
-                 std::vector<double>& out) {
-    // Each side gets at most k corners and k crossings (k + 1 for a convex polygon, but rounding may
-    // bend a piece): sized once and written by index, as this is the inner loop of every shadow
-    // after the first.
-    in.resize(4 * k);
-    out.resize(4 * k);
-    double* inAt = in.data();
-    double* outAt = out.data();
-    const double ex = b[0] - a[0], ey = b[1] - a[1];
-    auto side = [&](const double* p) { return ex * (p[1] - a[1]) - ey * (p[0] - a[0]); };
-    double sp = side(xy);
-    for (std::size_t i = 0; i < k; ++i) {
-        const double* p = xy + 2 * i;
-        const double* q = xy + 2 * (i + 1 == k ? 0 : i + 1);
-        const double sq = side(q);
-        if (sp >= 0.0) {
-            inAt[0] = p[0], inAt[1] = p[1];
-            inAt += 2;
-        }
-        if (sp <= 0.0) {
-            outAt[0] = p[0], outAt[1] = p[1];
-            outAt += 2;
-        }
-        if ((sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0)) {
-            const double t = sp / (sp - sq);
-            const double cx = p[0] + t * (q[0] - p[0]), cy = p[1] + t * (q[1] - p[1]);
-            inAt[0] = cx, inAt[1] = cy;
-            outAt[0] = cx, outAt[1] = cy;
-            inAt += 2;
-            outAt += 2;
-        }
-        sp = sq;
-    }
-    in.resize(std::size_t(inAt - in.data()));
-    out.resize(std::size_t(outAt - out.data()));
-}
 
 /// The part of polygon `poly` with m . y - d >= 0 into `out` (Sutherland-Hodgman); `side` is
 /// scratch. Returns false, leaving `out` alone, when every corner is on that side: the polygon is
@@ -96,45 +40,6 @@ bool clipToPlane(const std::vector<Vec3>& poly, const Vec3& m, double d, std::ve
     }
     out.resize(at);
     return true;
-}
-
-/// Cuts the counter-clockwise 2D polygon shadow[0..2 sides) out of every clear piece of s.pieces
-/// that it overlaps: each piece's parts outside the shadow's edges, one edge after the other, stay
-/// clear; pieces below `smallest` in (twice the) area are dropped.
-void subtract(const double* shadow, std::size_t sides, double smallest, ShadowPolygons::Scratch& s) {
-    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
-    for (std::size_t c = 0; c < sides; ++c)
-        for (int a = 0; a < 2; ++a) {
-            lo[a] = std::min(lo[a], shadow[2 * c + a]);
-            hi[a] = std::max(hi[a], shadow[2 * c + a]);
-        }
-    s.nextPieces.clear();
-    for (std::size_t at = 0; at < s.pieces.size();) {
-        const std::size_t k = std::size_t(s.pieces[at]);
-        const double* piece = &s.pieces[at + 1];
-        double plo[2] = {1e300, 1e300}, phi[2] = {-1e300, -1e300};
-        for (std::size_t c = 0; c < k; ++c)
-            for (int a = 0; a < 2; ++a) {
-                plo[a] = std::min(plo[a], piece[2 * c + a]);
-                phi[a] = std::max(phi[a], piece[2 * c + a]);
-            }
-        if (phi[0] <= lo[0] || plo[0] >= hi[0] || phi[1] <= lo[1] || plo[1] >= hi[1]) {
-            s.nextPieces.insert(s.nextPieces.end(), piece - 1, piece + 2 * k);
-        } else {
-            s.inside.assign(piece, piece + 2 * k);
-            for (std::size_t c = 0; c < sides && s.inside.size() >= 6; ++c) {
-                splitByLine(s.inside.data(), s.inside.size() / 2, &shadow[2 * c], &shadow[2 * ((c + 1) % sides)], s.rest,
-                            s.outside);
-                s.inside.swap(s.rest);
-                if (s.outside.size() >= 6 && std::abs(doubleArea(s.outside.data(), s.outside.size() / 2)) > smallest) {
-                    s.nextPieces.push_back(double(s.outside.size() / 2));
-                    s.nextPieces.insert(s.nextPieces.end(), s.outside.begin(), s.outside.end());
-                }
-            }
-        }
-        at += 1 + 2 * k;
-    }
-    s.pieces.swap(s.nextPieces);
 }
 
 }  // namespace
@@ -287,7 +192,7 @@ bool ShadowPolygons::outsideSomePlane(std::uint32_t b, const Vec3* m, const doub
 
 template <class Visit>
 void ShadowPolygons::traverse(const Vec3* m, const double* d, std::size_t planes, double tolerance, PatchId e, PatchId r,
-                              Scratch& s, Visit visit) const {
+                              Scratch& s, Visit visit, const Vec3* nearFirst) const {
     s.stack.assign(1, 0);
     while (!s.stack.empty()) {
         const std::uint32_t at = s.stack.back();
@@ -299,8 +204,14 @@ void ShadowPolygons::traverse(const Vec3* m, const double* d, std::size_t planes
             outside = m[k].dot(centre) - d[k] + m[k].cwiseAbs().dot(half) <= tolerance;
         if (outside) continue;
         if (node.count == 0) {
-            s.stack.push_back(node.right);
-            s.stack.push_back(at + 1);
+            std::uint32_t first = at + 1, second = node.right;
+            if (nearFirst) {
+                const Node& a = m_nodes[first];
+                const Node& b = m_nodes[second];
+                if (nearFirst->dot(b.lo + b.hi) < nearFirst->dot(a.lo + a.hi)) std::swap(first, second);
+            }
+            s.stack.push_back(second);
+            s.stack.push_back(first);
             continue;
         }
         for (std::uint32_t item = node.first; item < node.first + node.count; ++item) {
@@ -330,6 +241,75 @@ void ShadowPolygons::collect(const Vec3* m, const double* d, std::size_t planes,
         blockers.push_back(b);
         return true;
     });
+}
+
+template <class Project>
+void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& normal, std::size_t planes, double tolerance,
+                                 PatchId e, PatchId r, Scratch& s, const std::vector<std::uint32_t>* within,
+                                 Project project, const Vec3* nearFirst) const {
+    s.shadows = 0;
+    const std::vector<Vec3>& m = s.planeNormals;
+    const std::vector<double>& d = s.planeOffsets;
+    // 2D coordinates in the receiver's plane (origin p[0]); the receiver itself, counter-clockwise,
+    // becomes the first clear piece when the second shadow falls (most regions hold no blocker).
+    const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    s.u = normal.cross(helper).normalized();
+    s.v = normal.cross(s.u);
+    const Vec3 origin = p[0];
+    double smallest = 0.0;  // pieces below this area are dropped; 0 until the receiver is set up
+
+    const auto shade = [&](std::uint32_t b) {
+        const Vec3* corners = &m_corners[m_first[b]];
+        const std::uint32_t cornerCount = m_first[b + 1] - m_first[b];
+        // The blocker's part inside the region, projected onto the receiver's plane.
+        s.cut.assign(corners, corners + cornerCount);
+        for (std::size_t k = 0; k < planes && s.cut.size() >= 3; ++k) {
+            if (clipToPlane(s.cut, m[k], d[k], s.cutNext, s.sides)) s.cut.swap(s.cutNext);
+        }
+        if (s.cut.size() < 3) return true;
+        s.shadow.clear();
+        s.image.clear();
+        for (const Vec3& y : s.cut) {
+            s.image.push_back(project(y));
+            s.shadow.push_back((s.image.back() - origin).dot(s.u));
+            s.shadow.push_back((s.image.back() - origin).dot(s.v));
+        }
+        if (smallest == 0.0) {
+            s.clear.pieces.assign(1, double(count));
+            for (std::size_t k = 0; k < count; ++k) {
+                s.clear.pieces.push_back((p[k] - origin).dot(s.u));
+                s.clear.pieces.push_back((p[k] - origin).dot(s.v));
+            }
+            const double area = doubleArea(&s.clear.pieces[1], count);
+            if (area < 0.0) reverse2D(&s.clear.pieces[1], count);
+            smallest = 1e-12 * std::abs(area);
+            if (!(smallest > 0.0)) {  // a receiver without area: no shadow counts
+                s.shadows = 0;
+                return false;
+            }
+        }
+        const std::size_t sides = s.shadow.size() / 2;
+        const double shadowArea = doubleArea(s.shadow.data(), sides);
+        if (std::abs(shadowArea) <= smallest) return true;
+        if (shadowArea < 0.0) reverse2D(s.shadow.data(), sides);
+        // One shadow (the usual case): kept whole. From the second on, the clear part is kept as
+        // pieces, each shadow cut out of them.
+        if (++s.shadows == 1) {
+            s.first.swap(s.image);
+            s.firstShadow.swap(s.shadow);
+            // Cut to the receiver's region, a shadow as large as the receiver covers it all.
+            return std::abs(shadowArea) < (1.0 - 1e-12) * std::abs(doubleArea(&s.clear.pieces[1], count));
+        }
+        if (s.shadows == 2) subtractConvex(s.firstShadow.data(), s.firstShadow.size() / 2, smallest, s.clear);
+        subtractConvex(s.shadow.data(), sides, smallest, s.clear);
+        return !s.clear.pieces.empty();  // nothing left clear: no need to look further
+    };
+    if (!within) {
+        traverse(m.data(), d.data(), planes, tolerance, e, r, s, shade, nearFirst);
+    } else {
+        for (const std::uint32_t b : *within)
+            if (!outsideSomePlane(b, m.data(), d.data(), planes, tolerance) && !shade(b)) break;
+    }
 }
 
 double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t count, PatchId e,
@@ -363,84 +343,87 @@ double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p
     d.push_back(offset + tolerance);
     m.push_back(n);  // and the emitter's: what lies in x's own plane casts no shadow either
     d.push_back(n.dot(x) + tolerance);
-    const std::size_t planes = m.size();
 
-    // 2D coordinates in the receiver's plane (origin p[0]); the receiver itself, counter-clockwise,
-    // becomes the first clear piece when the first shadow falls (most cones hold no blocker).
-    const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-    const Vec3 u = normal.cross(helper).normalized(), v = normal.cross(u);
-    const Vec3 origin = p[0];
-    double smallest = 0.0;  // pieces below this area are dropped; 0 until the receiver is set up
-
-    bool clear = true;  // some of the receiver still clear
-    const auto shade = [&](std::uint32_t b) {
-            const Vec3* corners = &m_corners[m_first[b]];
-            const std::uint32_t cornerCount = m_first[b + 1] - m_first[b];
-            // The blocker's part inside the cone, projected from x onto the receiver's plane.
-            s.cut.assign(corners, corners + cornerCount);
-            for (std::size_t k = 0; k < planes && s.cut.size() >= 3; ++k) {
-                if (clipToPlane(s.cut, m[k], d[k], s.cutNext, s.sides)) s.cut.swap(s.cutNext);
-            }
-            if (s.cut.size() < 3) return true;
-            s.shadow.clear();
-            s.image.clear();
-            for (const Vec3& y : s.cut) {
-                const double gap = std::max(height - (normal.dot(y) - offset), 1e-12 * height);
-                s.image.push_back(x + (y - x) * (height / gap));
-                s.shadow.push_back((s.image.back() - origin).dot(u));
-                s.shadow.push_back((s.image.back() - origin).dot(v));
-            }
-            if (smallest == 0.0) {
-                s.pieces.assign(1, double(count));
-                for (std::size_t k = 0; k < count; ++k) {
-                    s.pieces.push_back((p[k] - origin).dot(u));
-                    s.pieces.push_back((p[k] - origin).dot(v));
-                }
-                const double area = doubleArea(&s.pieces[1], count);
-                if (area < 0.0) reverse2D(&s.pieces[1], count);
-                smallest = 1e-12 * std::abs(area);
-                if (!(smallest > 0.0)) {  // a receiver without area: no shadow counts
-                    s.shadows = 0;
-                    return false;
-                }
-            }
-            const std::size_t sides = s.shadow.size() / 2;
-            const double shadowArea = doubleArea(s.shadow.data(), sides);
-            if (std::abs(shadowArea) <= smallest) return true;
-            if (shadowArea < 0.0) reverse2D(s.shadow.data(), sides);
-            // One shadow (the usual case): kept whole, visible = whole - its factor. From the second
-            // on, the clear part is kept as pieces, each shadow cut out of them.
-            if (++s.shadows == 1) {
-                s.first.swap(s.image);
-                s.firstShadow.swap(s.shadow);
-                return true;
-            }
-            if (s.shadows == 2) subtract(s.firstShadow.data(), s.firstShadow.size() / 2, smallest, s);
-            subtract(s.shadow.data(), sides, smallest, s);
-            clear = !s.pieces.empty();
-            return clear;
-    };
-    if (!within) {
-        traverse(m.data(), d.data(), planes, tolerance, e, r, s, shade);
-    } else {
-        for (const std::uint32_t b : *within)
-            if (!outsideSomePlane(b, m.data(), d.data(), planes, tolerance) && !shade(b)) break;
-    }
+    // Central projection from x onto the receiver's plane.
+    castShadows(p, count, normal, m.size(), tolerance, e, r, s, within, [&](const Vec3& y) {
+        const double gap = std::max(height - (normal.dot(y) - offset), 1e-12 * height);
+        return Vec3(x + (y - x) * (height / gap));
+    });
     if (s.shadows == 0) return whole;
     if (s.shadows == 1) {
         const double visible = whole - pointToPolygonFactor(x, n, s.first.data(), s.first.size());
         return visible > kDust * whole ? visible : 0.0;
     }
+    const Vec3 origin = p[0];
     double factor = 0.0;
-    for (std::size_t at = 0; at < s.pieces.size();) {
-        const std::size_t k = std::size_t(s.pieces[at]);
+    for (std::size_t at = 0; at < s.clear.pieces.size();) {
+        const std::size_t k = std::size_t(s.clear.pieces[at]);
         s.lifted.clear();
         for (std::size_t c = 0; c < k; ++c)
-            s.lifted.push_back(origin + s.pieces[at + 1 + 2 * c] * u + s.pieces[at + 2 + 2 * c] * v);
+            s.lifted.push_back(origin + s.clear.pieces[at + 1 + 2 * c] * s.u + s.clear.pieces[at + 2 + 2 * c] * s.v);
         factor += pointToPolygonFactor(x, n, s.lifted.data(), k);
         at += 1 + 2 * k;
     }
     return factor > kDust * whole ? factor : 0.0;
+}
+
+double ShadowPolygons::litFraction(const Vec3* p, std::size_t count, const Vec3& normal, PatchId r, const Vec3& toSource,
+                                   double tolerance, Scratch& s) const {
+    s.shadows = 0;
+    const double facing = normal.dot(toSource);
+    if (!(facing > 0.0) || count < 3) return 0.0;
+    if (m_items.empty()) return 1.0;
+    const double offset = normal.dot(p[0]);
+    const Vec3 middle = vertexMean(p, count);
+
+    // The prism swept from the polygon towards the source: a plane through each edge along the beam
+    // (normals inward), and the receiver's plane. A blocker within the tolerance of it (or behind)
+    // is left out; one reaching further is cut at the plane itself, so that a wall standing on the
+    // receiver casts its whole shadow.
+    std::vector<Vec3>& m = s.planeNormals;
+    std::vector<double>& d = s.planeOffsets;
+    m.clear();
+    d.clear();
+    for (std::size_t k = 0; k < count; ++k) {
+        Vec3 side = (p[(k + 1) % count] - p[k]).cross(toSource);
+        const double length = side.norm();
+        if (!(length > 0.0)) continue;
+        side /= length;
+        if (side.dot(middle - p[k]) < 0.0) side = -side;
+        m.push_back(side);
+        d.push_back(side.dot(p[k]));
+    }
+    m.push_back(normal);
+    d.push_back(offset);
+
+    // Parallel projection along the beam onto the receiver's plane.
+    // Blockers nearest the receiver along the beam first: they cover it soonest.
+    castShadows(
+        p, count, normal, m.size(), tolerance, r, r, s, nullptr,
+        [&](const Vec3& y) { return Vec3(y - toSource * ((normal.dot(y) - offset) / facing)); }, &toSource);
+    if (s.shadows == 0) return 1.0;
+    double whole = 0.0;
+    {
+        const Vec3 origin = p[0];
+        s.clear.inside.clear();
+        for (std::size_t k = 0; k < count; ++k) {
+            s.clear.inside.push_back((p[k] - origin).dot(s.u));
+            s.clear.inside.push_back((p[k] - origin).dot(s.v));
+        }
+        whole = std::abs(doubleArea(s.clear.inside.data(), count));
+    }
+    if (!(whole > 0.0)) return 0.0;
+    double clear = 0.0;
+    if (s.shadows == 1) {
+        clear = whole - std::abs(doubleArea(s.firstShadow.data(), s.firstShadow.size() / 2));
+    } else {
+        for (std::size_t at = 0; at < s.clear.pieces.size();) {
+            const std::size_t k = std::size_t(s.clear.pieces[at]);
+            clear += std::abs(doubleArea(&s.clear.pieces[at + 1], k));
+            at += 1 + 2 * k;
+        }
+    }
+    return std::clamp(clear / whole, 0.0, 1.0);
 }
 
 }  // namespace hemirad

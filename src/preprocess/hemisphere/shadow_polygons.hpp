@@ -3,6 +3,7 @@
 #pragma once
 
 #include "engine/math.hpp"
+#include "preprocess/hemisphere/convex_pieces.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
 
 #include <cstddef>
@@ -23,12 +24,13 @@ public:
         std::vector<std::uint32_t> stack;
         std::vector<Vec3> cut, cutNext;           // a blocker clipped to the cone
         std::vector<double> sides;                // its corners' distances to a plane of the cone
-        std::vector<double> pieces, nextPieces;   // clear convex pieces, 2D, as (count, x0, y0, x1, ...)
-        std::vector<double> shadow, firstShadow, inside, outside, rest;
+        ConvexPieces clear;                       // the receiver's clear part, 2D
+        std::vector<double> shadow, firstShadow;
         std::vector<Vec3> image, first;           // the shadow's corners on the receiver (3D)
         std::vector<Vec3> lifted;
         std::vector<Vec3> planeNormals;           // the cone's planes (inward normals and offsets)
         std::vector<double> planeOffsets;
+        Vec3 u, v;                                // the receiver plane's 2D axes (origin its corner 0)
         std::size_t shadows = 0;                  // shadows met by the last call
     };
 
@@ -48,6 +50,15 @@ public:
     double visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t count, PatchId e, PatchId r,
                          double whole, Scratch& scratch, const std::vector<std::uint32_t>* within = nullptr) const;
 
+    /// The fraction of the convex polygon p[0..count) (receiver r, unit `normal`) that a parallel
+    /// beam from the unit direction `toSource` reaches past every blocker other than r: each
+    /// blocker's part inside the prism swept from p towards the source and in front of p's plane
+    /// (a blocker within `tolerance` of the plane or behind it casts nothing) projected along the
+    /// beam and cut out. 0 where p faces away. Exact for planar convex blockers (back faces block
+    /// too), as visibleFactor.
+    double litFraction(const Vec3* p, std::size_t count, const Vec3& normal, PatchId r, const Vec3& toSource,
+                       double tolerance, Scratch& scratch) const;
+
     /// Whether some blocker other than patches e and r may reach into the convex region where
     /// m_k . y - d_k > tolerance for every plane k (conservative: a blocker that no single plane
     /// leaves wholly outside counts). A pair's shaft test (contact_pairs.hpp).
@@ -58,11 +69,21 @@ public:
                  std::vector<std::uint32_t>& blockers, Scratch& scratch) const;
 
 private:
+    /// Cuts out of p[0..count) (in the plane of unit `normal`) the shadow of each blocker other than
+    /// e and r inside the region of the scratch's first `planes` planes (from the tree, or `within`):
+    /// the blocker clipped to them and each corner sent onto p's plane by project(y). Leaves
+    /// scratch.shadows, and the one shadow (first, firstShadow) or the clear pieces.
+    /// `nearFirst` (optional): the tree's nearer child along it searched first.
+    template <class Project>
+    void castShadows(const Vec3* p, std::size_t count, const Vec3& normal, std::size_t planes, double tolerance, PatchId e,
+                     PatchId r, Scratch& s, const std::vector<std::uint32_t>* within, Project project,
+                     const Vec3* nearFirst = nullptr) const;
     /// Calls visit(b) for each blocker b other than e and r that no plane (m, d) leaves entirely
-    /// outside (m . y - d <= tolerance), until visit returns false.
+    /// outside (m . y - d <= tolerance), until visit returns false; with `nearFirst`, the child
+    /// whose box lies lower along that direction first.
     template <class Visit>
     void traverse(const Vec3* m, const double* d, std::size_t planes, double tolerance, PatchId e, PatchId r,
-                  Scratch& s, Visit visit) const;
+                  Scratch& s, Visit visit, const Vec3* nearFirst = nullptr) const;
     struct Node {
         Vec3 lo, hi;
         std::uint32_t first = 0, count = 0;  ///< items of a leaf (count > 0)

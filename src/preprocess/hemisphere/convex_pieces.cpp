@@ -1,0 +1,122 @@
+// Convex pieces in a plane: a convex polygon cut out of a set of convex pieces, as shadow polygons
+// need it (the analytic estimator's partial visibility, the sun's sunlit parts).
+#include "preprocess/hemisphere/convex_pieces.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hemirad {
+
+/// Twice the signed area of the 2D polygon xy[0..2k).
+double doubleArea(const double* xy, std::size_t k) {
+    double a = 0.0;
+    for (std::size_t i = 0; i < k; ++i) {
+        const std::size_t j = (i + 1) % k;
+        a += xy[2 * i] * xy[2 * j + 1] - xy[2 * j] * xy[2 * i + 1];
+    }
+    return a;
+}
+
+void reverse2D(double* xy, std::size_t k) {
+    for (std::size_t i = 0, j = k - 1; i < j; ++i, --j) {
+        std::swap(xy[2 * i], xy[2 * j]);
+        std::swap(xy[2 * i + 1], xy[2 * j + 1]);
+    }
+}
+
+namespace {
+
+/// Splits the convex 2D polygon xy[0..2k) by the line through a and b: the part on its left
+/// (inside a counter-clockwise polygon whose edge a -> b is) into `in`, the rest into `out`.
+void splitByLine(const double* xy, std::size_t k, const double* a, const double* b, std::vector<double>& in,
+                 std::vector<double>& out) {
+    // Each side gets at most k corners and k crossings (k + 1 for a convex polygon, but rounding may
+    // bend a piece): sized once and written by index, as this is the inner loop of every shadow
+    // after the first.
+    in.resize(4 * k);
+    out.resize(4 * k);
+    double* inAt = in.data();
+    double* outAt = out.data();
+    const double ex = b[0] - a[0], ey = b[1] - a[1];
+    auto side = [&](const double* p) { return ex * (p[1] - a[1]) - ey * (p[0] - a[0]); };
+    double sp = side(xy);
+    for (std::size_t i = 0; i < k; ++i) {
+        const double* p = xy + 2 * i;
+        const double* q = xy + 2 * (i + 1 == k ? 0 : i + 1);
+        const double sq = side(q);
+        if (sp >= 0.0) {
+            inAt[0] = p[0], inAt[1] = p[1];
+            inAt += 2;
+        }
+        if (sp <= 0.0) {
+            outAt[0] = p[0], outAt[1] = p[1];
+            outAt += 2;
+        }
+        if ((sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0)) {
+            const double t = sp / (sp - sq);
+            const double cx = p[0] + t * (q[0] - p[0]), cy = p[1] + t * (q[1] - p[1]);
+            inAt[0] = cx, inAt[1] = cy;
+            outAt[0] = cx, outAt[1] = cy;
+            inAt += 2;
+            outAt += 2;
+        }
+        sp = sq;
+    }
+    in.resize(std::size_t(inAt - in.data()));
+    out.resize(std::size_t(outAt - out.data()));
+}
+
+}  // namespace
+
+/// Cuts the counter-clockwise 2D polygon given[0..2 n) out of every clear piece of s.pieces that it
+/// overlaps: each piece's parts outside the shadow's edges, one edge after the other, stay clear;
+/// pieces below `smallest` in (twice the) area are dropped.
+void subtractConvex(const double* given, std::size_t n, double smallest, ConvexPieces& s) {
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    for (std::size_t c = 0; c < n; ++c)
+        for (int a = 0; a < 2; ++a) {
+            lo[a] = std::min(lo[a], given[2 * c + a]);
+            hi[a] = std::max(hi[a], given[2 * c + a]);
+        }
+    // Corners within rounding of the one before are one corner: an edge of no length has no line,
+    // and splitting by it would leave a whole piece clear (a clipped blocker repeats a corner where
+    // it meets the region's edge).
+    const double merge = 1e-9 * std::hypot(hi[0] - lo[0], hi[1] - lo[1]);
+    const auto apart = [merge](const double* a, const double* b) { return std::hypot(a[0] - b[0], a[1] - b[1]) > merge; };
+    s.corners.clear();
+    for (std::size_t c = 0; c < n; ++c)
+        if (s.corners.empty() || apart(&given[2 * c], &s.corners[s.corners.size() - 2])) s.corners.insert(s.corners.end(), &given[2 * c], &given[2 * c + 2]);
+    while (s.corners.size() >= 4 && !apart(s.corners.data(), &s.corners[s.corners.size() - 2])) s.corners.resize(s.corners.size() - 2);
+    if (s.corners.size() < 6) return;  // no area left: nothing to cut
+    const double* shadow = s.corners.data();
+    const std::size_t sides = s.corners.size() / 2;
+    s.next.clear();
+    for (std::size_t at = 0; at < s.pieces.size();) {
+        const std::size_t k = std::size_t(s.pieces[at]);
+        const double* piece = &s.pieces[at + 1];
+        double plo[2] = {1e300, 1e300}, phi[2] = {-1e300, -1e300};
+        for (std::size_t c = 0; c < k; ++c)
+            for (int a = 0; a < 2; ++a) {
+                plo[a] = std::min(plo[a], piece[2 * c + a]);
+                phi[a] = std::max(phi[a], piece[2 * c + a]);
+            }
+        if (phi[0] <= lo[0] || plo[0] >= hi[0] || phi[1] <= lo[1] || plo[1] >= hi[1]) {
+            s.next.insert(s.next.end(), piece - 1, piece + 2 * k);
+        } else {
+            s.inside.assign(piece, piece + 2 * k);
+            for (std::size_t c = 0; c < sides && s.inside.size() >= 6; ++c) {
+                splitByLine(s.inside.data(), s.inside.size() / 2, &shadow[2 * c], &shadow[2 * ((c + 1) % sides)], s.rest,
+                            s.outside);
+                s.inside.swap(s.rest);
+                if (s.outside.size() >= 6 && std::abs(doubleArea(s.outside.data(), s.outside.size() / 2)) > smallest) {
+                    s.next.push_back(double(s.outside.size() / 2));
+                    s.next.insert(s.next.end(), s.outside.begin(), s.outside.end());
+                }
+            }
+        }
+        at += 1 + 2 * k;
+    }
+    s.pieces.swap(s.next);
+}
+
+}  // namespace hemirad
