@@ -2,7 +2,10 @@
 """A year of hours against one F (issue 37): `hemirad year` on a scene with the isotropic sky and with
 Perez's sky (daylight coefficients), from a synthetic 8,760-hour EPW for Munich written here.
 
-    python3 bench/year.py BINARY SCENE.obj [--sky perez] [--label NAME] [--threads N]
+    python3 bench/year.py BINARY SCENE.obj [--sky perez] [--label NAME] [--threads N] [--ff F.hff] [--svf SVF.csv]
+
+--ff and --svf store F and the sky view factors on the first run and reuse them on the next (the
+year "after F"); the report then leaves their stages out.
 
 The weather is made up, not measured: each hour's clear-sky DNI and DHI from the sun's elevation, and
 a day's cloudiness from a fixed random sequence that moves irradiance from the beam to the sky. It
@@ -64,6 +67,8 @@ def main():
     ap.add_argument("--sky", default="isotropic")
     ap.add_argument("--label", default=None)
     ap.add_argument("--threads", default="0")
+    ap.add_argument("--ff", default=None, help="F stored here (reused when present)")
+    ap.add_argument("--svf", default=None, help="sky view factors stored here (reused when present)")
     a = ap.parse_args()
     work = tempfile.mkdtemp(prefix="hemirad-year-")
     epw = os.path.join(work, "munich_synthetic.epw")
@@ -72,12 +77,15 @@ def main():
     timed = ["/usr/bin/time", "-v"] if os.path.exists("/usr/bin/time") else []  # Debian's package "time"
     cmd = timed + [a.binary, "year", a.scene, "--weather", epw, "--sky", a.sky, "--threads", a.threads,
            "-o", annual, "--hourly", hourly]
+    cmd += ["--ff", a.ff] if a.ff else []
+    cmd += ["--svf", a.svf] if a.svf else []
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit(r.stdout + r.stderr)
     text = r.stdout + r.stderr
     label = a.label or os.path.basename(a.scene)
     year = re.search(r"year: (\d+) hours with sun or sky solved in ([\d.e+-]+) s \(([\d.e+-]+) ms per hour\)", text)
+    parts = re.search(r"per hour: (sun [^;\n]*)", text)
     peak = re.search(r"Maximum resident set size \(kbytes\): (\d+)", text)
     stages = {m.group(1).strip(): float(m.group(2)) for m in re.finditer(r"^(\S[\w ,()-]*?)\s{2,}([\d.]+)$", text, re.M)}
     print("%s, sky %s: %s hours in %.1f s (%.1f ms per hour); daylight coefficients %.1f s, sky view factors %.1f s, "
@@ -85,6 +93,8 @@ def main():
           % (label, a.sky, year.group(1), float(year.group(2)), float(year.group(3)), stages.get("daylight coefficients", 0.0),
              stages.get("sky view factors", 0.0), stages.get("form factors", 0.0), stages.get("total", 0.0),
              int(peak.group(1)) / 1024.0 if peak else float("nan"), os.path.getsize(annual) / 2**20, os.path.getsize(hourly) / 2**20))
+    if parts:
+        print("  per hour: " + parts.group(1))
 
 
 if __name__ == "__main__":

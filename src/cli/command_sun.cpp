@@ -7,7 +7,6 @@
 #include "engine/csv.hpp"
 #include "environment/irradiance.hpp"
 #include "environment/reflected_sun.hpp"
-#include "environment/sky_view.hpp"
 #include "environment/solar_position.hpp"
 #include "environment/sunlit.hpp"
 
@@ -49,9 +48,7 @@ IrradianceResult patchHour(const Scene& scene, const Options& options, const Vec
     in.directSun = directIrradiance(scene, toSun, *options.dni, sunlitFractions(scene, toSun));
     in.dhi = options.dhi;
     if (options.skyModel == "isotropic") {
-        timings.start("sky view factors");
-        in.skyView = skyViewFactors(scene, options.formFactors).direct;
-        timings.stop();
+        in.skyView = directSkyViewFromOptions(scene, options, timings, reporter);
     } else {
         modelSkyHour(skyCoefficientsFromOptions(scene, options, timings, reporter), options, toSun, in, reporter);
     }
@@ -75,8 +72,10 @@ int runSun(const Options& options) {
     Timings timings;
     const Scene scene = loadScene(options, timings, reporter, warnings);
     const Vec3 toSun = sunDirectionFromOptions(options, reporter);
+    timings.start("shadow set-up");
+    const BeamShadows shadows(scene);
     timings.start("sunlit fractions");
-    const std::vector<double> lit = sunlitFractions(scene, toSun);
+    const std::vector<double> lit = shadows.sunlitFractions(toSun);
     timings.stop();
     double area = 0.0, litArea = 0.0;
     for (PatchId i = 0; i < scene.size(); ++i) {

@@ -5,7 +5,6 @@
 #include "cli/sun_command.hpp"
 #include "engine/atomic_file.hpp"
 #include "engine/csv.hpp"
-#include "environment/sky_view.hpp"
 #include "environment/year.hpp"
 
 #include <chrono>
@@ -35,8 +34,7 @@ int runYear(const Options& options) {
     std::vector<double> sky;
     SkyCoefficients coefficients;
     if (options.skyModel == "isotropic") {
-        timings.start("sky view factors");
-        sky = skyViewFactors(scene, options.formFactors).direct;
+        sky = directSkyViewFromOptions(scene, options, timings, reporter);
     } else {
         coefficients = skyCoefficientsFromOptions(scene, options, timings, reporter);
         yo.sky = &coefficients;
@@ -61,12 +59,19 @@ int runYear(const Options& options) {
     const YearResult year = solveYear(scene, F, sky, weather, yo, options.solver);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timings.stop();
+    const auto per = [&year](double s) {
+        std::ostringstream ms;
+        ms.precision(3);
+        ms << (year.hours.empty() ? 0.0 : 1e3 * s / double(year.hours.size()));
+        return ms.str();
+    };
     std::ostringstream line;
     line.precision(4);
     line << "year: " << year.hours.size() << " hours with sun or sky solved in " << seconds << " s ("
          << (year.hours.empty() ? 0.0 : 1e3 * seconds / double(year.hours.size())) << " ms per hour); "
          << year.incidentWh / 1e3 << " kWh arrive, " << year.absorbedWh / 1e3 << " kWh absorbed; worst hourly balance "
-         << year.worstBalance;
+         << year.worstBalance << "; per hour: sun " << per(year.sunSeconds) << " ms" << (yo.sky ? ", sky " + per(year.skySeconds) + " ms" : "")
+         << ", solve " << per(year.solveSeconds) << " ms, tallies " << per(year.tallySeconds) << " ms";
     if (year.skyClampedHours > 0)
         line << "; Perez's clearness or brightness kept within the model's fitted ranges in " << year.skyClampedHours
              << " hour(s) (the sun low, where the air mass explodes)";

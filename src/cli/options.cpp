@@ -274,6 +274,7 @@ const std::map<std::string, Flag>& flags() {
                            }
                        o.skyModel = v;
                    }}},
+        {"--svf", {{"irradiance", "year"}, true, pathWith(&Options::skyViewPath, ".csv")}},
         {"--sky-subdivision", {{"irradiance", "year"}, true,
                                [](Options& o, const std::string& f, const std::string& v) { o.skySubdivision = int(parseInteger(f, v, 1, 8)); }}},
         {"--sky-samples", {{"irradiance", "year"}, true,
@@ -570,6 +571,8 @@ Options parseOptions(int argc, const char* const* argv) {
             return p.flag == "--sky-subdivision" || p.flag == "--sky-samples";
         }))
         throw UsageError("--sky-subdivision and --sky-samples cut a sky model's cells: give --sky MODEL (the isotropic sky has none)");
+    if (o.skyModel != "isotropic" && !o.skyViewPath.empty())
+        throw UsageError("--svf stores the isotropic sky's view factors; --sky " + o.skyModel + " takes its daylight coefficients instead");
     if (o.skyModel != "isotropic" && o.command == "year" && (!o.sensorsPath.empty() || !o.gridObject.empty()))
         throw UsageError("sensors take the isotropic sky only (yet): --sky " + o.skyModel + " does not apply with --sensors or --grid");
     if (o.command == "sun" || o.command == "irradiance" || (o.command == "sensors" && o.dni)) {
@@ -646,7 +649,7 @@ std::uint64_t optionsHash(const Options& o) {
     text(o.command); texts(o.inputs); text(o.output); text(o.format); h.addValue(o.quiet);
     h.addValue(o.subdivide); text(o.materials);
     settings(o.formFactors); h.addValue(o.allRows); h.addValue(o.enforceReciprocity);
-    h.addValue(o.dropBelow); h.addValue(o.normalizeRows); h.addValue(o.memoryCheck); text(o.ffPath);
+    h.addValue(o.dropBelow); h.addValue(o.normalizeRows); h.addValue(o.memoryCheck); text(o.ffPath); text(o.skyViewPath);
     h.addValue(o.recomputeFf); h.addValue(o.reuseFfAnyway); h.addValue(o.shards);
     text(o.solver.solver); h.addValue(o.solver.tolerance); h.addValue(o.solver.maxIterations);
     h.addValue(o.solver.allowUnconverged); h.addValue(std::uint64_t(o.solver.memoryLimit)); h.addValue(o.crease);
@@ -840,6 +843,10 @@ sun:
                          cie:1 .. cie:15 (ISO 15469 / CIE S 011 general skies; the sun from --sun-*),
                          perez (Perez 1993 all-weather, from DNI, DHI and the sun); the sky through
                          mirrors too (first reflections). Below the horizon is dark: model the ground
+  --svf SVF.csv          (irradiance, year; the isotropic sky) the sky view factors stored in SVF.csv
+                         as hemirad sky-view writes them: read where the file exists (each patch's
+                         object, area and centroid checked against the scene), else computed and
+                         stored there for the next run
   --sky-subdivision M    (--sky MODEL) Reinhart's 144 M^2 + 1 sky cells, 1..8 (default 2; 1: Tregenza's 145)
   --sky-samples Q        (--sky MODEL) Q x Q directions per cell, each an exact shadow pass, 1..16
                          (default 1; the error falls about as 1/(cells x Q^2))

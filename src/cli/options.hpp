@@ -39,6 +39,7 @@ struct Options {
     bool normalizeRows = false;
     bool memoryCheck = true;             ///< --no-memory-check turns the F memory estimate off
     std::string ffPath;                  ///< --ff: stored F to reuse (or to create)
+    std::string skyViewPath;             ///< --svf: stored sky view factors to reuse (or to create)
     bool recomputeFf = false;
     bool reuseFfAnyway = false;          ///< --reuse-ff-anyway: --ff FILE made with other settings is reused
     bool shards = false;                 ///< --shards: F stored as shard files + manifest (one shard per rank)
@@ -54,7 +55,7 @@ struct Options {
     double exposure = 0.0;               ///< 0 = automatic
     bool flat = false;
     std::string objectsPath;             ///< solve --objects: the per-object table (CSV)
-    bool skyView = false;                ///< solve --sky-view: a sky_view_factor column (CSV) or face property (PLY)
+    bool skyView = false;                ///< solve --svf: a sky_view_factor column (CSV) or face property (PLY)
     std::optional<FalseColourQuantity> falseColour;  ///< --false-color (none: a picture)
     FalseColourScale falseColourScale = FalseColourScale::Linear;  ///< --scale
     std::optional<double> rangeMin, rangeMax;  ///< --range MIN:MAX (either may be empty: automatic)

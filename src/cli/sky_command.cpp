@@ -1,9 +1,12 @@
-// --sky MODEL on the command line: the daylight coefficients and one hour's sky from them, shared by
-// `irradiance` and `year`.
+// The sky on the command line, shared by `irradiance` and `year`: the isotropic sky's view factors
+// (computed, or read from --svf FILE), --sky MODEL's daylight coefficients and one hour's sky
+// from them.
 #include "cli/sun_command.hpp"
 #include "environment/sky_model.hpp"
+#include "environment/sky_view.hpp"
 #include "environment/weather.hpp"
 
+#include <filesystem>
 #include <sstream>
 
 namespace hemirad {
@@ -12,6 +15,27 @@ Vec3 upFromOptions(const Options& options) { return options.upAxis == "z" ? Vec3
 
 Vec3 northFromOptions(const Options& options) {
     return options.north ? *options.north : options.upAxis == "z" ? Vec3(0, 1, 0) : Vec3(0, 0, -1);
+}
+
+std::vector<double> directSkyViewFromOptions(const Scene& scene, const Options& options, Timings& timings, const Reporter& reporter) {
+    const std::string& path = options.skyViewPath;
+    if (!path.empty() && std::filesystem::exists(path)) {
+        timings.start("read sky view factors");
+        SkyView sky = readSkyViewCsv(path, scene);
+        timings.stop();
+        reporter.line("sky view factors: read from " + path + " (each patch's object, area and centroid checked against the scene)");
+        return std::move(sky.direct);
+    }
+    timings.start("sky view factors");
+    const SkyView sky = skyViewFactors(scene, options.formFactors);
+    timings.stop();
+    if (!path.empty()) {
+        timings.start("write sky view factors");
+        writeSkyViewCsv(path, scene, sky);
+        timings.stop();
+        reporter.line("sky view factors (" + sky.method + "): stored in " + path + " for the next run");
+    }
+    return sky.direct;
 }
 
 SkyCoefficients skyCoefficientsFromOptions(const Scene& scene, const Options& options, Timings& timings, const Reporter& reporter) {

@@ -26,6 +26,11 @@ SkyCoefficients skyCoefficientsFromOptions(const Scene& scene, const Options& op
 void modelSkyHour(const SkyCoefficients& sky, const Options& options, const Vec3& toSun, IrradianceInputs& in,
                   const Reporter& reporter);
 
+/// The isotropic sky's direct sky view factors per patch: read from --svf FILE where it exists
+/// (checked against the scene), else computed (and, with --svf, stored there); timed and
+/// reported. Throws hemirad::Error.
+std::vector<double> directSkyViewFromOptions(const Scene& scene, const Options& options, Timings& timings, const Reporter& reporter);
+
 /// Metres per scene unit: the scene's stated unit, else --unit, else 1 with a warning.
 double metresFromOptions(const Scene& scene, const Options& options, Warnings& warnings);
 

@@ -28,4 +28,31 @@ inline std::vector<std::string> splitCsvLine(const std::string& line) {
     return out;
 }
 
+/// The fields of a line as csvField writes them: a quoted field unquoted (inner quotes undoubled),
+/// commas inside quotes kept. `ok` is false for a quote left open or text after a closing quote.
+inline std::vector<std::string> splitQuotedCsvLine(const std::string& line, bool& ok) {
+    std::vector<std::string> out(1);
+    ok = true;
+    bool quoted = false, closed = false;
+    for (std::size_t k = 0; k < line.size(); ++k) {
+        const char c = line[k];
+        if (quoted) {
+            if (c != '"') out.back() += c;
+            else if (k + 1 < line.size() && line[k + 1] == '"') out.back() += '"', ++k;
+            else quoted = false, closed = true;
+        } else if (c == ',') {
+            out.emplace_back();
+            closed = false;
+        } else if (closed) {
+            ok = false;
+        } else if (c == '"' && out.back().empty()) {
+            quoted = true;
+        } else {
+            out.back() += c;
+        }
+    }
+    if (quoted) ok = false;
+    return out;
+}
+
 }  // namespace hemirad

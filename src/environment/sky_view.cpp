@@ -8,6 +8,9 @@
 #include "preprocess/form_factor_job.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <numeric>
@@ -85,13 +88,77 @@ void writeSkyViewCsv(const std::string& path, const Scene& scene, const SkyView&
     std::ostream& out = file.stream();
     out << std::setprecision(std::numeric_limits<double>::max_digits10);
     const std::string unit = scene.unit.empty() ? "" : " (" + scene.unit + "^2)";
-    out << "patch,object,area" << unit << ",sky_view_factor,direct,through_mirrors\n";
+    out << "patch,object,area" << unit << ",sky_view_factor,direct,through_mirrors,x,y,z\n";
     const std::vector<double> total = sky.total();
     for (PatchId i = 0; i < scene.size(); ++i) {
+        const Vec3& c = scene.patches[i].centroid;
         out << i << ',' << csvField(scene.objects[scene.patches[i].object]) << ',' << scene.patches[i].area << ',' << total[i] << ',' << sky.direct[i] << ','
-            << (sky.mirrored.empty() ? 0.0 : sky.mirrored[i]) << '\n';
+            << (sky.mirrored.empty() ? 0.0 : sky.mirrored[i]) << ',' << c.x() << ',' << c.y() << ',' << c.z() << '\n';
     }
     file.commit();
+}
+
+SkyView readSkyViewCsv(const std::string& path, const Scene& scene) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path + ": cannot open the sky view factors");
+    const std::size_t n = scene.size();
+    std::string line;
+    std::size_t number = 0;
+    auto fail = [&](const std::string& what) { throw Error(path + ":" + std::to_string(number) + ": " + what); };
+    auto trimmed = [](std::string s) {
+        if (!s.empty() && s.back() == '\r') s.pop_back();
+        return s;
+    };
+    if (!std::getline(in, line)) throw Error(path + ": empty (no header): not a sky view factor file");
+    ++number;
+    line = trimmed(line);
+    if (line.rfind("patch,object,area", 0) != 0 || line.find(",sky_view_factor,direct,through_mirrors,x,y,z") == std::string::npos)
+        fail("not a sky view factor file as hemirad sky-view writes it (header '" + line.substr(0, 80) +
+             "'; expected patch,object,area,sky_view_factor,direct,through_mirrors,x,y,z)");
+    SkyView sky;
+    sky.direct.resize(n);
+    sky.mirrored.assign(n, 0.0);
+    sky.method = "read from " + path;
+    const double place = 1e-9 * std::max(scene.extent(), 1e-300);
+    bool anyMirrored = false;
+    std::size_t rows = 0;
+    while (std::getline(in, line)) {
+        ++number;
+        line = trimmed(line);
+        if (line.empty()) continue;
+        bool ok = true;
+        const std::vector<std::string> f = splitQuotedCsvLine(line, ok);
+        if (!ok || f.size() != 9) fail("expected 9 fields (patch,object,area,sky_view_factor,direct,through_mirrors,x,y,z), read " +
+                                       std::to_string(f.size()) + (ok ? "" : " with an unclosed quote"));
+        double v[8];
+        for (int k = 0; k < 8; ++k) {
+            const std::string& text = f[k == 0 ? 0 : std::size_t(k + 1)];
+            char* end = nullptr;
+            v[k] = std::strtod(text.c_str(), &end);
+            if (text.empty() || *end != '\0' || !std::isfinite(v[k])) fail("'" + text + "' is not a number");
+        }
+        if (rows >= n) fail("more rows than the scene's " + std::to_string(n) + " patches: computed for other geometry");
+        const Patch& p = scene.patches[rows];
+        if (v[0] != double(rows)) fail("patch " + f[0] + " where patch " + std::to_string(rows) + " was expected");
+        if (f[1] != scene.objects[p.object])
+            fail("patch " + std::to_string(rows) + " belongs to object '" + f[1] + "' here and to '" + scene.objects[p.object] +
+                 "' in the scene: computed for other geometry");
+        if (std::abs(v[1] - p.area) > 1e-9 * p.area + place * place)
+            fail("patch " + std::to_string(rows) + "'s area " + f[2] + " is not the scene's " + std::to_string(p.area) +
+                 ": computed for other geometry");
+        if ((Vec3(v[5], v[6], v[7]) - p.centroid).norm() > place)
+            fail("patch " + std::to_string(rows) + "'s centroid (" + f[6] + ", " + f[7] + ", " + f[8] +
+                 ") is not the scene's: computed for other geometry");
+        for (int k : {2, 3, 4})
+            if (v[k] < 0.0 || v[k] > 1.0 + 1e-9) fail("a sky view factor of " + f[std::size_t(k + 1)] + " is not within 0..1");
+        sky.direct[rows] = v[3];
+        sky.mirrored[rows] = v[4];
+        anyMirrored = anyMirrored || v[4] > 0.0;
+        ++rows;
+    }
+    if (rows != n) throw Error(path + ": " + std::to_string(rows) + " rows for the scene's " + std::to_string(n) + " patches: computed for other geometry");
+    if (!anyMirrored && !scene.hasMirrors()) sky.mirrored.clear();
+    return sky;
 }
 
 }  // namespace hemirad

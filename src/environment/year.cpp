@@ -8,6 +8,7 @@
 #include "environment/sunlit.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -16,6 +17,8 @@ namespace hemirad {
 
 namespace {
 constexpr double kDegree = kPi / 180.0;
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 }  // namespace
 
 YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector<double>& skyView, const Weather& weather,
@@ -61,6 +64,7 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
     out.sensorReflected.assign(sensors, 0.0);
     out.sensorSum.assign(sensors, 0.0);
 
+    const BeamShadows shadows(scene);  // set up once for every hour's sun
     std::vector<std::vector<double>> sun, sky, bounced, skyBounced, sensorLit;
     std::vector<Vec3> toSuns;
     for (std::size_t first = 0; first < out.hours.size(); first += options.batch) {
@@ -82,13 +86,16 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
             direct.assign(n, 0.0);
             const SolarPosition p = solarPosition(middleOfHourUtc(hour, weather.timeZone), weather.latitude, weather.longitude);
             if (p.elevation > 0.0 && hour.dni > 0.0) {
+                const auto sunStart = Clock::now();
                 const Vec3 toSun = sunDirection(p, options.up, options.north);
-                direct = directIrradiance(scene, toSun, hour.dni, sunlitFractions(scene, toSun));
+                direct = directIrradiance(scene, toSun, hour.dni, shadows.sunlitFractions(toSun));
                 toSuns[b - first] = toSun;
                 if (mirrors) bounced[b - first] = reflectedSun(scene, toSun, hour.dni).irradiance;
                 if (sensors) sensorLit[b - first] = sensorSunlit(scene, *options.sensors, toSun);
+                out.sunSeconds += since(sunStart);
             }
             if (model && hour.dhi > 0.0) {
+                const auto skyStart = Clock::now();
                 SkyConditions c;
                 c.toSun = skyDirection(p.elevation * kDegree, p.azimuth * kDegree);
                 c.dni = hour.dni;
@@ -105,12 +112,15 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                                 std::to_string(hour.dni) + ", DHI " + std::to_string(hour.dhi) + ")");
                 }
                 radiance.col(Eigen::Index(b - first)) = Eigen::Map<const Eigen::VectorXd>(L.data(), Eigen::Index(L.size()));
+                out.skySeconds += since(skyStart);
             }
         }
         Eigen::MatrixXd skyDirect, skyMirrored;
         if (model) {
+            const auto skyStart = Clock::now();
             skyDirect = model->direct * radiance;
             if (mirrors) skyMirrored = model->mirrored * radiance;
+            out.skySeconds += since(skyStart);
         }
         for (std::size_t b = first; b < last; ++b) {
             const WeatherHour& hour = weather.hours[out.hours[b]];
@@ -127,13 +137,31 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                 band.source[i] = rho[i] * (direct[i] + diffuse[i] + bounced[b - first][i] + skyBounced[b - first][i]);
             }
         }
+        const auto solving = Clock::now();
         const BandSolution solved = solveBands(scene, F, bands, solver);
+        out.solveSeconds += since(solving);
+        const auto tallying = Clock::now();
+        // What each patch receives from the others, H = F J, for the batch's hours together: J
+        // interleaved by hour, one pass over F (in parallel by rows).
+        const std::size_t width = last - first;
+        std::vector<double> Jt(n * width), Hb(n * width, 0.0);
+        for (std::size_t b = 0; b < width; ++b)
+            for (std::size_t j = 0; j < n; ++j) Jt[j * width + b] = solved.X[b][j];
+#pragma omp parallel for schedule(dynamic, 256)
+        for (std::int64_t ii = 0; ii < std::int64_t(n); ++ii) {
+            const std::size_t i = std::size_t(ii);
+            double* h = &Hb[i * width];
+            for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
+                const double f = double(F.values()[k]);
+                const double* x = &Jt[std::size_t(F.columns()[k]) * width];
+                for (std::size_t b = 0; b < width; ++b) h[b] += f * x[b];
+            }
+        }
         for (std::size_t b = first; b < last; ++b) {
             const std::vector<double>& J = solved.X[b - first];
             double incident = 0.0, absorbed = 0.0, escaped = 0.0;
             for (std::size_t i = 0; i < n; ++i) {
-                double H = 0.0;
-                for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) H += double(F.values()[k]) * J[F.columns()[k]];
+                const double H = Hb[i * width + (b - first)];
                 // The sun (and sky) reflected by mirrors arrives first too; it came in as the direct sun
                 // (and sky) on them.
                 const double outside = sun[b - first][i] + sky[b - first][i];
@@ -168,6 +196,7 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
             out.absorbedWh += absorbed;
             if (incident > 0.0) out.worstBalance = std::max(out.worstBalance, std::abs(incident - absorbed - escaped) / incident);
         }
+        out.tallySeconds += since(tallying);
     }
     return out;
 }

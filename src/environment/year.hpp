@@ -42,6 +42,10 @@ struct YearResult {
     std::size_t skyClampedHours = 0;      ///< Perez's sky: hours whose clearness or brightness was kept in the model's range
     std::size_t skyUniformHours = 0;      ///< Perez's sky: hours dark everywhere even so, given a uniform sky (skyRadiance)
     double incidentWh = 0.0, absorbedWh = 0.0;  ///< over the year (W h; scene units^2 x W/m^2 h without a unit)
+    /// Wall seconds of the hours' stages: the sun (sunlit fractions, its reflections, the sensors'
+    /// sun), the sky (a model's radiance and coefficients), the inter-reflection solves, and the
+    /// tallies (each hour's totals, sums and energy balance).
+    double sunSeconds = 0.0, skySeconds = 0.0, solveSeconds = 0.0, tallySeconds = 0.0;
     /// With sensors: per solved hour, per sensor (hours x sensors), W/m^2, and per sensor over the
     /// year, Wh/m^2: direct sun, direct sky, reflected and total.
     std::vector<double> sensorTotal;

@@ -85,7 +85,7 @@ TEST_CASE("hemirad sky-view writes each patch's sky view factor, direct and thro
     REQUIRE(r.status == 0);
     CHECK(r.output.find("sky view factor (hemisphere") != std::string::npos);
     const std::string csv = readText(out);
-    CHECK(csv.find("patch,object,area (m^2),sky_view_factor,direct,through_mirrors\n0,radiator,") == 0);
+    CHECK(csv.find("patch,object,area (m^2),sky_view_factor,direct,through_mirrors,x,y,z\n0,radiator,") == 0);
     const CommandResult missing = runCommand(std::string(HEMIRAD_BINARY) + " sky-view " + example("radiator.obj") + " 2>&1");
     CHECK(missing.status == 2);
     CHECK(missing.output.find("'sky-view' needs -o OUTPUT") != std::string::npos);
@@ -144,4 +144,36 @@ TEST_CASE("hemirad year solves a weather file's hours against one F: annual sums
     const CommandResult bad = runCommand(std::string(HEMIRAD_BINARY) + " year " + example("radiator.obj") + " -o " + out + " 2>&1");
     CHECK(bad.status == 2);
     CHECK(bad.output.find("'year' needs --weather FILE.epw") != std::string::npos);
+}
+
+TEST_CASE("hemirad year --svf FILE: the sky view factors computed and stored once, read by the next run to the same result") {
+    const auto dir = tempDir("year-sky-view");
+    const std::string svf = (dir / "svf.csv").string();
+    const std::string year = std::string(HEMIRAD_BINARY) + " year " + example("radiator.obj") + " --weather '" +
+                             sourcePath("tests/data/weather/excerpt.epw") + "' --svf " + svf;
+    const CommandResult first = runCommand(year + " -o " + (dir / "a.csv").string() + " 2>&1");
+    INFO(first.output);
+    REQUIRE(first.status == 0);
+    CHECK(first.output.find("stored in " + svf + " for the next run") != std::string::npos);
+    const CommandResult second = runCommand(year + " -o " + (dir / "b.csv").string() + " 2>&1");
+    INFO(second.output);
+    REQUIRE(second.status == 0);
+    CHECK(second.output.find("sky view factors: read from " + svf) != std::string::npos);
+    CHECK(second.output.find("\nsky view factors  ") == std::string::npos);  // not computed again (a stage of its own)
+    CHECK(first.output.find("\nsky view factors  ") != std::string::npos);
+    CHECK(readText(dir / "a.csv") == readText(dir / "b.csv"));
+    // hemirad sky-view writes the same file; another scene is refused; a sky model takes none.
+    const CommandResult written = runCommand(std::string(HEMIRAD_BINARY) + " sky-view " + example("radiator.obj") + " -o " +
+                                             (dir / "svf2.csv").string() + " 2>&1");
+    REQUIRE(written.status == 0);
+    CHECK(readText(dir / "svf2.csv") == readText(svf));
+    const CommandResult other = runCommand(std::string(HEMIRAD_BINARY) + " year " + sourcePath("scenes/cornell_mirror.obj") +
+                                           " --up y --unit mm --weather '" + sourcePath("tests/data/weather/excerpt.epw") +
+                                           "' --svf " + svf + " -o " + (dir / "c.csv").string() + " 2>&1");
+    CHECK(other.status == 1);
+    CHECK(other.output.find(svf + ":") != std::string::npos);
+    CHECK(other.output.find("computed for other geometry") != std::string::npos);
+    const CommandResult model = runCommand(year + " --sky perez -o " + (dir / "d.csv").string() + " 2>&1");
+    CHECK(model.status == 2);
+    CHECK(model.output.find("--svf stores the isotropic sky's view factors") != std::string::npos);
 }

@@ -3,10 +3,15 @@
 // infinite-canyon formulas, averaged over the patch), with the default flags.
 #include "support.hpp"
 
+#include "engine/error.hpp"
 #include "environment/sky_view.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
 
 #include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 
 using namespace hemirad;
 using namespace hemirad::test;
@@ -115,4 +120,54 @@ TEST_CASE("Sky view at the centre of a courtyard: the opening's polygon by Lambe
     const SkyView sky = defaults(b.scene);
     MESSAGE("courtyard centre: " << sky.direct[0] << ", Lambert " << lambert << " (a disk: " << R * R / (R * R + H * H) << ")");
     CHECK(std::abs(sky.direct[0] - lambert) <= 1e-4);
+}
+
+TEST_CASE("Sky view factors stored and read back: every digit kept, and a file of other geometry refused with file and line") {
+    const auto dir = tempDir("sky-view-csv");
+    Scene s = groundAndWall(1.0, 2.0, 1.0, true, 0.0);
+    s.objects.push_back("wall, west \"a\"");  // a name that needs quoting
+    s.patches[1].object = std::uint32_t(s.objects.size() - 1);
+    SkyView sky;
+    sky.direct = {0.7671470966, 0.6234};
+    sky.mirrored = {0.0, 0.0};
+    const std::string path = (dir / "svf.csv").string();
+    writeSkyViewCsv(path, s, sky);
+    const SkyView back = readSkyViewCsv(path, s);
+    CHECK(back.direct == sky.direct);
+    CHECK(back.mirrored.empty());  // no mirrors in the scene, none through them
+    CHECK(back.method == "read from " + path);
+
+    auto refused = [&](const Scene& scene, const std::string& file, const std::string& expected) {
+        try {
+            readSkyViewCsv(file, scene);
+            FAIL("accepted " << file);
+        } catch (const Error& e) {
+            MESSAGE(std::string(e.what()));
+            CHECK(std::string(e.what()).find(expected) != std::string::npos);
+        }
+    };
+    // The wall moved by 1e-3 (its area unchanged): its centroid tells.
+    Scene moved = s;
+    for (std::uint32_t k = 0; k < moved.patches[1].cornerCount; ++k) moved.vertices[moved.corners[moved.patches[1].firstCorner + k]].x() += 1e-3;
+    moved.updateMeasures();
+    refused(moved, path, path + ":3: patch 1's centroid");
+    // Another object, another patch count, a damaged value, another header.
+    Scene renamed = s;
+    renamed.objects.back() = "east";
+    refused(renamed, path, path + ":3: patch 1 belongs to object 'wall, west \"a\"' here and to 'east'");
+    Scene fewer = groundAndWall(1.0, 2.0, 1.0, true, 0.0);
+    fewer.patches.pop_back();
+    refused(fewer, path, ":3: more rows than the scene's 1 patches");
+    std::string text;
+    {
+        std::ifstream in(path);
+        text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    const std::size_t second = text.find('\n') + 1;
+    const std::string damaged = text.substr(0, second) + "0,default,1,0.5,x,0,0.5,0.5,0\n";
+    refused(s, writeFile(dir / "damaged.csv", damaged), "damaged.csv:2: 'x' is not a number");
+    refused(s, writeFile(dir / "short.csv", text.substr(0, text.rfind('\n', text.size() - 2) + 1)), "1 rows for the scene's 2 patches");
+    refused(s, writeFile(dir / "other.csv", "patch,object,area,sky_view_factor\n0,default,1,0.5\n"), "other.csv:1: not a sky view factor file");
+    refused(s, (dir / "missing.csv").string(), "missing.csv: cannot open");
+    std::filesystem::remove_all(dir);
 }
