@@ -211,9 +211,13 @@ BandSolution solveBands(const Scene& scene, const FormFactors& F, const std::vec
     }
 
     BandSolution result;
+    {
+        std::vector<Channel*> all;
+        for (Channel& ch : channels) all.push_back(&ch);
+        detail::relativeResiduals(F, all);  // one pass over F for every channel
+    }
     for (Channel& ch : channels) {
         SolveReport& r = ch.report;
-        r.residualOriginal = ch.E.norm() > 0 ? detail::relativeResidual(F, ch.rho, ch.E, ch.B) : 0.0;
         // Cholesky and CG solve the symmetrised K: their own residual says nothing about I - R F when
         // F is not reciprocal. Converged means converged on the system the user posed.
         const double originalLimit = std::max(kSymmetricGateFactor * options.tolerance, kFloatResidualFloor);

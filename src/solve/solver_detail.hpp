@@ -29,6 +29,12 @@ struct Channel {
 void multiplyF(const FormFactors& F, const Vector& x, Vector& y);
 /// ||E - (I - R F) B|| / ||E||; 0 when E = 0.
 double relativeResidual(const FormFactors& F, const Vector& rho, const Vector& E, const Vector& B);
+/// relativeResidual of every channel, in one pass over F for all of them (a year's batch of hours
+/// would otherwise read F once per hour).
+void relativeResiduals(const FormFactors& F, const std::vector<Channel*>& channels);
+/// The same for m channels interleaved per patch (value (i, c) at [i m + c]): ||E - (I - R F) B||
+/// per channel, unnormalised, into `norms` (m values).
+void interleavedResidualNorms(const FormFactors& F, int m, const double* rho, const double* E, const double* B, double* norms);
 
 using Transposed = TransposedFormFactors;
 

@@ -1,6 +1,9 @@
 // Kernels on the float CSR F: products, residuals and the transpose.
 #include "solve/solver_detail.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace hemirad::detail {
 
 void multiplyF(const FormFactors& F, const Vector& x, Vector& y) {
@@ -21,6 +24,54 @@ double relativeResidual(const FormFactors& F, const Vector& rho, const Vector& E
     multiplyF(F, B, FB);
     const double norm = E.norm();
     return norm > 0 ? (E - B + rho.cwiseProduct(FB)).norm() / norm : 0.0;
+}
+
+void interleavedResidualNorms(const FormFactors& F, int m, const double* rho, const double* E, const double* B, double* norms) {
+    const auto n = static_cast<std::ptrdiff_t>(F.size());
+    const std::uint32_t* col = F.columns();
+    const float* val = F.values();
+    std::fill(norms, norms + m, 0.0);
+#pragma omp parallel
+    {
+        std::vector<double> sum(static_cast<std::size_t>(m)), squares(static_cast<std::size_t>(m), 0.0);
+#pragma omp for schedule(dynamic, 256)
+        for (std::ptrdiff_t i = 0; i < n; ++i) {
+            std::fill(sum.begin(), sum.end(), 0.0);
+            for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
+                const double v = val[k];
+                const double* x = &B[std::size_t(col[k]) * std::size_t(m)];
+                for (int c = 0; c < m; ++c) sum[std::size_t(c)] += v * x[c];
+            }
+            const std::size_t at = std::size_t(i) * std::size_t(m);
+            for (int c = 0; c < m; ++c) {
+                const double r = E[at + c] - B[at + c] + rho[at + c] * sum[std::size_t(c)];
+                squares[std::size_t(c)] += r * r;
+            }
+        }
+#pragma omp critical(hemirad_residual_norms)
+        for (int c = 0; c < m; ++c) norms[c] += squares[std::size_t(c)];
+    }
+    for (int c = 0; c < m; ++c) norms[c] = std::sqrt(norms[c]);
+}
+
+void relativeResiduals(const FormFactors& F, const std::vector<Channel*>& channels) {
+    if (channels.size() <= 1) {
+        for (Channel* ch : channels) ch->report.residualOriginal = ch->E.norm() > 0 ? relativeResidual(F, ch->rho, ch->E, ch->B) : 0.0;
+        return;
+    }
+    const std::size_t n = F.size(), m = channels.size();
+    std::vector<double> rho(n * m), E(n * m), B(n * m), norms(m);
+    for (std::size_t c = 0; c < m; ++c)
+        for (std::size_t i = 0; i < n; ++i) {
+            rho[i * m + c] = channels[c]->rho[Eigen::Index(i)];
+            E[i * m + c] = channels[c]->E[Eigen::Index(i)];
+            B[i * m + c] = channels[c]->B[Eigen::Index(i)];
+        }
+    interleavedResidualNorms(F, int(m), rho.data(), E.data(), B.data(), norms.data());
+    for (std::size_t c = 0; c < m; ++c) {
+        const double e = channels[c]->E.norm();
+        channels[c]->report.residualOriginal = e > 0 ? norms[c] / e : 0.0;
+    }
 }
 
 }  // namespace hemirad::detail
