@@ -1,6 +1,8 @@
 // CSR form factors: construction, lookup, statistics, reciprocity enforcement and validation.
 #include "engine/form_factors.hpp"
 
+#include "engine/wide_kernels.hpp"
+
 #include "engine/error.hpp"
 #include "engine/parallel_failure.hpp"
 #include "engine/scene.hpp"
@@ -336,6 +338,37 @@ void validateFormFactors(const FormFactors& F, std::size_t patchCount, const std
                 << ": more power arrives than leaves";
             throw Error(source, 0, msg.str());
         }
+    }
+}
+
+namespace {
+
+/// Rows [first, last) of Y = F X (interleaved, `width` columns).
+HEMIRAD_WIDE_KERNEL void multiplyRows(const FormFactors& F, std::size_t width, const double* X, double* Y, std::size_t first,
+                                      std::size_t last) {
+    const std::uint32_t* col = F.columns();
+    const float* val = F.values();
+    for (std::size_t i = first; i < last; ++i) {
+        double* y = Y + i * width;
+        std::fill(y, y + width, 0.0);
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
+            const double v = val[k];
+            const double* x = X + std::size_t(col[k]) * width;
+            for (std::size_t c = 0; c < width; ++c) y[c] += v * x[c];
+        }
+    }
+}
+
+}  // namespace
+
+void multiplyInterleaved(const FormFactors& F, std::size_t width, const double* X, std::vector<double>& Y) {
+    const std::size_t n = F.size();
+    Y.resize(n * width);
+    constexpr std::size_t kRows = 64;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::int64_t chunk = 0; chunk < std::int64_t((n + kRows - 1) / kRows); ++chunk) {
+        const std::size_t first = std::size_t(chunk) * kRows;
+        multiplyRows(F, width, X, Y.data(), first, std::min(n, first + kRows));
     }
 }
 

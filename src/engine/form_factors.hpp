@@ -116,6 +116,11 @@ struct TransposedFormFactors {
 /// Builds F^T (parallel counting sort, O(nnz); 8 bytes per nonzero).
 TransposedFormFactors transpose(const FormFactors& F);
 
+/// Y = F X for `width` right-hand sides interleaved per patch (value (i, c) at [i width + c]): one
+/// pass over F for all of them, rows in parallel (OpenMP), the inner loop in wide vectors where the
+/// processor has them (engine/wide_kernels.hpp). Y is resized to N x width.
+void multiplyInterleaved(const FormFactors& F, std::size_t width, const double* X, std::vector<double>& Y);
+
 /// Visits, for row i, every column j of row i or of column i (ascending, each once) with F_ij and
 /// F_ji (0 where absent): the O(nnz) walk behind reciprocity statistics and the symmetric form.
 template <class Visit>

@@ -144,19 +144,10 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
         // What each patch receives from the others, H = F J, for the batch's hours together: J
         // interleaved by hour, one pass over F (in parallel by rows).
         const std::size_t width = last - first;
-        std::vector<double> Jt(n * width), Hb(n * width, 0.0);
+        std::vector<double> Jt(n * width), Hb;
         for (std::size_t b = 0; b < width; ++b)
             for (std::size_t j = 0; j < n; ++j) Jt[j * width + b] = solved.X[b][j];
-#pragma omp parallel for schedule(dynamic, 256)
-        for (std::int64_t ii = 0; ii < std::int64_t(n); ++ii) {
-            const std::size_t i = std::size_t(ii);
-            double* h = &Hb[i * width];
-            for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
-                const double f = double(F.values()[k]);
-                const double* x = &Jt[std::size_t(F.columns()[k]) * width];
-                for (std::size_t b = 0; b < width; ++b) h[b] += f * x[b];
-            }
-        }
+        multiplyInterleaved(F, width, Jt.data(), Hb);
         for (std::size_t b = first; b < last; ++b) {
             const std::vector<double>& J = solved.X[b - first];
             double incident = 0.0, absorbed = 0.0, escaped = 0.0;

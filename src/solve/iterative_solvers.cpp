@@ -73,7 +73,7 @@ void jacobiSweep(const FormFactors& F, const Block& b, std::vector<double>& next
 /// One in-place sweep of channels [c0, c1); the self factor F_ii is solved for exactly. Adds the
 /// squared changes per channel to change[c].
 template <int M>
-void gaussSeidelChannels(const FormFactors& F, Block& b, int c0, int c1, double* change) {
+HEMIRAD_INLINE_KERNEL void gaussSeidelChannels(const FormFactors& F, Block& b, int c0, int c1, double* change) {
     const std::uint32_t* col = F.columns();
     const float* val = F.values();
     const std::size_t m = std::size_t(widthOf<M>(b));
@@ -103,6 +103,11 @@ void gaussSeidelChannels(const FormFactors& F, Block& b, int c0, int c1, double*
     }
 }
 
+/// gaussSeidelChannels for any number of channels, compiled for wide vectors too (chosen at run time).
+HEMIRAD_WIDE_KERNEL void gaussSeidelMany(const FormFactors& F, Block& b, int c0, int c1, double* change) {
+    gaussSeidelChannels<0>(F, b, c0, c1, change);
+}
+
 /// One in-place sweep of every channel. Up to three channels sweep on one thread: measured here,
 /// two threads splitting the rows (Jacobi between the halves) needed 50% more sweeps and ran slower
 /// on a memory-bound 2-core machine. Many channels (a year's hours) split among the threads by
@@ -116,7 +121,7 @@ void gaussSeidelSweep(const FormFactors& F, Block& b, double* change) {
         {
             const std::int64_t threads = omp_get_num_threads(), t = omp_get_thread_num();
             const int c0 = int(m * t / threads), c1 = int(m * (t + 1) / threads);
-            if (c1 > c0) gaussSeidelChannels<0>(F, b, c0, c1, change);
+            if (c1 > c0) gaussSeidelMany(F, b, c0, c1, change);
         }
         return;
     }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "engine/form_factors.hpp"
+#include "engine/wide_kernels.hpp"
 #include "engine/scene.hpp"
 #include "solve/solver.hpp"
 

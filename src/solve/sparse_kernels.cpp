@@ -27,30 +27,14 @@ double relativeResidual(const FormFactors& F, const Vector& rho, const Vector& E
 }
 
 void interleavedResidualNorms(const FormFactors& F, int m, const double* rho, const double* E, const double* B, double* norms) {
-    const auto n = static_cast<std::ptrdiff_t>(F.size());
-    const std::uint32_t* col = F.columns();
-    const float* val = F.values();
+    std::vector<double> FB;
+    multiplyInterleaved(F, std::size_t(m), B, FB);
     std::fill(norms, norms + m, 0.0);
-#pragma omp parallel
-    {
-        std::vector<double> sum(static_cast<std::size_t>(m)), squares(static_cast<std::size_t>(m), 0.0);
-#pragma omp for schedule(dynamic, 256)
-        for (std::ptrdiff_t i = 0; i < n; ++i) {
-            std::fill(sum.begin(), sum.end(), 0.0);
-            for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
-                const double v = val[k];
-                const double* x = &B[std::size_t(col[k]) * std::size_t(m)];
-                for (int c = 0; c < m; ++c) sum[std::size_t(c)] += v * x[c];
-            }
-            const std::size_t at = std::size_t(i) * std::size_t(m);
-            for (int c = 0; c < m; ++c) {
-                const double r = E[at + c] - B[at + c] + rho[at + c] * sum[std::size_t(c)];
-                squares[std::size_t(c)] += r * r;
-            }
+    for (std::size_t at = 0; at < FB.size(); at += std::size_t(m))
+        for (int c = 0; c < m; ++c) {
+            const double r = E[at + c] - B[at + c] + rho[at + c] * FB[at + c];
+            norms[c] += r * r;
         }
-#pragma omp critical(hemirad_residual_norms)
-        for (int c = 0; c < m; ++c) norms[c] += squares[std::size_t(c)];
-    }
     for (int c = 0; c < m; ++c) norms[c] = std::sqrt(norms[c]);
 }
 

@@ -192,12 +192,13 @@ bool ShadowPolygons::outsideSomePlane(std::uint32_t b, const Vec3* m, const doub
 
 template <class Visit>
 void ShadowPolygons::traverse(const Vec3* m, const double* d, std::size_t planes, double tolerance, PatchId e, PatchId r,
-                              Scratch& s, Visit visit, const Vec3* nearFirst) const {
+                              Scratch& s, Visit visit, const Vec3* nearFirst, const Vec3* box) const {
     s.stack.assign(1, 0);
     while (!s.stack.empty()) {
         const std::uint32_t at = s.stack.back();
         const Node& node = m_nodes[at];
         s.stack.pop_back();
+        if (box && ((node.hi.array() < box[0].array()).any() || (node.lo.array() > box[1].array()).any())) continue;
         const Vec3 centre = 0.5 * (node.lo + node.hi), half = 0.5 * (node.hi - node.lo);
         bool outside = false;
         for (std::size_t k = 0; k < planes && !outside; ++k)
@@ -246,7 +247,7 @@ void ShadowPolygons::collect(const Vec3* m, const double* d, std::size_t planes,
 template <class Project>
 void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& normal, std::size_t planes, double tolerance,
                                  PatchId e, PatchId r, Scratch& s, const std::vector<std::uint32_t>* within,
-                                 Project project, const Vec3* nearFirst) const {
+                                 Project project, const Vec3* nearFirst, const Vec3* box) const {
     s.shadows = 0;
     const std::vector<Vec3>& m = s.planeNormals;
     const std::vector<double>& d = s.planeOffsets;
@@ -305,7 +306,7 @@ void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& n
         return !s.clear.pieces.empty();  // nothing left clear: no need to look further
     };
     if (!within) {
-        traverse(m.data(), d.data(), planes, tolerance, e, r, s, shade, nearFirst);
+        traverse(m.data(), d.data(), planes, tolerance, e, r, s, shade, nearFirst, box);
     } else {
         for (const std::uint32_t b : *within)
             if (!outsideSomePlane(b, m.data(), d.data(), planes, tolerance) && !shade(b)) break;
@@ -397,10 +398,32 @@ double ShadowPolygons::litFraction(const Vec3* p, std::size_t count, const Vec3&
     d.push_back(offset);
 
     // Parallel projection along the beam onto the receiver's plane.
+    // The prism's part within the blockers' box lies in the box around the receiver and the
+    // receiver moved along the beam to where its last corner leaves the blockers' box: a tree node
+    // outside that box is passed over without its planes (a long thin prism crosses many).
+    const Node& root = m_nodes[0];
+    double far = 0.0;
+    for (std::size_t k = 0; k < count; ++k) {
+        double leave = INFINITY;  // where the ray from corner k along the beam leaves the root's box
+        for (int a = 0; a < 3; ++a) {
+            if (toSource[a] > 0.0) leave = std::min(leave, (root.hi[a] - p[k][a]) / toSource[a]);
+            else if (toSource[a] < 0.0) leave = std::min(leave, (root.lo[a] - p[k][a]) / toSource[a]);
+        }
+        far = std::max(far, std::max(leave, 0.0));
+    }
+    Vec3 box[2] = {Vec3::Constant(INFINITY), Vec3::Constant(-INFINITY)};
+    for (std::size_t k = 0; k < count; ++k) {
+        box[0] = box[0].cwiseMin(p[k]).cwiseMin(p[k] + far * toSource);
+        box[1] = box[1].cwiseMax(p[k]).cwiseMax(p[k] + far * toSource);
+    }
+    const Vec3 margin = Vec3::Constant(tolerance);
+    box[0] -= margin;
+    box[1] += margin;
     // Blockers nearest the receiver along the beam first: they cover it soonest.
     castShadows(
         p, count, normal, m.size(), tolerance, r, r, s, nullptr,
-        [&](const Vec3& y) { return Vec3(y - toSource * ((normal.dot(y) - offset) / facing)); }, &toSource);
+        [&](const Vec3& y) { return Vec3(y - toSource * ((normal.dot(y) - offset) / facing)); }, &toSource,
+        std::isfinite(far) ? box : nullptr);
     if (s.shadows == 0) return 1.0;
     double whole = 0.0;
     {

@@ -73,17 +73,18 @@ private:
     /// e and r inside the region of the scratch's first `planes` planes (from the tree, or `within`):
     /// the blocker clipped to them and each corner sent onto p's plane by project(y). Leaves
     /// scratch.shadows, and the one shadow (first, firstShadow) or the clear pieces.
-    /// `nearFirst` (optional): the tree's nearer child along it searched first.
+    /// `nearFirst` and `box` as traverse takes them.
     template <class Project>
     void castShadows(const Vec3* p, std::size_t count, const Vec3& normal, std::size_t planes, double tolerance, PatchId e,
                      PatchId r, Scratch& s, const std::vector<std::uint32_t>* within, Project project,
-                     const Vec3* nearFirst = nullptr) const;
+                     const Vec3* nearFirst = nullptr, const Vec3* box = nullptr) const;
     /// Calls visit(b) for each blocker b other than e and r that no plane (m, d) leaves entirely
     /// outside (m . y - d <= tolerance), until visit returns false; with `nearFirst`, the child
-    /// whose box lies lower along that direction first.
+    /// whose box lies lower along that direction first; with `box` (lo, hi: a box holding the
+    /// region's part that matters), nodes whose boxes miss it are passed over.
     template <class Visit>
     void traverse(const Vec3* m, const double* d, std::size_t planes, double tolerance, PatchId e, PatchId r,
-                  Scratch& s, Visit visit, const Vec3* nearFirst = nullptr) const;
+                  Scratch& s, Visit visit, const Vec3* nearFirst = nullptr, const Vec3* box = nullptr) const;
     struct Node {
         Vec3 lo, hi;
         std::uint32_t first = 0, count = 0;  ///< items of a leaf (count > 0)
