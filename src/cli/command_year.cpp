@@ -10,6 +10,7 @@
 #include <chrono>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 namespace hemirad {
@@ -54,6 +55,16 @@ int runYear(const Options& options) {
     Options withRows = options;
     withRows.allRows = true;
     const FormFactors F = obtainFormFactors(scene, withRows, timings, reporter, warnings);
+    // Each hour's totals go to the .npy files as they are solved (a year of a large scene is GBs).
+    const std::size_t solved = solvedHours(weather).size();
+    std::optional<NpyWriter> hourly, sensorHourly;
+    if (!options.hourlyPath.empty()) hourly.emplace(options.hourlyPath, solved, scene.size());
+    if (yo.sensors && !options.sensorHourlyPath.empty()) sensorHourly.emplace(options.sensorHourlyPath, solved, sensors.size());
+    if (hourly || sensorHourly)
+        yo.hourly = [&](const double* patches, const double* atSensors) {
+            if (hourly) hourly->append(patches);
+            if (sensorHourly) sensorHourly->append(atSensors);
+        };
     timings.start("hours");
     const auto t0 = std::chrono::steady_clock::now();
     const YearResult year = solveYear(scene, F, sky, weather, yo, options.solver);
@@ -98,7 +109,7 @@ int runYear(const Options& options) {
         }
         file.commit();
     }
-    if (!options.hourlyPath.empty()) writeNpy(options.hourlyPath, year.total, year.hours.size(), scene.size());
+    if (hourly) hourly->commit();
     if (yo.sensors) {
         AtomicFile file(options.sensorOutputPath, false);
         std::ostream& out = file.stream();
@@ -108,8 +119,7 @@ int runYear(const Options& options) {
             out << s << ',' << csvField(sensors.name[s]) << ',' << sensorFactorsOf.skyView[s] << ',' << year.sensorDirectSun[s] << ','
                 << year.sensorDirectSky[s] << ',' << year.sensorReflected[s] << ',' << year.sensorSum[s] << '\n';
         file.commit();
-        if (!options.sensorHourlyPath.empty())
-            writeNpy(options.sensorHourlyPath, year.sensorTotal, year.hours.size(), sensors.size());
+        if (sensorHourly) sensorHourly->commit();
     }
     timings.stop();
     reporter.line("wrote " + outputName(options.output) + " (per patch: annual sums)" +

@@ -1,7 +1,6 @@
 // The year's hours in batches of right-hand sides on one F.
 #include "environment/year.hpp"
 
-#include "engine/atomic_file.hpp"
 #include "engine/error.hpp"
 #include "environment/reflected_sun.hpp"
 #include "environment/solar_position.hpp"
@@ -48,9 +47,9 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
         const double w = area[i] * (1.0 - scene.patches[i].specular);
         for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) landedFrom[F.columns()[k]] += w * double(F.values()[k]);
     }
-    for (std::size_t h = 0; h < weather.hours.size(); ++h)
-        if (weather.hours[h].dni > 0.0 || weather.hours[h].dhi > 0.0) out.hours.push_back(h);
-    out.total.assign(out.hours.size() * n, 0.0);
+    out.hours = solvedHours(weather);
+    const bool keep = !options.hourly;  // else each hour goes to the callback as it is solved
+    if (keep) out.total.assign(out.hours.size() * n, 0.0);
     const std::size_t sensors = options.sensors ? options.sensors->size() : 0;
     if (options.sensors && (!options.sensorFactors || options.sensorFactors->skyView.size() != sensors ||
                             options.sensorFactors->patches != n))
@@ -58,7 +57,8 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
     out.reflectedSun.assign(n, 0.0);
     out.reflectedSky.assign(n, 0.0);
     const bool mirrors = scene.hasMirrors();
-    out.sensorTotal.assign(out.hours.size() * sensors, 0.0);
+    if (keep) out.sensorTotal.assign(out.hours.size() * sensors, 0.0);
+    std::vector<double> hourTotal(keep ? 0 : n), hourSensors(keep ? 0 : sensors);
     out.sensorDirectSun.assign(sensors, 0.0);
     out.sensorDirectSky.assign(sensors, 0.0);
     out.sensorReflected.assign(sensors, 0.0);
@@ -158,7 +158,7 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                 const double outside = sun[b - first][i] + sky[b - first][i];
                 const double reflectedSun = bounced[b - first][i], reflectedSky = skyBounced[b - first][i];
                 const double firstArrival = outside + reflectedSun + reflectedSky, total = firstArrival + H;
-                out.total[b * n + i] = total;
+                (keep ? out.total[b * n + i] : hourTotal[i]) = total;
                 out.directSun[i] += sun[b - first][i];
                 out.directSky[i] += sky[b - first][i];
                 out.reflectedSun[i] += reflectedSun;
@@ -176,13 +176,14 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                 const SensorIrradiance at = sensorIrradiance(*options.sensors, *options.sensorFactors, sensorLit[b - first],
                                                              toSuns[b - first], hour.dni, hour.dhi, J);
                 for (std::size_t s = 0; s < sensors; ++s) {
-                    out.sensorTotal[b * sensors + s] = at.total[s];
+                    (keep ? out.sensorTotal[b * sensors + s] : hourSensors[s]) = at.total[s];
                     out.sensorDirectSun[s] += at.directSun[s];
                     out.sensorDirectSky[s] += at.directSky[s];
                     out.sensorReflected[s] += at.reflected[s];
                     out.sensorSum[s] += at.total[s];
                 }
             }
+            if (!keep) options.hourly(hourTotal.data(), sensors ? hourSensors.data() : nullptr);
             out.incidentWh += incident;
             out.absorbedWh += absorbed;
             if (incident > 0.0) out.worstBalance = std::max(out.worstBalance, std::abs(incident - absorbed - escaped) / incident);
@@ -192,23 +193,46 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
     return out;
 }
 
-void writeNpy(const std::string& path, const std::vector<double>& values, std::size_t rows, std::size_t columns) {
-    if (values.size() != rows * columns) throw Error("npy: " + std::to_string(values.size()) + " values are not " +
-                                                     std::to_string(rows) + " x " + std::to_string(columns));
+std::vector<std::size_t> solvedHours(const Weather& weather) {
+    std::vector<std::size_t> hours;
+    for (std::size_t h = 0; h < weather.hours.size(); ++h)
+        if (weather.hours[h].dni > 0.0 || weather.hours[h].dhi > 0.0) hours.push_back(h);
+    return hours;
+}
+
+NpyWriter::NpyWriter(const std::string& path, std::size_t rows, std::size_t columns)
+    : m_file(path, true), m_rows(rows), m_columns(columns) {
     std::string header = "{'descr': '<f8', 'fortran_order': False, 'shape': (" + std::to_string(rows) + ", " +
                          std::to_string(columns) + "), }";
     // Magic (6) + version (2) + length (2) + header, padded with spaces to a multiple of 64, ending in \n.
     const std::size_t total = 10 + header.size() + 1;
     header.append((64 - total % 64) % 64, ' ');
     header += '\n';
-    AtomicFile file(path, true);
-    std::ostream& out = file.stream();
+    std::ostream& out = m_file.stream();
     out.write("\x93NUMPY\x01\x00", 8);
     const std::uint16_t length = std::uint16_t(header.size());
     const char lengthBytes[2] = {char(length & 0xff), char(length >> 8)};
     out.write(lengthBytes, 2);
     out.write(header.data(), std::streamsize(header.size()));
-    out.write(reinterpret_cast<const char*>(values.data()), std::streamsize(values.size() * sizeof(double)));
+}
+
+void NpyWriter::append(const double* row) {
+    if (m_written == m_rows) throw Error("npy: more than the " + std::to_string(m_rows) + " rows declared");
+    m_file.stream().write(reinterpret_cast<const char*>(row), std::streamsize(m_columns * sizeof(double)));
+    ++m_written;
+}
+
+void NpyWriter::commit() {
+    if (m_written != m_rows)
+        throw Error("npy: " + std::to_string(m_written) + " of the " + std::to_string(m_rows) + " rows declared were written");
+    m_file.commit();
+}
+
+void writeNpy(const std::string& path, const std::vector<double>& values, std::size_t rows, std::size_t columns) {
+    if (values.size() != rows * columns) throw Error("npy: " + std::to_string(values.size()) + " values are not " +
+                                                     std::to_string(rows) + " x " + std::to_string(columns));
+    NpyWriter file(path, rows, columns);
+    for (std::size_t r = 0; r < rows; ++r) file.append(values.data() + r * columns);
     file.commit();
 }
 

@@ -4,6 +4,7 @@
 // the hourly totals as a NumPy .npy array.
 #pragma once
 
+#include "engine/atomic_file.hpp"
 #include "engine/form_factors.hpp"
 #include "engine/scene.hpp"
 #include "environment/sensors.hpp"
@@ -11,6 +12,7 @@
 #include "environment/weather.hpp"
 #include "solve/solver.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,11 +31,15 @@ struct YearOptions {
     /// radiance for that hour's sun, DNI and DHI; not with sensors (their sky is isotropic).
     const SkyCoefficients* sky = nullptr;
     SkyModel skyModel;
+    /// Called for each solved hour in order with its total irradiance per patch and per sensor
+    /// (W/m^2; the sensors' pointer null without sensors), to be written as it comes: a year of a
+    /// large scene need not be held whole. When set, YearResult::total and sensorTotal stay empty.
+    std::function<void(const double* patches, const double* sensors)> hourly;
 };
 
 struct YearResult {
     std::vector<std::size_t> hours;       ///< the weather rows solved (sun or sky above 0)
-    std::vector<double> total;            ///< per solved hour, per patch (row-major: hours x patches), W/m^2
+    std::vector<double> total;            ///< per solved hour, per patch (row-major: hours x patches), W/m^2 (none with `hourly`)
     /// Per patch over the year, Wh/m^2: direct sun, direct sky, reflected, total and absorbed.
     std::vector<double> directSun, directSky, reflected, sum, absorbed;
     std::vector<double> reflectedSun;     ///< per patch over the year, Wh/m^2: the sun reflected onto it by mirrors (in sum)
@@ -58,7 +64,24 @@ struct YearResult {
 YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector<double>& skyView, const Weather& weather,
                      const YearOptions& options, const SolverOptions& solver);
 
-/// Writes rows x columns doubles as a NumPy .npy file (format 1.0, little-endian float64, C order), atomically.
+/// The weather rows a year solves: those with sun or sky (DNI or DHI above 0).
+std::vector<std::size_t> solvedHours(const Weather& weather);
+
+/// A NumPy .npy file (format 1.0, little-endian float64, C order) of rows x columns written a row at
+/// a time, atomically: the header first, each append() a row, commit() once all rows are in.
+class NpyWriter {
+public:
+    NpyWriter(const std::string& path, std::size_t rows, std::size_t columns);
+    void append(const double* row);
+    /// Throws hemirad::Error when fewer rows than declared were appended.
+    void commit();
+
+private:
+    AtomicFile m_file;
+    std::size_t m_rows, m_columns, m_written = 0;
+};
+
+/// Writes rows x columns doubles as a NumPy .npy file at once (NpyWriter).
 void writeNpy(const std::string& path, const std::vector<double>& values, std::size_t rows, std::size_t columns);
 
 }  // namespace hemirad

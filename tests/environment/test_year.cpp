@@ -301,4 +301,39 @@ TEST_CASE("The .npy writer writes a header NumPy reads: magic, version 1.0, a 64
     CHECK(bytes.find("'shape': (2, 3)") != std::string::npos);
     CHECK(bytes.size() == 10 + headerLength + 6 * sizeof(double));
     CHECK_THROWS_AS(writeNpy((dir / "b.npy").string(), {1, 2, 3}, 2, 3), Error);
+    // Row by row: a row too many is refused, and so is a commit before the last row (nothing written).
+    {
+        NpyWriter rows((dir / "c.npy").string(), 2, 3);
+        const double row[3] = {1, 2, 3};
+        rows.append(row);
+        CHECK_THROWS_AS(rows.commit(), Error);
+        rows.append(row);
+        CHECK_THROWS_AS(rows.append(row), Error);
+        rows.commit();
+    }
+    CHECK(readText(dir / "c.npy").size() == 10 + headerLength + 6 * sizeof(double));
+    {
+        NpyWriter lost((dir / "d.npy").string(), 2, 3);
+    }
+    CHECK(!std::filesystem::exists(dir / "d.npy"));  // never committed: no file
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("A year's hours handed over one by one as they are solved equal the totals a year keeps") {
+    // hemirad year writes each hour to its .npy file as it comes, holding none of them.
+    const Prepared prepared;
+    YearOptions keep;
+    keep.batch = 7;
+    const YearResult kept = solveYear(prepared.s, prepared.F, prepared.sky, prepared.w, keep, SolverOptions{});
+    YearOptions streamed = keep;
+    std::vector<double> rows;
+    streamed.hourly = [&](const double* patches, const double* sensors) {
+        CHECK(sensors == nullptr);
+        rows.insert(rows.end(), patches, patches + prepared.s.size());
+    };
+    const YearResult year = solveYear(prepared.s, prepared.F, prepared.sky, prepared.w, streamed, SolverOptions{});
+    CHECK(year.total.empty());
+    CHECK(rows == kept.total);
+    CHECK(year.sum == kept.sum);
+    CHECK(solvedHours(prepared.w) == kept.hours);
 }
