@@ -65,11 +65,29 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
     out.sensorSum.assign(sensors, 0.0);
 
     const BeamShadows shadows(scene);  // set up once for every hour's sun
+    // The isotropic sky has one shape, DHI x the sky view factors: its inter-reflection (per unit
+    // DHI) is solved once and scaled, so each hour solves for its sun alone, and an hour without
+    // sun solves nothing (radiosity is linear in the sources).
+    std::vector<double> skyJ, skyH;
+    if (!model) {
+        const auto solving = Clock::now();
+        Band unit;
+        unit.name = "the isotropic sky";
+        unit.rho = rho;
+        unit.source.resize(n);
+        for (std::size_t i = 0; i < n; ++i) unit.source[i] = rho[i] * skyView[i];
+        skyJ = solveBands(scene, F, {unit}, solver).X[0];
+        multiplyInterleaved(F, 1, skyJ.data(), skyH);
+        out.solveSeconds += since(solving);
+    }
     std::vector<std::vector<double>> sun, sky, bounced, skyBounced, sensorLit;
     std::vector<Vec3> toSuns;
+    std::vector<double> J(n);
     for (std::size_t first = 0; first < out.hours.size(); first += options.batch) {
         const std::size_t last = std::min(out.hours.size(), first + options.batch);
-        std::vector<Band> bands(last - first);
+        std::vector<Band> bands;
+        std::vector<std::size_t> bandOf(last - first, SIZE_MAX);  // the band an hour solves, if any
+        bands.reserve(last - first);
         sun.assign(last - first, {});
         sky.assign(last - first, {});
         bounced.assign(last - first, std::vector<double>(n, 0.0));
@@ -127,32 +145,41 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
             const std::vector<double>& direct = sun[b - first];
             std::vector<double>& diffuse = sky[b - first];
             diffuse.resize(n);
-            Band& band = bands[b - first];
+            Band band;
             band.name = "hour " + std::to_string(hour.line);
             band.rho = rho;
             band.source.resize(n);
+            bool source = false;
             for (std::size_t i = 0; i < n; ++i) {
                 diffuse[i] = model ? skyDirect(Eigen::Index(i), Eigen::Index(b - first)) : hour.dhi * skyView[i];
                 if (model && mirrors) skyBounced[b - first][i] = skyMirrored(Eigen::Index(i), Eigen::Index(b - first));
-                band.source[i] = rho[i] * (direct[i] + diffuse[i] + bounced[b - first][i] + skyBounced[b - first][i]);
+                // The isotropic sky comes in through skyJ; a model's sky is the hour's own.
+                band.source[i] = rho[i] * (direct[i] + (model ? diffuse[i] : 0.0) + bounced[b - first][i] + skyBounced[b - first][i]);
+                source = source || band.source[i] != 0.0;
+            }
+            if (source) {
+                bandOf[b - first] = bands.size();
+                bands.push_back(std::move(band));
             }
         }
         const auto solving = Clock::now();
-        const BandSolution solved = solveBands(scene, F, bands, solver);
+        const BandSolution solved = bands.empty() ? BandSolution{} : solveBands(scene, F, bands, solver);
         out.solveSeconds += since(solving);
         const auto tallying = Clock::now();
-        // What each patch receives from the others, H = F J, for the batch's hours together: J
-        // interleaved by hour, one pass over F (in parallel by rows).
-        const std::size_t width = last - first;
+        // What each patch receives from the others, H = F J, for the batch's solved hours together:
+        // J interleaved by hour, one pass over F (in parallel by rows).
+        const std::size_t width = bands.size();
         std::vector<double> Jt(n * width), Hb;
         for (std::size_t b = 0; b < width; ++b)
             for (std::size_t j = 0; j < n; ++j) Jt[j * width + b] = solved.X[b][j];
-        multiplyInterleaved(F, width, Jt.data(), Hb);
+        if (width > 0) multiplyInterleaved(F, width, Jt.data(), Hb);
         for (std::size_t b = first; b < last; ++b) {
-            const std::vector<double>& J = solved.X[b - first];
+            const std::size_t own = bandOf[b - first];
+            const double dhi = model ? 0.0 : weather.hours[out.hours[b]].dhi;  // the isotropic sky's scale
+            for (std::size_t i = 0; i < n; ++i) J[i] = (own == SIZE_MAX ? 0.0 : solved.X[own][i]) + (model ? 0.0 : dhi * skyJ[i]);
             double incident = 0.0, absorbed = 0.0, escaped = 0.0;
             for (std::size_t i = 0; i < n; ++i) {
-                const double H = Hb[i * width + (b - first)];
+                const double H = (own == SIZE_MAX ? 0.0 : Hb[i * width + own]) + (model ? 0.0 : dhi * skyH[i]);
                 // The sun (and sky) reflected by mirrors arrives first too; it came in as the direct sun
                 // (and sky) on them.
                 const double outside = sun[b - first][i] + sky[b - first][i];

@@ -149,6 +149,41 @@ TEST_CASE("A year's hours solved in batches equal each hour solved alone, and th
     CHECK(year.directSun[6] < 0.2 * year.directSun[0]);
 }
 
+TEST_CASE("Overcast hours (sky, no sun) in a year: the sky solved once and scaled equals each hour solved alone") {
+    // The isotropic sky's inter-reflection is solved once per unit DHI; an hour without sun solves
+    // nothing, one with sun solves for its sun alone.
+    Prepared prepared;
+    Weather& w = prepared.w;
+    std::size_t overcast = 0;
+    for (std::size_t h = 0; h < w.hours.size(); h += 2)
+        if (w.hours[h].dni > 0.0) {
+            w.hours[h].dhi += 0.5 * w.hours[h].dni;
+            w.hours[h].dni = 0.0;
+            ++overcast;
+        }
+    REQUIRE(overcast > 10);
+    SolverOptions lu;
+    lu.solver = "lu";
+    for (const std::string kind : {"lu", "gauss-seidel"}) {
+        CAPTURE(kind);
+        SolverOptions solver;
+        solver.solver = kind;
+        solver.tolerance = 1e-13;
+        YearOptions options;
+        options.batch = 5;
+        const YearResult year = solveYear(prepared.s, prepared.F, prepared.sky, w, options, solver);
+        CHECK(year.worstBalance <= 1e-9);
+        double worst = 0.0;
+        for (std::size_t k = 0; k < year.hours.size(); ++k) {
+            const IrradianceResult alone = hourAlone(prepared.s, prepared.F, prepared.sky, w, w.hours[year.hours[k]], options, lu).result;
+            for (PatchId i = 0; i < prepared.s.size(); ++i)
+                worst = std::max(worst, std::abs(year.total[k * prepared.s.size() + i] - alone.total[i]) / std::max(1.0, alone.total[i]));
+        }
+        MESSAGE(kind << ", " << overcast << " overcast hours: largest difference from the hours alone " << worst);
+        CHECK(worst <= 1e-9);
+    }
+}
+
 TEST_CASE("A year's batches solved by the iterative solvers (many hours in one pass over F) equal each hour solved alone") {
     // The solver above 2,000 patches: Gauss-Seidel (or Jacobi) over a batch of hours at once.
     const Prepared prepared;
