@@ -43,9 +43,11 @@ double metresFromOptions(const Scene& scene, const Options& options, Warnings& w
 
 IrradianceResult patchHour(const Scene& scene, const Options& options, const Vec3& toSun, double metres, Timings& timings,
                            const Reporter& reporter, Warnings& warnings) {
+    timings.start("shadow set-up");
+    const BeamShadows shadows(scene);
     timings.start("sunlit fractions");
     IrradianceInputs in;
-    in.directSun = directIrradiance(scene, toSun, *options.dni, sunlitFractions(scene, toSun));
+    in.directSun = directIrradiance(scene, toSun, *options.dni, shadows.sunlitFractions(toSun));
     in.dhi = options.dhi;
     if (options.skyModel == "isotropic") {
         in.skyView = directSkyViewFromOptions(scene, options, timings, reporter);
@@ -54,7 +56,7 @@ IrradianceResult patchHour(const Scene& scene, const Options& options, const Vec
     }
     if (scene.hasMirrors()) {
         timings.start("reflected sun");
-        in.reflectedSun = reflectedSun(scene, toSun, *options.dni).irradiance;
+        in.reflectedSun = reflectedSun(shadows, toSun, *options.dni).irradiance;
         timings.stop();
     }
     Options withRows = options;
@@ -91,7 +93,7 @@ int runSun(const Options& options) {
     ReflectedSun reflected;
     if (mirrored) {
         timings.start("reflected sun");
-        reflected = reflectedSun(scene, toSun, *options.dni);
+        reflected = reflectedSun(shadows, toSun, *options.dni);
         timings.stop();
         std::ostringstream line;
         line.precision(4);

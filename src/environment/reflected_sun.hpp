@@ -6,6 +6,7 @@
 
 #include "engine/math.hpp"
 #include "engine/scene.hpp"
+#include "environment/sunlit.hpp"
 
 #include <string>
 #include <vector>
@@ -34,6 +35,9 @@ struct ReflectedSun {
 /// behind a receiver's plane send it nothing. Throws hemirad::Error for a direction that is zero or
 /// not finite, or a dni that is negative or not finite.
 ReflectedSun reflectedSun(const Scene& scene, const Vec3& toSun, double dni);
+/// The same with the scene's shadow set-up kept for many suns (a year's hours, a sky's cells):
+/// receivers and blockers come from its trees, mirrors run in parallel (OpenMP).
+ReflectedSun reflectedSun(const BeamShadows& beams, const Vec3& toSun, double dni);
 
 /// mirror,mirror_object,receiver,receiver_object,irradiance (W/m^2),peak (W/m^2),lit_area (CSV,
 /// atomic), the spots by falling irradiance.

@@ -30,7 +30,7 @@ SkyCoefficients skyCoefficients(const Scene& scene, int subdivision, int samples
             for (std::size_t i = 0; i < n; ++i)
                 out.direct(Eigen::Index(i), Eigen::Index(k)) += weight * std::max(0.0, scene.patches[i].normal.dot(d)) * lit[i];
             if (!mirrors) continue;
-            const ReflectedSun reflected = reflectedSun(scene, d, 1.0);
+            const ReflectedSun reflected = reflectedSun(shadows, d, 1.0);
             for (std::size_t i = 0; i < n; ++i) out.mirrored(Eigen::Index(i), Eigen::Index(k)) += weight * reflected.irradiance[i];
         }
     }

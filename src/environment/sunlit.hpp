@@ -31,11 +31,21 @@ public:
     /// not finite.
     std::vector<double> sunlitFractions(const Vec3& toSun) const;
 
+    const Scene& scene() const { return m_scene; }
+    const PatchGeometry& geometry() const { return m_geometry; }
+    /// The blockers (merged tiles).
+    const ShadowPolygons& blockers() const { return m_shadows; }
+    /// Every patch on its own (owner() its id), for finding the receivers of a beam: set up only for
+    /// a scene with mirrors.
+    const ShadowPolygons& patches() const { return m_patches; }
+    /// What lies this close in front of a receiver's plane casts nothing (1e-9 x the scene's size).
+    double tolerance() const { return m_tolerance; }
+
 private:
     const Scene& m_scene;
     PatchGeometry m_geometry;
-    ShadowPolygons m_shadows;
-    double m_tolerance = 0.0;  ///< what lies this close in front of a receiver's plane casts nothing
+    ShadowPolygons m_shadows, m_patches;
+    double m_tolerance = 0.0;
 };
 
 /// BeamShadows(scene).sunlitFractions(toSun): one direction (several: keep a BeamShadows).
@@ -43,34 +53,6 @@ std::vector<double> sunlitFractions(const Scene& scene, const Vec3& toSun);
 
 /// Direct irradiance per patch, W/m^2: dni (direct-normal irradiance) x cos(theta) x sunlit fraction.
 std::vector<double> directIrradiance(const Scene& scene, const Vec3& toSun, double dni, const std::vector<double>& sunlit);
-
-/// Per patch, the patches whose bounding boxes overlap it as a parallel beam along `direction`
-/// sees them (the candidates to shadow it in that beam; engine/box_grid.hpp).
-std::vector<std::vector<PatchId>> beamCandidates(const Scene& scene, const Vec3& direction);
-
-/// A plane n . y = offset (n unit).
-struct Plane {
-    Vec3 normal;
-    double offset = 0.0;
-};
-
-/// Points in a plane's 2D coordinates: ((c - origin) . u, (c - origin) . v).
-std::vector<Vec2> planeCoordinates(const std::vector<Vec3>& points, const Vec3& origin, const Vec3& u, const Vec3& v);
-
-/// The part of `pieces` (convex, 2D in the plane through `origin` with unit `normal` and axes u, v)
-/// that a parallel beam from direction `toSource` (unit, normal . toSource > 0) reaches past the
-/// `blockers` (patch ids; `self` skipped): each blocker's part in front of the plane (and in front
-/// of `slab` when given: n . y >= offset) projected along the beam and subtracted; a blocker whose
-/// corners all lie within `tolerance` of the plane or behind it casts nothing.
-std::vector<std::vector<Vec2>> shadowedPieces(const Scene& scene, std::vector<std::vector<Vec2>> pieces, const Vec3& origin,
-                                              const Vec3& normal, const Vec3& u, const Vec3& v, const Vec3& toSource,
-                                              const std::vector<PatchId>& blockers, PatchId self, const Plane* slab,
-                                              double tolerance);
-
-/// Patch i's sunlit part as convex pieces in its plane's coordinates (origin its corner 0, axes u,
-/// v): shadowedPieces of the whole patch. The pieces sunlitFractions sums.
-std::vector<std::vector<Vec2>> sunlitPieces(const Scene& scene, PatchId i, const Vec3& toSun, const std::vector<PatchId>& blockers,
-                                            const Vec3& u, const Vec3& v, double tolerance);
 
 /// The area of the convex polygon p (2D, counter-clockwise or not: the absolute area).
 double polygonArea2d(const std::vector<Vec2>& p);

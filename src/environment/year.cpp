@@ -108,7 +108,7 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                 const Vec3 toSun = sunDirection(p, options.up, options.north);
                 direct = directIrradiance(scene, toSun, hour.dni, shadows.sunlitFractions(toSun));
                 toSuns[b - first] = toSun;
-                if (mirrors) bounced[b - first] = reflectedSun(scene, toSun, hour.dni).irradiance;
+                if (mirrors) bounced[b - first] = reflectedSun(shadows, toSun, hour.dni).irradiance;
                 if (sensors) sensorLit[b - first] = sensorSunlit(scene, *options.sensors, toSun);
                 out.sunSeconds += since(sunStart);
             }

@@ -49,7 +49,8 @@ void SunSkyJob::work() {
     if (F != m_F) newF = F;
     checkCancel();
     IrradianceInputs in;
-    result.sunlit = timed("sunlit fractions", [&] { return sunlitFractions(m_scene, result.toSun); });
+    const BeamShadows shadows(m_scene);
+    result.sunlit = timed("sunlit fractions", [&] { return shadows.sunlitFractions(result.toSun); });
     in.directSun = directIrradiance(m_scene, result.toSun, m_setup.dni, result.sunlit);
     in.dhi = m_setup.dhi;
     checkCancel();
@@ -72,7 +73,7 @@ void SunSkyJob::work() {
         messages.push_back("sky: " + model.name() + ", " + std::to_string(sky.grid.size()) + " cells");
     }
     checkCancel();
-    if (m_scene.hasMirrors()) in.reflectedSun = timed("reflected sun", [&] { return reflectedSun(m_scene, result.toSun, m_setup.dni).irradiance; });
+    if (m_scene.hasMirrors()) in.reflectedSun = timed("reflected sun", [&] { return reflectedSun(shadows, result.toSun, m_setup.dni).irradiance; });
     SolverOptions solver = m_settings.solver;
     solver.tolerance = std::min(solver.tolerance, 1e-10);  // the power balance is read to many digits
     result.irradiance = timed("inter-reflection", [&] { return solarIrradiance(m_scene, *F, in, m_metres, solver); });

@@ -51,7 +51,7 @@ void ShadowPolygons::addBlocker(const Vec3* corners, std::size_t count, PatchId 
     m_centre.push_back(vertexMean(corners, count));
 }
 
-void ShadowPolygons::build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks) {
+void ShadowPolygons::build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks, bool merge) {
     m_geometry = &geometry;
     m_corners.clear();
     m_first.assign(1, 0);
@@ -77,7 +77,7 @@ void ShadowPolygons::build(const PatchGeometry& geometry, const std::vector<std:
         if (!blocks[j]) continue;
         for (std::uint32_t e = geometry.neighbourStart[j]; e < geometry.neighbourStart[j + 1]; ++e) {
             const PatchId k = geometry.neighbours[e];
-            if (blocks[k] && coplanar(j, k)) root[find(j)] = find(k);
+            if (merge && blocks[k] && coplanar(j, k)) root[find(j)] = find(k);
         }
     }
     std::vector<std::vector<PatchId>> groups(n);
@@ -247,15 +247,14 @@ void ShadowPolygons::collect(const Vec3* m, const double* d, std::size_t planes,
 template <class Project>
 void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& normal, std::size_t planes, double tolerance,
                                  PatchId e, PatchId r, Scratch& s, const std::vector<std::uint32_t>* within,
-                                 Project project, const Vec3* nearFirst, const Vec3* box) const {
+                                 Project project, const Vec3* nearFirst, const Vec3* box, bool given) const {
     s.shadows = 0;
     const std::vector<Vec3>& m = s.planeNormals;
     const std::vector<double>& d = s.planeOffsets;
     // 2D coordinates in the receiver's plane (origin p[0]); the receiver itself, counter-clockwise,
-    // becomes the first clear piece when the second shadow falls (most regions hold no blocker).
-    const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-    s.u = normal.cross(helper).normalized();
-    s.v = normal.cross(s.u);
+    // becomes the first clear piece when the second shadow falls (most regions hold no blocker),
+    // unless the clear pieces are `given`.
+    planeAxes(normal, s.u, s.v);
     const Vec3 origin = p[0];
     double smallest = 0.0;  // pieces below this area are dropped; 0 until the receiver is set up
 
@@ -276,13 +275,14 @@ void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& n
             s.shadow.push_back((s.image.back() - origin).dot(s.v));
         }
         if (smallest == 0.0) {
-            s.clear.pieces.assign(1, double(count));
+            std::vector<double>& whole = given ? s.clear.rest : s.clear.pieces;
+            whole.assign(1, double(count));
             for (std::size_t k = 0; k < count; ++k) {
-                s.clear.pieces.push_back((p[k] - origin).dot(s.u));
-                s.clear.pieces.push_back((p[k] - origin).dot(s.v));
+                whole.push_back((p[k] - origin).dot(s.u));
+                whole.push_back((p[k] - origin).dot(s.v));
             }
-            const double area = doubleArea(&s.clear.pieces[1], count);
-            if (area < 0.0) reverse2D(&s.clear.pieces[1], count);
+            const double area = doubleArea(&whole[1], count);
+            if (area < 0.0) reverse2D(&whole[1], count);
             smallest = 1e-12 * std::abs(area);
             if (!(smallest > 0.0)) {  // a receiver without area: no shadow counts
                 s.shadows = 0;
@@ -295,13 +295,13 @@ void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& n
         if (shadowArea < 0.0) reverse2D(s.shadow.data(), sides);
         // One shadow (the usual case): kept whole. From the second on, the clear part is kept as
         // pieces, each shadow cut out of them.
-        if (++s.shadows == 1) {
+        if (++s.shadows == 1 && !given) {
             s.first.swap(s.image);
             s.firstShadow.swap(s.shadow);
             // Cut to the receiver's region, a shadow as large as the receiver covers it all.
             return std::abs(shadowArea) < (1.0 - 1e-12) * std::abs(doubleArea(&s.clear.pieces[1], count));
         }
-        if (s.shadows == 2) subtractConvex(s.firstShadow.data(), s.firstShadow.size() / 2, smallest, s.clear);
+        if (s.shadows == 2 && !given) subtractConvex(s.firstShadow.data(), s.firstShadow.size() / 2, smallest, s.clear);
         subtractConvex(s.shadow.data(), sides, smallest, s.clear);
         return !s.clear.pieces.empty();  // nothing left clear: no need to look further
     };
@@ -368,15 +368,15 @@ double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p
     return factor > kDust * whole ? factor : 0.0;
 }
 
-double ShadowPolygons::litFraction(const Vec3* p, std::size_t count, const Vec3& normal, PatchId r, const Vec3& toSource,
-                                   double tolerance, Scratch& s) const {
-    s.shadows = 0;
-    const double facing = normal.dot(toSource);
-    if (!(facing > 0.0) || count < 3) return 0.0;
-    if (m_items.empty()) return 1.0;
-    const double offset = normal.dot(p[0]);
-    const Vec3 middle = vertexMean(p, count);
+void ShadowPolygons::planeAxes(const Vec3& normal, Vec3& u, Vec3& v) {
+    const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    u = normal.cross(helper).normalized();
+    v = normal.cross(u);
+}
 
+bool ShadowPolygons::beamRegion(const Vec3* p, std::size_t count, const Vec3& normal, const Vec3& toSource, double tolerance,
+                                const Vec3* slabNormal, double slabOffset, Scratch& s, Vec3* box) const {
+    const Vec3 middle = vertexMean(p, count);
     // The prism swept from the polygon towards the source: a plane through each edge along the beam
     // (normals inward), and the receiver's plane. A blocker within the tolerance of it (or behind)
     // is left out; one reaching further is cut at the plane itself, so that a wall standing on the
@@ -395,9 +395,11 @@ double ShadowPolygons::litFraction(const Vec3* p, std::size_t count, const Vec3&
         d.push_back(side.dot(p[k]));
     }
     m.push_back(normal);
-    d.push_back(offset);
-
-    // Parallel projection along the beam onto the receiver's plane.
+    d.push_back(normal.dot(p[0]));
+    if (slabNormal) {
+        m.push_back(*slabNormal);
+        d.push_back(slabOffset);
+    }
     // The prism's part within the blockers' box lies in the box around the receiver and the
     // receiver moved along the beam to where its last corner leaves the blockers' box: a tree node
     // outside that box is passed over without its planes (a long thin prism crosses many).
@@ -411,30 +413,40 @@ double ShadowPolygons::litFraction(const Vec3* p, std::size_t count, const Vec3&
         }
         far = std::max(far, std::max(leave, 0.0));
     }
-    Vec3 box[2] = {Vec3::Constant(INFINITY), Vec3::Constant(-INFINITY)};
+    if (!std::isfinite(far)) return false;
+    box[0] = Vec3::Constant(INFINITY);
+    box[1] = Vec3::Constant(-INFINITY);
     for (std::size_t k = 0; k < count; ++k) {
         box[0] = box[0].cwiseMin(p[k]).cwiseMin(p[k] + far * toSource);
         box[1] = box[1].cwiseMax(p[k]).cwiseMax(p[k] + far * toSource);
     }
-    const Vec3 margin = Vec3::Constant(tolerance);
-    box[0] -= margin;
-    box[1] += margin;
-    // Blockers nearest the receiver along the beam first: they cover it soonest.
+    box[0] -= Vec3::Constant(tolerance);
+    box[1] += Vec3::Constant(tolerance);
+    return true;
+}
+
+double ShadowPolygons::litFraction(const Vec3* p, std::size_t count, const Vec3& normal, PatchId r, const Vec3& toSource,
+                                   double tolerance, Scratch& s) const {
+    s.shadows = 0;
+    const double facing = normal.dot(toSource);
+    if (!(facing > 0.0) || count < 3) return 0.0;
+    if (m_items.empty()) return 1.0;
+    const double offset = normal.dot(p[0]);
+    Vec3 box[2];
+    const bool boxed = beamRegion(p, count, normal, toSource, tolerance, nullptr, 0.0, s, box);
+    // Parallel projection along the beam onto the receiver's plane, the blockers nearest the
+    // receiver first: they cover it soonest.
     castShadows(
-        p, count, normal, m.size(), tolerance, r, r, s, nullptr,
+        p, count, normal, s.planeNormals.size(), tolerance, r, r, s, nullptr,
         [&](const Vec3& y) { return Vec3(y - toSource * ((normal.dot(y) - offset) / facing)); }, &toSource,
-        std::isfinite(far) ? box : nullptr);
+        boxed ? box : nullptr);
     if (s.shadows == 0) return 1.0;
-    double whole = 0.0;
-    {
-        const Vec3 origin = p[0];
-        s.clear.inside.clear();
-        for (std::size_t k = 0; k < count; ++k) {
-            s.clear.inside.push_back((p[k] - origin).dot(s.u));
-            s.clear.inside.push_back((p[k] - origin).dot(s.v));
-        }
-        whole = std::abs(doubleArea(s.clear.inside.data(), count));
+    s.clear.rest.clear();
+    for (std::size_t k = 0; k < count; ++k) {
+        s.clear.rest.push_back((p[k] - p[0]).dot(s.u));
+        s.clear.rest.push_back((p[k] - p[0]).dot(s.v));
     }
+    const double whole = std::abs(doubleArea(s.clear.rest.data(), count));
     if (!(whole > 0.0)) return 0.0;
     double clear = 0.0;
     if (s.shadows == 1) {
@@ -447,6 +459,24 @@ double ShadowPolygons::litFraction(const Vec3* p, std::size_t count, const Vec3&
         }
     }
     return std::clamp(clear / whole, 0.0, 1.0);
+}
+
+void ShadowPolygons::shadeBeam(const Vec3* p, std::size_t count, const Vec3& normal, PatchId r, const Vec3& toSource,
+                               double tolerance, const Vec3* slabNormal, double slabOffset, Scratch& s) const {
+    s.shadows = 0;
+    const double facing = normal.dot(toSource);
+    if (!(facing > 0.0) || count < 3) {
+        s.clear.pieces.clear();
+        return;
+    }
+    if (m_items.empty() || s.clear.pieces.empty()) return;
+    const double offset = normal.dot(p[0]);
+    Vec3 box[2];
+    const bool boxed = beamRegion(p, count, normal, toSource, tolerance, slabNormal, slabOffset, s, box);
+    castShadows(
+        p, count, normal, s.planeNormals.size(), tolerance, r, r, s, nullptr,
+        [&](const Vec3& y) { return Vec3(y - toSource * ((normal.dot(y) - offset) / facing)); }, &toSource,
+        boxed ? box : nullptr, true);
 }
 
 }  // namespace hemirad

@@ -37,10 +37,16 @@ public:
     /// The tree over the patches with blocks[j] != 0 of `geometry` (its neighbours built). Connected
     /// coplanar blockers whose union is convex (a subdivided face) become one blocker polygon: one
     /// shadow instead of a tile per patch.
-    void build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks);
+    /// `merge` false: every blocker stays its own patch (owner() names it), for searches of patches.
+    void build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks, bool merge = true);
     bool empty() const { return m_owner.empty(); }
     /// Blocker polygons (after merging).
     std::size_t size() const { return m_owner.size(); }
+    /// The patch blocker b is (built without merging: every blocker is one).
+    PatchId owner(std::uint32_t b) const { return m_owner[b]; }
+
+    /// The 2D axes of a plane with unit `normal` that shadow polygons use (u, v, normal right-handed).
+    static void planeAxes(const Vec3& normal, Vec3& u, Vec3& v);
 
     /// Lambert's factor from x (unit normal n) to the part of the convex polygon p[0..count) that no
     /// blocker other than patches e and r hides from x. p is receiver r's polygon or its part above
@@ -59,6 +65,14 @@ public:
     double litFraction(const Vec3* p, std::size_t count, const Vec3& normal, PatchId r, const Vec3& toSource,
                        double tolerance, Scratch& scratch) const;
 
+    /// Cuts out of scratch.clear.pieces (convex 2D pieces, counter-clockwise, in the plane of p:
+    /// origin p[0], axes planeAxes(normal)) what a parallel beam from the unit direction `toSource`
+    /// cannot reach: each blocker other than r inside the prism swept from p towards the source, in
+    /// front of p's plane and, with `slabNormal`, of the plane slabNormal . y = slabOffset, projected
+    /// along the beam. No piece is left where p faces away.
+    void shadeBeam(const Vec3* p, std::size_t count, const Vec3& normal, PatchId r, const Vec3& toSource, double tolerance,
+                   const Vec3* slabNormal, double slabOffset, Scratch& scratch) const;
+
     /// Whether some blocker other than patches e and r may reach into the convex region where
     /// m_k . y - d_k > tolerance for every plane k (conservative: a blocker that no single plane
     /// leaves wholly outside counts). A pair's shaft test (contact_pairs.hpp).
@@ -73,11 +87,17 @@ private:
     /// e and r inside the region of the scratch's first `planes` planes (from the tree, or `within`):
     /// the blocker clipped to them and each corner sent onto p's plane by project(y). Leaves
     /// scratch.shadows, and the one shadow (first, firstShadow) or the clear pieces.
-    /// `nearFirst` and `box` as traverse takes them.
+    /// `nearFirst` and `box` as traverse takes them. `given`: the clear pieces are scratch.clear's
+    /// already (every shadow cut from them), not the whole of p.
     template <class Project>
     void castShadows(const Vec3* p, std::size_t count, const Vec3& normal, std::size_t planes, double tolerance, PatchId e,
                      PatchId r, Scratch& s, const std::vector<std::uint32_t>* within, Project project,
-                     const Vec3* nearFirst = nullptr, const Vec3* box = nullptr) const;
+                     const Vec3* nearFirst = nullptr, const Vec3* box = nullptr, bool given = false) const;
+    /// The scratch's planes for a parallel beam from `toSource` through p (the prism's sides, p's
+    /// plane, the slab's plane when given), and in `box` (lo, hi) a box holding the prism's part in
+    /// the tree's box; false where there is none to give (the box then unused).
+    bool beamRegion(const Vec3* p, std::size_t count, const Vec3& normal, const Vec3& toSource, double tolerance,
+                    const Vec3* slabNormal, double slabOffset, Scratch& s, Vec3* box) const;
     /// Calls visit(b) for each blocker b other than e and r that no plane (m, d) leaves entirely
     /// outside (m . y - d <= tolerance), until visit returns false; with `nearFirst`, the child
     /// whose box lies lower along that direction first; with `box` (lo, hi: a box holding the
