@@ -261,40 +261,23 @@ SensorFactors sensorFactors(const Scene& scene, const Sensors& sensors, int thre
     return out;
 }
 
-std::vector<double> sensorSunlit(const Scene& scene, const Sensors& sensors, const Vec3& toSunGiven) {
+std::vector<double> sensorSunlit(const Scene& scene, const Sensors& sensors, const Vec3& toSun) {
+    return sensorSunlit(BeamShadows(scene), sensors, toSun);
+}
+
+std::vector<double> sensorSunlit(const BeamShadows& beams, const Sensors& sensors, const Vec3& toSunGiven) {
     if (!toSunGiven.allFinite() || !(toSunGiven.norm() > 0.0)) throw Error("sun: the direction to the sun must be a finite non-zero vector");
     const Vec3 d = toSunGiven.normalized();
-    const double tolerance = 1e-9 * std::max(scene.extent(), 1e-300);
     std::vector<double> lit(sensors.size(), 0.0);
-    // Each patch's bounding sphere first: the ray passes within its radius of the centroid, or misses.
-    std::vector<double> radius(scene.size(), 0.0);
-    for (PatchId j = 0; j < scene.size(); ++j)
-        for (std::uint32_t k = 0; k < scene.patches[j].cornerCount; ++k)
-            radius[j] = std::max(radius[j], (scene.corner(scene.patches[j], k) - scene.patches[j].centroid).norm());
-#pragma omp parallel for schedule(dynamic, 64)
-    for (std::int64_t ss = 0; ss < std::int64_t(sensors.size()); ++ss) {
-        const std::size_t s = std::size_t(ss);
-        const Vec3& x = sensors.position[s];
-        if (!(sensors.normal[s].dot(d) > 0.0)) continue;
-        bool blocked = false;
-        for (PatchId j = 0; j < scene.size() && !blocked; ++j) {
-            const Patch& p = scene.patches[j];
-            const Vec3 toCentre = p.centroid - x;
-            const double along = toCentre.dot(d);
-            if (along + radius[j] <= tolerance || (toCentre - along * d).norm() > radius[j]) continue;
-            const double denominator = p.normal.dot(d);
-            if (denominator == 0.0) continue;  // the ray runs in the patch's plane
-            const double t = p.normal.dot(toCentre) / denominator;
-            if (!(t > tolerance)) continue;  // behind the sensor, or the patch the sensor lies on
-            const Vec3 y = x + t * d;
-            bool inside = true;
-            for (std::uint32_t k = 0; k < p.cornerCount && inside; ++k) {
-                const Vec3 a = scene.corner(p, k), b = scene.corner(p, (k + 1) % p.cornerCount);
-                inside = (b - a).cross(y - a).dot(p.normal) >= 0.0;
-            }
-            blocked = inside;
+#pragma omp parallel
+    {
+        ShadowPolygons::Scratch scratch;
+#pragma omp for schedule(dynamic, 64)
+        for (std::int64_t ss = 0; ss < std::int64_t(sensors.size()); ++ss) {
+            const std::size_t s = std::size_t(ss);
+            if (!(sensors.normal[s].dot(d) > 0.0)) continue;
+            lit[s] = beams.blockers().blocksRay(sensors.position[s], d, beams.tolerance(), scratch) ? 0.0 : 1.0;
         }
-        lit[s] = blocked ? 0.0 : 1.0;
     }
     return lit;
 }

@@ -8,6 +8,7 @@
 
 #include "engine/math.hpp"
 #include "engine/scene.hpp"
+#include "environment/sunlit.hpp"
 
 #include <cstdint>
 #include <string>
@@ -64,6 +65,8 @@ SensorFactors sensorFactors(const Scene& scene, const Sensors& sensors, int thre
 /// patch (front or back), else 0; 0 where the sensor faces away from it. Throws hemirad::Error for a
 /// direction that is zero or not finite.
 std::vector<double> sensorSunlit(const Scene& scene, const Sensors& sensors, const Vec3& toSun);
+/// The same with the scene's shadow set-up kept for many suns: each sensor's ray searched in its tree.
+std::vector<double> sensorSunlit(const BeamShadows& beams, const Sensors& sensors, const Vec3& toSun);
 
 /// One hour at the sensors, W/m^2: direct sun DNI cos(theta) x sunlit, direct sky DHI x sky view
 /// factor (isotropic), reflected sum_j F[s][j] J_j from the patches' diffuse radiosity J (e.g.

@@ -109,7 +109,7 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                 direct = directIrradiance(scene, toSun, hour.dni, shadows.sunlitFractions(toSun));
                 toSuns[b - first] = toSun;
                 if (mirrors) bounced[b - first] = reflectedSun(shadows, toSun, hour.dni).irradiance;
-                if (sensors) sensorLit[b - first] = sensorSunlit(scene, *options.sensors, toSun);
+                if (sensors) sensorLit[b - first] = sensorSunlit(shadows, *options.sensors, toSun);
                 out.sunSeconds += since(sunStart);
             }
             if (model && hour.dhi > 0.0) {

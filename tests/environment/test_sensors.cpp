@@ -197,6 +197,75 @@ TEST_CASE("Sensors in the sun: under a roof in shadow, beside it lit, facing awa
     CHECK_THROWS_AS(sensorSunlit(b.scene, s, Vec3::Zero()), Error);
 }
 
+TEST_CASE("Sensors in the sun among boxes of triangles: the tree's ray per sensor equals a ray tried on every patch") {
+    // A 6 x 6 ground of tiles and nine boxes whose faces are two triangles each (the shadow set-up
+    // merges them): 3,000 random sensors, four suns. The reference meets the ray with every patch
+    // (Moller-Trumbore on the patch's fan), as sensorSunlit did before its tree.
+    SceneBuilder b;
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j) b.rectangle(2, 0.0, 4.0 * i, 4.0 * (i + 1), 4.0 * j, 4.0 * (j + 1), true);
+    std::uint32_t seed = 7;
+    auto uniform = [&seed] {
+        seed = seed * 1664525u + 1013904223u;
+        return double(seed >> 8) / double(1u << 24);
+    };
+    for (int k = 0; k < 9; ++k) {
+        const double x0 = 2.0 + 7.0 * (k % 3) + uniform(), y0 = 2.0 + 7.0 * (k / 3) + uniform(), h = 2.0 + 6.0 * uniform();
+        SceneBuilder box;
+        box.rectangle(2, h, x0, x0 + 3, y0, y0 + 2, true);
+        box.rectangle(0, x0, y0, y0 + 2, 0, h, false);
+        box.rectangle(0, x0 + 3, y0, y0 + 2, 0, h, true);
+        box.rectangle(1, y0, 0, h, x0, x0 + 3, false);
+        box.rectangle(1, y0 + 2, 0, h, x0, x0 + 3, true);
+        for (PatchId i = 0; i < box.scene.size(); ++i) {
+            const std::vector<Vec3> c = box.scene.polygon(i);
+            b.polygon({c[0], c[1], c[2]});
+            b.polygon({c[0], c[2], c[3]});
+        }
+    }
+    const Scene& scene = b.scene;
+    std::vector<std::pair<Vec3, Vec3>> points;
+    for (int k = 0; k < 3000; ++k) {
+        const Vec3 x(24.0 * uniform(), 24.0 * uniform(), 9.0 * uniform());
+        const Vec3 n = Vec3(uniform() - 0.5, uniform() - 0.5, uniform()).normalized();
+        points.emplace_back(x, n);
+    }
+    const Sensors s = sensorsOf(points);
+    const BeamShadows beams(scene);
+    auto hits = [&](const Vec3& x, const Vec3& d) {
+        for (PatchId j = 0; j < scene.size(); ++j) {
+            const std::vector<Vec3> c = scene.polygon(j);
+            for (std::size_t t = 1; t + 1 < c.size(); ++t) {
+                const Vec3 e1 = c[t] - c[0], e2 = c[t + 1] - c[0], h = d.cross(e2);
+                const double a = e1.dot(h);
+                if (std::abs(a) < 1e-14) continue;
+                const Vec3 q = x - c[0];
+                const double u = q.dot(h) / a;
+                const Vec3 r = q.cross(e1);
+                const double v = d.dot(r) / a, along = e2.dot(r) / a;
+                if (u >= 0 && v >= 0 && u + v <= 1 && along > 1e-7) return true;
+            }
+        }
+        return false;
+    };
+    for (const Vec3& sun : {Vec3(0.3, 0.2, 1.0), Vec3(-1.0, 0.4, 0.5), Vec3(0.2, -1.0, 0.15), Vec3(1.0, 1.0, 0.08)}) {
+        CAPTURE(sun.transpose());
+        const Vec3 d = sun.normalized();
+        const std::vector<double> lit = sensorSunlit(beams, s, sun);
+        std::size_t differ = 0, sunny = 0;
+        for (std::size_t k = 0; k < s.size(); ++k) {
+            const double expected = s.normal[k].dot(d) > 0.0 && !hits(s.position[k], d) ? 1.0 : 0.0;
+            differ += lit[k] != expected;
+            sunny += expected == 1.0;
+        }
+        MESSAGE("sun " << sun.transpose() << ": " << sunny << " of " << s.size() << " sensors lit");
+        CHECK(differ == 0);
+        CHECK(sunny > 300);
+        CHECK(sunny < s.size() - 300);
+        CHECK(lit == sensorSunlit(scene, s, sun));
+    }
+}
+
 TEST_CASE("Sensors' hour: a sensor over a ground sees its reflected radiosity F rho (DNI cos + DHI), the sky the rest") {
     SceneBuilder b;
     const std::uint32_t grey = b.material("grey", Rgb::Constant(0.4));

@@ -368,6 +368,51 @@ double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p
     return factor > kDust * whole ? factor : 0.0;
 }
 
+bool ShadowPolygons::blocksRay(const Vec3& x, const Vec3& d, double tolerance, Scratch& s) const {
+    if (m_items.empty()) return false;
+    const Vec3 inverse(1.0 / d.x(), 1.0 / d.y(), 1.0 / d.z());
+    s.stack.assign(1, 0);
+    while (!s.stack.empty()) {
+        const Node& node = m_nodes[s.stack.back()];
+        const std::uint32_t at = s.stack.back();
+        s.stack.pop_back();
+        // The ray's stretch inside the node's box (slabs); a box it misses is passed over.
+        double near = 0.0, far = INFINITY;
+        for (int a = 0; a < 3; ++a) {
+            if (d[a] == 0.0) {
+                if (x[a] < node.lo[a] - tolerance || x[a] > node.hi[a] + tolerance) far = -1.0;
+                continue;
+            }
+            double t0 = (node.lo[a] - tolerance - x[a]) * inverse[a], t1 = (node.hi[a] + tolerance - x[a]) * inverse[a];
+            if (t0 > t1) std::swap(t0, t1);
+            near = std::max(near, t0);
+            far = std::min(far, t1);
+        }
+        if (far < near) continue;
+        if (node.count == 0) {
+            s.stack.push_back(node.right);
+            s.stack.push_back(at + 1);
+            continue;
+        }
+        for (std::uint32_t item = node.first; item < node.first + node.count; ++item) {
+            const std::uint32_t b = m_items[item];
+            const Vec3* c = &m_corners[m_first[b]];
+            const std::uint32_t k = m_first[b + 1] - m_first[b];
+            Vec3 normal = Vec3::Zero();  // Newell's: the polygon's orientation, whatever its corners
+            for (std::uint32_t i = 0; i < k; ++i) normal += c[i].cross(c[(i + 1) % k]);
+            const double denominator = normal.dot(d);
+            if (denominator == 0.0) continue;  // the ray runs in the polygon's plane
+            const double t = normal.dot(c[0] - x) / denominator;
+            if (!(t > tolerance)) continue;  // behind x, or the polygon x lies on
+            const Vec3 y = x + t * d;
+            bool inside = true;
+            for (std::uint32_t i = 0; i < k && inside; ++i) inside = (c[(i + 1) % k] - c[i]).cross(y - c[i]).dot(normal) >= 0.0;
+            if (inside) return true;
+        }
+    }
+    return false;
+}
+
 void ShadowPolygons::planeAxes(const Vec3& normal, Vec3& u, Vec3& v) {
     const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
     u = normal.cross(helper).normalized();

@@ -73,6 +73,10 @@ public:
     void shadeBeam(const Vec3* p, std::size_t count, const Vec3& normal, PatchId r, const Vec3& toSource, double tolerance,
                    const Vec3* slabNormal, double slabOffset, Scratch& scratch) const;
 
+    /// Whether the ray from x along the unit direction d meets a blocker further than `tolerance`
+    /// from x (the blocker x lies on is not met), a polygon's edges counting as in it.
+    bool blocksRay(const Vec3& x, const Vec3& d, double tolerance, Scratch& scratch) const;
+
     /// Whether some blocker other than patches e and r may reach into the convex region where
     /// m_k . y - d_k > tolerance for every plane k (conservative: a blocker that no single plane
     /// leaves wholly outside counts). A pair's shaft test (contact_pairs.hpp).
