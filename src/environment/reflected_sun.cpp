@@ -117,16 +117,7 @@ ReflectedSun reflectedSun(const BeamShadows& beams, const Vec3& toSunGiven, doub
                 // front of it.
                 sideNormals.clear();
                 sideOffsets.clear();
-                const Vec3 middle = vertexMean(corners, shape.count);
-                for (std::uint32_t c = 0; c < shape.count; ++c) {
-                    Vec3 side = (corners[(c + 1) % shape.count] - corners[c]).cross(toImage);
-                    const double length = side.norm();
-                    if (!(length > 0.0)) continue;
-                    side /= length;
-                    if (side.dot(middle - corners[c]) < 0.0) side = -side;
-                    sideNormals.push_back(side);
-                    sideOffsets.push_back(side.dot(corners[c]));
-                }
+                ShadowPolygons::prismSides(corners, shape.count, toImage, sideNormals, sideOffsets);
                 sideNormals.push_back(shape.normal);
                 sideOffsets.push_back(frontOffset);
                 beams.patches().collect(sideNormals.data(), sideOffsets.data(), sideNormals.size(), tolerance, m, m, found, s);

@@ -85,6 +85,29 @@ HourAlone hourAlone(const Scene& s, const FormFactors& F, const std::vector<doub
     return out;
 }
 
+/// The year of `w` on the prepared scene by the solver `kind` to a relative residual of 1e-13.
+YearResult yearSolvedBy(const std::string& kind, const Prepared& prepared, const Weather& w, const YearOptions& options) {
+    SolverOptions solver;
+    solver.solver = kind;
+    solver.tolerance = 1e-13;
+    return solveYear(prepared.s, prepared.F, prepared.sky, w, options, solver);
+}
+
+/// The largest difference between an hour of `year` and that hour solved alone by LU, relative to
+/// max(1, the hour's total), over every hour and patch.
+double worstAgainstHoursAlone(const Scene& s, const FormFactors& F, const std::vector<double>& sky, const Weather& w,
+                              const YearResult& year, const YearOptions& options) {
+    SolverOptions lu;
+    lu.solver = "lu";
+    double worst = 0.0;
+    for (std::size_t k = 0; k < year.hours.size(); ++k) {
+        const IrradianceResult alone = hourAlone(s, F, sky, w, w.hours[year.hours[k]], options, lu).result;
+        for (PatchId i = 0; i < s.size(); ++i)
+            worst = std::max(worst, std::abs(year.total[k * s.size() + i] - alone.total[i]) / std::max(1.0, alone.total[i]));
+    }
+    return worst;
+}
+
 }  // namespace
 
 TEST_CASE("EPW: the location, the hours' DNI and DHI (fields 15 and 16), and the middle of each hour in UTC") {
@@ -162,23 +185,13 @@ TEST_CASE("Overcast hours (sky, no sun) in a year: the sky solved once and scale
             ++overcast;
         }
     REQUIRE(overcast > 10);
-    SolverOptions lu;
-    lu.solver = "lu";
     for (const std::string kind : {"lu", "gauss-seidel"}) {
         CAPTURE(kind);
-        SolverOptions solver;
-        solver.solver = kind;
-        solver.tolerance = 1e-13;
         YearOptions options;
         options.batch = 5;
-        const YearResult year = solveYear(prepared.s, prepared.F, prepared.sky, w, options, solver);
+        const YearResult year = yearSolvedBy(kind, prepared, w, options);
         CHECK(year.worstBalance <= 1e-9);
-        double worst = 0.0;
-        for (std::size_t k = 0; k < year.hours.size(); ++k) {
-            const IrradianceResult alone = hourAlone(prepared.s, prepared.F, prepared.sky, w, w.hours[year.hours[k]], options, lu).result;
-            for (PatchId i = 0; i < prepared.s.size(); ++i)
-                worst = std::max(worst, std::abs(year.total[k * prepared.s.size() + i] - alone.total[i]) / std::max(1.0, alone.total[i]));
-        }
+        const double worst = worstAgainstHoursAlone(prepared.s, prepared.F, prepared.sky, w, year, options);
         MESSAGE(kind << ", " << overcast << " overcast hours: largest difference from the hours alone " << worst);
         CHECK(worst <= 1e-9);
     }
@@ -187,23 +200,13 @@ TEST_CASE("Overcast hours (sky, no sun) in a year: the sky solved once and scale
 TEST_CASE("A year's batches solved by the iterative solvers (many hours in one pass over F) equal each hour solved alone") {
     // The solver above 2,000 patches: Gauss-Seidel (or Jacobi) over a batch of hours at once.
     const Prepared prepared;
-    SolverOptions lu;
-    lu.solver = "lu";
     for (const std::string kind : {"gauss-seidel", "jacobi"}) {
         CAPTURE(kind);
-        SolverOptions iterative;
-        iterative.solver = kind;
-        iterative.tolerance = 1e-13;
         YearOptions options;
         options.batch = 24;
-        const YearResult year = solveYear(prepared.s, prepared.F, prepared.sky, prepared.w, options, iterative);
+        const YearResult year = yearSolvedBy(kind, prepared, prepared.w, options);
         REQUIRE(year.hours.size() > 20);
-        double worst = 0.0;
-        for (std::size_t k = 0; k < year.hours.size(); ++k) {
-            const IrradianceResult alone = hourAlone(prepared.s, prepared.F, prepared.sky, prepared.w, prepared.w.hours[year.hours[k]], options, lu).result;
-            for (PatchId i = 0; i < prepared.s.size(); ++i)
-                worst = std::max(worst, std::abs(year.total[k * prepared.s.size() + i] - alone.total[i]) / std::max(1.0, alone.total[i]));
-        }
+        const double worst = worstAgainstHoursAlone(prepared.s, prepared.F, prepared.sky, prepared.w, year, options);
         MESSAGE(kind << ": largest difference from the hours alone (LU) " << worst);
         CHECK(worst <= 1e-9);
     }

@@ -419,9 +419,22 @@ void ShadowPolygons::planeAxes(const Vec3& normal, Vec3& u, Vec3& v) {
     v = normal.cross(u);
 }
 
+void ShadowPolygons::prismSides(const Vec3* p, std::size_t count, const Vec3& along, std::vector<Vec3>& normals,
+                                std::vector<double>& offsets) {
+    const Vec3 middle = vertexMean(p, count);
+    for (std::size_t k = 0; k < count; ++k) {
+        Vec3 side = (p[(k + 1) % count] - p[k]).cross(along);
+        const double length = side.norm();
+        if (!(length > 0.0)) continue;  // an edge along the direction bounds nothing
+        side /= length;
+        if (side.dot(middle - p[k]) < 0.0) side = -side;
+        normals.push_back(side);
+        offsets.push_back(side.dot(p[k]));
+    }
+}
+
 bool ShadowPolygons::beamRegion(const Vec3* p, std::size_t count, const Vec3& normal, const Vec3& toSource, double tolerance,
                                 const Vec3* slabNormal, double slabOffset, Scratch& s, Vec3* box) const {
-    const Vec3 middle = vertexMean(p, count);
     // The prism swept from the polygon towards the source: a plane through each edge along the beam
     // (normals inward), and the receiver's plane. A blocker within the tolerance of it (or behind)
     // is left out; one reaching further is cut at the plane itself, so that a wall standing on the
@@ -430,15 +443,7 @@ bool ShadowPolygons::beamRegion(const Vec3* p, std::size_t count, const Vec3& no
     std::vector<double>& d = s.planeOffsets;
     m.clear();
     d.clear();
-    for (std::size_t k = 0; k < count; ++k) {
-        Vec3 side = (p[(k + 1) % count] - p[k]).cross(toSource);
-        const double length = side.norm();
-        if (!(length > 0.0)) continue;
-        side /= length;
-        if (side.dot(middle - p[k]) < 0.0) side = -side;
-        m.push_back(side);
-        d.push_back(side.dot(p[k]));
-    }
+    prismSides(p, count, toSource, m, d);
     m.push_back(normal);
     d.push_back(normal.dot(p[0]));
     if (slabNormal) {

@@ -47,6 +47,10 @@ public:
 
     /// The 2D axes of a plane with unit `normal` that shadow polygons use (u, v, normal right-handed).
     static void planeAxes(const Vec3& normal, Vec3& u, Vec3& v);
+    /// Appends the sides of the prism that convex polygon p sweeps along `along` (either way): a
+    /// plane through each edge and the direction, unit normal inward, normal . y = offset.
+    static void prismSides(const Vec3* p, std::size_t count, const Vec3& along, std::vector<Vec3>& normals,
+                           std::vector<double>& offsets);
 
     /// Lambert's factor from x (unit normal n) to the part of the convex polygon p[0..count) that no
     /// blocker other than patches e and r hides from x. p is receiver r's polygon or its part above
