@@ -65,19 +65,42 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
     out.sensorSum.assign(sensors, 0.0);
 
     const BeamShadows shadows(scene);  // set up once for every hour's sun
-    // The isotropic sky has one shape, DHI x the sky view factors: its inter-reflection (per unit
-    // DHI) is solved once and scaled, so each hour solves for its sun alone, and an hour without
-    // sun solves nothing (radiosity is linear in the sources).
-    std::vector<double> skyJ, skyH;
-    if (!model) {
+    // Radiosity is linear in its sources. The isotropic sky has one shape, DHI x the sky view
+    // factors: its radiosity per unit DHI is solved once and scaled. A sky model's hour is a sum
+    // over its cells, radiance x the cell's coefficients (direct and through mirrors): the
+    // radiosity per unit radiance of each cell (the daylight coefficients carried through the
+    // inter-reflection) is solved once, and an hour's sky is one product with it. Each hour then
+    // solves for its sun alone, and an hour without sun solves nothing.
+    using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    RowMatrix skyJ, skyH;  // per patch, per unit of the sky (DHI, or each cell's radiance): J and F J
+    {
         const auto solving = Clock::now();
-        Band unit;
-        unit.name = "the isotropic sky";
-        unit.rho = rho;
-        unit.source.resize(n);
-        for (std::size_t i = 0; i < n; ++i) unit.source[i] = rho[i] * skyView[i];
-        skyJ = solveBands(scene, F, {unit}, solver).X[0];
-        multiplyInterleaved(F, 1, skyJ.data(), skyH);
+        const std::size_t columns = model ? model->grid.size() : 1;
+        skyJ = RowMatrix::Zero(Eigen::Index(n), Eigen::Index(columns));
+        SolverOptions each = solver;  // the hour sums the columns: each to its share of the tolerance
+        each.tolerance = solver.tolerance / std::sqrt(double(columns));
+        for (std::size_t first = 0; first < columns; first += options.batch) {
+            const std::size_t last = std::min(columns, first + options.batch);
+            std::vector<Band> units(last - first);
+            for (std::size_t k = first; k < last; ++k) {
+                Band& unit = units[k - first];
+                unit.name = model ? "sky cell " + std::to_string(k + 1) : "the isotropic sky";
+                unit.rho = rho;
+                unit.source.resize(n);
+                for (std::size_t i = 0; i < n; ++i) {
+                    const double arriving = model ? model->direct(Eigen::Index(i), Eigen::Index(k)) +
+                                                        (mirrors ? model->mirrored(Eigen::Index(i), Eigen::Index(k)) : 0.0)
+                                                  : skyView[i];
+                    unit.source[i] = rho[i] * arriving;
+                }
+            }
+            const BandSolution solved = solveBands(scene, F, units, each);
+            for (std::size_t k = first; k < last; ++k)
+                for (std::size_t i = 0; i < n; ++i) skyJ(Eigen::Index(i), Eigen::Index(k)) = solved.X[k - first][i];
+        }
+        std::vector<double> FJ;
+        multiplyInterleaved(F, columns, skyJ.data(), FJ);
+        skyH = Eigen::Map<const RowMatrix>(FJ.data(), Eigen::Index(n), Eigen::Index(columns));
         out.solveSeconds += since(solving);
     }
     std::vector<std::vector<double>> sun, sky, bounced, skyBounced, sensorLit;
@@ -133,13 +156,20 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                 out.skySeconds += since(skyStart);
             }
         }
+        // The batch's sky: each hour's units of sky (its DHI, or its cells' radiances), then the
+        // direct sky, the sky through mirrors, and the sky's radiosity and F J in matrix products.
+        const auto skyStart = Clock::now();
+        Eigen::MatrixXd units(skyJ.cols(), Eigen::Index(last - first));
+        for (std::size_t b = first; b < last; ++b)
+            units.col(Eigen::Index(b - first)) =
+                model ? Eigen::VectorXd(radiance.col(Eigen::Index(b - first))) : Eigen::VectorXd::Constant(1, weather.hours[out.hours[b]].dhi);
         Eigen::MatrixXd skyDirect, skyMirrored;
         if (model) {
-            const auto skyStart = Clock::now();
             skyDirect = model->direct * radiance;
             if (mirrors) skyMirrored = model->mirrored * radiance;
-            out.skySeconds += since(skyStart);
         }
+        const Eigen::MatrixXd skyRadiosity = skyJ * units, skyReceived = skyH * units;
+        out.skySeconds += since(skyStart);
         for (std::size_t b = first; b < last; ++b) {
             const WeatherHour& hour = weather.hours[out.hours[b]];
             const std::vector<double>& direct = sun[b - first];
@@ -153,8 +183,7 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
             for (std::size_t i = 0; i < n; ++i) {
                 diffuse[i] = model ? skyDirect(Eigen::Index(i), Eigen::Index(b - first)) : hour.dhi * skyView[i];
                 if (model && mirrors) skyBounced[b - first][i] = skyMirrored(Eigen::Index(i), Eigen::Index(b - first));
-                // The isotropic sky comes in through skyJ; a model's sky is the hour's own.
-                band.source[i] = rho[i] * (direct[i] + (model ? diffuse[i] : 0.0) + bounced[b - first][i] + skyBounced[b - first][i]);
+                band.source[i] = rho[i] * (direct[i] + bounced[b - first][i]);  // the sky comes in through skyJ
                 source = source || band.source[i] != 0.0;
             }
             if (source) {
@@ -175,11 +204,11 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
         if (width > 0) multiplyInterleaved(F, width, Jt.data(), Hb);
         for (std::size_t b = first; b < last; ++b) {
             const std::size_t own = bandOf[b - first];
-            const double dhi = model ? 0.0 : weather.hours[out.hours[b]].dhi;  // the isotropic sky's scale
-            for (std::size_t i = 0; i < n; ++i) J[i] = (own == SIZE_MAX ? 0.0 : solved.X[own][i]) + (model ? 0.0 : dhi * skyJ[i]);
+            const Eigen::Index column = Eigen::Index(b - first);
+            for (std::size_t i = 0; i < n; ++i) J[i] = (own == SIZE_MAX ? 0.0 : solved.X[own][i]) + skyRadiosity(Eigen::Index(i), column);
             double incident = 0.0, absorbed = 0.0, escaped = 0.0;
             for (std::size_t i = 0; i < n; ++i) {
-                const double H = (own == SIZE_MAX ? 0.0 : Hb[i * width + own]) + (model ? 0.0 : dhi * skyH[i]);
+                const double H = (own == SIZE_MAX ? 0.0 : Hb[i * width + own]) + skyReceived(Eigen::Index(i), column);
                 // The sun (and sky) reflected by mirrors arrives first too; it came in as the direct sun
                 // (and sky) on them.
                 const double outside = sun[b - first][i] + sky[b - first][i];

@@ -1,9 +1,10 @@
 // A year of hours against one F: each hour's sun (position, exact sunlit fractions) and isotropic
 // sky (DHI x sky view factor) inter-reflected through the same F, the hours' right-hand sides solved
 // in batches (one factorisation or one set of sweeps' set-up per batch), annual sums per patch, and
-// the hourly totals as a NumPy .npy array. Radiosity is linear in its sources: the isotropic sky's
-// inter-reflection is solved once per unit DHI and scaled, so an hour solves for its sun alone and
-// an overcast hour (no sun) solves nothing. A sky model's hours solve sun and sky together.
+// the hourly totals as a NumPy .npy array. Radiosity is linear in its sources: the sky's radiosity
+// is solved once per unit of sky (the isotropic sky's DHI, or each of a model's cells: daylight
+// coefficients carried through the inter-reflection) and summed by the hour, so an hour solves for
+// its sun alone and an overcast hour (no sun) solves nothing.
 #pragma once
 
 #include "engine/atomic_file.hpp"
