@@ -34,6 +34,11 @@ Vec3 sunDirectionFromOptions(const Options& options, const Reporter& reporter) {
     return toSun;
 }
 
+bool sunBelowHorizon(const Options& options) {
+    if (options.sunDirectionVector) return false;  // a direction given is taken as it is
+    return !(solarPosition(options.sunTime, *options.latitude, *options.longitude).elevation > 0.0);
+}
+
 double metresFromOptions(const Scene& scene, const Options& options, Warnings& warnings) {
     if (!scene.unit.empty()) return metresPerUnit(scene.unit);
     if (!options.lengthUnit.empty()) return metresPerUnit(options.lengthUnit);
@@ -43,18 +48,22 @@ double metresFromOptions(const Scene& scene, const Options& options, Warnings& w
 
 IrradianceResult patchHour(const Scene& scene, const Options& options, const Vec3& toSun, double metres, Timings& timings,
                            const Reporter& reporter, Warnings& warnings) {
+    // The Earth hides a sun below the horizon: no direct sun, nothing for the mirrors to reflect.
+    const bool night = sunBelowHorizon(options);
+    if (night) reporter.line("sun: below the horizon at " + options.sunTime + ": no direct sun (the sky alone)");
     timings.start("shadow set-up");
     const BeamShadows shadows(scene);
     timings.start("sunlit fractions");
     IrradianceInputs in;
-    in.directSun = directIrradiance(scene, toSun, *options.dni, shadows.sunlitFractions(toSun));
+    in.directSun = night ? std::vector<double>(scene.size(), 0.0)
+                         : directIrradiance(scene, toSun, *options.dni, shadows.sunlitFractions(toSun));
     in.dhi = options.dhi;
     if (options.skyModel == "isotropic") {
         in.skyView = directSkyViewFromOptions(scene, options, timings, reporter);
     } else {
         modelSkyHour(skyCoefficientsFromOptions(scene, options, timings, reporter), options, toSun, in, reporter);
     }
-    if (scene.hasMirrors()) {
+    if (scene.hasMirrors() && !night) {
         timings.start("reflected sun");
         in.reflectedSun = reflectedSun(shadows, toSun, *options.dni).irradiance;
         timings.stop();
@@ -74,10 +83,12 @@ int runSun(const Options& options) {
     Timings timings;
     const Scene scene = loadScene(options, timings, reporter, warnings);
     const Vec3 toSun = sunDirectionFromOptions(options, reporter);
+    const bool night = sunBelowHorizon(options);
+    if (night) reporter.line("sun: below the horizon at " + options.sunTime + ": no patch is sunlit");
     timings.start("shadow set-up");
     const BeamShadows shadows(scene);
     timings.start("sunlit fractions");
-    const std::vector<double> lit = shadows.sunlitFractions(toSun);
+    const std::vector<double> lit = night ? std::vector<double>(scene.size(), 0.0) : shadows.sunlitFractions(toSun);
     timings.stop();
     double area = 0.0, litArea = 0.0;
     for (PatchId i = 0; i < scene.size(); ++i) {
@@ -91,7 +102,8 @@ int runSun(const Options& options) {
     // The sun's first reflections by mirrors, with --dni: a column, and the hot spots with --glare.
     const bool mirrored = options.dni && scene.hasMirrors();
     ReflectedSun reflected;
-    if (mirrored) {
+    reflected.irradiance.assign(scene.size(), 0.0);
+    if (mirrored && !night) {
         timings.start("reflected sun");
         reflected = reflectedSun(shadows, toSun, *options.dni);
         timings.stop();

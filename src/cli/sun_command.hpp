@@ -12,6 +12,10 @@ namespace hemirad {
 /// --latitude, --longitude in the frame --up and --north set; reports it. Throws hemirad::Error.
 Vec3 sunDirectionFromOptions(const Options& options, const Reporter& reporter);
 
+/// Whether --sun-time puts the sun at or below the horizon at --latitude, --longitude (then no direct
+/// sun reaches the scene). A --sun-direction is taken as given: false.
+bool sunBelowHorizon(const Options& options);
+
 /// The scene's up and north as --up and --north give them (north: +y for z up, -z for y up).
 Vec3 upFromOptions(const Options& options);
 Vec3 northFromOptions(const Options& options);

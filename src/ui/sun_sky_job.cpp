@@ -31,9 +31,11 @@ void SunSkyJob::work() {
     std::ostringstream where;
     where.precision(4);
     int dayOfYearValue = 0;
+    bool night = false;  // the sun below the horizon: no direct sun
     if (m_setup.byTime) {
         const SolarPosition p = solarPosition(m_setup.time, m_setup.latitude, m_setup.longitude);
-        if (!(p.elevation > 0.0)) where << "below the horizon: ";
+        night = !(p.elevation > 0.0);
+        if (night) where << "below the horizon (no direct sun): ";
         result.toSun = sunDirection(p, up, north);
         where << "elevation " << p.elevation << " deg, azimuth " << p.azimuth << " deg from north at " << m_setup.time;
         dayOfYearValue = dayOfYear(m_setup.time);
@@ -50,7 +52,8 @@ void SunSkyJob::work() {
     checkCancel();
     IrradianceInputs in;
     const BeamShadows shadows(m_scene);
-    result.sunlit = timed("sunlit fractions", [&] { return shadows.sunlitFractions(result.toSun); });
+    result.sunlit = night ? std::vector<double>(m_scene.size(), 0.0)
+                          : timed("sunlit fractions", [&] { return shadows.sunlitFractions(result.toSun); });
     in.directSun = directIrradiance(m_scene, result.toSun, m_setup.dni, result.sunlit);
     in.dhi = m_setup.dhi;
     checkCancel();
@@ -73,7 +76,7 @@ void SunSkyJob::work() {
         messages.push_back("sky: " + model.name() + ", " + std::to_string(sky.grid.size()) + " cells");
     }
     checkCancel();
-    if (m_scene.hasMirrors()) in.reflectedSun = timed("reflected sun", [&] { return reflectedSun(shadows, result.toSun, m_setup.dni).irradiance; });
+    if (m_scene.hasMirrors() && !night) in.reflectedSun = timed("reflected sun", [&] { return reflectedSun(shadows, result.toSun, m_setup.dni).irradiance; });
     SolverOptions solver = m_settings.solver;
     solver.tolerance = std::min(solver.tolerance, 1e-10);  // the power balance is read to many digits
     result.irradiance = timed("inter-reflection", [&] { return solarIrradiance(m_scene, *F, in, m_metres, solver); });

@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <filesystem>
+#include <sstream>
 
 using namespace hemirad::test;
 
@@ -110,6 +111,38 @@ TEST_CASE("hemirad sun takes a given direction or a time and place, and writes t
     r = runCommand(std::string(HEMIRAD_BINARY) + " sun " + example("radiator.obj") + " --sun-time 2026-06-21T12:00 -o " + out + " 2>&1");
     CHECK(r.status == 2);
     CHECK(r.output.find("'sun' needs --sun-direction x,y,z, or --sun-time T --latitude LAT --longitude LON") != std::string::npos);
+}
+
+TEST_CASE("hemirad sun and irradiance at night: the sun below the horizon lights nothing, the sky still does") {
+    // Munich at midnight in June: the sun is 18 degrees down. Before, the patches facing its
+    // direction were lit through the ground.
+    const auto dir = tempDir("sun-night");
+    const std::string at = " --sun-time 2026-06-21T00:00+02:00 --latitude 48.1 --longitude 11.6 --dni 800";
+    CommandResult r = runCommand(std::string(HEMIRAD_BINARY) + " sun " + example("radiator.obj") + at + " -o " +
+                                 (dir / "sun.csv").string() + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("sun: below the horizon at 2026-06-21T00:00+02:00: no patch is sunlit") != std::string::npos);
+    CHECK(r.output.find("sunlit: 0 of the area") != std::string::npos);
+    r = runCommand(std::string(HEMIRAD_BINARY) + " irradiance " + example("radiator.obj") + at + " --dhi 20 -o " +
+                   (dir / "e.csv").string() + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("no direct sun (the sky alone)") != std::string::npos);
+    const std::string csv = readText(dir / "e.csv");
+    std::istringstream rows(csv);
+    std::string line;
+    std::getline(rows, line);
+    double sun = 0.0, sky = 0.0;
+    while (std::getline(rows, line)) {
+        std::vector<std::string> f;
+        std::stringstream fields(line);
+        for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+        sun += std::stod(f[2]) + std::stod(f.back());  // direct_sun and reflected_sun
+        sky += std::stod(f[3]);
+    }
+    CHECK(sun == 0.0);
+    CHECK(sky > 0.0);
 }
 
 TEST_CASE("hemirad irradiance writes the direct sun, sky, reflected, total and absorbed irradiance, balanced") {
