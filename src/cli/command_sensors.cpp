@@ -53,7 +53,9 @@ int runSensors(const Options& options) {
         // The patches' hour as `irradiance` solves it: their radiosity is what the sensors see reflected.
         const IrradianceResult patches = patchHour(scene, options, toSun, metres, timings, reporter, warnings);
         timings.start("sensors in the sun");
-        const std::vector<double> lit = sensorSunlit(scene, sensors, toSun);
+        // A sun below the horizon (--sun-time at night) reaches no sensor (patchHour says so).
+        const std::vector<double> lit =
+            sunBelowHorizon(options) ? std::vector<double>(sensors.size(), 0.0) : sensorSunlit(scene, sensors, toSun);
         irradiance = sensorIrradiance(sensors, factors, lit, toSun, *options.dni, options.dhi, patches.radiosity);
         timings.stop();
         std::ostringstream line;

@@ -845,8 +845,8 @@ sun:
                          mirrors too (first reflections). Below the horizon is dark: model the ground
   --svf SVF.csv          (irradiance, year; the isotropic sky) the sky view factors stored in SVF.csv
                          as hemirad sky-view writes them: read where the file exists (each patch's
-                         object, area and centroid checked against the scene), else computed and
-                         stored there for the next run
+                         object, area, centroid and normal checked), else computed and stored there
+                         for the next run
   --sky-subdivision M    (--sky MODEL) Reinhart's 144 M^2 + 1 sky cells, 1..8 (default 2; 1: Tregenza's 145)
   --sky-samples Q        (--sky MODEL) Q x Q directions per cell, each an exact shadow pass, 1..16
                          (default 1; the error falls about as 1/(cells x Q^2))

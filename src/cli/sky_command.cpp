@@ -23,7 +23,7 @@ std::vector<double> directSkyViewFromOptions(const Scene& scene, const Options& 
         timings.start("read sky view factors");
         SkyView sky = readSkyViewCsv(path, scene);
         timings.stop();
-        reporter.line("sky view factors: read from " + path + " (each patch's object, area and centroid checked against the scene)");
+        reporter.line("sky view factors: read from " + path + " (each patch's object, area, centroid and normal checked against the scene)");
         return std::move(sky.direct);
     }
     timings.start("sky view factors");

@@ -5,6 +5,7 @@
 #include "engine/atomic_file.hpp"
 #include "engine/csv.hpp"
 #include "engine/error.hpp"
+#include "engine/parallel_failure.hpp"
 #include "environment/sky_view.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
 #include "preprocess/hemisphere/point_polygon.hpp"
@@ -269,16 +270,18 @@ std::vector<double> sensorSunlit(const BeamShadows& beams, const Sensors& sensor
     if (!toSunGiven.allFinite() || !(toSunGiven.norm() > 0.0)) throw Error("sun: the direction to the sun must be a finite non-zero vector");
     const Vec3 d = toSunGiven.normalized();
     std::vector<double> lit(sensors.size(), 0.0);
+    ParallelFailure failure;  // a scratch that fails to grow: rethrown after the region
 #pragma omp parallel
     {
         ShadowPolygons::Scratch scratch;
 #pragma omp for schedule(dynamic, 64)
         for (std::int64_t ss = 0; ss < std::int64_t(sensors.size()); ++ss) {
             const std::size_t s = std::size_t(ss);
-            if (!(sensors.normal[s].dot(d) > 0.0)) continue;
-            lit[s] = beams.blockers().blocksRay(sensors.position[s], d, beams.tolerance(), scratch) ? 0.0 : 1.0;
+            if (!(sensors.normal[s].dot(d) > 0.0) || failure.failed()) continue;
+            failure.run([&] { lit[s] = beams.blockers().blocksRay(sensors.position[s], d, beams.tolerance(), scratch) ? 0.0 : 1.0; });
         }
     }
+    failure.rethrowIfFailed();
     return lit;
 }
 

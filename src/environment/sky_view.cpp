@@ -88,12 +88,14 @@ void writeSkyViewCsv(const std::string& path, const Scene& scene, const SkyView&
     std::ostream& out = file.stream();
     out << std::setprecision(std::numeric_limits<double>::max_digits10);
     const std::string unit = scene.unit.empty() ? "" : " (" + scene.unit + "^2)";
-    out << "patch,object,area" << unit << ",sky_view_factor,direct,through_mirrors,x,y,z\n";
+    out << "patch,object,area" << unit << ",sky_view_factor,direct,through_mirrors,x,y,z,nx,ny,nz\n";
     const std::vector<double> total = sky.total();
     for (PatchId i = 0; i < scene.size(); ++i) {
         const Vec3& c = scene.patches[i].centroid;
+        const Vec3& m = scene.patches[i].normal;
         out << i << ',' << csvField(scene.objects[scene.patches[i].object]) << ',' << scene.patches[i].area << ',' << total[i] << ',' << sky.direct[i] << ','
-            << (sky.mirrored.empty() ? 0.0 : sky.mirrored[i]) << ',' << c.x() << ',' << c.y() << ',' << c.z() << '\n';
+            << (sky.mirrored.empty() ? 0.0 : sky.mirrored[i]) << ',' << c.x() << ',' << c.y() << ',' << c.z() << ',' << m.x() << ','
+            << m.y() << ',' << m.z() << '\n';
     }
     file.commit();
 }
@@ -112,9 +114,9 @@ SkyView readSkyViewCsv(const std::string& path, const Scene& scene) {
     if (!std::getline(in, line)) throw Error(path + ": empty (no header): not a sky view factor file");
     ++number;
     line = trimmed(line);
-    if (line.rfind("patch,object,area", 0) != 0 || line.find(",sky_view_factor,direct,through_mirrors,x,y,z") == std::string::npos)
+    if (line.rfind("patch,object,area", 0) != 0 || line.find(",sky_view_factor,direct,through_mirrors,x,y,z,nx,ny,nz") == std::string::npos)
         fail("not a sky view factor file as hemirad sky-view writes it (header '" + line.substr(0, 80) +
-             "'; expected patch,object,area,sky_view_factor,direct,through_mirrors,x,y,z)");
+             "'; expected patch,object,area,sky_view_factor,direct,through_mirrors,x,y,z,nx,ny,nz)");
     SkyView sky;
     sky.direct.resize(n);
     sky.mirrored.assign(n, 0.0);
@@ -128,10 +130,11 @@ SkyView readSkyViewCsv(const std::string& path, const Scene& scene) {
         if (line.empty()) continue;
         bool ok = true;
         const std::vector<std::string> f = splitQuotedCsvLine(line, ok);
-        if (!ok || f.size() != 9) fail("expected 9 fields (patch,object,area,sky_view_factor,direct,through_mirrors,x,y,z), read " +
-                                       std::to_string(f.size()) + (ok ? "" : " with an unclosed quote"));
-        double v[8];
-        for (int k = 0; k < 8; ++k) {
+        if (!ok || f.size() != 12)
+            fail("expected 12 fields (patch,object,area,sky_view_factor,direct,through_mirrors,x,y,z,nx,ny,nz), read " +
+                 std::to_string(f.size()) + (ok ? "" : " with an unclosed quote"));
+        double v[11];
+        for (int k = 0; k < 11; ++k) {
             const std::string& text = f[k == 0 ? 0 : std::size_t(k + 1)];
             char* end = nullptr;
             v[k] = std::strtod(text.c_str(), &end);
@@ -149,6 +152,9 @@ SkyView readSkyViewCsv(const std::string& path, const Scene& scene) {
         if ((Vec3(v[5], v[6], v[7]) - p.centroid).norm() > place)
             fail("patch " + std::to_string(rows) + "'s centroid (" + f[6] + ", " + f[7] + ", " + f[8] +
                  ") is not the scene's: computed for other geometry");
+        if (!((Vec3(v[8], v[9], v[10]) - p.normal).norm() <= 1e-9))
+            fail("patch " + std::to_string(rows) + " faces (" + f[9] + ", " + f[10] + ", " + f[11] +
+                 ") here and the other way in the scene: computed for other geometry (a flipped patch sees other sky)");
         for (int k : {2, 3, 4})
             if (v[k] < 0.0 || v[k] > 1.0 + 1e-9) fail("a sky view factor of " + f[std::size_t(k + 1)] + " is not within 0..1");
         sky.direct[rows] = v[3];

@@ -32,13 +32,14 @@ SkyView skyViewFactors(const Scene& scene, const MethodSettings& settings);
 /// patch's reversed twin, offset along -normal by `offset`.
 Scene twoSidedScene(const Scene& scene, double offset);
 
-/// patch,object,area,sky_view_factor,direct,through_mirrors,x,y,z (CSV, atomic): area in the scene's
-/// unit^2, (x, y, z) the patch's centroid; every value to the last digit.
+/// patch,object,area,sky_view_factor,direct,through_mirrors,x,y,z,nx,ny,nz (CSV, atomic): area in
+/// the scene's unit^2, (x, y, z) the patch's centroid, (nx, ny, nz) its normal; every value to the
+/// last digit.
 void writeSkyViewCsv(const std::string& path, const Scene& scene, const SkyView& sky);
 
 /// The sky view factors of `scene` from a file writeSkyViewCsv wrote (to compute them once for many
 /// runs). Each row must be the scene's patch of its number, in order, with its object, its area and
-/// its centroid (to 1e-9 of the patch's and the scene's size): else hemirad::Error naming the file,
+/// its centroid (to 1e-9 of the patch's and the scene's size) and its normal: else hemirad::Error naming the file,
 /// the line and the value (the file was computed for other geometry). `method` names the file.
 SkyView readSkyViewCsv(const std::string& path, const Scene& scene);
 

@@ -5,6 +5,7 @@
 #include "environment/sunlit.hpp"
 
 #include "engine/error.hpp"
+#include "engine/parallel_failure.hpp"
 #include "preprocess/hemisphere/convex_pieces.hpp"
 
 #include <algorithm>
@@ -60,6 +61,7 @@ std::vector<double> BeamShadows::sunlitFractions(const Vec3& toSunGiven) const {
     const Vec3 d = toSunGiven.normalized();
     const std::size_t n = m_scene.size();
     std::vector<double> fraction(n, 0.0);
+    ParallelFailure failure;  // a receiver whose pieces run away: rethrown after the region
 #pragma omp parallel
     {
         ShadowPolygons::Scratch scratch;
@@ -67,10 +69,13 @@ std::vector<double> BeamShadows::sunlitFractions(const Vec3& toSunGiven) const {
         for (std::int64_t ii = 0; ii < std::int64_t(n); ++ii) {
             const PatchId i = PatchId(ii);
             const PatchShape& shape = m_geometry.shapes[i];
-            if (!(shape.normal.dot(d) > 0.0)) continue;
-            fraction[i] = m_shadows.litFraction(m_geometry.polygon(i), shape.count, shape.normal, i, d, m_tolerance, scratch);
+            if (!(shape.normal.dot(d) > 0.0) || failure.failed()) continue;
+            failure.run([&] {
+                fraction[i] = m_shadows.litFraction(m_geometry.polygon(i), shape.count, shape.normal, i, d, m_tolerance, scratch);
+            });
         }
     }
+    failure.rethrowIfFailed();
     return fraction;
 }
 

@@ -70,12 +70,17 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
     // over its cells, radiance x the cell's coefficients (direct and through mirrors): the
     // radiosity per unit radiance of each cell (the daylight coefficients carried through the
     // inter-reflection) is solved once, and an hour's sky is one product with it. Each hour then
-    // solves for its sun alone, and an hour without sun solves nothing.
+    // solves for its sun alone, and an hour without sun solves nothing. Where a model has more
+    // cells than the weather has hours with sky (a day's file, a fine subdivision), each hour
+    // solves its own sky instead: fewer solves, and no N x cells matrices.
     using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
     RowMatrix skyJ, skyH;  // per patch, per unit of the sky (DHI, or each cell's radiance): J and F J
-    {
+    std::size_t skyHours = 0;
+    for (const std::size_t h : out.hours) skyHours += weather.hours[h].dhi > 0.0;
+    const std::size_t columns = model ? model->grid.size() : 1;
+    const bool skyOnce = columns <= std::max<std::size_t>(skyHours, 1);
+    if (skyOnce) {
         const auto solving = Clock::now();
-        const std::size_t columns = model ? model->grid.size() : 1;
         skyJ = RowMatrix::Zero(Eigen::Index(n), Eigen::Index(columns));
         SolverOptions each = solver;  // the hour sums the columns: each to its share of the tolerance
         each.tolerance = solver.tolerance / std::sqrt(double(columns));
@@ -159,16 +164,20 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
         // The batch's sky: each hour's units of sky (its DHI, or its cells' radiances), then the
         // direct sky, the sky through mirrors, and the sky's radiosity and F J in matrix products.
         const auto skyStart = Clock::now();
-        Eigen::MatrixXd units(skyJ.cols(), Eigen::Index(last - first));
-        for (std::size_t b = first; b < last; ++b)
-            units.col(Eigen::Index(b - first)) =
-                model ? Eigen::VectorXd(radiance.col(Eigen::Index(b - first))) : Eigen::VectorXd::Constant(1, weather.hours[out.hours[b]].dhi);
         Eigen::MatrixXd skyDirect, skyMirrored;
         if (model) {
             skyDirect = model->direct * radiance;
             if (mirrors) skyMirrored = model->mirrored * radiance;
         }
-        const Eigen::MatrixXd skyRadiosity = skyJ * units, skyReceived = skyH * units;
+        Eigen::MatrixXd skyRadiosity = Eigen::MatrixXd::Zero(Eigen::Index(n), Eigen::Index(last - first)), skyReceived = skyRadiosity;
+        if (skyOnce) {
+            Eigen::MatrixXd units(skyJ.cols(), Eigen::Index(last - first));
+            for (std::size_t b = first; b < last; ++b)
+                units.col(Eigen::Index(b - first)) = model ? Eigen::VectorXd(radiance.col(Eigen::Index(b - first)))
+                                                           : Eigen::VectorXd::Constant(1, weather.hours[out.hours[b]].dhi);
+            skyRadiosity = skyJ * units;
+            skyReceived = skyH * units;
+        }
         out.skySeconds += since(skyStart);
         for (std::size_t b = first; b < last; ++b) {
             const WeatherHour& hour = weather.hours[out.hours[b]];
@@ -183,7 +192,8 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
             for (std::size_t i = 0; i < n; ++i) {
                 diffuse[i] = model ? skyDirect(Eigen::Index(i), Eigen::Index(b - first)) : hour.dhi * skyView[i];
                 if (model && mirrors) skyBounced[b - first][i] = skyMirrored(Eigen::Index(i), Eigen::Index(b - first));
-                band.source[i] = rho[i] * (direct[i] + bounced[b - first][i]);  // the sky comes in through skyJ
+                // The sky comes in through skyJ, or with the hour's own solve.
+                band.source[i] = rho[i] * (direct[i] + bounced[b - first][i] + (skyOnce ? 0.0 : diffuse[i] + skyBounced[b - first][i]));
                 source = source || band.source[i] != 0.0;
             }
             if (source) {

@@ -568,13 +568,36 @@ py::array_t<double> sunDirectionOf(double elevation, double azimuth, py::array_t
 }
 
 py::array_t<double> sunlitOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> toSun) {
-    const Vec3 d = vectorOf(toSun, "to_sun");
-    std::vector<double> f;
+    if (toSun.ndim() != 2) {
+        const Vec3 d = vectorOf(toSun, "to_sun");
+        std::vector<double> f;
+        {
+            py::gil_scoped_release release;
+            f = sunlitFractions(*scene, d);
+        }
+        return numpyVector(f);
+    }
+    // Many suns (k x 3): one shadow set-up for all of them, a row of fractions each.
+    if (toSun.shape(1) != 3) throw py::value_error("to_sun: expected 3 values per row (k x 3)");
+    const std::size_t k = std::size_t(toSun.shape(0)), n = scene->size();
+    std::vector<Vec3> directions(k);
+    for (std::size_t r = 0; r < k; ++r) {
+        const double* v = toSun.data() + 3 * r;
+        directions[r] = Vec3(v[0], v[1], v[2]);
+        if (!directions[r].allFinite() || !(directions[r].norm() > 0.0))
+            throw py::value_error("to_sun: row " + std::to_string(r) + " is not a finite non-zero vector");
+    }
+    py::array_t<double> out({py::ssize_t(k), py::ssize_t(n)});
+    double* p = out.mutable_data();
     {
         py::gil_scoped_release release;
-        f = sunlitFractions(*scene, d);
+        const BeamShadows shadows(*scene);
+        for (std::size_t r = 0; r < k; ++r) {
+            const std::vector<double> f = shadows.sunlitFractions(directions[r]);
+            std::copy(f.begin(), f.end(), p + r * n);
+        }
     }
-    return numpyVector(f);
+    return out;
 }
 
 py::dict irradianceOf(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,

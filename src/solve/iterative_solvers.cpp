@@ -78,7 +78,7 @@ HEMIRAD_INLINE_KERNEL void gaussSeidelChannels(const FormFactors& F, Block& b, i
     const float* val = F.values();
     const std::size_t m = std::size_t(widthOf<M>(b));
     const int w = M > 0 ? M : c1 - c0;
-    std::vector<double> dynamic(M > 0 ? 0 : std::size_t(w));
+    std::vector<double> dynamic(M > 0 ? 0 : std::size_t(w)), changes(std::size_t(w), 0.0);  // changes: the thread's own
     double fixed[M > 0 ? M : 1];
     double* sum = M > 0 ? fixed : dynamic.data();
     for (std::size_t i = 0; i < F.size(); ++i) {
@@ -97,10 +97,11 @@ HEMIRAD_INLINE_KERNEL void gaussSeidelChannels(const FormFactors& F, Block& b, i
         for (int c = 0; c < w; ++c) {
             const std::size_t at = i * m + std::size_t(c0 + c);
             const double value = (b.E[at] + b.rho[at] * sum[c]) / (1.0 - b.rho[at] * self);
-            change[c0 + c] += (value - b.B[at]) * (value - b.B[at]);
+            changes[std::size_t(c)] += (value - b.B[at]) * (value - b.B[at]);
             b.B[at] = value;
         }
     }
+    for (int c = 0; c < w; ++c) change[c0 + c] += changes[std::size_t(c)];
 }
 
 /// gaussSeidelChannels for any number of channels, compiled for wide vectors too (chosen at run time).
@@ -116,7 +117,7 @@ HEMIRAD_WIDE_KERNEL void gaussSeidelMany(const FormFactors& F, Block& b, int c0,
 template <int M>
 void gaussSeidelSweep(const FormFactors& F, Block& b, double* change) {
     const int m = widthOf<M>(b);
-    if (M == 0 && m >= 8) {
+    if (M == 0 && m >= 32) {  // fewer: the threads' channels would share cache lines row after row
 #pragma omp parallel
         {
             const std::int64_t threads = omp_get_num_threads(), t = omp_get_thread_num();

@@ -86,7 +86,7 @@ TEST_CASE("hemirad sky-view writes each patch's sky view factor, direct and thro
     REQUIRE(r.status == 0);
     CHECK(r.output.find("sky view factor (hemisphere") != std::string::npos);
     const std::string csv = readText(out);
-    CHECK(csv.find("patch,object,area (m^2),sky_view_factor,direct,through_mirrors,x,y,z\n0,radiator,") == 0);
+    CHECK(csv.find("patch,object,area (m^2),sky_view_factor,direct,through_mirrors,x,y,z,nx,ny,nz\n0,radiator,") == 0);
     const CommandResult missing = runCommand(std::string(HEMIRAD_BINARY) + " sky-view " + example("radiator.obj") + " 2>&1");
     CHECK(missing.status == 2);
     CHECK(missing.output.find("'sky-view' needs -o OUTPUT") != std::string::npos);
@@ -143,6 +143,23 @@ TEST_CASE("hemirad sun and irradiance at night: the sun below the horizon lights
     }
     CHECK(sun == 0.0);
     CHECK(sky > 0.0);
+    // Sensors at night: no direct sun at any of them.
+    r = runCommand(std::string(HEMIRAD_BINARY) + " sensors " + example("radiator.obj") + at + " --dhi 20 --grid radiator --spacing 0.5 -o " +
+                   (dir / "s.csv").string() + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find(" 0 of ") != std::string::npos);  // "0 of N sensors in the sun"
+    std::istringstream sensorRows(readText(dir / "s.csv"));
+    std::getline(sensorRows, line);
+    std::size_t sensors = 0;
+    while (std::getline(sensorRows, line)) {
+        std::vector<std::string> f;
+        std::stringstream fields(line);
+        for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+        CHECK(std::stod(f[9]) == 0.0);  // direct_sun
+        ++sensors;
+    }
+    CHECK(sensors > 0);
 }
 
 TEST_CASE("hemirad irradiance writes the direct sun, sky, reflected, total and absorbed irradiance, balanced") {

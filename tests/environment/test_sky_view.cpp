@@ -9,6 +9,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -151,6 +152,12 @@ TEST_CASE("Sky view factors stored and read back: every digit kept, and a file o
     for (std::uint32_t k = 0; k < moved.patches[1].cornerCount; ++k) moved.vertices[moved.corners[moved.patches[1].firstCorner + k]].x() += 1e-3;
     moved.updateMeasures();
     refused(moved, path, path + ":3: patch 1's centroid");
+    // The wall turned round (its corners reversed): same place and area, the other sky.
+    Scene flipped = s;
+    const Patch& wall = flipped.patches[1];
+    std::reverse(flipped.corners.begin() + wall.firstCorner, flipped.corners.begin() + wall.firstCorner + wall.cornerCount);
+    flipped.updateMeasures();
+    refused(flipped, path, path + ":3: patch 1 faces");
     // Another object, another patch count, a damaged value, another header.
     Scene renamed = s;
     renamed.objects.back() = "east";
@@ -164,7 +171,7 @@ TEST_CASE("Sky view factors stored and read back: every digit kept, and a file o
         text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     }
     const std::size_t second = text.find('\n') + 1;
-    const std::string damaged = text.substr(0, second) + "0,default,1,0.5,x,0,0.5,0.5,0\n";
+    const std::string damaged = text.substr(0, second) + "0,default,1,0.5,x,0,0.5,0.5,0,0,0,1\n";
     refused(s, writeFile(dir / "damaged.csv", damaged), "damaged.csv:2: 'x' is not a number");
     refused(s, writeFile(dir / "short.csv", text.substr(0, text.rfind('\n', text.size() - 2) + 1)), "1 rows for the scene's 2 patches");
     refused(s, writeFile(dir / "other.csv", "patch,object,area,sky_view_factor\n0,default,1,0.5\n"), "other.csv:1: not a sky view factor file");

@@ -153,6 +153,24 @@ TEST_CASE("Sunlit fractions with one set-up for many suns: walls in triangles (m
     }
 }
 
+TEST_CASE("Sunlit fraction at the scene's edge: a plate over a corner triangle shades it though the corners leave the scene at once") {
+    // The tree's search box for a receiver's prism reaches as far as its points travel inside the
+    // scene's box. Here every corner of the ground triangle leaves that box at once (by x or by y),
+    // yet the points between them rise to the plate 0.3 above: a box from the corners alone was flat
+    // and passed over the tree's upper leaf (the plate and three plates high up; the lower leaf is
+    // the ground).
+    SceneBuilder b;
+    b.polygon({Vec3(9, 10, 0), Vec3(10, 9, 0), Vec3(10, 10, 0)});  // the receiver, facing up
+    for (const Vec3& c : {Vec3(9.0, 9.0, 0), Vec3(9.4, 9.0, 0), Vec3(9.0, 9.4, 0)})  // more ground, apart
+        b.polygon({c, c + Vec3(0.3, 0, 0), c + Vec3(0, 0.3, 0)});
+    b.rectangle(2, 0.3, 9.85, 9.95, 9.85, 9.95, false);  // the plate, facing down
+    for (const Vec3& c : {Vec3(9.1, 9.1, 5), Vec3(9.4, 9.1, 5), Vec3(9.1, 9.4, 5)})  // high up: shadows far off
+        b.rectangle(2, c.z(), c.x(), c.x() + 0.1, c.y(), c.y() + 0.1, false);
+    const std::vector<double> lit = sunlitFractions(b.scene, Vec3(1, 1, 1));
+    // The plate's shadow, [9.55, 9.65]^2 on the ground, lies inside the triangle (area 1/2).
+    CHECK(lit[0] == doctest::Approx(1.0 - 0.01 / 0.5).epsilon(1e-12));
+}
+
 TEST_CASE("Solar position (Michalsky 1988) against NREL's SPA example and the equinox noon, within 0.05 degrees") {
     // Reda & Andreas (2004), NREL's SPA report, its example: 2003-10-17 12:30:30 at UTC-7, latitude
     // 39.742476, longitude -105.1786: zenith 50.11162 (elevation 39.88838), azimuth 194.34024 degrees.

@@ -532,6 +532,14 @@ def test_sun_and_one_hour_of_irradiance_as_the_command_line():
     d = np.array([0.3, 1.0, 0.2])
     lit = hemirad.sunlit_fractions(cornell, d)
     assert lit.shape == (len(cornell),) and np.all((lit >= 0) & (lit <= 1))
+    # Many suns at once (one shadow set-up): each row as the sun alone.
+    suns = np.array([d, [0.1, 1.0, -0.3], [-0.5, 0.8, 0.4]])
+    many = hemirad.sunlit_fractions(cornell, suns)
+    assert many.shape == (3, len(cornell))
+    for k in range(3):
+        assert np.array_equal(many[k], hemirad.sunlit_fractions(cornell, suns[k]))
+    with pytest.raises(ValueError):
+        hemirad.sunlit_fractions(cornell, np.zeros((2, 3)))
     F, _ = hemirad.form_factors(cornell, all_rows=True)
     out = hemirad.irradiance(cornell, F, d, 800.0, 100.0)
     assert out["balance"] < 1e-9

@@ -263,30 +263,34 @@ TEST_CASE("auto picks LU for small systems, and above 2000 patches Gauss-Seidel 
 }
 
 TEST_CASE("Many bands solved together (a year's hours) give each band's LU answer with every solver") {
-    // Seven distinct bands, more than RGB's three: the stationary solvers sweep them in one pass over F.
+    // Seven distinct bands, more than RGB's three: the stationary solvers sweep them in one pass over
+    // F. Forty: Gauss-Seidel splits them among the threads.
     Scene s = unitCube();
     const FormFactors F = exactCubeF();
-    std::vector<Band> bands(7);
-    for (std::size_t b = 0; b < bands.size(); ++b) {
-        bands[b].name = "hour " + std::to_string(b);
-        for (std::size_t i = 0; i < 6; ++i) {
-            bands[b].rho.push_back(0.1 + 0.1 * double((i + b) % 8));
-            bands[b].source.push_back(i == b % 6 ? 1.0 + double(b) : 0.05 * double(i));
+    for (const std::size_t count : {std::size_t(7), std::size_t(40)}) {
+        CAPTURE(count);
+        std::vector<Band> bands(count);
+        for (std::size_t b = 0; b < bands.size(); ++b) {
+            bands[b].name = "hour " + std::to_string(b);
+            for (std::size_t i = 0; i < 6; ++i) {
+                bands[b].rho.push_back(0.1 + 0.1 * double((i + b) % 8));
+                bands[b].source.push_back(i == b % 6 ? 1.0 + double(b) : 0.05 * double(i));
+            }
         }
-    }
-    SolverOptions lu;
-    lu.solver = "lu";
-    lu.tolerance = 1e-12;
-    const BandSolution reference = solveBands(s, F, bands, lu);
-    for (const std::string& kind : kAll) {
-        CAPTURE(kind);
-        SolverOptions o;
-        o.solver = kind;
-        o.tolerance = 1e-11;
-        const BandSolution r = solveBands(s, F, bands, o);
-        REQUIRE(r.X.size() == bands.size());
-        for (std::size_t b = 0; b < bands.size(); ++b)
-            for (std::size_t i = 0; i < 6; ++i) CHECK(r.X[b][i] == relative(reference.X[b][i], 1e-8));
-        for (const SolveReport& report : r.reports) CHECK(report.converged);
+        SolverOptions lu;
+        lu.solver = "lu";
+        lu.tolerance = 1e-12;
+        const BandSolution reference = solveBands(s, F, bands, lu);
+        for (const std::string& kind : kAll) {
+            CAPTURE(kind);
+            SolverOptions o;
+            o.solver = kind;
+            o.tolerance = 1e-11;
+            const BandSolution r = solveBands(s, F, bands, o);
+            REQUIRE(r.X.size() == bands.size());
+            for (std::size_t b = 0; b < bands.size(); ++b)
+                for (std::size_t i = 0; i < 6; ++i) CHECK(r.X[b][i] == relative(reference.X[b][i], 1e-8));
+            for (const SolveReport& report : r.reports) CHECK(report.converged);
+        }
     }
 }

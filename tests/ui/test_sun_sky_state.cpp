@@ -128,3 +128,27 @@ TEST_CASE("hemirad-gui's Sky and sun refuses a sky it does not know and a time t
     runToEnd(app);
     CHECK(app.sunSkyResult() != nullptr);
 }
+
+TEST_CASE("hemirad-gui's Sky and sun at night: the sun below the horizon lights nothing, the sky still comes") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("scenes/cornell_mirror.obj")));
+    app.setUpAxis(1);
+    app.sunSky.time = "2026-06-21T23:00Z";  // Munich, 21 degrees below the horizon
+    app.sunSky.latitude = 48.1;
+    app.sunSky.longitude = 11.6;
+    app.sunSky.dni = 700;
+    app.sunSky.dhi = 20;
+    app.runSunSky();
+    runToEnd(app);
+    const ui::SunSkyResult* r = app.sunSkyResult();
+    REQUIRE(r != nullptr);
+    CHECK(logged(app, "below the horizon (no direct sun)"));
+    double sun = 0.0, sky = 0.0;
+    for (PatchId i = 0; i < app.scene().size(); ++i) {
+        sun += r->sunlit[i] + r->irradiance.directSun[i] + r->irradiance.reflectedSun[i];
+        sky += r->irradiance.directSky[i];
+    }
+    CHECK(sun == 0.0);
+    CHECK(sky > 0.0);
+    CHECK(r->irradiance.balance <= 1e-9);
+}

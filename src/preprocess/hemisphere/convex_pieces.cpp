@@ -81,8 +81,14 @@ void subtractConvex(const double* given, std::size_t n, double smallest, ConvexP
     // Corners within rounding of the one before are one corner: an edge of no length has no line,
     // and splitting by it would leave a whole piece clear (a clipped blocker repeats a corner where
     // it meets the region's edge).
-    const double merge = 1e-9 * std::hypot(hi[0] - lo[0], hi[1] - lo[1]);
-    const auto apart = [merge](const double* a, const double* b) { return std::hypot(a[0] - b[0], a[1] - b[1]) > merge; };
+    // (and of its coordinates, which carry their rounding: a shadow far smaller than its distance
+    // from the origin has edges of rounding length sooner)
+    const double scale = std::max({std::hypot(hi[0] - lo[0], hi[1] - lo[1]), std::abs(lo[0]), std::abs(lo[1]), std::abs(hi[0]), std::abs(hi[1])});
+    const double merge = 1e-9 * scale;
+    const auto apart = [merge](const double* a, const double* b) {
+        const double dx = a[0] - b[0], dy = a[1] - b[1];
+        return dx * dx + dy * dy > merge * merge;
+    };
     s.corners.clear();
     for (std::size_t c = 0; c < n; ++c)
         if (s.corners.empty() || apart(&given[2 * c], &s.corners[s.corners.size() - 2])) s.corners.insert(s.corners.end(), &given[2 * c], &given[2 * c + 2]);

@@ -2,12 +2,15 @@
 // the receiver's plane and cut out of it; Lambert's factor of what stays clear.
 #include "preprocess/hemisphere/shadow_polygons.hpp"
 
+#include "engine/error.hpp"
+
 #include "preprocess/hemisphere/convex_pieces.hpp"
 #include "preprocess/hemisphere/point_polygon.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
 
 namespace hemirad {
 
@@ -16,6 +19,11 @@ namespace {
 /// A visible part below this fraction of the whole factor is the rounding of the cuts (pieces of
 /// shadows that meet edge to edge), not a view: 0.
 constexpr double kDust = 1e-9;
+
+/// The clear pieces' packed values (a triangle piece is 7) beyond which the cuts give up with an
+/// error: a bound on memory (80 MB a thread) where shadows along a receiver's edges would split it
+/// without end.
+constexpr std::size_t kMaxClearValues = 10000000;
 
 /// The part of polygon `poly` with m . y - d >= 0 into `out` (Sutherland-Hodgman); `side` is
 /// scratch. Returns false, leaving `out` alone, when every corner is on that side: the polygon is
@@ -303,6 +311,9 @@ void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& n
         }
         if (s.shadows == 2 && !given) subtractConvex(s.firstShadow.data(), s.firstShadow.size() / 2, smallest, s.clear);
         subtractConvex(s.shadow.data(), sides, smallest, s.clear);
+        if (s.clear.pieces.size() > kMaxClearValues)
+            throw Error("shadow polygons: patch " + std::to_string(r) + "'s clear part splits into more than " +
+                        std::to_string(kMaxClearValues / 7) + " pieces under " + std::to_string(s.shadows) + " shadows");
         return !s.clear.pieces.empty();  // nothing left clear: no need to look further
     };
     if (!within) {
@@ -453,16 +464,20 @@ bool ShadowPolygons::beamRegion(const Vec3* p, std::size_t count, const Vec3& no
     // The prism's part within the blockers' box lies in the box around the receiver and the
     // receiver moved along the beam to where its last corner leaves the blockers' box: a tree node
     // outside that box is passed over without its planes (a long thin prism crosses many).
+    // A point y of p leaves the root's box along the beam at min over the axes of (bound - y_a) /
+    // toSource_a; each term is linear in y, so its largest over p is at a corner, and the least of
+    // those largest bounds every point's exit (the corners' own exits do not: they may leave by
+    // other faces than the points between them).
     const Node& root = m_nodes[0];
-    double far = 0.0;
-    for (std::size_t k = 0; k < count; ++k) {
-        double leave = INFINITY;  // where the ray from corner k along the beam leaves the root's box
-        for (int a = 0; a < 3; ++a) {
-            if (toSource[a] > 0.0) leave = std::min(leave, (root.hi[a] - p[k][a]) / toSource[a]);
-            else if (toSource[a] < 0.0) leave = std::min(leave, (root.lo[a] - p[k][a]) / toSource[a]);
-        }
-        far = std::max(far, std::max(leave, 0.0));
+    double far = INFINITY;
+    for (int a = 0; a < 3; ++a) {
+        if (toSource[a] == 0.0) continue;
+        const double bound = toSource[a] > 0.0 ? root.hi[a] : root.lo[a];
+        double furthest = -INFINITY;
+        for (std::size_t k = 0; k < count; ++k) furthest = std::max(furthest, (bound - p[k][a]) / toSource[a]);
+        far = std::min(far, furthest);
     }
+    far = std::max(far, 0.0);
     if (!std::isfinite(far)) return false;
     box[0] = Vec3::Constant(INFINITY);
     box[1] = Vec3::Constant(-INFINITY);
@@ -480,6 +495,15 @@ double ShadowPolygons::litFraction(const Vec3* p, std::size_t count, const Vec3&
     s.shadows = 0;
     const double facing = normal.dot(toSource);
     if (!(facing > 0.0) || count < 3) return 0.0;
+    // The whole receiver in its plane's axes: a receiver without area is lit nowhere.
+    planeAxes(normal, s.u, s.v);
+    s.clear.rest.clear();
+    for (std::size_t k = 0; k < count; ++k) {
+        s.clear.rest.push_back((p[k] - p[0]).dot(s.u));
+        s.clear.rest.push_back((p[k] - p[0]).dot(s.v));
+    }
+    const double whole = std::abs(doubleArea(s.clear.rest.data(), count));
+    if (!(whole > 0.0)) return 0.0;
     if (m_items.empty()) return 1.0;
     const double offset = normal.dot(p[0]);
     Vec3 box[2];
@@ -491,13 +515,6 @@ double ShadowPolygons::litFraction(const Vec3* p, std::size_t count, const Vec3&
         [&](const Vec3& y) { return Vec3(y - toSource * ((normal.dot(y) - offset) / facing)); }, &toSource,
         boxed ? box : nullptr);
     if (s.shadows == 0) return 1.0;
-    s.clear.rest.clear();
-    for (std::size_t k = 0; k < count; ++k) {
-        s.clear.rest.push_back((p[k] - p[0]).dot(s.u));
-        s.clear.rest.push_back((p[k] - p[0]).dot(s.v));
-    }
-    const double whole = std::abs(doubleArea(s.clear.rest.data(), count));
-    if (!(whole > 0.0)) return 0.0;
     double clear = 0.0;
     if (s.shadows == 1) {
         clear = whole - std::abs(doubleArea(s.firstShadow.data(), s.firstShadow.size() / 2));

@@ -372,7 +372,9 @@ def sun_direction(position, up=(0, 0, 1), north=None):
 
 def sunlit_fractions(scene, to_sun):
     """Per patch, the fraction of its area the sun reaches (exact shadow polygons; every patch, front
-    or back, blocks it; 0 where it faces away). to_sun: the direction toward the sun (any length)."""
+    or back, blocks it; 0 where it faces away). to_sun: the direction toward the sun (any length), or
+    k directions as a k x 3 array: then a k x patches array, the scene's shadow set-up made once for
+    all of them (a year's suns)."""
     _check_scene(scene)
     return _hemirad._sunlit(scene, _np.asarray(to_sun, dtype=_np.float64))
 
