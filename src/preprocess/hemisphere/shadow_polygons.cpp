@@ -356,11 +356,24 @@ double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p
     m.push_back(n);  // and the emitter's: what lies in x's own plane casts no shadow either
     d.push_back(n.dot(x) + tolerance);
 
+    // The cone lies in the box of x and the polygon; blockers nearer x first (their shadows are the
+    // larger), so that a hidden receiver is usually covered by the first few.
+    Vec3 box[2] = {x, x};
+    for (std::size_t k = 0; k < count; ++k) {
+        box[0] = box[0].cwiseMin(p[k]);
+        box[1] = box[1].cwiseMax(p[k]);
+    }
+    box[0].array() -= tolerance;
+    box[1].array() += tolerance;
+    const Vec3 axis = middle - x;
     // Central projection from x onto the receiver's plane.
-    castShadows(p, count, normal, m.size(), tolerance, e, r, s, within, [&](const Vec3& y) {
-        const double gap = std::max(height - (normal.dot(y) - offset), 1e-12 * height);
-        return Vec3(x + (y - x) * (height / gap));
-    });
+    castShadows(
+        p, count, normal, m.size(), tolerance, e, r, s, within,
+        [&](const Vec3& y) {
+            const double gap = std::max(height - (normal.dot(y) - offset), 1e-12 * height);
+            return Vec3(x + (y - x) * (height / gap));
+        },
+        &axis, box);
     if (s.shadows == 0) return whole;
     if (s.shadows == 1) {
         const double visible = whole - pointToPolygonFactor(x, n, s.first.data(), s.first.size());
