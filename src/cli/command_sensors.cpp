@@ -1,6 +1,7 @@
 // `hemirad sensors SCENE --sensors S.csv | --grid OBJECT --spacing D -o OUT.csv`: each sensor point's
-// sky view factor and exact factors to the patches (--factors F.mtx), and with --dni and the sun one
-// hour's irradiance there: direct sun, direct sky and what the patches reflect (src/environment).
+// sky view factor and factors to the patches (--factors F.mtx; exact, or by rays for large grids),
+// and with --dni and the sun one hour's irradiance there: direct sun, direct sky and what the
+// patches reflect (src/environment).
 #include "cli/commands.hpp"
 #include "cli/pipeline.hpp"
 #include "cli/sensor_command.hpp"
@@ -22,6 +23,27 @@ Sensors sensorsFromOptions(const Scene& scene, const Options& options, const Rep
     return sensors;
 }
 
+SensorFactors sensorFactorsFromOptions(const Scene& scene, const Sensors& sensors, const Options& options,
+                                       const Reporter& reporter) {
+    SensorOptions chosen = options.sensorFactors;
+    chosen.threads = options.formFactors.common.threads;
+    std::string why;
+    const SensorFactors factors = sensorFactors(scene, sensors, chosen, &why);
+    const double mean = std::accumulate(factors.skyView.begin(), factors.skyView.end(), 0.0) / double(sensors.size());
+    std::ostringstream line;
+    line << std::setprecision(4) << "sensor factors: ";
+    if (factors.rays > 0)
+        line << "rays (" << chosen.rays << " stratified directions per sensor, " << factors.rays << " rays)";
+    else
+        line << "exact (Lambert's factors to the visible parts, shadow polygons), " << factors.terms
+             << " sensor-patch terms";
+    line << ", " << factors.values.size() << " nonzeros; sky view factor mean " << mean << ", min "
+         << *std::min_element(factors.skyView.begin(), factors.skyView.end()) << ", max "
+         << *std::max_element(factors.skyView.begin(), factors.skyView.end()) << " [" << why << "]";
+    reporter.line(line.str());
+    return factors;
+}
+
 int runSensors(const Options& options) {
     Reporter reporter(options.quiet, reportsToStandardError(options));
     Warnings warnings;
@@ -31,20 +53,11 @@ int runSensors(const Options& options) {
     timings.start("sensors");
     const Sensors sensors = sensorsFromOptions(scene, options, reporter);
     timings.start("sensor factors");
-    const SensorFactors factors = sensorFactors(scene, sensors, options.formFactors.common.threads);
+    const SensorFactors factors = sensorFactorsFromOptions(scene, sensors, options, reporter);
     timings.stop();
     if (scene.hasMirrors())
         warnings.add("mirrors", "the sensors' factors and sky view factors are direct: what they would see through the "
                                 "scene's mirrors is not counted (the patches' radiosity includes the mirrors)");
-    {
-        const double mean = std::accumulate(factors.skyView.begin(), factors.skyView.end(), 0.0) / double(sensors.size());
-        std::ostringstream line;
-        line << std::setprecision(4) << "sensor factors: exact (Lambert's factors to the visible parts, shadow polygons), "
-             << factors.terms << " sensor-patch terms, " << factors.values.size() << " nonzeros; sky view factor mean "
-             << mean << ", min " << *std::min_element(factors.skyView.begin(), factors.skyView.end()) << ", max "
-             << *std::max_element(factors.skyView.begin(), factors.skyView.end());
-        reporter.line(line.str());
-    }
 
     SensorIrradiance irradiance;
     if (options.dni) {

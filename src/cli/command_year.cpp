@@ -47,7 +47,7 @@ int runYear(const Options& options) {
         timings.start("sensors");
         sensors = sensorsFromOptions(scene, options, reporter);
         timings.start("sensor factors");
-        sensorFactorsOf = sensorFactors(scene, sensors, options.formFactors.common.threads);
+        sensorFactorsOf = sensorFactorsFromOptions(scene, sensors, options, reporter);
         yo.sensors = &sensors;
         yo.sensorFactors = &sensorFactorsOf;
     }

@@ -3,6 +3,7 @@
 
 #include "engine/error.hpp"
 #include "engine/scene.hpp"
+#include "environment/sensors.hpp"
 #include "solve/solver.hpp"
 #include "preprocess/backend_registry.hpp"
 #include "render/false_colour.hpp"
@@ -85,6 +86,7 @@ struct Options {
     double gridSpacing = 0.0;            ///< --spacing D (scene units)
     double gridHeight = 0.0;             ///< --height H above the faces (scene units)
     std::string sensorFactorsPath;       ///< sensors --factors F.mtx: sensors x patches
+    SensorOptions sensorFactors;         ///< --sensor-estimator auto|exact|rays, --sensor-rays N (threads: --threads)
     std::string sensorOutputPath;        ///< year --sensor-output FILE.csv: annual sums per sensor
     std::string glarePath;               ///< sun --glare FILE.csv: the sun reflected by mirrors, per (mirror, receiver)
     std::string sensorHourlyPath;        ///< year --sensor-hourly FILE.npy: hours x sensors, W/m^2

@@ -11,4 +11,9 @@ namespace hemirad {
 /// reports how many. Throws hemirad::Error.
 Sensors sensorsFromOptions(const Scene& scene, const Options& options, const Reporter& reporter);
 
+/// Their factors by --sensor-estimator (and --sensor-rays, --threads); reports the estimator, why
+/// it was chosen, the work and the sky view factors' range. Throws hemirad::Error.
+SensorFactors sensorFactorsFromOptions(const Scene& scene, const Sensors& sensors, const Options& options,
+                                       const Reporter& reporter);
+
 }  // namespace hemirad

@@ -509,7 +509,8 @@ py::dict skyView(const ScenePtr& scene, const std::string& method, const std::ma
 
 /// Sensors from (S, 3) positions and normals: their factors (CSR arrays for scipy) and sky view factors.
 py::dict sensorFactorsOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> positions,
-                         py::array_t<double, py::array::c_style | py::array::forcecast> normals, int threads) {
+                         py::array_t<double, py::array::c_style | py::array::forcecast> normals, int threads,
+                         const std::string& estimator, std::uint32_t rays) {
     if (positions.ndim() != 2 || positions.shape(1) != 3 || normals.ndim() != 2 || normals.shape(1) != 3 ||
         normals.shape(0) != positions.shape(0))
         throw py::value_error("sensor_factors: positions and normals must be arrays of shape (S, 3), the same S");
@@ -525,10 +526,20 @@ py::dict sensorFactorsOf(const ScenePtr& scene, py::array_t<double, py::array::c
         sensors.normal.push_back(d.normalized());
         sensors.name.push_back(std::to_string(s));
     }
+    SensorOptions options;
+    try {
+        options.estimator = parseSensorEstimator(estimator);
+    } catch (const Error& e) {
+        throw py::value_error(std::string("sensor_factors: ") + e.what());
+    }
+    if (rays == 0 || rays > (1u << 24)) throw py::value_error("sensor_factors: rays must be 1 .. 16777216");
+    options.rays = rays;
+    options.threads = threads;
     SensorFactors f;
+    std::string why;
     {
         py::gil_scoped_release release;
-        f = sensorFactors(*scene, sensors, threads);
+        f = sensorFactors(*scene, sensors, options, &why);
     }
     py::array_t<std::int64_t> indptr(py::ssize_t(f.rowStart.size()));
     std::copy(f.rowStart.begin(), f.rowStart.end(), indptr.mutable_data());
@@ -540,6 +551,8 @@ py::dict sensorFactorsOf(const ScenePtr& scene, py::array_t<double, py::array::c
     out["data"] = numpyVector(f.values);
     out["sky_view_factor"] = numpyVector(f.skyView);
     out["patches"] = f.patches;
+    out["estimator"] = f.rays > 0 ? "rays" : "exact";
+    out["why"] = why;
     return out;
 }
 

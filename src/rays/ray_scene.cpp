@@ -72,14 +72,14 @@ void onEmbreeError(void* user, RTCError code, const char* text) noexcept {
     }
 }
 
-inline void initRay(RTCRayHit& rh, const float o[3], const float* d, float tfar) {
+inline void initRay(RTCRayHit& rh, const float o[3], const float* d, float tfar, float tnear = 0.0f) {
     rh.ray.org_x = o[0];
     rh.ray.org_y = o[1];
     rh.ray.org_z = o[2];
     rh.ray.dir_x = d[0];
     rh.ray.dir_y = d[1];
     rh.ray.dir_z = d[2];
-    rh.ray.tnear = 0.0f;
+    rh.ray.tnear = tnear;
     rh.ray.tfar = tfar;
     rh.ray.mask = 0xffffffffu;
     rh.ray.flags = 0;
@@ -172,14 +172,14 @@ RayScene::Hit RayScene::intersect(const Vec3& origin, const Vec3& dir, float tfa
 }
 
 void RayScene::intersectFan(const float origin[3], const float* dirs, std::size_t count, PatchId* patches,
-                            float* distances) const {
+                            float* distances, float tnear) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     const PatchId* table = m_impl->patchOfTriangle.data();
     for (std::size_t k = 0; k < count; ++k) {
         RTCRayHit rh;
-        initRay(rh, origin, dirs + 3 * k, std::numeric_limits<float>::infinity());
+        initRay(rh, origin, dirs + 3 * k, std::numeric_limits<float>::infinity(), tnear);
         rtcIntersect1(m_impl->scene.get(), &context, &rh);
         patches[k] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? table[rh.hit.primID] : kNoHit;
         if (distances) distances[k] = rh.ray.tfar;

@@ -38,9 +38,10 @@ public:
 
     /// Casts `count` rays from one origin (local float coordinates from toLocal()) along unit
     /// directions dirs[3 k .. 3 k + 2]; writes the patch hit (or kNoHit) to patches[k] and, if
-    /// `distances` is given, the hit distance (for mirror bounces). The hemisphere back end's fast path.
+    /// `distances` is given, the hit distance (for mirror bounces). Hits nearer than `tnear` are
+    /// passed over (a surface through the origin). The hemisphere back end's fast path.
     void intersectFan(const float origin[3], const float* dirs, std::size_t count, PatchId* patches,
-                      float* distances = nullptr) const;
+                      float* distances = nullptr, float tnear = 0.0f) const;
 
     /// Shadow rays: blocked[k] = 1 when something lies on the segment from `origin` to target k
     /// (both in local float coordinates, both already lifted off their surfaces), else 0.

@@ -29,7 +29,7 @@ void RayScene::toLocal(const Vec3& p, float out[3]) const {
 // Unreachable: no RayScene exists in this build (the constructor throws).
 RayScene::Hit RayScene::intersect(const Vec3&, const Vec3&, float) const { refuse(); }
 
-void RayScene::intersectFan(const float*, const float*, std::size_t, PatchId*, float*) const { refuse(); }
+void RayScene::intersectFan(const float*, const float*, std::size_t, PatchId*, float*, float) const { refuse(); }
 
 void RayScene::occludedSegments(const float*, const float*, std::size_t, std::uint8_t*) const { refuse(); }
 void RayScene::occludedSegmentPairs(const float*, const float*, std::size_t, std::uint8_t*) const { refuse(); }

@@ -164,6 +164,105 @@ TEST_CASE("Sensors: a grid leaves out the object's boundary, and a sensor standi
     CHECK(f.skyView[1] == relative(1.0 - front, 1e-9));
 }
 
+/// Sensors on the ground (z = 0, facing up) at x = -d for each distance d, before a wall in the
+/// plane x = 0 of height h and length 2 l facing them; each one's sky view factor by hand: 1 less
+/// Lambert's factor to the wall.
+struct WallAndSensors {
+    Scene scene;
+    Sensors sensors;
+    std::vector<double> sky;
+};
+WallAndSensors wallAndSensors(const std::vector<double>& distances, double h, double l) {
+    WallAndSensors w;
+    SceneBuilder b;
+    b.rectangle(0, 0.0, -l, l, 0, h, false);  // facing -x
+    w.scene = b.scene;
+    std::vector<std::pair<Vec3, Vec3>> points;
+    for (const double d : distances) {
+        points.push_back({Vec3(-d, 0.1 * d, 0), Vec3(0, 0, 1)});
+        w.sky.push_back(1.0 - lambert(points.back().first, Vec3(0, 0, 1), w.scene.polygon(0)));
+    }
+    w.sensors = sensorsOf(points);
+    return w;
+}
+
+TEST_CASE("Sensors by rays: the sky view beside a wall against Lambert's factor, unbiased, the error falling with the rays") {
+    std::vector<double> distances;
+    for (int k = 0; k < 64; ++k) distances.push_back(0.2 * std::pow(1.07, k));  // 0.2 .. 14, the wall 3 high
+    const WallAndSensors w = wallAndSensors(distances, 3.0, 50.0);
+    std::vector<double> rms;
+    for (const std::uint32_t rays : {1024u, 4096u, 65536u}) {
+        const SensorFactors f = sensorFactorsByRays(w.scene, w.sensors, rays);
+        CHECK(f.rays == std::uint64_t(rays) * w.sensors.size());
+        double sum = 0.0, squares = 0.0;
+        for (std::size_t s = 0; s < w.sensors.size(); ++s) {
+            CAPTURE(s);
+            // One patch, its front towards every sensor: each ray meets it or the sky.
+            CHECK(factor(f, s, 0) + f.skyView[s] == doctest::Approx(1.0).epsilon(1e-14));
+            sum += f.skyView[s] - w.sky[s];
+            squares += (f.skyView[s] - w.sky[s]) * (f.skyView[s] - w.sky[s]);
+        }
+        const double mean = sum / double(w.sensors.size());
+        rms.push_back(std::sqrt(squares / double(w.sensors.size())));
+        MESSAGE(rays << " rays: sky view error mean " << mean << ", rms " << rms.back());
+        CHECK(std::abs(mean) < 4.0 * rms.back() / std::sqrt(double(w.sensors.size())));  // no bias
+    }
+    // Stratified: 4 and 64 times the rays take the error down by more than 2 and 8 (1 / sqrt).
+    CHECK(rms[0] < 6e-3);
+    CHECK(rms[1] < rms[0] / 2.0);
+    CHECK(rms[2] < rms[0] / 8.0);
+}
+
+TEST_CASE("Sensors by rays: the same factors on 1 and 2 threads, a wall through a sensor seen edge-on, and the exact ones within the rays' error") {
+    // The closed box of the grid test above: a sensor in the plane of its face y = 0 (half its
+    // hemisphere inside the box, seeing back faces: no factor, no sky) and one 1e-4 outside.
+    SceneBuilder box;
+    box.rectangle(1, 0, 0, 1, 0, 1, false);
+    box.rectangle(1, 1, 0, 1, 0, 1, true);
+    box.rectangle(0, 0, 0, 1, 0, 1, false);
+    box.rectangle(0, 1, 0, 1, 0, 1, true);
+    box.rectangle(2, 0, 0, 1, 0, 1, false);
+    box.rectangle(2, 1, 0, 1, 0, 1, true);
+    const Vec3 up(0, 0, 1);
+    const Sensors sensors = sensorsOf({{Vec3(0.5, 0, 0.2), up}, {Vec3(0.5, -1e-4, 0.2), up}, {Vec3(0.3, -0.7, 0), Vec3(1, -1, 1)}});
+    const SensorFactors one = sensorFactorsByRays(box.scene, sensors, 4096, 1);
+    const SensorFactors two = sensorFactorsByRays(box.scene, sensors, 4096, 2);
+    CHECK(one.rowStart == two.rowStart);
+    CHECK(one.columns == two.columns);
+    CHECK(one.values == two.values);
+    CHECK(one.skyView == two.skyView);
+    const SensorFactors exact = sensorFactors(box.scene, sensors);
+    CHECK(factor(one, 0, 0) == 0.0);  // edge-on, as the exact factors
+    for (std::size_t s = 0; s < sensors.size(); ++s) {
+        CAPTURE(s);
+        MESSAGE("sensor " << s << ": sky view " << one.skyView[s] << " by rays, " << exact.skyView[s] << " exact");
+        CHECK(std::abs(one.skyView[s] - exact.skyView[s]) < 5e-3);
+        for (PatchId j = 0; j < 6; ++j) CHECK(std::abs(factor(one, s, j) - factor(exact, s, j)) < 5e-3);
+    }
+}
+
+TEST_CASE("Sensors' estimator: auto is exact within its budget and rays beyond it, saying why, and what is asked is kept") {
+    std::string why;
+    SensorOptions options;
+    CHECK(chooseSensorEstimator(options, 1000, 20000, why) == SensorEstimator::Exact);
+    CHECK(why.find("within the budget") != std::string::npos);
+    CHECK(chooseSensorEstimator(options, 100000, 61823, why) == SensorEstimator::Rays);
+    CHECK(why.find("would exceed the exact factors' budget") != std::string::npos);
+    options.estimator = SensorEstimator::Exact;
+    CHECK(chooseSensorEstimator(options, 100000, 61823, why) == SensorEstimator::Exact);
+    options.estimator = SensorEstimator::Rays;
+    CHECK(chooseSensorEstimator(options, 1, 1, why) == SensorEstimator::Rays);
+    CHECK(parseSensorEstimator("rays") == SensorEstimator::Rays);
+    CHECK_THROWS_WITH_AS(parseSensorEstimator("fast"), doctest::Contains("'fast' is not one of auto, exact, rays"), Error);
+    const WallAndSensors w = wallAndSensors({1.0}, 1.0, 1.0);
+    CHECK_THROWS_WITH_AS(sensorFactorsByRays(w.scene, w.sensors, 0), doctest::Contains("1 to 16777216 rays per sensor, not 0"), Error);
+    // Through the dispatcher: auto takes the exact factors for one sensor.
+    options.estimator = SensorEstimator::Auto;
+    const SensorFactors f = sensorFactors(w.scene, w.sensors, options, &why);
+    CHECK(f.rays == 0);
+    CHECK(f.skyView[0] == doctest::Approx(w.sky[0]).epsilon(1e-12));
+}
+
 TEST_CASE("Sensors from a CSV: a header and comments skipped, a name optional, errors with file, line and value") {
     const Sensors s = parseSensorsCsv("x,y,z,nx,ny,nz,name\n# a comment\n\n1,2,3,0,0,2,north door\n4, 5, 6, 1, 0, 0\n", "s.csv");
     REQUIRE(s.size() == 2);
@@ -331,6 +430,16 @@ TEST_CASE("hemirad sensors: the CSV and the factors' Matrix Market file, the gri
     r = runCommand(year + " --sensors " + csv + " --sensor-output s.csv --sky perez 2>&1");  // sensors' sky is isotropic
     CHECK(r.status == 2);
     CHECK(r.output.find("sensors take the isotropic sky only") != std::string::npos);
+    // By rays, as asked; the report says so. A value that is no estimator is a usage error.
+    r = runCommand(hemirad + " --sensors " + csv + " --sensor-estimator rays --sensor-rays 1000 -o " + (dir / "rays.csv").string() + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("sensor factors: rays (1000 stratified directions per sensor, 2000 rays)") != std::string::npos);
+    CHECK(r.output.find("[rays, as asked]") != std::string::npos);
+    r = runCommand(hemirad + " --sensors " + csv + " --sensor-estimator fast -o x.csv 2>&1");
+    CHECK(r.status == 2);
+    CHECK(r.output.find("'fast' is not one of auto, exact, rays") != std::string::npos);
+    CHECK(runCommand(hemirad + " --sensors " + csv + " --sensor-rays 0 -o x.csv 2>&1").status == 2);
     // One source of sensors, a grid with its spacing, the sun and sky with --dni.
     for (const std::string& bad : {std::string(" -o x.csv"), " --sensors " + csv + " --grid floor --spacing 1 -o x.csv",
                                    std::string(" --grid floor -o x.csv"), " --sensors " + csv + " --spacing 2 -o x.csv",

@@ -519,6 +519,17 @@ def test_sensor_factors_under_a_plate():
         hemirad.sensor_factors(plates, [[0, 0, 0, 1]], [[0, 0, 1, 0]])
     with pytest.raises(hemirad.Error):
         hemirad.sensor_grid(plates, "roof", 0.5)
+    assert out["estimator"] == "exact" and "within the budget" in out["why"]
+    # By rays: within their error of the closed form; each row and its sky sum to 1 (no back seen).
+    rays = hemirad.sensor_factors(plates, [[0.5, 0.5, 0.0]], [[0, 0, 1]], estimator="rays", rays=16384)
+    assert rays["estimator"] == "rays" and rays["why"] == "rays, as asked"
+    assert abs(rays["F"][0, 1] - 4 * corner(0.5)) < 2e-3
+    assert rays["F"][0, 0] == 0.0
+    assert rays["F"].sum() + rays["sky_view_factor"][0] == pytest.approx(1.0, abs=1e-14)
+    with pytest.raises(ValueError):
+        hemirad.sensor_factors(plates, [[0, 0, 0]], [[0, 0, 1]], estimator="fast")
+    with pytest.raises(ValueError):
+        hemirad.sensor_factors(plates, [[0, 0, 0]], [[0, 0, 1]], estimator="rays", rays=0)
 
 
 def test_sun_and_one_hour_of_irradiance_as_the_command_line():
