@@ -8,6 +8,7 @@ import json
 import math
 import os
 import platform
+import re
 import subprocess
 
 REFERENCE_CORNELL_EMBREE = {96: 3, 384: 30, 768: 116, 1536: 446, 3072: 1778}
@@ -99,6 +100,22 @@ def git(*args):
         return subprocess.check_output(["git"] + list(args), text=True).strip()
     except Exception:
         return "unknown"
+
+
+def kept_sections(path, md):
+    """The sections of the BENCHMARKS.md at `path` that this script does not write (measured by hand
+    or by a script outside `make bench`: the thermal and year sections), so that a run keeps them."""
+    written = {line for line in md if line.startswith("## ")}
+    try:
+        old = open(path).read()
+    except OSError:
+        return []
+    kept = []
+    for block in re.split(r"(?m)^(?=## )", old):
+        heading = block.splitlines()[0] if block.startswith("## ") else None
+        if heading and heading not in written:
+            kept += block.rstrip("\n").splitlines() + [""]
+    return kept
 
 
 def main():
@@ -213,6 +230,7 @@ def main():
     md += script_section("python_overhead.md", "bash bench/python_overhead.sh build")
     md += script_section("exact_factors.md", "/usr/bin/python3 bench/exact_factors.py build")
     md += script_section("real_meshes.md", "/usr/bin/python3 bench/real_meshes.py build")
+    md += script_section("sensors.md", "/usr/bin/python3 bench/sensors.py build")
 
     def total_seconds(path):
         try:
@@ -264,6 +282,8 @@ def main():
             md += ["```", open(os.path.join(R, name)).read().rstrip(), "```", ""]
         except OSError:
             pass
+    at = md.index("## Beside the reference system's published times")
+    md[at:at] = kept_sections(a.out, md)
     with open(a.out, "w") as f:
         f.write("\n".join(md))
     print("report.py: wrote " + a.out)

@@ -95,6 +95,9 @@ step "exact form factors against closed forms (issue 16): the subdivided cube, p
 step "form factors on meshes users bring (issue 34): non-conforming districts, a closed district, spheres"
 /usr/bin/python3 bench/real_meshes.py "$build" | tee "$results/real_meshes.md"
 
+step "sensor points (issue 37): 10^5 against street64k by rays, rays against exact"
+/usr/bin/python3 bench/sensors.py "$build" | tee "$results/sensors.md"
+
 step "numerical stress"
 "./$build/bench_stress" | tee "$results/stress.md"
 
