@@ -43,9 +43,7 @@ ThermalInputs readThermalModel(Scene& scene, const Options& options, const Repor
     model.metresPerUnit = sceneMetres(scene, options, warnings);
     thermal::BandProperties bands;
     model.surface = thermal::applyProperties(options.propertiesPath, scene, model.propertySource, &inputs.solar.surface, &bands);
-    model.bandLimitsUm = std::move(bands.limitsUm);
-    model.bandEmissivity = std::move(bands.emissivity);
-    model.referenceTemperature = bands.referenceTemperature;
+    thermal::takeBandProperties(model, std::move(bands));
     thermal::Conditions conditions = thermal::readConditions(options.conditionsPath, scene, model.metresPerUnit);
     inputs.solar.incident = conditions.solarIncident;
     if (!inputs.solar.active()) inputs.solar = {};
@@ -62,6 +60,10 @@ ThermalInputs readThermalModel(Scene& scene, const Options& options, const Repor
         reporter.line("IR bands: " + std::to_string(model.bandEmissivity.size()) + " split at " + limits +
                       " um (conductors use each surface's emissivity weighted at " + figure(model.referenceTemperature) + " K)");
     }
+    if (thermal::hasEmissivityCurves(model))
+        reporter.line("emissivity against temperature: " + std::to_string(model.emissivityCurves.size()) +
+                      " curves (piecewise linear); the solve iterates on the unknown temperatures, the conductors use "
+                      "each surface's emissivity at its solved temperature");
     reporter.line(model.environment ? "environment " + figure(*model.environment) + " K"
                                     : "environment none (a closed scene: what escapes is lost at 0 K)");
     return inputs;
@@ -94,6 +96,8 @@ void solveThermalAndWrite(const Options& options, const Scene& scene, const Ther
     timings.start("thermal solve");
     const thermal::ThermalSolution solution = thermal::solveThermal(scene, F, model, options.solver);
     timings.stop();
+    // Emissivities against temperature: the outputs, the exchange and the conductors at the solution's.
+    thermal::setEmissivitiesAt(model, solution.T);
     const SolveReport& r = solution.report;
     reporter.line("thermal solve: " + r.solver + (r.iterations ? ", " + std::to_string(r.iterations) + " iterations" : "") +
                   ", relative residual " + figure(r.residualOriginal, 3));

@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <tuple>
 
 namespace py = pybind11;
 
@@ -449,6 +450,7 @@ py::dict thermalSolve(const ScenePtr& scene, py::array_t<std::int64_t, py::array
                       py::array_t<double, py::array::c_style> temperature, py::array_t<double, py::array::c_style> flux,
                       py::object environment, py::array_t<double, py::array::c_style> absorbed,
                       std::vector<double> bandLimits, py::array_t<double, py::array::c_style> bandEmissivity,
+                      const std::vector<std::tuple<std::vector<std::int64_t>, std::vector<double>, std::vector<double>>>& curves,
                       const std::string& solverName, double tolerance) {
     const GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");
     thermal::ThermalModel model = thermalModel(*scene, emissivity, specular, temperature, flux, environment);
@@ -466,6 +468,21 @@ py::dict thermalSolve(const ScenePtr& scene, py::array_t<std::int64_t, py::array
         model.bandEmissivity.assign(bandLimits.size() + 1, std::vector<double>(n));
         for (std::size_t k = 0; k <= bandLimits.size(); ++k)
             for (std::size_t i = 0; i < n; ++i) model.bandEmissivity[k][i] = bandEmissivity.at(k, i);
+    }
+    if (!curves.empty()) {
+        // Emissivity against temperature: each curve on its patches (the rest keep `emissivity`).
+        model.curveOf.assign(n, -1);
+        for (const auto& [patches, temperatures, values] : curves) {
+            const auto c = std::int32_t(model.emissivityCurves.size());
+            model.emissivityCurves.push_back({temperatures, values});
+            for (const std::int64_t p : patches) {
+                if (p < 0 || std::size_t(p) >= n)
+                    throw py::value_error("emissivity_curves: patch " + std::to_string(p) + " is not in the scene");
+                if (model.curveOf[std::size_t(p)] >= 0)
+                    throw py::value_error("emissivity_curves: patch " + std::to_string(p) + " is given two curves");
+                model.curveOf[std::size_t(p)] = c;
+            }
+        }
     }
     SolverOptions options;
     options.solver = solverName;

@@ -20,24 +20,20 @@ constexpr int kMaxIterations = 300;
 constexpr double kTolerance = 1e-12;
 constexpr std::size_t kHistory = 6;
 
-/// The T at which sum_k c_k f_k(T) sigma T^4 = target (c_k >= 0, not all 0; target >= 0), by bisection.
-double temperatureFor(const std::vector<double>& c, const std::vector<double>& lo, const std::vector<double>& hi,
-                      double target) {
-    auto emitted = [&](double T) {
-        double e = 0.0;
-        for (std::size_t k = 0; k < c.size(); ++k) e += c[k] * bandFraction(lo[k], hi[k], T);
-        return e * kStefanBoltzmann * T * T * T * T;
-    };
-    if (!(target > 0.0)) return 0.0;
+/// The T >= 0 at which the increasing g crosses 0, by bisection; NaN where g(0) > 0 (the surface
+/// would have to absorb more than it receives: no temperature solves it).
+template <class G>
+double temperatureWhere(G g) {
+    if (g(0.0) > 0.0) return std::nan("");
     double a = 0.0, b = 300.0;
-    while (emitted(b) < target) {
+    while (g(b) < 0.0) {
         a = b;
         b *= 2.0;
         if (b > 1e9) throw Error("thermal: no temperature below 1e9 K gives the power a surface must emit");
     }
     for (int step = 0; step < 200 && b - a > 1e-15 * b; ++step) {
         const double m = 0.5 * (a + b);
-        (emitted(m) < target ? a : b) = m;
+        (g(m) < 0.0 ? a : b) = m;
     }
     return 0.5 * (a + b);
 }
@@ -47,12 +43,29 @@ double temperatureFor(const std::vector<double>& c, const std::vector<double>& l
 ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const ThermalModel& model,
                                const SolverOptions& given) {
     const SolverOptions options = thermalSolverOptions(given, scene.size());
-    const std::size_t n = scene.size(), K = model.bandEmissivity.size(), nodes = model.isothermal.size();
+    // Bands with limits, or one gray band whose emissivities follow the temperatures (curves).
+    const bool curves = model.bandEmissivity.empty();
+    const std::size_t n = scene.size(), K = curves ? 1 : model.bandEmissivity.size(), nodes = model.isothermal.size();
     std::vector<double> lo(K), hi(K);
     for (std::size_t k = 0; k < K; ++k) {
         lo[k] = k ? model.bandLimitsUm[k - 1] : 0.0;
         hi[k] = k < model.bandLimitsUm.size() ? model.bandLimitsUm[k] : std::numeric_limits<double>::infinity();
     }
+    auto eps = [&](std::size_t k, std::size_t i, double T) {
+        return curves ? emissivityAt(model, i, T) : model.bandEmissivity[k][i];
+    };
+    // Whether patch i emits at some temperature.
+    auto emits = [&](std::size_t i) {
+        if (!curves) {
+            double any = 0.0;
+            for (std::size_t k = 0; k < K; ++k) any += model.bandEmissivity[k][i];
+            return any > 0.0;
+        }
+        const std::int32_t c = model.curveOf.empty() ? -1 : model.curveOf[i];
+        if (c < 0) return model.surface[i].emissivity > 0.0;
+        const std::vector<double>& e = model.emissivityCurves[std::size_t(c)].emissivity;
+        return *std::max_element(e.begin(), e.end()) > 0.0;
+    };
     auto external = [&](std::size_t i) { return model.absorbedExternal.empty() ? 0.0 : model.absorbedExternal[i]; };
     const double m2 = model.metresPerUnit * model.metresPerUnit;
     const double envT = model.environment.value_or(0.0), sigma = kStefanBoltzmann;
@@ -61,16 +74,17 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
     ThermalModel gray = model;
     gray.bandEmissivity.clear();
     gray.bandLimitsUm.clear();
+    gray.curveOf.clear();
+    for (std::size_t i = 0; i < n && curves; ++i)  // a curve's value at the known temperature, else the reference
+        gray.surface[i].emissivity =
+            emissivityAt(model, i, model.condition[i].kind == Condition::Kind::Temperature ? model.condition[i].value
+                                                                                           : model.referenceTemperature);
     ThermalSolution out = solveThermal(scene, F, gray, options);
 
     // The unknowns: flux patches' and nodes' temperatures, x = (T_free..., T_node...).
     std::vector<std::size_t> free;
     for (std::size_t i = 0; i < n; ++i)
-        if (model.condition[i].kind == Condition::Kind::Flux) {
-            double any = 0.0;
-            for (std::size_t k = 0; k < K; ++k) any += model.bandEmissivity[k][i];
-            if (any > 0.0) free.push_back(i);
-        }
+        if (model.condition[i].kind == Condition::Kind::Flux && emits(i)) free.push_back(i);
     const std::size_t m = free.size() + nodes;
     auto temperatureOf = [&](const Eigen::VectorXd& x, std::size_t i) {
         const Condition& c = model.condition[i];
@@ -86,10 +100,9 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
     std::vector<Band> bands(K);
     std::vector<std::vector<double>> J(K, std::vector<double>(n, 0.0)), H(K, std::vector<double>(n, 0.0));
     for (std::size_t k = 0; k < K; ++k) {
-        bands[k].name = "ir band " + std::to_string(k + 1);
+        bands[k].name = curves ? std::string("ir") : "ir band " + std::to_string(k + 1);
         bands[k].rho.resize(n);
         bands[k].source.resize(n);
-        for (std::size_t i = 0; i < n; ++i) bands[k].rho[i] = std::max(0.0, 1.0 - model.bandEmissivity[k][i] - model.surface[i].specular);
     }
     const double envT4 = sigma * envT * envT * envT * envT;
     std::vector<double> envShare(K);
@@ -100,8 +113,9 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
     auto step = [&](const Eigen::VectorXd& xs) {
         for (std::size_t k = 0; k < K; ++k) {
             for (std::size_t i = 0; i < n; ++i) {
-                const double T = temperatureOf(xs, i);
-                bands[k].source[i] = model.bandEmissivity[k][i] * bandFraction(lo[k], hi[k], T) * sigma * T * T * T * T +
+                const double T = temperatureOf(xs, i), e = eps(k, i, T);
+                bands[k].rho[i] = std::max(0.0, 1.0 - e - model.surface[i].specular);
+                bands[k].source[i] = e * bandFraction(lo[k], hi[k], T) * sigma * T * T * T * T +
                                      bands[k].rho[i] * envShare[k] * out.escape[i];
             }
             bands[k].initial = &J[k];
@@ -117,40 +131,45 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
                 H[k][i] = h;
             }
         }
+        // Each unknown temperature from its own balance: the IR it gives off less what it absorbs
+        // (both with the emissivities at that temperature) equals its net flux or power.
         Eigen::VectorXd next = Eigen::VectorXd::Zero(Eigen::Index(m));
-        std::vector<double> c(K);
+        auto netLeaving = [&](std::size_t i, double T) {
+            double net = 0.0;
+            for (std::size_t k = 0; k < K; ++k)
+                net += eps(k, i, T) * (bandFraction(lo[k], hi[k], T) * sigma * T * T * T * T - H[k][i]);
+            return net;
+        };
         for (std::size_t f = 0; f < free.size(); ++f) {
             const std::size_t i = free[f];
-            double target = model.condition[i].value + external(i);
-            for (std::size_t k = 0; k < K; ++k) {
-                c[k] = model.bandEmissivity[k][i];
-                target += c[k] * H[k][i];
-            }
-            if (target < 0.0) {
+            const double target = model.condition[i].value + external(i);
+            const double T = temperatureWhere([&](double t) { return netLeaving(i, t) - target; });
+            if (std::isnan(T)) {
                 std::ostringstream msg;
                 msg << "thermal: patch " << i << " has a net flux of " << model.condition[i].value
                     << " W/m^2 but would have to absorb more than it receives (no temperature solves it)";
                 throw Error(msg.str());
             }
-            next[Eigen::Index(f)] = temperatureFor(c, lo, hi, target);
+            next[Eigen::Index(f)] = T;
         }
         for (std::size_t node = 0; node < nodes; ++node) {
+            std::vector<std::size_t> members;
             double target = model.isothermal[node].power;
-            std::fill(c.begin(), c.end(), 0.0);
             for (std::size_t i = 0; i < n; ++i) {
                 const Condition& cond = model.condition[i];
                 if (cond.kind != Condition::Kind::Isothermal || cond.node != node) continue;
-                const double A = scene.patches[i].area * m2;
-                target += A * external(i);
-                for (std::size_t k = 0; k < K; ++k) {
-                    c[k] += A * model.bandEmissivity[k][i];
-                    target += A * model.bandEmissivity[k][i] * H[k][i];
-                }
+                members.push_back(i);
+                target += scene.patches[i].area * m2 * external(i);
             }
-            if (target < 0.0)
+            const double T = temperatureWhere([&](double t) {
+                double net = -target;
+                for (const std::size_t i : members) net += scene.patches[i].area * m2 * netLeaving(i, t);
+                return net;
+            });
+            if (std::isnan(T))
                 throw Error("thermal: isothermal node '" + model.isothermal[node].name +
                             "' would have to absorb more than it receives (no temperature solves it)");
-            next[Eigen::Index(free.size() + node)] = temperatureFor(c, lo, hi, target);
+            next[Eigen::Index(free.size() + node)] = T;
         }
         return next;
     };
@@ -204,7 +223,8 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
     // The results from the bands.
     out.report = report;
     out.report.iterations = iteration + 1;
-    out.report.note = "band model: " + std::to_string(K) + " bands, " + std::to_string(iteration + 1) + " iterations";
+    out.report.note = (curves ? std::string("emissivity against temperature: ") : "band model: " + std::to_string(K) + " bands, ") +
+                      std::to_string(iteration + 1) + " iterations";
     out.isothermalT.assign(nodes, 0.0);
     for (std::size_t k = 0; k < nodes; ++k) out.isothermalT[k] = x[Eigen::Index(free.size() + k)];
     double largest = 0.0, sumQ = 0.0, environment = 0.0;
@@ -223,7 +243,7 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
             Ji += J[k][i];
             Hi += H[k][i];
             const double Tk = std::isnan(T) ? 0.0 : T;
-            net += model.bandEmissivity[k][i] * (bandFraction(lo[k], hi[k], Tk) * sigma * Tk * Tk * Tk * Tk - H[k][i]);
+            net += eps(k, i, Tk) * (bandFraction(lo[k], hi[k], Tk) * sigma * Tk * Tk * Tk * Tk - H[k][i]);
             environment += out.areaM2[i] * (1.0 - model.surface[i].specular) * envShare[k] * out.escape[i] -
                            J[k][i] * (out.areaM2[i] - absorbedFrom[i]);
         }

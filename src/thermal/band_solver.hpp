@@ -6,6 +6,9 @@
 
 namespace hemirad::thermal::detail {
 
+/// Also the gray model whose emissivities follow the temperatures (ThermalModel::emissivityCurves):
+/// one band, each step's reflectances and emission from the emissivities at the current
+/// temperatures, each unknown temperature from a balance with the emissivities at that temperature.
 /// Starts from the gray solution with the reference-weighted emissivities, then iterates: the
 /// bands' radiosities for the current temperatures (one solveBands call, each band's emission
 /// eps_k F(lambda_k -> lambda_k+1, T) sigma T^4), then each unknown temperature from its own

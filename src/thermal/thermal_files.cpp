@@ -53,6 +53,7 @@ const toml::table& tableAt(const toml::node& node, const std::string& file, cons
 struct Entry {
     std::optional<double> emissivity, specular, solarAbsorptance, solarSpecular;
     std::vector<double> emissivityBands;  ///< emissivity = [...]: one per band (emissivity holds the largest)
+    std::optional<EmissivityCurve> curve;  ///< emissivity = [[T_K, eps], ...] (emissivity holds the largest)
     int line = 0;
     std::string label;
 };
@@ -63,6 +64,29 @@ Entry readEntry(const toml::table& t, const std::string& file, const std::string
     e.label = label;
     for (const auto& [key, node] : t) {
         const std::string k(key.str());
+        if (k == "emissivity" && node.as_array() && !node.as_array()->empty() && (*node.as_array())[0].as_array()) {
+            // Against temperature: [[T_K, eps], ...], temperatures increasing.
+            EmissivityCurve curve;
+            for (const toml::node& point : *node.as_array()) {
+                const toml::array* pair = point.as_array();
+                if (!pair || pair->size() != 2)
+                    throw Error(file, lineOf(point), "emissivity in " + label +
+                                                         ": a curve against temperature is a list of [T_K, eps] pairs");
+                const double T = number((*pair)[0], file, k), x = number((*pair)[1], file, k);
+                std::ostringstream msg;
+                if (!(T >= 0.0) || (!curve.temperatureK.empty() && !(T > curve.temperatureK.back())))
+                    msg << "emissivity in " << label << ": temperature " << T
+                        << " K must be >= 0 and above the previous point's";
+                else if (x < 0.0 || x > 1.0)
+                    msg << "emissivity " << x << " at " << T << " K in " << label << " is outside [0, 1]";
+                if (!msg.str().empty()) throw Error(file, lineOf(point), msg.str());
+                curve.temperatureK.push_back(T);
+                curve.emissivity.push_back(x);
+            }
+            e.emissivity = *std::max_element(curve.emissivity.begin(), curve.emissivity.end());
+            e.curve = std::move(curve);
+            continue;
+        }
         if (k == "emissivity" && node.as_array()) {
             for (const toml::node& v : *node.as_array()) {
                 const double x = number(v, file, k);
@@ -116,6 +140,14 @@ std::map<std::string, std::size_t> indexOf(const std::vector<std::string>& names
 }
 
 }  // namespace
+
+void takeBandProperties(ThermalModel& model, BandProperties&& bands) {
+    model.bandLimitsUm = std::move(bands.limitsUm);
+    model.bandEmissivity = std::move(bands.emissivity);
+    model.referenceTemperature = bands.referenceTemperature;
+    model.emissivityCurves = std::move(bands.emissivityCurves);
+    model.curveOf = std::move(bands.curveOf);
+}
 
 std::vector<SurfaceProperties> applyProperties(const std::string& path, Scene& scene, std::vector<std::string>& sources,
                                                std::vector<SurfaceProperties>* solar, BandProperties* bands) {
@@ -191,13 +223,19 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
             throw Error(name, e.line, e.label + ": emissivity has " + std::to_string(e.emissivityBands.size()) + " values for " +
                                           std::to_string(bandCount) + " bands ([bands] line " + std::to_string(bandsLine) + ")");
     };
-    if (fallback) checkBands(*fallback);
-    for (const auto& [index, e] : byMaterial) checkBands(e);
-    for (const auto& [index, e] : byObject) checkBands(e);
+    auto checkCurve = [&](const Entry& e) {
+        if (e.curve && bandCount)
+            throw Error(name, e.line, e.label + ": an emissivity curve against temperature takes the gray model; with "
+                                                "[bands] (line " + std::to_string(bandsLine) + ") give one emissivity per band");
+    };
+    for (const Entry* e : {fallback ? &*fallback : nullptr}) if (e) checkBands(*e), checkCurve(*e);
+    for (const auto& [index, e] : byMaterial) checkBands(e), checkCurve(e);
+    for (const auto& [index, e] : byObject) checkBands(e), checkCurve(e);
     if (bands) {
         *bands = limits;
         bands->emissivity.assign(bandCount, std::vector<double>(scene.size(), 0.0));
     }
+    std::map<const Entry*, std::int32_t> curveIndex;  // one curve per table that gives it
 
     std::vector<SurfaceProperties> surface = propertiesFromMaterials(scene);
     std::vector<std::string> objectSource(scene.objects.size());
@@ -209,6 +247,7 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
         if (fallback) layers[2] = &*fallback;
         std::optional<double> eps, s, alpha, sSolar;
         const std::vector<double>* epsBands = nullptr;
+        const Entry* curveFrom = nullptr;
         std::string from;
         int line = 0, solarLine = 0;
         for (const Entry* e : layers) {
@@ -218,7 +257,9 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
             if (!eps && e->emissivity) {
                 eps = e->emissivity;
                 if (!e->emissivityBands.empty()) epsBands = &e->emissivityBands;
-                from += (from.empty() ? "" : ", ") + std::string("emissivity from ") + e->label;
+                if (e->curve) curveFrom = e;
+                from += (from.empty() ? "" : ", ") + std::string(e->curve ? "emissivity against temperature from "
+                                                                           : "emissivity from ") + e->label;
                 line = e->line;
             }
             if (!s && e->specular) s = e->specular, from += (from.empty() ? "" : ", ") + std::string("specular from ") + e->label, line = e->line;
@@ -229,6 +270,16 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
         else {
             surface[i].emissivity = std::max(0.0, 1.0 - p.rho.mean() - p.specular);
             from += (from.empty() ? "" : ", ") + std::string("emissivity 1 - mean(Kd) - s from the MTL");
+        }
+        if (curveFrom) {
+            // The curve's value at the reference temperature until a solve knows the patch's own.
+            surface[i].emissivity = curveFrom->curve->at(limits.referenceTemperature);
+            if (bands) {
+                auto [at, added] = curveIndex.emplace(curveFrom, std::int32_t(bands->emissivityCurves.size()));
+                if (added) bands->emissivityCurves.push_back(*curveFrom->curve);
+                bands->curveOf.resize(scene.size(), -1);
+                bands->curveOf[i] = at->second;
+            }
         }
         if (bandCount) {
             // Per band: the list, or the one value in every band; the gray value weighted at T_ref.
@@ -242,11 +293,12 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
             }
             surface[i].emissivity = weighted;
         }
-        if (surface[i].emissivity + surface[i].specular > 1.0 + 1e-12 || (epsBands && *eps + surface[i].specular > 1.0 + 1e-12)) {
+        const bool largest = epsBands || curveFrom;  // check the largest of a list or curve
+        if (surface[i].emissivity + surface[i].specular > 1.0 + 1e-12 || (largest && *eps + surface[i].specular > 1.0 + 1e-12)) {
             std::ostringstream msg;
             msg << "object '" << scene.objects[p.object] << "' (material '" << scene.materials[p.material].name
-                << "'): emissivity " << (epsBands ? *eps : surface[i].emissivity) << " + specular " << surface[i].specular
-                << " = " << (epsBands ? *eps : surface[i].emissivity) + surface[i].specular << " > 1 (" << from << ")";
+                << "'): emissivity " << (largest ? *eps : surface[i].emissivity) << " + specular " << surface[i].specular
+                << " = " << (largest ? *eps : surface[i].emissivity) + surface[i].specular << " > 1 (" << from << ")";
             throw Error(name.empty() ? scene.path : name, line, msg.str());
         }
         if (solar) {

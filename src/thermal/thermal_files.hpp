@@ -20,11 +20,20 @@ namespace hemirad::thermal {
 /// Non-gray IR from a properties file's [bands] table: interior limits (um), the emissivity per
 /// band and patch (a list per entry, or its one value in every band), the reference temperature
 /// at which the gray emissivity (SurfaceProperties) weights them by the blackbody fractions.
+/// Or, in the gray model, emissivities against temperature (emissivity = [[T_K, eps], ...]): the
+/// distinct curves and each patch's (-1: none; curveOf empty when no table gives one), the gray
+/// emissivity then being the curve's value at the reference temperature.
 struct BandProperties {
     std::vector<double> limitsUm;
     std::vector<std::vector<double>> emissivity;  ///< [band][patch]; empty without [bands]
     double referenceTemperature = 300.0;
+    std::vector<EmissivityCurve> emissivityCurves;
+    std::vector<std::int32_t> curveOf;
 };
+
+/// Moves the band limits and emissivities, the reference temperature and the emissivity curves
+/// into `model`.
+void takeBandProperties(ThermalModel& model, BandProperties&& bands);
 
 /// `solar`, if given, gets the solar band's properties per patch: solar_absorptance (in emissivity)
 /// and solar_specular, the same layers deciding, by default 1 - mean(Kd) - s and the IR specular.

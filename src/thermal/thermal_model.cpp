@@ -3,6 +3,7 @@
 
 #include "engine/error.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -99,6 +100,40 @@ void checkModel(const Scene& scene, const ThermalModel& model) {
             }
         }
     }
+    if (!model.curveOf.empty()) {
+        if (model.curveOf.size() != n) throw Error("thermal: emissivity curves need one index per patch (-1: none)");
+        if (!model.bandEmissivity.empty() && hasEmissivityCurves(model))
+            throw Error("thermal: emissivity against temperature takes the gray model: give per-band emissivities or "
+                        "curves, not both");
+        for (std::size_t c = 0; c < model.emissivityCurves.size(); ++c) {
+            const EmissivityCurve& curve = model.emissivityCurves[c];
+            if (curve.temperatureK.empty() || curve.temperatureK.size() != curve.emissivity.size())
+                throw Error("thermal: emissivity curve " + std::to_string(c + 1) +
+                            " needs as many temperatures as emissivities, at least one");
+            for (std::size_t k = 0; k < curve.temperatureK.size(); ++k) {
+                const double T = curve.temperatureK[k], e = curve.emissivity[k];
+                if (!(std::isfinite(T) && T >= 0.0 && (k == 0 || T > curve.temperatureK[k - 1])) || !(e >= 0.0 && e <= 1.0)) {
+                    std::ostringstream msg;
+                    msg << "thermal: emissivity curve " << c + 1 << ": point (" << T << " K, " << e
+                        << ") must have a temperature >= 0 K above the previous one and an emissivity in [0, 1]";
+                    throw Error(msg.str());
+                }
+            }
+        }
+        for (PatchId i = 0; i < n; ++i) {
+            const std::int32_t c = model.curveOf[i];
+            if (c < 0) continue;
+            if (std::size_t(c) >= model.emissivityCurves.size())
+                throw Error("thermal: " + describe(scene, i) + ": emissivity curve " + std::to_string(c + 1) + " does not exist");
+            for (const double e : model.emissivityCurves[std::size_t(c)].emissivity)
+                if (e + model.surface[i].specular > 1.0 + 1e-12) {
+                    std::ostringstream msg;
+                    msg << "thermal: " << describe(scene, i) << ": emissivity " << e << " of its curve + specular "
+                        << model.surface[i].specular << " > 1";
+                    throw Error(msg.str());
+                }
+        }
+    }
     std::vector<double> emitting(model.isothermal.size(), 0.0);
     for (PatchId i = 0; i < n; ++i)
         if (model.condition[i].kind == Condition::Kind::Isothermal)
@@ -114,6 +149,24 @@ void checkModel(const Scene& scene, const ThermalModel& model) {
             continue;
         throw Error(msg.str());
     }
+}
+
+double EmissivityCurve::at(double T) const {
+    if (T <= temperatureK.front()) return emissivity.front();
+    if (T >= temperatureK.back()) return emissivity.back();
+    const std::size_t k = std::size_t(std::upper_bound(temperatureK.begin(), temperatureK.end(), T) - temperatureK.begin());
+    const double t = (T - temperatureK[k - 1]) / (temperatureK[k] - temperatureK[k - 1]);
+    return emissivity[k - 1] + t * (emissivity[k] - emissivity[k - 1]);
+}
+
+double emissivityAt(const ThermalModel& model, std::size_t i, double T) {
+    const std::int32_t c = model.curveOf.empty() ? -1 : model.curveOf[i];
+    return c < 0 ? model.surface[i].emissivity : model.emissivityCurves[std::size_t(c)].at(T);
+}
+
+void setEmissivitiesAt(ThermalModel& model, const std::vector<double>& T) {
+    for (std::size_t i = 0; i < model.curveOf.size(); ++i)
+        if (model.curveOf[i] >= 0 && std::isfinite(T[i])) model.surface[i].emissivity = emissivityAt(model, i, T[i]);
 }
 
 }  // namespace hemirad::thermal

@@ -25,6 +25,14 @@ struct SurfaceProperties {
     double diffuse() const { return 1.0 - emissivity - specular; }
 };
 
+/// A surface's total hemispherical emissivity against its temperature, as handbooks tabulate it:
+/// piecewise linear through the points (temperatures increasing, K), constant beyond the first and
+/// the last.
+struct EmissivityCurve {
+    std::vector<double> temperatureK, emissivity;
+    double at(double T) const;
+};
+
 /// What is known of a patch: its temperature (K), the net heat flux leaving it (W/m^2; 0 is
 /// adiabatic: each patch reradiates at its own temperature), or that it belongs to an isothermal
 /// node whose patches share one unknown temperature and together give off a known net power (a
@@ -54,6 +62,12 @@ struct ThermalModel {
     std::vector<double> bandLimitsUm;
     std::vector<std::vector<double>> bandEmissivity;
     double referenceTemperature = 300.0;
+    /// Temperature-dependent emissivity (gray model only): curveOf[i] indexes emissivityCurves, -1
+    /// where patch i's emissivity is constant; empty: none. Where a curve is given, surface[i]
+    /// .emissivity is its value at the known temperature, else at referenceTemperature (the
+    /// iteration's start); solveThermal iterates on the unknown temperatures (band_solver.hpp).
+    std::vector<EmissivityCurve> emissivityCurves;
+    std::vector<std::int32_t> curveOf;
     std::vector<IsothermalNode> isothermal;
     /// The environment's temperature (K): deep space (3 K), sky or ambient. It takes each patch's
     /// escape (what F does not absorb) and irradiates each patch by its own. None: a closed scene, or
@@ -66,6 +80,20 @@ struct ThermalModel {
     /// Where each object's properties and condition came from, for the report (per scene object).
     std::vector<std::string> propertySource, conditionSource;
 };
+
+/// Whether some patch's emissivity depends on its temperature.
+inline bool hasEmissivityCurves(const ThermalModel& model) {
+    for (const std::int32_t c : model.curveOf)
+        if (c >= 0) return true;
+    return false;
+}
+
+/// Patch i's emissivity at temperature T: its curve's value, or its constant one.
+double emissivityAt(const ThermalModel& model, std::size_t i, double T);
+
+/// Sets surface[i].emissivity of every patch with a curve to the curve's value at `T[i]` (the
+/// solved temperatures: what the conductors of a solution use).
+void setEmissivitiesAt(ThermalModel& model, const std::vector<double>& T);
 
 /// The properties a scene has without a properties file: eps = 1 - mean(Kd) - s, i.e. the MTL's
 /// diffuse reflectance taken as the IR one (an assumption the report states), s from the scene.

@@ -40,7 +40,7 @@ ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const The
                              const SolverOptions& given) {
     checkModel(scene, model);
     const SolverOptions options = thermalSolverOptions(given, scene.size());
-    if (!model.bandEmissivity.empty()) return detail::solveBandModel(scene, F, model, options);
+    if (!model.bandEmissivity.empty() || hasEmissivityCurves(model)) return detail::solveBandModel(scene, F, model, options);
     const std::size_t n = scene.size();
     if (F.size() != n)
         throw Error("thermal: F has " + std::to_string(F.size()) + " rows but the scene has " + std::to_string(n) + " patches");

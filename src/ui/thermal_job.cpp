@@ -48,6 +48,7 @@ void ThermalJob::work() {
                            jobFigure(s.isothermalT[k] - thermal::kCelsiusZero) + " C) at a net power of " +
                            jobFigure(model.isothermal[k].power) + " W");
     checkCancel();
+    thermal::setEmissivitiesAt(model, s.T);  // emissivities against temperature: the exchange at the solution's
     std::vector<std::vector<PatchId>> members;
     thermal::makeNodes(m_scene, thermal::Lumping::Objects, result.objects, members);
     result.exchange = timed("exchange matrix", [&] { return thermal::exchangeMatrix(m_scene, *F, model, s, members, solver); });

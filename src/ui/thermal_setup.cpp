@@ -61,6 +61,7 @@ Layers layers(const Scene& scene, const ThermalSetup& setup) {
             if (scene.patches[i].object != object) continue;
             l.surface[i].emissivity = eps;
             for (std::vector<double>& band : l.bands.emissivity) band[i] = eps;  // gray in every band
+            if (!l.bands.curveOf.empty()) l.bands.curveOf[i] = -1;              // and constant
         }
         l.propertySource.push_back("object '" + scene.objects[object] + "': emissivity " + figure(eps) + " (edited)");
     }
@@ -90,9 +91,7 @@ ThermalInputs assemble(const Scene& scene, Layers l, bool allowMissing) {
     thermal::ThermalModel& model = inputs.model;
     model.metresPerUnit = thermalMetresPerUnit(scene);
     model.surface = std::move(l.surface);
-    model.bandLimitsUm = std::move(l.bands.limitsUm);
-    model.bandEmissivity = std::move(l.bands.emissivity);
-    model.referenceTemperature = l.bands.referenceTemperature;
+    thermal::takeBandProperties(model, std::move(l.bands));
     model.environment = l.environment;
     model.propertySource = std::move(l.propertySource);
     model.conditionSource = std::move(l.conditionSource);

@@ -490,6 +490,23 @@ def test_thermal_sun_and_bands():
     assert np.allclose(banded["T"], expected, rtol=1e-11)
     with pytest.raises(hemirad.Error, match="band_emissivity: expected shape"):
         hemirad.thermal(plates, F, 0.8, flux=np.zeros(n), band_limits_um=[5.0], band_emissivity=np.full((3, n), 0.8))
+    # Emissivity against temperature on every plate (a mask): eps(T) (sigma T^4 - sigma 3^4) = 272.2,
+    # by bisection here.
+    curve_T, curve_eps = [200.0, 400.0], [0.5, 0.9]
+    curved = hemirad.thermal(plates, F, 0.8, flux=np.zeros(n), environment=3.0, absorbed=np.full(n, 272.2),
+                             emissivity_curves=[(np.ones(n, dtype=bool), curve_T, curve_eps)])
+    lo, hi = 3.0, 1000.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if np.interp(mid, curve_T, curve_eps) * sigma * (mid**4 - 3.0**4) < 272.2:
+            lo = mid
+        else:
+            hi = mid
+    assert np.allclose(curved["T"], 0.5 * (lo + hi), rtol=1e-10)
+    with pytest.raises(ValueError, match="given two curves"):
+        hemirad.thermal(plates, F, 0.8, flux=np.zeros(n), emissivity_curves=[([0], curve_T, curve_eps), ([0], curve_T, curve_eps)])
+    with pytest.raises(hemirad.Error, match="emissivity curve 1"):
+        hemirad.thermal(plates, F, 0.8, flux=np.zeros(n), emissivity_curves=[([0], [400.0, 200.0], curve_eps)])
 
 
 def test_sensor_factors_under_a_plate():

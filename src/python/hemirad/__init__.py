@@ -298,7 +298,8 @@ def _patch_values(name, values, n, default=None):
 
 
 def thermal(scene, F, emissivity, specular=None, temperature=None, flux=None, environment=None, *,
-            absorbed=None, band_limits_um=None, band_emissivity=None, solver="auto", tolerance=1e-10):
+            absorbed=None, band_limits_um=None, band_emissivity=None, emissivity_curves=None, solver="auto",
+            tolerance=1e-10):
     """Gray radiative exchange on F (docs/thermal.md): the net-radiation method with mirrors.
 
     emissivity, specular: per patch (or one value for all); specular None takes the scene's (F was
@@ -308,6 +309,9 @@ def thermal(scene, F, emissivity, specular=None, temperature=None, flux=None, en
     when it states none). absorbed: heat absorbed per patch from outside the IR (W/m^2, e.g. the sun).
     band_limits_um (K increasing wavelengths) with band_emissivity of shape (K + 1, N): non-gray IR, each
     band's emission by the blackbody fractions (emissivity then only starts the iteration).
+    emissivity_curves: a list of (patches, temperatures_K, emissivities), patches an index array or a
+    boolean mask: those patches' emissivity against their temperature, piecewise linear (constant
+    beyond the ends); the solve iterates on the unknown temperatures (gray model only).
     Returns a dict of per-patch arrays T (K), J, H, q (W/m^2, net leaving), Q (W), and environment_power
     (W, what the environment gives), balance (|sum Q + Q_env| / max |Q|), solver, residual.
     """
@@ -325,7 +329,15 @@ def thermal(scene, F, emissivity, specular=None, temperature=None, flux=None, en
     bands = _np.zeros((0, 0)) if band_emissivity is None else _np.ascontiguousarray(band_emissivity, dtype=_np.float64)
     if bool(limits) != (band_emissivity is not None):
         raise ValueError("band_limits_um and band_emissivity go together")
-    return _hemirad._thermal(scene, indptr, indices, data, eps, s, T, q, env, gained, limits, bands, solver,
+    curves = []
+    for patches, temperatures, values in (emissivity_curves or []):
+        patches = _np.asarray(patches)
+        if patches.dtype == bool:
+            if patches.shape != (n,):
+                raise ValueError("emissivity_curves: a mask needs one entry per patch (%d)" % n)
+            patches = _np.flatnonzero(patches)
+        curves.append(([int(p) for p in patches.ravel()], [float(t) for t in temperatures], [float(e) for e in values]))
+    return _hemirad._thermal(scene, indptr, indices, data, eps, s, T, q, env, gained, limits, bands, curves, solver,
                              float(tolerance))
 
 
