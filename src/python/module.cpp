@@ -597,6 +597,20 @@ py::array_t<double> sunDirectionOf(double elevation, double azimuth, py::array_t
     return numpyVector({d.x(), d.y(), d.z()});
 }
 
+/// The suns of `toSun`: one direction (3 values) or k rows of 3, each a finite non-zero vector.
+std::vector<Vec3> sunsOf(const py::array_t<double, py::array::c_style | py::array::forcecast>& toSun) {
+    if (toSun.ndim() != 2) return {vectorOf(toSun, "to_sun")};
+    if (toSun.shape(1) != 3) throw py::value_error("to_sun: expected 3 values per row (k x 3)");
+    std::vector<Vec3> directions(std::size_t(toSun.shape(0)));
+    for (std::size_t r = 0; r < directions.size(); ++r) {
+        const double* v = toSun.data() + 3 * r;
+        directions[r] = Vec3(v[0], v[1], v[2]);
+        if (!directions[r].allFinite() || !(directions[r].norm() > 0.0))
+            throw py::value_error("to_sun: row " + std::to_string(r) + " is not a finite non-zero vector");
+    }
+    return directions;
+}
+
 py::array_t<double> sunlitOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> toSun) {
     if (toSun.ndim() != 2) {
         const Vec3 d = vectorOf(toSun, "to_sun");
@@ -608,15 +622,8 @@ py::array_t<double> sunlitOf(const ScenePtr& scene, py::array_t<double, py::arra
         return numpyVector(f);
     }
     // Many suns (k x 3): one shadow set-up for all of them, a row of fractions each.
-    if (toSun.shape(1) != 3) throw py::value_error("to_sun: expected 3 values per row (k x 3)");
-    const std::size_t k = std::size_t(toSun.shape(0)), n = scene->size();
-    std::vector<Vec3> directions(k);
-    for (std::size_t r = 0; r < k; ++r) {
-        const double* v = toSun.data() + 3 * r;
-        directions[r] = Vec3(v[0], v[1], v[2]);
-        if (!directions[r].allFinite() || !(directions[r].norm() > 0.0))
-            throw py::value_error("to_sun: row " + std::to_string(r) + " is not a finite non-zero vector");
-    }
+    const std::vector<Vec3> directions = sunsOf(toSun);
+    const std::size_t k = directions.size(), n = scene->size();
     py::array_t<double> out({py::ssize_t(k), py::ssize_t(n)});
     double* p = out.mutable_data();
     {
@@ -748,13 +755,7 @@ py::array_t<double> skyRadianceOf(const std::string& model, py::array_t<double, 
     return numpyVector(skyRadiance(skyGrid(subdivision), samples, parseSkyModel(model), c));
 }
 
-py::dict reflectedSunOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> toSun, double dni) {
-    const Vec3 d = vectorOf(toSun, "to_sun");
-    ReflectedSun r;
-    {
-        py::gil_scoped_release release;
-        r = reflectedSun(*scene, d, dni);
-    }
+py::dict reflectedSunDict(const ReflectedSun& r) {
     py::array_t<std::int64_t> mirror(py::ssize_t(r.spots.size())), receiver(py::ssize_t(r.spots.size()));
     std::vector<double> mean, peak, area;
     for (std::size_t k = 0; k < r.spots.size(); ++k) {
@@ -773,6 +774,26 @@ py::dict reflectedSunOf(const ScenePtr& scene, py::array_t<double, py::array::c_
     py::dict out;
     out["irradiance"] = numpyVector(r.irradiance);
     out["spots"] = spots;
+    return out;
+}
+
+/// One sun: a dict; k suns (k x 3, with k DNIs or one): a list of k dicts from one set-up of the
+/// shadow trees.
+py::object reflectedSunOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> toSun,
+                          std::vector<double> dni) {
+    const std::vector<Vec3> suns = sunsOf(toSun);
+    if (dni.size() == 1) dni.assign(suns.size(), dni.front());
+    if (dni.size() != suns.size())
+        throw py::value_error("dni: one value, or one per sun (" + std::to_string(suns.size()) + "), not " + std::to_string(dni.size()));
+    std::vector<ReflectedSun> results(suns.size());
+    {
+        py::gil_scoped_release release;
+        const BeamShadows shadows(*scene);
+        for (std::size_t r = 0; r < suns.size(); ++r) results[r] = reflectedSun(shadows, suns[r], dni[r]);
+    }
+    if (toSun.ndim() != 2) return reflectedSunDict(results.front());
+    py::list out;
+    for (const ReflectedSun& r : results) out.append(reflectedSunDict(r));
     return out;
 }
 

@@ -588,6 +588,18 @@ def test_sun_and_one_hour_of_irradiance_as_the_command_line():
     assert np.all(np.diff(spots["irradiance"]) <= 0)
     for m, r, e in zip(spots["mirror"], spots["receiver"], spots["irradiance"]):
         assert mirror_box.specular[m] > 0 and e > 0
+    # Many suns from one set-up: each as that sun alone (DNI per sun, or one for all).
+    suns = np.array([[1.0, 0.5, -1.0], [0.8, 0.6, -1.2], [1.0, 0.5, -1.0]])
+    many = hemirad.reflected_sun(mirror_box, suns, [800.0, 600.0, 400.0])
+    assert isinstance(many, list) and len(many) == 3
+    for k, dni in enumerate([800.0, 600.0, 400.0]):
+        alone = hemirad.reflected_sun(mirror_box, suns[k], dni)
+        assert np.array_equal(many[k]["irradiance"], alone["irradiance"])
+        assert np.array_equal(many[k]["spots"]["peak"], alone["spots"]["peak"])
+    assert np.allclose(many[2]["irradiance"], 0.5 * glare["irradiance"], rtol=1e-12, atol=0)
+    assert len(hemirad.reflected_sun(mirror_box, suns, 800.0)) == 3
+    with pytest.raises(ValueError, match="one per sun"):
+        hemirad.reflected_sun(mirror_box, suns, [800.0, 600.0])
     # With the mirror: the reflected sun arrives first, as the command line's reflected_sun column.
     Fm, _ = hemirad.form_factors(mirror_box, all_rows=True)
     hour = hemirad.irradiance(mirror_box, Fm, [1.0, 0.5, -1.0], 800.0, 100.0)

@@ -396,9 +396,12 @@ def reflected_sun(scene, to_sun, dni):
     sunlit part on the patches facing its beam, past the patches between (as ``hemirad sun --dni
     --glare``). Returns a dict: ``irradiance`` per patch (W/m^2, averaged over it) and ``spots``, a
     dict of arrays per (mirror, receiver) pair, brightest first: ``mirror``, ``receiver``,
-    ``irradiance``, ``peak`` (s DNI cos, W/m^2) and ``lit_area`` (the footprint, scene units^2)."""
+    ``irradiance``, ``peak`` (s DNI cos, W/m^2) and ``lit_area`` (the footprint, scene units^2).
+    Many suns at once: ``to_sun`` of shape (k, 3) and ``dni`` one value or k; a list of k such dicts,
+    the scene's shadow trees set up once for all of them (an hour loop's cost)."""
     _check_scene(scene)
-    return _hemirad._reflected_sun(scene, _np.asarray(to_sun, dtype=_np.float64), float(dni))
+    dni = [float(x) for x in _np.atleast_1d(_np.asarray(dni, dtype=_np.float64))]
+    return _hemirad._reflected_sun(scene, _np.asarray(to_sun, dtype=_np.float64), dni)
 
 
 def _frame(up, north):
