@@ -3,6 +3,7 @@
 Perez's sky (daylight coefficients), from a synthetic 8,760-hour EPW for Munich written here.
 
     python3 bench/year.py BINARY SCENE.obj [--sky perez] [--label NAME] [--threads N] [--ff F.hff] [--svf SVF.csv]
+                          [--extra "--up y"]
 
 --ff and --svf store F and the sky view factors on the first run and reuse them on the next (the
 year "after F"); the report then leaves their stages out.
@@ -69,6 +70,7 @@ def main():
     ap.add_argument("--threads", default="0")
     ap.add_argument("--ff", default=None, help="F stored here (reused when present)")
     ap.add_argument("--svf", default=None, help="sky view factors stored here (reused when present)")
+    ap.add_argument("--extra", default="", help="more options for hemirad year, e.g. '--up y' for street64k")
     a = ap.parse_args()
     work = tempfile.mkdtemp(prefix="hemirad-year-")
     epw = os.path.join(work, "munich_synthetic.epw")
@@ -79,6 +81,7 @@ def main():
            "-o", annual, "--hourly", hourly]
     cmd += ["--ff", a.ff] if a.ff else []
     cmd += ["--svf", a.svf] if a.svf else []
+    cmd += a.extra.split()
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit(r.stdout + r.stderr)
