@@ -61,6 +61,18 @@ Scene courtyard(int sides, double r, double h) {
     return b.scene;
 }
 
+/// The closed box [0, 1]^3, its faces outward; patch 0 is its face y = 0 (facing -y).
+Scene closedUnitBox() {
+    SceneBuilder box;
+    box.rectangle(1, 0, 0, 1, 0, 1, false);
+    box.rectangle(1, 1, 0, 1, 0, 1, true);
+    box.rectangle(0, 0, 0, 1, 0, 1, false);
+    box.rectangle(0, 1, 0, 1, 0, 1, true);
+    box.rectangle(2, 0, 0, 1, 0, 1, false);
+    box.rectangle(2, 1, 0, 1, 0, 1, true);
+    return box.scene;
+}
+
 }  // namespace
 
 TEST_CASE("Sensors: the centre of a courtyard's floor sees its opening as sky, the walls as the rest, exactly") {
@@ -147,15 +159,9 @@ TEST_CASE("Sensors: a grid leaves out the object's boundary, and a sensor standi
     // 0.2 up: its half y > 0 is the box's inside (back faces all round), y < 0 the sky: the sky view
     // factor 1/2 (less the twins' offset, 1.4e-6 here). A sensor 1e-4 outside sees that face's
     // front over the half instead, and nothing else of the box.
-    SceneBuilder box;
-    box.rectangle(1, 0, 0, 1, 0, 1, false);  // y = 0, facing -y
-    box.rectangle(1, 1, 0, 1, 0, 1, true);
-    box.rectangle(0, 0, 0, 1, 0, 1, false);
-    box.rectangle(0, 1, 0, 1, 0, 1, true);
-    box.rectangle(2, 0, 0, 1, 0, 1, false);
-    box.rectangle(2, 1, 0, 1, 0, 1, true);
+    const Scene box = closedUnitBox();
     const Vec3 up(0, 0, 1);
-    const SensorFactors f = sensorFactors(box.scene, sensorsOf({{Vec3(0.5, 0, 0.2), up}, {Vec3(0.5, -1e-4, 0.2), up}}));
+    const SensorFactors f = sensorFactors(box, sensorsOf({{Vec3(0.5, 0, 0.2), up}, {Vec3(0.5, -1e-4, 0.2), up}}));
     MESSAGE("in the wall's plane " << f.skyView[0] << ", 1e-4 outside " << f.skyView[1]);
     CHECK(f.skyView[0] == relative(0.5, 1e-5));
     CHECK(factor(f, 0, 0) == 0.0);  // edge-on
@@ -216,22 +222,16 @@ TEST_CASE("Sensors by rays: the sky view beside a wall against Lambert's factor,
 TEST_CASE("Sensors by rays: the same factors on 1 and 2 threads, a wall through a sensor seen edge-on, and the exact ones within the rays' error") {
     // The closed box of the grid test above: a sensor in the plane of its face y = 0 (half its
     // hemisphere inside the box, seeing back faces: no factor, no sky) and one 1e-4 outside.
-    SceneBuilder box;
-    box.rectangle(1, 0, 0, 1, 0, 1, false);
-    box.rectangle(1, 1, 0, 1, 0, 1, true);
-    box.rectangle(0, 0, 0, 1, 0, 1, false);
-    box.rectangle(0, 1, 0, 1, 0, 1, true);
-    box.rectangle(2, 0, 0, 1, 0, 1, false);
-    box.rectangle(2, 1, 0, 1, 0, 1, true);
+    const Scene box = closedUnitBox();
     const Vec3 up(0, 0, 1);
     const Sensors sensors = sensorsOf({{Vec3(0.5, 0, 0.2), up}, {Vec3(0.5, -1e-4, 0.2), up}, {Vec3(0.3, -0.7, 0), Vec3(1, -1, 1)}});
-    const SensorFactors one = sensorFactorsByRays(box.scene, sensors, 4096, 1);
-    const SensorFactors two = sensorFactorsByRays(box.scene, sensors, 4096, 2);
+    const SensorFactors one = sensorFactorsByRays(box, sensors, 4096, 1);
+    const SensorFactors two = sensorFactorsByRays(box, sensors, 4096, 2);
     CHECK(one.rowStart == two.rowStart);
     CHECK(one.columns == two.columns);
     CHECK(one.values == two.values);
     CHECK(one.skyView == two.skyView);
-    const SensorFactors exact = sensorFactors(box.scene, sensors);
+    const SensorFactors exact = sensorFactors(box, sensors);
     CHECK(factor(one, 0, 0) == 0.0);  // edge-on, as the exact factors
     for (std::size_t s = 0; s < sensors.size(); ++s) {
         CAPTURE(s);
