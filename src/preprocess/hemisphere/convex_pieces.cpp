@@ -83,7 +83,8 @@ void subtractConvex(const double* given, std::size_t n, double smallest, ConvexP
     // it meets the region's edge).
     // (and of its coordinates, which carry their rounding: a shadow far smaller than its distance
     // from the origin has edges of rounding length sooner)
-    const double scale = std::max({std::hypot(hi[0] - lo[0], hi[1] - lo[1]), std::abs(lo[0]), std::abs(lo[1]), std::abs(hi[0]), std::abs(hi[1])});
+    const double scale = std::max({std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1])),
+                                   std::abs(lo[0]), std::abs(lo[1]), std::abs(hi[0]), std::abs(hi[1])});
     const double merge = 1e-9 * scale;
     const auto apart = [merge](const double* a, const double* b) {
         const double dx = a[0] - b[0], dy = a[1] - b[1];
