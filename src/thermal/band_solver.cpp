@@ -20,12 +20,20 @@ constexpr int kMaxIterations = 300;
 constexpr double kTolerance = 1e-12;
 constexpr std::size_t kHistory = 6;
 
-/// The T >= 0 at which the increasing g crosses 0, by bisection; NaN where g(0) > 0 (the surface
-/// would have to absorb more than it receives: no temperature solves it).
+/// The T >= 0 at which g crosses 0 upwards, by bisection (g increases with constant emissivities);
+/// NaN where g stays above 0 (the surface would have to absorb more than it receives).
 template <class G>
 double temperatureWhere(G g) {
-    if (g(0.0) > 0.0) return std::nan("");
-    double a = 0.0, b = 300.0;
+    double a = 0.0;
+    if (g(0.0) > 0.0) {
+        // With emissivities against temperature the absorbed eps(T) H can grow faster than the
+        // emitted eps(T) sigma T^4 (a surface giving off less than it receives): look for a
+        // temperature below the balance before giving up.
+        for (double T = 1.0; T < 1e6 && !(a > 0.0); T *= 1.05)
+            if (g(T) <= 0.0) a = T;
+        if (!(a > 0.0)) return std::nan("");
+    }
+    double b = a > 0.0 ? 2.0 * a : 300.0;
     while (g(b) < 0.0) {
         a = b;
         b *= 2.0;
@@ -75,10 +83,17 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
     gray.bandEmissivity.clear();
     gray.bandLimitsUm.clear();
     gray.curveOf.clear();
-    for (std::size_t i = 0; i < n && curves; ++i)  // a curve's value at the known temperature, else the reference
-        gray.surface[i].emissivity =
-            emissivityAt(model, i, model.condition[i].kind == Condition::Kind::Temperature ? model.condition[i].value
-                                                                                           : model.referenceTemperature);
+    // A curve's value at the known temperature, else at the reference one, or the curve's largest
+    // where it is 0 there (a surface that emits at other temperatures needs a defined start).
+    for (std::size_t i = 0; i < n && curves; ++i) {
+        const bool known = model.condition[i].kind == Condition::Kind::Temperature;
+        double& e = gray.surface[i].emissivity;
+        e = emissivityAt(model, i, known ? model.condition[i].value : model.referenceTemperature);
+        if (!known && !(e > 0.0) && emits(i)) {
+            const std::vector<double>& values = model.emissivityCurves[std::size_t(model.curveOf[i])].emissivity;
+            e = *std::max_element(values.begin(), values.end());
+        }
+    }
     ThermalSolution out = solveThermal(scene, F, gray, options);
 
     // The unknowns: flux patches' and nodes' temperatures, x = (T_free..., T_node...).
@@ -94,7 +109,8 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
         return at != free.end() && *at == i ? x[at - free.begin()] : 0.0;
     };
     Eigen::VectorXd x = Eigen::VectorXd::Zero(Eigen::Index(m));
-    for (std::size_t f = 0; f < free.size(); ++f) x[Eigen::Index(f)] = out.T[free[f]];
+    for (std::size_t f = 0; f < free.size(); ++f)
+        x[Eigen::Index(f)] = std::isfinite(out.T[free[f]]) ? out.T[free[f]] : model.referenceTemperature;
     for (std::size_t k = 0; k < nodes; ++k) x[Eigen::Index(free.size() + k)] = out.isothermalT[k];
 
     std::vector<Band> bands(K);

@@ -69,7 +69,7 @@ void checkModel(const Scene& scene, const ThermalModel& model) {
             msg << "thermal: " << describe(scene, i) << ": temperature " << c.value << " K is below 0 K";
         } else if (c.kind == Condition::Kind::Isothermal && c.node >= model.isothermal.size()) {
             msg << "thermal: " << describe(scene, i) << ": isothermal node " << c.node << " does not exist";
-        } else if (c.kind == Condition::Kind::Flux && sp.emissivity == 0.0 &&
+        } else if (c.kind == Condition::Kind::Flux && largestEmissivity(model, i) == 0.0 &&
                    c.value != -(model.absorbedExternal.empty() ? 0.0 : model.absorbedExternal[i])) {
             msg << "thermal: " << describe(scene, i) << ": a net flux of " << c.value
                 << " W/m^2 on a surface with IR emissivity 0, which neither emits nor absorbs in the IR (its net flux "
@@ -101,15 +101,18 @@ void checkModel(const Scene& scene, const ThermalModel& model) {
         }
     }
     if (!model.curveOf.empty()) {
-        if (model.curveOf.size() != n) throw Error("thermal: emissivity curves need one index per patch (-1: none)");
+        if (model.curveOf.size() != n)
+            throw Error("thermal: emissivity curves need one index per patch (-1: none): " + std::to_string(model.curveOf.size()) +
+                        " for " + std::to_string(n) + " patches");
         if (!model.bandEmissivity.empty() && hasEmissivityCurves(model))
             throw Error("thermal: emissivity against temperature takes the gray model: give per-band emissivities or "
                         "curves, not both");
         for (std::size_t c = 0; c < model.emissivityCurves.size(); ++c) {
             const EmissivityCurve& curve = model.emissivityCurves[c];
             if (curve.temperatureK.empty() || curve.temperatureK.size() != curve.emissivity.size())
-                throw Error("thermal: emissivity curve " + std::to_string(c + 1) +
-                            " needs as many temperatures as emissivities, at least one");
+                throw Error("thermal: emissivity curve " + std::to_string(c + 1) + " has " +
+                            std::to_string(curve.temperatureK.size()) + " temperatures and " +
+                            std::to_string(curve.emissivity.size()) + " emissivities: it needs as many of each, at least one");
             for (std::size_t k = 0; k < curve.temperatureK.size(); ++k) {
                 const double T = curve.temperatureK[k], e = curve.emissivity[k];
                 if (!(std::isfinite(T) && T >= 0.0 && (k == 0 || T > curve.temperatureK[k - 1])) || !(e >= 0.0 && e <= 1.0)) {
@@ -137,7 +140,7 @@ void checkModel(const Scene& scene, const ThermalModel& model) {
     std::vector<double> emitting(model.isothermal.size(), 0.0);
     for (PatchId i = 0; i < n; ++i)
         if (model.condition[i].kind == Condition::Kind::Isothermal)
-            emitting[model.condition[i].node] += model.surface[i].emissivity * scene.patches[i].area;
+            emitting[model.condition[i].node] += largestEmissivity(model, i) * scene.patches[i].area;
     for (std::size_t k = 0; k < model.isothermal.size(); ++k) {
         std::ostringstream msg;
         if (!std::isfinite(model.isothermal[k].power))
@@ -152,11 +155,18 @@ void checkModel(const Scene& scene, const ThermalModel& model) {
 }
 
 double EmissivityCurve::at(double T) const {
-    if (T <= temperatureK.front()) return emissivity.front();
+    if (!(T > temperatureK.front())) return emissivity.front();  // NaN too
     if (T >= temperatureK.back()) return emissivity.back();
     const std::size_t k = std::size_t(std::upper_bound(temperatureK.begin(), temperatureK.end(), T) - temperatureK.begin());
     const double t = (T - temperatureK[k - 1]) / (temperatureK[k] - temperatureK[k - 1]);
     return emissivity[k - 1] + t * (emissivity[k] - emissivity[k - 1]);
+}
+
+double largestEmissivity(const ThermalModel& model, std::size_t i) {
+    const std::int32_t c = model.curveOf.empty() ? -1 : model.curveOf[i];
+    if (c < 0 || std::size_t(c) >= model.emissivityCurves.size()) return model.surface[i].emissivity;
+    const std::vector<double>& e = model.emissivityCurves[std::size_t(c)].emissivity;
+    return e.empty() ? 0.0 : *std::max_element(e.begin(), e.end());
 }
 
 double emissivityAt(const ThermalModel& model, std::size_t i, double T) {

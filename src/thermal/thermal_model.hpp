@@ -63,9 +63,11 @@ struct ThermalModel {
     std::vector<std::vector<double>> bandEmissivity;
     double referenceTemperature = 300.0;
     /// Temperature-dependent emissivity (gray model only): curveOf[i] indexes emissivityCurves, -1
-    /// where patch i's emissivity is constant; empty: none. Where a curve is given, surface[i]
-    /// .emissivity is its value at the known temperature, else at referenceTemperature (the
-    /// iteration's start); solveThermal iterates on the unknown temperatures (band_solver.hpp).
+    /// where patch i's emissivity is constant; empty: none. Where a curve is given, the solve uses
+    /// the curve (its value at the known temperature; the iteration starts from its value at
+    /// referenceTemperature) whatever surface[i].emissivity holds (the properties file puts the
+    /// value at referenceTemperature there); solveThermal iterates on the unknown temperatures
+    /// (band_solver.hpp).
     std::vector<EmissivityCurve> emissivityCurves;
     std::vector<std::int32_t> curveOf;
     std::vector<IsothermalNode> isothermal;
@@ -87,6 +89,9 @@ inline bool hasEmissivityCurves(const ThermalModel& model) {
         if (c >= 0) return true;
     return false;
 }
+
+/// Patch i's largest emissivity at any temperature (its constant one without a curve).
+double largestEmissivity(const ThermalModel& model, std::size_t i);
 
 /// Patch i's emissivity at temperature T: its curve's value, or its constant one.
 double emissivityAt(const ThermalModel& model, std::size_t i, double T);

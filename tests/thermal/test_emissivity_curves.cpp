@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <functional>
 
 using namespace hemirad;
@@ -114,6 +115,33 @@ TEST_CASE("Emissivity against temperature: a flux surface's temperature balances
     CHECK(std::abs(T2 - held) > 10.0);  // the curve matters here
     CHECK(sol.Q[0] == relative(Q1, 1e-9));
     CHECK(sol.balance <= 1e-9);
+}
+
+TEST_CASE("Emissivity against temperature: a curve that is 0 at the reference temperature still starts and solves") {
+    // The outer surface emits only above 500 K (0 at the 300 K start): its temperature must come
+    // out finite and satisfy the two-surface closed form with its emissivity there.
+    SceneBuilder b;
+    const Scene s = twoSurfaces(b);
+    const FormFactors F = denseF({{0.0, 1.0}, {0.5, 0.5}});
+    const std::vector<std::pair<double, double>> late = {{500, 0.0}, {1000, 0.8}};
+    ThermalModel m = grayModel(2);
+    m.surface[0].emissivity = 0.9;
+    m.surface[1].emissivity = 0.0;
+    m.emissivityCurves = {curveOf(late)};
+    m.curveOf = {-1, 0};
+    const double T1 = 1000, Q1 = 2000;
+    m.condition = {Condition{Condition::Kind::Temperature, T1, 0}, Condition{Condition::Kind::Flux, -Q1 / 2, 0}};
+    const ThermalSolution sol = solveThermal(s, F, m, SolverOptions{});
+    const double T2 = sol.T[1], e2 = curveAt(late, T2);
+    MESSAGE("outer: " << T2 << " K, eps " << e2 << "; " << sol.report.note);
+    REQUIRE(std::isfinite(T2));
+    CHECK(e2 > 0.0);
+    CHECK(Q1 == relative((blackbody(T1) - blackbody(T2)) / (1 / 0.9 + 0.5 * (1 / e2 - 1)), 1e-9));
+    CHECK(sol.balance <= 1e-9);
+    // An isothermal node whose curve is 0 at 300 K emits elsewhere: accepted.
+    m.isothermal = {IsothermalNode{"outer", -Q1}};
+    m.condition[1] = Condition{Condition::Kind::Isothermal, 0.0, 0};
+    CHECK_NOTHROW(checkModel(s, m));
 }
 
 TEST_CASE("Emissivity against temperature: a heated isothermal plate against a bisection over dense solves") {
