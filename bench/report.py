@@ -105,7 +105,7 @@ def git(*args):
 def kept_sections(path, md):
     """The sections of the BENCHMARKS.md at `path` that this script does not write (measured by hand
     or by a script outside `make bench`: the thermal and year sections), so that a run keeps them."""
-    written = {line for line in md if line.startswith("## ")}
+    written = {line for line in "\n".join(md).splitlines() if line.startswith("## ")}  # entries may hold several lines
     try:
         old = open(path).read()
     except OSError:

@@ -527,7 +527,7 @@ py::dict skyView(const ScenePtr& scene, const std::string& method, const std::ma
 /// Sensors from (S, 3) positions and normals: their factors (CSR arrays for scipy) and sky view factors.
 py::dict sensorFactorsOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> positions,
                          py::array_t<double, py::array::c_style | py::array::forcecast> normals, int threads,
-                         const std::string& estimator, std::uint32_t rays) {
+                         const std::string& estimator, long long rays) {
     if (positions.ndim() != 2 || positions.shape(1) != 3 || normals.ndim() != 2 || normals.shape(1) != 3 ||
         normals.shape(0) != positions.shape(0))
         throw py::value_error("sensor_factors: positions and normals must be arrays of shape (S, 3), the same S");
@@ -544,13 +544,13 @@ py::dict sensorFactorsOf(const ScenePtr& scene, py::array_t<double, py::array::c
         sensors.name.push_back(std::to_string(s));
     }
     SensorOptions options;
-    try {
+    if (estimator == "auto" || estimator == "exact" || estimator == "rays")
         options.estimator = parseSensorEstimator(estimator);
-    } catch (const Error& e) {
-        throw py::value_error(std::string("sensor_factors: ") + e.what());
-    }
-    if (rays == 0 || rays > (1u << 24)) throw py::value_error("sensor_factors: rays must be 1 .. 16777216");
-    options.rays = rays;
+    else
+        throw py::value_error("sensor_factors: estimator '" + estimator + "' is not one of auto, exact, rays");
+    if (rays < 1 || rays > (1 << 24))
+        throw py::value_error("sensor_factors: rays must be 1 .. 16777216, not " + std::to_string(rays));
+    options.rays = std::uint32_t(rays);
     options.threads = threads;
     SensorFactors f;
     std::string why;
@@ -568,7 +568,7 @@ py::dict sensorFactorsOf(const ScenePtr& scene, py::array_t<double, py::array::c
     out["data"] = numpyVector(f.values);
     out["sky_view_factor"] = numpyVector(f.skyView);
     out["patches"] = f.patches;
-    out["estimator"] = f.rays > 0 ? "rays" : "exact";
+    out["estimator"] = chooseSensorEstimator(options, sensors.size(), scene->size(), why) == SensorEstimator::Rays ? "rays" : "exact";
     out["why"] = why;
     return out;
 }
@@ -785,6 +785,10 @@ py::object reflectedSunOf(const ScenePtr& scene, py::array_t<double, py::array::
     if (dni.size() == 1) dni.assign(suns.size(), dni.front());
     if (dni.size() != suns.size())
         throw py::value_error("dni: one value, or one per sun (" + std::to_string(suns.size()) + "), not " + std::to_string(dni.size()));
+    for (std::size_t r = 0; r < dni.size(); ++r)
+        if (!std::isfinite(dni[r]) || dni[r] < 0.0)
+            throw py::value_error("dni: " + std::to_string(dni[r]) + " (sun " + std::to_string(r) +
+                                  ") must be a finite direct-normal irradiance >= 0 (W/m^2)");
     std::vector<ReflectedSun> results(suns.size());
     {
         py::gil_scoped_release release;

@@ -600,6 +600,8 @@ def test_sun_and_one_hour_of_irradiance_as_the_command_line():
     assert len(hemirad.reflected_sun(mirror_box, suns, 800.0)) == 3
     with pytest.raises(ValueError, match="one per sun"):
         hemirad.reflected_sun(mirror_box, suns, [800.0, 600.0])
+    with pytest.raises(ValueError, match=r"sun 1\) must be a finite"):
+        hemirad.reflected_sun(mirror_box, suns, [800.0, -1.0, 400.0])
     # With the mirror: the reflected sun arrives first, as the command line's reflected_sun column.
     Fm, _ = hemirad.form_factors(mirror_box, all_rows=True)
     hour = hemirad.irradiance(mirror_box, Fm, [1.0, 0.5, -1.0], 800.0, 100.0)
