@@ -69,6 +69,17 @@ ThermalModel grayModel(std::size_t n) {
 
 const std::vector<std::pair<double, double>> kOxidisedSteel = {{300, 0.3}, {600, 0.55}, {1000, 0.8}, {1400, 0.85}};
 
+/// The two surfaces' model: the inner held at T1 (eps 0.9), the outer, whose emissivity follows
+/// `curve`, given a net flux -Q1 / 2 (its area is 2: it takes Q1 away).
+ThermalModel innerHeldOuterCurved(const std::vector<std::pair<double, double>>& curve, double T1, double Q1) {
+    ThermalModel m = grayModel(2);
+    m.surface[0].emissivity = 0.9;
+    m.emissivityCurves = {curveOf(curve)};
+    m.curveOf = {-1, 0};
+    m.condition = {Condition{Condition::Kind::Temperature, T1, 0}, Condition{Condition::Kind::Flux, -Q1 / 2, 0}};
+    return m;
+}
+
 }  // namespace
 
 TEST_CASE("Emissivity against temperature: known temperatures take the curve's value there (two-surface closed form)") {
@@ -96,12 +107,8 @@ TEST_CASE("Emissivity against temperature: a flux surface's temperature balances
     SceneBuilder b;
     const Scene s = twoSurfaces(b);
     const FormFactors F = denseF({{0.0, 1.0}, {0.5, 0.5}});
-    ThermalModel m = grayModel(2);
-    m.surface[0].emissivity = 0.9;
-    m.emissivityCurves = {curveOf(kOxidisedSteel)};
-    m.curveOf = {-1, 0};
     const double T1 = 1000, Q1 = 20000;
-    m.condition = {Condition{Condition::Kind::Temperature, T1, 0}, Condition{Condition::Kind::Flux, -Q1 / 2, 0}};
+    const ThermalModel m = innerHeldOuterCurved(kOxidisedSteel, T1, Q1);
     const ThermalSolution sol = solveThermal(s, F, m, SolverOptions{});
     const double T2 = bisect(
         [&](double T) { return Q1 * (1 / 0.9 + 0.5 * (1 / curveAt(kOxidisedSteel, T) - 1)) - (blackbody(T1) - blackbody(T)); },
@@ -124,13 +131,9 @@ TEST_CASE("Emissivity against temperature: a curve that is 0 at the reference te
     const Scene s = twoSurfaces(b);
     const FormFactors F = denseF({{0.0, 1.0}, {0.5, 0.5}});
     const std::vector<std::pair<double, double>> late = {{500, 0.0}, {1000, 0.8}};
-    ThermalModel m = grayModel(2);
-    m.surface[0].emissivity = 0.9;
-    m.surface[1].emissivity = 0.0;
-    m.emissivityCurves = {curveOf(late)};
-    m.curveOf = {-1, 0};
     const double T1 = 1000, Q1 = 2000;
-    m.condition = {Condition{Condition::Kind::Temperature, T1, 0}, Condition{Condition::Kind::Flux, -Q1 / 2, 0}};
+    ThermalModel m = innerHeldOuterCurved(late, T1, Q1);
+    m.surface[1].emissivity = 0.0;
     const ThermalSolution sol = solveThermal(s, F, m, SolverOptions{});
     const double T2 = sol.T[1], e2 = curveAt(late, T2);
     MESSAGE("outer: " << T2 << " K, eps " << e2 << "; " << sol.report.note);
