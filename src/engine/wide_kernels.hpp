@@ -6,7 +6,7 @@
 /// HEMIRAD_WIDE_KERNEL on a function: its clones. HEMIRAD_INLINE_KERNEL on what it calls: inlined
 /// into each clone, so compiled for its target too.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define HEMIRAD_WIDE_KERNEL __attribute__((target_clones("default", "arch=haswell")))
+#define HEMIRAD_WIDE_KERNEL __attribute__((target_clones("default", "avx2,fma")))
 #define HEMIRAD_INLINE_KERNEL inline __attribute__((always_inline))
 #else
 #define HEMIRAD_WIDE_KERNEL
