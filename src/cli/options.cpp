@@ -786,8 +786,8 @@ form factors (formfactors, solve, render):
                          written by its rank alone, plus a small manifest at the F path that
                          info, solve --ff and the GUI read (an F larger than one machine's memory)
 )" + backendSections + R"(solve (solve, render):
-  --solver NAME          )" + solverNames() + R"( (auto: lu up to 2000 patches, else gauss-seidel
-                         on up to 2 threads, jacobi with parallel sweeps on more)
+  --solver NAME          )" + solverNames() + R"( (auto: lu up to 2000 patches, else sor on up
+                         to 2 threads, jacobi with parallel sweeps on more)
   --tolerance T          relative residual to reach (default 1e-6)
   --max-iterations N     iteration limit (default 100000)
   --allow-unconverged    report an unconverged solve instead of failing

@@ -1,6 +1,8 @@
 // CSR form factors: construction, lookup, statistics, reciprocity enforcement and validation.
 #include "engine/form_factors.hpp"
 
+#include "engine/interleaved_rows.hpp"
+
 #include "engine/wide_kernels.hpp"
 
 #include "engine/error.hpp"
@@ -343,19 +345,13 @@ void validateFormFactors(const FormFactors& F, std::size_t patchCount, const std
 
 namespace {
 
-/// Rows [first, last) of Y = F X (interleaved, `width` columns).
+/// Rows [first, last) of Y = F X (interleaved, `width` columns), the columns in chunks
+/// (interleaved_rows.hpp).
 HEMIRAD_WIDE_KERNEL void multiplyRows(const FormFactors& F, std::size_t width, const double* X, double* Y, std::size_t first,
                                       std::size_t last) {
-    const std::uint32_t* col = F.columns();
-    const float* val = F.values();
-    for (std::size_t i = first; i < last; ++i) {
-        double* y = Y + i * width;
-        std::fill(y, y + width, 0.0);
-        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
-            const double v = val[k];
-            const double* x = X + std::size_t(col[k]) * width;
-            for (std::size_t c = 0; c < width; ++c) y[c] += v * x[c];
-        }
+    for (std::size_t c0 = 0; c0 < width; c0 += interleaved::kChunk) {
+        const int w = int(std::min<std::size_t>(interleaved::kChunk, width - c0));
+        for (std::size_t i = first; i < last; ++i) interleaved::rowSums(F, i, F.rowEnd(i), X + c0, width, w, Y + i * width + c0);
     }
 }
 
@@ -364,7 +360,7 @@ HEMIRAD_WIDE_KERNEL void multiplyRows(const FormFactors& F, std::size_t width, c
 void multiplyInterleaved(const FormFactors& F, std::size_t width, const double* X, std::vector<double>& Y) {
     const std::size_t n = F.size();
     Y.resize(n * width);
-    constexpr std::size_t kRows = 64;
+    constexpr std::size_t kRows = interleaved::kBlockRows;
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::int64_t chunk = 0; chunk < std::int64_t((n + kRows - 1) / kRows); ++chunk) {
         const std::size_t first = std::size_t(chunk) * kRows;

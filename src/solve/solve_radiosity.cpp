@@ -68,11 +68,12 @@ void checkConverged(const SolveReport& r, const SolverOptions& options) {
 std::string chooseSolver(std::size_t patches, const Scene&) {
     // Small systems: exact LU. Large ones: a stationary iteration on the unsymmetrised F, which
     // converges for any rho < 1 with row sums <= 1 (diagonally dominant I - R F) and serves RGB in one
-    // pass. Gauss-Seidel needs fewer sweeps, but each runs in order on one core; Jacobi's sweeps run
-    // on every thread. Measured on cornell13k (bench/results/auto_solver.md): 15 against 26 sweeps,
-    // 1.5 s against 2.2 s on 1 thread, even (1.37 s) on 2: Jacobi ahead beyond.
+    // pass. Ordered sweeps need fewer of them, but each runs in order on one core; Jacobi's sweeps run
+    // on every thread. SOR (Gauss-Seidel over-relaxed by its own convergence) needs fewer again.
+    // Measured on cornell13k (bench/results/auto_solver.md): SOR 10, Gauss-Seidel 15, Jacobi 26
+    // sweeps; on 2 threads SOR 0.8 s, Jacobi 1.4 s. Jacobi is ahead beyond 2 threads.
     if (patches <= 2000) return "lu";
-    return resolveThreads(0) > 2 ? "jacobi" : "gauss-seidel";
+    return resolveThreads(0) > 2 ? "jacobi" : "sor";
 }
 
 namespace {
@@ -212,9 +213,14 @@ BandSolution solveBands(const Scene& scene, const FormFactors& F, const std::vec
 
     BandSolution result;
     {
+        // The residual on I - R F, in one pass over F for every channel that lacks it: a solver that
+        // sweeps I - R F itself reports it for its final B (one pass fewer for a year's batch).
         std::vector<Channel*> all;
-        for (Channel& ch : channels) all.push_back(&ch);
-        detail::relativeResiduals(F, all);  // one pass over F for every channel
+        for (Channel& ch : channels) {
+            if (!solver.residualOnPosedSystem || ch.E.norm() == 0.0) all.push_back(&ch);
+            else ch.report.residualOriginal = ch.report.residual;
+        }
+        detail::relativeResiduals(F, all);
     }
     for (Channel& ch : channels) {
         SolveReport& r = ch.report;

@@ -15,7 +15,7 @@ namespace hemirad {
 
 struct SolverOptions {
     /// "auto" (chooseSolver) or the name of a registered solver (solverRegistry(): lu, cholesky, cg,
-    /// bicgstab, jacobi, gauss-seidel, southwell, ...).
+    /// bicgstab, jacobi, gauss-seidel, sor, southwell, ...).
     std::string solver = "auto";
     double tolerance = 1e-6;          ///< relative residual ||E - (I - R F) B|| / ||E|| to reach
     int maxIterations = 100000;       ///< sweeps / iterations (Southwell: sweeps of N shots)

@@ -10,7 +10,7 @@ const std::vector<const SolverDescriptor*>& solverRegistry() {
         std::vector<const SolverDescriptor*> all;
         for (const std::vector<SolverDescriptor>* family : {
                  &eigenSolvers(),       // lu, cholesky, cg, bicgstab
-                 &stationarySolvers(),  // jacobi, gauss-seidel, southwell
+                 &stationarySolvers(),  // jacobi, gauss-seidel, sor, southwell
              })
             for (const SolverDescriptor& d : *family) all.push_back(&d);
         return all;

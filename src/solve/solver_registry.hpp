@@ -30,6 +30,8 @@ struct SolverDescriptor {
     /// convergence is judged on the residual of I - R F.
     bool symmetricForm = false;
     bool needsTranspose = false;  ///< reads F^T (column access)
+    /// Its report's residual is ||E - (I - R F) B|| / ||E|| of the B it returns (not recomputed).
+    bool residualOnPosedSystem = false;
     /// The solve options it takes beyond the common ones: "--tolerance" and "--max-iterations" for
     /// iterative solvers; none for a factorisation (giving them to it is a usage error).
     std::vector<std::string> flags;

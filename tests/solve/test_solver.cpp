@@ -139,7 +139,7 @@ TEST_CASE("Cholesky and CG on a non-reciprocal F are not converged: the gate is 
         CHECK(r.reports[0].residualOriginal > 1e-3);   // I - R F did not
     }
     // The unsymmetric solvers solve the posed system.
-    for (const char* kind : {"lu", "bicgstab", "gauss-seidel"}) {
+    for (const char* kind : {"lu", "bicgstab", "gauss-seidel", "sor"}) {
         const Radiosity r = solveWith(s, F, kind, 1e-8);
         CHECK(r.reports[0].converged);
         CHECK(r.reports[0].residualOriginal < 1e-7);
@@ -209,7 +209,7 @@ TEST_CASE("A warm start from the solution converges at once") {
 }
 
 TEST_CASE("The solver registry names every family's solvers, and unknown names are errors that list them") {
-    CHECK(kAll == std::vector<std::string>{"lu", "cholesky", "cg", "bicgstab", "jacobi", "gauss-seidel", "southwell"});
+    CHECK(kAll == std::vector<std::string>{"lu", "cholesky", "cg", "bicgstab", "jacobi", "gauss-seidel", "sor", "southwell"});
     for (const std::string& kind : kAll) {
         CHECK(findSolver(kind).name == kind);
         CHECK_FALSE(findSolver(kind).summary.empty());
@@ -219,17 +219,17 @@ TEST_CASE("The solver registry names every family's solvers, and unknown names a
     CHECK_FALSE(findSolver("bicgstab").symmetricForm);
     CHECK_NOTHROW(checkSolverName("auto"));
     CHECK_THROWS_WITH_AS(checkSolverName("magic"),
-                         doctest::Contains("unknown solver 'magic' (auto, lu, cholesky, cg, bicgstab, jacobi, gauss-seidel, southwell)"),
+                         doctest::Contains("unknown solver 'magic' (auto, lu, cholesky, cg, bicgstab, jacobi, gauss-seidel, sor, southwell)"),
                          Error);
     SolverOptions o;
     o.solver = "magic";
     CHECK_THROWS_WITH_AS(solveRadiosity(cubeWith(0.5), exactCubeF(), o), doctest::Contains("unknown solver 'magic'"), Error);
 }
 
-TEST_CASE("Jacobi and Gauss-Seidel hand each sweep's radiosity to a progress callback") {
+TEST_CASE("Jacobi, Gauss-Seidel and SOR hand each sweep's radiosity to a progress callback") {
     const Scene s = cubeWith(0.9);
     const Radiosity exact = solveWith(s, exactCubeF(), "lu");
-    for (const char* kind : {"jacobi", "gauss-seidel"}) {
+    for (const char* kind : {"jacobi", "gauss-seidel", "sor"}) {
         CAPTURE(kind);
         SolverOptions o;
         o.solver = kind;
@@ -248,17 +248,17 @@ TEST_CASE("Jacobi and Gauss-Seidel hand each sweep's radiosity to a progress cal
     }
 }
 
-TEST_CASE("auto picks LU for small systems, and above 2000 patches Gauss-Seidel on up to 2 threads and Jacobi (parallel sweeps) on more") {
+TEST_CASE("auto picks LU for small systems, and above 2000 patches SOR on up to 2 threads and Jacobi (parallel sweeps) on more") {
     const Scene scene;
     const int saved = omp_get_max_threads();
     omp_set_num_threads(2);
     CHECK(chooseSolver(2000, scene) == "lu");
-    CHECK(chooseSolver(2001, scene) == "gauss-seidel");
+    CHECK(chooseSolver(2001, scene) == "sor");
     omp_set_num_threads(3);
     CHECK(chooseSolver(2000, scene) == "lu");
     CHECK(chooseSolver(2001, scene) == "jacobi");
     omp_set_num_threads(1);
-    CHECK(chooseSolver(50000, scene) == "gauss-seidel");
+    CHECK(chooseSolver(50000, scene) == "sor");
     omp_set_num_threads(saved);
 }
 
@@ -293,4 +293,31 @@ TEST_CASE("Many bands solved together (a year's hours) give each band's LU answe
             for (const SolveReport& report : r.reports) CHECK(report.converged);
         }
     }
+}
+
+TEST_CASE("SOR adapts its factor: fewer sweeps than Gauss-Seidel to the same answer, and Gauss-Seidel again where over-relaxing grows the steps") {
+    // The closed cube at rho = 0.9: F reciprocal, so any factor in (0, 2) converges.
+    const Scene s = cubeWith(0.9);
+    const Radiosity exact = solveWith(s, exactCubeF(), "lu");
+    const Radiosity gs = solveWith(s, exactCubeF(), "gauss-seidel");
+    const Radiosity sor = solveWith(s, exactCubeF(), "sor");
+    REQUIRE(sor.reports.size() == 1);
+    CHECK(sor.reports[0].converged);
+    CHECK(sor.reports[0].note.find("relaxation factor 1.") != std::string::npos);
+    CHECK(sor.reports[0].note.find("relaxation factor 1.000") == std::string::npos);
+    CHECK(sor.reports[0].iterations * 4 < gs.reports[0].iterations * 3);
+    for (int i = 0; i < 6; ++i) CHECK(sor.B[i][0] == relative(exact.B[i][0], 1e-8));
+
+    // Light passed round a ring, each patch seeing only the next (not reciprocal): the Jacobi
+    // matrix's eigenvalues are complex, Young's factor overshoots and the steps grow. SOR goes back
+    // to Gauss-Seidel, says so, and converges; held at that factor it would diverge.
+    std::vector<std::vector<FormFactors::Entry>> rows(6);
+    for (std::uint32_t i = 0; i < 6; ++i) rows[i].push_back({(i + 1) % 6, 1.0f});
+    const FormFactors ring = FormFactors::fromRows(std::move(rows), std::vector<std::uint8_t>(6, 1));
+    const Radiosity ringExact = solveWith(s, ring, "lu");
+    const Radiosity ringSor = solveWith(s, ring, "sor");
+    REQUIRE(ringSor.reports.size() == 1);
+    CHECK(ringSor.reports[0].converged);
+    CHECK(ringSor.reports[0].note.find("over-relaxation made the steps grow") != std::string::npos);
+    for (int i = 0; i < 6; ++i) CHECK(ringSor.B[i][0] == relative(ringExact.B[i][0], 1e-8));
 }

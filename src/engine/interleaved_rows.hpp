@@ -1,0 +1,63 @@
+// Row products of the float CSR F with many interleaved right-hand sides (a year's hours, a sky's
+// cells): X holds value (j, c) at X[j * stride + c]. The columns go in chunks of fixed width, so
+// each chunk's sums stay in registers while the row's entries stream past, and rows go in blocks,
+// so a block's entries are read from cache again for each chunk (neighbouring rows meet much the
+// same patches). Each column's sum takes the row's entries in order whatever the chunking: a
+// column's result does not depend on how many columns (or threads) share the pass.
+#pragma once
+
+#include "engine/form_factors.hpp"
+#include "engine/wide_kernels.hpp"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace hemirad::interleaved {
+
+/// Rows a block: its entries (about 1,000 a row on a large scene, 8 bytes each) stay in a core's
+/// cache while every chunk of columns passes over them. Measured on street64k (59 M nonzeros, 106
+/// columns, 2 threads): 128 rows a block and 16 columns a chunk, 0.75 s a sweep against 1.06 s
+/// row by row with a sum per column in memory.
+constexpr std::size_t kBlockRows = 128;
+constexpr int kChunk = 16;
+
+/// out[c] = sum of F_ik X[col(k) * stride + c] for c < width over the row's entries [begin, end)
+/// but `skip` (begin <= skip <= end; end: none), in the row's order. W > 0: width is W, known to
+/// the compiler, and the sums stay in registers; W = 0: any width up to kChunk.
+template <int W>
+HEMIRAD_INLINE_KERNEL void chunkSums(const float* val, const std::uint32_t* col, std::uint64_t begin, std::uint64_t skip,
+                                     std::uint64_t end, const double* X, std::size_t stride, int width, double* out) {
+    const int w = W > 0 ? W : width;
+    double sum[W > 0 ? W : kChunk] = {};
+    auto run = [&](std::uint64_t from, std::uint64_t to) {
+        for (std::uint64_t k = from; k < to; ++k) {
+            const double v = val[k];
+            const double* x = X + std::size_t(col[k]) * stride;
+            for (int c = 0; c < w; ++c) sum[c] += v * x[c];
+        }
+    };
+    run(begin, skip);
+    run(skip < end ? skip + 1 : end, end);
+    for (int c = 0; c < w; ++c) out[c] = sum[c];
+}
+
+/// Row i's sums for `width` columns (at most kChunk) from X's first: out[0, width). `skip` as
+/// chunkSums takes it.
+HEMIRAD_INLINE_KERNEL void rowSums(const FormFactors& F, std::size_t i, std::uint64_t skip, const double* X,
+                                   std::size_t stride, int width, double* out) {
+    const float* val = F.values();
+    const std::uint32_t* col = F.columns();
+    const std::uint64_t begin = F.rowBegin(i), end = F.rowEnd(i);
+    if (width == kChunk) chunkSums<kChunk>(val, col, begin, skip, end, X, stride, width, out);
+    else chunkSums<0>(val, col, begin, skip, end, X, stride, width, out);
+}
+
+/// The entry of row i's self factor F_ii, or the row's end when it has none.
+inline std::uint64_t selfEntry(const FormFactors& F, std::size_t i) {
+    const std::uint32_t* col = F.columns();
+    for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k)
+        if (col[k] == i) return k;
+    return F.rowEnd(i);
+}
+
+}  // namespace hemirad::interleaved
