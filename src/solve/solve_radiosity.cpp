@@ -70,8 +70,8 @@ std::string chooseSolver(std::size_t patches, const Scene&) {
     // converges for any rho < 1 with row sums <= 1 (diagonally dominant I - R F) and serves RGB in one
     // pass. Ordered sweeps need fewer of them, but each runs in order on one core; Jacobi's sweeps run
     // on every thread. SOR (Gauss-Seidel over-relaxed by its own convergence) needs fewer again.
-    // Measured on cornell13k (bench/results/auto_solver.md): SOR 10, Gauss-Seidel 15, Jacobi 26
-    // sweeps; on 2 threads SOR 0.8 s, Jacobi 1.4 s. Jacobi is ahead beyond 2 threads.
+    // Measured on cornell13k at 1e-6 (bench/results/auto_solver.md): SOR 11, Gauss-Seidel 15, Jacobi
+    // 26 sweeps; on 2 threads 1.31, 1.66 and 1.56 s. Jacobi is ahead beyond 2 threads.
     if (patches <= 2000) return "lu";
     return resolveThreads(0) > 2 ? "jacobi" : "sor";
 }
