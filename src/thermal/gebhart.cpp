@@ -9,18 +9,27 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <map>
 
 namespace hemirad::thermal {
 namespace {
 
 constexpr std::size_t kDenseTableNodes = 4096;
 
+/// The column solves' solver: `auto` is LU up to 2,000 patches (one factorisation serves every
+/// batch), else SOR, which sweeps a batch's columns together in one pass over F (the system has the
+/// diffuse reflectances 1 - eps - s, below 1; thermal's own auto, BiCGSTAB, would solve them one
+/// by one).
+SolverOptions columnSolverOptions(const SolverOptions& given, std::size_t patches) {
+    SolverOptions o = given;
+    if (o.solver == "auto") o.solver = patches <= 2000 ? "lu" : "sor";
+    return o;
+}
+
 /// Calls visit(J, X) for every node J, X[i] = sum_{j in J} B_ij.
 void forEachNodeColumn(const Scene& scene, const FormFactors& F, const ThermalModel& model,
                        const std::vector<std::vector<PatchId>>& members, std::size_t batch, const SolverOptions& given,
                        SolveReport& report, const std::function<void(std::size_t, const std::vector<double>&)>& visit) {
-    const SolverOptions solver = thermalSolverOptions(given, scene.size());
+    const SolverOptions solver = columnSolverOptions(given, scene.size());
     checkModel(scene, model);
     const std::size_t n = scene.size();
     if (F.size() != n) throw Error("thermal: F does not belong to this scene (" + std::to_string(F.size()) + " rows)");
@@ -31,10 +40,10 @@ void forEachNodeColumn(const Scene& scene, const FormFactors& F, const ThermalMo
     std::vector<double> rho(n);
     for (std::size_t i = 0; i < n; ++i) rho[i] = std::max(0.0, model.surface[i].diffuse());
     batch = std::max<std::size_t>(1, batch);
-    std::vector<double> X(n);
+    std::vector<double> X(n), C, FC;
     for (std::size_t first = 0; first < members.size(); first += batch) {
-        const std::size_t last = std::min(members.size(), first + batch);
-        std::vector<Band> bands(last - first);
+        const std::size_t last = std::min(members.size(), first + batch), width = last - first;
+        std::vector<Band> bands(width);
         for (std::size_t J = first; J < last; ++J) {
             Band& band = bands[J - first];
             band.name = "node " + std::to_string(J);
@@ -44,15 +53,13 @@ void forEachNodeColumn(const Scene& scene, const FormFactors& F, const ThermalMo
         }
         const BandSolution solved = solveBands(scene, F, bands, solver);
         if (!solved.reports.empty()) report = solved.reports.back();
+        // F C for the batch's columns in one pass over F.
+        C.resize(n * width);
+        for (std::size_t b = 0; b < width; ++b)
+            for (std::size_t j = 0; j < n; ++j) C[j * width + b] = solved.X[b][j];
+        multiplyInterleaved(F, width, C.data(), FC);
         for (std::size_t J = first; J < last; ++J) {
-            const std::vector<double>& C = solved.X[J - first];
-#pragma omp parallel for schedule(dynamic, 256)
-            for (std::int64_t i = 0; i < std::int64_t(n); ++i) {
-                double x = 0.0;
-                for (std::uint64_t k = F.rowBegin(std::size_t(i)); k < F.rowEnd(std::size_t(i)); ++k)
-                    x += double(F.values()[k]) * C[F.columns()[k]];
-                X[std::size_t(i)] = x;
-            }
+            for (std::size_t i = 0; i < n; ++i) X[i] = FC[i * width + (J - first)];
             visit(J, X);
         }
     }
@@ -98,38 +105,12 @@ Conductors computeConductors(const Scene& scene, const FormFactors& F, const The
             out.emittingArea[I] += epsArea[i];
         }
 
-    // GR_IJ for every node J (columns), and what each node I absorbs in all: the rest escapes.
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<double, double>> pairs;  // (a<b) -> (GR_ab, GR_ba)
-    std::vector<double> absorbedBySurfaces(K, 0.0);
-    std::vector<double>& self = out.self;
-    self.assign(K, 0.0);
-    std::vector<double> column(K);
-    forEachNodeColumn(scene, F, model, out.members, options.batch, solver, out.report,
-                      [&](std::size_t J, const std::vector<double>& X) {
-                          std::fill(column.begin(), column.end(), 0.0);
-                          for (std::size_t i = 0; i < n; ++i) column[nodeOf[i]] += epsArea[i] * X[i];
-                          for (std::size_t I = 0; I < K; ++I) {
-                              if (column[I] == 0.0) continue;
-                              absorbedBySurfaces[I] += column[I];
-                              if (I == J) {
-                                  self[I] = column[I];
-                                  continue;
-                              }
-                              const auto key = std::make_pair(std::uint32_t(std::min(I, J)), std::uint32_t(std::max(I, J)));
-                              auto& v = pairs[key];
-                              (I < J ? v.first : v.second) = column[I];
-                          }
-                      });
-
+    // GR_IJ for every node J (columns), and what each node I absorbs in all: the rest escapes. A
+    // pair I < J is complete when column J arrives: GR_JI waits for it in waiting[J], left there by
+    // column I, so at most the pairs of the columns still to come are held.
     const bool table = K <= kDenseTableNodes;
     if (table) out.B.assign(K, std::vector<double>(K + 1, 0.0));
-    double largest = 0.0, worst = 0.0;
-    for (const auto& [key, v] : pairs) {
-        largest = std::max({largest, v.first, v.second});
-        worst = std::max(worst, std::abs(v.first - v.second));
-    }
-    out.asymmetry = largest > 0.0 ? worst / largest : 0.0;
-    auto keep = [&](std::uint32_t a, std::uint32_t b, double gr) {
+    auto keep = [&](std::uint32_t a, std::uint32_t b, double gr, std::vector<Coupling>& kept) {
         const double Ba = out.emittingArea[a] > 0 ? gr / out.emittingArea[a] : 0.0;
         const double Bb = b < K && out.emittingArea[b] > 0 ? gr / out.emittingArea[b] : 0.0;
         if (table) {
@@ -141,18 +122,47 @@ Conductors computeConductors(const Scene& scene, const FormFactors& F, const The
             out.droppedSum += gr;
             return;
         }
-        out.couplings.push_back({a, b, gr});
+        kept.push_back({a, b, gr});
     };
+    std::vector<std::vector<std::pair<std::uint32_t, double>>> waiting(K);  // waiting[J]: (I < J, GR_JI)
+    std::vector<Coupling> pairs;  // kept pairs between surfaces, in the order they completed
+    std::vector<double> absorbedBySurfaces(K, 0.0);
+    std::vector<double>& self = out.self;
+    self.assign(K, 0.0);
+    std::vector<double> column(K), other(K, 0.0);
+    double largest = 0.0, worst = 0.0;
+    forEachNodeColumn(scene, F, model, out.members, options.batch, solver, out.report,
+                      [&](std::size_t J, const std::vector<double>& X) {
+                          std::fill(column.begin(), column.end(), 0.0);
+                          for (std::size_t i = 0; i < n; ++i) column[nodeOf[i]] += epsArea[i] * X[i];
+                          for (const auto& [I, gr] : waiting[J]) other[I] = gr;
+                          for (std::size_t I = 0; I < K; ++I) {
+                              if (column[I] != 0.0) absorbedBySurfaces[I] += column[I];
+                              if (I == J) {
+                                  self[I] = column[I];
+                              } else if (I > J) {
+                                  if (column[I] != 0.0) waiting[I].push_back({std::uint32_t(J), column[I]});
+                              } else if (column[I] != 0.0 || other[I] != 0.0) {  // GR_IJ and GR_JI
+                                  largest = std::max({largest, column[I], other[I]});
+                                  worst = std::max(worst, std::abs(column[I] - other[I]));
+                                  const double gr = 0.5 * (column[I] + other[I]);
+                                  if (gr > 0.0) keep(std::uint32_t(I), std::uint32_t(J), gr, pairs);
+                              }
+                          }
+                          for (const auto& entry : waiting[J]) other[entry.first] = 0.0;
+                          std::vector<std::pair<std::uint32_t, double>>().swap(waiting[J]);
+                      });
+    out.asymmetry = largest > 0.0 ? worst / largest : 0.0;
+    std::sort(pairs.begin(), pairs.end(),
+              [](const Coupling& x, const Coupling& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
     auto next = pairs.begin();
+    out.couplings.reserve(pairs.size() + K);
     for (std::uint32_t a = 0; a < K; ++a) {
-        for (; next != pairs.end() && next->first.first == a; ++next) {
-            const double gr = 0.5 * (next->second.first + next->second.second);
-            if (gr > 0.0) keep(a, next->first.second, gr);
-        }
+        for (; next != pairs.end() && next->a == a; ++next) out.couplings.push_back(*next);
         // The environment: the emission of node a that no surface absorbs (self-absorption included).
         const double escaped = out.emittingArea[a] - absorbedBySurfaces[a];
         if (out.emittingArea[a] > 0.0) out.escapeMax = std::max(out.escapeMax, escaped / out.emittingArea[a]);
-        if (escaped > 1e-12 * out.emittingArea[a]) keep(a, std::uint32_t(K), escaped);
+        if (escaped > 1e-12 * out.emittingArea[a]) keep(a, std::uint32_t(K), escaped, out.couplings);
     }
     if (table)  // the self term: what a node absorbs of its own emission (mirrors, concave objects)
         for (std::size_t I = 0; I < K; ++I)

@@ -139,6 +139,56 @@ TEST_CASE("Conductors lumped per object, with the environment, and the threshold
     CHECK(std::abs(dropped.droppedSum - (gr(c, 0, 1) + gr(c, 0, 2) + gr(c, 1, 2))) <= 1e-12 * dropped.droppedSum);
 }
 
+TEST_CASE("Per-patch conductors: the same couplings from LU and from SOR's batched column sweeps, whatever the batch") {
+    // The open cube of the previous case, each of its 80 patches a node: 3,160 pairs, completed as
+    // their second column arrives, across batches that split the columns unevenly.
+    Scene s = subdivide(unitCube(), 0.25);
+    std::vector<Patch> kept;
+    for (const Patch& p : s.patches)
+        if (s.parents[p.parent].sourcePatch != 1) kept.push_back(p);
+    s.patches = kept;
+    const FormFactors F = computeFormFactors(s, MethodSettings::of(HemisphereOptions{}), neededRows(s, true)).F;
+    ThermalModel m;
+    for (PatchId i = 0; i < s.size(); ++i) m.surface.push_back({0.3 + 0.6 * double(i % 5) / 4.0, 0.0});
+    m.condition.assign(s.size(), Condition{Condition::Kind::Temperature, 300.0, 0});
+    GebhartOptions o;
+    o.lumping = Lumping::Patches;
+    SolverOptions lu;
+    lu.solver = "lu";
+    const Conductors reference = computeConductors(s, F, m, o, lu);
+    REQUIRE(reference.nodes.size() == 80);
+    for (const std::size_t batch : {std::size_t(7), std::size_t(64)}) {
+        CAPTURE(batch);
+        o.batch = batch;
+        SolverOptions sor;
+        sor.solver = "sor";
+        sor.tolerance = 1e-12;
+        const Conductors c = computeConductors(s, F, m, o, sor);
+        CHECK(c.report.solver == "sor");
+        REQUIRE(c.couplings.size() == reference.couplings.size());
+        double worst = 0.0, largest = 0.0;
+        for (std::size_t k = 0; k < c.couplings.size(); ++k) {
+            CHECK(c.couplings[k].a == reference.couplings[k].a);
+            CHECK(c.couplings[k].b == reference.couplings[k].b);
+            worst = std::max(worst, std::abs(c.couplings[k].gr - reference.couplings[k].gr));
+            largest = std::max(largest, reference.couplings[k].gr);
+        }
+        CHECK(worst <= 1e-10 * largest);
+        CHECK(std::abs(c.asymmetry - reference.asymmetry) <= 1e-8);
+        for (std::size_t I = 0; I < 80; ++I) CHECK(c.self[I] == relative(reference.self[I], 1e-9));
+    }
+    // Every pair once, in (a, b) order, each node's environment coupling after its pairs.
+    for (std::size_t k = 1; k < reference.couplings.size(); ++k) {
+        const Coupling& p = reference.couplings[k - 1];
+        const Coupling& q = reference.couplings[k];
+        CHECK((p.a < q.a || (p.a == q.a && p.b < q.b)));
+    }
+    std::size_t pairs = 0;
+    for (const Coupling& k : reference.couplings) pairs += k.b < 80;
+    CHECK(pairs <= 80 * 79 / 2);
+    CHECK(pairs > 80 * 79 / 4);  // most patches of the open cube see each other through reflections
+}
+
 TEST_CASE("The exchange matrix between objects sums to each object's net power") {
     const Duct d = duct(true);
     ThermalModel m = modelFor(d.scene, {0.9, 0.3, 0.2});
