@@ -9,6 +9,7 @@
 #include "ui/thermal_job.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <exception>
 
 namespace hemirad::ui {
@@ -105,10 +106,23 @@ bool AppState::setObjectEmissivity(std::uint32_t object, double emissivity) {
     if (!hasScene() || !hasPatches(*m_scene, object)) return false;
     std::string why;
     if (!std::isfinite(emissivity)) why = "emissivity must be a finite number";
+    std::string curve;  // the object's emissivity against temperature, which a constant replaces
+    {
+        std::optional<double> environment;
+        std::string unreadable;
+        for (const ObjectThermalRow& r : thermalObjects(environment, unreadable))
+            if (r.object == object) curve = r.emissivityCurve;
+    }
     const bool ok = why.empty() && tryEdit(*m_scene, m_thermal, [&](ThermalSetup& s) { s.emissivity[object] = emissivity; }, why);
     ++m_thermalRevision;  // refused: the panel's field goes back to the value in effect
     if (ok) ++m_thermalSetupRevision;
     if (!ok) error("emissivity of '" + m_scene->objects[object] + "' refused: " + why);
+    if (ok && !curve.empty()) {
+        char value[32];
+        std::snprintf(value, sizeof value, "%.4g", emissivity);
+        info("emissivity of '" + m_scene->objects[object] + "': the constant " + value + " replaces its " +
+             curve.substr(0, curve.find(" (shown")));
+    }
     return ok;
 }
 

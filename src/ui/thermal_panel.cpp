@@ -157,8 +157,13 @@ void ThermalPanel::objectTable(AppState& app) {
         ImGui::SetNextItemWidth(-1);
         ImGui::InputDouble("##eps", &f.emissivity, 0.0, 0.0, "%.4g");
         if (ImGui::IsItemDeactivatedAfterEdit()) apply = Apply::Emissivity;
-        tip(r.emissivityEdited ? "IR emissivity (edited here; area-weighted mean shown); eps + s <= 1"
-                               : "IR emissivity from the properties file (or 1 - mean(Kd) - s); eps + s <= 1");
+        if (!r.emissivityCurve.empty())
+            tip(("IR emissivity against temperature: " + r.emissivityCurve +
+                 ".\nThe solve follows the curve; typing a value replaces it with that constant. eps + s <= 1")
+                    .c_str());
+        else
+            tip(r.emissivityEdited ? "IR emissivity (edited here; area-weighted mean shown); eps + s <= 1"
+                                   : "IR emissivity from the properties file (or 1 - mean(Kd) - s); eps + s <= 1");
         ImGui::TableNextColumn();
         ImGui::Text("%.4g", r.specular);
         tip("Specular reflectance s: F is made with it, so it is read-only here; change it in the Material\n"

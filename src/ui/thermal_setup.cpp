@@ -151,6 +151,40 @@ ThermalInputs buildThermalInputs(const Scene& scene, const ThermalSetup& setup) 
 
 void checkThermalSetup(const Scene& scene, const ThermalSetup& setup) { assemble(scene, layers(scene, setup), true); }
 
+namespace {
+
+/// ObjectThermalRow::emissivityCurve for object o: its patches' curve (or how many they follow).
+std::string curveText(const Scene& scene, const thermal::BandProperties& bands, std::uint32_t o) {
+    if (bands.curveOf.empty()) return "";
+    std::int32_t curve = -1;
+    std::size_t distinct = 0, constant = 0;
+    std::vector<std::uint8_t> seen(bands.emissivityCurves.size(), 0);
+    for (PatchId i = 0; i < scene.size(); ++i) {
+        if (scene.patches[i].object != o) continue;
+        const std::int32_t c = bands.curveOf[i];
+        if (c < 0) {
+            ++constant;
+            continue;
+        }
+        if (!seen[std::size_t(c)]++) ++distinct;
+        curve = c;
+    }
+    if (distinct == 0) return "";
+    std::string text;
+    if (distinct > 1) {
+        text = "eps(T) from the properties file: " + std::to_string(distinct) + " curves over its patches";
+    } else {
+        const thermal::EmissivityCurve& e = bands.emissivityCurves[std::size_t(curve)];
+        text = "eps(T) from the properties file:";
+        for (std::size_t k = 0; k < e.temperatureK.size(); ++k)
+            text += (k ? ", " : " ") + figure(e.emissivity[k]) + " at " + figure(e.temperatureK[k]) + " K";
+    }
+    if (constant > 0) text += "; " + std::to_string(constant) + " of its patches constant";
+    return text + " (shown: the value at " + figure(bands.referenceTemperature) + " K)";
+}
+
+}  // namespace
+
 std::vector<ObjectThermalRow> objectThermalRows(const Scene& scene, const ThermalSetup& setup,
                                                 std::optional<double>& environment) {
     const Layers l = layers(scene, setup);
@@ -176,6 +210,7 @@ std::vector<ObjectThermalRow> objectThermalRows(const Scene& scene, const Therma
         r.condition = l.condition[o];
         r.emissivityEdited = setup.emissivity.count(o) > 0;
         r.conditionEdited = setup.condition.count(o) > 0;
+        r.emissivityCurve = curveText(scene, l.bands, o);
         shown.push_back(std::move(r));
     }
     return shown;

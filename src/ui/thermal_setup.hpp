@@ -80,6 +80,11 @@ struct ObjectThermalRow {
     std::optional<ObjectCondition> condition;  ///< none: no file gives one and it was not set
     double solar = 0.0;       ///< solar_W_m2 from the BC file (0: none)
     bool emissivityEdited = false, conditionEdited = false;
+    /// The properties file's emissivity against temperature for the object's patches, e.g.
+    /// "eps(T) from the properties file: 0.3 at 300 K, 0.55 at 600 K, 0.8 at 1000 K" ("" when its
+    /// emissivity is constant or edited here); `emissivity` is then the curve's value at the
+    /// reference temperature, and typing a value replaces the curve with that constant.
+    std::string emissivityCurve;
 };
 
 /// The table's rows (objects with patches, in scene order) and the environment in effect (K, none:

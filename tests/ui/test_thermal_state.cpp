@@ -246,3 +246,27 @@ TEST_CASE("hemirad-gui's thermal run is cancelled during a long form-factor comp
     CHECK(app.thermalResult() == nullptr);
     CHECK(app.formFactors() == nullptr);
 }
+
+TEST_CASE("hemirad-gui shows an object's emissivity against temperature, and says when a typed value replaces it") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("examples/thermal/radiator.obj")));
+    const auto dir = tempDir("gui-thermal-curve");
+    const std::string properties = (dir / "curve.toml").string();
+    std::ofstream(properties) << readText(sourcePath(kProperties))
+                              << "\n[objects.radiator]\nemissivity = [[200, 0.8], [300, 0.85], [400, 0.9]]\n";
+    REQUIRE(app.loadThermalProperties(properties));
+    REQUIRE(app.loadThermalConditions(sourcePath(kConditions)));
+    std::vector<ObjectThermalRow> r = rows(app);
+    REQUIRE(r[0].name == "radiator");
+    CHECK(r[0].emissivity == doctest::Approx(0.85));  // the curve at the reference temperature, 300 K
+    CHECK(r[0].emissivityCurve == "eps(T) from the properties file: 0.8 at 200 K, 0.85 at 300 K, 0.9 at 400 K "
+                                  "(shown: the value at 300 K)");
+    CHECK(r[1].emissivityCurve.empty());  // the shield's constant 0.05
+    CHECK(app.setObjectEmissivity(r[0].object, 0.5));
+    CHECK(logged(app, "emissivity of 'radiator': the constant 0.5 replaces its eps(T) from the properties file: 0.8 at 200 K"));
+    r = rows(app);
+    CHECK(r[0].emissivity == doctest::Approx(0.5));
+    CHECK(r[0].emissivityCurve.empty());
+    CHECK(app.setObjectEmissivity(r[1].object, 0.06));
+    CHECK_FALSE(logged(app, "emissivity of 'shield': the constant"));
+}
