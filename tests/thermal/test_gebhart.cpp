@@ -16,24 +16,38 @@ using namespace hemirad::thermal;
 
 namespace {
 
+/// A scene and its F.
+struct Enclosure {
+    Scene scene;
+    FormFactors F;
+};
+
 /// Three unit squares as an abstract closed enclosure (a long triangular duct's walls): F_ij = 1/2.
 /// With `mirror`, patch 2 reflects s = 1/2 and sends what it reflects half to each other wall, so
 /// the extended factors are F_0 = (1/8, 5/8, 1/2), F_1 = (5/8, 1/8, 1/2), F_2 = (1/2, 1/2, 0):
 /// dyadic, exactly reciprocal, sum_j F_ij (1 - s_j) = 1.
-struct Duct {
-    Scene scene;
-    FormFactors F;
-};
-Duct duct(bool mirror) {
+Enclosure duct(bool mirror) {
     SceneBuilder b;
     b.scene.objects = {"a", "b", "c"};
     for (int k = 0; k < 3; ++k) b.rectangle(2, double(k), 0, 1, 0, 1, true);
     for (PatchId i = 0; i < 3; ++i) b.scene.patches[i].object = i;
     if (mirror) b.scene.patches[2].specular = 0.5;
-    Duct d;
+    Enclosure d;
     d.scene = b.scene;
     d.F = mirror ? denseF({{0.125, 0.625, 0.5}, {0.625, 0.125, 0.5}, {0.5, 0.5, 0.0}})
                  : denseF({{0, 0.5, 0.5}, {0.5, 0, 0.5}, {0.5, 0.5, 0}});
+    return d;
+}
+
+/// An open cube (no ceiling) of 4 x 4 patches a face, 80 patches, and its F (every row).
+Enclosure openCube() {
+    Enclosure d;
+    d.scene = subdivide(unitCube(), 0.25);
+    std::vector<Patch> kept;
+    for (const Patch& p : d.scene.patches)
+        if (d.scene.parents[p.parent].sourcePatch != 1) kept.push_back(p);
+    d.scene.patches = kept;
+    d.F = computeFormFactors(d.scene, MethodSettings::of(HemisphereOptions{}), neededRows(d.scene, true)).F;
     return d;
 }
 
@@ -55,7 +69,7 @@ double gr(const Conductors& c, std::uint32_t a, std::uint32_t b) {
 TEST_CASE("Gebhart factors close (sum_j B_ij = 1) and are reciprocal (eps_i A_i B_ij = eps_j A_j B_ji) to 1e-12, mirrors too") {
     for (const bool mirror : {false, true}) {
         CAPTURE(mirror);
-        const Duct d = duct(mirror);
+        const Enclosure d = duct(mirror);
         const ThermalModel m = modelFor(d.scene, {0.9, 0.3, mirror ? 0.2 : 0.6});
         GebhartOptions o;
         o.lumping = Lumping::Patches;
@@ -92,7 +106,7 @@ TEST_CASE("Gebhart factors close (sum_j B_ij = 1) and are reciprocal (eps_i A_i 
 }
 
 TEST_CASE("A black enclosure's Gebhart factors are its form factors") {
-    const Duct d = duct(false);
+    const Enclosure d = duct(false);
     const ThermalModel m = modelFor(d.scene, {1.0, 1.0, 1.0});
     GebhartOptions o;
     o.lumping = Lumping::Patches;
@@ -102,15 +116,12 @@ TEST_CASE("A black enclosure's Gebhart factors are its form factors") {
 }
 
 TEST_CASE("Conductors lumped per object, with the environment, and the threshold's dropped sum") {
-    // An open cube (no ceiling) of 4 x 4 patches per face: objects floor, walls; the sky takes the rest.
-    Scene s = subdivide(unitCube(), 0.25);
-    std::vector<Patch> kept;
-    for (const Patch& p : s.patches)
-        if (s.parents[p.parent].sourcePatch != 1) kept.push_back(p);
-    s.patches = kept;
+    // Objects floor and walls; the sky takes the rest.
+    Enclosure open = openCube();
+    Scene& s = open.scene;
     s.objects = {"floor", "walls"};
     for (Patch& p : s.patches) p.object = s.parents[p.parent].sourcePatch == 0 ? 0 : 1;
-    const FormFactors F = computeFormFactors(s, MethodSettings::of(HemisphereOptions{}), neededRows(s, true)).F;
+    const FormFactors& F = open.F;
     ThermalModel m;
     for (PatchId i = 0; i < s.size(); ++i) m.surface.push_back({s.patches[i].object == 0 ? 0.9 : 0.5, 0.0});
     m.condition.assign(s.size(), Condition{Condition::Kind::Temperature, 300.0, 0});
@@ -142,12 +153,9 @@ TEST_CASE("Conductors lumped per object, with the environment, and the threshold
 TEST_CASE("Per-patch conductors: the same couplings from LU and from SOR's batched column sweeps, whatever the batch") {
     // The open cube of the previous case, each of its 80 patches a node: 3,160 pairs, completed as
     // their second column arrives, across batches that split the columns unevenly.
-    Scene s = subdivide(unitCube(), 0.25);
-    std::vector<Patch> kept;
-    for (const Patch& p : s.patches)
-        if (s.parents[p.parent].sourcePatch != 1) kept.push_back(p);
-    s.patches = kept;
-    const FormFactors F = computeFormFactors(s, MethodSettings::of(HemisphereOptions{}), neededRows(s, true)).F;
+    const Enclosure open = openCube();
+    const Scene& s = open.scene;
+    const FormFactors& F = open.F;
     ThermalModel m;
     for (PatchId i = 0; i < s.size(); ++i) m.surface.push_back({0.3 + 0.6 * double(i % 5) / 4.0, 0.0});
     m.condition.assign(s.size(), Condition{Condition::Kind::Temperature, 300.0, 0});
@@ -190,7 +198,7 @@ TEST_CASE("Per-patch conductors: the same couplings from LU and from SOR's batch
 }
 
 TEST_CASE("The exchange matrix between objects sums to each object's net power") {
-    const Duct d = duct(true);
+    const Enclosure d = duct(true);
     ThermalModel m = modelFor(d.scene, {0.9, 0.3, 0.2});
     m.condition[0].value = 500;
     m.condition[1] = Condition{Condition::Kind::Flux, 100.0, 0};
@@ -208,7 +216,7 @@ TEST_CASE("The exchange matrix between objects sums to each object's net power")
 }
 
 TEST_CASE("Conductor files: ESATAN GR lines, a SINDA conductor block, Matrix Market and CSV name the same couplings") {
-    const Duct d = duct(false);
+    const Enclosure d = duct(false);
     const ThermalModel m = modelFor(d.scene, {0.9, 0.3, 0.6});
     const Conductors c = computeConductors(d.scene, d.F, m, GebhartOptions{}, SolverOptions{});
     const auto dir = tempDir("conductors");
