@@ -3,7 +3,8 @@
 // each chunk's sums stay in registers while the row's entries stream past, and rows go in blocks,
 // so a block's entries are read from cache again for each chunk (neighbouring rows meet much the
 // same patches). Each column's sum takes the row's entries in order whatever the chunking: a
-// column's result does not depend on how many columns (or threads) share the pass.
+// column's sums do not depend on how many columns (or threads) share the pass. (A solver may still
+// share choices across its columns: SOR's factor, its stopping sweep.)
 #pragma once
 
 #include "engine/form_factors.hpp"

@@ -191,9 +191,9 @@ void gaussSeidelSweep(const FormFactors& F, Block& b, double omega, double* chan
 /// come from below, so omega only grows; a ratio within (omega - 1)^0.75 says omega is already
 /// large enough (at and past the optimum the steps shrink by about omega - 1, unevenly).
 /// I - R F scaled by rows is symmetric positive definite for a reciprocal F with rho < 1 and row
-/// sums <= 1, where any omega in (0, 2) converges. Where the step three sweeps after a new omega is
-/// still above the step it was chosen at (a non-reciprocal F, where Young's factor can diverge), the
-/// factor goes back to 1 for good.
+/// sums <= 1, where any omega in (0, 2) converges. Where, from the third sweep after a new omega on,
+/// a step is above the step it was chosen at or twice the smallest since (a non-reciprocal F, where
+/// Young's factor can diverge), the factor goes back to 1 for good.
 /// Measured (sweeps to a residual of 1e-10, Gauss-Seidel -> SOR): cornell13k 26 -> 15, a week of
 /// street64k's hours on its ray F 15 -> 11; a stand-alone sweep found the best fixed factors there
 /// at 14 and 10 sweeps.
@@ -206,7 +206,8 @@ public:
         const double lambda = m_last > 0.0 ? step / m_last : 0.0;
         m_last = step;
         if (m_fallback) return m_omega;
-        if (m_omega > 1.0 && m_atOmega >= 3 && step > m_chosenAt) {
+        m_smallest = m_atOmega == 1 ? step : std::min(m_smallest, step);
+        if (m_omega > 1.0 && m_atOmega >= 3 && (step > m_chosenAt || step > 2.0 * m_smallest)) {
             m_fallback = true;
             m_omega = 1.0;
             return m_omega;
@@ -236,7 +237,7 @@ public:
 private:
     static constexpr double kMaxOmega = 1.95;
     int m_sweeps = 0, m_atOmega = 0;
-    double m_omega = 1.0, m_mu2 = 0.0, m_last = 0.0, m_chosenAt = 0.0;
+    double m_omega = 1.0, m_mu2 = 0.0, m_last = 0.0, m_chosenAt = 0.0, m_smallest = 0.0;
     bool m_fallback = false;
 };
 
@@ -438,7 +439,7 @@ const std::vector<SolverDescriptor>& stationarySolvers() {
         solvers[0].summary = "Jacobi sweeps B <- E + R F B, all channels in one pass over F";
         solvers[0].solve = [](const SolveProblem& p, std::vector<Channel*>& active) { solveTogether(solveJacobi, p, active); };
         solvers[1].name = "gauss-seidel";
-        solvers[1].summary = "Gauss-Seidel sweeps in place, all channels in one pass over F (the default above 2000 patches)";
+        solvers[1].summary = "Gauss-Seidel sweeps in place, all channels in one pass over F";
         solvers[1].solve = [](const SolveProblem& p, std::vector<Channel*>& active) {
             solveTogether([](auto&&... a) { solveGaussSeidel(a..., false); }, p, active);
         };

@@ -17,8 +17,9 @@ constexpr std::size_t kDenseTableNodes = 4096;
 
 /// The column solves' solver: `auto` is LU up to 2,000 patches (one factorisation serves every
 /// batch), else SOR, which sweeps a batch's columns together in one pass over F (the system has the
-/// diffuse reflectances 1 - eps - s, below 1; thermal's own auto, BiCGSTAB, would solve them one
-/// by one).
+/// diffuse reflectances 1 - eps - s and no flux rows; thermal's own auto, BiCGSTAB, would solve them
+/// one by one). A white patch (eps = s = 0) has reflectance 1; enclosed by such patches alone, the
+/// system is singular and solveBands says so.
 SolverOptions columnSolverOptions(const SolverOptions& given, std::size_t patches) {
     SolverOptions o = given;
     if (o.solver == "auto") o.solver = patches <= 2000 ? "lu" : "sor";
