@@ -96,6 +96,15 @@ void jacobiSweep(const FormFactors& F, const Block& b, std::vector<double>& next
     }
 }
 
+/// A Gauss-Seidel step at value `at` from its row's sum over the others: the self factor solved
+/// for exactly, the step moved omega times (SOR), its square added to `change`.
+HEMIRAD_INLINE_KERNEL void update(Block& b, std::size_t at, double sum, double self, double omega, double& change) {
+    const double exact = (b.E[at] + b.rho[at] * sum) / (1.0 - b.rho[at] * self);
+    const double value = omega == 1.0 ? exact : b.B[at] + omega * (exact - b.B[at]);
+    change += (value - b.B[at]) * (value - b.B[at]);
+    b.B[at] = value;
+}
+
 /// One in-place sweep of channels [c0, c1) of a fixed number M (1..3); the self factor F_ii is
 /// solved for exactly. With omega != 1, each value moves omega times the Gauss-Seidel step
 /// (successive over-relaxation). Adds the squared changes per channel to change[c].
@@ -118,13 +127,7 @@ void gaussSeidelChannels(const FormFactors& F, Block& b, double omega, double* c
             const double v = val[k];
             for (int c = 0; c < M; ++c) sum[c] += v * x[c];
         }
-        for (int c = 0; c < M; ++c) {
-            const std::size_t at = i * M + std::size_t(c);
-            const double exact = (b.E[at] + b.rho[at] * sum[c]) / (1.0 - b.rho[at] * self);
-            const double value = omega == 1.0 ? exact : b.B[at] + omega * (exact - b.B[at]);
-            changes[c] += (value - b.B[at]) * (value - b.B[at]);
-            b.B[at] = value;
-        }
+        for (int c = 0; c < M; ++c) update(b, i * M + std::size_t(c), sum[c], self, omega, changes[c]);
     }
     for (int c = 0; c < M; ++c) change[c] += changes[c];
 }
@@ -149,13 +152,7 @@ HEMIRAD_WIDE_KERNEL void gaussSeidelMany(const FormFactors& F, Block& b, int c0,
             for (std::size_t i = r0; i < r1; ++i) {
                 interleaved::rowSums(F, i, selfAt[i - r0], b.B.data() + a, m, w, sum);
                 const double self = selfOf[i - r0];
-                for (int c = 0; c < w; ++c) {
-                    const std::size_t at = i * m + std::size_t(a + c);
-                    const double exact = (b.E[at] + b.rho[at] * sum[c]) / (1.0 - b.rho[at] * self);
-                    const double value = omega == 1.0 ? exact : b.B[at] + omega * (exact - b.B[at]);
-                    changes[std::size_t(a - c0 + c)] += (value - b.B[at]) * (value - b.B[at]);
-                    b.B[at] = value;
-                }
+                for (int c = 0; c < w; ++c) update(b, i * m + std::size_t(a + c), sum[c], self, omega, changes[std::size_t(a - c0 + c)]);
             }
         }
     }
