@@ -113,6 +113,10 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
         out << "); with a blocker in their shaft: " << c.contactShafts << " (hidden part adaptive, "
             << c.contactEvaluations << " visible-part evaluations)";
     }
+    if (c.penumbralPairs)
+        out << "\n  pairs in a penumbra (the emitter's corners disagreed with its points about the receiver), "
+               "weighed by a finer rule with a shadow ray per receiver piece: "
+            << c.penumbralPairs << " computations";
     if (run.emittedPairs.changed)
         out << "\n  pairs whose two rows disagreed (a receiver split on a silhouette by one row only), set from "
                "the emitting row: "

@@ -24,6 +24,7 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
     contactShafts += o.contactShafts;
     contactEvaluations += o.contactEvaluations;
     straddlingPairs += o.straddlingPairs;
+    penumbralPairs += o.penumbralPairs;
     largestDirectSum = std::max(largestDirectSum, o.largestDirectSum);
     return *this;
 }

@@ -140,6 +140,7 @@ TEST_CASE("Each pair once: F with pairs handed between rows equals F with every 
         // mirror too) are cast by both of its rows (the corner probes for straddling pairs by both
         // rows either way: 0.73 on the closed box, 0.64 before them).
         CHECK(double(once.rays) < 0.75 * double(separate.rays));
+        CHECK(once.penumbralPairs > 0);  // pairs in a penumbra, weighed alike by both rows
         CHECK(double(once.shadowTerms) < 0.7 * double(separate.shadowTerms));
     }
 }

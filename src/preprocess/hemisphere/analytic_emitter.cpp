@@ -54,8 +54,10 @@ double AnalyticEstimator::addRow(PatchId i, RowAccumulator& row, Workspace& ws, 
     const double unit = m_rules.unit();
     const EmitterOrders& orders = m_rules.orders();
     if (orders.lowest() == 1) {
+        ws.penumbra.clear();
         direct += addFrom(i, m_rules.geometry().shapes[i].centroid, 0, nullptr, unit, row, ws, counts);
-        direct += replaceStraddlingPairs(i, ws.point.exact, row, ws, counts);
+        direct += replaceStraddlingPairs(i, ws.point.exact, 1, row, ws, counts);
+        direct += replacePenumbralPairs(i, row, ws, counts);
     }
     for (int m = std::max(2, orders.lowest()); m <= orders.highest(); ++m) {
         if (ws.byOrder[m].empty()) continue;
@@ -65,7 +67,7 @@ double AnalyticEstimator::addRow(PatchId i, RowAccumulator& row, Workspace& ws, 
         const std::vector<double>& weights = ws.rules.quadWeights;
         for (std::size_t q = 0; q < points.size(); ++q)
             direct += addFrom(i, points[q], std::uint32_t(q), &ws.byOrder[m], unit * weights[q], row, ws, counts);
-        direct += replaceStraddlingPairs(i, ws.byOrder[m], row, ws, counts);
+        direct += replaceStraddlingPairs(i, ws.byOrder[m], m, row, ws, counts);
         for (const PatchId j : ws.byOrder[m]) ws.ruled[j] = 0;
     }
     for (const PatchId j : ws.contacts) {
@@ -130,6 +132,8 @@ double AnalyticEstimator::addFarPairs(double weight, RowAccumulator& row, Worksp
         const PatchId j = far.patches[k];
         if (!(far.factors[k] > 0.0)) continue;  // facing away: nothing to split either
         ws.kept.keep(j, far.rays.blocked[k] ? 0.0 : far.factors[k] * weight);
+        if (m_rules.visibility() && m_rules.probesPenumbra(far.factors[k]))
+            ws.penumbra.add(j, far.factors[k], &far.rays.targets[3 * k], far.rays.blocked[k]);
         if (m_rules.geometry().onSilhouette(j, ws.status)) {  // split by the centroid pass, as its own receivers
             ws.point.split.push_back(j);
             continue;
@@ -202,7 +206,10 @@ double AnalyticEstimator::addFrom(PatchId i, const Vec3& x, std::uint32_t point,
         const PatchId j = p.candidates[k];
         ws.kept.keep(j, p.rays.blocked[k] ? 0.0 : p.factors[k] * weight);
         // The centre ray's verdict is the term's share, split or not (as the receiving row sees it).
-        if (candidates) ws.seen.note(j, p.rays.blocked[k] ? 0.0 : 1.0, p.factors[k] * weight);
+        if (candidates)
+            ws.seen.note(j, p.rays.blocked[k] ? 0.0 : 1.0, p.factors[k] * weight);
+        else if (visibility && m_rules.probesPenumbra(p.factors[k]))
+            ws.penumbra.add(j, p.factors[k], &p.rays.targets[3 * k], p.rays.blocked[k]);
         if (geometry.onSilhouette(j, ws.status)) {
             p.split.push_back(j);
         } else if (!p.rays.blocked[k]) {
@@ -239,15 +246,17 @@ double AnalyticEstimator::addFrom(PatchId i, const Vec3& x, std::uint32_t point,
     return sum;
 }
 
-double AnalyticEstimator::replaceStraddlingPairs(PatchId i, const std::vector<PatchId>& receivers, RowAccumulator& row,
-                                                 Workspace& ws, RayCounts& counts) const {
+double AnalyticEstimator::replaceStraddlingPairs(PatchId i, const std::vector<PatchId>& receivers, int m,
+                                                 RowAccumulator& row, Workspace& ws, RayCounts& counts) const {
     Workspace::Seen& seen = ws.seen;
     double change = 0.0;
     for (const PatchId j : receivers) {
         const double unoccluded = seen.unoccluded[j], least = seen.least[j], most = seen.most[j];
         seen.reset(j);
-        if (most < least || !straddlesWhole(i, j, unoccluded, least, most, ws, counts)) continue;  // no term, or not
-        const double value = m_rules.straddlingValue(i, j, ws.rules, counts);
+        if (most < least) continue;  // no term
+        const Straddle straddle = straddleOf(i, j, unoccluded, least, most, ws, counts);
+        if (straddle == Straddle::None) continue;
+        const double value = replacementValue(straddle, i, j, m, unoccluded / m_rules.unit(), ws, counts);
         const double before = row.weight(j);
         row.addWeight(j, value - before);
         change += value - before;
@@ -257,8 +266,60 @@ double AnalyticEstimator::replaceStraddlingPairs(PatchId i, const std::vector<Pa
     return change;
 }
 
-bool AnalyticEstimator::straddlesWhole(PatchId e, PatchId r, double unoccluded, double least, double most, Workspace& ws,
-                                       RayCounts& counts) const {
+double AnalyticEstimator::replacePenumbralPairs(PatchId i, RowAccumulator& row, Workspace& ws, RayCounts& counts) const {
+    Workspace::Penumbra& pen = ws.penumbra;
+    const std::size_t count = pen.patches.size();
+    if (count == 0) return 0.0;
+    // The corners' rays as cornersAgree casts them, one batch per corner (the same verdicts).
+    const PatchShape& emitter = m_rules.geometry().shapes[i];
+    const Vec3* corner = m_rules.geometry().polygon(i);
+    pen.agree.assign(count, 1);
+    pen.verdicts.resize(count);
+    for (std::uint32_t c = 0; c < emitter.count; ++c) {
+        float origin[3];
+        m_rules.rayOrigin(i, m_rules.cornerProbe(i, c), origin);
+        m_rays->occludedSegments(origin, pen.targets.data(), count, pen.verdicts.data());
+        counts.rays += count;
+        for (std::size_t k = 0; k < count; ++k)
+            if ((pen.verdicts[k] != 0) != (pen.blocked[k] != 0)) pen.agree[k] = 0;
+    }
+    double change = 0.0;
+    for (std::size_t k = 0; k < count; ++k) {
+        if (pen.agree[k]) continue;
+        const PatchId j = pen.patches[k];
+        const double value = replacementValue(Straddle::Penumbral, i, j, 1, pen.factors[k], ws, counts);
+        const double before = row.weight(j);
+        row.addWeight(j, value - before);
+        change += value - before;
+        ws.kept.keep(j, 0.0);
+        ws.kept.sum[j] = value;
+    }
+    pen.clear();
+    return change;
+}
+
+double AnalyticEstimator::replacementValue(Straddle straddle, PatchId e, PatchId r, int m, double factor, Workspace& ws,
+                                          RayCounts& counts) const {
+    return straddle == Straddle::Whole ? m_rules.straddlingValue(e, r, ws.rules, counts)
+                                       : m_rules.penumbralValue(e, r, m_rules.penumbralOrder(m, factor), ws.rules, counts);
+}
+
+AnalyticEstimator::Straddle AnalyticEstimator::straddleOf(PatchId e, PatchId r, double unoccluded, double least,
+                                                          double most, Workspace& ws, RayCounts& counts) const {
+    if (straddlesWhole(e, r, unoccluded, least, most, ws, counts)) return Straddle::Whole;  // may widen least..most
+    if (m_rules.spreadsPenumbra(unoccluded, least, most)) return Straddle::Penumbral;
+    // Every point saw all of r, or none of it: the corners may still see otherwise (a sliver whose
+    // top alone looks over a roof), as the centroid pass asks them (replacePenumbralPairs).
+    if (least != most || (least != 0.0 && least != 1.0) || !m_rules.probesPenumbra(unoccluded / m_rules.unit()))
+        return Straddle::None;
+    const PatchGeometry& geometry = m_rules.geometry();
+    float target[3];
+    m_rules.rayTarget(e, r, geometry.polygon(r), geometry.shapes[r].count, 0, 0, target);
+    return m_rules.cornersAgree(e, target, least == 0.0, ws.rules, counts) ? Straddle::None : Straddle::Penumbral;
+}
+
+bool AnalyticEstimator::straddlesWhole(PatchId e, PatchId r, double unoccluded, double& least, double& most,
+                                       Workspace& ws, RayCounts& counts) const {
     if (m_rules.straddles(unoccluded, least, most)) return true;
     // Every term saw about as much: a shadow's edge may still cross the emitter between its points
     // and its rim, whatever share the points saw, all of r included (district1k's 207 -> 534 had

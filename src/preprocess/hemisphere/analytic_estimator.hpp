@@ -43,19 +43,35 @@ private:
     /// The far rule's receivers of row i (pairOrder 0): those too large for one shadow ray go to
     /// their rule; the rest get a shadow ray from the centroid, which sets their status.
     void castFarRays(PatchId i, Workspace& ws, RayCounts& counts) const;
-    /// After the centroid pass (its exact terms) and each rule pass of order 2 and up (all terms):
-    /// the receivers straddling a shadow's edge (straddlesWhole) computed whole (contactValue) in
+    /// How a pair's terms are replaced: not (None), by its value whole (Whole: contactValue), or
+    /// by its penumbralValue (Penumbral).
+    enum class Straddle { None, Whole, Penumbral };
+    /// After the centroid pass (its exact terms, m = 1) and each rule pass of order m >= 2 (all
+    /// terms): the receivers straddling a shadow's edge (straddleOf) get their replacement value in
     /// place of the rule's terms.
-    double replaceStraddlingPairs(PatchId i, const std::vector<PatchId>& receivers, RowAccumulator& row, Workspace& ws,
-                                  RayCounts& counts) const;
+    double replaceStraddlingPairs(PatchId i, const std::vector<PatchId>& receivers, int m, RowAccumulator& row,
+                                  Workspace& ws, RayCounts& counts) const;
+    /// Whether emitter e's pair with r straddles a shadow's edge (straddlesWhole: Whole), or its
+    /// shares spread enough that a finer rule should weigh them (PairRules::spreadsPenumbra:
+    /// Penumbral). Both rows of the pair decide alike.
+    Straddle straddleOf(PatchId e, PatchId r, double unoccluded, double least, double most, Workspace& ws,
+                        RayCounts& counts) const;
+    /// The replacement value (ray units) of a pair of rule order m (1: the centroid, 0: the far rule)
+    /// with the unoccluded factor `factor`.
+    double replacementValue(Straddle straddle, PatchId e, PatchId r, int m, double factor, Workspace& ws,
+                            RayCounts& counts) const;
     /// Whether emitter e's pair with r, whose terms saw shares of r from `least` to `most` (one
     /// share per term: visible / whole for an exact term, its shadow ray's verdict for a ray term)
     /// with the unoccluded terms summing to `unoccluded` (ray units), straddles a shadow's edge:
     /// the shares too far apart, or all of them missing a part while a corner of e (a hundredth
     /// inside, PairRules::visibleShare's rays) sees a share far enough away. Both rows of the pair
     /// decide alike, bit for bit.
-    bool straddlesWhole(PatchId e, PatchId r, double unoccluded, double least, double most, Workspace& ws,
+    bool straddlesWhole(PatchId e, PatchId r, double unoccluded, double& least, double& most, Workspace& ws,
                         RayCounts& counts) const;
+    /// After the centroid pass: its ray terms and the far rule's (probesPenumbra) whose emitter's
+    /// corners disagree with the centroid's verdict (PairRules::cornersAgree) replaced by their
+    /// penumbralValue.
+    double replacePenumbralPairs(PatchId i, RowAccumulator& row, Workspace& ws, RayCounts& counts) const;
     /// Their entries, scaled by `weight`, once the centroid pass has set its statuses too (the
     /// silhouette test reads the neighbours of both); those on a silhouette join the point's split.
     double addFarPairs(double weight, RowAccumulator& row, Workspace& ws) const;
@@ -68,9 +84,10 @@ private:
     /// The terms row j sums for receiver i, appended to the workspace's reversed terms (with
     /// `rays`, a shadow ray per ray term); false when j has no term for i.
     bool reversedTerms(PatchId j, PatchId i, bool rays, Workspace& ws, RayCounts& counts) const;
-    /// Whether emitter p's terms (with their shadow rays' verdicts) make its pair straddle a shadow's
-    /// edge, as row j decides it as the emitter (replaceStraddlingPairs): then its value whole.
-    bool reversedStraddles(PatchId i, std::size_t p, Workspace& ws, RayCounts& counts) const;
+    /// How emitter p's terms (with their shadow rays' verdicts) are replaced, as row j decides it
+    /// as the emitter (replaceStraddlingPairs, replacePenumbralPairs); `m` and `factor` are set to
+    /// the pair's rule order and unoccluded factor, as replacementValue takes them.
+    Straddle reversedStraddles(PatchId i, std::size_t p, int& m, double& factor, Workspace& ws, RayCounts& counts) const;
     /// Of those, the emitters on a silhouette seen from i (a mesh neighbour's status differs): their
     /// ray terms again with i split into pieces, each with its own shadow ray (not for a pair that
     /// straddles a shadow's edge: its value is whole).
@@ -152,6 +169,27 @@ struct AnalyticEstimator::Workspace {
         std::vector<double> exactVisible, exactWhole;
         std::vector<PatchId> split;
     } point;
+    /// The centroid pass's ray terms and far pairs that probesPenumbra: their factor, and their
+    /// centroid ray's target and verdict.
+    struct Penumbra {
+        std::vector<PatchId> patches;
+        std::vector<double> factors;
+        std::vector<float> targets;
+        std::vector<std::uint8_t> blocked;
+        std::vector<std::uint8_t> verdicts, agree;  ///< one corner's verdicts; whether all corners agreed
+        void add(PatchId j, double factor, const float* target, std::uint8_t verdict) {
+            patches.push_back(j);
+            factors.push_back(factor);
+            targets.insert(targets.end(), target, target + 3);
+            blocked.push_back(verdict);
+        }
+        void clear() {
+            patches.clear();
+            factors.clear();
+            targets.clear();
+            blocked.clear();
+        }
+    } penumbra;
     /// The far rule's receivers with a shadow ray from the centroid.
     struct Far {
         std::vector<PatchId> patches;

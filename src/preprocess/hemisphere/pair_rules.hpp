@@ -35,6 +35,10 @@ public:
         std::vector<float> targets;  ///< visibleShare's shadow rays
         std::vector<double> pieceFactors;
         std::vector<std::uint8_t> blocked;
+        std::vector<Vec3> penumbraPoints, penumbraAims;  ///< penumbralValue's rules over the emitter and the receiver
+        std::vector<double> penumbraWeights, penumbraAimWeights, penumbraTerms;
+        std::vector<float> probeOrigins, probeTargets;  ///< cornersAgree's and penumbralValue's shadow rays
+        std::vector<std::uint8_t> probeBlocked;
     };
 
     /// Row e's term for receiver r at one point x of e's rule.
@@ -81,6 +85,41 @@ public:
     /// rule to miss the pair tolerance: then it is computed whole (contactValue), as a close pair is.
     bool straddles(double unoccluded, double least, double most) const {
         return most - least > kStraddleSpread && (most - least) * unoccluded > m_straddleAbove * unit();
+    }
+    /// Whether a ray term from e's centroid (the centroid pass or the far rule) with this factor
+    /// is probed for a penumbra across e (cornersAgree).
+    bool probesPenumbra(double factor) const { return factor >= m_penumbraProbeAbove; }
+    /// Whether e's corners (a hundredth inside) give the shadow ray to `target` (the centroid's ray
+    /// target, in the ray scene's frame) the centroid's verdict `blocked`. Where they do not, an
+    /// occluder's edge crosses the view of r between e's points: a penumbra, which the centroid's
+    /// one verdict (all or nothing) cannot weigh. A floor patch with a block standing on part of it
+    /// is the extreme: its centroid under the block saw nothing where its free part sees the room.
+    bool cornersAgree(PatchId e, const float target[3], bool blocked, Scratch& s, RayCounts& counts) const;
+    /// Corner k of e a hundredth inside: where cornersAgree's rays start (before rayOrigin's lift).
+    Vec3 cornerProbe(PatchId e, std::uint32_t k) const {
+        const PatchShape& shape = m_geometry.shapes[e];
+        const Vec3& corner = m_geometry.polygon(e)[k];
+        return corner + 0.01 * (shape.centroid - corner);
+    }
+    /// A pair in such a penumbra, or a ruled pair whose points' shares spread too far for its few
+    /// points but not enough for straddles(): e's rule of the given order (penumbralOrder), each point with
+    /// its own term (its exact visible part above exactAbove(), else its factor if its own shadow
+    /// ray passes), in ray units as contactValue's: a function of the pair alone, for both rows.
+    /// Each point's ray aims at its own point of r's rule of the same order (a fixed shuffle), so
+    /// that the rays sample a shadow's edge across r as well as across e.
+    double penumbralValue(PatchId e, PatchId r, int order, Scratch& s, RayCounts& counts) const;
+    /// Whether a ruled pair (as straddles() takes it) spreads enough to be worth penumbralValue.
+    bool spreadsPenumbra(double unoccluded, double least, double most) const {
+        return most - least > kStraddleSpread && (most - least) * unoccluded >= m_penumbraProbeAbove * unit();
+    }
+    /// The order of penumbralValue's rule for a pair of rule order m (0, 1: the far rule or the
+    /// centroid) whose unoccluded factor is `factor`: twice m at least, and by the factor's size,
+    /// since the rule misses a fraction of it: 2 below a tenth of exactAbove() (1e-4 by default),
+    /// 4 below 0.3 of it, kPenumbraOrder above. (One order for all, 6, took cornell13k's F from
+    /// 25 s to 60 s for its 2.2 M penumbra computations.)
+    int penumbralOrder(int m, double factor) const {
+        const int bySize = factor < 0.1 * m_exactAbove ? 2 : factor < 0.3 * m_exactAbove ? 4 : kPenumbraOrder;
+        return std::max(bySize, 2 * m);
     }
     /// A silhouette receiver's term from point x of e: where its factor exceeds the silhouette bound
     /// (m_silhouetteExactAbove, half of exactAbove()), Lambert's factor to the part of r that x sees
@@ -131,6 +170,8 @@ public:
     /// Visible shares further apart than this across a pair's points (or its emitter's corners) mean
     /// a shadow's edge crosses the emitter: its few points cannot place it.
     static constexpr double kStraddleSpread = 0.25;
+    /// The order of penumbralValue's rule for its largest terms.
+    static constexpr int kPenumbraOrder = 6;
 
     /// F in ray units: the accumulator's take() scales by 1 / (origins samples).
     double unit() const { return double(m_options.origins) * m_options.samples; }
@@ -184,10 +225,12 @@ private:
     double m_exactAbove = 0.0;
     double m_straddleAbove = 0.0;  ///< F units: straddles() needs spread x unoccluded above this
     double m_silhouetteExactAbove = 0.0;  ///< silhouette terms above this get their exact visible part
+    double m_penumbraProbeAbove = 0.0;  ///< centroid ray terms from this factor up are probed from e's corners
     EmitterOrders m_orders{1.0, 1, 1};  ///< the emitter rule's order per pair (emitter_rule.hpp)
     FarRule m_far;  ///< the point-to-point kernel for pairs far from each other's horizon
     double m_farRatio = 0.0;  ///< the smallest FarRule::ratio it serves (0: not used, with --origins > 1)
-    std::vector<std::vector<double>> m_ruleNodes, m_ruleWeights;  ///< Gauss-Legendre on [0, 1] per order
+    std::vector<std::vector<double>> m_ruleNodes, m_ruleWeights;  ///< Gauss-Legendre on [0, 1] per order (up to
+                                                                  ///< penumbralOrder of the highest)
     int m_splitLevels = 1;  ///< silhouette patches: 1 = split once (4 pieces of a quad), 2 = twice
 };
 
