@@ -117,6 +117,10 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
         out << "\n  pairs in a penumbra (the emitter's corners disagreed with its points about the receiver), "
                "weighed by a finer rule with a shadow ray per receiver piece: "
             << c.penumbralPairs << " computations";
+    if (c.coveredRows)
+        out << "\n  rows of patches a solid stands on in part (a block on a floor patch), their rules over the free "
+               "part: "
+            << c.coveredRows;
     if (run.emittedPairs.changed)
         out << "\n  pairs whose two rows disagreed (a receiver split on a silhouette by one row only), set from "
                "the emitting row: "

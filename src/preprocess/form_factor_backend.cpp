@@ -25,6 +25,7 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
     contactEvaluations += o.contactEvaluations;
     straddlingPairs += o.straddlingPairs;
     penumbralPairs += o.penumbralPairs;
+    coveredRows += o.coveredRows;
     largestDirectSum = std::max(largestDirectSum, o.largestDirectSum);
     return *this;
 }

@@ -65,6 +65,7 @@ struct RayCounts {
     std::uint64_t contactEvaluations = 0;  ///< visible-part evaluations of their hidden parts
     std::uint64_t straddlingPairs = 0;     ///< of the close-pair computations, ruled pairs across a shadow's edge
     std::uint64_t penumbralPairs = 0;      ///< analytic estimator: centroid pairs in a penumbra, by a rule with rays per point
+    std::uint64_t coveredRows = 0;         ///< analytic estimator: rows whose patch a solid covers in part
     RayCounts& operator+=(const RayCounts& o);
     /// The fraction of the power leaving the computed rows' patches that reached no patch, each row
     /// weighted by its patch's area (what a uniformly bright scene loses; the same on any mesh of the

@@ -187,3 +187,38 @@ TEST_CASE("Partial visibility: a far pair in a penumbra across its emitter is we
     CHECK(r.F.at(emitter, receiver) == relative(expected, 3e-2));
     CHECK(r.F.at(receiver, emitter) == r.F.at(emitter, receiver));  // equal areas: reciprocity
 }
+
+TEST_CASE("Partial visibility: a floor patch a closed block stands on in part emits from its free part alone") {
+    // The floor [0, 1]^2 (up); a flat block (four walls and a roof, no floor, as modelled) standing
+    // on its middle [0.3, 0.7]^2; a receiver [-3.6, -2.4] x [0, 1] at z = 3 (down), a ruled pair of
+    // the floor's (4.6 apart). The floor under the block sees nothing. The block is 1e-3 high, so
+    // it hides the receiver from no other point of the floor (but for a strip 1e-3 wide): F = the
+    // integral of the point-to-rectangle factor over the floor less the block's footprint. The
+    // floor's 2 x 2 rule and its corners all lie outside the block: they took the floor as free.
+    SceneBuilder b;
+    const PatchId floor = b.rectangle(2, 0, 0, 1, 0, 1, true);
+    const PatchId receiver = b.rectangle(2, 3, -3.6, -2.4, 0, 1, false);
+    const double lo = 0.3, hi = 0.7, h = 1e-3;
+    b.rectangle(0, lo, lo, hi, 0, h, false);  // walls facing out, the roof up
+    b.rectangle(0, hi, lo, hi, 0, h, true);
+    b.rectangle(1, lo, 0, h, lo, hi, false);
+    b.rectangle(1, hi, 0, h, lo, hi, true);
+    b.rectangle(2, h, lo, hi, lo, hi, true);
+    std::vector<double> nodes, weights;
+    gaussLegendre(24, nodes, weights);
+    double whole = 0.0, footprint = 0.0;
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+        for (std::size_t j = 0; j < nodes.size(); ++j) {
+            whole += weights[i] * weights[j] * toRectangle(nodes[i], nodes[j], -3.6, -2.4, 0, 1, 3);
+            footprint += weights[i] * weights[j] * (hi - lo) * (hi - lo) *
+                         toRectangle(lo + (hi - lo) * nodes[i], lo + (hi - lo) * nodes[j], -3.6, -2.4, 0, 1, 3);
+        }
+    const double expected = whole - footprint;
+    const FormFactorRun r = analyticF(b.scene);
+    MESSAGE("covered floor: F = " << r.F.at(floor, receiver) << ", its free part " << expected << ", all of it " << whole);
+    CHECK(r.counts.coveredRows == 1);
+    // Its free part resolved to 1/128 of a side (each of the block's edges falls 0.4 of a point's
+    // spacing past a point: the free part 0.6 % small), a 2 x 2 rule of centroids over it.
+    CHECK(r.F.at(floor, receiver) == relative(expected, 1e-2));
+    CHECK(r.F.at(receiver, floor) * 1.2 == relative(r.F.at(floor, receiver), 1e-6));  // reciprocity (areas 1 and 1.2)
+}

@@ -31,6 +31,7 @@ double AnalyticEstimator::addRow(PatchId i, RowAccumulator& row, Workspace& ws, 
     // Pairs whose other patch emits first: their terms come from that patch's points, and their
     // visibility is the neighbours' status for the silhouette test below.
     double direct = addReversedPairs(i, row, ws, counts);
+    if (m_rules.coveredEmitters().covered(i)) ++counts.coveredRows;
     // Receivers by the order of their rule over i (0: the far rule); order 1 (the centroid) takes
     // the rest in one pass.
     for (auto& list : ws.byOrder) list.clear();
@@ -276,6 +277,7 @@ double AnalyticEstimator::replacePenumbralPairs(PatchId i, RowAccumulator& row, 
     pen.agree.assign(count, 1);
     pen.verdicts.resize(count);
     for (std::uint32_t c = 0; c < emitter.count; ++c) {
+        if (m_rules.cornerCovered(i, c)) continue;  // as cornersAgree
         float origin[3];
         m_rules.rayOrigin(i, m_rules.cornerProbe(i, c), origin);
         m_rays->occludedSegments(origin, pen.targets.data(), count, pen.verdicts.data());
@@ -328,6 +330,7 @@ bool AnalyticEstimator::straddlesWhole(PatchId e, PatchId r, double unoccluded, 
     const PatchShape& emitter = m_rules.geometry().shapes[e];
     const Vec3* corner = m_rules.geometry().polygon(e);
     for (std::uint32_t k = 0; k < emitter.count; ++k) {
+        if (m_rules.cornerCovered(e, k)) continue;  // under a solid: it sees nothing
         const double share = m_rules.visibleShare(e, r, corner[k] + 0.01 * (emitter.centroid - corner[k]), ws.rules, counts);
         if (share < 0.0) continue;
         least = std::min(least, double(float(share)));

@@ -45,6 +45,9 @@ void PairRules::build(const Scene& scene, const RayScene& rays, const Hemisphere
     m_shadows.build(m_geometry, blocks);
     m_contacts.build(m_geometry, m_shadows, m_visibility, ContactPairs::precisionFor(options.pairDigits));
     m_wholePairs = options.pairs == PairMethod::Whole;
+    // Whole pairs take the cover into their hidden parts; without blockers nothing can cover.
+    m_covered = CoveredEmitters();
+    if (m_visibility && !m_wholePairs) m_covered.build(m_geometry, rays);
     m_exactAbove = m_visibility ? 0.1 * tolerance : std::numeric_limits<double>::infinity();
     // A ruled pair across a shadow's edge is computed whole where the points' disagreement times
     // its factor could move it by as much as a term that gets its exact visible part (1e-3 by
@@ -88,26 +91,28 @@ double PairRules::straddlingValue(PatchId e, PatchId r, Scratch& s, RayCounts& c
 
 bool PairRules::cornersAgree(PatchId e, const float target[3], bool blocked, Scratch& s, RayCounts& counts) const {
     const PatchShape& shape = m_geometry.shapes[e];
-    s.probeOrigins.resize(3 * shape.count);
-    s.probeTargets.resize(3 * shape.count);
+    s.probeOrigins.clear();
+    s.probeTargets.clear();
     for (std::uint32_t k = 0; k < shape.count; ++k) {
-        rayOrigin(e, cornerProbe(e, k), &s.probeOrigins[3 * k]);
-        std::copy(target, target + 3, &s.probeTargets[3 * k]);
+        if (cornerCovered(e, k)) continue;
+        float origin[3];
+        rayOrigin(e, cornerProbe(e, k), origin);
+        s.probeOrigins.insert(s.probeOrigins.end(), origin, origin + 3);
+        s.probeTargets.insert(s.probeTargets.end(), target, target + 3);
     }
-    s.probeBlocked.assign(shape.count, 0);
-    m_rays->occludedSegmentPairs(s.probeOrigins.data(), s.probeTargets.data(), shape.count, s.probeBlocked.data());
-    counts.rays += shape.count;
-    for (std::uint32_t k = 0; k < shape.count; ++k)
+    const std::size_t rays = s.probeOrigins.size() / 3;
+    s.probeBlocked.assign(rays, 0);
+    if (rays > 0)
+        m_rays->occludedSegmentPairs(s.probeOrigins.data(), s.probeTargets.data(), rays, s.probeBlocked.data());
+    counts.rays += rays;
+    for (std::size_t k = 0; k < rays; ++k)
         if ((s.probeBlocked[k] != 0) != blocked) return false;
     return true;
 }
 
 double PairRules::penumbralValue(PatchId e, PatchId r, int order, Scratch& s, RayCounts& counts) const {
     ++counts.penumbralPairs;
-    s.penumbraPoints.clear();
-    s.penumbraWeights.clear();
-    polygonQuadrature(m_geometry.polygon(e), m_geometry.shapes[e].count, m_ruleNodes[std::size_t(order)],
-                      m_ruleWeights[std::size_t(order)], s.penumbraPoints, s.penumbraWeights);
+    ruleOver(e, order, s.penumbraPoints, s.penumbraWeights);
     s.probeOrigins.clear();
     s.probeTargets.clear();
     s.penumbraTerms.clear();
@@ -147,16 +152,20 @@ double PairRules::penumbralValue(PatchId e, PatchId r, int order, Scratch& s, Ra
     return sum * unit();
 }
 
-void PairRules::emitterRule(PatchId e, int m, Scratch& s) const {
-    s.quadPoints.clear();
-    s.quadWeights.clear();
-    if (m == 1) {
-        s.quadPoints.push_back(m_geometry.shapes[e].centroid);
-        s.quadWeights.push_back(1.0);
+void PairRules::ruleOver(PatchId e, int m, std::vector<Vec3>& points, std::vector<double>& weights) const {
+    points.clear();
+    weights.clear();
+    if (m_covered.covered(e)) {
+        m_covered.freeRule(e, m, points, weights);
         return;
     }
-    polygonQuadrature(m_geometry.polygon(e), m_geometry.shapes[e].count, m_ruleNodes[m], m_ruleWeights[m], s.quadPoints,
-                      s.quadWeights);
+    if (m == 1) {
+        points.push_back(m_geometry.shapes[e].centroid);
+        weights.push_back(1.0);
+        return;
+    }
+    polygonQuadrature(m_geometry.polygon(e), m_geometry.shapes[e].count, m_ruleNodes[std::size_t(m)],
+                      m_ruleWeights[std::size_t(m)], points, weights);
 }
 
 double PairRules::visibleShare(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts) const {

@@ -8,6 +8,7 @@
 
 #include "preprocess/form_factor_backend.hpp"
 #include "preprocess/hemisphere/contact_pairs.hpp"
+#include "preprocess/hemisphere/covered_emitters.hpp"
 #include "preprocess/hemisphere/emitter_rule.hpp"
 #include "preprocess/hemisphere/far_rule.hpp"
 #include "preprocess/hemisphere/hemisphere_options.hpp"
@@ -55,6 +56,8 @@ public:
 
     /// The order m of the m x m rule over e for receiver r (1: e's centroid), or 0 for the far rule.
     int pairOrder(PatchId e, PatchId r) const {
+        // A covered emitter has no centroid pass and no far rule: its rules cover its free part.
+        if (m_covered.covered(e)) return std::max(2, ruleOrder(e, r));
         if (m_farRatio > 0.0 && FarRule::ratio(m_geometry.shapes[e], m_geometry.shapes[r]) >= m_farRatio) return 0;
         return ruleOrder(e, r);
     }
@@ -132,9 +135,13 @@ public:
         visible = exactVisible(e, r, x, term, s, counts);
         return true;
     }
-    /// The points and weights (summing to 1) of the m x m rule over patch e into s.quadPoints and
-    /// s.quadWeights.
-    void emitterRule(PatchId e, int m, Scratch& s) const;
+    /// The points and weights (summing to 1, or to a covered emitter's free fraction) of the m x m
+    /// rule over patch e into s.quadPoints and s.quadWeights.
+    void emitterRule(PatchId e, int m, Scratch& s) const { ruleOver(e, m, s.quadPoints, s.quadWeights); }
+    /// Whether corner k of e (a hundredth inside, cornerProbe) lies under a solid standing on e:
+    /// no probe is cast from it (it sees nothing, whatever the receiver).
+    bool cornerCovered(PatchId e, std::uint32_t k) const { return m_covered.cornerCovered(e, k); }
+    const CoveredEmitters& coveredEmitters() const { return m_covered; }
     /// Row e's term for r at point x of e's rule; false when x has no term for r (factor not above 0).
     bool pointTerm(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts, PointTerm& term) const;
     /// The ends of the shadow ray from e's point x (index `point` of e's rule) to (a piece of) r, in
@@ -186,6 +193,8 @@ public:
     int splitLevels() const { return m_splitLevels; }
 
 private:
+    /// The m x m rule over e (its free part where a solid covers some of it) into points, weights.
+    void ruleOver(PatchId e, int m, std::vector<Vec3>& points, std::vector<double>& weights) const;
     /// The order of the m x m rule alone (a far pair whose factor needs exact visibility takes it).
     int ruleOrder(PatchId e, PatchId r) const { return m_orders(ruleRatio(e, r)); }
     /// r's nearest possible point from e's centroid, in e's radii.
@@ -221,6 +230,7 @@ private:
     PatchGeometry m_geometry;
     ShadowPolygons m_shadows;  ///< the patches that can obstruct, for exact partial visibility
     ContactPairs m_contacts;   ///< close pairs, exact (contactPair)
+    CoveredEmitters m_covered;  ///< emitters a solid stands on in part
     bool m_wholePairs = false;  ///< --pairs whole: every pair is a close pair
     double m_exactAbove = 0.0;
     double m_straddleAbove = 0.0;  ///< F units: straddles() needs spread x unoccluded above this
