@@ -144,3 +144,39 @@ TEST_CASE("Each pair once: F with pairs handed between rows equals F with every 
         CHECK(double(once.shadowTerms) < 0.7 * double(separate.shadowTerms));
     }
 }
+
+TEST_CASE("Each pair once: pairs in a penumbra (centroid and far rule) and emitters a block covers in part, bit for bit both ways") {
+    // Plates of 16 x 16 patches at z = 0 (up) and z = 1 (down): their pairs are far (one point
+    // each, the far rule or the centroid pass). A 4 x 4 blocker at z = 0.5 casts penumbrae on the
+    // upper plate, probed from the emitters' corners; a flat block (four walls and a roof) stands
+    // across some lower patches, not on their edges, so that they integrate over their free parts.
+    SceneBuilder b;
+    const int n = 16;
+    const double h = 1.0 / n;
+    for (const bool up : {true, false})
+        for (int u = 0; u < n; ++u)
+            for (int v = 0; v < n; ++v)
+                b.rectangle(2, up ? 0 : 1, -0.5 + h * u, -0.5 + h * (u + 1), -0.5 + h * v, -0.5 + h * (v + 1), up);
+    for (int u = 0; u < 4; ++u)
+        for (int v = 0; v < 4; ++v)
+            b.rectangle(2, 0.5, -0.25 + 0.125 * u, -0.25 + 0.125 * (u + 1), -0.25 + 0.125 * v, -0.25 + 0.125 * (v + 1), false);
+    const double x0 = -0.47, x1 = -0.2, y0 = 0.1, y1 = 0.4, top = 0.05;
+    b.rectangle(0, x0, y0, y1, 0, top, false);
+    b.rectangle(0, x1, y0, y1, 0, top, true);
+    b.rectangle(1, y0, 0, top, x0, x1, false);
+    b.rectangle(1, y1, 0, top, x0, x1, true);
+    b.rectangle(2, top, x0, x1, y0, y1, true);
+    RayCounts separate, once, twoThreads;
+    const FormFactors reference = analyticRows(b.scene, 1, true, separate);
+    const FormFactors F = analyticRows(b.scene, 1, false, once);
+    const FormFactors F2 = analyticRows(b.scene, 2, false, twoThreads);
+    MESSAGE(b.scene.size() << " patches; penumbra computations " << separate.penumbralPairs << " row by row, "
+                           << once.penumbralPairs << " handed over; covered rows " << once.coveredRows);
+    CHECK(once.penumbralPairs > 0);
+    CHECK(once.coveredRows > 0);
+    CHECK(F.rowStarts() == reference.rowStarts());
+    CHECK(F.columnVector() == reference.columnVector());
+    CHECK(F.valueVector() == reference.valueVector());
+    CHECK(F2.columnVector() == reference.columnVector());
+    CHECK(F2.valueVector() == reference.valueVector());
+}

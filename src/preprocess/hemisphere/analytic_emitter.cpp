@@ -272,12 +272,11 @@ double AnalyticEstimator::replacePenumbralPairs(PatchId i, RowAccumulator& row, 
     const std::size_t count = pen.patches.size();
     if (count == 0) return 0.0;
     // The corners' rays as cornersAgree casts them, one batch per corner (the same verdicts).
+    // (A covered emitter has no centroid pass: no corner of this row is covered.)
     const PatchShape& emitter = m_rules.geometry().shapes[i];
-    const Vec3* corner = m_rules.geometry().polygon(i);
     pen.agree.assign(count, 1);
     pen.verdicts.resize(count);
     for (std::uint32_t c = 0; c < emitter.count; ++c) {
-        if (m_rules.cornerCovered(i, c)) continue;  // as cornersAgree
         float origin[3];
         m_rules.rayOrigin(i, m_rules.cornerProbe(i, c), origin);
         m_rays->occludedSegments(origin, pen.targets.data(), count, pen.verdicts.data());

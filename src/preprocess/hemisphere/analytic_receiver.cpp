@@ -152,6 +152,7 @@ AnalyticEstimator::Straddle AnalyticEstimator::reversedStraddles(PatchId i, std:
             factor = rev.factors[t];
             if (!m_rules.visibility() || !m_rules.probesPenumbra(factor)) return Straddle::None;
             const std::uint32_t ray = rev.rayOf[t];
+            m = 1;  // the far rule's pairs too, as replacePenumbralPairs weighs them
             return m_rules.cornersAgree(j, &rev.rays.targets[3 * ray], rev.rays.blocked[ray] != 0, ws.rules, counts)
                        ? Straddle::None
                        : Straddle::Penumbral;

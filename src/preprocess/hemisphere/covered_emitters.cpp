@@ -1,13 +1,15 @@
 #include "preprocess/hemisphere/covered_emitters.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hemirad {
 
 namespace {
 
 /// Whether x on a patch with normal n lies inside a closed solid: the rays along n and tilted 60
-/// degrees towards four sides all meet the back of a patch first.
+/// and 85 degrees towards four sides all meet the back of a patch first.
 bool insideSolid(const Vec3& x, const Vec3& n, const PatchGeometry& geometry, const RayScene& rays) {
     const Vec3 origin = x + rays.originOffset() * n;
     auto backHit = [&](const Vec3& dir) {
@@ -17,9 +19,11 @@ bool insideSolid(const Vec3& x, const Vec3& n, const PatchGeometry& geometry, co
     if (!backHit(n)) return false;
     const Vec3 t1 = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
     const Vec3 t2 = n.cross(t1);
-    const double c = 0.5, s = std::sqrt(0.75);
-    for (const Vec3& t : {t1, Vec3(-t1), t2, Vec3(-t2)})
-        if (!backHit(c * n + s * t)) return false;
+    for (const double tilt : {60.0, 85.0}) {
+        const double c = std::cos(tilt * kPi / 180.0), s = std::sin(tilt * kPi / 180.0);
+        for (const Vec3& t : {t1, Vec3(-t1), t2, Vec3(-t2)})
+            if (!backHit(c * n + s * t)) return false;
+    }
     return true;
 }
 
@@ -67,6 +71,7 @@ void CoveredEmitters::build(const PatchGeometry& geometry, const RayScene& rays)
         const std::size_t per = std::size_t(K * K);
         cells.centres.resize(parts * per);
         cells.weights.resize(parts * per);
+        cells.whole.assign(parts * per, 1);
         std::vector<std::uint8_t> status(parts * per);
         double total = 0.0;
         for (std::uint32_t part = 0; part < parts; ++part)
@@ -79,6 +84,7 @@ void CoveredEmitters::build(const PatchGeometry& geometry, const RayScene& rays)
                     status[q] = inside(cells.centres[q]);
                 }
         if (!(total > 0.0)) continue;  // degenerate: no area to cover
+        bool some = false;  // of its area covered
         for (std::uint32_t part = 0; part < parts; ++part)
             for (int a = 0; a < K; ++a)
                 for (int b = 0; b < K; ++b) {
@@ -90,7 +96,11 @@ void CoveredEmitters::build(const PatchGeometry& geometry, const RayScene& rays)
                             edge = true;
                     }
                     if (!edge) {
-                        if (status[q]) cells.weights[q] = 0.0;
+                        if (status[q]) {
+                            cells.weights[q] = 0.0;
+                            cells.whole[q] = 0;
+                            some = true;
+                        }
                         continue;
                     }
                     Vec3 sum = Vec3::Zero();
@@ -103,9 +113,15 @@ void CoveredEmitters::build(const PatchGeometry& geometry, const RayScene& rays)
                             sum += jacobian * x;
                             weight += jacobian;
                         }
+                    const double full = cells.weights[q];
                     cells.weights[q] = weight / (S * S);
                     if (weight > 0.0) cells.centres[q] = sum / weight;
+                    if (cells.weights[q] < full * (1.0 - 1e-12)) {
+                        cells.whole[q] = 0;
+                        some = true;
+                    }
                 }
+        if (!some) continue;  // its corner or first look hit the solid's rim: nothing of it is covered
         for (double& w : cells.weights) w /= total;
         cells.cornerCovered = std::move(corners);
         m_index[e] = std::uint32_t(m_cells.size());
@@ -113,34 +129,81 @@ void CoveredEmitters::build(const PatchGeometry& geometry, const RayScene& rays)
     }
 }
 
+namespace {
+
+/// Cells [a0, a1) x [b0, b1) of one part (per = kCells^2 cells from `first`): their free area and
+/// its centroid; `whole` whether all of them are free.
+struct Block {
+    Vec3 point = Vec3::Zero();
+    double weight = 0.0;
+    bool whole = true;
+};
+
+}  // namespace
+
 void CoveredEmitters::freeRule(PatchId e, int m, std::vector<Vec3>& points, std::vector<double>& weights) const {
     const Cells& cells = m_cells[m_index[e]];
     const std::size_t per = std::size_t(kCells * kCells);
-    for (std::uint32_t part = 0; part < cells.parts; ++part)
+    for (std::uint32_t part = 0; part < cells.parts; ++part) {
+        auto block = [&](int a0, int a1, int b0, int b1) {
+            Block k;
+            for (int a = a0; a < a1; ++a)
+                for (int b = b0; b < b1; ++b) {
+                    const std::size_t q = part * per + std::size_t(a * kCells + b);
+                    k.point += cells.weights[q] * cells.centres[q];
+                    k.weight += cells.weights[q];
+                    k.whole = k.whole && cells.whole[q];
+                }
+            if (k.weight > 0.0) k.point /= k.weight;
+            return k;
+        };
+        // The free cell of [a0, a1) x [b0, b1) nearest to `point`, a whole one first.
+        auto nearestFree = [&](int a0, int a1, int b0, int b1, const Vec3& point) {
+            double best = std::numeric_limits<double>::infinity();
+            bool bestWhole = false;
+            Vec3 chosen = point;
+            for (int a = a0; a < a1; ++a)
+                for (int b = b0; b < b1; ++b) {
+                    const std::size_t q = part * per + std::size_t(a * kCells + b);
+                    if (!(cells.weights[q] > 0.0)) continue;
+                    const bool whole = cells.whole[q] != 0;
+                    const double d = (cells.centres[q] - point).squaredNorm();
+                    if ((whole && !bestWhole) || (whole == bestWhole && d < best)) {
+                        best = d;
+                        bestWhole = whole;
+                        chosen = cells.centres[q];
+                    }
+                }
+            return chosen;
+        };
         for (int A = 0; A < m; ++A)
             for (int B = 0; B < m; ++B) {
-                Vec3 sum = Vec3::Zero();
-                double weight = 0.0;
-                for (int a = A * kCells / m; a < (A + 1) * kCells / m; ++a)
-                    for (int b = B * kCells / m; b < (B + 1) * kCells / m; ++b) {
-                        const std::size_t q = part * per + std::size_t(a * kCells + b);
-                        sum += cells.weights[q] * cells.centres[q];
-                        weight += cells.weights[q];
+                const int a0 = A * kCells / m, a1 = (A + 1) * kCells / m, b0 = B * kCells / m, b1 = (B + 1) * kCells / m;
+                const Block k = block(a0, a1, b0, b1);
+                if (!(k.weight > 0.0)) continue;
+                if (k.whole) {
+                    points.push_back(k.point);
+                    weights.push_back(k.weight);
+                    continue;
+                }
+                // The solid's edge crosses the block: its free part (an L-shaped strip's centroid
+                // lies under the solid) in tiles of kTile x kTile cells, each at its free centroid
+                // if whole, else at the free cell nearest to it.
+                for (int a = a0; a < a1; a += kTile)
+                    for (int b = b0; b < b1; b += kTile) {
+                        const int ta = std::min(a1, a + kTile), tb = std::min(b1, b + kTile);
+                        const Block t = block(a, ta, b, tb);
+                        if (!(t.weight > 0.0)) continue;
+                        points.push_back(t.whole ? t.point : nearestFree(a, ta, b, tb, t.point));
+                        weights.push_back(t.weight);
                     }
-                if (!(weight > 0.0)) continue;
-                points.push_back(sum / weight);
-                weights.push_back(weight);
             }
+    }
 }
 
 bool CoveredEmitters::cornerCovered(PatchId e, std::uint32_t k) const {
     return covered(e) && m_cells[m_index[e]].cornerCovered[k] != 0;
 }
 
-double CoveredEmitters::freeFraction(PatchId e) const {
-    double sum = 0.0;
-    for (const double w : m_cells[m_index[e]].weights) sum += w;
-    return sum;
-}
 
 }  // namespace hemirad

@@ -134,8 +134,8 @@ double PairRules::penumbralValue(PatchId e, PatchId r, int order, Scratch& s, Ra
             const double f = pointToPolygonFactor(x, n, &s.pieces[k], 4);
             if (!(f > 0.0)) continue;
             float target[3];
-            // Point indices past the rule passes' (with --jitter, aims drawn apart from theirs).
-            rayTarget(e, r, &s.pieces[k], 4, std::uint32_t(1024 + q), std::uint32_t(k / 4 + 1), target);
+            // Piece numbers past a silhouette split's (with --jitter, aims drawn apart from theirs).
+            rayTarget(e, r, &s.pieces[k], 4, std::uint32_t(q), std::uint32_t(kPenumbraPieces + k / 4), target);
             s.probeOrigins.insert(s.probeOrigins.end(), origin, origin + 3);
             s.probeTargets.insert(s.probeTargets.end(), target, target + 3);
             s.penumbraTerms.push_back(f * s.penumbraWeights[q]);

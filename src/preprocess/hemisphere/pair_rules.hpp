@@ -179,6 +179,8 @@ public:
     static constexpr double kStraddleSpread = 0.25;
     /// The order of penumbralValue's rule for its largest terms.
     static constexpr int kPenumbraOrder = 6;
+    /// penumbralValue's pieces are numbered from here for rayTarget (a silhouette split's from 1).
+    static constexpr std::uint32_t kPenumbraPieces = 64;
 
     /// F in ray units: the accumulator's take() scales by 1 / (origins samples).
     double unit() const { return double(m_options.origins) * m_options.samples; }
