@@ -257,12 +257,7 @@ double AnalyticEstimator::replaceStraddlingPairs(PatchId i, const std::vector<Pa
         if (most < least) continue;  // no term
         const Straddle straddle = straddleOf(i, j, unoccluded, least, most, ws, counts);
         if (straddle == Straddle::None) continue;
-        const double value = replacementValue(straddle, i, j, m, unoccluded / m_rules.unit(), ws, counts);
-        const double before = row.weight(j);
-        row.addWeight(j, value - before);
-        change += value - before;
-        ws.kept.keep(j, 0.0);
-        ws.kept.sum[j] = value;
+        change += replaceEntry(j, replacementValue(straddle, i, j, m, unoccluded / m_rules.unit(), ws, counts), row, ws);
     }
     return change;
 }
@@ -288,15 +283,18 @@ double AnalyticEstimator::replacePenumbralPairs(PatchId i, RowAccumulator& row, 
     for (std::size_t k = 0; k < count; ++k) {
         if (pen.agree[k]) continue;
         const PatchId j = pen.patches[k];
-        const double value = replacementValue(Straddle::Penumbral, i, j, 1, pen.factors[k], ws, counts);
-        const double before = row.weight(j);
-        row.addWeight(j, value - before);
-        change += value - before;
-        ws.kept.keep(j, 0.0);
-        ws.kept.sum[j] = value;
+        change += replaceEntry(j, replacementValue(Straddle::Penumbral, i, j, 1, pen.factors[k], ws, counts), row, ws);
     }
     pen.clear();
     return change;
+}
+
+double AnalyticEstimator::replaceEntry(PatchId j, double value, RowAccumulator& row, Workspace& ws) {
+    const double before = row.weight(j);
+    row.addWeight(j, value - before);
+    ws.kept.keep(j, 0.0);
+    ws.kept.sum[j] = value;
+    return value - before;
 }
 
 double AnalyticEstimator::replacementValue(Straddle straddle, PatchId e, PatchId r, int m, double factor, Workspace& ws,
@@ -327,10 +325,9 @@ bool AnalyticEstimator::straddlesWhole(PatchId e, PatchId r, double unoccluded, 
     // 0.00693 for 0.00599, now 0.00599). Its corners say, wherever a spread of 1 would matter.
     if (!m_rules.straddles(unoccluded, 0.0, 1.0)) return false;
     const PatchShape& emitter = m_rules.geometry().shapes[e];
-    const Vec3* corner = m_rules.geometry().polygon(e);
     for (std::uint32_t k = 0; k < emitter.count; ++k) {
         if (m_rules.cornerCovered(e, k)) continue;  // under a solid: it sees nothing
-        const double share = m_rules.visibleShare(e, r, corner[k] + 0.01 * (emitter.centroid - corner[k]), ws.rules, counts);
+        const double share = m_rules.visibleShare(e, r, m_rules.cornerProbe(e, k), ws.rules, counts);
         if (share < 0.0) continue;
         least = std::min(least, double(float(share)));
         most = std::max(most, double(float(share)));

@@ -56,6 +56,9 @@ private:
     /// Penumbral). Both rows of the pair decide alike.
     Straddle straddleOf(PatchId e, PatchId r, double unoccluded, double least, double most, Workspace& ws,
                         RayCounts& counts) const;
+    /// Row i's entry for receiver j (ray units) set to `value` in place of its terms, and kept so for
+    /// the exchange; returns the change.
+    static double replaceEntry(PatchId j, double value, RowAccumulator& row, Workspace& ws);
     /// The replacement value (ray units) of a pair of rule order m (1: the centroid, 0: the far rule)
     /// with the unoccluded factor `factor`.
     double replacementValue(Straddle straddle, PatchId e, PatchId r, int m, double factor, Workspace& ws,
