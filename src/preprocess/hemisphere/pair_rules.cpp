@@ -116,7 +116,6 @@ double PairRules::penumbralValue(PatchId e, PatchId r, int order, Scratch& s, Ra
     s.probeOrigins.clear();
     s.probeTargets.clear();
     s.penumbraTerms.clear();
-    const Vec3& n = m_geometry.shapes[e].normal;
     double sum = 0.0;
     PointTerm term;
     for (std::size_t q = 0; q < s.penumbraPoints.size(); ++q) {
@@ -126,20 +125,18 @@ double PairRules::penumbralValue(PatchId e, PatchId r, int order, Scratch& s, Ra
             if (term.visible > 0.0) sum += term.visible * s.penumbraWeights[q];
             continue;
         }
-        // r in pieces, each with its own factor and shadow ray (as a silhouette receiver's).
+        // r in pieces, each with its own factor and shadow ray (as a silhouette receiver's), their
+        // numbers past a silhouette split's (with --jitter, aims drawn apart from theirs).
         float origin[3];
         rayOrigin(e, x, origin);
-        piecesOf(term.polygon, term.corners, s);
-        for (std::size_t k = 0; k < s.pieces.size(); k += 4) {
-            const double f = pointToPolygonFactor(x, n, &s.pieces[k], 4);
-            if (!(f > 0.0)) continue;
-            float target[3];
-            // Piece numbers past a silhouette split's (with --jitter, aims drawn apart from theirs).
-            rayTarget(e, r, &s.pieces[k], 4, std::uint32_t(q), std::uint32_t(kPenumbraPieces + k / 4), target);
-            s.probeOrigins.insert(s.probeOrigins.end(), origin, origin + 3);
-            s.probeTargets.insert(s.probeTargets.end(), target, target + 3);
-            s.penumbraTerms.push_back(f * s.penumbraWeights[q]);
-        }
+        forEachPiece(
+            e, r, x, std::uint32_t(q), s,
+            [&](double f, const float target[3]) {
+                s.probeOrigins.insert(s.probeOrigins.end(), origin, origin + 3);
+                s.probeTargets.insert(s.probeTargets.end(), target, target + 3);
+                s.penumbraTerms.push_back(f * s.penumbraWeights[q]);
+            },
+            kPenumbraPieces);
     }
     const std::size_t rays = s.penumbraTerms.size();
     if (rays > 0) {

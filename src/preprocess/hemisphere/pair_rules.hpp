@@ -152,9 +152,10 @@ public:
                    std::uint32_t piece, float target[3]) const;
     /// Receiver r on a silhouette seen from e's point x (index `point`): r's part above x's plane
     /// in pieces of 4 corners (one split, two with --jitter); visit(factor, target) for each piece
-    /// with a factor above 0, target its shadow ray's end.
+    /// with a factor above 0, target its shadow ray's end (aimed as piece firstPiece, firstPiece + 1, ...).
     template <class Visit>
-    void forEachPiece(PatchId e, PatchId r, const Vec3& x, std::uint32_t point, Scratch& s, Visit visit) const {
+    void forEachPiece(PatchId e, PatchId r, const Vec3& x, std::uint32_t point, Scratch& s, Visit visit,
+                      std::uint32_t firstPiece = 1) const {
         const Vec3& n = m_geometry.shapes[e].normal;
         const Vec3* polygon;
         const std::size_t corners = polygonAbove(r, x, n, s.clipped, polygon);
@@ -163,7 +164,7 @@ public:
             const double f = pointToPolygonFactor(x, n, &s.pieces[q], 4);
             if (!(f > 0.0)) continue;
             float target[3];
-            rayTarget(e, r, &s.pieces[q], 4, point, std::uint32_t(q / 4 + 1), target);
+            rayTarget(e, r, &s.pieces[q], 4, point, std::uint32_t(firstPiece + q / 4), target);
             visit(f, target);
         }
     }
