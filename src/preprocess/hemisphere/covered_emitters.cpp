@@ -55,7 +55,7 @@ void CoveredEmitters::build(const PatchGeometry& geometry, const RayScene& rays)
         std::vector<std::uint8_t> corners(shape.count, 0);
         bool any = false;
         for (std::uint32_t k = 0; k < shape.count; ++k) {
-            corners[k] = inside(corner[k] + 0.01 * (shape.centroid - corner[k]));
+            corners[k] = inside(geometry.insetCorner(e, k));  // where PairRules::cornerProbe starts
             any = any || corners[k];
         }
         double jacobian = 0.0;

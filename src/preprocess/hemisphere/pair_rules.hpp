@@ -99,11 +99,7 @@ public:
     /// is the extreme: its centroid under the block saw nothing where its free part sees the room.
     bool cornersAgree(PatchId e, const float target[3], bool blocked, Scratch& s, RayCounts& counts) const;
     /// Corner k of e a hundredth inside: where cornersAgree's rays start (before rayOrigin's lift).
-    Vec3 cornerProbe(PatchId e, std::uint32_t k) const {
-        const PatchShape& shape = m_geometry.shapes[e];
-        const Vec3& corner = m_geometry.polygon(e)[k];
-        return corner + 0.01 * (shape.centroid - corner);
-    }
+    Vec3 cornerProbe(PatchId e, std::uint32_t k) const { return m_geometry.insetCorner(e, k); }
     /// A pair in such a penumbra, or a ruled pair whose points' shares spread too far for its few
     /// points but not enough for straddles(): e's rule of the given order (penumbralOrder), each point with
     /// its own term (its exact visible part above exactAbove(), else its factor if its own shadow

@@ -36,6 +36,12 @@ struct PatchGeometry {
         }
     }
     const Vec3* polygon(PatchId j) const { return &corners[shapes[j].first]; }
+    /// Corner k of patch j a hundredth of the way to its centroid: where the corner probes start
+    /// (PairRules::cornerProbe) and where CoveredEmitters tests a corner.
+    Vec3 insetCorner(PatchId j, std::uint32_t k) const {
+        const Vec3& corner = corners[shapes[j].first + k];
+        return corner + 0.01 * (shapes[j].centroid - corner);
+    }
 
     /// Fills neighbourStart and neighbours: patches sharing a corner position within 1e-9 of the
     /// scene's size (generators compute shared corners by different float expressions), and
