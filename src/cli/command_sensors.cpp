@@ -6,8 +6,10 @@
 #include "cli/pipeline.hpp"
 #include "cli/sensor_command.hpp"
 #include "cli/sun_command.hpp"
+#include "environment/sensor_mirrors.hpp"
 #include "environment/sensors.hpp"
 
+#include <algorithm>
 #include <iomanip>
 #include <numeric>
 #include <sstream>
@@ -27,6 +29,8 @@ SensorFactors sensorFactorsFromOptions(const Scene& scene, const Sensors& sensor
                                        const Reporter& reporter) {
     SensorOptions chosen = options.sensorFactors;
     chosen.threads = options.formFactors.common.threads;
+    chosen.limits.maxDepth = options.formFactors.common.maxDepth;
+    chosen.limits.minWeight = options.formFactors.common.minWeight;
     std::string why;
     const SensorFactors factors = sensorFactors(scene, sensors, chosen, &why);
     const double mean = std::accumulate(factors.skyView.begin(), factors.skyView.end(), 0.0) / double(sensors.size());
@@ -40,6 +44,15 @@ SensorFactors sensorFactorsFromOptions(const Scene& scene, const Sensors& sensor
     line << ", " << factors.values.size() << " nonzeros; sky view factor mean " << mean << ", min "
          << *std::min_element(factors.skyView.begin(), factors.skyView.end()) << ", max "
          << *std::max_element(factors.skyView.begin(), factors.skyView.end()) << " [" << why << "]";
+    if (!factors.mirrors.empty()) {
+        line << "\n  mirrors: " << factors.mirrors;
+        if (!factors.skyMirrored.empty())
+            line << "; sky seen in them: mean "
+                 << std::accumulate(factors.skyMirrored.begin(), factors.skyMirrored.end(), 0.0) / double(sensors.size()) << ", max "
+                 << *std::max_element(factors.skyMirrored.begin(), factors.skyMirrored.end()) << "; cut off by --max-depth "
+                 << chosen.limits.maxDepth << " / --min-weight " << chosen.limits.minWeight << ": "
+                 << factors.cutoffWeight / double(sensors.size()) << " per sensor (counted as sky)";
+    }
     reporter.line(line.str());
     return factors;
 }
@@ -55,9 +68,7 @@ int runSensors(const Options& options) {
     timings.start("sensor factors");
     const SensorFactors factors = sensorFactorsFromOptions(scene, sensors, options, reporter);
     timings.stop();
-    if (scene.hasMirrors())
-        warnings.add("mirrors", "the sensors' factors and sky view factors are direct: what they would see through the "
-                                "scene's mirrors is not counted (the patches' radiosity includes the mirrors)");
+    if (factors.mirrors.rfind("not followed", 0) == 0) warnings.add("mirrors", "sensors: the scene's mirrors are " + factors.mirrors);
 
     SensorIrradiance irradiance;
     if (options.dni) {
@@ -67,14 +78,22 @@ int runSensors(const Options& options) {
         const IrradianceResult patches = patchHour(scene, options, toSun, metres, timings, reporter, warnings);
         timings.start("sensors in the sun");
         // A sun below the horizon (--sun-time at night) reaches no sensor (patchHour says so).
-        const std::vector<double> lit =
-            sunBelowHorizon(options) ? std::vector<double>(sensors.size(), 0.0) : sensorSunlit(scene, sensors, toSun);
-        irradiance = sensorIrradiance(sensors, factors, lit, toSun, *options.dni, options.dhi, patches.radiosity);
+        std::vector<double> lit(sensors.size(), 0.0), glare;
+        if (!sunBelowHorizon(options)) {
+            const BeamShadows beams(scene);
+            lit = sensorSunlit(beams, sensors, toSun);
+            const SensorReflections reflections(scene, options.formFactors.common.threads);
+            if (reflections.active()) glare = reflections.sun(beams, sensors, toSun, *options.dni);
+        }
+        irradiance = sensorIrradiance(sensors, factors, lit, toSun, *options.dni, options.dhi, patches.radiosity, glare);
         timings.stop();
         std::ostringstream line;
         line << std::setprecision(6) << "sensors: the patches' hour balances to " << std::setprecision(3) << patches.balance
              << " (" << patches.report.solver << "); " << std::accumulate(lit.begin(), lit.end(), 0.0) << " of "
              << sensors.size() << " sensors in the sun";
+        if (!glare.empty())
+            line << ", " << std::count_if(glare.begin(), glare.end(), [](double g) { return g > 0.0; })
+                 << " in the sun reflected by mirrors (up to " << *std::max_element(glare.begin(), glare.end()) << " W/m^2)";
         reporter.line(line.str());
     }
 
@@ -83,7 +102,11 @@ int runSensors(const Options& options) {
     if (!options.sensorFactorsPath.empty()) writeSensorFactorsMtx(options.sensorFactorsPath, factors);
     timings.stop();
     reporter.line("wrote " + outputName(options.output) + " (per sensor: position, normal, sky view factor" +
-                  (options.dni ? std::string(", direct sun, direct sky, reflected, total") : std::string()) + ")" +
+                  (factors.skyMirrored.empty() ? std::string() : std::string(", sky direct and through mirrors")) +
+                  (options.dni ? std::string(", direct sun, direct sky") +
+                                     (factors.skyMirrored.empty() ? "" : ", sun and sky reflected by mirrors") + ", reflected, total"
+                               : std::string()) +
+                  ")" +
                   (options.sensorFactorsPath.empty() ? "" : " and " + outputName(options.sensorFactorsPath) +
                                                                " (sensors x patches)"));
     finishCommand(reporter, timings, warnings);

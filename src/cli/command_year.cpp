@@ -114,10 +114,23 @@ int runYear(const Options& options) {
         AtomicFile file(options.sensorOutputPath, false);
         std::ostream& out = file.stream();
         out << std::setprecision(std::numeric_limits<double>::max_digits10);
-        out << "sensor,name,sky_view_factor,direct_sun (Wh/m^2),direct_sky (Wh/m^2),reflected (Wh/m^2),total (Wh/m^2)\n";
-        for (std::size_t s = 0; s < sensors.size(); ++s)
-            out << s << ',' << csvField(sensors.name[s]) << ',' << sensorFactorsOf.skyView[s] << ',' << year.sensorDirectSun[s] << ','
-                << year.sensorDirectSky[s] << ',' << year.sensorReflected[s] << ',' << year.sensorSum[s] << '\n';
+        // With mirrors followed: the sky view factor is direct + in mirrors, and the sun and sky the
+        // mirrors show each sensor have columns of their own.
+        const bool mirrored = !sensorFactorsOf.skyMirrored.empty();
+        out << "sensor,name,sky_view_factor" << (mirrored ? ",sky_direct,sky_through_mirrors" : "")
+            << ",direct_sun (Wh/m^2),direct_sky (Wh/m^2)" << (mirrored ? ",reflected_sun (Wh/m^2),reflected_sky (Wh/m^2)" : "")
+            << ",reflected (Wh/m^2),total (Wh/m^2)\n";
+        for (std::size_t s = 0; s < sensors.size(); ++s) {
+            out << s << ',' << csvField(sensors.name[s]) << ',';
+            if (mirrored)
+                out << sensorFactorsOf.skyView[s] + sensorFactorsOf.skyMirrored[s] << ',' << sensorFactorsOf.skyView[s] << ','
+                    << sensorFactorsOf.skyMirrored[s];
+            else
+                out << sensorFactorsOf.skyView[s];
+            out << ',' << year.sensorDirectSun[s] << ',' << year.sensorDirectSky[s];
+            if (mirrored) out << ',' << year.sensorReflectedSun[s] << ',' << year.sensorReflectedSky[s];
+            out << ',' << year.sensorReflected[s] << ',' << year.sensorSum[s] << '\n';
+        }
         file.commit();
         if (sensorHourly) sensorHourly->commit();
     }

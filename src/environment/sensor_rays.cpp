@@ -6,6 +6,7 @@
 #include "environment/sensors.hpp"
 #include "preprocess/hemisphere/beckers.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
+#include "rays/mirror_chain.hpp"
 #include "rays/ray_scene.hpp"
 
 #include <algorithm>
@@ -54,11 +55,22 @@ SensorFactors sensorFactors(const Scene& scene, const Sensors& sensors, const Se
     std::string reason;
     const SensorEstimator chosen = chooseSensorEstimator(options, sensors.size(), scene.size(), reason);
     if (why) *why = reason;
-    return chosen == SensorEstimator::Rays ? sensorFactorsByRays(scene, sensors, options.rays, options.threads)
-                                           : sensorFactors(scene, sensors, options.threads);
+    return chosen == SensorEstimator::Rays ? sensorFactorsByRays(scene, sensors, options.rays, options.threads, options.limits)
+                                           : sensorFactors(scene, sensors, options.threads, options.limits);
 }
 
-SensorFactors sensorFactorsByRays(const Scene& scene, const Sensors& sensors, std::uint32_t rays, int threads) {
+namespace {
+
+/// What followMirrorChain counts; a chain that ends in a miss carries its weight to the sky.
+struct ChainCounts {
+    std::uint64_t bounces = 0, misses = 0, backfaces = 0;
+    double lostWeight = 0.0, cutoffWeight = 0.0;
+};
+
+}  // namespace
+
+SensorFactors sensorFactorsByRays(const Scene& scene, const Sensors& sensors, std::uint32_t rays, int threads,
+                                  const MirrorChainLimits& limits) {
     if (rays == 0 || rays > (1u << 24))
         throw Error("sensor factors: the ray estimator takes 1 to 16777216 rays per sensor, not " + std::to_string(rays));
     if (!rayCastingNotBuilt().empty()) throw Error("sensor factors by rays: " + rayCastingNotBuilt());
@@ -72,18 +84,24 @@ SensorFactors sensorFactorsByRays(const Scene& scene, const Sensors& sensors, st
     out.patches = n;
     out.skyView.assign(sensors.size(), 1.0);
     out.rowStart.assign(sensors.size() + 1, 0);
+    const bool mirrors = scene.hasMirrors();
+    if (mirrors) {
+        out.mirrors = "followed by rays (reflected at each mirror met)";
+        out.skyMirrored.assign(sensors.size(), 0.0);
+    }
+    double cutoff = 0.0;
     // Sensors in blocks: a block's rows are gathered in parallel, then appended in sensor order, so
     // that only one block's rows wait beside the matrix.
     const std::size_t block = 4096;
-    std::vector<std::vector<std::pair<PatchId, std::uint32_t>>> rows(std::min(block, sensors.size()));
+    std::vector<std::vector<std::pair<PatchId, double>>> rows(std::min(block, sensors.size()));
     ParallelFailure failure;
     for (std::size_t first = 0; first < sensors.size(); first += block) {
         const std::size_t last = std::min(sensors.size(), first + block);
-#pragma omp parallel num_threads(threads > 0 ? threads : omp_get_max_threads())
+#pragma omp parallel num_threads(threads > 0 ? threads : omp_get_max_threads()) reduction(+ : cutoff)
         {
-            std::vector<float> local(3 * std::size_t(rays)), dirs(3 * std::size_t(rays));
+            std::vector<float> local(3 * std::size_t(rays)), dirs(3 * std::size_t(rays)), distances(mirrors ? rays : 0);
             std::vector<PatchId> hits(rays);
-            std::vector<std::uint32_t> count(n, 0);
+            std::vector<double> count(n, 0.0);  // rays (whole, or weighted by the s met through mirrors)
             std::vector<PatchId> touched;
 #pragma omp for schedule(dynamic, 16)
             for (std::int64_t ss = std::int64_t(first); ss < std::int64_t(last); ++ss) {
@@ -103,8 +121,10 @@ SensorFactors sensorFactorsByRays(const Scene& scene, const Sensors& sensors, st
                     cast.toLocal(sensors.position[s] + lift * normal, origin);
                     // A surface through the sensor (a wall it stands in) is seen edge-on, as by the
                     // exact factors: its hit at the origin is passed over.
-                    cast.intersectFan(origin, dirs.data(), rays, hits.data(), nullptr, float(2.0 * lift));
+                    cast.intersectFan(origin, dirs.data(), rays, hits.data(), mirrors ? distances.data() : nullptr, float(2.0 * lift));
                     std::uint32_t sky = 0;
+                    ChainCounts chains;
+                    double skyMirrored = 0.0;
                     touched.clear();
                     for (std::size_t k = 0; k < rays; ++k) {
                         const PatchId j = hits[k];
@@ -116,16 +136,33 @@ SensorFactors sensorFactorsByRays(const Scene& scene, const Sensors& sensors, st
                         const double facing =
                             nj.x() * dirs[3 * k] + nj.y() * dirs[3 * k + 1] + nj.z() * dirs[3 * k + 2];
                         if (!(facing < 0.0)) continue;  // its back: hides the sky, receives nothing
-                        if (count[j]++ == 0) touched.push_back(j);
+                        if (count[j] == 0.0) touched.push_back(j);
+                        count[j] += 1.0;
+                        if (scene.patches[j].specular <= 0.0) continue;
+                        // A mirror's front: the ray goes on, reflected, with the s met.
+                        const std::uint64_t misses = chains.misses;
+                        const double lost = chains.lostWeight;
+                        const Vec3 d(dirs[3 * k], dirs[3 * k + 1], dirs[3 * k + 2]);
+                        followMirrorChain(scene, cast, sensors.position[s] + lift * normal, d, j, distances[k], 1.0, 1.0, limits,
+                                          [&](PatchId r, double weight) {
+                                              if (count[r] == 0.0) touched.push_back(r);
+                                              count[r] += weight;
+                                          },
+                                          chains);
+                        if (chains.misses != misses) skyMirrored += chains.lostWeight - lost;
                     }
                     std::sort(touched.begin(), touched.end());
                     auto& row = rows[s - first];
                     row.clear();
                     for (const PatchId j : touched) {
                         row.emplace_back(j, count[j]);
-                        count[j] = 0;
+                        count[j] = 0.0;
                     }
                     out.skyView[s] = double(sky) * share;
+                    if (mirrors) {
+                        out.skyMirrored[s] = skyMirrored * share;
+                        cutoff += chains.cutoffWeight * share;
+                    }
                 });
             }
         }
@@ -140,6 +177,7 @@ SensorFactors sensorFactorsByRays(const Scene& scene, const Sensors& sensors, st
         }
     }
     out.rays = std::uint64_t(sensors.size()) * rays;
+    out.cutoffWeight = cutoff;
     return out;
 }
 

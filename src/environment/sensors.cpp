@@ -6,6 +6,7 @@
 #include "engine/csv.hpp"
 #include "engine/error.hpp"
 #include "engine/parallel_failure.hpp"
+#include "environment/sensor_mirrors.hpp"
 #include "environment/sky_view.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
 #include "preprocess/hemisphere/point_polygon.hpp"
@@ -19,6 +20,7 @@
 #include <iomanip>
 #include <limits>
 #include <map>
+#include <memory>
 #include <sstream>
 
 #include <omp.h>
@@ -188,7 +190,7 @@ Sensors sensorGrid(const Scene& scene, const std::string& object, double spacing
     return out;
 }
 
-SensorFactors sensorFactors(const Scene& scene, const Sensors& sensors, int threads) {
+SensorFactors sensorFactors(const Scene& scene, const Sensors& sensors, int threads, const MirrorChainLimits& limits) {
     const std::size_t n = scene.size();
     SensorFactors out;
     out.patches = n;
@@ -205,14 +207,33 @@ SensorFactors sensorFactors(const Scene& scene, const Sensors& sensors, int thre
     std::fill(blocks.begin(), blocks.begin() + std::ptrdiff_t(n), std::uint8_t(1));
     ShadowPolygons shadows;
     shadows.build(geometry, blocks);
+    // Through mirrors: the images of each sensor (sensor_mirrors.hpp), with shadow rays.
+    std::vector<Reflector> reflectors;
+    out.mirrors = sensorMirrorsNote(scene, reflectors);
+    std::unique_ptr<RayScene> cast;
+    std::unique_ptr<SensorMirrors> mirrors;
+    if (!reflectors.empty()) {
+        out.mirrors = "followed by images (" + std::to_string(reflectors.size()) + " reflectors)";
+        cast = std::make_unique<RayScene>(scene, threads);
+        mirrors = std::make_unique<SensorMirrors>(scene, geometry, std::move(reflectors), *cast, limits);
+        out.skyMirrored.assign(sensors.size(), 0.0);
+    }
 
     const double planeTolerance = 1e-12 * scene.extent();
     std::vector<std::vector<std::pair<PatchId, double>>> rows(sensors.size());
     std::uint64_t terms = 0;
-#pragma omp parallel num_threads(threads > 0 ? threads : omp_get_max_threads()) reduction(+ : terms)
+    double cutoff = 0.0;
+    ParallelFailure failure;  // a ray scene's error: rethrown after the region
+#pragma omp parallel num_threads(threads > 0 ? threads : omp_get_max_threads()) reduction(+ : terms, cutoff)
     {
         ShadowPolygons::Scratch scratch;
         std::vector<Vec3> clipped;
+        SensorMirrors::Workspace ws;
+        std::vector<double> reach;
+        if (mirrors) {
+            ws = mirrors->workspace();
+            reach.assign(mirrors->reflectorCount(), 0.0);
+        }
 #pragma omp for schedule(dynamic, 16)
         for (std::int64_t ss = 0; ss < std::int64_t(sensors.size()); ++ss) {
             const std::size_t s = std::size_t(ss);
@@ -249,9 +270,35 @@ SensorFactors sensorFactors(const Scene& scene, const Sensors& sensors, int thre
                 if (front) rows[s].emplace_back(j, visible);
             }
             out.skyView[s] = std::clamp(1.0 - covered, 0.0, 1.0);
+            if (!mirrors || failure.failed()) continue;
+            failure.run([&] {
+                // Each reflector's reach (its patches' visible factors), then its images; a patch seen
+                // straight and in mirrors gets one entry.
+                std::vector<std::pair<PatchId, double>>& row = rows[s];
+                for (const auto& [j, f] : row)
+                    if (const std::int32_t k = mirrors->reflectorOf(j); k >= 0) reach[std::size_t(k)] += f;
+                const std::size_t direct = row.size();
+                const SensorMirrors::Totals seen = mirrors->sees(x, normal, reach, ws, row);
+                std::fill(reach.begin(), reach.end(), 0.0);
+                out.skyMirrored[s] = seen.sky;
+                cutoff += seen.cutoff;
+                terms += seen.terms;
+                if (row.size() == direct) return;
+                std::stable_sort(row.begin(), row.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+                std::size_t kept = 0;
+                for (std::size_t k = 0; k < row.size(); ++k) {
+                    if (kept > 0 && row[kept - 1].first == row[k].first)
+                        row[kept - 1].second += row[k].second;
+                    else
+                        row[kept++] = row[k];
+                }
+                row.resize(kept);
+            });
         }
     }
+    failure.rethrowIfFailed();
     out.terms = terms;
+    out.cutoffWeight = cutoff;
     for (std::size_t s = 0; s < sensors.size(); ++s) {
         out.rowStart[s + 1] = out.rowStart[s] + rows[s].size();
         for (const auto& [j, f] : rows[s]) {
@@ -286,23 +333,29 @@ std::vector<double> sensorSunlit(const BeamShadows& beams, const Sensors& sensor
 }
 
 SensorIrradiance sensorIrradiance(const Sensors& sensors, const SensorFactors& factors, const std::vector<double>& sunlit,
-                                  const Vec3& toSun, double dni, double dhi, const std::vector<double>& radiosity) {
+                                  const Vec3& toSun, double dni, double dhi, const std::vector<double>& radiosity,
+                                  const std::vector<double>& reflectedSun) {
     const std::size_t count = sensors.size();
-    if (factors.skyView.size() != count || sunlit.size() != count || radiosity.size() != factors.patches)
-        throw Error("sensors: the factors, the sunlit flags and the radiosity do not match the sensors and the scene");
+    if (factors.skyView.size() != count || sunlit.size() != count || radiosity.size() != factors.patches ||
+        (!reflectedSun.empty() && reflectedSun.size() != count))
+        throw Error("sensors: the factors, the sunlit flags, the reflected sun and the radiosity do not match the sensors and the scene");
     const Vec3 d = toSun.normalized();
     SensorIrradiance out;
     out.directSun.resize(count);
     out.directSky.resize(count);
+    out.reflectedSun.assign(count, 0.0);
+    out.reflectedSky.assign(count, 0.0);
     out.reflected.resize(count);
     out.total.resize(count);
     for (std::size_t s = 0; s < count; ++s) {
         out.directSun[s] = dni * std::max(0.0, sensors.normal[s].dot(d)) * sunlit[s];
         out.directSky[s] = dhi * factors.skyView[s];
+        if (!reflectedSun.empty()) out.reflectedSun[s] = reflectedSun[s];
+        if (!factors.skyMirrored.empty()) out.reflectedSky[s] = dhi * factors.skyMirrored[s];
         double h = 0.0;
         for (std::uint64_t k = factors.rowStart[s]; k < factors.rowStart[s + 1]; ++k) h += factors.values[k] * radiosity[factors.columns[k]];
         out.reflected[s] = h;
-        out.total[s] = out.directSun[s] + out.directSky[s] + h;
+        out.total[s] = out.directSun[s] + out.directSky[s] + out.reflectedSun[s] + out.reflectedSky[s] + h;
     }
     return out;
 }
@@ -312,17 +365,29 @@ void writeSensorsCsv(const std::string& path, const Sensors& sensors, const Sens
     AtomicFile file(path, false);
     std::ostream& out = file.stream();
     out << std::setprecision(std::numeric_limits<double>::max_digits10);
+    const bool mirrors = !factors.skyMirrored.empty();
     out << "sensor,name,x,y,z,nx,ny,nz,sky_view_factor";
-    if (irradiance) out << ",direct_sun (W/m^2),direct_sky (W/m^2),reflected (W/m^2),total (W/m^2)";
+    if (mirrors) out << ",sky_direct,sky_through_mirrors";
+    if (irradiance) {
+        out << ",direct_sun (W/m^2),direct_sky (W/m^2)";
+        if (mirrors) out << ",reflected_sun (W/m^2),reflected_sky (W/m^2)";
+        out << ",reflected (W/m^2),total (W/m^2)";
+    }
     out << '\n';
     for (std::size_t s = 0; s < sensors.size(); ++s) {
         const Vec3& x = sensors.position[s];
         const Vec3& n = sensors.normal[s];
         out << s << ',' << csvField(sensors.name[s]) << ',' << x.x() << ',' << x.y() << ',' << x.z() << ',' << n.x() << ','
-            << n.y() << ',' << n.z() << ',' << factors.skyView[s];
-        if (irradiance)
-            out << ',' << irradiance->directSun[s] << ',' << irradiance->directSky[s] << ',' << irradiance->reflected[s] << ','
-                << irradiance->total[s];
+            << n.y() << ',' << n.z() << ',';
+        if (mirrors)
+            out << factors.skyView[s] + factors.skyMirrored[s] << ',' << factors.skyView[s] << ',' << factors.skyMirrored[s];
+        else
+            out << factors.skyView[s];
+        if (irradiance) {
+            out << ',' << irradiance->directSun[s] << ',' << irradiance->directSky[s];
+            if (mirrors) out << ',' << irradiance->reflectedSun[s] << ',' << irradiance->reflectedSky[s];
+            out << ',' << irradiance->reflected[s] << ',' << irradiance->total[s];
+        }
         out << '\n';
     }
     file.commit();

@@ -9,6 +9,7 @@
 #include "engine/math.hpp"
 #include "engine/scene.hpp"
 #include "environment/sunlit.hpp"
+#include "rays/mirror_chain.hpp"
 
 #include <cstdint>
 #include <string>
@@ -43,13 +44,22 @@ Sensors sensorGrid(const Scene& scene, const std::string& object, double spacing
                    std::size_t limit = 10000000);
 
 /// Sensors x patches, CSR: F[s][j] the factor from sensor s to the part of patch j's front that it
-/// sees (0 where it sees j's back or nothing of it), and each sensor's direct sky view factor: 1 less
-/// the factors to every patch it sees, front or back (every surface blocks the sky).
+/// sees (0 where it sees j's back or nothing of it), straight and through the scene's mirrors
+/// (weighted by the product of the s met: Sillion & Puech's extended factors), and each sensor's
+/// direct sky view factor: 1 less the factors to every patch it sees straight, front or back (every
+/// surface blocks the sky), and the sky it sees in mirrors.
 struct SensorFactors {
     std::vector<std::uint64_t> rowStart;  ///< sensors + 1
     std::vector<PatchId> columns;
     std::vector<double> values;
     std::vector<double> skyView;
+    /// Per sensor: the sky seen through mirrors, weighted by the s met (empty where the scene has no
+    /// mirror or they were not followed).
+    std::vector<double> skyMirrored;
+    /// How the mirrors were treated, for the report: empty without mirrors, else what was followed
+    /// or why not.
+    std::string mirrors;
+    double cutoffWeight = 0.0;  ///< summed over the sensors: what chains past the limits carry (counted as sky)
     std::size_t patches = 0;
     std::uint64_t terms = 0;  ///< sensor-patch terms whose visible part was computed (the work)
     std::uint64_t rays = 0;   ///< rays cast (the ray estimator's work; 0 for the exact factors)
@@ -58,10 +68,14 @@ struct SensorFactors {
 /// The factors of every sensor. Exact for convex planar patches (as the analytic estimator's exact
 /// terms): each term is Lambert's factor to what the blockers leave of the patch's part above the
 /// sensor's plane; a patch whose plane holds the sensor (within 1e-12 of the extent) is seen edge-on
-/// and counts for nothing. Mirrors are not followed (direct factors only). Sensors run in parallel
-/// on `threads` threads (0: every core). The work is a term per sensor and patch above its plane
-/// (a few microseconds each): a large grid against a large scene takes the ray estimator.
-SensorFactors sensorFactors(const Scene& scene, const Sensors& sensors, int threads = 0);
+/// and counts for nothing. Through mirrors (planar, convex, as the analytic estimator's image terms;
+/// environment/sensor_mirrors.hpp) to `limits`, with shadow rays along the reflected paths: a build
+/// without ray casting, or mirrors that are not planar and convex, leave them out and say so in
+/// `mirrors`. Sensors run in parallel on `threads` threads (0: every core). The work is a term per
+/// sensor and patch above its plane (a few microseconds each): a large grid against a large scene
+/// takes the ray estimator.
+SensorFactors sensorFactors(const Scene& scene, const Sensors& sensors, int threads = 0,
+                            const MirrorChainLimits& limits = MirrorChainLimits());
 
 /// How the sensors' factors are computed: exactly (sensorFactors), by rays (sensorFactorsByRays),
 /// or `Auto`: exact while sensors x patches stays within kExactSensorTerms, else rays.
@@ -72,6 +86,7 @@ struct SensorOptions {
     SensorEstimator estimator = SensorEstimator::Auto;
     std::uint32_t rays = 4096;  ///< per sensor (the ray estimator), >= 1
     int threads = 0;            ///< 0: every core
+    MirrorChainLimits limits;   ///< chains of mirrors: --max-depth, --min-weight
 };
 /// Auto's budget of sensor-patch terms for the exact factors (about a minute on 2 cores).
 constexpr double kExactSensorTerms = 2.5e7;
@@ -87,11 +102,14 @@ SensorFactors sensorFactors(const Scene& scene, const Sensors& sensors, const Se
 /// projected solid angle (each carries 1 / rays of the factor), drawn from a generator seeded by
 /// the sensor's index (the same factors on any number of threads). F[s][j] is the share of the
 /// rays that meet patch j's front first, the sky view factor the share that meets nothing; the
-/// rays that meet a back face count for neither. Each sensor's row, its back faces and its sky
-/// share sum to 1 exactly. Stratified, unbiased, with an error that falls faster than
-/// 1 / sqrt(rays) (about 1e-3 on a sky view factor at 4096 rays; README). Mirrors are not followed.
-/// Throws hemirad::Error in a build without Embree (rayCastingNotBuilt()) and for rays = 0.
-SensorFactors sensorFactorsByRays(const Scene& scene, const Sensors& sensors, std::uint32_t rays, int threads = 0);
+/// rays that meet a back face count for neither. Each sensor's direct row, its back faces and its
+/// sky share sum to 1 exactly. A ray that meets a mirror's front goes on reflected with the s met
+/// (rays/mirror_chain.hpp) to `limits`: each patch front it meets adds that weight, and a miss adds
+/// it to skyMirrored. Stratified, unbiased, with an error that falls faster than 1 / sqrt(rays)
+/// (about 1e-3 on a sky view factor at 4096 rays; README). Throws hemirad::Error in a build without
+/// Embree (rayCastingNotBuilt()) and for rays = 0.
+SensorFactors sensorFactorsByRays(const Scene& scene, const Sensors& sensors, std::uint32_t rays, int threads = 0,
+                                  const MirrorChainLimits& limits = MirrorChainLimits());
 
 /// Per sensor, 1 where the sun (direction `toSun`, any length > 0) reaches the point past every
 /// patch (front or back), else 0; 0 where the sensor faces away from it. Throws hemirad::Error for a
@@ -101,16 +119,20 @@ std::vector<double> sensorSunlit(const Scene& scene, const Sensors& sensors, con
 std::vector<double> sensorSunlit(const BeamShadows& beams, const Sensors& sensors, const Vec3& toSun);
 
 /// One hour at the sensors, W/m^2: direct sun DNI cos(theta) x sunlit, direct sky DHI x sky view
-/// factor (isotropic), reflected sum_j F[s][j] J_j from the patches' diffuse radiosity J (e.g.
-/// IrradianceResult::radiosity), and their total.
+/// factor (isotropic), the sun reflected by mirrors (`reflectedSun`, SensorReflections::sun, or
+/// empty), the sky seen in mirrors (DHI x skyMirrored), reflected sum_j F[s][j] J_j from the
+/// patches' diffuse radiosity J (e.g. IrradianceResult::radiosity; seen straight and in mirrors),
+/// and their total.
 struct SensorIrradiance {
-    std::vector<double> directSun, directSky, reflected, total;
+    std::vector<double> directSun, directSky, reflectedSun, reflectedSky, reflected, total;
 };
 SensorIrradiance sensorIrradiance(const Sensors& sensors, const SensorFactors& factors, const std::vector<double>& sunlit,
-                                  const Vec3& toSun, double dni, double dhi, const std::vector<double>& radiosity);
+                                  const Vec3& toSun, double dni, double dhi, const std::vector<double>& radiosity,
+                                  const std::vector<double>& reflectedSun = {});
 
-/// sensor,name,x,y,z,nx,ny,nz,sky_view_factor[,direct_sun,direct_sky,reflected,total (W/m^2)] (CSV,
-/// atomic).
+/// sensor,name,x,y,z,nx,ny,nz,sky_view_factor[,sky_direct,sky_through_mirrors]
+/// [,direct_sun,direct_sky[,reflected_sun,reflected_sky],reflected,total (W/m^2)] (CSV, atomic); the
+/// bracketed mirror columns where the factors followed mirrors (sky_view_factor is then their sum).
 void writeSensorsCsv(const std::string& path, const Sensors& sensors, const SensorFactors& factors,
                      const SensorIrradiance* irradiance);
 /// The sensors x patches factors as a Matrix Market coordinate file (1-based, general, atomic).

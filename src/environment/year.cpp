@@ -3,6 +3,7 @@
 
 #include "engine/error.hpp"
 #include "environment/reflected_sun.hpp"
+#include "environment/sensor_mirrors.hpp"
 #include "environment/solar_position.hpp"
 #include "environment/sunlit.hpp"
 
@@ -10,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <sstream>
 
 namespace hemirad {
@@ -63,6 +65,14 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
     out.sensorDirectSky.assign(sensors, 0.0);
     out.sensorReflected.assign(sensors, 0.0);
     out.sensorSum.assign(sensors, 0.0);
+    out.sensorReflectedSun.assign(sensors, 0.0);
+    out.sensorReflectedSky.assign(sensors, 0.0);
+    // The sun the mirrors reflect onto the sensors (their factors carry the rest of what mirrors show them).
+    std::unique_ptr<SensorReflections> sensorMirrors;
+    if (sensors && scene.hasMirrors()) {
+        sensorMirrors = std::make_unique<SensorReflections>(scene);
+        if (!sensorMirrors->active()) sensorMirrors.reset();
+    }
 
     const BeamShadows shadows(scene);  // set up once for every hour's sun
     // Radiosity is linear in its sources. The isotropic sky has one shape, DHI x the sky view
@@ -108,7 +118,7 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
         skyH = Eigen::Map<const RowMatrix>(FJ.data(), Eigen::Index(n), Eigen::Index(columns));
         out.solveSeconds += since(solving);
     }
-    std::vector<std::vector<double>> sun, sky, bounced, skyBounced, sensorLit;
+    std::vector<std::vector<double>> sun, sky, bounced, skyBounced, sensorLit, sensorGlare;
     std::vector<Vec3> toSuns;
     std::vector<double> J(n);
     for (std::size_t first = 0; first < out.hours.size(); first += options.batch) {
@@ -125,6 +135,7 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
         Eigen::MatrixXd radiance;
         if (model) radiance = Eigen::MatrixXd::Zero(Eigen::Index(model->grid.size()), Eigen::Index(last - first));
         sensorLit.assign(last - first, std::vector<double>(sensors, 0.0));
+        sensorGlare.assign(last - first, std::vector<double>(sensorMirrors ? sensors : 0, 0.0));
         toSuns.assign(last - first, Vec3(0, 0, 1));
         for (std::size_t b = first; b < last; ++b) {
             const WeatherHour& hour = weather.hours[out.hours[b]];
@@ -138,6 +149,7 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
                 toSuns[b - first] = toSun;
                 if (mirrors) bounced[b - first] = reflectedSun(shadows, toSun, hour.dni).irradiance;
                 if (sensors) sensorLit[b - first] = sensorSunlit(shadows, *options.sensors, toSun);
+                if (sensorMirrors) sensorGlare[b - first] = sensorMirrors->sun(shadows, *options.sensors, toSun, hour.dni);
                 out.sunSeconds += since(sunStart);
             }
             if (model && hour.dhi > 0.0) {
@@ -240,13 +252,16 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
             if (sensors) {
                 const WeatherHour& hour = weather.hours[out.hours[b]];
                 const SensorIrradiance at = sensorIrradiance(*options.sensors, *options.sensorFactors, sensorLit[b - first],
-                                                             toSuns[b - first], hour.dni, hour.dhi, J);
+                                                             toSuns[b - first], hour.dni, hour.dhi, J,
+                                                             sensorGlare[b - first]);
                 for (std::size_t s = 0; s < sensors; ++s) {
                     (keep ? out.sensorTotal[b * sensors + s] : hourSensors[s]) = at.total[s];
                     out.sensorDirectSun[s] += at.directSun[s];
                     out.sensorDirectSky[s] += at.directSky[s];
                     out.sensorReflected[s] += at.reflected[s];
                     out.sensorSum[s] += at.total[s];
+                    out.sensorReflectedSun[s] += at.reflectedSun[s];
+                    out.sensorReflectedSky[s] += at.reflectedSky[s];
                 }
             }
             if (!keep) options.hourly(hourTotal.data(), sensors ? hourSensors.data() : nullptr);

@@ -56,9 +56,10 @@ struct YearResult {
     /// tallies (each hour's totals, sums and energy balance).
     double sunSeconds = 0.0, skySeconds = 0.0, solveSeconds = 0.0, tallySeconds = 0.0;
     /// With sensors: per solved hour, per sensor (hours x sensors), W/m^2, and per sensor over the
-    /// year, Wh/m^2: direct sun, direct sky, reflected and total.
+    /// year, Wh/m^2: direct sun, direct sky, reflected, total, and the sun and sky seen in mirrors
+    /// (in the total; zeros without mirrors followed).
     std::vector<double> sensorTotal;
-    std::vector<double> sensorDirectSun, sensorDirectSky, sensorReflected, sensorSum;
+    std::vector<double> sensorDirectSun, sensorDirectSky, sensorReflected, sensorSum, sensorReflectedSun, sensorReflectedSky;
 };
 
 /// Solves every hour of `weather` with sun or sky on `F` (every row computed) with the direct sky

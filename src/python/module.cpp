@@ -527,7 +527,7 @@ py::dict skyView(const ScenePtr& scene, const std::string& method, const std::ma
 /// Sensors from (S, 3) positions and normals: their factors (CSR arrays for scipy) and sky view factors.
 py::dict sensorFactorsOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> positions,
                          py::array_t<double, py::array::c_style | py::array::forcecast> normals, int threads,
-                         const std::string& estimator, long long rays) {
+                         const std::string& estimator, long long rays, int maxDepth) {
     if (positions.ndim() != 2 || positions.shape(1) != 3 || normals.ndim() != 2 || normals.shape(1) != 3 ||
         normals.shape(0) != positions.shape(0))
         throw py::value_error("sensor_factors: positions and normals must be arrays of shape (S, 3), the same S");
@@ -552,6 +552,8 @@ py::dict sensorFactorsOf(const ScenePtr& scene, py::array_t<double, py::array::c
         throw py::value_error("sensor_factors: rays must be 1 .. 16777216, not " + std::to_string(rays));
     options.rays = std::uint32_t(rays);
     options.threads = threads;
+    if (maxDepth < 0 || maxDepth > 1000) throw py::value_error("sensor_factors: max_depth must be 0 .. 1000, not " + std::to_string(maxDepth));
+    options.limits.maxDepth = std::uint32_t(maxDepth);
     SensorFactors f;
     std::string why;
     {
@@ -567,6 +569,9 @@ py::dict sensorFactorsOf(const ScenePtr& scene, py::array_t<double, py::array::c
     out["indices"] = indices;
     out["data"] = numpyVector(f.values);
     out["sky_view_factor"] = numpyVector(f.skyView);
+    // The sky seen in mirrors (zeros where the scene has none, or they were not followed: `mirrors` says).
+    out["sky_view_mirrored"] = numpyVector(f.skyMirrored.empty() ? std::vector<double>(f.skyView.size(), 0.0) : f.skyMirrored);
+    out["mirrors"] = f.mirrors;
     out["patches"] = f.patches;
     out["estimator"] = chooseSensorEstimator(options, sensors.size(), scene->size(), why) == SensorEstimator::Rays ? "rays" : "exact";
     out["why"] = why;

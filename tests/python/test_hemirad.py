@@ -549,6 +549,42 @@ def test_sensor_factors_under_a_plate():
         hemirad.sensor_factors(plates, [[0, 0, 0]], [[0, 0, 1]], estimator="rays", rays=0)
 
 
+def test_sensor_factors_through_a_mirror():
+    # mirror_pair: P1 [0,1]^2 and P2 [1,2]x[0,1] on z = 0 facing up, under a mirror [0.5,1.5]x[0,1]
+    # at z = 0.5 facing down (s = 0.9). A sensor at P1's middle facing up lies in both plates' plane
+    # (no direct term) and sees the mirror; in it, its image (0.5, 0.5, 1) facing down sees P1's
+    # part x in [0.5, 1] and all of P2 (the aperture's cone covers x in [0.5, 2.5], y in [-0.5, 1.5]
+    # at z = 0); the rest of the cone is sky. Each by Howell's B-3 (a point under a rectangle's corner).
+    scene = hemirad.load(scene_path("mirror_pair.obj"))
+
+    def b3(a, b, c):
+        A, B = a / c, b / c
+        return (A / np.sqrt(1 + A * A) * np.arctan(B / np.sqrt(1 + A * A)) +
+                B / np.sqrt(1 + B * B) * np.arctan(A / np.sqrt(1 + B * B))) / (2 * np.pi)
+
+    s = 0.9
+    mirror = 2 * b3(1.0, 0.5, 0.5)
+    p1 = 2 * b3(0.5, 0.5, 1.0)
+    p2 = 2 * (b3(1.5, 0.5, 1.0) - b3(0.5, 0.5, 1.0))
+    out = hemirad.sensor_factors(scene, [[0.5, 0.5, 0.0]], [[0, 0, 1]])
+    assert out["mirrors"].startswith("followed by images")
+    F = out["F"]
+    assert F[0, 2] == pytest.approx(mirror, rel=1e-12)
+    assert F[0, 0] == pytest.approx(s * p1, rel=1e-10)
+    assert F[0, 1] == pytest.approx(s * p2, rel=1e-10)
+    assert out["direct"][0] == pytest.approx(1 - mirror, rel=1e-12)
+    assert out["through_mirrors"][0] == pytest.approx(s * (mirror - p1 - p2), rel=1e-9)
+    assert out["sky_view_factor"][0] == pytest.approx(out["direct"][0] + out["through_mirrors"][0], rel=1e-15)
+    # No mirrors followed past depth 0: the mirror's own factor only, no sky in it.
+    flat = hemirad.sensor_factors(scene, [[0.5, 0.5, 0.0]], [[0, 0, 1]], max_depth=0)
+    assert flat["F"][0, 0] == 0.0 and flat["F"][0, 1] == 0.0
+    assert flat["through_mirrors"][0] == pytest.approx(s * mirror, rel=1e-12)  # cut off: counted as sky
+    # By rays, reflected at the mirror: within their error.
+    rays = hemirad.sensor_factors(scene, [[0.5, 0.5, 0.0]], [[0, 0, 1]], estimator="rays", rays=65536)
+    assert rays["mirrors"].startswith("followed by rays")
+    assert abs(rays["F"][0, 1] - s * p2) < 3e-3 and abs(rays["through_mirrors"][0] - s * (mirror - p1 - p2)) < 3e-3
+
+
 def test_sun_and_one_hour_of_irradiance_as_the_command_line():
     # The solar position of the CLI's --sun-time, the sunlit fractions, and one hour's irradiance
     # equal to hemirad irradiance's CSV for the same scene, sun and sky.

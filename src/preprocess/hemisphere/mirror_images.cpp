@@ -35,27 +35,11 @@ std::unique_ptr<MirrorImages::Workspace> MirrorImages::workspace() const {
 
 void MirrorImages::appendPath(std::size_t node, const Vec3& emitterPoint, const Vec3& emitterNormal, const Vec3& target,
                               const Vec3& targetNormal, Workspace& ws) const {
-    const double offset = m_rays.originOffset();
-    auto leg = [&](const Vec3& from, const Vec3& fromNormal, const Vec3& to, const Vec3& toNormal) {
-        float a[3], b[3];
-        m_rays.toLocal(from + offset * fromNormal, a);
-        m_rays.toLocal(to + offset * toNormal, b);
-        ws.legFrom.insert(ws.legFrom.end(), a, a + 3);
-        ws.legTo.insert(ws.legTo.end(), b, b + 3);
+    auto link = [&](std::int32_t q) {
+        const ChainNode& n = ws.chains.nodes[std::size_t(q)];
+        return ChainLink{&m_chains.reflector(n.reflector), &ws.apex[std::size_t(q)], n.parent};
     };
-    // Back along the chain: the leg into `to` comes from the mirror point where the line from the
-    // chain's image to `to` crosses the mirror.
-    Vec3 to = target, toNormal = targetNormal;
-    for (std::int32_t q = std::int32_t(node); q >= 0; q = ws.chains.nodes[q].parent) {
-        const Reflector& m = m_chains.reflector(ws.chains.nodes[q].reflector);
-        const Vec3& image = ws.apex[q];
-        const double along = (m.offset - m.normal.dot(image)) / m.normal.dot(to - image);
-        const Vec3 onMirror = image + along * (to - image);
-        leg(onMirror, m.normal, to, toNormal);
-        to = onMirror;
-        toNormal = m.normal;
-    }
-    leg(emitterPoint, emitterNormal, to, toNormal);
+    appendReflectedPath(m_rays, std::int32_t(node), link, emitterPoint, emitterNormal, target, targetNormal, ws.legFrom, ws.legTo);
 }
 
 void MirrorImages::castPaths(Workspace& ws, RayCounts& counts) const {

@@ -18,6 +18,44 @@
 
 namespace hemirad {
 
+/// One node of a chain of reflectors as appendReflectedPath walks it back: its mirror, its image of
+/// the source and its parent (-1: reflected straight from the source).
+struct ChainLink {
+    const Reflector* mirror;
+    const Vec3* image;
+    std::int32_t parent;
+};
+
+/// The legs of the path reflected from `source` to `target` through the chain that ends at `node`,
+/// appended to `from` / `to` (ray-scene coordinates, each end lifted along its normal): back along
+/// the chain, the leg into an end starts where the line from the node's image to that end crosses
+/// the node's mirror. link(q) gives node q's ChainLink.
+template <class Link>
+void appendReflectedPath(const RayScene& rays, std::int32_t node, Link link, const Vec3& source, const Vec3& sourceNormal,
+                         const Vec3& target, const Vec3& targetNormal, std::vector<float>& from, std::vector<float>& to) {
+    const double offset = rays.originOffset();
+    auto leg = [&](const Vec3& a, const Vec3& aNormal, const Vec3& b, const Vec3& bNormal) {
+        float la[3], lb[3];
+        rays.toLocal(a + offset * aNormal, la);
+        rays.toLocal(b + offset * bNormal, lb);
+        from.insert(from.end(), la, la + 3);
+        to.insert(to.end(), lb, lb + 3);
+    };
+    Vec3 end = target, endNormal = targetNormal;
+    for (std::int32_t q = node; q >= 0;) {
+        const ChainLink l = link(q);
+        const Reflector& m = *l.mirror;
+        const Vec3& image = *l.image;
+        const double along = (m.offset - m.normal.dot(image)) / m.normal.dot(end - image);
+        const Vec3 onMirror = image + along * (end - image);
+        leg(onMirror, m.normal, end, endNormal);
+        end = onMirror;
+        endNormal = m.normal;
+        q = l.parent;
+    }
+    leg(source, sourceNormal, end, endNormal);
+}
+
 /// For each point x of the emitter and each reflector m in front of it, x and the emitter's normal
 /// are reflected about m's plane; a receiver seen through m's aperture gets Lambert's exact factor
 /// from the image of the part of it inside the aperture's cone, times s_m; the cone's part on a

@@ -43,11 +43,15 @@ std::string findReflectors(const Scene& scene, std::vector<Reflector>& out) {
         const PolygonMeasures m = measurePolygon(polygon);
         if (!(m.area > 0.0) || m.planarDeviation > flat || !m.convex) continue;  // its patches on their own below
         add(polygon, s);
-        for (PatchId j = parent.firstPatch; j < parent.firstPatch + parent.patchCount; ++j) done[j] = 1;
+        for (PatchId j = parent.firstPatch; j < parent.firstPatch + parent.patchCount; ++j) {
+            done[j] = 1;
+            out.back().patches.push_back(j);
+        }
     }
     for (PatchId j = 0; j < scene.size(); ++j) {
         if (done[j] || scene.patches[j].specular <= 0.0) continue;
         const PolygonMeasures m = add(scene.polygon(j), scene.patches[j].specular);
+        out.back().patches.push_back(j);
         if (!(m.area > 0.0)) {
             out.pop_back();  // a degenerate patch reflects nothing
             continue;

@@ -17,6 +17,7 @@ struct Reflector {
     double offset = 0.0;        ///< normal . y for every y on the plane
     double radius = 0.0;        ///< largest centre-to-corner distance
     double specular = 0.0;
+    std::vector<PatchId> patches;  ///< the mirror patches that tile it
 };
 
 /// The scene's mirrors as reflectors, in `out`. Returns why the image method cannot serve them (a

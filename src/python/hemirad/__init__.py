@@ -489,26 +489,34 @@ def irradiance(scene, F, to_sun, dni, dhi=0.0, *, sky_view=None, sky="isotropic"
                                 model_sky, model_reflected, metres, str(solver), float(tolerance))
 
 
-def sensor_factors(scene, positions, normals, *, threads=0, estimator="auto", rays=4096):
+def sensor_factors(scene, positions, normals, *, threads=0, estimator="auto", rays=4096, max_depth=8):
     """Sensor points: each point's factors to the patches and its sky view factor.
 
     positions, normals: arrays of shape (S, 3) (normals need not be unit); threads: 0 for every core.
-    A sensor sees the scene without being part of it; mirrors are not followed.
+    A sensor sees the scene without being part of it.
     ``estimator="exact"``: each factor is Lambert's to the part of a patch's front the point sees
     past every other patch (shadow polygons; a term per sensor and patch), and the sky view factor
     is 1 less the factors to every patch seen, front or back. ``"rays"``: ``rays`` stratified
     directions per sensor (Beckers cells of equal projected solid angle), each factor the share that
     meets the patch's front first, the sky view factor the share that meets nothing (about 1e-3 rms
     at 4096 rays, falling about as rays^-3/4). ``"auto"``: exact while sensors x patches <= 2.5e7.
+    Mirrors (patches with s > 0) are followed to ``max_depth`` reflections: what a sensor sees in
+    them is added to F weighted by the s met (by images for "exact", by reflected rays for "rays"),
+    and the sky seen in them is ``through_mirrors``.
 
     Returns a dict: ``F`` a ``scipy.sparse.csr_array`` of shape (S, N), float64,
-    ``sky_view_factor`` an array of S, ``estimator`` ("exact" or "rays") and ``why`` (auto's reason).
+    ``sky_view_factor`` (``direct`` + ``through_mirrors``), ``direct`` and ``through_mirrors``,
+    arrays of S, ``mirrors`` (how mirrors were treated: empty without them, else "followed ..." or
+    "not followed: " and why), ``estimator`` ("exact" or "rays") and ``why`` (auto's reason).
     """
     _check_scene(scene)
     out = _hemirad._sensor_factors(scene, _np.asarray(positions, dtype=_np.float64),
-                                   _np.asarray(normals, dtype=_np.float64), int(threads), str(estimator), int(rays))
+                                   _np.asarray(normals, dtype=_np.float64), int(threads), str(estimator), int(rays),
+                                   int(max_depth))
     F = _sparse.csr_array((out["data"], out["indices"], out["indptr"]), shape=(len(out["indptr"]) - 1, out["patches"]))
-    return {"F": F, "sky_view_factor": out["sky_view_factor"], "estimator": out["estimator"], "why": out["why"]}
+    direct, mirrored = out["sky_view_factor"], out["sky_view_mirrored"]
+    return {"F": F, "sky_view_factor": direct + mirrored, "direct": direct, "through_mirrors": mirrored,
+            "mirrors": out["mirrors"], "estimator": out["estimator"], "why": out["why"]}
 
 
 def sensor_grid(scene, object, spacing, height=0.0):
