@@ -743,8 +743,9 @@ commands:
   year SCENE --weather W.epw -o ANNUAL.csv   every hour of a weather file against one F: annual sums
                                          per patch (--hourly H.npy: each hour's total irradiance)
   sensors SCENE --sensors S.csv -o OUT.csv   sensor points (or --grid OBJECT --spacing D): each
-                                         point's sky view factor and exact factors to the patches
-                                         (--factors F.mtx); with --dni and the sun, one hour's irradiance
+                                         point's sky view factor and exact factors to the patches,
+                                         straight and through mirrors (--factors F.mtx); with --dni and
+                                         the sun, one hour's irradiance (the sun mirrors reflect included)
   info F.hff|F.mtx                       check an F file (or a shard manifest and its shards) and
                                          describe it
   subdivide SCENE -o OUT.obj --max-edge L   split patches until no edge exceeds L
