@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <iomanip>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 namespace hemirad {
@@ -57,6 +58,20 @@ SensorFactors sensorFactorsFromOptions(const Scene& scene, const Sensors& sensor
     return factors;
 }
 
+SensorSkyCoefficients sensorSkyFromOptions(const Scene& scene, const Sensors& sensors, const Options& options, Timings& timings,
+                                           const Reporter& reporter) {
+    timings.start("sensors' daylight coefficients");
+    const SkyGrid grid = skyGrid(options.skySubdivision);
+    SensorSkyCoefficients sky =
+        sensorSkyCoefficients(scene, sensors, grid, options.skySamples, upFromOptions(options), northFromOptions(options));
+    timings.stop();
+    std::ostringstream line;
+    line << "sensors' sky: " << grid.size() << " cells x " << options.skySamples * options.skySamples
+         << " direction(s), a ray from each sensor along each" << (sky.mirrored.size() > 0 ? ", and each mirror's reflected beam" : "");
+    reporter.line(line.str());
+    return sky;
+}
+
 int runSensors(const Options& options) {
     Reporter reporter(options.quiet, reportsToStandardError(options));
     Warnings warnings;
@@ -85,7 +100,16 @@ int runSensors(const Options& options) {
             const SensorReflections reflections(scene, options.formFactors.common.threads);
             if (reflections.active()) glare = reflections.sun(beams, sensors, toSun, *options.dni);
         }
-        irradiance = sensorIrradiance(sensors, factors, lit, toSun, *options.dni, options.dhi, patches.radiosity, glare);
+        // A sky model's hour at the sensors, as the patches have it.
+        std::optional<SensorSky> modelSky;
+        if (options.skyModel != "isotropic") {
+            const SensorSkyCoefficients coefficients = sensorSkyFromOptions(scene, sensors, options, timings, reporter);
+            const std::vector<double> L = skyRadiance(skyGrid(options.skySubdivision), options.skySamples, parseSkyModel(options.skyModel),
+                                                      skyConditionsFromOptions(options, toSun));
+            modelSky = sensorSkyHour(coefficients, L);
+        }
+        irradiance = sensorIrradiance(sensors, factors, lit, toSun, *options.dni, options.dhi, patches.radiosity, glare,
+                                      modelSky ? &*modelSky : nullptr);
         timings.stop();
         std::ostringstream line;
         line << std::setprecision(6) << "sensors: the patches' hour balances to " << std::setprecision(3) << patches.balance

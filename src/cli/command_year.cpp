@@ -51,6 +51,11 @@ int runYear(const Options& options) {
         yo.sensors = &sensors;
         yo.sensorFactors = &sensorFactorsOf;
     }
+    SensorSkyCoefficients sensorSky;
+    if (yo.sensors && yo.sky) {
+        sensorSky = sensorSkyFromOptions(scene, sensors, options, timings, reporter);
+        yo.sensorSky = &sensorSky;
+    }
     timings.stop();
     Options withRows = options;
     withRows.allRows = true;

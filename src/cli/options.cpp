@@ -265,7 +265,7 @@ const std::map<std::string, Flag>& flags() {
         {"--weather", {{"year"}, true, pathWith(&Options::weatherPath, ".epw")}},
         {"--hourly", {{"year"}, true, pathWith(&Options::hourlyPath, ".npy")}},
         {"--dhi", {{"irradiance", "sensors"}, true, [](Options& o, const std::string& f, const std::string& v) { o.dhi = parseNumber(f, v, 0, 1e5); }}},
-        {"--sky", {{"irradiance", "year"}, true,
+        {"--sky", {{"irradiance", "year", "sensors"}, true,
                    [](Options& o, const std::string& f, const std::string& v) {
                        if (v != "isotropic") try {
                                parseSkyModel(v);
@@ -275,9 +275,9 @@ const std::map<std::string, Flag>& flags() {
                        o.skyModel = v;
                    }}},
         {"--svf", {{"irradiance", "year"}, true, pathWith(&Options::skyViewPath, ".csv")}},
-        {"--sky-subdivision", {{"irradiance", "year"}, true,
+        {"--sky-subdivision", {{"irradiance", "year", "sensors"}, true,
                                [](Options& o, const std::string& f, const std::string& v) { o.skySubdivision = int(parseInteger(f, v, 1, 8)); }}},
-        {"--sky-samples", {{"irradiance", "year"}, true,
+        {"--sky-samples", {{"irradiance", "year", "sensors"}, true,
                            [](Options& o, const std::string& f, const std::string& v) { o.skySamples = int(parseInteger(f, v, 1, 16)); }}},
         {"--sensors", {{"sensors", "year"}, true, pathWith(&Options::sensorsPath, ".csv")}},
         {"--grid", {{"sensors", "year"}, true,
@@ -572,9 +572,10 @@ Options parseOptions(int argc, const char* const* argv) {
     }
     if (o.command == "sensors") {
         const bool sunGiven = o.sunDirectionVector || !o.sunTime.empty() || o.latitude || o.longitude;
-        const bool skyGiven = std::any_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--dhi"; });
+        const bool skyGiven =
+            std::any_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--dhi" || p.flag == "--sky"; });
         if (!o.dni && (sunGiven || skyGiven))
-            throw UsageError("'sensors' gives irradiance with --dni W (and the sun, and --dhi W for the sky)");
+            throw UsageError("'sensors' gives irradiance with --dni W (and the sun, and --dhi W and --sky MODEL for the sky)");
         if (std::none_of(parsed.begin(), parsed.end(), [](const ParsedFlag& p) { return p.flag == "--tolerance"; }))
             o.solver.tolerance = 1e-10;
     }
@@ -585,8 +586,6 @@ Options parseOptions(int argc, const char* const* argv) {
         throw UsageError("--sky-subdivision and --sky-samples cut a sky model's cells: give --sky MODEL (the isotropic sky has none)");
     if (o.skyModel != "isotropic" && !o.skyViewPath.empty())
         throw UsageError("--svf stores the isotropic sky's view factors; --sky " + o.skyModel + " takes its daylight coefficients instead");
-    if (o.skyModel != "isotropic" && o.command == "year" && (!o.sensorsPath.empty() || !o.gridObject.empty()))
-        throw UsageError("sensors take the isotropic sky only (yet): --sky " + o.skyModel + " does not apply with --sensors or --grid");
     if (o.command == "sun" || o.command == "irradiance" || (o.command == "sensors" && o.dni)) {
         const bool byTime = !o.sunTime.empty() || o.latitude || o.longitude;
         if (o.sunDirectionVector && byTime)
@@ -850,7 +849,7 @@ sun:
                          in a scene with mirrors, a reflected_sun column: their first reflections)
   --glare FILE.csv       (sun) each mirror's reflected sun per receiver: irradiance, peak, lit area
   --dhi W                (irradiance, sensors) diffuse-horizontal irradiance of the sky (W/m^2)
-  --sky MODEL            (irradiance, year) the sky's radiance: isotropic (default: DHI x each patch's
+  --sky MODEL            (irradiance, year, sensors) the sky's radiance: isotropic (default: DHI x each patch's
                          exact sky view factor), or a model over the upper hemisphere, scaled to the
                          DHI on a horizontal plane: uniform, cie-overcast (1 + 2 sin(altitude)),
                          cie:1 .. cie:15 (ISO 15469 / CIE S 011 general skies; the sun from --sun-*),

@@ -3,6 +3,7 @@
 
 #include "cli/options.hpp"
 #include "cli/report.hpp"
+#include "environment/sensor_sky.hpp"
 #include "environment/sensors.hpp"
 
 namespace hemirad {
@@ -15,5 +16,10 @@ Sensors sensorsFromOptions(const Scene& scene, const Options& options, const Rep
 /// it was chosen, the work and the sky view factors' range. Throws hemirad::Error.
 SensorFactors sensorFactorsFromOptions(const Scene& scene, const Sensors& sensors, const Options& options,
                                        const Reporter& reporter);
+
+/// --sky MODEL's daylight coefficients at the sensors (the cells and directions of --sky-subdivision
+/// and --sky-samples, oriented by --up and --north), timed and reported. Throws hemirad::Error.
+SensorSkyCoefficients sensorSkyFromOptions(const Scene& scene, const Sensors& sensors, const Options& options, Timings& timings,
+                                           const Reporter& reporter);
 
 }  // namespace hemirad

@@ -51,12 +51,17 @@ SkyCoefficients skyCoefficientsFromOptions(const Scene& scene, const Options& op
     return sky;
 }
 
-void modelSkyHour(const SkyCoefficients& sky, const Options& options, const Vec3& toSun, IrradianceInputs& in, const Reporter& reporter) {
+SkyConditions skyConditionsFromOptions(const Options& options, const Vec3& toSun) {
     SkyConditions c;
     c.toSun = sceneToSky(toSun, upFromOptions(options), northFromOptions(options));
     c.dni = options.dni ? *options.dni : 0.0;
     c.dhi = options.dhi;
     c.dayOfYear = dayOfYear(options.sunTime);
+    return c;
+}
+
+void modelSkyHour(const SkyCoefficients& sky, const Options& options, const Vec3& toSun, IrradianceInputs& in, const Reporter& reporter) {
+    const SkyConditions c = skyConditionsFromOptions(options, toSun);
     const SkyModel model = parseSkyModel(options.skyModel);
     if (model.kind == SkyModel::Kind::Perez && c.dhi > 0.0) {
         const PerezParameters p = perezParameters(c);

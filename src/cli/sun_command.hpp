@@ -24,6 +24,10 @@ Vec3 northFromOptions(const Options& options);
 /// --sky-samples say), timed and reported. Throws hemirad::Error.
 SkyCoefficients skyCoefficientsFromOptions(const Scene& scene, const Options& options, Timings& timings, const Reporter& reporter);
 
+/// The sky's conditions for one hour as the command line gives them: the sun `toSun` (scene frame)
+/// in the sky's frame, --dni, --dhi and --sun-time's day of the year (0 with --sun-direction).
+SkyConditions skyConditionsFromOptions(const Options& options, const Vec3& toSun);
+
 /// One hour of a sky model on the patches: the direct sky and the sky through mirrors (W/m^2) from
 /// the coefficients, for the sun `toSun` (scene frame), --dni and --dhi, on --sun-time's day of the
 /// year (the mean Sun-Earth distance with --sun-direction); reports Perez's clearness and brightness.

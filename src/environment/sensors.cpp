@@ -334,10 +334,11 @@ std::vector<double> sensorSunlit(const BeamShadows& beams, const Sensors& sensor
 
 SensorIrradiance sensorIrradiance(const Sensors& sensors, const SensorFactors& factors, const std::vector<double>& sunlit,
                                   const Vec3& toSun, double dni, double dhi, const std::vector<double>& radiosity,
-                                  const std::vector<double>& reflectedSun) {
+                                  const std::vector<double>& reflectedSun, const SensorSky* modelSky) {
     const std::size_t count = sensors.size();
     if (factors.skyView.size() != count || sunlit.size() != count || radiosity.size() != factors.patches ||
-        (!reflectedSun.empty() && reflectedSun.size() != count))
+        (!reflectedSun.empty() && reflectedSun.size() != count) ||
+        (modelSky && (modelSky->direct.size() != count || (!modelSky->mirrored.empty() && modelSky->mirrored.size() != count))))
         throw Error("sensors: the factors, the sunlit flags, the reflected sun and the radiosity do not match the sensors and the scene");
     const Vec3 d = toSun.normalized();
     SensorIrradiance out;
@@ -349,9 +350,14 @@ SensorIrradiance sensorIrradiance(const Sensors& sensors, const SensorFactors& f
     out.total.resize(count);
     for (std::size_t s = 0; s < count; ++s) {
         out.directSun[s] = dni * std::max(0.0, sensors.normal[s].dot(d)) * sunlit[s];
-        out.directSky[s] = dhi * factors.skyView[s];
         if (!reflectedSun.empty()) out.reflectedSun[s] = reflectedSun[s];
-        if (!factors.skyMirrored.empty()) out.reflectedSky[s] = dhi * factors.skyMirrored[s];
+        if (modelSky) {
+            out.directSky[s] = modelSky->direct[s];
+            if (!modelSky->mirrored.empty()) out.reflectedSky[s] = modelSky->mirrored[s];
+        } else {
+            out.directSky[s] = dhi * factors.skyView[s];
+            if (!factors.skyMirrored.empty()) out.reflectedSky[s] = dhi * factors.skyMirrored[s];
+        }
         double h = 0.0;
         for (std::uint64_t k = factors.rowStart[s]; k < factors.rowStart[s + 1]; ++k) h += factors.values[k] * radiosity[factors.columns[k]];
         out.reflected[s] = h;

@@ -123,12 +123,19 @@ std::vector<double> sensorSunlit(const BeamShadows& beams, const Sensors& sensor
 /// empty), the sky seen in mirrors (DHI x skyMirrored), reflected sum_j F[s][j] J_j from the
 /// patches' diffuse radiosity J (e.g. IrradianceResult::radiosity; seen straight and in mirrors),
 /// and their total.
+/// With `modelSky` (a sky model's hour at the sensors, environment/sensor_sky.hpp), its direct sky
+/// and the sky its mirrors show replace the isotropic sky's (dhi is then not used).
 struct SensorIrradiance {
     std::vector<double> directSun, directSky, reflectedSun, reflectedSky, reflected, total;
 };
+/// A sky model's hour at the sensors, W/m^2: the direct sky and the sky seen by way of mirrors
+/// (empty without mirrors).
+struct SensorSky {
+    std::vector<double> direct, mirrored;
+};
 SensorIrradiance sensorIrradiance(const Sensors& sensors, const SensorFactors& factors, const std::vector<double>& sunlit,
                                   const Vec3& toSun, double dni, double dhi, const std::vector<double>& radiosity,
-                                  const std::vector<double>& reflectedSun = {});
+                                  const std::vector<double>& reflectedSun = {}, const SensorSky* modelSky = nullptr);
 
 /// sensor,name,x,y,z,nx,ny,nz,sky_view_factor[,sky_direct,sky_through_mirrors]
 /// [,direct_sun,direct_sky[,reflected_sun,reflected_sky],reflected,total (W/m^2)] (CSV, atomic); the

@@ -29,7 +29,11 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
     if ((!model && skyView.size() != n) || F.size() != n) throw Error("year: the sky view factors and F need one entry per patch");
     if (model && (std::size_t(model->direct.rows()) != n || (scene.hasMirrors() && std::size_t(model->mirrored.rows()) != n)))
         throw Error("year: the sky's coefficients are not this scene's");
-    if (model && options.sensors) throw Error("year: sensors take the isotropic sky only, not the " + options.skyModel.name() + " sky");
+    if (model && options.sensors &&
+        (!options.sensorSky || std::size_t(options.sensorSky->direct.rows()) != options.sensors->size() ||
+         options.sensorSky->direct.cols() != model->direct.cols()))
+        throw Error("year: sensors under the " + options.skyModel.name() +
+                    " sky need their daylight coefficients for the sky's cells (sensorSkyCoefficients)");
     for (std::size_t i = 0; i < n; ++i)
         if (!F.rowComputed(i)) throw Error("year: row " + std::to_string(i) + " of F was not computed (compute every row)");
     YearResult out;
@@ -176,10 +180,14 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
         // The batch's sky: each hour's units of sky (its DHI, or its cells' radiances), then the
         // direct sky, the sky through mirrors, and the sky's radiosity and F J in matrix products.
         const auto skyStart = Clock::now();
-        Eigen::MatrixXd skyDirect, skyMirrored;
+        Eigen::MatrixXd skyDirect, skyMirrored, sensorSkyDirect, sensorSkyMirrored;
         if (model) {
             skyDirect = model->direct * radiance;
             if (mirrors) skyMirrored = model->mirrored * radiance;
+            if (sensors) {
+                sensorSkyDirect = options.sensorSky->direct * radiance;
+                if (options.sensorSky->mirrored.size() > 0) sensorSkyMirrored = options.sensorSky->mirrored * radiance;
+            }
         }
         Eigen::MatrixXd skyRadiosity = Eigen::MatrixXd::Zero(Eigen::Index(n), Eigen::Index(last - first)), skyReceived = skyRadiosity;
         if (skyOnce) {
@@ -251,9 +259,19 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
             }
             if (sensors) {
                 const WeatherHour& hour = weather.hours[out.hours[b]];
+                SensorSky modelSky;
+                if (model) {
+                    const Eigen::Index column = Eigen::Index(b - first);
+                    modelSky.direct.resize(sensors);
+                    for (std::size_t s = 0; s < sensors; ++s) modelSky.direct[s] = sensorSkyDirect(Eigen::Index(s), column);
+                    if (sensorSkyMirrored.size() > 0) {
+                        modelSky.mirrored.resize(sensors);
+                        for (std::size_t s = 0; s < sensors; ++s) modelSky.mirrored[s] = sensorSkyMirrored(Eigen::Index(s), column);
+                    }
+                }
                 const SensorIrradiance at = sensorIrradiance(*options.sensors, *options.sensorFactors, sensorLit[b - first],
-                                                             toSuns[b - first], hour.dni, hour.dhi, J,
-                                                             sensorGlare[b - first]);
+                                                             toSuns[b - first], hour.dni, hour.dhi, J, sensorGlare[b - first],
+                                                             model ? &modelSky : nullptr);
                 for (std::size_t s = 0; s < sensors; ++s) {
                     (keep ? out.sensorTotal[b * sensors + s] : hourSensors[s]) = at.total[s];
                     out.sensorDirectSun[s] += at.directSun[s];

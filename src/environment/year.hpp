@@ -10,6 +10,7 @@
 #include "engine/atomic_file.hpp"
 #include "engine/form_factors.hpp"
 #include "engine/scene.hpp"
+#include "environment/sensor_sky.hpp"
 #include "environment/sensors.hpp"
 #include "environment/sky_coefficients.hpp"
 #include "environment/weather.hpp"
@@ -31,9 +32,12 @@ struct YearOptions {
     const SensorFactors* sensorFactors = nullptr;
     /// A sky model's daylight coefficients (of the same scene, oriented by up and north), or none for
     /// the isotropic sky (DHI x the sky view factors). Each hour's cells then take the model's
-    /// radiance for that hour's sun, DNI and DHI; not with sensors (their sky is isotropic).
+    /// radiance for that hour's sun, DNI and DHI (at sensors too, with sensorSky).
     const SkyCoefficients* sky = nullptr;
     SkyModel skyModel;
+    /// With a sky model and sensors: the sensors' daylight coefficients for the same cells
+    /// (sensorSkyCoefficients), each hour's sky at them one product with its cells' radiance.
+    const SensorSkyCoefficients* sensorSky = nullptr;
     /// Called for each solved hour in order with its total irradiance per patch and per sensor
     /// (W/m^2; the sensors' pointer null without sensors), to be written as it comes: a year of a
     /// large scene need not be held whole. When set, YearResult::total and sensorTotal stay empty.

@@ -3,6 +3,7 @@
 #include "engine/error.hpp"
 #include "environment/irradiance.hpp"
 #include "environment/reflected_sun.hpp"
+#include "environment/sensor_sky.hpp"
 #include "environment/sensors.hpp"
 #include "environment/sky_coefficients.hpp"
 #include "environment/sky_view.hpp"
@@ -524,25 +525,31 @@ py::dict skyView(const ScenePtr& scene, const std::string& method, const std::ma
     return out;
 }
 
-/// Sensors from (S, 3) positions and normals: their factors (CSR arrays for scipy) and sky view factors.
-py::dict sensorFactorsOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> positions,
-                         py::array_t<double, py::array::c_style | py::array::forcecast> normals, int threads,
-                         const std::string& estimator, long long rays, int maxDepth) {
+/// Sensors from (S, 3) positions and normals (`what` names the caller in errors).
+Sensors sensorsOf(py::array_t<double, py::array::c_style | py::array::forcecast> positions,
+                  py::array_t<double, py::array::c_style | py::array::forcecast> normals, const std::string& what) {
     if (positions.ndim() != 2 || positions.shape(1) != 3 || normals.ndim() != 2 || normals.shape(1) != 3 ||
         normals.shape(0) != positions.shape(0))
-        throw py::value_error("sensor_factors: positions and normals must be arrays of shape (S, 3), the same S");
+        throw py::value_error(what + ": positions and normals must be arrays of shape (S, 3), the same S");
     Sensors sensors;
     const double* x = positions.data();
     const double* n = normals.data();
     for (py::ssize_t s = 0; s < positions.shape(0); ++s) {
         const Vec3 p(x[3 * s], x[3 * s + 1], x[3 * s + 2]), d(n[3 * s], n[3 * s + 1], n[3 * s + 2]);
-        if (!p.allFinite()) throw py::value_error("sensor_factors: position " + std::to_string(s) + " is not finite");
-        if (!d.allFinite() || !(d.norm() > 0.0))
-            throw py::value_error("sensor_factors: normal " + std::to_string(s) + " is not a direction");
+        if (!p.allFinite()) throw py::value_error(what + ": position " + std::to_string(s) + " is not finite");
+        if (!d.allFinite() || !(d.norm() > 0.0)) throw py::value_error(what + ": normal " + std::to_string(s) + " is not a direction");
         sensors.position.push_back(p);
         sensors.normal.push_back(d.normalized());
         sensors.name.push_back(std::to_string(s));
     }
+    return sensors;
+}
+
+/// Sensors from (S, 3) positions and normals: their factors (CSR arrays for scipy) and sky view factors.
+py::dict sensorFactorsOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> positions,
+                         py::array_t<double, py::array::c_style | py::array::forcecast> normals, int threads,
+                         const std::string& estimator, long long rays, int maxDepth) {
+    const Sensors sensors = sensorsOf(positions, normals, "sensor_factors");
     SensorOptions options;
     if (estimator == "auto" || estimator == "exact" || estimator == "rays")
         options.estimator = parseSensorEstimator(estimator);
@@ -703,6 +710,24 @@ py::array_t<double> numpyMatrix(const Eigen::MatrixXd& m) {
     double* p = out.mutable_data();
     for (Eigen::Index i = 0; i < m.rows(); ++i)
         for (Eigen::Index k = 0; k < m.cols(); ++k) *p++ = m(i, k);
+    return out;
+}
+
+/// Sensors' daylight coefficients (sensors x cells) for the cells skyCoefficients lays.
+py::dict sensorSkyCoefficientsOf(const ScenePtr& scene, py::array_t<double, py::array::c_style | py::array::forcecast> positions,
+                                 py::array_t<double, py::array::c_style | py::array::forcecast> normals, int subdivision, int samples,
+                                 py::array_t<double, py::array::c_style | py::array::forcecast> up,
+                                 py::array_t<double, py::array::c_style | py::array::forcecast> north) {
+    const Sensors sensors = sensorsOf(positions, normals, "sensor_sky_coefficients");
+    const Vec3 u = vectorOf(up, "up"), no = vectorOf(north, "north");
+    SensorSkyCoefficients c;
+    {
+        py::gil_scoped_release release;
+        c = sensorSkyCoefficients(*scene, sensors, skyGrid(subdivision), samples, u, no);
+    }
+    py::dict out;
+    out["direct"] = numpyMatrix(c.direct);
+    out["mirrored"] = c.mirrored.size() > 0 ? py::object(numpyMatrix(c.mirrored)) : py::object(py::none());
     return out;
 }
 
@@ -922,6 +947,7 @@ PYBIND11_MODULE(_hemirad, m) {
     m.def("_conductors", &conductors);
     m.def("_sky_view", &skyView);
     m.def("_sensor_factors", &sensorFactorsOf);
+    m.def("_sensor_sky_coefficients", &sensorSkyCoefficientsOf);
     m.def("_solar_position", &solarPositionOf);
     m.def("_sun_direction", &sunDirectionOf);
     m.def("_sunlit", &sunlitOf);

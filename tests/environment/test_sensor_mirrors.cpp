@@ -5,6 +5,8 @@
 #include "support.hpp"
 
 #include "environment/sensor_mirrors.hpp"
+#include "environment/sensor_sky.hpp"
+#include "environment/sky_coefficients.hpp"
 #include "environment/sensors.hpp"
 
 #include <doctest/doctest.h>
@@ -193,4 +195,52 @@ TEST_CASE("hemirad sensors and year with a mirror: the sky in mirrors and the re
     CHECK(readText(dir / "ys.csv").rfind("sensor,name,sky_view_factor,sky_direct,sky_through_mirrors,direct_sun (Wh/m^2),direct_sky "
                                          "(Wh/m^2),reflected_sun (Wh/m^2),reflected_sky (Wh/m^2),reflected (Wh/m^2),total (Wh/m^2)\n0,floor middle,",
                                          0) == 0);
+}
+
+TEST_CASE("Sensors' daylight coefficients: open and facing up the horizontal weights, beside a wall a tiny patch's coefficients there") {
+    const SkyGrid grid = skyGrid(1);
+    const int samples = 2;
+    const Vec3 up(0, 0, 1), north(0, 1, 0);
+    // A wall along y = 0 facing +y, 4 high, and a tiny ground patch at (0, 1, 0): its sunlit fraction
+    // in each beam is 0 or 1 (no shadow edge crosses 1e-4 of it), as a sensor's ray at its centre.
+    SceneBuilder b;
+    b.rectangle(1, 0.0, 0, 4, -20, 20, true);  // u = z, v = x
+    const double h = 5e-5;
+    b.rectangle(2, 0.0, -h, h, 1 - h, 1 + h, true);
+    const SkyCoefficients patches = skyCoefficients(b.scene, 1, samples, up, north);
+    Sensors sensors;
+    sensors.position = {Vec3(0, 1, 0), Vec3(0, 1, 10)};  // the second above everything
+    sensors.normal = {up, up};
+    sensors.name = {"at the patch", "open"};
+    const SensorSkyCoefficients c = sensorSkyCoefficients(b.scene, sensors, grid, samples, up, north);
+    REQUIRE(c.direct.rows() == 2);
+    CHECK(c.mirrored.size() == 0);
+    double apart = 0.0, open = 0.0;
+    for (std::size_t k = 0; k < grid.size(); ++k) {
+        apart = std::max(apart, std::abs(c.direct(0, Eigen::Index(k)) - patches.direct(1, Eigen::Index(k))));
+        open = std::max(open, std::abs(c.direct(1, Eigen::Index(k)) - patches.horizontal[k]));
+    }
+    // And against the wall's shadow worked out here: a direction is hidden where its ray from
+    // (0, 1, 0) meets the wall's rectangle y = 0, |x| <= 20, 0 <= z <= 4.
+    double byHand = 0.0;
+    for (std::size_t k = 0; k < grid.size(); ++k) {
+        double expected = 0.0;
+        for (const Vec3& local : cellSamples(grid.cells[k], samples)) {
+            const Vec3 d = skyToScene(local, up, north);
+            const double t = d.y() < 0.0 ? -1.0 / d.y() : -1.0;
+            const bool hidden = t > 0.0 && std::abs(t * d.x()) <= 20.0 && t * d.z() <= 4.0;
+            if (!hidden) expected += grid.cells[k].solidAngle() / double(samples * samples) * std::max(0.0, d.z());
+        }
+        byHand = std::max(byHand, std::abs(c.direct(0, Eigen::Index(k)) - expected));
+    }
+    CHECK(byHand <= 1e-15);
+    MESSAGE("beside the wall: largest difference from the tiny patch's coefficients " << apart << ", from the shadow by hand " << byHand
+                                                                                       << "; open: from the horizontal weights " << open);
+    CHECK(apart <= 1e-10);  // the patch's fraction in a beam is 1 to its area's rounding
+    CHECK(open <= 1e-15);
+    CHECK(c.direct.row(0).sum() < 0.8 * c.direct.row(1).sum());  // the wall hides the southern sky
+    CHECK(c.direct.row(1).sum() == doctest::Approx(kPi).epsilon(2e-3));  // the cosine over the hemisphere
+    // An hour of a uniform sky of radiance 1: the direct sky is the coefficients' sum.
+    const SensorSky hour = sensorSkyHour(c, std::vector<double>(grid.size(), 1.0));
+    CHECK(hour.direct[1] == doctest::Approx(c.direct.row(1).sum()).epsilon(1e-14));
 }

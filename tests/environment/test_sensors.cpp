@@ -427,9 +427,19 @@ TEST_CASE("hemirad sensors: the CSV and the factors' Matrix Market file, the gri
                              sourcePath("tests/data/weather/excerpt.epw") + " -o x.csv";
     CHECK(runCommand(year + " --sensors " + csv + " 2>&1").status == 2);  // where do their sums go?
     CHECK(runCommand(year + " --sensor-output s.csv 2>&1").status == 2);  // which sensors?
-    r = runCommand(year + " --sensors " + csv + " --sensor-output s.csv --sky perez 2>&1");  // sensors' sky is isotropic
-    CHECK(r.status == 2);
-    CHECK(r.output.find("sensors take the isotropic sky only") != std::string::npos);
+    // Under Perez's sky the sensors take their own daylight coefficients, and `sensors` gives a sky
+    // model's hour too; --sky without --dni is a usage error there (no hour).
+    r = runCommand(std::string(HEMIRAD_BINARY) + " year " + sourcePath("scenes/cornell_box.obj") + " --up y --unit mm --weather " +
+                   sourcePath("tests/data/weather/excerpt.epw") + " --sensors " + csv + " --sensor-output " + (dir / "yp.csv").string() +
+                   " --sky perez --sky-subdivision 1 -o " + (dir / "yap.csv").string() + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("sensors' sky: 145 cells x 1 direction(s)") != std::string::npos);
+    r = runCommand(hemirad + " --sensors " + csv + " --sky cie-overcast --sky-subdivision 1 --dni 0 --dhi 100 --sun-direction 0,1,0 -o " +
+                   (dir / "overcast.csv").string() + " 2>&1");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(runCommand(hemirad + " --sensors " + csv + " --sky perez -o x.csv 2>&1").status == 2);
     // By rays, as asked; the report says so. A value that is no estimator is a usage error.
     r = runCommand(hemirad + " --sensors " + csv + " --sensor-estimator rays --sensor-rays 1000 -o " + (dir / "rays.csv").string() + " 2>&1");
     INFO(r.output);

@@ -5,6 +5,8 @@
 #include "engine/error.hpp"
 #include "environment/irradiance.hpp"
 #include "environment/reflected_sun.hpp"
+#include "environment/sensor_mirrors.hpp"
+#include "environment/sensor_sky.hpp"
 #include "environment/sensors.hpp"
 #include "environment/sky_coefficients.hpp"
 #include "environment/sky_view.hpp"
@@ -347,6 +349,69 @@ TEST_CASE("Sensors through a year: each hour at each sensor equals that hour's i
     }
     CHECK(year.sensorReflected[1] > year.sensorReflected[0]);  // the wall it faces reflects to it
     CHECK(year.sensorDirectSun[0] > year.sensorDirectSun[1]);   // the wall shades the one facing it from the southern sun
+}
+
+TEST_CASE("Sensors through a year under Perez's sky with a mirror: each hour at each sensor equals that hour there alone") {
+    Scene s = smallDistrict();
+    s.patches[6].specular = 0.6;  // the tall wall a mirror
+    s.patches[6].rho = Rgb::Constant(0.3);
+    const FormFactors F = computeFormFactors(s, MethodSettings::of(HemisphereOptions{}), neededRows(s, true)).F;
+    YearOptions options;
+    const SkyCoefficients sky = skyCoefficients(s, 1, 2, options.up, options.north);
+    options.sky = &sky;
+    options.skyModel = parseSkyModel("perez");
+    Sensors sensors;
+    sensors.position = {Vec3(3, 3, 1), Vec3(0, -3, 1), Vec3(-1.5, 0, 1)};
+    sensors.normal = {Vec3(0, 0, 1), Vec3(0, -1, 0), Vec3(-1, 0, 0)};
+    sensors.name = {"open", "facing the mirror", "beside the box"};
+    const SensorFactors factors = sensorFactors(s, sensors);
+    const SensorSkyCoefficients sensorSky = sensorSkyCoefficients(s, sensors, sky.grid, sky.samples, options.up, options.north);
+    REQUIRE(sensorSky.mirrored.rows() == (rayCastingNotBuilt().empty() ? 3 : 0));
+    options.sensors = &sensors;
+    options.sensorFactors = &factors;
+    SolverOptions lu;
+    lu.solver = "lu";
+    const Weather w = readEpw(excerpt());
+    // Without the sensors' coefficients a sky model's year refuses them.
+    CHECK_THROWS_WITH_AS(solveYear(s, F, {}, w, options, lu), doctest::Contains("sensorSkyCoefficients"), Error);
+    options.sensorSky = &sensorSky;
+    const YearResult year = solveYear(s, F, {}, w, options, lu);
+    REQUIRE(year.sensorTotal.size() == year.hours.size() * 3);
+    const SensorReflections mirrors(s);
+    double worst = 0.0, skyInMirror = 0.0;
+    for (std::size_t k = 0; k < year.hours.size(); ++k) {
+        const WeatherHour& hour = w.hours[year.hours[k]];
+        const HourAlone alone = hourAlone(s, F, {}, w, hour, options, lu);
+        std::vector<double> lit(3, 0.0), glare;
+        if (alone.sun) {
+            lit = sensorSunlit(s, sensors, alone.toSun);
+            glare = mirrors.sun(BeamShadows(s), sensors, alone.toSun, hour.dni);
+        }
+        // That hour's sky at the sensors: the cells' radiance through their coefficients.
+        SensorSky modelSky{std::vector<double>(3, 0.0), {}};
+        if (hour.dhi > 0.0) {
+            const SolarPosition p = solarPosition(middleOfHourUtc(hour, w.timeZone), w.latitude, w.longitude);
+            SkyConditions c;
+            c.toSun = skyDirection(p.elevation * kPi / 180, p.azimuth * kPi / 180);
+            c.dni = hour.dni;
+            c.dhi = hour.dhi;
+            c.dayOfYear = dayOfYear(hour);
+            modelSky = sensorSkyHour(sensorSky, skyRadiance(sky.grid, sky.samples, options.skyModel, c));
+        }
+        const SensorIrradiance at =
+            sensorIrradiance(sensors, factors, lit, alone.toSun, hour.dni, hour.dhi, alone.result.radiosity, glare, &modelSky);
+        for (std::size_t q = 0; q < 3; ++q) {
+            worst = std::max(worst, std::abs(year.sensorTotal[k * 3 + q] - at.total[q]) / std::max(1.0, at.total[q]));
+            skyInMirror += at.reflectedSky[q];
+        }
+    }
+    MESSAGE("Perez's sky at the sensors: largest difference between an hour in the year and the hour alone " << worst
+                                                                                                              << "; sky in the mirror " << skyInMirror << " Wh/m^2");
+    CHECK(worst <= 1e-9);
+    if (rayCastingNotBuilt().empty()) {
+        CHECK(skyInMirror > 0.0);  // the sensor facing the mirror sees sky in it
+        CHECK(year.sensorReflectedSky[0] + year.sensorReflectedSky[1] + year.sensorReflectedSky[2] == relative(skyInMirror, 1e-9));
+    }
 }
 
 TEST_CASE("The .npy writer writes a header NumPy reads: magic, version 1.0, a 64-byte aligned header, the shape") {

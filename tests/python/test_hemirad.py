@@ -585,6 +585,22 @@ def test_sensor_factors_through_a_mirror():
     assert abs(rays["F"][0, 1] - s * p2) < 3e-3 and abs(rays["through_mirrors"][0] - s * (mirror - p1 - p2)) < 3e-3
 
 
+def test_sensor_sky_coefficients():
+    # Above everything and facing up: each cell's coefficient is its horizontal weight; under the
+    # mirror of mirror_pair, a sensor sees cells in it (first reflections) and fewer straight.
+    plates = hemirad.load(scene_path("parallel_plates.obj"))
+    cells = hemirad.sky_coefficients(plates, 1, 2)["cells"]
+    open_sky = hemirad.sensor_sky_coefficients(plates, [[0.5, 0.5, 5.0]], [[0, 0, 1]], 1, 2)
+    assert open_sky["direct"].shape == (1, 145) and open_sky["mirrored"] is None
+    assert np.allclose(open_sky["direct"][0], cells["horizontal"], rtol=0, atol=1e-15)
+    mirrored = hemirad.load(scene_path("mirror_pair.obj"))
+    under = hemirad.sensor_sky_coefficients(mirrored, [[1.0, 0.5, 0.25], [1.0, 0.5, 0.25]], [[0, 0, 1], [1, 0, 0]], 1, 2)
+    assert under["mirrored"].shape == (2, 145)
+    assert under["direct"][0].sum() < cells["horizontal"].sum()  # the mirror overhead hides the zenith
+    with pytest.raises(ValueError):
+        hemirad.sensor_sky_coefficients(plates, [[0, 0, 0]], [[0, 0, 0]])
+
+
 def test_sun_and_one_hour_of_irradiance_as_the_command_line():
     # The solar position of the CLI's --sun-time, the sunlit fractions, and one hour's irradiance
     # equal to hemirad irradiance's CSV for the same scene, sun and sky.

@@ -21,7 +21,7 @@ import scipy.sparse as _sparse
 from . import _hemirad
 from ._hemirad import Error, Scene
 
-__all__ = ["Error", "Scene", "load", "form_factors", "solve", "thermal", "conductors", "sky_view_factors", "sensor_factors", "sensor_grid", "solar_position", "sun_direction", "sunlit_fractions",
+__all__ = ["Error", "Scene", "load", "form_factors", "solve", "thermal", "conductors", "sky_view_factors", "sensor_factors", "sensor_grid", "sensor_sky_coefficients", "solar_position", "sun_direction", "sunlit_fractions",
            "reflected_sun", "irradiance", "sky_coefficients", "sky_radiance", "read_form_factors", "write_form_factors",
            "render", "methods", "solvers"]
 
@@ -427,6 +427,20 @@ def sky_coefficients(scene, subdivision=2, samples=1, *, up=(0, 0, 1), north=Non
     _check_scene(scene)
     up, north = _frame(up, north)
     return _hemirad._sky_coefficients(scene, int(subdivision), int(samples), up, north)
+
+
+def sensor_sky_coefficients(scene, positions, normals, subdivision=2, samples=1, *, up=(0, 0, 1), north=None):
+    """Daylight coefficients at sensor points (positions, normals: arrays (S, 3)): per sensor and
+    sky cell, the irradiance (W/m^2) a cell of unit radiance gives the point past the scene's
+    shadows, and through its mirrors (first reflections), by the same directions as
+    :func:`sky_coefficients` (one ray from each sensor along each). Returns a dict: ``direct`` and
+    ``mirrored`` (arrays sensors x cells; ``mirrored`` None without mirrors). A sky's irradiance at the
+    sensors is ``direct @ sky_radiance(...)``.
+    """
+    _check_scene(scene)
+    up, north = _frame(up, north)
+    return _hemirad._sensor_sky_coefficients(scene, _np.asarray(positions, dtype=_np.float64), _np.asarray(normals, dtype=_np.float64),
+                                             int(subdivision), int(samples), up, north)
 
 
 def sky_radiance(model, to_sun, dni, dhi, subdivision=2, samples=1, *, day_of_year=0, up=(0, 0, 1), north=None):
