@@ -314,6 +314,11 @@ public:
     bool thermalStale() const;
     /// The object exchange table (W) as CSV, units in the header (as hemirad thermal --exchange).
     bool exportThermalExchange(const std::string& path);
+    /// The last thermal run's radiative conductors per object (and to the environment), GR in m^2, in
+    /// the format of the path's extension as hemirad thermal --conductors writes them: .csv, .mtx,
+    /// .esatan or .cnd (an ESATAN-TMS $CONDUCTORS block), .sinda or .inp (SINDA/FLUINT). Another
+    /// extension, or no result, is logged and writes nothing.
+    bool exportThermalConductors(const std::string& path);
 
     // --- Sky and sun (app_state_sun_sky.cpp; src/environment) ---------------------------------------
     /// The section's inputs (time and place or a direction, DNI, DHI, the sky); read when Run starts.

@@ -241,4 +241,27 @@ bool AppState::exportThermalExchange(const std::string& path) {
     }
 }
 
+bool AppState::exportThermalConductors(const std::string& path) {
+    const ThermalResult* r = thermalResult();
+    if (!r) {
+        error("no thermal result to export: press Run thermal first");
+        return false;
+    }
+    const std::string format = thermal::conductorFormatFor(path);
+    if (format.empty()) {
+        error(path + ": the conductors' format comes from the extension: .csv, .mtx, .esatan or .cnd (ESATAN-TMS), .sinda or .inp "
+                     "(SINDA/FLUINT)");
+        return false;
+    }
+    try {
+        thermal::writeConductors(path, format, r->conductors);
+        info("exported " + path + " (" + std::to_string(r->conductors.couplings.size()) + " radiative conductors GR between objects and " +
+             "the environment, m^2; " + format + ")");
+        return true;
+    } catch (const std::exception& e) {
+        error(e.what());
+        return false;
+    }
+}
+
 }  // namespace hemirad::ui

@@ -112,7 +112,8 @@ void Panels::browse(const std::string& purpose, const std::string& initial) {
         {"Export PNG", {{".png"}, false}},      {"Export PLY", {{".ply"}, false}},
         {"Export object table", {{".csv"}, false}},
         {"Thermal properties", {{".toml"}, true}}, {"Boundary conditions", {{".toml"}, true}},
-        {"Export exchange table", {{".csv"}, false}}};
+        {"Export exchange table", {{".csv"}, false}},
+        {"Export conductors", {{".csv", ".mtx", ".esatan", ".cnd", ".sinda", ".inp"}, false}}};
     const auto kind = kinds.at(purpose);
     // One dialog at a time: the help window would stand over the browser (issue 38 #11).
     m_showHelp = false;
@@ -293,6 +294,8 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
             prompt("Export object table", stem + "_objects.csv");
         if (ImGui::MenuItem("Export thermal exchange (CSV)...", nullptr, false, app.thermalResult() != nullptr))
             prompt("Export exchange table", stem + "_exchange.csv");
+        if (ImGui::MenuItem("Export radiative conductors (ESATAN, SINDA, CSV)...", nullptr, false, app.thermalResult() != nullptr))
+            prompt("Export conductors", stem + "_GR.esatan");
         ImGui::Separator();
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) guarded(app, "quit", [&requests] { requests.quit = true; });
         ImGui::EndMenu();
@@ -874,6 +877,7 @@ void Panels::modals(AppState& app, OrbitCamera& camera, LoopRequests& requests) 
             else if (purpose == "Thermal properties") app.loadThermalProperties(path);
             else if (purpose == "Boundary conditions") app.loadThermalConditions(path);
             else if (purpose == "Export exchange table") app.exportThermalExchange(path);
+            else if (purpose == "Export conductors") app.exportThermalConductors(path);
         }
         ImGui::EndPopup();
     }

@@ -52,6 +52,12 @@ void ThermalJob::work() {
     std::vector<std::vector<PatchId>> members;
     thermal::makeNodes(m_scene, thermal::Lumping::Objects, result.objects, members);
     result.exchange = timed("exchange matrix", [&] { return thermal::exchangeMatrix(m_scene, *F, model, s, members, solver); });
+    checkCancel();
+    // The conductors per object, for File > Export radiative conductors (as hemirad thermal --conductors).
+    result.conductors = timed("conductors", [&] { return thermal::computeConductors(m_scene, *F, model, thermal::GebhartOptions{}, solver); });
+    messages.push_back("conductors: " + std::to_string(result.conductors.couplings.size()) + " couplings between " +
+                       std::to_string(result.conductors.nodes.size()) + " objects and the environment; asymmetry before symmetrising " +
+                       jobFigure(result.conductors.asymmetry, 3));
     result.model = std::move(model);
     result.geometryHash = m_scene.geometryHash();
 }

@@ -237,6 +237,10 @@ void ThermalPanel::exchangeWindow(AppState& app, const Browse& browse, float wid
         const std::string stem = std::filesystem::path(app.scenePath()).replace_extension().string();
         if (ImGui::Button("Export CSV...")) browse("Export exchange table", stem + "_exchange.csv");
         tip("Write the table as CSV, units in the header (as hemirad thermal --exchange)");
+        ImGui::SameLine();
+        if (ImGui::Button("Export conductors...")) browse("Export conductors", stem + "_GR.esatan");
+        tip("Write the radiative conductors GR between the objects and the environment (m^2) for a thermal network:\n"
+            ".esatan/.cnd (ESATAN-TMS $CONDUCTORS), .sinda/.inp (SINDA/FLUINT), .csv or .mtx (as hemirad thermal --conductors)");
         std::vector<std::string> headings = {"Q from \\ to (W)"};
         for (const std::string& o : r->objects) headings.push_back(o);
         headings.push_back("environment");

@@ -4,9 +4,10 @@
 #pragma once
 
 #include "engine/scene.hpp"
+#include "thermal/gebhart.hpp"
 #include "thermal/solar_band.hpp"
-#include "thermal/thermal_solver.hpp"
 #include "thermal/thermal_model.hpp"
+#include "thermal/thermal_solver.hpp"
 
 #include <cstdint>
 #include <map>
@@ -66,6 +67,9 @@ struct ThermalResult {
     std::optional<thermal::SolarSolution> solar;
     std::vector<std::string> objects;             ///< exchange-matrix rows: objects with patches
     std::vector<std::vector<double>> exchange;    ///< W, [object][object..., environment]
+    /// Radiative conductors GR per object (lumped, isothermal nodes) and to the environment, as
+    /// `hemirad thermal --conductors` computes them; exported in its formats.
+    thermal::Conductors conductors;
     std::uint64_t geometryHash = 0;               ///< of the scene it was solved on
     std::uint64_t materialsRevision = 0, setupRevision = 0;
 };

@@ -181,6 +181,48 @@ TEST_CASE("hemirad-gui's thermal run gives the radiator's T of hemirad thermal, 
     CHECK(app.thermalStale());
 }
 
+TEST_CASE("hemirad-gui exports the radiative conductors per object as hemirad thermal --conductors writes them, in its formats") {
+    const auto dir = tempDir("gui-thermal-conductors");
+    // The command's conductors for the same files (objects lumped, the environment last).
+    const std::string reference = (dir / "cli.esatan").string();
+    const CommandResult cli = runCommand(std::string(HEMIRAD_BINARY) + " thermal " + sourcePath("examples/thermal/radiator.obj") +
+                                         " --properties " + sourcePath(kProperties) + " --bc " + sourcePath(kConditions) + " -o " +
+                                         (dir / "T.csv").string() + " --conductors " + reference + " 2>&1");
+    INFO(cli.output);
+    REQUIRE(cli.status == 0);
+    AppState app;
+    loadRadiator(app);
+    CHECK_FALSE(app.exportThermalConductors((dir / "none.esatan").string()));  // no result yet
+    app.runThermal();
+    runToEnd(app);
+    const std::string esatan = (dir / "gui.esatan").string();
+    REQUIRE(app.exportThermalConductors(esatan));
+    // The same lines: the node names in the comments, then GR(a, b) = v; per coupling.
+    const std::string gui = readText(esatan), ref = readText(reference);
+    auto couplings = [](const std::string& text) {
+        std::vector<std::pair<std::string, double>> out;
+        std::istringstream lines(text);
+        for (std::string line; std::getline(lines, line);)
+            if (line.rfind("GR(", 0) == 0) out.emplace_back(line.substr(0, line.find('=')), std::stod(line.substr(line.find('=') + 1)));
+        return out;
+    };
+    const auto a = couplings(gui), b = couplings(ref);
+    REQUIRE(a.size() == b.size());
+    CHECK(a.size() == 6);  // radiator, shield, baffle and the environment: 3 + 3
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        CHECK(a[k].first == b[k].first);
+        CHECK(a[k].second == doctest::Approx(b[k].second).epsilon(1e-9));
+    }
+    CHECK(gui.substr(0, gui.find("GR(")) == ref.substr(0, ref.find("GR(")));
+    // The other formats by extension; an unknown one is refused and writes nothing.
+    REQUIRE(app.exportThermalConductors((dir / "gr.csv").string()));
+    CHECK(readText(dir / "gr.csv").rfind("node_a,node_b,GR", 0) == 0);
+    REQUIRE(app.exportThermalConductors((dir / "gr.inp").string()));
+    CHECK(readText(dir / "gr.inp").find("CONDUCTOR DATA") != std::string::npos);
+    CHECK_FALSE(app.exportThermalConductors((dir / "gr.txt").string()));
+    CHECK_FALSE(std::filesystem::exists(dir / "gr.txt"));
+}
+
 TEST_CASE("hemirad-gui exports the object exchange table as hemirad thermal --exchange writes it, units in the header") {
     const CliRun cli = cliThermal("gui-thermal-exchange-cli");
     AppState app;
