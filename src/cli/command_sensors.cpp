@@ -99,6 +99,8 @@ int runSensors(const Options& options) {
             lit = sensorSunlit(beams, sensors, toSun);
             const SensorReflections reflections(scene, options.formFactors.common.threads);
             if (reflections.active()) glare = reflections.sun(beams, sensors, toSun, *options.dni);
+            else if (scene.hasMirrors() && factors.mirrors.rfind("followed", 0) == 0)  // rays follow mirrors images cannot
+                warnings.add("mirrors", "sensors: the sun reflected by mirrors is " + reflections.note());
         }
         // A sky model's hour at the sensors, as the patches have it.
         std::optional<SensorSky> modelSky;

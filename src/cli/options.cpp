@@ -876,7 +876,7 @@ sensors:
                          --sensor-rays N stratified directions per sensor (default 4096; the sky view
                          factor's error about 1e-3 at 4096, falling faster than 1/sqrt(N))
   --sensor-output S.csv  (year, with --sensors or --grid) annual sums per sensor: direct sun, direct
-                         sky, reflected, total (Wh/m^2)
+                         sky (with mirrors: the sun and sky they reflect), reflected, total (Wh/m^2)
   --sensor-hourly S.npy  (year) each solved hour's total irradiance per sensor (NumPy float64)
 check:
   --sliver-ratio R       a sliver's longest edge / minimum width exceeds R (default 20)

@@ -9,6 +9,7 @@
 #include "preprocess/hemisphere/point_polygon.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace hemirad {
@@ -184,6 +185,26 @@ SensorMirrors::Totals SensorMirrors::sees(const Vec3& x, const Vec3& n, const st
     return totals;
 }
 
+namespace {
+
+/// Whether p (on m's plane) lies in m, a point on an edge in one mirror only of those that share it
+/// (a facade's panes): the polygon and p in the plane of the two coordinates across m's largest
+/// normal component (the same plane for coplanar panes, counter-clockwise), by the top-left rule.
+bool insideMirror(const Reflector& m, const Vec3& p, std::vector<std::array<double, 2>>& outline) {
+    int k = 0;
+    for (int c = 1; c < 3; ++c)
+        if (std::abs(m.normal[c]) > std::abs(m.normal[k])) k = c;
+    const int u = (k + 1) % 3, v = (k + 2) % 3;
+    outline.clear();
+    for (const Vec3& corner : m.polygon) outline.push_back({corner[u], corner[v]});
+    if (m.normal[k] < 0.0) std::reverse(outline.begin(), outline.end());  // seen from -k: clockwise
+    thread_local std::vector<std::uint8_t> closed;  // no open edge: every edge is shared or the mirror's own
+    if (closed.size() < outline.size()) closed.assign(outline.size(), 0);
+    return insideTopLeft(outline, closed, {p[u], p[v]});
+}
+
+}  // namespace
+
 SensorReflections::SensorReflections(const Scene& scene, int threads) {
     m_note = sensorMirrorsNote(scene, m_reflectors);
     if (!m_reflectors.empty()) m_rays = std::make_unique<RayScene>(scene, threads);
@@ -206,6 +227,7 @@ std::vector<double> SensorReflections::sun(const BeamShadows& beams, const Senso
         std::vector<float> from, to;
         std::vector<std::uint8_t> blocked;
         std::vector<double> gain;
+        std::vector<std::array<double, 2>> outline;
 #pragma omp for schedule(dynamic, 64)
         for (std::int64_t ss = 0; ss < std::int64_t(sensors.size()); ++ss) {
             if (failure.failed()) continue;
@@ -224,13 +246,7 @@ std::vector<double> SensorReflections::sun(const BeamShadows& beams, const Senso
                     const double cosine = n.dot(back);
                     if (!(cosine > 0.0)) continue;
                     const Vec3 p = x + (height / facing) * back;
-                    bool inside = true;
-                    for (std::size_t k = 0; k < m.polygon.size() && inside; ++k) {
-                        const Vec3& a = m.polygon[k];
-                        const Vec3& b = m.polygon[(k + 1) % m.polygon.size()];
-                        inside = (b - a).cross(p - a).dot(m.normal) >= 0.0;
-                    }
-                    if (!inside || beams.blockers().blocksRay(p, d, beams.tolerance(), scratch)) continue;
+                    if (!insideMirror(m, p, outline) || beams.blockers().blocksRay(p, d, beams.tolerance(), scratch)) continue;
                     float a[3], b[3];
                     m_rays->toLocal(x + lift * back, a);
                     m_rays->toLocal(p + lift * m.normal, b);

@@ -141,7 +141,7 @@ SensorFactors sensorFactorsByRays(const Scene& scene, const Sensors& sensors, st
                         if (scene.patches[j].specular <= 0.0) continue;
                         // A mirror's front: the ray goes on, reflected, with the s met.
                         const std::uint64_t misses = chains.misses;
-                        const double lost = chains.lostWeight;
+                        const double lost = chains.lostWeight, cut = chains.cutoffWeight;
                         const Vec3 d(dirs[3 * k], dirs[3 * k + 1], dirs[3 * k + 2]);
                         followMirrorChain(scene, cast, sensors.position[s] + lift * normal, d, j, distances[k], 1.0, 1.0, limits,
                                           [&](PatchId r, double weight) {
@@ -149,7 +149,10 @@ SensorFactors sensorFactorsByRays(const Scene& scene, const Sensors& sensors, st
                                               count[r] += weight;
                                           },
                                           chains);
+                        // A miss reaches the sky; so is counted what a chain past the limits carries
+                        // (as the exact factors and the patches' sky view factors count it).
                         if (chains.misses != misses) skyMirrored += chains.lostWeight - lost;
+                        skyMirrored += chains.cutoffWeight - cut;
                     }
                     std::sort(touched.begin(), touched.end());
                     auto& row = rows[s - first];

@@ -45,6 +45,10 @@ bool parseDouble(const std::string& text, double& value) {
     return *end == '\0';
 }
 
+}  // namespace
+
+namespace {
+
 /// Twice the signed area of the triangle (a, b, c) in 2D, computed from the edge's endpoints in one
 /// fixed order (lexicographic) whatever the order given, so that two patches sharing the edge get
 /// exactly opposite signs for the same point.
@@ -55,6 +59,8 @@ double orient(const std::array<double, 2>& a, const std::array<double, 2>& b, co
     const double s = (q[0] - p[0]) * (c[1] - p[1]) - (q[1] - p[1]) * (c[0] - p[0]);
     return swapped ? -s : s;
 }
+
+}  // namespace
 
 /// Whether c lies inside the counter-clockwise convex polygon p, points on an edge counted for the
 /// polygon on one side of it only (the top-left rule of rasterisers), and not at all on an edge
@@ -74,7 +80,6 @@ bool insideTopLeft(const std::vector<std::array<double, 2>>& p, const std::vecto
     return true;
 }
 
-}  // namespace
 
 Sensors parseSensorsCsv(const std::string& text, const std::string& file) {
     Sensors out;
@@ -337,6 +342,7 @@ SensorIrradiance sensorIrradiance(const Sensors& sensors, const SensorFactors& f
                                   const std::vector<double>& reflectedSun, const SensorSky* modelSky) {
     const std::size_t count = sensors.size();
     if (factors.skyView.size() != count || sunlit.size() != count || radiosity.size() != factors.patches ||
+        (!factors.skyMirrored.empty() && factors.skyMirrored.size() != count) ||
         (!reflectedSun.empty() && reflectedSun.size() != count) ||
         (modelSky && (modelSky->direct.size() != count || (!modelSky->mirrored.empty() && modelSky->mirrored.size() != count))))
         throw Error("sensors: the factors, the sunlit flags, the reflected sun and the radiosity do not match the sensors and the scene");

@@ -11,6 +11,7 @@
 #include "environment/sunlit.hpp"
 #include "rays/mirror_chain.hpp"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -32,6 +33,12 @@ struct Sensors {
 Sensors parseSensorsCsv(const std::string& text, const std::string& file);
 /// The same from a file (hemirad::Error when it cannot be read).
 Sensors readSensorsCsv(const std::string& path);
+
+/// Whether c lies inside the counter-clockwise convex polygon p (2D), a point on an edge counted for
+/// the polygon on one side of it only (the top-left rule of rasterisers; two polygons sharing the
+/// edge get exactly opposite signs for it), and not at all on an edge that `open` marks.
+bool insideTopLeft(const std::vector<std::array<double, 2>>& p, const std::vector<std::uint8_t>& open,
+                   const std::array<double, 2>& c);
 
 /// A grid over the faces of `object`: on each of its patches, the points of a square lattice of
 /// `spacing` in the patch's plane (axes from its normal, lattice offset half a spacing from the
@@ -105,7 +112,7 @@ SensorFactors sensorFactors(const Scene& scene, const Sensors& sensors, const Se
 /// rays that meet a back face count for neither. Each sensor's direct row, its back faces and its
 /// sky share sum to 1 exactly. A ray that meets a mirror's front goes on reflected with the s met
 /// (rays/mirror_chain.hpp) to `limits`: each patch front it meets adds that weight, and a miss adds
-/// it to skyMirrored. Stratified, unbiased, with an error that falls faster than 1 / sqrt(rays)
+/// it to skyMirrored (so does a chain cut off at the limits, as the exact factors count it). Stratified, unbiased, with an error that falls faster than 1 / sqrt(rays)
 /// (about 1e-3 on a sky view factor at 4096 rays; README). Throws hemirad::Error in a build without
 /// Embree (rayCastingNotBuilt()) and for rays = 0.
 SensorFactors sensorFactorsByRays(const Scene& scene, const Sensors& sensors, std::uint32_t rays, int threads = 0,

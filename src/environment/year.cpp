@@ -31,7 +31,9 @@ YearResult solveYear(const Scene& scene, const FormFactors& F, const std::vector
         throw Error("year: the sky's coefficients are not this scene's");
     if (model && options.sensors &&
         (!options.sensorSky || std::size_t(options.sensorSky->direct.rows()) != options.sensors->size() ||
-         options.sensorSky->direct.cols() != model->direct.cols()))
+         options.sensorSky->direct.cols() != model->direct.cols() ||
+         (options.sensorSky->mirrored.size() > 0 && (options.sensorSky->mirrored.rows() != options.sensorSky->direct.rows() ||
+                                                     options.sensorSky->mirrored.cols() != model->direct.cols()))))
         throw Error("year: sensors under the " + options.skyModel.name() +
                     " sky need their daylight coefficients for the sky's cells (sensorSkyCoefficients)");
     for (std::size_t i = 0; i < n; ++i)

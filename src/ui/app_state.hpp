@@ -184,8 +184,9 @@ public:
     SelectionSummary selectionSummary() const;
 
     /// Unsaved material edits: the undo history is not where it was at the last load or save (an
-    /// undo back to the saved values is clean again).
-    bool dirty() const { return !m_cleanDepth || *m_cleanDepth != m_undo.size(); }
+    /// undo back to the saved values is clean again). Thermal edits are not saved with the scene and
+    /// do not count.
+    bool dirty() const;
     /// Bumped by every material edit, undo and redo (the material editor reloads its values).
     std::uint64_t materialsRevision() const { return m_materialsRevision; }
     bool canUndo() const { return !m_undo.empty(); }
@@ -384,14 +385,20 @@ private:
         Scene scene;
         std::vector<double> edges;
     };
-    /// A material edit of `ids`, or a meshing step (meshBefore, meshAfter set).
+    /// A material edit of `ids`, a meshing step (meshBefore, meshAfter set), and/or a thermal edit
+    /// (thermalBefore, thermalAfter set: the thermal files and per-object edits before and after).
     struct UndoStep {
         std::vector<PatchId> ids;
         Snapshot before, after;
         std::shared_ptr<const Mesh> meshBefore, meshAfter;
+        std::shared_ptr<const ThermalSetup> thermalBefore, thermalAfter;
+        /// Whether it changes what File > Save writes (materials or the mesh), not only thermal inputs.
+        bool changesScene() const { return !ids.empty() || meshBefore || meshAfter; }
     };
     /// Records a new step (the redo history goes).
     void pushUndo(UndoStep step);
+    /// Records the thermal setup's change from `before` to m_thermal as an undoable step.
+    void pushThermalUndo(const ThermalSetup& before);
     /// Moves the newest step of `from` to `to`, applying its before (undo) or after (redo) side.
     void replay(std::vector<UndoStep>& from, std::vector<UndoStep>& to, bool undoing);
     /// Makes `next` the current mesh, carrying radiosity and the selection over.

@@ -91,18 +91,55 @@ void AppState::replay(std::vector<UndoStep>& from, std::vector<UndoStep>& to, bo
     UndoStep step = std::move(from.back());
     from.pop_back();
     const std::shared_ptr<const Mesh> mesh = undoing ? step.meshBefore : step.meshAfter;
-    if (!mesh) restore(step.ids, undoing ? step.before : step.after);
+    const bool material = !mesh && !step.ids.empty();
+    if (material) restore(step.ids, undoing ? step.before : step.after);
     const bool specular = step.before.specular != step.after.specular;
+    const std::shared_ptr<const ThermalSetup> thermal = undoing ? step.thermalBefore : step.thermalAfter;
     to.push_back(std::move(step));
-    info(std::string(undoing ? "undo " : "redo ") + (mesh ? "meshing" : "material edit"));
+    info(std::string(undoing ? "undo " : "redo ") +
+         (mesh ? "meshing" : material ? (thermal ? "thermal properties (and the mirror reflectances they set)" : "material edit") : "thermal edit"));
+    if (thermal) {
+        m_thermal = *thermal;
+        m_thermalLoadError.clear();
+        ++m_thermalRevision;
+        ++m_thermalSetupRevision;
+        bump();
+    }
     if (mesh) applyMesh(*mesh);
-    else materialsChanged(specular);
+    else if (material) materialsChanged(specular);
 }
 
 void AppState::pushUndo(UndoStep step) {
-    if (m_cleanDepth && *m_cleanDepth > m_undo.size()) m_cleanDepth.reset();  // the saved state was undone and is now gone
+    if (m_cleanDepth && *m_cleanDepth > m_undo.size()) {
+        // The saved state was undone: it is gone with the redo history, unless only thermal edits
+        // (not saved with the scene) lie between it and here.
+        bool sceneChanged = false;
+        for (std::size_t k = 0; k < *m_cleanDepth - m_undo.size() && !sceneChanged; ++k)
+            sceneChanged = m_redo[m_redo.size() - 1 - k].changesScene();
+        if (sceneChanged) m_cleanDepth.reset();
+        else m_cleanDepth = m_undo.size();
+    }
     m_undo.push_back(std::move(step));
     m_redo.clear();
+}
+
+void AppState::pushThermalUndo(const ThermalSetup& before) {
+    UndoStep step;
+    step.thermalBefore = std::make_shared<const ThermalSetup>(before);
+    step.thermalAfter = std::make_shared<const ThermalSetup>(m_thermal);
+    pushUndo(std::move(step));
+}
+
+bool AppState::dirty() const {
+    if (!m_cleanDepth) return true;
+    // Only steps that change the scene (materials, mesh) between the saved depth and this one count:
+    // below it they are in the undo history, above it (undone) in the redo history, the next last.
+    const std::size_t clean = *m_cleanDepth, depth = m_undo.size();
+    for (std::size_t k = clean; k < depth; ++k)
+        if (m_undo[k].changesScene()) return true;
+    for (std::size_t k = 0; k + depth < clean; ++k)
+        if (m_redo[m_redo.size() - 1 - k].changesScene()) return true;
+    return false;
 }
 
 }  // namespace hemirad::ui

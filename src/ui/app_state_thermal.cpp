@@ -26,18 +26,21 @@ bool AppState::loadThermalProperties(const std::string& path) {
         std::vector<std::string> sources;
         thermal::applyPropertiesText(next.propertiesText, path, withFile, sources);
         checkThermalSetup(withFile, next);
+        // One undoable step: the thermal setup, and the mirror reflectances the file sets.
         UndoStep step;
         for (PatchId i = 0; i < m_scene->size(); ++i)
             if (withFile.patches[i].specular != m_scene->patches[i].specular) step.ids.push_back(i);
-        if (!step.ids.empty()) {
+        step.thermalBefore = std::make_shared<const ThermalSetup>(m_thermal);
+        step.thermalAfter = std::make_shared<const ThermalSetup>(next);
+        const bool specular = !step.ids.empty();
+        if (specular) {
             step.before = snapshot(step.ids);
             for (PatchId i : step.ids) m_scene->patches[i].specular = withFile.patches[i].specular;
             step.after = snapshot(step.ids);
-            pushUndo(std::move(step));
-            info("thermal properties set the mirror reflectance of " + std::to_string(m_undo.back().ids.size()) +
-                 " patches (undoable)");
-            materialsChanged(true);
+            info("thermal properties set the mirror reflectance of " + std::to_string(step.ids.size()) + " patches (undoable)");
         }
+        pushUndo(std::move(step));
+        if (specular) materialsChanged(true);
         m_thermal = std::move(next);
         m_thermalLoadError.clear();
         ++m_thermalRevision;
@@ -62,7 +65,9 @@ bool AppState::loadThermalConditions(const std::string& path) {
         next.condition.clear();  // the file gives every object's condition and the environment
         next.environment.reset();
         checkThermalSetup(*m_scene, next);
+        const ThermalSetup before = m_thermal;
         m_thermal = std::move(next);
+        pushThermalUndo(before);
         m_thermalLoadError.clear();
         ++m_thermalRevision;
         ++m_thermalSetupRevision;
@@ -113,9 +118,13 @@ bool AppState::setObjectEmissivity(std::uint32_t object, double emissivity) {
         for (const ObjectThermalRow& r : thermalObjects(environment, unreadable))
             if (r.object == object) curve = r.emissivityCurve;
     }
+    const ThermalSetup before = m_thermal;
     const bool ok = why.empty() && tryEdit(*m_scene, m_thermal, [&](ThermalSetup& s) { s.emissivity[object] = emissivity; }, why);
     ++m_thermalRevision;  // refused: the panel's field goes back to the value in effect
-    if (ok) ++m_thermalSetupRevision;
+    if (ok) {
+        ++m_thermalSetupRevision;
+        pushThermalUndo(before);
+    }
     if (!ok) error("emissivity of '" + m_scene->objects[object] + "' refused: " + why);
     if (ok && !curve.empty()) {
         char value[32];
@@ -130,9 +139,13 @@ bool AppState::setObjectCondition(std::uint32_t object, const ObjectCondition& c
     if (!hasScene() || !hasPatches(*m_scene, object)) return false;
     std::string why;
     if (!std::isfinite(condition.value)) why = "the value must be a finite number";
+    const ThermalSetup before = m_thermal;
     const bool ok = why.empty() && tryEdit(*m_scene, m_thermal, [&](ThermalSetup& s) { s.condition[object] = condition; }, why);
     ++m_thermalRevision;
-    if (ok) ++m_thermalSetupRevision;
+    if (ok) {
+        ++m_thermalSetupRevision;
+        pushThermalUndo(before);
+    }
     if (!ok) error("condition of '" + m_scene->objects[object] + "' refused: " + why);
     return ok;
 }
@@ -141,9 +154,13 @@ bool AppState::setThermalEnvironment(std::optional<double> kelvin) {
     if (!hasScene()) return false;
     std::string why;
     if (kelvin && !std::isfinite(*kelvin)) why = "the environment's temperature must be a finite number";
+    const ThermalSetup before = m_thermal;
     const bool ok = why.empty() && tryEdit(*m_scene, m_thermal, [&](ThermalSetup& s) { s.environment = kelvin; }, why);
     ++m_thermalRevision;
-    if (ok) ++m_thermalSetupRevision;
+    if (ok) {
+        ++m_thermalSetupRevision;
+        pushThermalUndo(before);
+    }
     if (!ok) error("environment refused: " + why);
     return ok;
 }

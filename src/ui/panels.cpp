@@ -301,7 +301,7 @@ void Panels::menuBar(AppState& app, OrbitCamera& camera, LoopRequests& requests)
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Edit")) {
-        if (ImGui::MenuItem("Undo (material edit, meshing)", "Ctrl+Z", false, app.canUndo())) app.undo();
+        if (ImGui::MenuItem("Undo (material, thermal edit, meshing)", "Ctrl+Z", false, app.canUndo())) app.undo();
         if (ImGui::MenuItem("Redo", "Ctrl+Y", false, app.canRedo())) app.redo();
         if (ImGui::MenuItem("Select none", "Esc", false, !app.selection().empty())) app.clearSelection();
         ImGui::EndMenu();

@@ -239,8 +239,7 @@ void ThermalPanel::exchangeWindow(AppState& app, const Browse& browse, float wid
         tip("Write the table as CSV, units in the header (as hemirad thermal --exchange)");
         ImGui::SameLine();
         if (ImGui::Button("Export conductors...")) browse("Export conductors", stem + "_GR.esatan");
-        tip("Write the radiative conductors GR between the objects and the environment (m^2) for a thermal network:\n"
-            ".esatan/.cnd (ESATAN-TMS $CONDUCTORS), .sinda/.inp (SINDA/FLUINT), .csv or .mtx (as hemirad thermal --conductors)");
+        tip("Write the conductors GR (m^2) for a thermal network: .esatan, .sinda, .csv or .mtx");
         std::vector<std::string> headings = {"Q from \\ to (W)"};
         for (const std::string& o : r->objects) headings.push_back(o);
         headings.push_back("environment");

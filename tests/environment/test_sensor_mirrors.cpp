@@ -244,3 +244,29 @@ TEST_CASE("Sensors' daylight coefficients: open and facing up the horizontal wei
     const SensorSky hour = sensorSkyHour(c, std::vector<double>(grid.size(), 1.0));
     CHECK(hour.direct[1] == doctest::Approx(c.direct.row(1).sum()).epsilon(1e-14));
 }
+
+TEST_CASE("The sun reflected by a mirror wall in four panes: a point of a seam or of the corner they share counts once") {
+    if (!rayCastingNotBuilt().empty()) return;
+    // The wall x = 0 (y in [-2, 2], z in [-2, 3]) cut at y = 0 and z = 1.5 into four panes of s = 0.8.
+    SceneBuilder b;
+    const std::uint32_t mirror = b.material("mirror", Rgb::Constant(0.1), Rgb::Zero(), kS);
+    for (const auto& [y0, y1] : {std::pair{-2.0, 0.0}, std::pair{0.0, 2.0}})
+        for (const auto& [z0, z1] : {std::pair{-2.0, 1.5}, std::pair{1.5, 3.0}}) b.rectangle(0, 0.0, y0, y1, z0, z1, true, mirror);
+    const Vec3 toSun = Vec3(1, 0, 1).normalized(), n(-1, 0, 0);
+    const double dni = 800.0, once = kS * dni * std::sqrt(0.5);
+    const SensorReflections reflections(b.scene);
+    REQUIRE(reflections.active());
+    Sensors s;
+    // Reflected at (0, 0, 1.5) (the corner), (0, 0.7, 1.5) (a seam along y), (0, 0, 1.0) (a seam along z)
+    // and (0, 1, 1) (inside a pane).
+    for (const Vec3& x : {Vec3(1, 0, 0.5), Vec3(1, 0.7, 0.5), Vec3(1, 0, 0), Vec3(1, 1, 0)}) {
+        s.position.push_back(x);
+        s.normal.push_back(n);
+        s.name.push_back(std::to_string(s.name.size()));
+    }
+    const std::vector<double> glare = reflections.sun(BeamShadows(b.scene), s, toSun, dni);
+    for (std::size_t k = 0; k < s.size(); ++k) {
+        CAPTURE(k);
+        CHECK(glare[k] == doctest::Approx(once).epsilon(1e-12));
+    }
+}

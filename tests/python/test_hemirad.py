@@ -579,6 +579,8 @@ def test_sensor_factors_through_a_mirror():
     flat = hemirad.sensor_factors(scene, [[0.5, 0.5, 0.0]], [[0, 0, 1]], max_depth=0)
     assert flat["F"][0, 0] == 0.0 and flat["F"][0, 1] == 0.0
     assert flat["through_mirrors"][0] == pytest.approx(s * mirror, rel=1e-12)  # cut off: counted as sky
+    flat_rays = hemirad.sensor_factors(scene, [[0.5, 0.5, 0.0]], [[0, 0, 1]], estimator="rays", rays=65536, max_depth=0)
+    assert abs(flat_rays["through_mirrors"][0] - s * mirror) < 3e-3  # by rays too
     # By rays, reflected at the mirror: within their error.
     rays = hemirad.sensor_factors(scene, [[0.5, 0.5, 0.0]], [[0, 0, 1]], estimator="rays", rays=65536)
     assert rays["mirrors"].startswith("followed by rays")

@@ -181,6 +181,82 @@ TEST_CASE("hemirad-gui's thermal run gives the radiator's T of hemirad thermal, 
     CHECK(app.thermalStale());
 }
 
+TEST_CASE("hemirad-gui undoes and redoes thermal edits (files, emissivity, condition, environment); they leave the scene clean") {
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("examples/thermal/radiator.obj")));
+    const std::uint32_t shieldPatch = [&] {
+        for (PatchId i = 0; i < app.scene().size(); ++i)
+            if (app.scene().objects[app.scene().patches[i].object] == "shield") return std::uint32_t(i);
+        return std::uint32_t(0);
+    }();
+    const double sBefore = app.scene().patches[shieldPatch].specular;
+    REQUIRE(app.loadThermalProperties(sourcePath(kProperties)));
+    const double sFile = app.scene().patches[shieldPatch].specular;
+    CHECK(sFile == 0.9);  // aluminium: the file's specular reflectance becomes the scene's
+    REQUIRE(app.loadThermalConditions(sourcePath(kConditions)));
+    CHECK_FALSE(app.dirty());  // thermal inputs are not saved with the scene
+    const std::vector<ObjectThermalRow> loaded = rows(app);
+    const std::uint32_t radiator = loaded[0].object;
+    REQUIRE(app.setObjectEmissivity(radiator, 0.7));
+    ObjectCondition hot;
+    hot.kind = ObjectCondition::Kind::Temperature;
+    hot.value = 350.0;
+    REQUIRE(app.setObjectCondition(radiator, hot));
+    REQUIRE(app.setThermalEnvironment(250.0));
+    CHECK_FALSE(app.dirty());
+    CHECK(rows(app)[0].emissivity == doctest::Approx(0.7));
+    // Back, one edit at a time.
+    app.undo();  // the environment
+    std::optional<double> environment;
+    std::string error;
+    app.thermalObjects(environment, error);
+    CHECK(environment != std::optional<double>(250.0));
+    app.undo();  // the condition
+    REQUIRE(rows(app)[0].condition);
+    CHECK(rows(app)[0].condition->kind == loaded[0].condition->kind);
+    app.undo();  // the emissivity
+    CHECK(rows(app)[0].emissivity == doctest::Approx(0.88));
+    CHECK_FALSE(rows(app)[0].emissivityEdited);
+    app.undo();  // the conditions file: no condition left
+    CHECK_FALSE(rows(app)[0].condition);
+    app.undo();  // the properties file and the mirror reflectance it set
+    CHECK(app.scene().patches[shieldPatch].specular == sBefore);
+    CHECK(app.thermalSetup().propertiesPath.empty());
+    CHECK_FALSE(app.canUndo());
+    CHECK_FALSE(app.dirty());
+    // And forward again.
+    for (int k = 0; k < 5; ++k) app.redo();
+    CHECK(app.scene().patches[shieldPatch].specular == sFile);
+    CHECK(rows(app)[0].emissivity == doctest::Approx(0.7));
+    app.thermalObjects(environment, error);
+    CHECK(environment == std::optional<double>(250.0));
+    CHECK_FALSE(app.canRedo());
+    // Saved here; two thermal edits undone below the saved depth and a new one made: the saved
+    // state is still what the scene holds (only thermal steps were dropped from the redo history).
+    REQUIRE(app.saveScene((tempDir("gui-thermal-undo") / "saved.obj").string()));
+    app.undo();
+    app.undo();
+    CHECK_FALSE(app.dirty());
+    REQUIRE(app.setThermalEnvironment(260.0));
+    CHECK_FALSE(app.dirty());
+    // A material edit does make the scene dirty; undoing it (past no thermal edit) cleans it.
+    app.select(0, false);
+    ui::MaterialEdit edit;
+    edit.emission = Rgb::Constant(1.0);
+    REQUIRE(app.editMaterial(edit));
+    CHECK(app.dirty());
+    REQUIRE(app.setObjectEmissivity(radiator, 0.5));
+    app.undo();
+    CHECK(app.dirty());
+    app.undo();
+    CHECK_FALSE(app.dirty());
+    // A thermal edit after undoing back to the saved state keeps it reachable (nothing in the scene changed).
+    app.redo();
+    app.undo();
+    REQUIRE(app.setObjectEmissivity(radiator, 0.6));
+    CHECK_FALSE(app.dirty());
+}
+
 TEST_CASE("hemirad-gui exports the radiative conductors per object as hemirad thermal --conductors writes them, in its formats") {
     const auto dir = tempDir("gui-thermal-conductors");
     // The command's conductors for the same files (objects lumped, the environment last).
