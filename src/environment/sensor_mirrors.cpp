@@ -77,6 +77,35 @@ bool SensorMirrors::pathFree(std::size_t q, const Vec3& x, const Vec3& n, const 
     return std::find(ws.legBlocked.begin(), ws.legBlocked.end(), 1) == ws.legBlocked.end();
 }
 
+double SensorMirrors::inPieces(std::size_t q, const Vec3& x, const Vec3& n, PatchId r, Workspace& ws, Totals& totals) const {
+    // The receiver's part in the aperture in quads (splitPolygon), a quad above kPiecesAbove split
+    // again, kPieceLevels deep at most; each quad seen or hidden by the ray to its middle.
+    const Node& node = ws.nodes[q];
+    clip(q, r, ws);
+    ws.pieces.clear();
+    ws.levels.clear();
+    splitPolygon(ws.clipped.data(), ws.clipped.size(), ws.pieces);
+    ws.levels.assign(ws.pieces.size() / 4, 1);
+    double seen = 0.0;
+    while (!ws.pieces.empty()) {
+        const Vec3 quad[4] = {ws.pieces[ws.pieces.size() - 4], ws.pieces[ws.pieces.size() - 3], ws.pieces[ws.pieces.size() - 2],
+                              ws.pieces[ws.pieces.size() - 1]};
+        const int level = ws.levels.back();
+        ws.pieces.resize(ws.pieces.size() - 4);
+        ws.levels.pop_back();
+        const double f = pointToPolygonFactor(node.image, node.axis, quad, 4);
+        if (!(f > 0.0)) continue;
+        if (f > kPiecesAbove && level < kPieceLevels) {
+            const std::size_t before = ws.pieces.size();
+            splitPolygon(quad, 4, ws.pieces);
+            ws.levels.resize(ws.levels.size() + (ws.pieces.size() - before) / 4, level + 1);
+            continue;
+        }
+        if (pathFree(q, x, n, vertexMean(quad, 4), m_geometry.shapes[r].normal, ws, totals)) seen += f;
+    }
+    return seen;
+}
+
 SensorMirrors::Totals SensorMirrors::sees(const Vec3& x, const Vec3& n, const std::vector<double>& reach, Workspace& ws,
                                           std::vector<std::pair<PatchId, double>>& terms) const {
     Totals totals;
@@ -143,14 +172,8 @@ SensorMirrors::Totals SensorMirrors::sees(const Vec3& x, const Vec3& n, const st
         for (std::size_t b = 0; b < ws.batch.size(); ++b) {
             const PatchId r = ws.batch[b];
             double seen = 0.0;
-            if (m_geometry.onSilhouette(r, ws.status)) {
-                clip(q, r, ws);
-                ws.pieces.clear();
-                splitPolygon(ws.clipped.data(), ws.clipped.size(), ws.pieces);
-                for (std::size_t p = 0; p < ws.pieces.size(); p += 4) {
-                    const double f = pointToPolygonFactor(node.image, node.axis, &ws.pieces[p], 4);
-                    if (f > 0.0 && pathFree(q, x, n, vertexMean(&ws.pieces[p], 4), m_geometry.shapes[r].normal, ws, totals)) seen += f;
-                }
+            if (m_geometry.onSilhouette(r, ws.status) || ws.factors[b] > kPiecesAbove) {
+                seen = inPieces(q, x, n, r, ws, totals);
             } else if (!ws.blocked[b]) {
                 seen = ws.factors[b];
             }

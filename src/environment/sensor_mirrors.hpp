@@ -27,8 +27,8 @@ std::string sensorMirrorsNote(const Scene& scene, std::vector<Reflector>& reflec
 /// The sensor x (unit normal n) and each reflector m in front of it: x and n are reflected about m's
 /// plane; a patch seen through m's aperture gets Lambert's factor from the image to its part inside
 /// the aperture's cone, times the product of the s met, where a shadow ray along the reflected path
-/// (leg by leg) is free; patches on a silhouette (a mesh neighbour's ray disagrees) are split into
-/// pieces with a ray each. The part of m's aperture that no patch fills is sky seen in m. Chains go on
+/// (leg by leg) is free; patches on a silhouette (a mesh neighbour's ray disagrees), and those whose
+/// factor exceeds 1e-3, are split into pieces with a ray each (large ones again, 4 levels deep). The part of m's aperture that no patch fills is sky seen in m. Chains go on
 /// to the reflectors seen through an aperture, to `limits` (what a cut-off chain carries counts as
 /// sky and is reported).
 class SensorMirrors {
@@ -58,6 +58,7 @@ public:
         std::vector<float> legFrom, legTo;
         std::vector<std::uint8_t> legBlocked, blocked, status;
         std::vector<Vec3> clipped, scratch, pieces;
+        std::vector<int> levels;  // per piece in `pieces`: how many splits made it
     };
     Workspace workspace() const;
 
@@ -79,6 +80,13 @@ public:
 private:
     /// Receiver r's (two-sided id) part seen through node q's aperture, into ws.clipped; false when empty.
     bool clip(std::size_t q, PatchId r, Workspace& ws) const;
+    /// Receiver r's part seen through node q, in pieces with a ray each (inPieces' comment).
+    double inPieces(std::size_t q, const Vec3& x, const Vec3& n, PatchId r, Workspace& ws, Totals& totals) const;
+    /// A receiver's part above this factor, or on a silhouette, is seen in pieces; a piece above it
+    /// is split again, to kPieceLevels splits (4^4 quads of a quad at most): as the direct factors
+    /// compute the visible part exactly above 1e-3, so that one ray does not decide a large term.
+    static constexpr double kPiecesAbove = 1e-3;
+    static constexpr int kPieceLevels = 4;
     bool pathFree(std::size_t q, const Vec3& x, const Vec3& n, const Vec3& target, const Vec3& targetNormal, Workspace& ws,
                   Totals& totals) const;
     void appendPath(std::size_t q, const Vec3& x, const Vec3& n, const Vec3& target, const Vec3& targetNormal, Workspace& ws) const;

@@ -270,3 +270,27 @@ TEST_CASE("The sun reflected by a mirror wall in four panes: a point of a seam o
         CHECK(glare[k] == doctest::Approx(once).epsilon(1e-12));
     }
 }
+
+TEST_CASE("Sensors through the Cornell box's mirror: a floor of one patch, half hidden from the image by a block, in pieces") {
+    if (!rayCastingNotBuilt().empty()) return;
+    // The bundled box with a mirror wall, unsubdivided: the floor is one patch, and the ray to its
+    // middle from the sensor's image is blocked. Its visible part, and the sky in the mirror, come
+    // from pieces; the ray estimator (2^18 directions) is the reference.
+    const Scene scene = bundledScene("cornell_mirror.obj");
+    Sensors s;
+    s.position = {Vec3(300, 100, 20), Vec3(102.14, 246.28, 82.94)};
+    s.normal = {Vec3(-1, -0.3, 0).normalized(), Vec3(-0.239, -0.564, -0.133).normalized()};
+    s.name = {"0", "1"};
+    const SensorFactors exact = sensorFactors(scene, s);
+    const SensorFactors rays = sensorFactorsByRays(scene, s, 1u << 18);
+    REQUIRE(exact.skyMirrored.size() == 2);
+    for (std::size_t k = 0; k < 2; ++k) {
+        CAPTURE(k);
+        MESSAGE("sky in the mirror: exact " << exact.skyMirrored[k] << ", rays " << rays.skyMirrored[k]);
+        CHECK(std::abs(exact.skyMirrored[k] - rays.skyMirrored[k]) < 2.5e-3);
+        for (PatchId j = 0; j < scene.size(); ++j) {
+            CAPTURE(j);
+            CHECK(std::abs(entry(exact, k, j) - entry(rays, k, j)) < 2.5e-3);
+        }
+    }
+}
