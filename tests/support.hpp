@@ -8,6 +8,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -179,6 +180,19 @@ inline Scene unitCube() {
 }
 
 inline std::string sourcePath(const std::string& relative) { return std::string(HEMIRAD_SOURCE_DIR) + "/" + relative; }
+
+/// Lambert's factor from the point x (unit normal n) to the polygon p wholly above x's plane, in the
+/// arc-cosine form (independent of the library's point_polygon.cpp).
+inline double lambertFactor(const Vec3& x, const Vec3& n, const std::vector<Vec3>& p) {
+    double sum = 0.0;
+    for (std::size_t k = 0; k < p.size(); ++k) {
+        const Vec3 a = (p[k] - x).normalized(), b = (p[(k + 1) % p.size()] - x).normalized();
+        const Vec3 c = a.cross(b);
+        if (c.norm() < 1e-300) continue;
+        sum += std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * n.dot(c) / c.norm();
+    }
+    return std::abs(sum) / (2.0 * kPi);
+}
 
 /// A scene bundled in scenes/, loaded with its warnings kept quiet.
 inline Scene bundledScene(const std::string& name) {

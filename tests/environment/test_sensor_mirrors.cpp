@@ -18,18 +18,6 @@ namespace {
 
 using Polygon = std::vector<Vec3>;
 
-/// Lambert's factor from x (unit normal n) to the polygon p (wholly above x's plane).
-double lambertFactor(const Vec3& x, const Vec3& n, const Polygon& p) {
-    double sum = 0.0;
-    for (std::size_t k = 0; k < p.size(); ++k) {
-        const Vec3 a = (p[k] - x).normalized(), b = (p[(k + 1) % p.size()] - x).normalized();
-        const Vec3 c = a.cross(b);
-        if (c.norm() < 1e-300) continue;
-        sum += std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * n.dot(c) / c.norm();
-    }
-    return std::abs(sum) / (2.0 * kPi);
-}
-
 /// The rectangle x = const, y in [y0, y1], z in [z0, z1].
 Polygon wallAt(double x, double y0, double y1, double z0, double z1) {
     return {Vec3(x, y0, z0), Vec3(x, y1, z0), Vec3(x, y1, z1), Vec3(x, y0, z1)};

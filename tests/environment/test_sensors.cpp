@@ -20,18 +20,6 @@ namespace {
 
 using Polygon = std::vector<Vec3>;
 
-/// Lambert's factor from x (unit normal n) to the polygon p (wholly above x's plane).
-double lambert(const Vec3& x, const Vec3& n, const Polygon& p) {
-    double sum = 0.0;
-    for (std::size_t k = 0; k < p.size(); ++k) {
-        const Vec3 a = (p[k] - x).normalized(), b = (p[(k + 1) % p.size()] - x).normalized();
-        const Vec3 c = a.cross(b);
-        if (c.norm() < 1e-300) continue;
-        sum += std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * n.dot(c) / c.norm();
-    }
-    return std::abs(sum) / (2.0 * kPi);
-}
-
 Sensors sensorsOf(const std::vector<std::pair<Vec3, Vec3>>& points) {
     Sensors s;
     for (const auto& [x, n] : points) {
@@ -85,18 +73,18 @@ TEST_CASE("Sensors: the centre of a courtyard's floor sees its opening as sky, t
     const SensorFactors f = sensorFactors(s, sensors);
     Polygon opening;
     for (int k = 0; k < sides; ++k) opening.push_back(Vec3(r * std::cos(2 * kPi * k / sides), r * std::sin(2 * kPi * k / sides), h));
-    const double sky = lambert(Vec3::Zero(), Vec3(0, 0, 1), opening);
+    const double sky = lambertFactor(Vec3::Zero(), Vec3(0, 0, 1), opening);
     MESSAGE("courtyard centre: sky view " << f.skyView[0] << ", the opening's factor " << sky << ", the circle's R^2/(R^2+H^2) "
                                           << r * r / (r * r + h * h));
     CHECK(f.skyView[0] == relative(sky, 1e-12));
     CHECK(factor(f, 0, 0) == 0.0);  // the floor it lies on
     for (int k = 1; k <= sides; ++k) {
         CAPTURE(k);
-        CHECK(factor(f, 0, PatchId(k)) == relative(lambert(Vec3::Zero(), Vec3(0, 0, 1), s.polygon(PatchId(k))), 1e-12));
+        CHECK(factor(f, 0, PatchId(k)) == relative(lambertFactor(Vec3::Zero(), Vec3(0, 0, 1), s.polygon(PatchId(k))), 1e-12));
     }
     // Facing down: the floor and the walls' parts below z = 3 close the hemisphere; no sky.
     CHECK(f.skyView[1] <= 1e-12);
-    CHECK(factor(f, 1, 0) == relative(lambert(Vec3(0, 0, 3), Vec3(0, 0, -1), s.polygon(0)), 1e-12));
+    CHECK(factor(f, 1, 0) == relative(lambertFactor(Vec3(0, 0, 3), Vec3(0, 0, -1), s.polygon(0)), 1e-12));
     double sum = 0.0;
     for (std::uint64_t k = f.rowStart[1]; k < f.rowStart[2]; ++k) sum += f.values[k];
     CHECK(sum == relative(1.0, 1e-12));
@@ -112,8 +100,8 @@ TEST_CASE("Sensors: a receiver half behind a plate, either way the plate faces, 
         b.rectangle(2, 1.0, -5, 0, -5, 5, !plateDown);         // the plate
         const SensorFactors f = sensorFactors(b.scene, sensorsOf({{Vec3::Zero(), Vec3(0, 0, 1)}}));
         const Vec3 x = Vec3::Zero(), n(0, 0, 1);
-        const double visible = lambert(x, n, {{0, -1, 2}, {1, -1, 2}, {1, 1, 2}, {0, 1, 2}});
-        const double plate = lambert(x, n, {{-5, -5, 1}, {0, -5, 1}, {0, 5, 1}, {-5, 5, 1}});
+        const double visible = lambertFactor(x, n, {{0, -1, 2}, {1, -1, 2}, {1, 1, 2}, {0, 1, 2}});
+        const double plate = lambertFactor(x, n, {{-5, -5, 1}, {0, -5, 1}, {0, 5, 1}, {-5, 5, 1}});
         CHECK(factor(f, 0, 0) == relative(visible, 1e-12));
         CHECK(factor(f, 0, 1) == (plateDown ? relative(plate, 1e-12) : relative(0.0, 1e-12)));
         // A back seen is its reversed twin 1e-6 x the extent behind it, a little farther: the plate's
@@ -165,7 +153,7 @@ TEST_CASE("Sensors: a grid leaves out the object's boundary, and a sensor standi
     MESSAGE("in the wall's plane " << f.skyView[0] << ", 1e-4 outside " << f.skyView[1]);
     CHECK(f.skyView[0] == relative(0.5, 1e-5));
     CHECK(factor(f, 0, 0) == 0.0);  // edge-on
-    const double front = lambert(Vec3(0.5, -1e-4, 0.2), up, {{0, 0, 0.2}, {1, 0, 0.2}, {1, 0, 1}, {0, 0, 1}});
+    const double front = lambertFactor(Vec3(0.5, -1e-4, 0.2), up, {{0, 0, 0.2}, {1, 0, 0.2}, {1, 0, 1}, {0, 0, 1}});
     CHECK(factor(f, 1, 0) == relative(front, 1e-12));
     CHECK(f.skyView[1] == relative(1.0 - front, 1e-9));
 }
@@ -186,7 +174,7 @@ WallAndSensors wallAndSensors(const std::vector<double>& distances, double h, do
     std::vector<std::pair<Vec3, Vec3>> points;
     for (const double d : distances) {
         points.push_back({Vec3(-d, 0.1 * d, 0), Vec3(0, 0, 1)});
-        w.sky.push_back(1.0 - lambert(points.back().first, Vec3(0, 0, 1), w.scene.polygon(0)));
+        w.sky.push_back(1.0 - lambertFactor(points.back().first, Vec3(0, 0, 1), w.scene.polygon(0)));
     }
     w.sensors = sensorsOf(points);
     return w;
@@ -384,7 +372,7 @@ TEST_CASE("Sensors' hour: a sensor over a ground sees its reflected radiosity F 
     CHECK(patches.radiosity[0] == relative(0.4 * (dni * cosGround + dhi), 1e-12));
     const std::vector<double> lit = sensorSunlit(scene, s, toSun);
     const SensorIrradiance e = sensorIrradiance(s, f, lit, toSun, dni, dhi, patches.radiosity);
-    const double down = lambert(Vec3(0, 0, 1), Vec3(0, 0, -1), scene.polygon(0));
+    const double down = lambertFactor(Vec3(0, 0, 1), Vec3(0, 0, -1), scene.polygon(0));
     CHECK(e.directSun[0] == 0.0);  // facing the ground
     CHECK(e.reflected[0] == relative(down * 0.4 * (dni * cosGround + dhi), 1e-12));
     CHECK(e.directSky[0] == relative(dhi * (1.0 - down), 1e-12));  // what no patch covers is sky

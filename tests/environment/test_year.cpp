@@ -41,6 +41,17 @@ Scene smallDistrict() {
     return b.scene;
 }
 
+/// The small district with its tall wall a mirror (s = 0.6, rho 0.3), F with every row.
+struct MirroredDistrict {
+    Scene s = [] {
+        Scene d = smallDistrict();
+        d.patches[6].specular = 0.6;
+        d.patches[6].rho = Rgb::Constant(0.3);
+        return d;
+    }();
+    FormFactors F = computeFormFactors(s, MethodSettings::of(HemisphereOptions{}), neededRows(s, true)).F;
+};
+
 /// The small district's F (every row), its direct sky view factors and the bundled excerpt.
 struct Prepared {
     Scene s = smallDistrict();
@@ -247,10 +258,9 @@ TEST_CASE("A year with a mirror: each hour with the sun it reflects equals the h
 }
 
 TEST_CASE("A year under Perez's sky with a mirror: each hour equals the hour alone, the sky through the mirror lands, all balance") {
-    Scene s = smallDistrict();
-    s.patches[6].specular = 0.6;
-    s.patches[6].rho = Rgb::Constant(0.3);
-    const FormFactors F = computeFormFactors(s, MethodSettings::of(HemisphereOptions{}), neededRows(s, true)).F;
+    const MirroredDistrict district;
+    const Scene& s = district.s;
+    const FormFactors& F = district.F;
     YearOptions options;
     const SkyCoefficients sky = skyCoefficients(s, 1, 1, options.up, options.north);
     options.sky = &sky;
@@ -352,10 +362,9 @@ TEST_CASE("Sensors through a year: each hour at each sensor equals that hour's i
 }
 
 TEST_CASE("Sensors through a year under Perez's sky with a mirror: each hour at each sensor equals that hour there alone") {
-    Scene s = smallDistrict();
-    s.patches[6].specular = 0.6;  // the tall wall a mirror
-    s.patches[6].rho = Rgb::Constant(0.3);
-    const FormFactors F = computeFormFactors(s, MethodSettings::of(HemisphereOptions{}), neededRows(s, true)).F;
+    const MirroredDistrict district;  // the tall wall a mirror
+    const Scene& s = district.s;
+    const FormFactors& F = district.F;
     YearOptions options;
     const SkyCoefficients sky = skyCoefficients(s, 1, 2, options.up, options.north);
     options.sky = &sky;

@@ -56,12 +56,13 @@ std::vector<ObjectThermalRow> rows(const AppState& app) {
 struct CliRun {
     std::string output, exchangeCsv;
 };
-CliRun cliThermal(const std::string& name) {
+/// `hemirad thermal` on the radiator's files into tempDir(name), with `extra` options.
+CliRun cliThermal(const std::string& name, const std::string& extra = "") {
     const auto dir = tempDir(name);
     const std::string exchange = (dir / "Q.csv").string();
     const CommandResult cli = runCommand(std::string(HEMIRAD_BINARY) + " thermal " + sourcePath("examples/thermal/radiator.obj") +
                                          " --properties " + sourcePath(kProperties) + " --bc " + sourcePath(kConditions) + " -o " +
-                                         (dir / "T.csv").string() + " --exchange " + exchange + " 2>&1");
+                                         (dir / "T.csv").string() + " --exchange " + exchange + extra + " 2>&1");
     INFO(cli.output);
     REQUIRE(cli.status == 0);
     return {cli.output, readText(exchange)};
@@ -181,7 +182,7 @@ TEST_CASE("hemirad-gui's thermal run gives the radiator's T of hemirad thermal, 
     CHECK(app.thermalStale());
 }
 
-TEST_CASE("hemirad-gui undoes and redoes thermal edits (files, emissivity, condition, environment); they leave the scene clean") {
+TEST_CASE("hemirad-gui undoes and redoes thermal edits (files, emissivity, condition, environment), which leave the scene clean") {
     AppState app;
     REQUIRE(app.loadScene(sourcePath("examples/thermal/radiator.obj")));
     const std::uint32_t shieldPatch = [&] {
@@ -261,11 +262,7 @@ TEST_CASE("hemirad-gui exports the radiative conductors per object as hemirad th
     const auto dir = tempDir("gui-thermal-conductors");
     // The command's conductors for the same files (objects lumped, the environment last).
     const std::string reference = (dir / "cli.esatan").string();
-    const CommandResult cli = runCommand(std::string(HEMIRAD_BINARY) + " thermal " + sourcePath("examples/thermal/radiator.obj") +
-                                         " --properties " + sourcePath(kProperties) + " --bc " + sourcePath(kConditions) + " -o " +
-                                         (dir / "T.csv").string() + " --conductors " + reference + " 2>&1");
-    INFO(cli.output);
-    REQUIRE(cli.status == 0);
+    cliThermal("gui-thermal-conductors-cli", " --conductors " + reference);
     AppState app;
     loadRadiator(app);
     CHECK_FALSE(app.exportThermalConductors((dir / "none.esatan").string()));  // no result yet
