@@ -63,7 +63,8 @@ SensorSkyCoefficients sensorSkyFromOptions(const Scene& scene, const Sensors& se
     timings.start("sensors' daylight coefficients");
     const SkyGrid grid = skyGrid(options.skySubdivision);
     SensorSkyCoefficients sky =
-        sensorSkyCoefficients(scene, sensors, grid, options.skySamples, upFromOptions(options), northFromOptions(options));
+        sensorSkyCoefficients(scene, sensors, grid, options.skySamples, upFromOptions(options), northFromOptions(options),
+                              options.formFactors.common.threads);
     timings.stop();
     std::ostringstream line;
     line << "sensors' sky: " << grid.size() << " cells x " << options.skySamples * options.skySamples

@@ -12,6 +12,8 @@
 #include <array>
 #include <cmath>
 
+#include <omp.h>
+
 namespace hemirad {
 
 std::string sensorMirrorsNote(const Scene& scene, std::vector<Reflector>& reflectors) {
@@ -228,7 +230,7 @@ bool insideMirror(const Reflector& m, const Vec3& p, std::vector<std::array<doub
 
 }  // namespace
 
-SensorReflections::SensorReflections(const Scene& scene, int threads) {
+SensorReflections::SensorReflections(const Scene& scene, int threads) : m_threads(threads) {
     m_note = sensorMirrorsNote(scene, m_reflectors);
     if (!m_reflectors.empty()) m_rays = std::make_unique<RayScene>(scene, threads);
 }
@@ -244,7 +246,7 @@ std::vector<double> SensorReflections::sun(const BeamShadows& beams, const Senso
     const double flat = 1e-9 * beams.scene().extent();
     const double lift = m_rays->originOffset();
     ParallelFailure failure;
-#pragma omp parallel
+#pragma omp parallel num_threads(m_threads > 0 ? m_threads : omp_get_max_threads())
     {
         ShadowPolygons::Scratch scratch;
         std::vector<float> from, to;

@@ -105,7 +105,7 @@ private:
 /// reflectedSun for patches), set up once for many suns.
 class SensorReflections {
 public:
-    /// Keeps no reference to `scene`; `threads` for the ray scene (0: every core).
+    /// Keeps no reference to `scene`; `threads` for the ray scene and the sensors (0: every core).
     explicit SensorReflections(const Scene& scene, int threads = 0);
     ~SensorReflections();
     /// Whether the scene's mirrors are followed (mirrors, a build that casts rays, planar convex mirrors).
@@ -124,6 +124,7 @@ private:
     std::vector<Reflector> m_reflectors;
     std::unique_ptr<RayScene> m_rays;
     std::string m_note;
+    int m_threads = 0;
 };
 
 }  // namespace hemirad

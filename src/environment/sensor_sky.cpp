@@ -11,7 +11,7 @@
 namespace hemirad {
 
 SensorSkyCoefficients sensorSkyCoefficients(const Scene& scene, const Sensors& sensors, const SkyGrid& grid, int samples,
-                                            const Vec3& up, const Vec3& north) {
+                                            const Vec3& up, const Vec3& north, int threads) {
     if (samples < 1 || samples > 16) throw Error("sky: " + std::to_string(samples) + " samples per cell side is outside 1..16");
     if (!up.allFinite() || !north.allFinite() || up.norm() == 0.0 || (north - north.dot(up.normalized()) * up.normalized()).norm() == 0.0)
         throw Error("sky: up and north must be finite, not zero and not parallel");
@@ -19,7 +19,7 @@ SensorSkyCoefficients sensorSkyCoefficients(const Scene& scene, const Sensors& s
     SensorSkyCoefficients out;
     out.direct = Eigen::MatrixXd::Zero(Eigen::Index(count), Eigen::Index(cells));
     const BeamShadows beams(scene);
-    const SensorReflections mirrors(scene);
+    const SensorReflections mirrors(scene, threads);
     if (mirrors.active()) out.mirrored = Eigen::MatrixXd::Zero(Eigen::Index(count), Eigen::Index(cells));
     for (std::size_t k = 0; k < cells; ++k) {
         const double weight = grid.cells[k].solidAngle() / double(samples * samples);

@@ -25,9 +25,10 @@ struct SensorSkyCoefficients {
 
 /// The coefficients of `sensors` in `scene` for the cells of `grid`, `samples` x `samples` directions
 /// per cell (as skyCoefficients: cellSamples, oriented by `up` and `north`). Below the horizon
-/// nothing comes. Throws hemirad::Error for samples outside 1..16 or up and north that orient nothing.
+/// nothing comes. The sensors run on `threads` threads (0: every core). Throws hemirad::Error for
+/// samples outside 1..16 or up and north that orient nothing.
 SensorSkyCoefficients sensorSkyCoefficients(const Scene& scene, const Sensors& sensors, const SkyGrid& grid, int samples,
-                                            const Vec3& up, const Vec3& north);
+                                            const Vec3& up, const Vec3& north, int threads = 0);
 
 /// One hour at the sensors, W/m^2: the coefficients times the cells' radiance (skyRadiance).
 SensorSky sensorSkyHour(const SensorSkyCoefficients& coefficients, const std::vector<double>& radiance);
