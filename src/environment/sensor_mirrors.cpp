@@ -67,15 +67,19 @@ void SensorMirrors::appendPath(std::size_t q, const Vec3& x, const Vec3& n, cons
     appendReflectedPath(m_rays, std::int32_t(q), link, x, n, target, targetNormal, ws.legFrom, ws.legTo);
 }
 
-bool SensorMirrors::pathFree(std::size_t q, const Vec3& x, const Vec3& n, const Vec3& target, const Vec3& targetNormal,
-                             Workspace& ws, Totals& totals) const {
-    appendPath(q, x, n, target, targetNormal, ws);
+void SensorMirrors::castLegs(Workspace& ws, Totals& totals) const {
     const std::size_t legs = ws.legFrom.size() / 3;
     ws.legBlocked.assign(legs, 0);
-    m_rays.occludedSegmentPairs(ws.legFrom.data(), ws.legTo.data(), legs, ws.legBlocked.data());
+    if (legs > 0) m_rays.occludedSegmentPairs(ws.legFrom.data(), ws.legTo.data(), legs, ws.legBlocked.data());
     totals.rays += legs;
     ws.legFrom.clear();
     ws.legTo.clear();
+}
+
+bool SensorMirrors::pathFree(std::size_t q, const Vec3& x, const Vec3& n, const Vec3& target, const Vec3& targetNormal,
+                             Workspace& ws, Totals& totals) const {
+    appendPath(q, x, n, target, targetNormal, ws);
+    castLegs(ws, totals);
     return std::find(ws.legBlocked.begin(), ws.legBlocked.end(), 1) == ws.legBlocked.end();
 }
 
@@ -157,12 +161,7 @@ SensorMirrors::Totals SensorMirrors::sees(const Vec3& x, const Vec3& n, const st
             appendPath(q, x, n, vertexMean(ws.clipped.data(), ws.clipped.size()), m_geometry.shapes[r].normal, ws);
         });
         ws.legStart.push_back(std::uint32_t(ws.legFrom.size() / 3));
-        const std::size_t legs = ws.legFrom.size() / 3;
-        ws.legBlocked.assign(legs, 0);
-        if (legs > 0) m_rays.occludedSegmentPairs(ws.legFrom.data(), ws.legTo.data(), legs, ws.legBlocked.data());
-        totals.rays += legs;
-        ws.legFrom.clear();
-        ws.legTo.clear();
+        castLegs(ws, totals);  // every leg of the batch's paths in one cast
         ws.blocked.assign(ws.batch.size(), 0);
         for (std::size_t b = 0; b < ws.batch.size(); ++b) {
             for (std::uint32_t l = ws.legStart[b]; l < ws.legStart[b + 1] && !ws.blocked[b]; ++l) ws.blocked[b] = ws.legBlocked[l];

@@ -87,6 +87,8 @@ private:
     /// compute the visible part exactly above 1e-3, so that one ray does not decide a large term.
     static constexpr double kPiecesAbove = 1e-3;
     static constexpr int kPieceLevels = 4;
+    /// Casts the legs in ws.legFrom / ws.legTo into ws.legBlocked and clears them.
+    void castLegs(Workspace& ws, Totals& totals) const;
     bool pathFree(std::size_t q, const Vec3& x, const Vec3& n, const Vec3& target, const Vec3& targetNormal, Workspace& ws,
                   Totals& totals) const;
     void appendPath(std::size_t q, const Vec3& x, const Vec3& n, const Vec3& target, const Vec3& targetNormal, Workspace& ws) const;
