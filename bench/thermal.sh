@@ -2,7 +2,8 @@
 # Issue 36's benchmark: the thermal solve against the radiosity solve on the same stored F, on
 # cornell13k and street64k (ground at a fixed temperature, heat fluxes on the walls, the sky dome and
 # the environment at 260 K), and the conductor export (Gebhart factors by column solves) per object
-# and per patch. Usage: bench/thermal.sh [HEMIRAD] [WORK]; prints a Markdown table.
+# and per patch. Usage: bench/thermal.sh [HEMIRAD] [WORK]; prints Markdown tables. PARTS="conductors"
+# runs the per-patch conductors alone (the solves need cornell13k's and street64k's F: minutes to hours).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 hemirad=${1:-$root/build/hemirad}
@@ -36,6 +37,8 @@ stage() {  # the seconds of a stage in hemirad's timing table
   awk -v s="$1" 'index($0, s) == 1 && index($0, ":") == 0 { print $NF; exit }'
 }
 
+parts=${PARTS:-solves conductors}
+if [[ " $parts " == *" solves "* ]]; then
 echo "| scene | patches | F nonzeros | radiosity solve (s) | thermal solve (s) | thermal / radiosity | conductors per object (s) | energy balance |"
 echo "|---|---|---|---|---|---|---|---|"
 for scene in cornell13k street64k; do
@@ -56,18 +59,29 @@ for scene in cornell13k street64k; do
   echo "| $scene | $patches | $nnz | $radiosity | $thermal | $ratio | $conductors | $balance |"
 done
 
-# Conductors per patch: one column solve per patch (a batch of 64 shares a factorisation or a sweep).
+fi
+
+# Conductors per patch, every patch a node: one dense Cholesky inverse over every patch pair (auto
+# here) against a column solve per patch (a batch of 64 shares a sweep over F); the 17 mm box is the
+# issue's 10k-node model (10,247 patches).
+[[ " $parts " == *" conductors "* ]] || exit 0
 echo
-echo "| conductors per patch | patches | seconds | couplings |"
-echo "|---|---|---|---|"
+echo "| conductors per patch | patches | route | Gebhart factors (s) | written (s) | couplings | peak memory (MiB) |"
+echo "|---|---|---|---|---|---|---|"
 # The bundled box's objects: cornell13k's conditions with its light (cornell13k has a light sphere).
 sed 's/objects.light_sphere/objects.light/' "$work/cornell13k_bc.toml" >"$work/cornell_box_bc.toml"
-for edge in 60 40 30; do
+for run in "60 auto" "40 auto" "30 auto" "30 columns" "17 auto"; do
+  set -- $run
+  edge=$1 route=$2
   obj="$root/scenes/cornell_box.obj"
-  log=$("$hemirad" thermal "$obj" --subdivide "$edge" --bc "$work/cornell_box_bc.toml" --lump patches \
-        --conductors "$work/GRp.csv" 2>&1)
+  log=$(/usr/bin/time -f "peak %M" "$hemirad" thermal "$obj" --subdivide "$edge" --bc "$work/cornell_box_bc.toml" \
+        --lump patches --gebhart "$route" --conductors "$work/GRp.csv" 2>&1)
   patches=$(echo "$log" | sed -n 's/.*subdivided to \([0-9]*\) patches.*/\1/p')
   seconds=$(echo "$log" | stage "Gebhart factors")
+  written=$(echo "$log" | stage "write thermal results")
+  taken=$(echo "$log" | sed -n 's/.*; \(one dense factorisation\|a column solve\).*/\1/p')
   couplings=$(echo "$log" | sed -n 's/^conductors: \([0-9]*\) couplings.*/\1/p')
-  echo "| cornell_box --subdivide $edge | $patches | $seconds | $couplings |"
+  peak=$(echo "$log" | awk '/^peak/ { printf "%.0f", $2 / 1024 }')
+  echo "| cornell_box --subdivide $edge | $patches | ${taken:-$route} | $seconds | $written | $couplings | $peak |"
 done
+rm -f "$work/GRp.csv"

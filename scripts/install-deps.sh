@@ -9,7 +9,7 @@ packages=(
   libembree-dev libeigen3-dev doctest-dev libstb-dev
   libglfw3-dev libegl-dev libegl-mesa0 libgl-dev libosmesa6-dev libimgui-dev
   xvfb xdotool python3-matplotlib
-  libopenmpi-dev openmpi-bin petsc-dev time libtomlplusplus-dev
+  libopenmpi-dev openmpi-bin petsc-dev time libtomlplusplus-dev libopenblas-openmp-dev
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-setuptools
 )
 

@@ -5,6 +5,7 @@
 #include "cli/thermal_command.hpp"
 #include "thermal/conductor_writers.hpp"
 #include "thermal/gebhart.hpp"
+#include "thermal/patch_conductance.hpp"
 #include "thermal/thermal_files.hpp"
 #include "thermal/thermal_solver.hpp"
 
@@ -119,6 +120,9 @@ void solveThermalAndWrite(const Options& options, const Scene& scene, const Ther
         thermal::GebhartOptions g;
         g.lumping = options.lumping == "patches" ? thermal::Lumping::Patches : thermal::Lumping::Objects;
         g.threshold = options.couplingThreshold;
+        g.method = options.gebhartMethod == "dense"     ? thermal::GebhartMethod::Dense
+                   : options.gebhartMethod == "columns" ? thermal::GebhartMethod::Columns
+                                                        : thermal::GebhartMethod::Auto;
         conductors = thermal::computeConductors(scene, F, model, g, options.solver);
         timings.stop();
         reporter.line("conductors: " + std::to_string(conductors.couplings.size()) + " couplings between " +
@@ -126,7 +130,11 @@ void solveThermalAndWrite(const Options& options, const Scene& scene, const Ther
                       (conductors.dropped ? "; " + std::to_string(conductors.dropped) + " below --gr-threshold dropped (GR sum " +
                                                 figure(conductors.droppedSum, 4) + " m^2)"
                                           : "") +
-                      "; asymmetry before symmetrising " + figure(conductors.asymmetry, 3));
+                      "; asymmetry before symmetrising " + figure(conductors.asymmetry, 3) + "; " +
+                      (conductors.method == thermal::GebhartMethod::Dense
+                           ? std::string("one dense factorisation of every patch pair") +
+                                 (thermal::PatchConductance::usesLapack() ? " (LAPACK)" : " (Eigen)")
+                           : "a column solve per node (" + conductors.report.solver + ")"));
     }
     if (!options.exchangePath.empty()) {
         timings.start("exchange matrix");

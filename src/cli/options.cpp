@@ -230,6 +230,12 @@ const std::map<std::string, Flag>& flags() {
                         if (v != "objects" && v != "patches") throw UsageError(f + " expects objects or patches, got '" + v + "'");
                         o.lumping = v;
                     }}},
+        {"--gebhart", {kThermal, true,
+                       [](Options& o, const std::string& f, const std::string& v) {
+                           if (v != "auto" && v != "columns" && v != "dense")
+                               throw UsageError(f + " expects auto, columns or dense, got '" + v + "'");
+                           o.gebhartMethod = v;
+                       }}},
         {"--gr-threshold", {kThermal, true,
                             [](Options& o, const std::string& f, const std::string& v) { o.couplingThreshold = parseNumber(f, v, 0.0, 0.5); }}},
         {"--unit", {{"thermal", "irradiance", "year", "sensors"}, true,
@@ -672,7 +678,7 @@ std::uint64_t optionsHash(const Options& o) {
     h.addValue(o.falseColour.has_value()); h.addValue(int(o.falseColour.value_or(FalseColourQuantity::Radiosity)));
     h.addValue(int(o.falseColourScale)); optional(o.rangeMin); optional(o.rangeMax);
     text(o.propertiesPath); text(o.conditionsPath); text(o.conductorsPath); text(o.conductorFormat); text(o.lumping);
-    h.addValue(o.couplingThreshold); text(o.exchangePath); text(o.lengthUnit);
+    text(o.gebhartMethod); h.addValue(o.couplingThreshold); text(o.exchangePath); text(o.lengthUnit);
     h.addValue(o.sunDirectionVector.has_value());
     if (o.sunDirectionVector) vector(*o.sunDirectionVector);
     text(o.sunTime); optional(o.latitude); optional(o.longitude); text(o.upAxis); h.addValue(o.north.has_value());
@@ -836,6 +842,9 @@ thermal (gray surfaces; F through mirrors as for solve; --ff, --solver and the F
                          and the environment: .csv, .mtx, .esatan (GR(a, b) = v;) or .sinda (HEADER
                          CONDUCTOR DATA, -ID, a, b, GR); --conductor-format where the extension is other
   --lump objects|patches the conductor network's nodes (default objects: each isothermal)
+  --gebhart auto|columns|dense   how the Gebhart factors are found: a column solve per node over F,
+                         or one dense Cholesky inverse over every patch pair (n^3 flops, 8 n^2 bytes;
+                         LAPACK from OpenBLAS); auto (default) takes the faster that fits in memory
   --gr-threshold B       drop couplings whose Gebhart factors both ways are below B (default 0: keep
                          all); their number and GR sum are reported
   --exchange Q.csv       net power between objects and to the environment (W), from the solved T

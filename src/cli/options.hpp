@@ -67,6 +67,7 @@ struct Options {
     std::string conductorsPath;          ///< --conductors FILE: radiative conductors GR
     std::string conductorFormat;         ///< --conductor-format csv|mtx|esatan|sinda ("": the extension's)
     std::string lumping = "objects";     ///< --lump objects|patches: the conductor network's nodes
+    std::string gebhartMethod = "auto";  ///< --gebhart auto|columns|dense: how the Gebhart factors are found
     double couplingThreshold = 0.0;      ///< --gr-threshold B: couplings with both Gebhart factors below B dropped
     std::string exchangePath;            ///< --exchange FILE.csv: net power between objects
     std::string lengthUnit;              ///< --unit: the scene's length unit where the OBJ states none

@@ -1,9 +1,12 @@
 // The machine's available memory, and sizes said in messages.
 #include "engine/memory.hpp"
 
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <string>
+
+#include <sys/mman.h>
 
 namespace hemirad {
 
@@ -14,6 +17,13 @@ std::size_t availableMemory() {
     while (in >> key >> value >> unit)
         if (key == "MemAvailable:") return value * 1024;
     return 0;
+}
+
+void adviseHugePages(const void* data, std::size_t bytes) {
+    constexpr std::uintptr_t kHuge = std::uintptr_t(1) << 21;
+    const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
+    const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kHuge - 1);
+    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
 }
 
 std::string bytesText(double bytes) {

@@ -846,7 +846,7 @@ py::tuple sensorGridOf(const ScenePtr& scene, const std::string& object, double 
 py::dict conductors(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
                     py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
                     py::array_t<double, py::array::c_style> emissivity, py::array_t<double, py::array::c_style> specular,
-                    const std::string& lump, double threshold) {
+                    const std::string& lump, double threshold, const std::string& method) {
     const GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");
     const std::size_t n = scene->size();
     py::array_t<double> T{py::ssize_t(n)}, q{py::ssize_t(n)};  // conductors depend on no condition
@@ -857,6 +857,11 @@ py::dict conductors(const ScenePtr& scene, py::array_t<std::int64_t, py::array::
     thermal::GebhartOptions g;
     g.lumping = lump == "patches" ? thermal::Lumping::Patches : thermal::Lumping::Objects;
     g.threshold = threshold;
+    if (method != "auto" && method != "columns" && method != "dense")
+        throw Error("method: expected 'auto', 'columns' or 'dense', got '" + method + "'");
+    g.method = method == "dense" ? thermal::GebhartMethod::Dense
+               : method == "columns" ? thermal::GebhartMethod::Columns
+                                     : thermal::GebhartMethod::Auto;
     thermal::Conductors c;
     {
         py::gil_scoped_release release;
@@ -879,6 +884,7 @@ py::dict conductors(const ScenePtr& scene, py::array_t<std::int64_t, py::array::
     out["asymmetry"] = c.asymmetry;
     out["dropped"] = c.dropped;
     out["dropped_sum"] = c.droppedSum;
+    out["method"] = c.method == thermal::GebhartMethod::Dense ? "dense" : "columns";
     return out;
 }
 

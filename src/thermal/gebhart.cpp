@@ -5,6 +5,8 @@
 #include "thermal/gebhart.hpp"
 
 #include "engine/error.hpp"
+#include "engine/memory.hpp"
+#include "thermal/patch_conductance.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -26,11 +28,7 @@ SolverOptions columnSolverOptions(const SolverOptions& given, std::size_t patche
     return o;
 }
 
-/// Calls visit(J, X) for every node J, X[i] = sum_{j in J} B_ij.
-void forEachNodeColumn(const Scene& scene, const FormFactors& F, const ThermalModel& model,
-                       const std::vector<std::vector<PatchId>>& members, std::size_t batch, const SolverOptions& given,
-                       SolveReport& report, const std::function<void(std::size_t, const std::vector<double>&)>& visit) {
-    const SolverOptions solver = columnSolverOptions(given, scene.size());
+void checkInputs(const Scene& scene, const FormFactors& F, const ThermalModel& model) {
     checkModel(scene, model);
     const std::size_t n = scene.size();
     if (F.size() != n) throw Error("thermal: F does not belong to this scene (" + std::to_string(F.size()) + " rows)");
@@ -38,6 +36,75 @@ void forEachNodeColumn(const Scene& scene, const FormFactors& F, const ThermalMo
         if (!F.rowComputed(i))
             throw Error("thermal: row " + std::to_string(i) + " of F was not computed; Gebhart factors need every row "
                         "(compute F with --all-rows)");
+}
+
+/// The route for `nodes` nodes: as asked, or under Auto the dense factorisation when it fits in the
+/// memory a direct solver may use and is expected to be faster; a column solver named by the user
+/// keeps the columns.
+GebhartMethod gebhartMethod(const Scene& scene, const FormFactors& F, std::size_t nodes, GebhartMethod asked,
+                            const SolverOptions& solver) {
+    if (asked != GebhartMethod::Auto) return asked;
+    if (solver.solver != "auto") return GebhartMethod::Columns;
+    const std::size_t limit = solver.memoryLimit ? solver.memoryLimit : availableMemory() / 10 * 8;
+    const std::size_t lumped = nodes < scene.size() ? nodes * nodes * sizeof(double) : 0;
+    if (PatchConductance::memoryBytes(scene.size()) + lumped > limit) return GebhartMethod::Columns;
+    return PatchConductance::pays(scene.size(), nodes, F.nonZeros()) ? GebhartMethod::Dense : GebhartMethod::Columns;
+}
+
+/// Every pair of nodes from one dense factorisation (PatchConductance): calls keep(I, J, GR_IJ) for
+/// I < J with GR_IJ > 0 in (I, J) order, and rowDone(I) after node I's pairs, when what surfaces
+/// absorb of its emission (absorbed[I]) is complete; fills each node's self term. Returns F's
+/// reciprocity defect.
+double denseCouplings(const Scene& scene, const FormFactors& F, const ThermalModel& model,
+                      const std::vector<std::vector<PatchId>>& members, const std::vector<std::uint32_t>& nodeOf,
+                      std::vector<double>& self, std::vector<double>& absorbed,
+                      const std::function<void(std::uint32_t, std::uint32_t, double)>& keep,
+                      const std::function<void(std::uint32_t)>& rowDone) {
+    checkInputs(scene, F, model);
+    const std::size_t n = scene.size(), K = members.size();
+    const double m2 = model.metresPerUnit * model.metresPerUnit;
+    std::vector<double> area(n), eps(n), rho(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        area[i] = scene.patches[i].area * m2;
+        eps[i] = model.surface[i].emissivity;
+        rho[i] = std::max(0.0, model.surface[i].diffuse());
+    }
+    const PatchConductance G(F, area, eps, rho);
+    bool eachPatch = K == n;
+    for (std::size_t I = 0; eachPatch && I < K; ++I) eachPatch = members[I].size() == 1 && members[I][0] == I;
+    // Node pairs: read from G directly when every patch is a node, else summed into a K x K table.
+    std::vector<double> lumped;
+    if (!eachPatch) {
+        lumped.assign(K * K, 0.0);
+        for (std::size_t j = 0; j < n; ++j)
+            for (std::size_t i = j; i < n; ++i) {
+                const double g = G(i, j);
+                lumped[nodeOf[i] * K + nodeOf[j]] += g;
+                if (i != j) lumped[nodeOf[j] * K + nodeOf[i]] += g;
+            }
+    }
+    auto gr = [&](std::size_t I, std::size_t J) { return eachPatch ? G(I, J) : lumped[I * K + J]; };
+    for (std::size_t I = 0; I < K; ++I) {
+        self[I] = gr(I, I);
+        absorbed[I] += self[I];
+        for (std::size_t J = I + 1; J < K; ++J) {
+            const double g = gr(I, J);
+            absorbed[I] += g;
+            absorbed[J] += g;
+            if (g > 0.0) keep(std::uint32_t(I), std::uint32_t(J), g);
+        }
+        rowDone(std::uint32_t(I));
+    }
+    return G.asymmetry();
+}
+
+/// Calls visit(J, X) for every node J, X[i] = sum_{j in J} B_ij.
+void forEachNodeColumn(const Scene& scene, const FormFactors& F, const ThermalModel& model,
+                       const std::vector<std::vector<PatchId>>& members, std::size_t batch, const SolverOptions& given,
+                       SolveReport& report, const std::function<void(std::size_t, const std::vector<double>&)>& visit) {
+    const SolverOptions solver = columnSolverOptions(given, scene.size());
+    checkInputs(scene, F, model);
+    const std::size_t n = scene.size();
     std::vector<double> rho(n);
     for (std::size_t i = 0; i < n; ++i) rho[i] = std::max(0.0, model.surface[i].diffuse());
     batch = std::max<std::size_t>(1, batch);
@@ -106,9 +173,7 @@ Conductors computeConductors(const Scene& scene, const FormFactors& F, const The
             out.emittingArea[I] += epsArea[i];
         }
 
-    // GR_IJ for every node J (columns), and what each node I absorbs in all: the rest escapes. A
-    // pair I < J is complete when column J arrives: GR_JI waits for it in waiting[J], left there by
-    // column I, so at most the pairs of the columns still to come are held.
+    // GR_IJ for every pair of nodes, and what each node I absorbs in all: the rest escapes.
     const bool table = K <= kDenseTableNodes;
     if (table) out.B.assign(K, std::vector<double>(K + 1, 0.0));
     auto keep = [&](std::uint32_t a, std::uint32_t b, double gr, std::vector<Coupling>& kept) {
@@ -125,45 +190,61 @@ Conductors computeConductors(const Scene& scene, const FormFactors& F, const The
         }
         kept.push_back({a, b, gr});
     };
-    std::vector<std::vector<std::pair<std::uint32_t, double>>> waiting(K);  // waiting[J]: (I < J, GR_JI)
-    std::vector<Coupling> pairs;  // kept pairs between surfaces, in the order they completed
     std::vector<double> absorbedBySurfaces(K, 0.0);
     std::vector<double>& self = out.self;
     self.assign(K, 0.0);
-    std::vector<double> column(K), other(K, 0.0);
-    double largest = 0.0, worst = 0.0;
-    forEachNodeColumn(scene, F, model, out.members, options.batch, solver, out.report,
-                      [&](std::size_t J, const std::vector<double>& X) {
-                          std::fill(column.begin(), column.end(), 0.0);
-                          for (std::size_t i = 0; i < n; ++i) column[nodeOf[i]] += epsArea[i] * X[i];
-                          for (const auto& [I, gr] : waiting[J]) other[I] = gr;
-                          for (std::size_t I = 0; I < K; ++I) {
-                              if (column[I] != 0.0) absorbedBySurfaces[I] += column[I];
-                              if (I == J) {
-                                  self[I] = column[I];
-                              } else if (I > J) {
-                                  if (column[I] != 0.0) waiting[I].push_back({std::uint32_t(J), column[I]});
-                              } else if (column[I] != 0.0 || other[I] != 0.0) {  // GR_IJ and GR_JI
-                                  largest = std::max({largest, column[I], other[I]});
-                                  worst = std::max(worst, std::abs(column[I] - other[I]));
-                                  const double gr = 0.5 * (column[I] + other[I]);
-                                  if (gr > 0.0) keep(std::uint32_t(I), std::uint32_t(J), gr, pairs);
-                              }
-                          }
-                          for (const auto& entry : waiting[J]) other[entry.first] = 0.0;
-                          std::vector<std::pair<std::uint32_t, double>>().swap(waiting[J]);
-                      });
-    out.asymmetry = largest > 0.0 ? worst / largest : 0.0;
-    std::sort(pairs.begin(), pairs.end(),
-              [](const Coupling& x, const Coupling& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
-    auto next = pairs.begin();
-    out.couplings.reserve(pairs.size() + K);
-    for (std::uint32_t a = 0; a < K; ++a) {
-        for (; next != pairs.end() && next->a == a; ++next) out.couplings.push_back(*next);
-        // The environment: the emission of node a that no surface absorbs (self-absorption included).
+    // The environment: the emission of node a that no surface absorbs (self-absorption included).
+    auto closeNode = [&](std::uint32_t a) {
         const double escaped = out.emittingArea[a] - absorbedBySurfaces[a];
         if (out.emittingArea[a] > 0.0) out.escapeMax = std::max(out.escapeMax, escaped / out.emittingArea[a]);
         if (escaped > 1e-12 * out.emittingArea[a]) keep(a, std::uint32_t(K), escaped, out.couplings);
+    };
+    out.method = gebhartMethod(scene, F, K, options.method, solver);
+    if (out.method == GebhartMethod::Dense) {
+        // In their final order, each node's environment coupling after its pairs. The reservation is
+        // address space: pages are touched only by the couplings kept.
+        out.couplings.reserve(K * (K + 1) / 2);
+        adviseHugePages(out.couplings.data(), out.couplings.capacity() * sizeof(Coupling));
+        out.asymmetry = denseCouplings(
+            scene, F, model, out.members, nodeOf, self, absorbedBySurfaces,
+            [&](std::uint32_t a, std::uint32_t b, double gr) { keep(a, b, gr, out.couplings); }, closeNode);
+    } else {
+        // Column by column: a pair I < J is complete when column J arrives. GR_JI waits for it in
+        // waiting[J], left there by column I, so at most the pairs of the columns still to come are held.
+        std::vector<std::vector<std::pair<std::uint32_t, double>>> waiting(K);  // waiting[J]: (I < J, GR_JI)
+        std::vector<Coupling> pairs;  // kept pairs between surfaces, in the order they completed
+        std::vector<double> column(K), other(K, 0.0);
+        double largest = 0.0, worst = 0.0;
+        forEachNodeColumn(scene, F, model, out.members, options.batch, solver, out.report,
+                          [&](std::size_t J, const std::vector<double>& X) {
+                              std::fill(column.begin(), column.end(), 0.0);
+                              for (std::size_t i = 0; i < n; ++i) column[nodeOf[i]] += epsArea[i] * X[i];
+                              for (const auto& [I, gr] : waiting[J]) other[I] = gr;
+                              for (std::size_t I = 0; I < K; ++I) {
+                                  if (column[I] != 0.0) absorbedBySurfaces[I] += column[I];
+                                  if (I == J) {
+                                      self[I] = column[I];
+                                  } else if (I > J) {
+                                      if (column[I] != 0.0) waiting[I].push_back({std::uint32_t(J), column[I]});
+                                  } else if (column[I] != 0.0 || other[I] != 0.0) {  // GR_IJ and GR_JI
+                                      largest = std::max({largest, column[I], other[I]});
+                                      worst = std::max(worst, std::abs(column[I] - other[I]));
+                                      const double gr = 0.5 * (column[I] + other[I]);
+                                      if (gr > 0.0) keep(std::uint32_t(I), std::uint32_t(J), gr, pairs);
+                                  }
+                              }
+                              for (const auto& entry : waiting[J]) other[entry.first] = 0.0;
+                              std::vector<std::pair<std::uint32_t, double>>().swap(waiting[J]);
+                          });
+        out.asymmetry = largest > 0.0 ? worst / largest : 0.0;
+        auto before = [](const Coupling& x, const Coupling& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; };
+        std::sort(pairs.begin(), pairs.end(), before);
+        auto next = pairs.begin();
+        out.couplings.reserve(pairs.size() + K);
+        for (std::uint32_t a = 0; a < K; ++a) {
+            for (; next != pairs.end() && next->a == a; ++next) out.couplings.push_back(*next);
+            closeNode(a);
+        }
     }
     if (table)  // the self term: what a node absorbs of its own emission (mirrors, concave objects)
         for (std::size_t I = 0; I < K; ++I)

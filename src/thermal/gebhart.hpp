@@ -19,12 +19,18 @@ namespace hemirad::thermal {
 /// Nodes of the conductor network: each patch its own node, or each object (lumped, isothermal).
 enum class Lumping : std::uint8_t { Patches, Objects };
 
+/// How the Gebhart factors are found: a column solve per node (batched over F), one dense symmetric
+/// factorisation of every patch pair (patch_conductance.hpp: n^3 flops, n^2 doubles), or whichever
+/// is expected to be faster and fits in memory.
+enum class GebhartMethod : std::uint8_t { Auto, Columns, Dense };
+
 struct GebhartOptions {
     Lumping lumping = Lumping::Objects;
     /// A coupling is dropped when both of its Gebhart factors (B_IJ = GR_IJ / (eps A)_I and B_JI) are
     /// below this; their number and sum are reported. 0 keeps every coupling.
     double threshold = 0.0;
     std::size_t batch = 64;  ///< nodes solved together (one factorisation serves all)
+    GebhartMethod method = GebhartMethod::Auto;
 };
 
 struct Coupling {
@@ -50,7 +56,8 @@ struct Conductors {
     /// max_I |sum_J B_IJ + B_I,env - 1|: 0 by construction of the environment column; reported for
     /// a closed scene as max_I B_I,env (what escapes).
     double escapeMax = 0.0;
-    SolveReport report;                   ///< the last batch's solve
+    SolveReport report;                   ///< the last batch's solve (columns)
+    GebhartMethod method = GebhartMethod::Columns;  ///< the route taken
 };
 
 /// GR and B for the model's surfaces on `F` (all rows computed). Throws hemirad::Error as solveThermal.

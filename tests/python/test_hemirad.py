@@ -469,6 +469,12 @@ def test_thermal_three_surface_enclosure_and_gebhart():
     assert GR.shape == (n + 1, n + 1) and len(nodes) == n
     assert abs(GR - GR.T).max() == 0.0
     assert np.allclose(np.asarray(B[:n].sum(axis=1)).ravel(), 1.0, atol=1e-5)  # closed: nothing escapes
+    # The two routes to the Gebhart factors give the same conductors.
+    GR_columns, _, _ = hemirad.conductors(cube, F, eps, method="columns")
+    GR_dense, _, _ = hemirad.conductors(cube, F, eps, method="dense")
+    assert abs(GR_columns - GR_dense).max() <= 1e-9 * GR_dense.max()
+    with pytest.raises(hemirad.Error, match="method: expected 'auto', 'columns' or 'dense'"):
+        hemirad.conductors(cube, F, eps, method="fast")
     with pytest.raises(ValueError, match="give exactly one of temperature and flux"):
         hemirad.thermal(cube, F, eps, temperature=np.full(n, 300.0), flux=np.zeros(n))
     with pytest.raises(hemirad.Error, match="emissivity 0.7 \\+ specular reflectance 0.5"):

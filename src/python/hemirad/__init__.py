@@ -341,7 +341,7 @@ def thermal(scene, F, emissivity, specular=None, temperature=None, flux=None, en
                              float(tolerance))
 
 
-def conductors(scene, F, emissivity, specular=None, *, lump="patches", threshold=0.0):
+def conductors(scene, F, emissivity, specular=None, *, lump="patches", threshold=0.0, method="auto"):
     """Gebhart factors and radiative conductors: (GR, B, nodes).
 
     GR: a symmetric scipy sparse matrix of shape (K + 1, K + 1), GR_IJ = sum eps_i A_i B_ij in m^2
@@ -349,13 +349,15 @@ def conductors(scene, F, emissivity, specular=None, *, lump="patches", threshold
     node; no self terms). B: the Gebhart factors B_IJ = GR_IJ / (eps A)_I with the self terms B_II (rows
     of nodes that emit; each row sums to 1 with its environment column). nodes: names.
     threshold: couplings whose Gebhart factors both ways are below it are dropped.
+    method: "columns" (a column solve per node over F), "dense" (one Cholesky inverse over every
+    patch pair: n^3 flops, 8 n^2 bytes) or "auto" (the faster that fits in memory).
     """
     _check_scene(scene)
     n = len(scene)
     eps = _patch_values("emissivity", emissivity, n)
     s = _patch_values("specular", specular, n, _np.ascontiguousarray(scene.specular, dtype=_np.float64))
     indptr, indices, data = _canonical(F, n)
-    r = _hemirad._conductors(scene, indptr, indices, data, eps, s, lump, float(threshold))
+    r = _hemirad._conductors(scene, indptr, indices, data, eps, s, lump, float(threshold), str(method))
     k = len(r["nodes"]) + 1
     a, b, gr = r["a"], r["b"], r["GR"]
     GR = _sparse.coo_matrix((_np.concatenate([gr, gr]), (_np.concatenate([a, b]), _np.concatenate([b, a]))),
