@@ -41,13 +41,17 @@ void checkInputs(const Scene& scene, const FormFactors& F, const ThermalModel& m
 /// The route for `nodes` nodes: as asked, or under Auto the dense factorisation when it fits in the
 /// memory a direct solver may use and is expected to be faster; a column solver named by the user
 /// keeps the columns.
-GebhartMethod gebhartMethod(const Scene& scene, const FormFactors& F, std::size_t nodes, GebhartMethod asked,
-                            const SolverOptions& solver) {
+GebhartMethod gebhartMethod(const Scene& scene, const FormFactors& F, const ThermalModel& model, std::size_t nodes,
+                            GebhartMethod asked, const SolverOptions& solver) {
     if (asked != GebhartMethod::Auto) return asked;
     if (solver.solver != "auto") return GebhartMethod::Columns;
+    // A diffuse reflectance in (1e-12, 1e-6): W = A / rho would cost the self terms 1e-16 / rho.
+    for (const SurfaceProperties& p : model.surface)
+        if (p.diffuse() > 1e-12 && p.diffuse() < 1e-6) return GebhartMethod::Columns;
     const std::size_t limit = solver.memoryLimit ? solver.memoryLimit : availableMemory() / 10 * 8;
-    const std::size_t lumped = nodes < scene.size() ? nodes * nodes * sizeof(double) : 0;
-    if (PatchConductance::memoryBytes(scene.size()) + lumped > limit) return GebhartMethod::Columns;
+    // The factorisation, the lumped table or every pair's coupling (kept while it is alive).
+    const std::size_t held = nodes < scene.size() ? nodes * nodes * sizeof(double) : nodes * (nodes + 1) / 2 * sizeof(Coupling);
+    if (PatchConductance::memoryBytes(scene.size()) + held > limit) return GebhartMethod::Columns;
     return PatchConductance::pays(scene.size(), nodes, F.nonZeros()) ? GebhartMethod::Dense : GebhartMethod::Columns;
 }
 
@@ -199,12 +203,14 @@ Conductors computeConductors(const Scene& scene, const FormFactors& F, const The
         if (out.emittingArea[a] > 0.0) out.escapeMax = std::max(out.escapeMax, escaped / out.emittingArea[a]);
         if (escaped > 1e-12 * out.emittingArea[a]) keep(a, std::uint32_t(K), escaped, out.couplings);
     };
-    out.method = gebhartMethod(scene, F, K, options.method, solver);
+    out.method = gebhartMethod(scene, F, model, K, options.method, solver);
     if (out.method == GebhartMethod::Dense) {
-        // In their final order, each node's environment coupling after its pairs. The reservation is
-        // address space: pages are touched only by the couplings kept.
-        out.couplings.reserve(K * (K + 1) / 2);
-        adviseHugePages(out.couplings.data(), out.couplings.capacity() * sizeof(Coupling));
+        // In their final order, each node's environment coupling after its pairs. Every coupling is
+        // kept without a threshold: reserved at once, in huge pages.
+        if (options.threshold == 0.0) {
+            out.couplings.reserve(K * (K + 1) / 2);
+            adviseHugePages(out.couplings.data(), out.couplings.capacity() * sizeof(Coupling));
+        }
         out.asymmetry = denseCouplings(
             scene, F, model, out.members, nodeOf, self, absorbedBySurfaces,
             [&](std::uint32_t a, std::uint32_t b, double gr) { keep(a, b, gr, out.couplings); }, closeNode);

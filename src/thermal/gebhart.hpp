@@ -51,7 +51,9 @@ struct Conductors {
     std::vector<std::vector<double>> B;
     std::size_t dropped = 0;              ///< couplings below the threshold
     double droppedSum = 0.0;              ///< their GR sum, m^2
-    /// max |GR_IJ - GR_JI| / max GR before symmetrising: F's reciprocity and the solve's residual.
+    /// Columns: max |GR_IJ - GR_JI| / max GR before symmetrising (F's reciprocity and the solve's
+    /// residual). Dense: F's reciprocity defect max |A_i F_ij - A_j F_ji| / max A_i F_ij, which that
+    /// route removes before solving.
     double asymmetry = 0.0;
     /// max_I |sum_J B_IJ + B_I,env - 1|: 0 by construction of the environment column; reported for
     /// a closed scene as max_I B_I,env (what escapes).

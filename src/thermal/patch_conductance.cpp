@@ -23,8 +23,13 @@ void dgemm_(const char* ta, const char* tb, const int* m, const int* n, const in
 namespace hemirad::thermal {
 namespace {
 
-[[noreturn]] void notPositiveDefinite(std::size_t row) {
-    throw Error("thermal: the Gebhart system is singular at its row " + std::to_string(row) +
+/// A diffuse reflectance at or below this is a rounding leftover of 1 - eps - s (1 - 0.7 - 0.3 =
+/// 5.6e-17): the patch is taken as not reflecting diffusely. Above it, W = A / rho keeps the self
+/// terms to about 1e-16 / rho relative (gebhartMethod's auto leaves rho below 1e-6 to the columns).
+constexpr double kRoundingRho = 1e-12;
+
+[[noreturn]] void notPositiveDefinite(const std::string& where) {
+    throw Error("thermal: the Gebhart system is singular" + where +
                 ": patches of diffuse reflectance near 1 (eps = s = 0) that nothing absorbs; give them an emissivity");
 }
 
@@ -42,20 +47,23 @@ double* allocateZeroed(std::size_t count) {
 }
 
 /// The lower triangle of the leading p x p block of G (leading dimension G.rows()) becomes M^-1,
-/// M = that block (symmetric positive definite, its lower triangle read).
-void invertSymmetric(Matrix& G, std::size_t p) {
+/// M = that block (symmetric positive definite, its lower triangle read). patchAt(row) names the
+/// patch of a row for the message.
+template <class PatchAt>
+void invertSymmetric(Matrix& G, std::size_t p, PatchAt patchAt) {
     if (p == 0) return;
 #ifdef HEMIRAD_HAVE_LAPACK
     const int n = int(p), lda = int(G.rows());
     int info = 0;
     dpotrf_("L", &n, G.data(), &lda, &info);
-    if (info > 0) notPositiveDefinite(std::size_t(info - 1));
+    if (info > 0) notPositiveDefinite(" at patch " + std::to_string(patchAt(std::size_t(info - 1))));
     dpotri_("L", &n, G.data(), &lda, &info);
-    if (info > 0) notPositiveDefinite(std::size_t(info - 1));
+    if (info > 0) notPositiveDefinite(" at patch " + std::to_string(patchAt(std::size_t(info - 1))));
 #else
+    (void)patchAt;
     const Eigen::Index n = Eigen::Index(p);
     Eigen::LLT<Eigen::MatrixXd> llt(G.topLeftCorner(n, n));
-    if (llt.info() != Eigen::Success) notPositiveDefinite(0);
+    if (llt.info() != Eigen::Success) notPositiveDefinite("");
     G.topLeftCorner(n, n).triangularView<Eigen::Lower>() = llt.solve(Eigen::MatrixXd::Identity(n, n));
 #endif
 }
@@ -86,17 +94,19 @@ PatchConductance::PatchConductance(const FormFactors& F, const std::vector<doubl
     if (area.size() != n || eps.size() != n || rho.size() != n)
         throw Error("thermal: " + std::to_string(area.size()) + " areas for F's " + std::to_string(n) + " rows");
     // P first (rho > 0), then Q, each in patch order.
+    auto diffuse = [&](std::size_t i) { return rho[i] > kRoundingRho; };
     m_position.assign(n, 0);
+    std::vector<std::size_t> patchAt(n);
     std::size_t p = 0;
     for (std::size_t i = 0; i < n; ++i)
-        if (rho[i] > 0.0) m_position[i] = p++;
+        if (diffuse(i)) patchAt[p] = i, m_position[i] = p++;
     for (std::size_t i = 0, q = p; i < n; ++i)
-        if (!(rho[i] > 0.0)) m_position[i] = q++;
+        if (!diffuse(i)) patchAt[q] = i, m_position[i] = q++;
     m_left.resize(n);
     m_self.assign(n, 0.0);
     std::vector<double> W(n, 0.0);
     for (std::size_t i = 0; i < n; ++i) {
-        if (rho[i] > 0.0) {
+        if (diffuse(i)) {
             W[i] = area[i] / rho[i];
             m_left[i] = eps[i] * W[i];
             m_self[i] = eps[i] * eps[i] * W[i];
@@ -134,18 +144,20 @@ PatchConductance::PatchConductance(const FormFactors& F, const std::vector<doubl
     // M = W - S_PP (its lower triangle), inverted in place.
     std::vector<double> Wp(p);
     for (std::size_t i = 0; i < n; ++i)
-        if (rho[i] > 0.0) Wp[m_position[i]] = W[i];
+        if (diffuse(i)) Wp[m_position[i]] = W[i];
     for (Eigen::Index b = 0; b < Eigen::Index(p); ++b) {
         for (Eigen::Index a = b; a < Eigen::Index(p); ++a) G(a, b) = -G(a, b);
         G(b, b) += Wp[std::size_t(b)];
     }
-    invertSymmetric(G, p);
+    invertSymmetric(G, p, [&](std::size_t row) { return patchAt[row]; });
     completeOthers(G, p);
 }
 
 std::size_t PatchConductance::memoryBytes(std::size_t patches) {
-    // G, and V (|P| x |Q|, at most n^2 / 4) while the others are completed.
-    return patches * patches * sizeof(double) + patches * patches / 4 * sizeof(double);
+    // G, and V (|P| x |Q|, at most n^2 / 4) while the others are completed; Eigen's kernels hold a
+    // copy of M and its inverse besides.
+    const std::size_t square = patches * patches * sizeof(double);
+    return square + square / 4 + (usesLapack() ? 0 : 2 * square);
 }
 
 bool PatchConductance::pays(std::size_t patches, std::size_t columns, std::size_t nonZeros) {

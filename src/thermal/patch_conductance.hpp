@@ -23,7 +23,8 @@ namespace hemirad::thermal {
 
 class PatchConductance {
 public:
-    /// Per patch: area (m^2), emissivity eps and diffuse reflectance rho (>= 0); F with every row.
+    /// Per patch: area (m^2), emissivity eps and diffuse reflectance rho (>= 0; at most 1e-12, a
+    /// rounding leftover of 1 - eps - s, counts as 0); F with every row.
     /// Throws hemirad::Error when M is not positive definite (a diffuse reflectance of 1 enclosed by
     /// such patches alone). Threads: OpenMP's count (LAPACK's and Eigen's products).
     PatchConductance(const FormFactors& F, const std::vector<double>& area, const std::vector<double>& eps,
