@@ -10,6 +10,7 @@
 #include "thermal/thermal_solver.hpp"
 
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 namespace hemirad {
@@ -73,19 +74,27 @@ ThermalInputs readThermalModel(Scene& scene, const Options& options, const Repor
 void solveThermalAndWrite(const Options& options, const Scene& scene, const ThermalInputs& inputs, const FormFactors& F,
                           Timings& timings, const Reporter& reporter, Warnings& warnings) {
     thermal::ThermalModel model = inputs.model;
+    // A band whose mirrors differ from the scene's (the IR ones) gets its own extended F, in this
+    // process; bands with the same reflectances share it.
+    std::vector<std::pair<std::vector<double>, std::unique_ptr<FormFactors>>> own;
+    auto formFactorsFor = [&](const std::vector<double>& specular, const std::string& why) -> const FormFactors& {
+        for (const auto& [s, ownF] : own)
+            if (s == specular) return *ownF;
+        Scene bandScene = scene;
+        for (PatchId i = 0; i < scene.size(); ++i) bandScene.patches[i].specular = specular[i];
+        Options bandOptions = thermalFormFactorOptions(options);
+        bandOptions.ffPath.clear();
+        bandOptions.shards = bandOptions.recomputeFf = bandOptions.reuseFfAnyway = false;
+        reporter.line(why + ", so it has its own F");
+        own.emplace_back(specular, std::make_unique<FormFactors>(obtainFormFactors(bandScene, bandOptions, timings, reporter, warnings)));
+        return *own.back().second;
+    };
     if (inputs.solar.active()) {
-        FormFactors own;
         const FormFactors* solarF = &F;
         if (inputs.solar.needsOwnFormFactors(scene)) {
-            // The solar band's mirrors differ from the IR ones: its own extended F, in this process.
-            Scene solarScene = scene;
-            for (PatchId i = 0; i < scene.size(); ++i) solarScene.patches[i].specular = inputs.solar.surface[i].specular;
-            Options solarOptions = thermalFormFactorOptions(options);
-            solarOptions.ffPath.clear();
-            solarOptions.shards = solarOptions.recomputeFf = solarOptions.reuseFfAnyway = false;
-            reporter.line("solar band: its specular reflectances differ from the IR ones, so it has its own F");
-            own = obtainFormFactors(solarScene, solarOptions, timings, reporter, warnings);
-            solarF = &own;
+            std::vector<double> specular(scene.size());
+            for (PatchId i = 0; i < scene.size(); ++i) specular[i] = inputs.solar.surface[i].specular;
+            solarF = &formFactorsFor(specular, "solar band: its specular reflectances differ from the IR ones");
         }
         timings.start("solar band");
         const thermal::SolarSolution solar = thermal::solveSolar(scene, *solarF, inputs.solar, model.metresPerUnit, options.solver);
@@ -94,8 +103,16 @@ void solveThermalAndWrite(const Options& options, const Scene& scene, const Ther
         reporter.line("solar band: " + figure(solar.incidentPower) + " W arrive, " + figure(solar.absorbedPower) +
                       " W absorbed, " + figure(solar.escapedPower) + " W leave; balance " + figure(solar.balance, 3));
     }
+    std::vector<const FormFactors*> bandF;
+    for (std::size_t k = 0; k < model.bandSpecular.size(); ++k) {
+        bandF.push_back(nullptr);
+        if (thermal::bandNeedsOwnFormFactors(scene, model, k))
+            bandF.back() = &formFactorsFor(model.bandSpecular[k], "IR band " + std::to_string(k + 1) +
+                                                                      ": its specular reflectances differ from the scene's (the "
+                                                                      "bands' weighted at the reference temperature)");
+    }
     timings.start("thermal solve");
-    const thermal::ThermalSolution solution = thermal::solveThermal(scene, F, model, options.solver);
+    const thermal::ThermalSolution solution = thermal::solveThermal(scene, F, model, options.solver, bandF);
     timings.stop();
     // Emissivities against temperature: the outputs, the exchange and the conductors at the solution's.
     thermal::setEmissivitiesAt(model, solution.T);
@@ -130,7 +147,9 @@ void solveThermalAndWrite(const Options& options, const Scene& scene, const Ther
                       (conductors.dropped ? "; " + std::to_string(conductors.dropped) + " below --gr-threshold dropped (GR sum " +
                                                 figure(conductors.droppedSum, 4) + " m^2)"
                                           : "") +
-                      "; asymmetry before symmetrising " + figure(conductors.asymmetry, 3) + "; " +
+                      (conductors.method == thermal::GebhartMethod::Dense ? "; F's reciprocity defect (symmetrised) "
+                                                                          : "; asymmetry before symmetrising ") +
+                      figure(conductors.asymmetry, 3) + "; " +
                       (conductors.method == thermal::GebhartMethod::Dense
                            ? std::string("one dense factorisation of every patch pair") +
                                  (thermal::PatchConductance::usesLapack() ? " (LAPACK)" : " (Eigen)")

@@ -451,6 +451,7 @@ py::dict thermalSolve(const ScenePtr& scene, py::array_t<std::int64_t, py::array
                       py::array_t<double, py::array::c_style> temperature, py::array_t<double, py::array::c_style> flux,
                       py::object environment, py::array_t<double, py::array::c_style> absorbed,
                       std::vector<double> bandLimits, py::array_t<double, py::array::c_style> bandEmissivity,
+                      py::array_t<double, py::array::c_style> bandSpecular, const py::list& bandF,
                       const std::vector<std::tuple<std::vector<std::int64_t>, std::vector<double>, std::vector<double>>>& curves,
                       const std::string& solverName, double tolerance) {
     const GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");
@@ -469,6 +470,38 @@ py::dict thermalSolve(const ScenePtr& scene, py::array_t<std::int64_t, py::array
         model.bandEmissivity.assign(bandLimits.size() + 1, std::vector<double>(n));
         for (std::size_t k = 0; k <= bandLimits.size(); ++k)
             for (std::size_t i = 0; i < n; ++i) model.bandEmissivity[k][i] = bandEmissivity.at(k, i);
+    }
+    // Per-band specular reflectances, each band on its own F where given (None: F).
+    std::vector<GivenFormFactors> ownF;
+    std::vector<const FormFactors*> bandFormFactors;
+    if (bandSpecular.size() > 0) {
+        const std::size_t K = bandLimits.size() + 1;
+        if (bandLimits.empty()) throw Error("band_specular: needs band_limits_um and band_emissivity");
+        if (bandSpecular.ndim() != 2 || std::size_t(bandSpecular.shape(0)) != K || std::size_t(bandSpecular.shape(1)) != n)
+            throw Error("band_specular: expected shape (" + std::to_string(K) + ", " + std::to_string(n) + ")");
+        model.bandSpecular.assign(K, std::vector<double>(n));
+        for (std::size_t k = 0; k < K; ++k)
+            for (std::size_t i = 0; i < n; ++i) model.bandSpecular[k][i] = bandSpecular.at(k, i);
+        if (!bandF.empty() && bandF.size() != K)
+            throw Error("band_F: expected " + std::to_string(K) + " matrices (or None), got " + std::to_string(bandF.size()));
+        ownF.reserve(bandF.size());
+        for (std::size_t k = 0; k < bandF.size(); ++k) {
+            if (bandF[k].is_none()) {
+                bandFormFactors.push_back(nullptr);
+                continue;
+            }
+            // Checked against the bound of the band's own mirrors.
+            Scene bandScene = *scene;
+            for (std::size_t i = 0; i < n; ++i) bandScene.patches[i].specular = model.bandSpecular[k][i];
+            const auto arrays = bandF[k].cast<py::tuple>();
+            ownF.push_back(formFactorsFor(bandScene, arrays[0].cast<py::array_t<std::int64_t, py::array::c_style>>(),
+                                          arrays[1].cast<py::array_t<std::int32_t, py::array::c_style>>(),
+                                          arrays[2].cast<py::array_t<float, py::array::c_style>>(),
+                                          "band_F[" + std::to_string(k) + "]"));
+            bandFormFactors.push_back(&ownF.back().get());
+        }
+    } else if (!bandF.empty()) {
+        throw Error("band_F: goes with band_specular");
     }
     if (!curves.empty()) {
         // Emissivity against temperature: each curve on its patches (the rest keep `emissivity`).
@@ -491,7 +524,7 @@ py::dict thermalSolve(const ScenePtr& scene, py::array_t<std::int64_t, py::array
     thermal::ThermalSolution sol;
     {
         py::gil_scoped_release release;
-        sol = thermal::solveThermal(*scene, given.get(), model, options);
+        sol = thermal::solveThermal(*scene, given.get(), model, options, bandFormFactors);
     }
     py::dict out;
     out["T"] = numpyVector(sol.T);

@@ -49,7 +49,7 @@ double temperatureWhere(G g) {
 }  // namespace
 
 ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const ThermalModel& model,
-                               const SolverOptions& given) {
+                               const SolverOptions& given, const std::vector<const FormFactors*>& bandF) {
     const SolverOptions options = thermalSolverOptions(given, scene.size());
     // Bands with limits, or one gray band whose emissivities follow the temperatures (curves).
     const bool curves = model.bandEmissivity.empty();
@@ -82,6 +82,7 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
     ThermalModel gray = model;
     gray.bandEmissivity.clear();
     gray.bandLimitsUm.clear();
+    gray.bandSpecular.clear();
     gray.curveOf.clear();
     // A curve's value at the known temperature, else at the reference one, or the curve's largest
     // where it is 0 there (a surface that emits at other temperatures needs a defined start).
@@ -95,6 +96,26 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
         }
     }
     ThermalSolution out = solveThermal(scene, F, gray, options);
+
+    // Each band's F (its own where its specular reflectances differ from the scene's) and what of
+    // each patch's view escapes to the environment in that band.
+    std::vector<const FormFactors*> Fk(K, &F);
+    std::vector<std::vector<double>> specular(K, std::vector<double>(n)), escape(K);
+    for (std::size_t k = 0; k < K; ++k) {
+        if (k < bandF.size() && bandF[k]) Fk[k] = bandF[k];
+        if (Fk[k] == &F && !curves && bandNeedsOwnFormFactors(scene, model, k))
+            throw Error("thermal: IR band " + std::to_string(k + 1) + "'s specular reflectances differ from the scene's, "
+                        "which F was computed with: the band needs its own F");
+        if (Fk[k]->size() != n)
+            throw Error("thermal: IR band " + std::to_string(k + 1) + "'s F has " + std::to_string(Fk[k]->size()) +
+                        " rows for " + std::to_string(n) + " patches");
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!Fk[k]->rowComputed(i))
+                throw Error("thermal: row " + std::to_string(i) + " of IR band " + std::to_string(k + 1) + "'s F was not computed");
+            specular[k][i] = curves ? model.surface[i].specular : specularIn(model, k, i);
+        }
+        escape[k] = escapeFractions(*Fk[k], specular[k]);
+    }
 
     // The unknowns: flux patches' and nodes' temperatures, x = (T_free..., T_node...).
     std::vector<std::size_t> free;
@@ -130,20 +151,34 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
         for (std::size_t k = 0; k < K; ++k) {
             for (std::size_t i = 0; i < n; ++i) {
                 const double T = temperatureOf(xs, i), e = eps(k, i, T);
-                bands[k].rho[i] = std::max(0.0, 1.0 - e - model.surface[i].specular);
+                bands[k].rho[i] = std::max(0.0, 1.0 - e - specular[k][i]);
                 bands[k].source[i] = e * bandFraction(lo[k], hi[k], T) * sigma * T * T * T * T +
-                                     bands[k].rho[i] * envShare[k] * out.escape[i];
+                                     bands[k].rho[i] * envShare[k] * escape[k][i];
             }
             bands[k].initial = &J[k];
         }
-        BandSolution solved = solveBands(scene, F, bands, options);
-        report = solved.reports.front();
-        for (const SolveReport& r : solved.reports) report.residualOriginal = std::max(report.residualOriginal, r.residualOriginal);
+        // The bands that share an F in one solveBands call (all of them, without their own F).
+        std::vector<bool> done(K, false);
+        bool first = true;
+        for (std::size_t k0 = 0; k0 < K; ++k0) {
+            if (done[k0]) continue;
+            std::vector<std::size_t> group;
+            std::vector<Band> shared;
+            for (std::size_t k = k0; k < K; ++k)
+                if (Fk[k] == Fk[k0]) group.push_back(k), shared.push_back(std::move(bands[k])), done[k] = true;
+            BandSolution solved = solveBands(scene, *Fk[k0], shared, options);
+            for (std::size_t g = 0; g < group.size(); ++g) {
+                bands[group[g]] = std::move(shared[g]);
+                J[group[g]] = std::move(solved.X[g]);
+            }
+            if (first) report = solved.reports.front(), first = false;
+            for (const SolveReport& r : solved.reports) report.residualOriginal = std::max(report.residualOriginal, r.residualOriginal);
+        }
         for (std::size_t k = 0; k < K; ++k) {
-            J[k] = std::move(solved.X[k]);
+            const FormFactors& Fb = *Fk[k];
             for (std::size_t i = 0; i < n; ++i) {
-                double h = envShare[k] * out.escape[i];
-                for (std::uint64_t e = F.rowBegin(i); e < F.rowEnd(i); ++e) h += double(F.values()[e]) * J[k][F.columns()[e]];
+                double h = envShare[k] * escape[k][i];
+                for (std::uint64_t e = Fb.rowBegin(i); e < Fb.rowEnd(i); ++e) h += double(Fb.values()[e]) * J[k][Fb.columns()[e]];
                 H[k][i] = h;
             }
         }
@@ -244,10 +279,13 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
     out.isothermalT.assign(nodes, 0.0);
     for (std::size_t k = 0; k < nodes; ++k) out.isothermalT[k] = x[Eigen::Index(free.size() + k)];
     double largest = 0.0, sumQ = 0.0, environment = 0.0;
-    std::vector<double> absorbedFrom(n, 0.0);
-    for (std::size_t i = 0; i < n; ++i) {
-        const double w = out.areaM2[i] * (1.0 - model.surface[i].specular);
-        for (std::uint64_t e = F.rowBegin(i); e < F.rowEnd(i); ++e) absorbedFrom[F.columns()[e]] += w * double(F.values()[e]);
+    std::vector<std::vector<double>> absorbedFrom(K, std::vector<double>(n, 0.0));  // per band: F's columns
+    for (std::size_t k = 0; k < K; ++k) {
+        const FormFactors& Fb = *Fk[k];
+        for (std::size_t i = 0; i < n; ++i) {
+            const double w = out.areaM2[i] * (1.0 - specular[k][i]);
+            for (std::uint64_t e = Fb.rowBegin(i); e < Fb.rowEnd(i); ++e) absorbedFrom[k][Fb.columns()[e]] += w * double(Fb.values()[e]);
+        }
     }
     for (std::size_t i = 0; i < n; ++i) {
         const Condition& c = model.condition[i];
@@ -260,8 +298,8 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
             Hi += H[k][i];
             const double Tk = std::isnan(T) ? 0.0 : T;
             net += eps(k, i, Tk) * (bandFraction(lo[k], hi[k], Tk) * sigma * Tk * Tk * Tk * Tk - H[k][i]);
-            environment += out.areaM2[i] * (1.0 - model.surface[i].specular) * envShare[k] * out.escape[i] -
-                           J[k][i] * (out.areaM2[i] - absorbedFrom[i]);
+            environment += out.areaM2[i] * (1.0 - specular[k][i]) * envShare[k] * escape[k][i] -
+                           J[k][i] * (out.areaM2[i] - absorbedFrom[k][i]);
         }
         out.T[i] = T;
         out.J[i] = Ji;

@@ -53,6 +53,7 @@ const toml::table& tableAt(const toml::node& node, const std::string& file, cons
 struct Entry {
     std::optional<double> emissivity, specular, solarAbsorptance, solarSpecular;
     std::vector<double> emissivityBands;  ///< emissivity = [...]: one per band (emissivity holds the largest)
+    std::vector<double> specularBands;    ///< specular = [...]: one per band (specular then unset)
     std::optional<EmissivityCurve> curve;  ///< emissivity = [[T_K, eps], ...] (emissivity holds the largest)
     int line = 0;
     std::string label;
@@ -87,18 +88,19 @@ Entry readEntry(const toml::table& t, const std::string& file, const std::string
             e.curve = std::move(curve);
             continue;
         }
-        if (k == "emissivity" && node.as_array()) {
+        if ((k == "emissivity" || k == "specular") && node.as_array()) {
+            std::vector<double>& list = k == "emissivity" ? e.emissivityBands : e.specularBands;
             for (const toml::node& v : *node.as_array()) {
                 const double x = number(v, file, k);
                 if (x < 0.0 || x > 1.0) {
                     std::ostringstream msg;
-                    msg << "emissivity " << x << " in " << label << " is outside [0, 1]";
+                    msg << k << " " << x << " in " << label << " is outside [0, 1]";
                     throw Error(file, lineOf(node), msg.str());
                 }
-                e.emissivityBands.push_back(x);
+                list.push_back(x);
             }
-            if (e.emissivityBands.empty()) throw Error(file, lineOf(node), "emissivity in " + label + " is an empty list");
-            e.emissivity = *std::max_element(e.emissivityBands.begin(), e.emissivityBands.end());
+            if (list.empty()) throw Error(file, lineOf(node), k + " in " + label + " is an empty list");
+            if (k == "emissivity") e.emissivity = *std::max_element(list.begin(), list.end());
             continue;
         }
         std::optional<double>* field = k == "emissivity"          ? &e.emissivity
@@ -144,6 +146,7 @@ std::map<std::string, std::size_t> indexOf(const std::vector<std::string>& names
 void takeBandProperties(ThermalModel& model, BandProperties&& bands) {
     model.bandLimitsUm = std::move(bands.limitsUm);
     model.bandEmissivity = std::move(bands.emissivity);
+    model.bandSpecular = std::move(bands.specular);
     model.referenceTemperature = bands.referenceTemperature;
     model.emissivityCurves = std::move(bands.emissivityCurves);
     model.curveOf = std::move(bands.curveOf);
@@ -214,14 +217,19 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
 
     // Every band list must match the bands.
     const std::size_t bandCount = limits.limitsUm.empty() ? 0 : limits.limitsUm.size() + 1;
+    bool specularPerBand = false;
     auto checkBands = [&](const Entry& e) {
-        if (e.emissivityBands.empty()) return;
-        if (!bandCount)
-            throw Error(name, e.line, e.label + ": emissivity has " + std::to_string(e.emissivityBands.size()) +
-                                          " values but no [bands] table gives their limits");
-        if (e.emissivityBands.size() != bandCount)
-            throw Error(name, e.line, e.label + ": emissivity has " + std::to_string(e.emissivityBands.size()) + " values for " +
-                                          std::to_string(bandCount) + " bands ([bands] line " + std::to_string(bandsLine) + ")");
+        for (const auto& [key, list] : {std::pair<const char*, const std::vector<double>*>{"emissivity", &e.emissivityBands},
+                                        {"specular", &e.specularBands}}) {
+            if (list->empty()) continue;
+            if (!bandCount)
+                throw Error(name, e.line, e.label + ": " + key + " has " + std::to_string(list->size()) +
+                                              " values but no [bands] table gives their limits");
+            if (list->size() != bandCount)
+                throw Error(name, e.line, e.label + ": " + key + " has " + std::to_string(list->size()) + " values for " +
+                                              std::to_string(bandCount) + " bands ([bands] line " + std::to_string(bandsLine) + ")");
+        }
+        if (!e.specularBands.empty()) specularPerBand = true;
     };
     auto checkCurve = [&](const Entry& e) {
         if (e.curve && bandCount)
@@ -234,7 +242,12 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
     if (bands) {
         *bands = limits;
         bands->emissivity.assign(bandCount, std::vector<double>(scene.size(), 0.0));
+        if (specularPerBand) bands->specular.assign(bandCount, std::vector<double>(scene.size(), 0.0));
     }
+    auto bandRange = [&](std::size_t k) {
+        return std::pair<double, double>{k ? limits.limitsUm[k - 1] : 0.0,
+                                         k < limits.limitsUm.size() ? limits.limitsUm[k] : std::numeric_limits<double>::infinity()};
+    };
     std::map<const Entry*, std::int32_t> curveIndex;  // one curve per table that gives it
 
     std::vector<SurfaceProperties> surface = propertiesFromMaterials(scene);
@@ -246,7 +259,7 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
         if (auto it = byMaterial.find(p.material); it != byMaterial.end()) layers[1] = &it->second;
         if (fallback) layers[2] = &*fallback;
         std::optional<double> eps, s, alpha, sSolar;
-        const std::vector<double>* epsBands = nullptr;
+        const std::vector<double>*epsBands = nullptr, *sBands = nullptr;
         const Entry* curveFrom = nullptr;
         std::string from;
         int line = 0, solarLine = 0;
@@ -262,7 +275,22 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
                                                                            : "emissivity from ") + e->label;
                 line = e->line;
             }
-            if (!s && e->specular) s = e->specular, from += (from.empty() ? "" : ", ") + std::string("specular from ") + e->label, line = e->line;
+            if (!s && !sBands && (e->specular || !e->specularBands.empty())) {
+                if (e->specularBands.empty()) s = e->specular;
+                else sBands = &e->specularBands;
+                from += (from.empty() ? "" : ", ") + std::string(sBands ? "specular per band from " : "specular from ") + e->label;
+                line = e->line;
+            }
+        }
+        if (sBands) {  // the scene's (F's) reflectance: the bands' weighted at the reference temperature
+            double weighted = 0.0;
+            for (std::size_t k = 0; k < bandCount; ++k) {
+                const auto [lo, hi] = bandRange(k);
+                weighted += (*sBands)[k] * bandFraction(lo, hi, limits.referenceTemperature);
+            }
+            // Equal values are that value, not a sum off by an ulp (which would ask for an F of its own).
+            const bool equal = std::all_of(sBands->begin(), sBands->end(), [&](double v) { return v == sBands->front(); });
+            p.specular = equal ? sBands->front() : weighted;
         }
         if (s) p.specular = *s;
         surface[i].specular = p.specular;
@@ -285,15 +313,26 @@ std::vector<SurfaceProperties> applyPropertiesText(const std::string& text, cons
             // Per band: the list, or the one value in every band; the gray value weighted at T_ref.
             double weighted = 0.0;
             for (std::size_t k = 0; k < bandCount; ++k) {
-                const double e = epsBands ? (*epsBands)[k] : surface[i].emissivity;
+                const double sk = sBands ? (*sBands)[k] : p.specular;
+                // Without a given emissivity, each band's is 1 - mean(Kd) - its own s.
+                const double e = epsBands ? (*epsBands)[k]
+                                 : eps || curveFrom ? surface[i].emissivity
+                                                    : std::max(0.0, 1.0 - p.rho.mean() - sk);
                 if (bands) bands->emissivity[k][i] = e;
-                const double lo = k ? limits.limitsUm[k - 1] : 0.0;
-                const double hi = k < limits.limitsUm.size() ? limits.limitsUm[k] : std::numeric_limits<double>::infinity();
+                if (bands && specularPerBand) bands->specular[k][i] = sk;
+                const auto [lo, hi] = bandRange(k);
                 weighted += e * bandFraction(lo, hi, limits.referenceTemperature);
+                if (e + sk > 1.0 + 1e-12) {
+                    std::ostringstream msg;
+                    msg << "object '" << scene.objects[p.object] << "' (material '" << scene.materials[p.material].name
+                        << "'): in band " << k + 1 << " emissivity " << e << " + specular " << sk << " = " << e + sk
+                        << " > 1 (" << from << ")";
+                    throw Error(name.empty() ? scene.path : name, line, msg.str());
+                }
             }
             surface[i].emissivity = weighted;
         }
-        const bool largest = epsBands || curveFrom;  // check the largest of a list or curve
+        const bool largest = (epsBands && !bandCount) || curveFrom;  // check the largest of a curve
         if (surface[i].emissivity + surface[i].specular > 1.0 + 1e-12 || (largest && *eps + surface[i].specular > 1.0 + 1e-12)) {
             std::ostringstream msg;
             msg << "object '" << scene.objects[p.object] << "' (material '" << scene.materials[p.material].name

@@ -26,6 +26,10 @@ namespace hemirad::thermal {
 struct BandProperties {
     std::vector<double> limitsUm;
     std::vector<std::vector<double>> emissivity;  ///< [band][patch]; empty without [bands]
+    /// [band][patch] where some entry gives specular = [...] (one per band; entries with one value
+    /// keep it in every band); empty otherwise. The scene's specular is then the bands' weighted at
+    /// the reference temperature.
+    std::vector<std::vector<double>> specular;
     double referenceTemperature = 300.0;
     std::vector<EmissivityCurve> emissivityCurves;
     std::vector<std::int32_t> curveOf;

@@ -31,6 +31,13 @@ std::vector<SurfaceProperties> propertiesFromMaterials(const Scene& scene) {
     return surface;
 }
 
+bool bandNeedsOwnFormFactors(const Scene& scene, const ThermalModel& model, std::size_t k) {
+    if (model.bandSpecular.empty()) return false;
+    for (PatchId i = 0; i < scene.size(); ++i)
+        if (model.bandSpecular[k][i] != scene.patches[i].specular) return true;
+    return false;
+}
+
 void checkModel(const Scene& scene, const ThermalModel& model) {
     const std::size_t n = scene.size();
     if (model.surface.size() != n || model.condition.size() != n)
@@ -87,18 +94,25 @@ void checkModel(const Scene& scene, const ThermalModel& model) {
         for (std::size_t k = 0; k < model.bandLimitsUm.size(); ++k)
             if (!(model.bandLimitsUm[k] > (k ? model.bandLimitsUm[k - 1] : 0.0)) || !std::isfinite(model.bandLimitsUm[k]))
                 throw Error("thermal: band limits must be finite, positive and increasing (um)");
+        if (!model.bandSpecular.empty() && model.bandSpecular.size() != model.bandEmissivity.size())
+            throw Error("thermal: " + std::to_string(model.bandSpecular.size()) + " bands of specular reflectances for " +
+                        std::to_string(model.bandEmissivity.size()) + " bands of emissivities");
         for (std::size_t k = 0; k < model.bandEmissivity.size(); ++k) {
             if (model.bandEmissivity[k].size() != n) throw Error("thermal: band emissivities need one value per patch");
+            if (!model.bandSpecular.empty() && model.bandSpecular[k].size() != n)
+                throw Error("thermal: band specular reflectances need one value per patch");
             for (PatchId i = 0; i < n; ++i) {
-                const double e = model.bandEmissivity[k][i];
-                if (!(e >= 0.0 && e + model.surface[i].specular <= 1.0 + 1e-12)) {
+                const double e = model.bandEmissivity[k][i], s = specularIn(model, k, i);
+                if (!(e >= 0.0 && s >= 0.0 && e + s <= 1.0 + 1e-12)) {
                     std::ostringstream msg;
                     msg << "thermal: " << describe(scene, i) << ": band " << k + 1 << " emissivity " << e << " + specular "
-                        << model.surface[i].specular << " must be in [0, 1]";
+                        << s << " must be in [0, 1]";
                     throw Error(msg.str());
                 }
             }
         }
+    } else if (!model.bandSpecular.empty()) {
+        throw Error("thermal: specular reflectances per band need bands (emissivities per band and their limits)");
     }
     if (!model.curveOf.empty()) {
         if (model.curveOf.size() != n)

@@ -61,6 +61,11 @@ struct ThermalModel {
     /// iteration, and what the conductors use).
     std::vector<double> bandLimitsUm;
     std::vector<std::vector<double>> bandEmissivity;
+    /// Each band's specular reflectance per patch (bandSpecular[k][i]; with bandEmissivity). Empty:
+    /// surface[i].specular in every band. A band whose reflectances differ from the scene's needs its
+    /// own extended F (solveThermal's bandF). surface[i].specular, the scene's and F's, is then the
+    /// reflectances weighted at referenceTemperature, as the gray emissivity.
+    std::vector<std::vector<double>> bandSpecular;
     double referenceTemperature = 300.0;
     /// Temperature-dependent emissivity (gray model only): curveOf[i] indexes emissivityCurves, -1
     /// where patch i's emissivity is constant; empty: none. Where a curve is given, the solve uses
@@ -82,6 +87,14 @@ struct ThermalModel {
     /// Where each object's properties and condition came from, for the report (per scene object).
     std::vector<std::string> propertySource, conditionSource;
 };
+
+/// Patch i's specular reflectance in band k (its gray one without per-band reflectances).
+inline double specularIn(const ThermalModel& model, std::size_t k, std::size_t i) {
+    return model.bandSpecular.empty() ? model.surface[i].specular : model.bandSpecular[k][i];
+}
+
+/// Whether band k's specular reflectances differ from the scene's (then F does not serve it).
+bool bandNeedsOwnFormFactors(const Scene& scene, const ThermalModel& model, std::size_t k);
 
 /// Whether some patch's emissivity depends on its temperature.
 inline bool hasEmissivityCurves(const ThermalModel& model) {

@@ -18,16 +18,22 @@
 
 namespace hemirad::thermal {
 
-std::vector<double> escapeFractions(const FormFactors& F, const ThermalModel& model) {
+std::vector<double> escapeFractions(const FormFactors& F, const std::vector<double>& specular) {
     const std::size_t n = F.size();
     std::vector<double> escape(n, 0.0);
     for (std::size_t i = 0; i < n; ++i) {
         double absorbed = 0.0;
         for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k)
-            absorbed += double(F.values()[k]) * (1.0 - model.surface[F.columns()[k]].specular);
+            absorbed += double(F.values()[k]) * (1.0 - specular[F.columns()[k]]);
         escape[i] = std::max(0.0, 1.0 - absorbed);
     }
     return escape;
+}
+
+std::vector<double> escapeFractions(const FormFactors& F, const ThermalModel& model) {
+    std::vector<double> specular(model.surface.size());
+    for (std::size_t i = 0; i < specular.size(); ++i) specular[i] = model.surface[i].specular;
+    return escapeFractions(F, specular);
 }
 
 SolverOptions thermalSolverOptions(const SolverOptions& options, std::size_t patches) {
@@ -37,10 +43,11 @@ SolverOptions thermalSolverOptions(const SolverOptions& options, std::size_t pat
 }
 
 ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const ThermalModel& model,
-                             const SolverOptions& given) {
+                             const SolverOptions& given, const std::vector<const FormFactors*>& bandF) {
     checkModel(scene, model);
     const SolverOptions options = thermalSolverOptions(given, scene.size());
-    if (!model.bandEmissivity.empty() || hasEmissivityCurves(model)) return detail::solveBandModel(scene, F, model, options);
+    if (!model.bandEmissivity.empty() || hasEmissivityCurves(model))
+        return detail::solveBandModel(scene, F, model, options, bandF);
     const std::size_t n = scene.size();
     if (F.size() != n)
         throw Error("thermal: F has " + std::to_string(F.size()) + " rows but the scene has " + std::to_string(n) + " patches");

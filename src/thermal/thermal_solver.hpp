@@ -40,9 +40,11 @@ struct ThermalSolution {
 /// picks the solver ("auto": LU up to 2000 patches). Throws hemirad::Error for an invalid model
 /// (checkModel), a missing row, an enclosure whose temperatures are not determined (every patch
 /// given a flux, closed, no environment), a flux that asks a surface to absorb more than it receives
-/// (T^4 < 0), or an unconverged solve.
+/// (T^4 < 0), or an unconverged solve. `bandF`: with per-band specular reflectances
+/// (ThermalModel::bandSpecular), each band's extended F (not owned; nullptr or absent: `F`, which
+/// must then serve that band's reflectances).
 ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const ThermalModel& model,
-                             const SolverOptions& options);
+                             const SolverOptions& options, const std::vector<const FormFactors*>& bandF = {});
 
 /// The solver options thermal solves use: "auto" is lu up to 2000 patches, else bicgstab (conditions
 /// of flux make rows of reflectance 1 - s, often 1, where stationary sweeps crawl; measured in
@@ -51,5 +53,7 @@ SolverOptions thermalSolverOptions(const SolverOptions& options, std::size_t pat
 
 /// Per patch: 1 - sum_j F_ij (1 - s_j) (s from the model).
 std::vector<double> escapeFractions(const FormFactors& F, const ThermalModel& model);
+/// The same with the specular reflectances given per patch.
+std::vector<double> escapeFractions(const FormFactors& F, const std::vector<double>& specular);
 
 }  // namespace hemirad::thermal

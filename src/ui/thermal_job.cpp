@@ -36,7 +36,23 @@ void ThermalJob::work() {
                            " W leave; balance " + jobFigure(result.solar->balance, 3));
     }
     checkCancel();
-    result.solution = timed("thermal solve", [&] { return thermal::solveThermal(m_scene, *F, model, solver); });
+    // IR bands whose mirrors differ from the scene's: each its own F, shared by equal bands (as hemirad thermal).
+    std::vector<std::shared_ptr<const FormFactors>> ownBandF;
+    std::vector<const FormFactors*> bandF;
+    for (std::size_t k = 0; k < model.bandSpecular.size(); ++k) {
+        bandF.push_back(nullptr);
+        if (!thermal::bandNeedsOwnFormFactors(m_scene, model, k)) continue;
+        for (std::size_t j = 0; j < k && !bandF[k]; ++j)
+            if (bandF[j] && model.bandSpecular[j] == model.bandSpecular[k]) bandF[k] = bandF[j];
+        if (bandF[k]) continue;
+        messages.push_back("IR band " + std::to_string(k + 1) + ": its specular reflectances differ from the scene's, so it has its own F");
+        Scene bandScene = m_scene;
+        for (PatchId i = 0; i < m_scene.size(); ++i) bandScene.patches[i].specular = model.bandSpecular[k][i];
+        ownBandF.push_back(completeRows(bandScene, nullptr, false));
+        bandF[k] = ownBandF.back().get();
+        checkCancel();
+    }
+    result.solution = timed("thermal solve", [&] { return thermal::solveThermal(m_scene, *F, model, solver, bandF); });
     const thermal::ThermalSolution& s = result.solution;
     const SolveReport& r = s.report;
     messages.push_back("thermal solve: " + r.solver + (r.iterations ? ", " + std::to_string(r.iterations) + " iterations" : "") +

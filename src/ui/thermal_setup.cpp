@@ -54,7 +54,12 @@ Layers layers(const Scene& scene, const ThermalSetup& setup) {
     // file was loaded, edited since in the Material editor) are what F was made with, so they stay.
     Scene copy = scene;
     l.surface = thermal::applyPropertiesText(setup.propertiesText, setup.propertiesPath, copy, l.propertySource, &l.solar, &l.bands);
-    for (PatchId i = 0; i < scene.size(); ++i) l.surface[i].specular = scene.patches[i].specular;
+    for (PatchId i = 0; i < scene.size(); ++i) {
+        // A reflectance edited since the file was loaded holds in every band (as an edited emissivity).
+        if (scene.patches[i].specular != copy.patches[i].specular)
+            for (std::vector<double>& band : l.bands.specular) band[i] = scene.patches[i].specular;
+        l.surface[i].specular = scene.patches[i].specular;
+    }
     for (const auto& [object, eps] : setup.emissivity) {
         if (object >= scene.objects.size()) continue;
         for (PatchId i = 0; i < scene.size(); ++i) {

@@ -42,6 +42,28 @@ TEST_CASE("hemirad thermal on the bundled radiator: the radiator gives off its 2
     CHECK(readText(Q).find("Q from \\ to (W),radiator,shield,baffle,environment,total") == 0);
 }
 
+TEST_CASE("hemirad thermal with specular reflectances per IR band: each band whose mirrors differ gets its own F, shared by equal bands") {
+    const auto dir = tempDir("thermal-cli-bands");
+    const std::string properties = (dir / "bands.toml").string(), T = (dir / "T.csv").string();
+    // Aluminium: a mirror below 4 um, less of one beyond; bands 2 and 3 reflect alike.
+    writeFile(properties, "[bands]\nlimits_um = [4.0, 8.0]\n[materials.white_paint]\nemissivity = 0.88\n"
+                          "[materials.aluminium]\nemissivity = [0.05, 0.2, 0.2]\nspecular = [0.9, 0.6, 0.6]\n"
+                          "[materials.black_paint]\nemissivity = 0.9\n");
+    const CommandResult r = thermal(example("radiator.obj") + " --properties '" + properties + "' --bc " +
+                                    example("radiator_bc.toml") + " --subdivide 0.25 -o '" + T + "'");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("IR bands: 3 split at 4, 8 um") != std::string::npos);
+    CHECK(r.output.find("IR band 1: its specular reflectances differ from the scene's") != std::string::npos);
+    CHECK(r.output.find("IR band 2: its specular reflectances differ from the scene's") != std::string::npos);
+    CHECK(r.output.find("IR band 3:") == std::string::npos);  // band 2's F serves it
+    CHECK(r.output.find("so it has its own F") != std::string::npos);
+    const std::size_t at = r.output.find("energy balance: |sum Q + Q_env| / max |Q| = ");
+    REQUIRE(at != std::string::npos);
+    CHECK(std::stod(r.output.substr(at + 44)) <= 1e-9);
+    CHECK(readText(T).find("patch,object,area (m^2),emissivity,specular,condition,T (K)") == 0);
+}
+
 TEST_CASE("hemirad thermal refuses bad input before any work: file and line named, exit 1 or 2, nothing written") {
     const auto dir = tempDir("thermal-cli-errors");
     const std::string out = (dir / "T.csv").string();

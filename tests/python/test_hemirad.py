@@ -479,6 +479,29 @@ def test_thermal_three_surface_enclosure_and_gebhart():
         hemirad.thermal(cube, F, eps, temperature=np.full(n, 300.0), flux=np.zeros(n))
     with pytest.raises(hemirad.Error, match="emissivity 0.7 \\+ specular reflectance 0.5"):
         hemirad.thermal(cube, F, eps, specular=np.where(np.arange(n) == floor, 0.5, 0.0), temperature=T, flux=q)
+    # Two IR bands; the floor a mirror (s = 0.5) below 4 um only: that band on its own F.
+    band_eps = np.vstack([eps, eps])
+    band_eps[0, floor] = 0.3  # leaves room for the mirror (s = 0.5 here: the MTL reflects 0.5)
+    band_s = np.zeros((2, n))
+    plain = hemirad.thermal(cube, F, eps, temperature=T, flux=q, band_limits_um=[4.0], band_emissivity=band_eps)
+    same = hemirad.thermal(cube, F, eps, temperature=T, flux=q, band_limits_um=[4.0], band_emissivity=band_eps,
+                           band_specular=band_s)
+    assert np.array_equal(same["T"], plain["T"], equal_nan=True)
+    band_s[0, floor] = 0.5
+    with pytest.raises(hemirad.Error, match="IR band 1's specular reflectances differ"):
+        hemirad.thermal(cube, F, eps, temperature=T, flux=q, band_limits_um=[4.0], band_emissivity=band_eps,
+                        band_specular=band_s)
+    mirrored = hemirad.load(scene_path("unit_cube.obj"))
+    mirrored.set_specular([floor], 0.5)
+    F_mirror, _ = hemirad.form_factors(mirrored, all_rows=True)
+    polished = hemirad.thermal(cube, F, eps, temperature=T, flux=q, band_limits_um=[4.0], band_emissivity=band_eps,
+                               band_specular=band_s, band_F=[F_mirror, None])
+    assert polished["balance"] < 1e-9
+    walls = [i for i in range(n) if i not in (floor, ceiling)]
+    assert np.all(np.abs(polished["T"][walls] - plain["T"][walls]) > 1e-3)  # the mirror is felt
+    with pytest.raises(hemirad.Error, match="band_F: expected 2 matrices"):
+        hemirad.thermal(cube, F, eps, temperature=T, flux=q, band_limits_um=[4.0], band_emissivity=band_eps,
+                        band_specular=band_s, band_F=[F_mirror])
 
 
 def test_thermal_sun_and_bands():

@@ -3,6 +3,7 @@
 // the gray limit.
 #include "thermal/thermal_scenes.hpp"
 
+#include "engine/error.hpp"
 #include "thermal/blackbody.hpp"
 #include "thermal/thermal_solver.hpp"
 
@@ -142,6 +143,82 @@ TEST_CASE("Bands: a reradiating surface's temperature matches an independent bis
     CHECK(sol.Q[0] == relative(Q0, 1e-9));
     CHECK(std::abs(sol.Q[1]) == 0.0);
     CHECK(sol.balance <= 1e-9);
+}
+
+TEST_CASE("Bands with their own specular reflectances: a mirror in one band, each band on its own F, against bisection over dense band solves") {
+    // The duct's third wall reflects s specularly back where it came from (a retroreflector, which
+    // diffuse reflection is not): the extended factors are F_00 = F_11 = s/2 and the rest 1/2
+    // (exact, closed, reciprocal). A polished wall: s = 0.9
+    // below 4 um, 0 above, facing a wall at 1500 K (three quarters of its emission below 4 um); the
+    // scene (and F) hold the reflectances weighted at 300 K.
+    Scene s = duct();
+    const std::vector<double> limits = {4.0};
+    const std::vector<std::vector<double>> eps = {{0.9, 0.9}, {0.1, 0.7}, {0.05, 0.9}};
+    const double mirror[2] = {0.9, 0.0};
+    auto ductF = [](double r) {
+        return denseF({{r / 2, 0.5, 0.5}, {0.5, r / 2, 0.5}, {0.5, 0.5, 0.0}});
+    };
+    ThermalModel m = banded(3, limits, eps);
+    m.bandSpecular.assign(2, std::vector<double>(3, 0.0));
+    const double f0 = bandFraction(0.0, 4.0, 300.0);
+    const double weighted = mirror[0] * f0 + mirror[1] * (1.0 - f0);
+    for (std::size_t k = 0; k < 2; ++k) m.bandSpecular[k][2] = mirror[k];
+    s.patches[2].specular = m.surface[2].specular = weighted;
+    m.condition = {Condition{Condition::Kind::Temperature, 1500, 0}, Condition{Condition::Kind::Flux, 0.0, 0},
+                   Condition{Condition::Kind::Temperature, 300, 0}};
+    const FormFactors F = ductF(weighted), F0 = ductF(mirror[0]), F1 = ductF(mirror[1]);
+    CHECK_THROWS_WITH_AS(solveThermal(s, F, m, SolverOptions{}), doctest::Contains("IR band 1's specular reflectances differ"), Error);
+    const ThermalSolution sol = solveThermal(s, F, m, SolverOptions{}, {&F0, &F1});
+    // By hand: per band J = eps E + rho_d F_k J with rho_d = 1 - eps_k - s_k, H = F_k J.
+    auto netOfB = [&](double Tb, double* Q0, bool ownF) {
+        const double T[3] = {1500, Tb, 300};
+        double q = 0, q0 = 0;
+        for (std::size_t k = 0; k < 2; ++k) {
+            const double lo = k ? 4.0 : 0.0, hi = k ? kInfinity : 4.0;
+            const FormFactors& Fk = ownF ? (k ? F1 : F0) : F;
+            Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+            Eigen::Vector3d e;
+            for (int i = 0; i < 3; ++i) {
+                const double sk = i == 2 ? (ownF ? mirror[k] : weighted) : 0.0;
+                e[i] = eps[i][k] * bandFraction(lo, hi, T[i]) * blackbody(T[i]);
+                for (int j = 0; j < 3; ++j) A(i, j) -= (1 - eps[i][k] - sk) * Fk.at(i, j);
+            }
+            const Eigen::Vector3d J = A.fullPivLu().solve(e);
+            for (int i : {0, 1}) {
+                double H = 0;
+                for (int j = 0; j < 3; ++j) H += Fk.at(i, j) * J[j];
+                (i == 0 ? q0 : q) += eps[i][k] * (bandFraction(lo, hi, T[i]) * blackbody(T[i]) - H);
+            }
+        }
+        if (Q0) *Q0 = q0;
+        return q;
+    };
+    auto reradiating = [&](bool ownF) {
+        double lo = 300, hi = 1500;
+        for (int step = 0; step < 200; ++step) {
+            const double mid = 0.5 * (lo + hi);
+            (netOfB(mid, nullptr, ownF) < 0 ? lo : hi) = mid;
+        }
+        return 0.5 * (lo + hi);
+    };
+    const double Tb = reradiating(true), grayMirror = reradiating(false);
+    double Q0 = 0;
+    netOfB(Tb, &Q0, true);
+    MESSAGE("per-band mirror: T_b = " << sol.T[1] << " K (reference " << Tb << " K; " << grayMirror
+                                      << " K with one weighted mirror in both bands); Q_a = " << sol.Q[0] << " W (reference " << Q0 << ")");
+    CHECK(std::abs(Tb - grayMirror) > 1.0);  // the case tells the two apart
+    CHECK(sol.T[1] == relative(Tb, 1e-10));
+    CHECK(sol.Q[0] == relative(Q0, 1e-9));
+    CHECK(sol.balance <= 1e-9);
+    // A band given F itself (nullptr) where its reflectances are the scene's: no own F needed.
+    ThermalModel same = m;
+    same.bandSpecular[1][2] = weighted;
+    CHECK_NOTHROW(solveThermal(s, F, same, SolverOptions{}, {&F0, nullptr}));
+    // Out of range per band.
+    ThermalModel bad = m;
+    bad.bandSpecular[1][2] = 0.6;  // eps 0.9 + 0.6 > 1
+    CHECK_THROWS_WITH_AS(solveThermal(s, F, bad, SolverOptions{}, {&F0, &F1}),
+                         doctest::Contains("band 2 emissivity 0.9 + specular 0.6 must be in [0, 1]"), Error);
 }
 
 TEST_CASE("Bands with equal emissivities are the gray model") {

@@ -2,6 +2,7 @@
 #include "thermal/thermal_scenes.hpp"
 
 #include "engine/error.hpp"
+#include "thermal/blackbody.hpp"
 #include "thermal/thermal_files.hpp"
 #include "thermal/thermal_solver.hpp"
 
@@ -195,4 +196,50 @@ TEST_CASE("Bands in the properties file: limits, a list per entry or one value i
     fails("[bands]\nlimits_um = [8.0, 4.0]\n", "p.toml:2: [bands]: limits_um must be positive and increasing");
     fails("[bands]\nlimits = [4.0]\n", "p.toml:2: unknown key 'limits' in [bands]");
     fails("[bands]\nlimits_um = [4.0]\n[materials.metal]\nemissivity = [0.1, 1.2]\n", "p.toml:4: emissivity 1.2 in [materials.metal] is outside [0, 1]");
+}
+
+TEST_CASE("Specular reflectance per band: a list per entry, the scene's the bands' weighted at the reference temperature, and their mistakes") {
+    Scene s = cubeScene();
+    std::vector<std::string> sources;
+    BandProperties bands;
+    // The walls are mirrors at short wavelengths (a polished metal) and dull beyond 4 um.
+    applyPropertiesText("[bands]\nlimits_um = [4.0]\nreference_temperature_K = 1000\n[default]\nemissivity = 0.5\n"
+                        "[materials.metal]\nemissivity = [0.05, 0.3]\nspecular = [0.9, 0.2]\n",
+                        "props.toml", s, sources, nullptr, &bands);
+    REQUIRE(bands.specular.size() == 2);
+    CHECK(bands.specular[0][2] == 0.9);
+    CHECK(bands.specular[1][2] == 0.2);
+    CHECK(bands.specular[0][0] == 0.0);  // the floor keeps its one value (the MTL's 0) in both bands
+    CHECK(bands.specular[1][0] == 0.0);
+    const double f = bandFraction(0.0, 4.0, 1000.0);
+    CHECK(s.patches[2].specular == doctest::Approx(0.9 * f + 0.2 * (1.0 - f)).epsilon(1e-14));
+    CHECK(s.patches[0].specular == 0.0);
+    ThermalModel m;
+    takeBandProperties(m, std::move(bands));
+    CHECK(m.bandSpecular[0][2] == 0.9);
+    CHECK(bandNeedsOwnFormFactors(s, m, 0));
+    CHECK(bandNeedsOwnFormFactors(s, m, 1));
+    // Equal values are the scene's value exactly (no F of its own for an ulp); without a given
+    // emissivity each band's is 1 - mean(Kd) - its own s (the metal's Kd is 0.2).
+    Scene t = cubeScene();
+    BandProperties same;
+    applyPropertiesText("[bands]\nlimits_um = [4.0]\n[materials.metal]\nspecular = [0.3, 0.3]\n[materials.paint]\n"
+                        "specular = [0.4, 0.1]\n", "props.toml", t, sources, nullptr, &same);
+    CHECK(t.patches[2].specular == 0.3);
+    ThermalModel sm;
+    takeBandProperties(sm, std::move(same));
+    for (std::size_t k = 0; k < 2; ++k) CHECK(sm.bandSpecular[k][2] == t.patches[2].specular);  // the walls' metal
+    const double paintKd = cubeScene().materials[0].rho.mean();
+    CHECK(sm.bandEmissivity[0][0] == doctest::Approx(1.0 - paintKd - 0.4));
+    CHECK(sm.bandEmissivity[1][0] == doctest::Approx(1.0 - paintKd - 0.1));
+    CHECK(sm.bandEmissivity[0][2] == doctest::Approx(1.0 - 0.2 - 0.3));
+    auto fails = [&](const std::string& text, const std::string& message) {
+        Scene t = cubeScene();
+        CHECK_THROWS_WITH_AS(applyPropertiesText(text, "p.toml", t, sources, nullptr, &bands), doctest::Contains(message.c_str()), hemirad::Error);
+    };
+    fails("[default]\nspecular = [0.1, 0.2]\n", "p.toml:1: [default]: specular has 2 values but no [bands] table gives their limits");
+    fails("[bands]\nlimits_um = [4.0]\n[default]\nspecular = [0.1, 0.2, 0.3]\n", "p.toml:3: [default]: specular has 3 values for 2 bands");
+    fails("[bands]\nlimits_um = [4.0]\n[materials.metal]\nspecular = [0.1, -0.2]\n", "p.toml:4: specular -0.2 in [materials.metal] is outside [0, 1]");
+    fails("[bands]\nlimits_um = [4.0]\n[materials.metal]\nemissivity = [0.05, 0.3]\nspecular = [0.9, 0.8]\n",
+          "p.toml:3: object 'walls' (material 'metal'): in band 2 emissivity 0.3 + specular 0.8 = 1.1 > 1");
 }

@@ -146,6 +146,32 @@ TEST_CASE("hemirad-gui refuses thermal edits the library refuses and keeps the v
     CHECK(r[2].condition->value == -20.0);
 }
 
+TEST_CASE("hemirad-gui's thermal run with specular reflectances per IR band: each band on its own F, hemirad thermal's T") {
+    const auto dir = tempDir("gui-thermal-bands");
+    const std::string properties =
+        writeFile(dir / "bands.toml", "[bands]\nlimits_um = [4.0]\n[materials.white_paint]\nemissivity = 0.88\n"
+                                      "[materials.aluminium]\nemissivity = [0.05, 0.2]\nspecular = [0.9, 0.6]\n"
+                                      "[materials.black_paint]\nemissivity = 0.9\n");
+    const CommandResult cli = runCommand(std::string(HEMIRAD_BINARY) + " thermal " + sourcePath("examples/thermal/radiator.obj") +
+                                         " --properties " + properties + " --bc " + sourcePath(kConditions) + " -o " +
+                                         (dir / "T.csv").string() + " 2>&1");
+    INFO(cli.output);
+    REQUIRE(cli.status == 0);
+    AppState app;
+    REQUIRE(app.loadScene(sourcePath("examples/thermal/radiator.obj")));
+    REQUIRE(app.loadThermalProperties(properties));
+    REQUIRE(app.loadThermalConditions(sourcePath(kConditions)));
+    app.runThermal();
+    runToEnd(app);
+    const ui::ThermalResult* result = app.thermalResult();
+    REQUIRE(result != nullptr);
+    REQUIRE(result->solution.isothermalT.size() == 1);
+    CHECK(result->solution.isothermalT[0] == doctest::Approx(numberAfter(cli.output, "isothermal 'radiator': T = ")).epsilon(1e-5));
+    CHECK(logged(app, "IR band 1: its specular reflectances differ from the scene's"));
+    CHECK(logged(app, "IR band 2: its specular reflectances differ from the scene's"));
+    CHECK(result->solution.balance < 1e-9);
+}
+
 TEST_CASE("hemirad-gui's thermal run gives the radiator's T of hemirad thermal, the balance, T and q in false colour") {
     const CliRun cli = cliThermal("gui-thermal-cli");
     AppState app;

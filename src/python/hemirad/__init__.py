@@ -298,8 +298,8 @@ def _patch_values(name, values, n, default=None):
 
 
 def thermal(scene, F, emissivity, specular=None, temperature=None, flux=None, environment=None, *,
-            absorbed=None, band_limits_um=None, band_emissivity=None, emissivity_curves=None, solver="auto",
-            tolerance=1e-10):
+            absorbed=None, band_limits_um=None, band_emissivity=None, band_specular=None, band_F=None,
+            emissivity_curves=None, solver="auto", tolerance=1e-10):
     """Gray radiative exchange on F (docs/thermal.md): the net-radiation method with mirrors.
 
     emissivity, specular: per patch (or one value for all); specular None takes the scene's (F was
@@ -309,6 +309,9 @@ def thermal(scene, F, emissivity, specular=None, temperature=None, flux=None, en
     when it states none). absorbed: heat absorbed per patch from outside the IR (W/m^2, e.g. the sun).
     band_limits_um (K increasing wavelengths) with band_emissivity of shape (K + 1, N): non-gray IR, each
     band's emission by the blackbody fractions (emissivity then only starts the iteration).
+    band_specular, shape (K + 1, N): each band's specular reflectances; band_F: a list of K + 1 sparse
+    matrices, each band's extended F for its reflectances (None where F serves: the band's
+    reflectances are the scene's).
     emissivity_curves: a list of (patches, temperatures_K, emissivities), patches an index array or a
     boolean mask: those patches' emissivity against their temperature, piecewise linear (constant
     beyond the ends); the solve iterates on the unknown temperatures (gray model only).
@@ -329,6 +332,8 @@ def thermal(scene, F, emissivity, specular=None, temperature=None, flux=None, en
     bands = _np.zeros((0, 0)) if band_emissivity is None else _np.ascontiguousarray(band_emissivity, dtype=_np.float64)
     if bool(limits) != (band_emissivity is not None):
         raise ValueError("band_limits_um and band_emissivity go together")
+    band_s = _np.zeros((0, 0)) if band_specular is None else _np.ascontiguousarray(band_specular, dtype=_np.float64)
+    band_matrices = [None if Fk is None else _canonical(Fk, n, "band_F[%d]" % k) for k, Fk in enumerate(band_F or [])]
     curves = []
     for patches, temperatures, values in (emissivity_curves or []):
         patches = _np.asarray(patches)
@@ -337,8 +342,8 @@ def thermal(scene, F, emissivity, specular=None, temperature=None, flux=None, en
                 raise ValueError("emissivity_curves: a mask needs one entry per patch (%d)" % n)
             patches = _np.flatnonzero(patches)
         curves.append(([int(p) for p in patches.ravel()], [float(t) for t in temperatures], [float(e) for e in values]))
-    return _hemirad._thermal(scene, indptr, indices, data, eps, s, T, q, env, gained, limits, bands, curves, solver,
-                             float(tolerance))
+    return _hemirad._thermal(scene, indptr, indices, data, eps, s, T, q, env, gained, limits, bands, band_s,
+                             band_matrices, curves, solver, float(tolerance))
 
 
 def conductors(scene, F, emissivity, specular=None, *, lump="patches", threshold=0.0, method="auto"):
