@@ -19,15 +19,25 @@ void ThermalJob::work() {
     checkCancel();
     thermal::ThermalModel model = m_inputs.model;
     const SolverOptions solver = thermal::thermalSolverOptions(m_settings.solver, m_scene.size());
+    // A band whose mirrors differ from the scene's (the IR ones) gets its own extended F, shared by
+    // bands with the same reflectances (as hemirad thermal).
+    std::vector<std::pair<std::vector<double>, std::shared_ptr<const FormFactors>>> own;
+    auto formFactorsFor = [&](const std::vector<double>& specular, const std::string& why) {
+        for (const auto& [s, ownF] : own)
+            if (s == specular) return ownF;
+        messages.push_back(why + ", so it has its own F");
+        Scene bandScene = m_scene;
+        for (PatchId i = 0; i < m_scene.size(); ++i) bandScene.patches[i].specular = specular[i];
+        own.emplace_back(specular, completeRows(bandScene, nullptr, false));
+        checkCancel();
+        return own.back().second;
+    };
     if (m_inputs.solar.active()) {
         std::shared_ptr<const FormFactors> solarF = F;
         if (m_inputs.solar.needsOwnFormFactors(m_scene)) {
-            // The solar band's mirrors differ from the IR ones: its own extended F (as hemirad thermal).
-            messages.push_back("solar band: its specular reflectances differ from the IR ones, so it has its own F");
-            Scene solarScene = m_scene;
-            for (PatchId i = 0; i < m_scene.size(); ++i) solarScene.patches[i].specular = m_inputs.solar.surface[i].specular;
-            solarF = completeRows(solarScene, nullptr, false);
-            checkCancel();
+            std::vector<double> specular(m_scene.size());
+            for (PatchId i = 0; i < m_scene.size(); ++i) specular[i] = m_inputs.solar.surface[i].specular;
+            solarF = formFactorsFor(specular, "solar band: its specular reflectances differ from the IR ones");
         }
         result.solar = timed("solar band", [&] { return thermal::solveSolar(m_scene, *solarF, m_inputs.solar, model.metresPerUnit, solver); });
         model.absorbedExternal = result.solar->absorbed;
@@ -36,22 +46,13 @@ void ThermalJob::work() {
                            " W leave; balance " + jobFigure(result.solar->balance, 3));
     }
     checkCancel();
-    // IR bands whose mirrors differ from the scene's: each its own F, shared by equal bands (as hemirad thermal).
-    std::vector<std::shared_ptr<const FormFactors>> ownBandF;
     std::vector<const FormFactors*> bandF;
-    for (std::size_t k = 0; k < model.bandSpecular.size(); ++k) {
-        bandF.push_back(nullptr);
-        if (!thermal::bandNeedsOwnFormFactors(m_scene, model, k)) continue;
-        for (std::size_t j = 0; j < k && !bandF[k]; ++j)
-            if (bandF[j] && model.bandSpecular[j] == model.bandSpecular[k]) bandF[k] = bandF[j];
-        if (bandF[k]) continue;
-        messages.push_back("IR band " + std::to_string(k + 1) + ": its specular reflectances differ from the scene's, so it has its own F");
-        Scene bandScene = m_scene;
-        for (PatchId i = 0; i < m_scene.size(); ++i) bandScene.patches[i].specular = model.bandSpecular[k][i];
-        ownBandF.push_back(completeRows(bandScene, nullptr, false));
-        bandF[k] = ownBandF.back().get();
-        checkCancel();
-    }
+    for (std::size_t k = 0; k < model.bandSpecular.size(); ++k)
+        bandF.push_back(thermal::bandNeedsOwnFormFactors(m_scene, model, k)
+                            ? formFactorsFor(model.bandSpecular[k], "IR band " + std::to_string(k + 1) +
+                                                                        ": its specular reflectances differ from the scene's")
+                                  .get()
+                            : nullptr);
     result.solution = timed("thermal solve", [&] { return thermal::solveThermal(m_scene, *F, model, solver, bandF); });
     const thermal::ThermalSolution& s = result.solution;
     const SolveReport& r = s.report;
