@@ -33,6 +33,14 @@ Scene cubeScene() {
     return s;
 }
 
+/// Checks that the properties `text` (named p.toml), with bands, are refused with `message`.
+void fails(const std::string& text, const std::string& message) {
+    Scene t = cubeScene();
+    std::vector<std::string> sources;
+    BandProperties bands;
+    CHECK_THROWS_WITH_AS(applyPropertiesText(text, "p.toml", t, sources, nullptr, &bands), doctest::Contains(message.c_str()), hemirad::Error);
+}
+
 }  // namespace
 
 TEST_CASE("Properties: object over material over the default table over the MTL, and a specular value becomes the scene's") {
@@ -187,10 +195,6 @@ TEST_CASE("Bands in the properties file: limits, a list per entry or one value i
     // At 300 K almost all emission lies above 4 um: the gray value is close to the second band's.
     CHECK(surface[2].emissivity > 0.29);
     CHECK(surface[2].emissivity < 0.3);
-    auto fails = [&](const std::string& text, const std::string& message) {
-        Scene t = cubeScene();
-        CHECK_THROWS_WITH_AS(applyPropertiesText(text, "p.toml", t, sources, nullptr, &bands), doctest::Contains(message.c_str()), hemirad::Error);
-    };
     fails("[default]\nemissivity = [0.1, 0.2]\n", "p.toml:1: [default]: emissivity has 2 values but no [bands] table gives their limits");
     fails("[bands]\nlimits_um = [4.0, 8.0]\n[default]\nemissivity = [0.1, 0.2]\n", "p.toml:3: [default]: emissivity has 2 values for 3 bands");
     fails("[bands]\nlimits_um = [8.0, 4.0]\n", "p.toml:2: [bands]: limits_um must be positive and increasing");
@@ -233,10 +237,6 @@ TEST_CASE("Specular reflectance per band: a list per entry, the scene's the band
     CHECK(sm.bandEmissivity[0][0] == doctest::Approx(1.0 - paintKd - 0.4));
     CHECK(sm.bandEmissivity[1][0] == doctest::Approx(1.0 - paintKd - 0.1));
     CHECK(sm.bandEmissivity[0][2] == doctest::Approx(1.0 - 0.2 - 0.3));
-    auto fails = [&](const std::string& text, const std::string& message) {
-        Scene t = cubeScene();
-        CHECK_THROWS_WITH_AS(applyPropertiesText(text, "p.toml", t, sources, nullptr, &bands), doctest::Contains(message.c_str()), hemirad::Error);
-    };
     fails("[default]\nspecular = [0.1, 0.2]\n", "p.toml:1: [default]: specular has 2 values but no [bands] table gives their limits");
     fails("[bands]\nlimits_um = [4.0]\n[default]\nspecular = [0.1, 0.2, 0.3]\n", "p.toml:3: [default]: specular has 3 values for 2 bands");
     fails("[bands]\nlimits_um = [4.0]\n[materials.metal]\nspecular = [0.1, -0.2]\n", "p.toml:4: specular -0.2 in [materials.metal] is outside [0, 1]");
