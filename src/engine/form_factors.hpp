@@ -120,6 +120,10 @@ TransposedFormFactors transpose(const FormFactors& F);
 /// pass over F for all of them, rows in parallel (OpenMP), the inner loop in wide vectors where the
 /// processor has them (engine/wide_kernels.hpp). Y is resized to N x width.
 void multiplyInterleaved(const FormFactors& F, std::size_t width, const double* X, std::vector<double>& Y);
+/// Y = F X for columns in tiles, one after the other: tile t holds widths[t] (at most
+/// interleaved::kChunk) columns interleaved per patch, from X + N (widths[0] + ... + widths[t-1]);
+/// Y is laid out the same. One pass over F for every tile.
+void multiplyTiled(const FormFactors& F, const std::vector<int>& widths, const double* X, double* Y);
 
 /// Visits, for row i, every column j of row i or of column i (ascending, each once) with F_ij and
 /// F_ji (0 where absent): the O(nnz) walk behind reciprocity statistics and the symmetric form.

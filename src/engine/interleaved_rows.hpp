@@ -43,15 +43,23 @@ HEMIRAD_INLINE_KERNEL void chunkSums(const float* val, const std::uint32_t* col,
     for (int c = 0; c < w; ++c) out[c] = sum[c];
 }
 
-/// Row i's sums for `width` columns (at most kChunk) from X's first: out[0, width). `skip` as
-/// chunkSums takes it.
+namespace detail {
+template <int W>
+HEMIRAD_INLINE_KERNEL void rowSumsOf(const float* val, const std::uint32_t* col, std::uint64_t begin, std::uint64_t skip,
+                                     std::uint64_t end, const double* X, std::size_t stride, int width, double* out) {
+    if constexpr (W < kChunk) {
+        if (width != W) return rowSumsOf<W + 1>(val, col, begin, skip, end, X, stride, width, out);
+    }
+    chunkSums<W>(val, col, begin, skip, end, X, stride, W, out);
+}
+}  // namespace detail
+
+/// Row i's sums for `width` columns (1 to kChunk) from X's first: out[0, width). `skip` as
+/// chunkSums takes it. Every width has its own fixed-width loop: a narrow chunk (the last of a
+/// batch) in a loop over a run-time width took twice the time of a full one (street64k's ray F).
 HEMIRAD_INLINE_KERNEL void rowSums(const FormFactors& F, std::size_t i, std::uint64_t skip, const double* X,
                                    std::size_t stride, int width, double* out) {
-    const float* val = F.values();
-    const std::uint32_t* col = F.columns();
-    const std::uint64_t begin = F.rowBegin(i), end = F.rowEnd(i);
-    if (width == kChunk) chunkSums<kChunk>(val, col, begin, skip, end, X, stride, width, out);
-    else chunkSums<0>(val, col, begin, skip, end, X, stride, width, out);
+    detail::rowSumsOf<1>(F.values(), F.columns(), F.rowBegin(i), skip, F.rowEnd(i), X, stride, width, out);
 }
 
 /// The entry of row i's self factor F_ii, or the row's end when it has none.

@@ -17,30 +17,53 @@
 namespace hemirad::detail {
 namespace {
 
-/// Channels interleaved per patch: value (i, c) at [i * M + c], so one pass over F reads each
-/// entry once for all channels.
+/// Channels in tiles of at most interleaved::kChunk, each tile interleaved per patch: tile t's value
+/// (i, c) at [offset_t + i * width_t + c - first_t]. One pass over F reads each entry once for all
+/// channels, and a tile's gathers by F's columns (width_t values a patch, next to each other) stay
+/// within its own n x width_t values: on street64k's ray F, 157 hours in one stride-157 array took
+/// 12.7 ms a pass and hour, in tiles of 16 about 5 ms (the hours' values of a patch then sit in
+/// whole cache lines, and a tile fits in the cache a core shares). Up to three channels make one
+/// tile, as before.
 struct Block {
+    struct Tile {
+        int first = 0, width = 0;
+        std::size_t offset = 0;
+    };
     int m = 0;
+    std::size_t n = 0;
+    std::vector<Tile> tiles;
     std::vector<double> rho, E, B;
     std::vector<double> normE;
 
-    explicit Block(const std::vector<Channel*>& channels) : m(static_cast<int>(channels.size())) {
-        const auto n = static_cast<std::size_t>(channels[0]->rho.size());
+    /// `groups`: the tiles come in a multiple of it (the threads that split them), as even as can be.
+    Block(const std::vector<Channel*>& channels, int groups)
+        : m(static_cast<int>(channels.size())), n(static_cast<std::size_t>(channels[0]->rho.size())) {
+        int count = (m + interleaved::kChunk - 1) / interleaved::kChunk;
+        if (m > 3 && groups > 1) count = std::min(m, (count + groups - 1) / groups * groups);
+        for (int t = 0, first = 0; t < count; ++t) {
+            const int last = int(std::int64_t(m) * (t + 1) / count);
+            tiles.push_back({first, last - first, std::size_t(first) * n});
+            first = last;
+        }
         rho.resize(n * m);
         E.resize(n * m);
         B.resize(n * m);
-        for (int c = 0; c < m; ++c) {
-            for (std::size_t i = 0; i < n; ++i) {
-                rho[i * m + c] = channels[c]->rho[i];
-                E[i * m + c] = channels[c]->E[i];
-                B[i * m + c] = channels[c]->B[i];
-            }
-            normE.push_back(channels[c]->E.norm());
-        }
+        forEach([&](std::size_t i, int c, std::size_t at) {
+            rho[at] = channels[c]->rho[Eigen::Index(i)];
+            E[at] = channels[c]->E[Eigen::Index(i)];
+            B[at] = channels[c]->B[Eigen::Index(i)];
+        });
+        for (const Channel* ch : channels) normE.push_back(ch->E.norm());
+    }
+    /// f(i, c, at) for every value: patch i, channel c, its place.
+    template <class Visit>
+    void forEach(Visit&& f) const {
+        for (const Tile& t : tiles)
+            for (std::size_t i = 0, at = t.offset; i < n; ++i)
+                for (int c = t.first; c < t.first + t.width; ++c, ++at) f(i, c, at);
     }
     void store(std::vector<Channel*>& channels) const {
-        for (int c = 0; c < m; ++c)
-            for (Eigen::Index i = 0; i < channels[c]->B.size(); ++i) channels[c]->B[i] = B[i * m + c];
+        forEach([&](std::size_t i, int c, std::size_t at) { channels[c]->B[Eigen::Index(i)] = B[at]; });
     }
 };
 
@@ -51,16 +74,15 @@ int widthOf(const Block& b) {
     return M > 0 ? M : b.m;
 }
 
-/// Jacobi's rows [first, last) of many channels, the columns in chunks.
-HEMIRAD_WIDE_KERNEL void jacobiRows(const FormFactors& F, const Block& b, std::size_t first, std::size_t last, std::size_t m,
-                                    double* next) {
+/// Jacobi's rows [first, last) of many channels, tile by tile.
+HEMIRAD_WIDE_KERNEL void jacobiRows(const FormFactors& F, const Block& b, std::size_t first, std::size_t last, double* next) {
     double sum[interleaved::kChunk];
-    for (std::size_t a = 0; a < m; a += interleaved::kChunk) {
-        const int w = int(std::min<std::size_t>(interleaved::kChunk, m - a));
+    for (const Block::Tile& t : b.tiles) {
+        const std::size_t w = std::size_t(t.width);
         for (std::size_t i = first; i < last; ++i) {
-            interleaved::rowSums(F, i, F.rowEnd(i), b.B.data() + a, m, w, sum);
-            for (int c = 0; c < w; ++c) {
-                const std::size_t at = i * m + a + std::size_t(c);
+            interleaved::rowSums(F, i, F.rowEnd(i), b.B.data() + t.offset, w, t.width, sum);
+            for (std::size_t c = 0; c < w; ++c) {
+                const std::size_t at = t.offset + i * w + c;
                 next[at] = b.E[at] + b.rho[at] * sum[c];
             }
         }
@@ -69,12 +91,12 @@ HEMIRAD_WIDE_KERNEL void jacobiRows(const FormFactors& F, const Block& b, std::s
 
 template <int M>
 void jacobiSweep(const FormFactors& F, const Block& b, std::vector<double>& next) {
-    if constexpr (M == 0) {  // many channels: row blocks, the columns in chunks (interleaved_rows.hpp)
+    if constexpr (M == 0) {  // many channels: row blocks, the tiles in each (interleaved_rows.hpp)
         const auto blocks = std::ptrdiff_t((F.size() + interleaved::kBlockRows - 1) / interleaved::kBlockRows);
 #pragma omp parallel for schedule(dynamic, 1)
         for (std::ptrdiff_t block = 0; block < blocks; ++block)
             jacobiRows(F, b, std::size_t(block) * interleaved::kBlockRows,
-                       std::min(F.size(), std::size_t(block + 1) * interleaved::kBlockRows), std::size_t(b.m), next.data());
+                       std::min(F.size(), std::size_t(block + 1) * interleaved::kBlockRows), next.data());
         return;
     }
     const auto n = static_cast<std::ptrdiff_t>(F.size());
@@ -132,12 +154,14 @@ void gaussSeidelChannels(const FormFactors& F, Block& b, double omega, double* c
     for (int c = 0; c < M; ++c) change[c] += changes[c];
 }
 
-/// The same for channels [c0, c1) of any number: rows in blocks, each block's channels in chunks
-/// (interleaved_rows.hpp). Each channel still meets the rows in order with its own running sums,
-/// the very sweep it would get alone.
-HEMIRAD_WIDE_KERNEL void gaussSeidelMany(const FormFactors& F, Block& b, int c0, int c1, double omega, double* change) {
-    const std::size_t n = F.size(), m = std::size_t(b.m);
+/// The same for tiles [t0, t1) of any number of channels: rows in blocks, each block's tiles one
+/// after the other (interleaved_rows.hpp). Each channel still meets the rows in order with its own
+/// running sums, the very sweep it would get alone.
+HEMIRAD_WIDE_KERNEL void gaussSeidelMany(const FormFactors& F, Block& b, std::size_t t0, std::size_t t1, double omega,
+                                         double* change) {
+    const std::size_t n = F.size();
     const float* val = F.values();
+    const int c0 = b.tiles[t0].first, c1 = b.tiles[t1 - 1].first + b.tiles[t1 - 1].width;
     std::vector<double> changes(std::size_t(c1 - c0), 0.0);  // the thread's own
     std::uint64_t selfAt[interleaved::kBlockRows];
     double selfOf[interleaved::kBlockRows], sum[interleaved::kChunk];
@@ -147,35 +171,42 @@ HEMIRAD_WIDE_KERNEL void gaussSeidelMany(const FormFactors& F, Block& b, int c0,
             selfAt[i - r0] = interleaved::selfEntry(F, i);
             selfOf[i - r0] = selfAt[i - r0] < F.rowEnd(i) ? double(val[selfAt[i - r0]]) : 0.0;
         }
-        for (int a = c0; a < c1; a += interleaved::kChunk) {
-            const int w = std::min(interleaved::kChunk, c1 - a);
+        for (std::size_t k = t0; k < t1; ++k) {
+            const Block::Tile& t = b.tiles[k];
+            const std::size_t w = std::size_t(t.width);
+            double* tileChanges = changes.data() + (t.first - c0);
             for (std::size_t i = r0; i < r1; ++i) {
-                interleaved::rowSums(F, i, selfAt[i - r0], b.B.data() + a, m, w, sum);
+                interleaved::rowSums(F, i, selfAt[i - r0], b.B.data() + t.offset, w, t.width, sum);
                 const double self = selfOf[i - r0];
-                for (int c = 0; c < w; ++c) update(b, i * m + std::size_t(a + c), sum[c], self, omega, changes[std::size_t(a - c0 + c)]);
+                for (std::size_t c = 0; c < w; ++c) update(b, t.offset + i * w + c, sum[c], self, omega, tileChanges[c]);
             }
         }
     }
     for (int c = c0; c < c1; ++c) change[c] += changes[std::size_t(c - c0)];
 }
 
+/// Below this many channels, one thread sweeps them all (the threads would share a tile's cache
+/// lines row after row).
+constexpr int kSplitChannels = 32;
+
 /// One in-place sweep of every channel. Up to three channels sweep on one thread: measured here,
 /// two threads splitting the rows (Jacobi between the halves) needed 50% more sweeps and ran slower
 /// on a memory-bound 2-core machine. Many channels (a year's hours) split among the threads by
 /// channel instead: each thread sweeps every row for its own channels, the very sweep one thread
-/// would make, so the result does not depend on the thread count.
+/// would make, so the result does not depend on the thread count. (Here the channels go to the
+/// threads a tile at a time.)
 template <int M>
 void gaussSeidelSweep(const FormFactors& F, Block& b, double omega, double* change) {
     if constexpr (M > 0) {
         gaussSeidelChannels<M>(F, b, omega, change);
-    } else if (b.m < 32) {  // fewer: the threads' channels would share cache lines row after row
-        gaussSeidelMany(F, b, 0, b.m, omega, change);
+    } else if (b.m < kSplitChannels) {
+        gaussSeidelMany(F, b, 0, b.tiles.size(), omega, change);
     } else {
 #pragma omp parallel
         {
-            const std::int64_t threads = omp_get_num_threads(), t = omp_get_thread_num();
-            const int c0 = int(b.m * t / threads), c1 = int(b.m * (t + 1) / threads);
-            if (c1 > c0) gaussSeidelMany(F, b, c0, c1, omega, change);
+            const std::size_t threads = std::size_t(omp_get_num_threads()), t = std::size_t(omp_get_thread_num());
+            const std::size_t t0 = b.tiles.size() * t / threads, t1 = b.tiles.size() * (t + 1) / threads;
+            if (t1 > t0) gaussSeidelMany(F, b, t0, t1, omega, change);
         }
     }
 }
@@ -252,9 +283,16 @@ public:
     }
     bool check(double step, const FormFactors& F, std::vector<Channel*>& channels, const Block& b) {
         b.store(channels);
-        // Every channel's residual in one pass over F (the block is interleaved already).
-        std::vector<double> norms(std::size_t(b.m));
-        interleavedResidualNorms(F, b.m, b.rho.data(), b.E.data(), b.B.data(), norms.data());
+        // Every channel's residual in one pass over F.
+        std::vector<int> widths;
+        for (const Block::Tile& t : b.tiles) widths.push_back(t.width);
+        std::vector<double> FB(b.B.size()), norms(std::size_t(b.m), 0.0);
+        multiplyTiled(F, widths, b.B.data(), FB.data());
+        b.forEach([&](std::size_t, int c, std::size_t at) {
+            const double r = b.E[at] - b.B[at] + b.rho[at] * FB[at];
+            norms[std::size_t(c)] += r * r;
+        });
+        for (double& norm : norms) norm = std::sqrt(norm);
         double worst = 0.0;
         for (std::size_t c = 0; c < channels.size(); ++c) {
             Channel* ch = channels[c];
@@ -292,17 +330,15 @@ void iterate(const FormFactors& F, std::vector<Channel*>& channels, const Solver
 
 template <int M>
 void jacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options, const SweepHook& hook) {
-    Block b(channels);
+    Block b(channels, 1);  // Jacobi splits the rows among the threads
     const int m = widthOf<M>(b);
     std::vector<double> next(b.B.size());
     iterate(F, channels, options, hook, b, [&] {
         jacobiSweep<M>(F, b, next);
         double worst = 0.0;  // ||B' - B|| / ||E|| is exactly the residual of B
-        for (int c = 0; c < m; ++c) {
-            double step = 0.0;
-            for (std::size_t i = std::size_t(c); i < next.size(); i += std::size_t(m)) step += (next[i] - b.B[i]) * (next[i] - b.B[i]);
-            worst = std::max(worst, std::sqrt(step) / b.normE[std::size_t(c)]);
-        }
+        std::vector<double> steps(std::size_t(m), 0.0);
+        b.forEach([&](std::size_t, int c, std::size_t at) { steps[std::size_t(c)] += (next[at] - b.B[at]) * (next[at] - b.B[at]); });
+        for (int c = 0; c < m; ++c) worst = std::max(worst, std::sqrt(steps[std::size_t(c)]) / b.normE[std::size_t(c)]);
         b.B.swap(next);
         return worst;
     });
@@ -311,7 +347,7 @@ void jacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverO
 template <int M>
 void gaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options,
                  const SweepHook& hook, bool relax) {
-    Block b(channels);
+    Block b(channels, M == 0 && int(channels.size()) >= kSplitChannels ? omp_get_max_threads() : 1);
     const int m = widthOf<M>(b);
     std::vector<double> change(static_cast<std::size_t>(m));
     OverRelaxation relaxation;
