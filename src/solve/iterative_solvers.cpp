@@ -35,11 +35,14 @@ struct Block {
     std::vector<double> rho, E, B;
     std::vector<double> normE;
 
-    /// `groups`: the tiles come in a multiple of it (the threads that split them), as even as can be.
-    Block(const std::vector<Channel*>& channels, int groups)
+    /// `pairs`: the tiles come in an even number (for two threads to split), as even as can be. The
+    /// tiles follow the number of channels alone, never the thread count: a channel meets the same
+    /// code (the same fixed-width loops) on any number of threads, so its bits cannot depend on it
+    /// (they did under -O2 with sanitizers when the tiles followed the threads).
+    Block(const std::vector<Channel*>& channels, bool pairs)
         : m(static_cast<int>(channels.size())), n(static_cast<std::size_t>(channels[0]->rho.size())) {
         int count = (m + interleaved::kChunk - 1) / interleaved::kChunk;
-        if (m > 3 && groups > 1) count = std::min(m, (count + groups - 1) / groups * groups);
+        if (pairs && m > 3) count = std::min(m, (count + 1) / 2 * 2);
         for (int t = 0, first = 0; t < count; ++t) {
             const int last = int(std::int64_t(m) * (t + 1) / count);
             tiles.push_back({first, last - first, std::size_t(first) * n});
@@ -330,7 +333,7 @@ void iterate(const FormFactors& F, std::vector<Channel*>& channels, const Solver
 
 template <int M>
 void jacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options, const SweepHook& hook) {
-    Block b(channels, 1);  // Jacobi splits the rows among the threads
+    Block b(channels, false);  // Jacobi splits the rows among the threads
     const int m = widthOf<M>(b);
     std::vector<double> next(b.B.size());
     iterate(F, channels, options, hook, b, [&] {
@@ -347,7 +350,7 @@ void jacobi(const FormFactors& F, std::vector<Channel*>& channels, const SolverO
 template <int M>
 void gaussSeidel(const FormFactors& F, std::vector<Channel*>& channels, const SolverOptions& options,
                  const SweepHook& hook, bool relax) {
-    Block b(channels, M == 0 && int(channels.size()) >= kSplitChannels ? omp_get_max_threads() : 1);
+    Block b(channels, M == 0 && int(channels.size()) >= kSplitChannels);
     const int m = widthOf<M>(b);
     std::vector<double> change(static_cast<std::size_t>(m));
     OverRelaxation relaxation;
