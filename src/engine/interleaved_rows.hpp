@@ -23,24 +23,24 @@ namespace hemirad::interleaved {
 constexpr std::size_t kBlockRows = 128;
 constexpr int kChunk = 16;
 
-/// out[c] = sum of F_ik X[col(k) * stride + c] for c < width over the row's entries [begin, end)
-/// but `skip` (begin <= skip <= end; end: none), in the row's order. W > 0: width is W, known to
-/// the compiler, and the sums stay in registers; W = 0: any width up to kChunk.
+/// out[c] = sum of F_ik X[col(k) * stride + c] for c < W over the row's entries [begin, end) but
+/// `skip` (begin <= skip <= end; end: none), in the row's order. W is known to the compiler, and
+/// the sums stay in registers.
 template <int W>
 HEMIRAD_INLINE_KERNEL void chunkSums(const float* val, const std::uint32_t* col, std::uint64_t begin, std::uint64_t skip,
-                                     std::uint64_t end, const double* X, std::size_t stride, int width, double* out) {
-    const int w = W > 0 ? W : width;
-    double sum[W > 0 ? W : kChunk] = {};
+                                     std::uint64_t end, const double* X, std::size_t stride, double* out) {
+    static_assert(W > 0 && W <= kChunk);
+    double sum[W] = {};
     auto run = [&](std::uint64_t from, std::uint64_t to) {
         for (std::uint64_t k = from; k < to; ++k) {
             const double v = val[k];
             const double* x = X + std::size_t(col[k]) * stride;
-            for (int c = 0; c < w; ++c) sum[c] += v * x[c];
+            for (int c = 0; c < W; ++c) sum[c] += v * x[c];
         }
     };
     run(begin, skip);
     run(skip < end ? skip + 1 : end, end);
-    for (int c = 0; c < w; ++c) out[c] = sum[c];
+    for (int c = 0; c < W; ++c) out[c] = sum[c];
 }
 
 namespace detail {
@@ -50,7 +50,7 @@ HEMIRAD_INLINE_KERNEL void rowSumsOf(const float* val, const std::uint32_t* col,
     if constexpr (W < kChunk) {
         if (width != W) return rowSumsOf<W + 1>(val, col, begin, skip, end, X, stride, width, out);
     }
-    chunkSums<W>(val, col, begin, skip, end, X, stride, W, out);
+    chunkSums<W>(val, col, begin, skip, end, X, stride, out);
 }
 }  // namespace detail
 
