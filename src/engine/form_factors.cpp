@@ -376,9 +376,8 @@ void multiplyInterleaved(const FormFactors& F, std::size_t width, const double* 
     // row's gathers read a tile's few values per patch from whole cache lines (in place, a stride
     // of `width` spreads them over the whole N x width array: 2.3 times slower on street64k's ray
     // F at 157 columns). Each column's sums are the same either way.
-    const std::size_t count = (width + interleaved::kChunk - 1) / interleaved::kChunk;
-    std::vector<int> widths(count);
-    for (std::size_t t = 0; t < count; ++t) widths[t] = int(width * (t + 1) / count - width * t / count);
+    const std::vector<int> widths = interleaved::tileWidths(int(width), interleaved::kChunk, false);
+    const std::size_t count = widths.size();
     std::vector<double> tiles(n * width), products(n * width);
     auto each = [&](auto&& copy) {
         for (std::size_t t = 0, c0 = 0; t < count; c0 += std::size_t(widths[t]), ++t)
