@@ -8,6 +8,9 @@
 #include "environment/year.hpp"
 
 #include <chrono>
+#if __has_include(<malloc.h>)
+#include <malloc.h>
+#endif
 #include <iomanip>
 #include <limits>
 #include <optional>
@@ -15,7 +18,23 @@
 
 namespace hemirad {
 
+namespace {
+
+/// Keeps freed blocks of any size in the process's heap for the next batch: glibc maps blocks above
+/// 32 MB afresh each time (a batch's N x hours arrays are 50-80 MB on street64k) and returns them on
+/// free, so every batch paid for its pages again. Measured on street64k's June fortnight: 119 to
+/// 92 ms an hour (page faults and their zeroing were 15 % of the run).
+void keepLargeBlocks() {
+#if defined(__GLIBC__)
+    mallopt(M_MMAP_THRESHOLD, 1 << 30);
+    mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
+#endif
+}
+
+}  // namespace
+
 int runYear(const Options& options) {
+    keepLargeBlocks();
     Reporter reporter(options.quiet, reportsToStandardError(options));
     Warnings warnings;
     Timings timings;
