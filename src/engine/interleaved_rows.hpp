@@ -67,7 +67,7 @@ HEMIRAD_INLINE_KERNEL void rowSums(const FormFactors& F, std::size_t i, std::uin
 /// Eight floats in one vector (GCC's vector extension: one AVX register, two SSE ones in the
 /// baseline clone). Written out, because GCC vectorised the plain float loop along the row instead
 /// (3 times slower than double on street64k's ray F); this way a float pass takes about 0.45 of a
-/// double one at 32 columns a tile (2.0-2.6 against 4.5-5.5 ms a column, 2 threads).
+/// double one at 32 to 48 columns a tile (2.0-2.6 against 4.5-5.5 ms a column, 2 threads).
 typedef float Floats8 __attribute__((vector_size(32)));
 
 /// out[0, 8Q) = sum of F_ik X[col(k) * 8Q + c] over the row's entries [begin, end) but `skip`, in
@@ -92,7 +92,7 @@ HEMIRAD_INLINE_KERNEL void floatSums(const float* val, const std::uint32_t* col,
     __builtin_memcpy(out, sum, sizeof sum);
 }
 
-/// Row i's float sums for `lanes` columns (8, 16, 24 or 32) of X, as floatSums.
+/// Row i's float sums for `lanes` columns (8, 16, ..., 48) of X, as floatSums.
 HEMIRAD_INLINE_KERNEL void floatRowSums(const FormFactors& F, std::size_t i, std::uint64_t skip, const float* X, int lanes,
                                         float* out) {
     const float* val = F.values();
@@ -101,7 +101,9 @@ HEMIRAD_INLINE_KERNEL void floatRowSums(const FormFactors& F, std::size_t i, std
     case 8: return floatSums<1>(val, col, F.rowBegin(i), skip, F.rowEnd(i), X, out);
     case 16: return floatSums<2>(val, col, F.rowBegin(i), skip, F.rowEnd(i), X, out);
     case 24: return floatSums<3>(val, col, F.rowBegin(i), skip, F.rowEnd(i), X, out);
-    default: return floatSums<4>(val, col, F.rowBegin(i), skip, F.rowEnd(i), X, out);
+    case 32: return floatSums<4>(val, col, F.rowBegin(i), skip, F.rowEnd(i), X, out);
+    case 40: return floatSums<5>(val, col, F.rowBegin(i), skip, F.rowEnd(i), X, out);
+    default: return floatSums<6>(val, col, F.rowBegin(i), skip, F.rowEnd(i), X, out);
     }
 }
 

@@ -1,8 +1,8 @@
 // Gauss-Seidel and SOR over many channels (a year's hours, a sky's cells) by iterative refinement:
 // the residual r = E - (I - R F) B in double, the correction d of (I - R F) d = r by sweeps in
 // float, B += d, until every channel's residual meets the tolerance in double. A float sweep reads
-// F once for 32 channels a tile where a double one reads it for 16, and moves half the bytes: on
-// street64k's ray F it takes about 0.45 of a double sweep per channel. The corrections stop at
+// F once for up to 48 channels a tile where a double one reads it for 16, and moves half the bytes:
+// on street64k's ray F it takes about 0.45 of a double sweep per channel. The corrections stop at
 // float's precision (about 1e-6 of their residual), so a solve to 1e-10 takes two or three of
 // them; the answer meets the same residual as the double sweeps', checked the same way.
 #include "solve/refined_sweeps.hpp"
@@ -25,9 +25,28 @@ namespace {
 /// lower where the tolerance asks: float's rounding (about 1e-7 of a row's sum) leaves the steps
 /// no further to go.
 constexpr double kFloatFloor = 1e-6;
-constexpr int kLanes = 8, kMostLanes = 32;
+constexpr int kLanes = 8, kMostLanes = 48;
 
-/// The corrections in float tiles of up to 32 channels, padded to whole vectors of 8 lanes: tile
+/// The tiles' (width, lanes) for m channels: lanes in whole vectors of 8, in two halves of equal
+/// lanes (two threads split the tiles in halves), each half in as few tiles of at most 48 lanes as
+/// can be; the channels fill the tiles in order, so the padding (under 16 lanes) is at the end. A
+/// sweep costs about the same per lane from 24 to 48 lanes a tile (street64k's ray F, 2 threads:
+/// 4.1-4.4 ms a lane and thread), so what counts is the padding and the halves' balance: 157
+/// hours take 160 lanes, where tiles of even widths rounded up to 8 took 192.
+std::vector<std::pair<int, int>> tilePlan(int m) {
+    const int half = (m + 2 * kLanes - 1) / (2 * kLanes), most = kMostLanes / kLanes;  // in vectors
+    const int perHalf = (half + most - 1) / most;
+    std::vector<std::pair<int, int>> plan;
+    for (int h = 0, left = m; h < 2; ++h)
+        for (int t = 0; t < perHalf; ++t) {
+            const int lanes = kLanes * (half * (t + 1) / perHalf - half * t / perHalf), width = std::min(lanes, left);
+            if (width > 0) plan.push_back({width, lanes});
+            left -= width;
+        }
+    return plan;
+}
+
+/// The corrections in float tiles of up to 48 channels, padded to whole vectors of 8 lanes: tile
 /// t's value (i, c) at [offset_t + i * lanes_t + c - first_t]. A padded lane's residual and
 /// reflectance are 0, so its correction stays 0.
 struct Corrections {
@@ -43,8 +62,7 @@ struct Corrections {
     explicit Corrections(const Block& b) : n(b.n) {
         std::size_t offset = 0;
         int first = 0;
-        for (int width : interleaved::tileWidths(b.m, kMostLanes, true)) {
-            const int lanes = (width + kLanes - 1) / kLanes * kLanes;
+        for (const auto& [width, lanes] : tilePlan(b.m)) {
             tiles.push_back({first, width, lanes, offset});
             tileOf.insert(tileOf.end(), std::size_t(width), tiles.size() - 1);
             first += width;
