@@ -142,14 +142,16 @@ void gaussSeidelRefined(const FormFactors& F, std::vector<Channel*>& channels, c
     Corrections x(b);
     const std::size_t m = std::size_t(b.m);
     std::vector<double> r = b.E, normR = b.normE, change(m);
-    if (startsAtSource(b)) {
+    const bool fromSource = startsAtSource(b);
+    if (fromSource) {
         b.forEach([&](std::size_t i, int c, std::size_t at) { x.d[x.place(i, c)] = float(b.B[at]); });
         std::fill(b.B.begin(), b.B.end(), 0.0);
     } else {
         normR = residualNorms(F, b, &r);
     }
+    double worst = 0.0;  // the worst channel's relative residual (infinite when not a number)
     auto report = [&] {  // true when every channel meets the tolerance
-        double worst = 0.0;
+        worst = 0.0;
         for (std::size_t c = 0; c < m; ++c) {
             SolveReport& rep = channels[c]->report;
             rep.residual = b.normE[c] > 0 ? normR[c] / b.normE[c] : 0.0;
@@ -160,45 +162,54 @@ void gaussSeidelRefined(const FormFactors& F, std::vector<Channel*>& channels, c
     };
     OverRelaxation relaxation;
     double omega = 1.0;
-    int sweeps = 0, corrections = 0;
+    int sweeps = 0, corrections = 0, stalled = 0;
     bool finite = true;
-    while (!report() && finite && sweeps < options.maxIterations) {
+    // Each correction must lower the worst residual; three in a row that do not (steps that grow
+    // while SOR falls back, then nothing) end the solve, unconverged, as do steps that are not finite.
+    while (!report() && finite && stalled < 3 && sweeps < options.maxIterations) {
         ++corrections;
+        const double before = worst;
         // Each channel's steps, as a share of its residual, down to what the tolerance needs of
         // this correction (or float's floor).
         std::vector<double> target(m, std::numeric_limits<double>::infinity());
         b.forEach([&](std::size_t i, int c, std::size_t at) { x.r[x.place(i, c)] = float(r[at]); });
         for (std::size_t c = 0; c < m; ++c)
             if (normR[c] > 0.0) target[c] = std::max(kFloatFloor, 0.5 * options.tolerance * b.normE[c] / normR[c]);
-        double previous = std::numeric_limits<double>::infinity();
-        for (int inner = 1; sweeps < options.maxIterations; ++inner) {
+        double best = std::numeric_limits<double>::infinity();
+        for (int stale = 0; sweeps < options.maxIterations;) {
             correctionSweeps(F, x, omega, change);
             ++sweeps;
             double step = 0.0, share = 0.0, ratio = 0.0;  // worst: ||d' - d|| / ||E||, / ||r||, / target
             for (std::size_t c = 0; c < m; ++c) {
                 const double s = std::sqrt(change[c]);
+                finite = finite && std::isfinite(s);
                 if (b.normE[c] > 0.0) step = std::max(step, s / b.normE[c]);
                 if (normR[c] > 0.0) {
                     share = std::max(share, s / normR[c]);
                     ratio = std::max(ratio, s / normR[c] / target[c]);
                 }
             }
-            if (!std::isfinite(step)) {
-                finite = false;
-                break;
-            }
+            if (!finite) break;
             if (relax) omega = relaxation.next(step);
             if (ratio <= 1.0) break;
-            // At float's floor the steps stop shrinking: the next correction goes on from there.
-            if (inner >= 3 && share < 1e-4 && share > 0.7 * previous) break;
-            previous = share;
+            // Float's floor (or steps that grow): three sweeps without a step 5 % below the
+            // smallest so far. The next correction goes on from there. A slow convergence still
+            // shrinks its steps by more than 5 % a sweep.
+            if (share < 0.95 * best) {
+                best = share;
+                stale = 0;
+            } else if (++stale == 3) {
+                break;
+            }
         }
         b.forEach([&](std::size_t i, int c, std::size_t at) { b.B[at] += double(x.d[x.place(i, c)]); });
         std::fill(x.d.begin(), x.d.end(), 0.0f);
         normR = residualNorms(F, b, &r);
+        report();
+        stalled = worst < before ? 0 : stalled + 1;
         relaxation.restart();
     }
-    b.store(channels);
+    if (corrections > 0 || !fromSource) b.store(channels);  // else B is still the start (no sweep allowed)
     const std::string note = (relax ? relaxation.describe() + "; " : std::string()) + "iterative refinement: " +
                              std::to_string(corrections) + " corrections swept in float, residuals in double";
     for (Channel* ch : channels) {
