@@ -27,10 +27,10 @@ constexpr double kReadFromSolve = 0.05;
 
 /// What each patch receives from the others, H = F J, for each solved band (an hour), interleaved:
 /// H[i * bands + b]. A patch that reflects has it in its own row of J = S + R F J: H_i = (J_i -
-/// S_i) / rho_i, exact to the solve's residual over rho_i (at rho >= 0.05, at most 20 times the
-/// tolerance of ||S||), and free: on street64k it took a pass over F, 6.7 ms of an hour's 106. The
-/// others (mirrors, black patches) sum their rows of F; where they are more than a tenth of the
-/// patches, one pass over F serves all.
+/// S_i) / rho_i, exact to the solve's residual r_i over rho_i (at rho >= 0.05, at most 20 |r_i|,
+/// where |r_i| <= ||r|| <= the tolerance x ||S||), and free: on street64k it took a pass over F,
+/// 6.7 ms of an hour's 106. The others (mirrors, black patches) sum their rows of F; where they are
+/// more than a tenth of the patches, one pass over F serves all.
 std::vector<double> received(const FormFactors& F, const std::vector<double>& rho, const std::vector<Band>& bands,
                              const BandSolution& solved) {
     const std::size_t n = F.size(), width = bands.size();

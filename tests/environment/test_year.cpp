@@ -257,6 +257,48 @@ TEST_CASE("A year with a mirror: each hour with the sun it reflects equals the h
     CHECK(annual == relative(landed, 1e-12));
 }
 
+TEST_CASE("A year with a pure mirror and a dark roof: what they receive summed over their rows of F, one by one or in one pass, equals the hours alone") {
+    // Patches that reflect read what they receive from their row of the solved system; a pure
+    // mirror (rho 0) and a roof at rho 0.01 sum their rows of F instead: in one pass over F where
+    // they are more than a tenth of the patches (7 patches), row by row where they are fewer (23).
+    for (const int extra : {0, 16}) {
+        CAPTURE(extra);
+        Scene s = smallDistrict();
+        if (extra > 0) {
+            SceneBuilder b;
+            b.scene = s;
+            const std::uint32_t paving = b.material("paving", Rgb::Constant(0.25));
+            for (int k = 0; k < extra; ++k)  // small tiles east of the ground
+                b.rectangle(2, 0.0, 5.0 + 0.5 * (k % 4), 5.5 + 0.5 * (k % 4), -5.0 + 0.5 * (k / 4), -4.5 + 0.5 * (k / 4), true, paving);
+            s = b.scene;
+        }
+        s.patches[6].specular = 0.6;  // the tall wall: a pure mirror
+        s.patches[6].rho = Rgb::Zero();
+        s.patches[1].rho = Rgb::Constant(0.01);  // the box's roof, nearly black
+        const MethodSettings method = MethodSettings::of(HemisphereOptions{});
+        const FormFactors F = computeFormFactors(s, method, neededRows(s, true)).F;
+        const std::vector<double> sky = skyViewFactors(s, method).direct;
+        const Weather w = readEpw(excerpt());
+        YearOptions options;
+        options.batch = 9;
+        SolverOptions lu;
+        lu.solver = "lu";
+        const YearResult year = solveYear(s, F, sky, w, options, lu);
+        CHECK(year.worstBalance <= 1e-9);
+        double worst = 0.0, mirrorReceived = 0.0;
+        for (std::size_t k = 0; k < year.hours.size(); ++k) {
+            const IrradianceResult alone = hourAlone(s, F, sky, w, w.hours[year.hours[k]], options, lu).result;
+            for (PatchId i = 0; i < s.size(); ++i)
+                worst = std::max(worst, std::abs(year.total[k * s.size() + i] - alone.total[i]) / std::max(1.0, alone.total[i]));
+            mirrorReceived += alone.reflected[6];
+        }
+        MESSAGE(s.size() << " patches: largest difference from the hours alone " << worst);
+        CHECK(worst <= 1e-9);
+        CHECK(mirrorReceived > 0.0);  // the mirror's own row carries light from the others
+        CHECK(year.reflected[6] == relative(mirrorReceived, 1e-12));
+    }
+}
+
 TEST_CASE("A year under Perez's sky with a mirror: each hour equals the hour alone, the sky through the mirror lands, all balance") {
     const MirroredDistrict district;
     const Scene& s = district.s;
