@@ -92,12 +92,13 @@ HEMIRAD_INLINE_KERNEL void floatSums(const float* val, const std::uint32_t* col,
     __builtin_memcpy(out, sum, sizeof sum);
 }
 
-/// Row i's float sums for `lanes` columns (16, 24, ..., 48: refinement's tiles) of X, as floatSums.
+/// Row i's float sums for `lanes` columns (8, 16, ..., 48) of X, as floatSums.
 HEMIRAD_INLINE_KERNEL void floatRowSums(const FormFactors& F, std::size_t i, std::uint64_t skip, const float* X, int lanes,
                                         float* out) {
     const float* val = F.values();
     const std::uint32_t* col = F.columns();
     switch (lanes) {
+    case 8: return floatSums<1>(val, col, F.rowBegin(i), skip, F.rowEnd(i), X, out);
     case 16: return floatSums<2>(val, col, F.rowBegin(i), skip, F.rowEnd(i), X, out);
     case 24: return floatSums<3>(val, col, F.rowBegin(i), skip, F.rowEnd(i), X, out);
     case 32: return floatSums<4>(val, col, F.rowBegin(i), skip, F.rowEnd(i), X, out);
