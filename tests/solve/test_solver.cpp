@@ -46,6 +46,14 @@ std::vector<std::string> allSolvers() {
 }
 const std::vector<std::string> kAll = allSolvers();
 
+/// The bands solved by LU to 1e-14: the reference for the iterative solvers' answers.
+BandSolution solvedByLu(const Scene& s, const FormFactors& F, const std::vector<Band>& bands) {
+    SolverOptions lu;
+    lu.solver = "lu";
+    lu.tolerance = 1e-14;
+    return solveBands(s, F, bands, lu);
+}
+
 Radiosity solveWith(const Scene& s, const FormFactors& F, const std::string& kind, double tolerance = 1e-10) {
     SolverOptions o;
     o.solver = kind;
@@ -325,10 +333,7 @@ TEST_CASE("Many bands by iterative refinement: float corrections, residuals in d
             bands[b].source.push_back(i == b % 6 ? 100.0 + double(b) : 0.3 * double(i) + 1e-3 * double(b));
         }
     }
-    SolverOptions lu;
-    lu.solver = "lu";
-    lu.tolerance = 1e-14;
-    const BandSolution reference = solveBands(s, F, bands, lu);
+    const BandSolution reference = solvedByLu(s, F, bands);
     for (const std::string kind : {"gauss-seidel", "sor"}) {
         CAPTURE(kind);
         SolverOptions o;
@@ -397,10 +402,7 @@ TEST_CASE("Iterative refinement on 300 patches: 33, 90 and 157 bands (every tile
                 bands[b].source.push_back((i + b) % 13 == 0 ? 50.0 + double(b) : 0.01 * double(i % 5));
             }
         }
-        SolverOptions lu;
-        lu.solver = "lu";
-        lu.tolerance = 1e-14;
-        const BandSolution reference = solveBands(s, F, bands, lu);
+        const BandSolution reference = solvedByLu(s, F, bands);
         for (const std::string kind : {"gauss-seidel", "sor"}) {
             CAPTURE(kind);
             SolverOptions o;
@@ -444,10 +446,7 @@ TEST_CASE("Iterative refinement where over-relaxation makes the steps grow: 40 b
             bands[b].source.push_back(i == b % 6 ? 1.0 + double(b) : 0.0);
         }
     }
-    SolverOptions lu;
-    lu.solver = "lu";
-    lu.tolerance = 1e-14;
-    const BandSolution reference = solveBands(s, ring, bands, lu);
+    const BandSolution reference = solvedByLu(s, ring, bands);
     SolverOptions o;
     o.solver = "sor";
     o.tolerance = 1e-11;
