@@ -71,9 +71,27 @@ ThermalInputs readThermalModel(Scene& scene, const Options& options, const Repor
     return inputs;
 }
 
-void solveThermalAndWrite(const Options& options, const Scene& scene, const ThermalInputs& inputs, const FormFactors& F,
-                          Timings& timings, const Reporter& reporter, Warnings& warnings) {
-    thermal::ThermalModel model = inputs.model;
+std::string thermalNeedsWholeF(const Options& options, const Scene& scene, const ThermalInputs& inputs) {
+    std::string why;
+    auto add = [&](const char* reason) { why += (why.empty() ? "" : ", ") + std::string(reason); };
+    if (!inputs.model.bandEmissivity.empty()) add("a band model");
+    if (thermal::hasEmissivityCurves(inputs.model)) add("emissivities against temperature");
+    if (inputs.solar.active() && inputs.solar.needsOwnFormFactors(scene)) add("a solar band with mirrors of its own");
+    if (!options.conductorsPath.empty()) add("--conductors");
+    if (!options.exchangePath.empty()) add("--exchange");
+    return why;
+}
+
+ThermalResults solveThermalModel(const Options& options, const Scene& scene, const ThermalInputs& inputs,
+                                 const thermal::ExchangeRows& rows, const FormFactors* whole, Timings& timings,
+                                 const Reporter& reporter, Warnings& warnings) {
+    auto wholeF = [&](const char* why) -> const FormFactors& {
+        if (!whole) throw Error(std::string("thermal: ") + why + " needs F whole in one process");
+        return *whole;
+    };
+    ThermalResults results;
+    thermal::ThermalModel& model = results.model;
+    model = inputs.model;
     // A band whose mirrors differ from the scene's (the IR ones) gets its own extended F, in this
     // process; bands with the same reflectances share it.
     std::vector<std::pair<std::vector<double>, std::unique_ptr<FormFactors>>> own;
@@ -90,14 +108,17 @@ void solveThermalAndWrite(const Options& options, const Scene& scene, const Ther
         return *own.back().second;
     };
     if (inputs.solar.active()) {
-        const FormFactors* solarF = &F;
+        const FormFactors* solarF = nullptr;  // its own, else `rows`
         if (inputs.solar.needsOwnFormFactors(scene)) {
+            wholeF("a solar band with specular reflectances of its own");
             std::vector<double> specular(scene.size());
             for (PatchId i = 0; i < scene.size(); ++i) specular[i] = inputs.solar.surface[i].specular;
             solarF = &formFactorsFor(specular, "solar band: its specular reflectances differ from the IR ones");
         }
         timings.start("solar band");
-        const thermal::SolarSolution solar = thermal::solveSolar(scene, *solarF, inputs.solar, model.metresPerUnit, options.solver);
+        const thermal::SolarSolution solar =
+            solarF ? thermal::solveSolar(scene, *solarF, inputs.solar, model.metresPerUnit, options.solver)
+                   : thermal::solveSolar(scene, rows, inputs.solar, model.metresPerUnit, options.solver);
         timings.stop();
         model.absorbedExternal = solar.absorbed;
         reporter.line("solar band: " + figure(solar.incidentPower) + " W arrive, " + figure(solar.absorbedPower) +
@@ -112,8 +133,11 @@ void solveThermalAndWrite(const Options& options, const Scene& scene, const Ther
                                                                       "bands' weighted at the reference temperature)");
     }
     timings.start("thermal solve");
-    const thermal::ThermalSolution solution = thermal::solveThermal(scene, F, model, options.solver, bandF);
+    const bool gray = model.bandEmissivity.empty() && !thermal::hasEmissivityCurves(model);
+    results.solution = gray ? thermal::solveGrayThermal(scene, rows, model, options.solver)
+                            : thermal::solveThermal(scene, wholeF("a band model"), model, options.solver, bandF);
     timings.stop();
+    const thermal::ThermalSolution& solution = results.solution;
     // Emissivities against temperature: the outputs, the exchange and the conductors at the solution's.
     thermal::setEmissivitiesAt(model, solution.T);
     const SolveReport& r = solution.report;
@@ -129,10 +153,8 @@ void solveThermalAndWrite(const Options& options, const Scene& scene, const Ther
         reporter.line("note: F's reciprocity defect moves " + figure(solution.reciprocityImbalance, 3) +
                       " of max |Q| between the environment's emission and absorption views");
 
-    thermal::Conductors conductors;
-    std::vector<std::vector<double>> exchange;
-    std::vector<std::string> objectNodes;
     if (!options.conductorsPath.empty()) {
+        const FormFactors& F = wholeF("--conductors");
         timings.start("Gebhart factors");
         thermal::GebhartOptions g;
         g.lumping = options.lumping == "patches" ? thermal::Lumping::Patches : thermal::Lumping::Objects;
@@ -140,8 +162,9 @@ void solveThermalAndWrite(const Options& options, const Scene& scene, const Ther
         g.method = options.gebhartMethod == "dense"     ? thermal::GebhartMethod::Dense
                    : options.gebhartMethod == "columns" ? thermal::GebhartMethod::Columns
                                                         : thermal::GebhartMethod::Auto;
-        conductors = thermal::computeConductors(scene, F, model, g, options.solver);
+        results.conductors = thermal::computeConductors(scene, F, model, g, options.solver);
         timings.stop();
+        const thermal::Conductors& conductors = results.conductors;
         reporter.line("conductors: " + std::to_string(conductors.couplings.size()) + " couplings between " +
                       std::to_string(conductors.nodes.size()) + " " + options.lumping + " and the environment" +
                       (conductors.dropped ? "; " + std::to_string(conductors.dropped) + " below --gr-threshold dropped (GR sum " +
@@ -156,27 +179,39 @@ void solveThermalAndWrite(const Options& options, const Scene& scene, const Ther
                            : "a column solve per node (" + conductors.report.solver + ")"));
     }
     if (!options.exchangePath.empty()) {
+        const FormFactors& F = wholeF("--exchange");
         timings.start("exchange matrix");
         std::vector<std::vector<PatchId>> members;
-        thermal::makeNodes(scene, thermal::Lumping::Objects, objectNodes, members);
-        exchange = thermal::exchangeMatrix(scene, F, model, solution, members, options.solver);
+        thermal::makeNodes(scene, thermal::Lumping::Objects, results.objectNodes, members);
+        results.exchange = thermal::exchangeMatrix(scene, F, model, solution, members, options.solver);
         timings.stop();
     }
+    return results;
+}
 
+void writeThermalResults(const Options& options, const Scene& scene, const ThermalResults& results, Timings& timings,
+                         const Reporter& reporter) {
     timings.start("write thermal results");
-    if (!options.output.empty()) thermal::writePatchTable(options.output, scene, model, solution);
-    if (!options.objectsPath.empty()) thermal::writeObjectThermalTable(options.objectsPath, scene, solution);
+    if (!options.output.empty()) thermal::writePatchTable(options.output, scene, results.model, results.solution);
+    if (!options.objectsPath.empty()) thermal::writeObjectThermalTable(options.objectsPath, scene, results.solution);
     if (!options.conductorsPath.empty())
         thermal::writeConductors(options.conductorsPath,
                                  options.conductorFormat.empty() ? thermal::conductorFormatFor(options.conductorsPath)
                                                                  : options.conductorFormat,
-                                 conductors);
-    if (!options.exchangePath.empty()) thermal::writeExchangeMatrix(options.exchangePath, objectNodes, exchange);
+                                 results.conductors);
+    if (!options.exchangePath.empty()) thermal::writeExchangeMatrix(options.exchangePath, results.objectNodes, results.exchange);
     timings.stop();
     if (!options.output.empty()) reporter.line("wrote " + outputName(options.output) + " (per patch: T, J, H, q, Q)");
     if (!options.objectsPath.empty()) reporter.line("wrote " + outputName(options.objectsPath) + " (per object: T, q, Q)");
     if (!options.conductorsPath.empty()) reporter.line("wrote " + outputName(options.conductorsPath) + " (radiative conductors GR, m^2)");
     if (!options.exchangePath.empty()) reporter.line("wrote " + outputName(options.exchangePath) + " (net power between objects, W)");
+}
+
+void solveThermalAndWrite(const Options& options, const Scene& scene, const ThermalInputs& inputs, const FormFactors& F,
+                          Timings& timings, const Reporter& reporter, Warnings& warnings) {
+    const ThermalResults results =
+        solveThermalModel(options, scene, inputs, thermal::LocalRows(F), &F, timings, reporter, warnings);
+    writeThermalResults(options, scene, results, timings, reporter);
 }
 
 int runThermal(const Options& options) {

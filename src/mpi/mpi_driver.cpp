@@ -15,6 +15,7 @@
 #include "mpi/distributed_form_factors.hpp"
 #include "mpi/distributed_reciprocity.hpp"
 #include "mpi/distributed_shards.hpp"
+#include "mpi/distributed_thermal.hpp"
 #include "mpi/petsc_solve.hpp"
 
 #include <mpi.h>
@@ -320,8 +321,11 @@ void runSolveOrRender(Job& job, bool render) {
 }
 
 /// `thermal` across ranks: every rank reads the model (a specular reflectance in --properties changes
-/// the scene F is computed for), F's rows are computed (or read, --ff) across the ranks as for solve,
-/// then gathered on rank 0, which solves the exchange and writes: the numbers of one process.
+/// the scene F is computed for), F's rows are computed (or read, --ff) across the ranks as for solve.
+/// The gray model (with a solar band on the same F) is then solved where the rows are (PETSc, every
+/// rank ending with the whole solution) and rank 0 writes; a step that needs F whole
+/// (thermalNeedsWholeF) or a solver that does not run distributed has the rows gathered on rank 0,
+/// which solves and writes as one process does.
 void runThermal(Job& job) {
     const Options& options = job.options;  // thermalFormFactorOptions: every row
     const RadiosityPipeline pipeline = makePipeline(options, job.timings, job.reporter);
@@ -330,6 +334,27 @@ void runThermal(Job& job) {
     job.context.collectively([&] { inputs = readThermalModel(job.scene, options, job.reporter, job.warnings); });
     const bool root = job.context.root();
     formFactorsWithStore(job, pipeline);
+    const std::vector<std::string>& distributed = distributedSolverNames();
+    const std::string whole = thermalNeedsWholeF(options, job.scene, inputs);
+    const bool solverRuns = options.solver.solver == "auto" ||
+                            std::find(distributed.begin(), distributed.end(), options.solver.solver) != distributed.end();
+    if (whole.empty() && solverRuns) {
+        ThermalResults results;
+        job.context.collectively([&] {
+            job.reporter.line("thermal: solved on F's rows where the " + std::to_string(job.context.size()) +
+                              " ranks hold them (PETSc)");
+            results = solveThermalModel(options, job.scene, inputs, DistributedRows(job.context, job.F), nullptr,
+                                        job.timings, job.reporter, job.warnings);
+        });
+        job.context.collectively([&] {
+            if (root) writeThermalResults(options, job.scene, results, job.timings, job.reporter);
+        });
+        finish(job);
+        return;
+    }
+    job.reporter.line(std::string("thermal: F gathered on rank 0 (") +
+                      (!whole.empty() ? whole + ": F whole in one process" : "--solver " + options.solver.solver + " runs in one process") +
+                      ")");
     const FormFactors all = gatherFormFactors(job.context, job.F);
     job.context.collectively([&] {
         // (A solar band with mirrors of its own has its F computed by rank 0 alone.)

@@ -53,50 +53,24 @@ void checkDistributedSolver(const std::string& name) {
                      "cg or jacobi (PETSc)");
 }
 
-Radiosity solveDistributed(const Context& context, const Scene& scene, const DistributedFormFactors& F,
-                           const SolverOptions& options) {
-    const std::size_t n = scene.size();
+namespace {
+
+/// "auto" as bicgstab; the solver and the tolerance checked.
+std::string checkedSolverName(const SolverOptions& options) {
     const std::string name = options.solver == "auto" ? "bicgstab" : options.solver;
     checkDistributedSolver(name);
     if (!(options.tolerance > 0.0) || options.tolerance >= 1.0)
         throw Error("solve: tolerance must be in (0, 1), got " + std::to_string(options.tolerance));
-    for (std::size_t i = 0; i < n; ++i)
-        if ((scene.patches[i].rho > 0.0).any() && F.owner[i] < 0)
-            throw Error("solve: row " + std::to_string(i) + " of F was not computed (the patch was black then) "
-                        "but its reflectance is now > 0; recompute F or its missing rows");
-    const Layout layout = layoutOf(context, F.owner);
+    return name;
+}
+
+/// Solves (I - R F) B = E for each channel (rho and E on this rank's rows, in the layout's order):
+/// each channel's B in patch order on rank 0, or on every rank with `everywhere`. Collective.
+void solveChannels(const Context& context, const Scene& scene, const DistributedFormFactors& F, const Layout& layout,
+                   std::vector<Channel>& channels, const std::string& name, const SolverOptions& options,
+                   bool everywhere) {
+    const std::size_t n = scene.size();
     const PetscInt m = layout.end - layout.begin;
-
-    // Distinct channels (identical rho and E over all patches are solved once), as in one process.
-    static const char* kNames[3] = {"r", "g", "b"};
-    std::vector<Channel> channels;
-    std::array<int, 3> channelOf{};
-    for (int c = 0; c < 3; ++c) {
-        int same = -1;
-        // Channel d was made from the colour its name starts with.
-        for (std::size_t d = 0; d < channels.size() && same < 0; ++d) {
-            const int first = channels[d].names[0] == 'r' ? 0 : channels[d].names[0] == 'g' ? 1 : 2;
-            bool equal = true;
-            for (std::size_t i = 0; i < n && equal; ++i)
-                equal = scene.patches[i].rho[c] == scene.patches[i].rho[first] &&
-                        scene.patches[i].emission[c] == scene.patches[i].emission[first];
-            if (equal) same = int(d);
-        }
-        if (same >= 0) {
-            channels[std::size_t(same)].names += kNames[c];
-        } else {
-            Channel ch;
-            ch.names = kNames[c];
-            for (PatchId i : layout.mine) {
-                ch.rho.push_back(scene.patches[i].rho[c]);
-                ch.E.push_back(scene.patches[i].emission[c]);
-            }
-            channels.push_back(std::move(ch));
-            same = int(channels.size() - 1);
-        }
-        channelOf[c] = same;
-    }
-
     const Preallocation counts = preallocationOf(F, layout);
 
     const bool cg = name == "cg";
@@ -111,7 +85,7 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
         for (double e : ch.E) localE += e * e;
         MPI_Allreduce(&localE, &normE, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
         normE = std::sqrt(normE);
-        std::vector<double> B(context.root() ? n : 0, 0.0);  // filled on rank 0 only
+        std::vector<double> B(context.root() || everywhere ? n : 0, 0.0);  // filled on rank 0 only, or everywhere
         if (normE == 0.0) {
             ch.report.converged = true;
             ch.report.note = "no emission in this channel";
@@ -243,13 +217,14 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
                 KSPGetConvergedReasonString(ksp, &why);
                 ch.report.note = std::string("PETSc: ") + (why ? why : "not converged");
             }
-            // B to rank 0, back in patch order.
+            // B to rank 0 (or to every rank), back in patch order.
             VecScatter toZero;
             Vec all;
-            check(VecScatterCreateToZero(x, &toZero, &all), "VecScatterCreateToZero");
+            if (everywhere) check(VecScatterCreateToAll(x, &toZero, &all), "VecScatterCreateToAll");
+            else check(VecScatterCreateToZero(x, &toZero, &all), "VecScatterCreateToZero");
             check(VecScatterBegin(toZero, x, all, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
             check(VecScatterEnd(toZero, x, all, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
-            if (context.root()) {
+            if (context.root() || everywhere) {
                 const PetscScalar* values0 = nullptr;
                 check(VecGetArrayRead(all, &values0), "VecGetArrayRead");
                 for (std::size_t i = 0; i < n; ++i) B[i] = values0[layout.perm[i]];
@@ -266,6 +241,51 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
         ch.B = std::move(B);
         ch.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
+}
+
+}  // namespace
+
+Radiosity solveDistributed(const Context& context, const Scene& scene, const DistributedFormFactors& F,
+                           const SolverOptions& options) {
+    const std::size_t n = scene.size();
+    const std::string name = checkedSolverName(options);
+    for (std::size_t i = 0; i < n; ++i)
+        if ((scene.patches[i].rho > 0.0).any() && F.owner[i] < 0)
+            throw Error("solve: row " + std::to_string(i) + " of F was not computed (the patch was black then) "
+                        "but its reflectance is now > 0; recompute F or its missing rows");
+    const Layout layout = layoutOf(context, F.owner);
+
+    // Distinct channels (identical rho and E over all patches are solved once), as in one process.
+    static const char* kNames[3] = {"r", "g", "b"};
+    std::vector<Channel> channels;
+    std::array<int, 3> channelOf{};
+    for (int c = 0; c < 3; ++c) {
+        int same = -1;
+        // Channel d was made from the colour its name starts with.
+        for (std::size_t d = 0; d < channels.size() && same < 0; ++d) {
+            const int first = channels[d].names[0] == 'r' ? 0 : channels[d].names[0] == 'g' ? 1 : 2;
+            bool equal = true;
+            for (std::size_t i = 0; i < n && equal; ++i)
+                equal = scene.patches[i].rho[c] == scene.patches[i].rho[first] &&
+                        scene.patches[i].emission[c] == scene.patches[i].emission[first];
+            if (equal) same = int(d);
+        }
+        if (same >= 0) {
+            channels[std::size_t(same)].names += kNames[c];
+        } else {
+            Channel ch;
+            ch.names = kNames[c];
+            for (PatchId i : layout.mine) {
+                ch.rho.push_back(scene.patches[i].rho[c]);
+                ch.E.push_back(scene.patches[i].emission[c]);
+            }
+            channels.push_back(std::move(ch));
+            same = int(channels.size() - 1);
+        }
+        channelOf[c] = same;
+    }
+
+    solveChannels(context, scene, F, layout, channels, name, options, false);
 
     Radiosity result;
     for (Channel& ch : channels) {
@@ -278,6 +298,56 @@ Radiosity solveDistributed(const Context& context, const Scene& scene, const Dis
         for (int c = 0; c < 3; ++c)
             for (std::size_t i = 0; i < n; ++i) result.B[i][c] = channels[std::size_t(channelOf[c])].B[i];
     }
+    return result;
+}
+
+BandSolution solveBandsDistributed(const Context& context, const Scene& scene, const DistributedFormFactors& F,
+                                   const std::vector<Band>& bands, const SolverOptions& options) {
+    const std::size_t n = scene.size();
+    const std::string name = checkedSolverName(options);
+    for (const Band& band : bands)
+        if (band.rho.size() != n || band.source.size() != n)
+            throw Error("solve: band '" + band.name + "' has " + std::to_string(band.rho.size()) + " reflectances for " +
+                        std::to_string(n) + " patches");
+    for (std::size_t i = 0; i < n; ++i)
+        for (const Band& band : bands)
+            if (band.rho[i] > 0.0 && F.owner[i] < 0)
+                throw Error("solve: row " + std::to_string(i) + " of F was not computed but band '" + band.name +
+                            "' reflects there; recompute F or its missing rows");
+    const Layout layout = layoutOf(context, F.owner);
+
+    // Distinct bands (identical rho and source) once, as solveBands does.
+    std::vector<Channel> channels;
+    std::vector<std::size_t> channelOf(bands.size());
+    std::vector<std::size_t> firstBand;
+    for (std::size_t k = 0; k < bands.size(); ++k) {
+        std::size_t same = channels.size();
+        for (std::size_t d = 0; d < channels.size() && same == channels.size(); ++d)
+            if (bands[firstBand[d]].rho == bands[k].rho && bands[firstBand[d]].source == bands[k].source) same = d;
+        if (same < channels.size()) {
+            channels[same].names += (bands[k].name.size() == 1 && channels[same].names.size() == 1 ? "" : ", ") + bands[k].name;
+        } else {
+            Channel ch;
+            ch.names = bands[k].name;
+            for (PatchId i : layout.mine) {
+                ch.rho.push_back(bands[k].rho[i]);
+                ch.E.push_back(bands[k].source[i]);
+            }
+            channels.push_back(std::move(ch));
+            firstBand.push_back(k);
+        }
+        channelOf[k] = same;
+    }
+
+    solveChannels(context, scene, F, layout, channels, name, options, true);
+
+    BandSolution result;
+    for (const Channel& ch : channels) {
+        checkConverged(ch.report, options);
+        result.reports.push_back(ch.report);
+    }
+    result.X.resize(bands.size());
+    for (std::size_t k = 0; k < bands.size(); ++k) result.X[k] = channels[channelOf[k]].B;
     return result;
 }
 

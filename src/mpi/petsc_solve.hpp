@@ -27,4 +27,11 @@ void checkDistributedSolver(const std::string& name);
 Radiosity solveDistributed(const Context& context, const Scene& scene, const DistributedFormFactors& F,
                            const SolverOptions& options);
 
+/// solveBands across the ranks: (I - R_k F) X_k = S_k per distinct band (rho and source per patch,
+/// the same on every rank), by solveDistributed's solvers and stopping rule (no warm start: X = S
+/// first). Collective; every X whole on every rank. Throws hemirad::Error for a reflecting row that
+/// was not computed and, unless options.allowUnconverged, an unconverged band (checkConverged).
+BandSolution solveBandsDistributed(const Context& context, const Scene& scene, const DistributedFormFactors& F,
+                                   const std::vector<Band>& bands, const SolverOptions& options);
+
 }  // namespace hemirad::mpi

@@ -21,8 +21,13 @@ bool SolarBand::needsOwnFormFactors(const Scene& scene) const {
 }
 
 SolarSolution solveSolar(const Scene& scene, const FormFactors& F, const SolarBand& band, double metresPerUnit,
+                         const SolverOptions& options) {
+    return solveSolar(scene, LocalRows(F), band, metresPerUnit, options);
+}
+
+SolarSolution solveSolar(const Scene& scene, const ExchangeRows& F, const SolarBand& band, double metresPerUnit,
                          const SolverOptions& given) {
-    const SolverOptions options = thermalSolverOptions(given, scene.size());
+    const SolverOptions options = F.solverOptions(given, scene.size());
     const std::size_t n = scene.size();
     if (band.surface.size() != n || band.incident.size() != n || F.size() != n)
         throw Error("thermal: the solar band needs one value per patch and F of the scene");
@@ -34,12 +39,11 @@ SolarSolution solveSolar(const Scene& scene, const FormFactors& F, const SolarBa
                 << " must be in [0, 1] with a sum of at most 1";
         else if (!(std::isfinite(band.incident[i]) && band.incident[i] >= 0.0))
             msg << "thermal: patch " << i << ": solar irradiance " << band.incident[i] << " W/m^2 must be finite and >= 0";
-        else if (!F.rowComputed(i))
-            msg << "thermal: row " << i << " of the solar band's F was not computed";
         else
             continue;
         throw Error(msg.str());
     }
+    F.requireAllRows("the solar band's ");
     Band b;
     b.name = "solar";
     b.rho.resize(n);
@@ -48,24 +52,17 @@ SolarSolution solveSolar(const Scene& scene, const FormFactors& F, const SolarBa
         b.rho[i] = std::max(0.0, band.surface[i].diffuse());
         b.source[i] = b.rho[i] * band.incident[i];
     }
-    BandSolution solved = solveBands(scene, F, {b}, options);
+    BandSolution solved = F.solve(scene, {b}, options);
     SolarSolution out;
     out.report = solved.reports.at(0);
     out.J = std::move(solved.X.at(0));
-    out.H.assign(n, 0.0);
+    out.H = F.rowProducts(out.J);
     out.absorbed.assign(n, 0.0);
     const double m2 = metresPerUnit * metresPerUnit;
-    std::vector<double> absorbedFrom(n, 0.0);  // per column j: sum_i A_i F_ij (1 - s_i)
-    for (std::size_t i = 0; i < n; ++i) {
-        double h = 0.0;
-        const double w = scene.patches[i].area * m2 * (1.0 - band.surface[i].specular);
-        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
-            h += double(F.values()[k]) * out.J[F.columns()[k]];
-            absorbedFrom[F.columns()[k]] += w * double(F.values()[k]);
-        }
-        out.H[i] = h;
-        out.absorbed[i] = band.surface[i].emissivity * (band.incident[i] + h);
-    }
+    std::vector<double> absorbing(n);
+    for (std::size_t i = 0; i < n; ++i) absorbing[i] = scene.patches[i].area * m2 * (1.0 - band.surface[i].specular);
+    const std::vector<double> absorbedFrom = F.columnSums(absorbing);  // per column j: sum_i A_i F_ij (1 - s_i)
+    for (std::size_t i = 0; i < n; ++i) out.absorbed[i] = band.surface[i].emissivity * (band.incident[i] + out.H[i]);
     for (std::size_t i = 0; i < n; ++i) {
         const double A = scene.patches[i].area * m2;
         out.incidentPower += A * band.incident[i];

@@ -6,6 +6,7 @@
 
 #include "engine/form_factors.hpp"
 #include "solve/solver.hpp"
+#include "thermal/exchange_rows.hpp"
 #include "thermal/thermal_model.hpp"
 
 #include <vector>
@@ -39,6 +40,9 @@ struct SolarSolution {
 /// reflectances, every row computed); areas in m^2 by `metresPerUnit`. Throws hemirad::Error for
 /// values out of range (alpha + s > 1) or a solve that does not converge.
 SolarSolution solveSolar(const Scene& scene, const FormFactors& F, const SolarBand& band, double metresPerUnit,
+                         const SolverOptions& options);
+/// The same on F as `F` holds it (one process, or rows across MPI ranks).
+SolarSolution solveSolar(const Scene& scene, const ExchangeRows& F, const SolarBand& band, double metresPerUnit,
                          const SolverOptions& options);
 
 }  // namespace hemirad::thermal

@@ -18,22 +18,30 @@
 
 namespace hemirad::thermal {
 
-std::vector<double> escapeFractions(const FormFactors& F, const std::vector<double>& specular) {
-    const std::size_t n = F.size();
-    std::vector<double> escape(n, 0.0);
-    for (std::size_t i = 0; i < n; ++i) {
-        double absorbed = 0.0;
-        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k)
-            absorbed += double(F.values()[k]) * (1.0 - specular[F.columns()[k]]);
-        escape[i] = std::max(0.0, 1.0 - absorbed);
-    }
+std::vector<double> escapeFractions(const ExchangeRows& F, const std::vector<double>& specular) {
+    std::vector<double> absorbing(specular.size());
+    for (std::size_t j = 0; j < specular.size(); ++j) absorbing[j] = 1.0 - specular[j];
+    std::vector<double> escape = F.rowProducts(absorbing);
+    for (double& e : escape) e = std::max(0.0, 1.0 - e);
     return escape;
 }
 
-std::vector<double> escapeFractions(const FormFactors& F, const ThermalModel& model) {
+std::vector<double> escapeFractions(const FormFactors& F, const std::vector<double>& specular) {
+    return escapeFractions(LocalRows(F), specular);
+}
+
+namespace {
+
+std::vector<double> specularOf(const ThermalModel& model) {
     std::vector<double> specular(model.surface.size());
     for (std::size_t i = 0; i < specular.size(); ++i) specular[i] = model.surface[i].specular;
-    return escapeFractions(F, specular);
+    return specular;
+}
+
+}  // namespace
+
+std::vector<double> escapeFractions(const FormFactors& F, const ThermalModel& model) {
+    return escapeFractions(F, specularOf(model));
 }
 
 SolverOptions thermalSolverOptions(const SolverOptions& options, std::size_t patches) {
@@ -45,19 +53,24 @@ SolverOptions thermalSolverOptions(const SolverOptions& options, std::size_t pat
 ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const ThermalModel& model,
                              const SolverOptions& given, const std::vector<const FormFactors*>& bandF) {
     checkModel(scene, model);
-    const SolverOptions options = thermalSolverOptions(given, scene.size());
     if (!model.bandEmissivity.empty() || hasEmissivityCurves(model))
-        return detail::solveBandModel(scene, F, model, options, bandF);
+        return detail::solveBandModel(scene, F, model, thermalSolverOptions(given, scene.size()), bandF);
+    return solveGrayThermal(scene, LocalRows(F), model, given);
+}
+
+ThermalSolution solveGrayThermal(const Scene& scene, const ExchangeRows& F, const ThermalModel& model,
+                                 const SolverOptions& given) {
+    checkModel(scene, model);
+    if (!model.bandEmissivity.empty() || hasEmissivityCurves(model))
+        throw Error("thermal: a band model or emissivities against temperature need F whole in one process");
+    const SolverOptions options = F.solverOptions(given, scene.size());
     const std::size_t n = scene.size();
     if (F.size() != n)
         throw Error("thermal: F has " + std::to_string(F.size()) + " rows but the scene has " + std::to_string(n) + " patches");
-    for (std::size_t i = 0; i < n; ++i)
-        if (!F.rowComputed(i))
-            throw Error("thermal: row " + std::to_string(i) + " of F was not computed; thermal exchange needs every row "
-                        "(compute F with --all-rows)");
+    F.requireAllRows("");
 
     ThermalSolution out;
-    out.escape = escapeFractions(F, model);
+    out.escape = escapeFractions(F, specularOf(model));
     const double sigma = kStefanBoltzmann;
     const double envT = model.environment.value_or(0.0);
     const double envExitance = sigma * envT * envT * envT * envT;
@@ -106,7 +119,7 @@ ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const The
     }
     BandSolution solved;
     try {
-        solved = solveBands(scene, F, bands, options);
+        solved = F.solve(scene, bands, options);
     } catch (const Error& e) {
         const std::string what = e.what();
         if (what.find("singular") == std::string::npos) throw;
@@ -121,12 +134,12 @@ ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const The
     if (nodes) {
         // Net power of each node per band: sum over its patches of A (J - (1 - s) H).
         auto nodePowers = [&](const std::vector<double>& J, bool withEnvironment) {
+            const std::vector<double> FJ = F.rowProducts(J);
             std::vector<double> Q(nodes, 0.0);
             for (std::size_t i = 0; i < n; ++i) {
                 const Condition& c = model.condition[i];
                 if (c.kind != Condition::Kind::Isothermal) continue;
-                double h = withEnvironment ? envExitance * out.escape[i] : 0.0;
-                for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) h += double(F.values()[k]) * J[F.columns()[k]];
+                const double h = (withEnvironment ? envExitance * out.escape[i] : 0.0) + FJ[i];
                 Q[c.node] += scene.patches[i].area * m2 * (J[i] - (1.0 - model.surface[i].specular) * h);
             }
             return Q;
@@ -167,9 +180,9 @@ ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const The
     out.Q.assign(n, 0.0);
     out.areaM2.assign(n, 0.0);
     double largest = 0.0;
+    const std::vector<double> FJ = F.rowProducts(out.J);
     for (std::size_t i = 0; i < n; ++i) {
-        double h = envExitance * out.escape[i];
-        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) h += double(F.values()[k]) * out.J[F.columns()[k]];
+        const double h = envExitance * out.escape[i] + FJ[i];
         out.H[i] = h;
         const SurfaceProperties& sp = model.surface[i];
         const Condition& c = model.condition[i];
@@ -202,11 +215,9 @@ ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const The
 
     // The environment: absorbs the part of each patch's emission that no surface absorbs (counted
     // from F's columns) and gives each patch sigma T_env^4 escape_i of irradiance.
-    std::vector<double> absorbedFrom(n, 0.0);  // sum_i A_i F_ij (1 - s_i), per column j
-    for (std::size_t i = 0; i < n; ++i) {
-        const double w = out.areaM2[i] * (1.0 - model.surface[i].specular);
-        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) absorbedFrom[F.columns()[k]] += w * double(F.values()[k]);
-    }
+    std::vector<double> absorbing(n);
+    for (std::size_t i = 0; i < n; ++i) absorbing[i] = out.areaM2[i] * (1.0 - model.surface[i].specular);
+    const std::vector<double> absorbedFrom = F.columnSums(absorbing);  // sum_i A_i F_ij (1 - s_i), per column j
     double toEnvironmentColumns = 0.0, toEnvironmentRows = 0.0, fromEnvironment = 0.0, sumQ = 0.0, fromOutside = 0.0;
     for (std::size_t j = 0; j < n; ++j) {
         toEnvironmentColumns += out.J[j] * (out.areaM2[j] - absorbedFrom[j]);

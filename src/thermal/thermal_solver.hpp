@@ -5,6 +5,7 @@
 
 #include "engine/form_factors.hpp"
 #include "solve/solver.hpp"
+#include "thermal/exchange_rows.hpp"
 #include "thermal/thermal_model.hpp"
 
 #include <vector>
@@ -46,6 +47,11 @@ struct ThermalSolution {
 ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const ThermalModel& model,
                              const SolverOptions& options, const std::vector<const FormFactors*>& bandF = {});
 
+/// The gray model (no bands, no emissivity curves: else hemirad::Error) on F as `F` holds it: in one
+/// process (LocalRows) or across MPI ranks. solveThermal's errors.
+ThermalSolution solveGrayThermal(const Scene& scene, const ExchangeRows& F, const ThermalModel& model,
+                                 const SolverOptions& options);
+
 /// The solver options thermal solves use: "auto" is lu up to 2000 patches, else bicgstab (conditions
 /// of flux make rows of reflectance 1 - s, often 1, where stationary sweeps crawl; measured in
 /// bench/thermal.sh); a named solver is kept.
@@ -55,5 +61,6 @@ SolverOptions thermalSolverOptions(const SolverOptions& options, std::size_t pat
 std::vector<double> escapeFractions(const FormFactors& F, const ThermalModel& model);
 /// The same with the specular reflectances given per patch.
 std::vector<double> escapeFractions(const FormFactors& F, const std::vector<double>& specular);
+std::vector<double> escapeFractions(const ExchangeRows& F, const std::vector<double>& specular);
 
 }  // namespace hemirad::thermal

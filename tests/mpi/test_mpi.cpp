@@ -43,6 +43,38 @@ std::string bytes(const std::filesystem::path& path) {
     return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
+/// The largest difference of the thermal patch tables' numeric columns (T, J, H, absorbed solar, q,
+/// Q), each relative to its column's largest magnitude in `a`; the text columns must match.
+double thermalTableDifference(const std::filesystem::path& a, const std::filesystem::path& b) {
+    auto rows = [](const std::filesystem::path& path) {
+        std::ifstream in(path);
+        std::vector<std::vector<std::string>> cells;
+        for (std::string line; std::getline(in, line);) {
+            cells.emplace_back();
+            std::stringstream row(line);
+            for (std::string cell; std::getline(row, cell, ',');) cells.back().push_back(cell);
+        }
+        return cells;
+    };
+    const auto x = rows(a), y = rows(b);
+    REQUIRE(x.size() == y.size());
+    REQUIRE(x.size() > 1);
+    double worst = 0.0;
+    for (const std::size_t c : {6, 8, 9, 10, 11, 12}) {
+        double largest = 0.0, difference = 0.0;
+        for (std::size_t r = 1; r < x.size(); ++r) {
+            REQUIRE(x[r].size() == 13);
+            REQUIRE(y[r].size() == 13);
+            for (const std::size_t t : {0, 1, 5}) CHECK(x[r][t] == y[r][t]);
+            const double u = std::stod(x[r][c]), v = std::stod(y[r][c]);
+            largest = std::max(largest, std::abs(u));
+            difference = std::max(difference, std::abs(u - v));
+        }
+        worst = std::max(worst, largest > 0.0 ? difference / largest : difference);
+    }
+    return worst;
+}
+
 /// B_r, B_g, B_b per patch from a solve CSV.
 std::vector<double> radiosityColumns(const std::filesystem::path& path) {
     std::ifstream in(path);
@@ -712,6 +744,48 @@ TEST_CASE("One F file reused on 2 ranks: each rank reads its share of the rows, 
     CHECK(count(r.output, "store F as .hff, whose rows each rank reads alone") == 1);
 }
 
+TEST_CASE("thermal on 2 MPI ranks solves the gray model on the ranks' rows (PETSc) within 1e-9 of one process") {
+    // The radiator's model with the aluminium's solar mirror equal to its IR one: the solar band runs
+    // on the same F, so nothing needs F whole. An isothermal node (power), adiabatic patches (flux
+    // rows of reflectance 1), a held temperature, the sun and deep space: every part of the gray solve.
+    const auto dir = tempDir("mpi-thermal-rows");
+    const std::string example = sourcePath("examples/thermal/");
+    writeFile(dir / "props.toml", "[materials.white_paint]\nemissivity = 0.88\nsolar_absorptance = 0.2\n"
+                                  "[materials.aluminium]\nemissivity = 0.05\nspecular = 0.9\nsolar_absorptance = 0.08\n"
+                                  "solar_specular = 0.9\n[materials.black_paint]\nemissivity = 0.9\nsolar_absorptance = 0.95\n");
+    const std::string args = "thermal '" + example + "radiator.obj' --properties props.toml --bc '" + example +
+                             "radiator_bc.toml' --subdivide 0.2 --threads 1";
+    const Run one = runHemirad(dir, 0, args + " -o T1.csv --objects O1.csv");
+    REQUIRE_MESSAGE(one.status == 0, one.output);
+    CHECK(one.output.find("thermal solve: lu") != std::string::npos);
+    const Run two = runHemirad(dir, 2, args + " -o T2.csv --objects O2.csv");
+    REQUIRE_MESSAGE(two.status == 0, two.output);
+    CHECK(count(two.output, "thermal: solved on F's rows where the 2 ranks hold them (PETSc)") == 1);
+    CHECK(count(two.output, "thermal solve: bicgstab (PETSc, 2 ranks)") == 1);
+    CHECK(two.output.find("F gathered") == std::string::npos);
+    CHECK(count(two.output, "energy balance: ") == 1);
+    const double difference = thermalTableDifference(dir / "T1.csv", dir / "T2.csv");
+    MESSAGE("largest relative difference, 1 process (LU) against 2 ranks (PETSc): " << difference);
+    CHECK(difference < 1e-9);
+    CHECK(difference > 0.0);  // another solver: not the one process's numbers copied
+    // A solver that runs in one process: the rows are gathered for rank 0, the same bytes.
+    const Run lu = runHemirad(dir, 2, args + " --solver lu -o T3.csv");
+    REQUIRE_MESSAGE(lu.status == 0, lu.output);
+    CHECK(count(lu.output, "thermal: F gathered on rank 0 (--solver lu runs in one process)") == 1);
+    CHECK(bytes(dir / "T1.csv") == bytes(dir / "T3.csv"));
+    // Every flux, no temperature, no environment in a closed box (faces inward): the same refusal on
+    // every rank, one message, nothing written.
+    writeFile(dir / "closed.toml", "[default]\nadiabatic = true\n");
+    writeFile(dir / "closed.obj", "o box\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                                  "f 1 2 3 4\nf 8 7 6 5\nf 5 6 2 1\nf 6 7 3 2\nf 7 8 4 3\nf 8 5 1 4\n");
+    const Run closed = runHemirad(dir, 2, "thermal closed.obj --bc closed.toml --unit m -o T4.csv");
+    CHECK(closed.status == 1);
+    CHECK(count(closed.output, "hemirad: error: ") == 1);
+    CHECK(count(closed.output, "the temperatures are not determined") == 1);
+    CHECK(count(closed.output, "thermal: solved on F's rows where the 2 ranks hold them (PETSc)") == 1);
+    CHECK(!std::filesystem::exists(dir / "T4.csv"));
+}
+
 TEST_CASE("thermal on 2 MPI ranks writes the one-process temperatures, conductors and exchange byte for byte") {
     // F's rows computed across the ranks (and a stored F's rows read by each), gathered for rank 0's
     // solve: the same F, so the same numbers (issue 36: 1 and 2 ranks agree). One thread in both: the
@@ -728,10 +802,13 @@ TEST_CASE("thermal on 2 MPI ranks writes the one-process temperatures, conductor
     CHECK(bytes(dir / "T1.csv") == bytes(dir / "T2.csv"));
     CHECK(bytes(dir / "GR1.esatan") == bytes(dir / "GR2.esatan"));
     CHECK(bytes(dir / "Q1.csv") == bytes(dir / "Q2.csv"));
-    // The stored F serves a second run across the ranks: read, not recomputed, same answer.
+    CHECK(count(two.output, "thermal: F gathered on rank 0 (a solar band with mirrors of its own, --conductors, --exchange: F whole in one process)") == 1);
+    // The stored F serves a second run across the ranks: read, not recomputed, the same answer (the
+    // solar band's own mirrors keep this model's solve on rank 0: the same bytes).
     const Run again = runHemirad(dir, 2, args + " --threads 1 -o T3.csv --ff F.hff");
     REQUIRE_MESSAGE(again.status == 0, again.output);
     CHECK(again.output.find("form factors: reused F.hff") != std::string::npos);
+    CHECK(count(again.output, "thermal: F gathered on rank 0 (a solar band with mirrors of its own: F whole in one process)") == 1);
     CHECK(bytes(dir / "T1.csv") == bytes(dir / "T3.csv"));
     // A mistake in the model: one message, every rank stops, nothing written.
     writeFile(dir / "bad.toml", "[default]\nadiabatic = true\n[objects.nothing]\npower_W = 1\n");

@@ -1,0 +1,47 @@
+// What the gray thermal solve and the solar band need of F: products with its rows, sums down its
+// columns, and the bands' linear solves. One process holds F whole (LocalRows); under mpirun each
+// rank holds its own rows (mpi/distributed_thermal.hpp), and every result comes back whole on every
+// rank, so the solves' bookkeeping (temperatures, the environment, the balance) runs unchanged.
+#pragma once
+
+#include "engine/form_factors.hpp"
+#include "solve/solver.hpp"
+
+#include <string>
+#include <vector>
+
+namespace hemirad::thermal {
+
+class ExchangeRows {
+public:
+    virtual ~ExchangeRows() = default;
+    /// N, the scene's patches.
+    virtual std::size_t size() const = 0;
+    /// Throws hemirad::Error naming the first row of F not computed (`whose`: "" or "the solar band's ").
+    virtual void requireAllRows(const std::string& whose) const = 0;
+    /// (F x)_i for every row i (each row summed in its entries' order).
+    virtual std::vector<double> rowProducts(const std::vector<double>& x) const = 0;
+    /// sum_i w_i F_ij for every column j.
+    virtual std::vector<double> columnSums(const std::vector<double>& w) const = 0;
+    /// solveBands' contract on this F: X whole, one report per distinct band.
+    virtual BandSolution solve(const Scene& scene, const std::vector<Band>& bands, const SolverOptions& options) const = 0;
+    /// `options` as this F's solves take them (thermalSolverOptions in one process).
+    virtual SolverOptions solverOptions(const SolverOptions& options, std::size_t patches) const = 0;
+};
+
+/// F whole in this process: solveBands and plain loops.
+class LocalRows final : public ExchangeRows {
+public:
+    explicit LocalRows(const FormFactors& F) : m_F(F) {}
+    std::size_t size() const override { return m_F.size(); }
+    void requireAllRows(const std::string& whose) const override;
+    std::vector<double> rowProducts(const std::vector<double>& x) const override;
+    std::vector<double> columnSums(const std::vector<double>& w) const override;
+    BandSolution solve(const Scene& scene, const std::vector<Band>& bands, const SolverOptions& options) const override;
+    SolverOptions solverOptions(const SolverOptions& options, std::size_t patches) const override;
+
+private:
+    const FormFactors& m_F;
+};
+
+}  // namespace hemirad::thermal
