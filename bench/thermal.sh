@@ -2,8 +2,9 @@
 # Issue 36's benchmark: the thermal solve against the radiosity solve on the same stored F, on
 # cornell13k and street64k (ground at a fixed temperature, heat fluxes on the walls, the sky dome and
 # the environment at 260 K), and the conductor export (Gebhart factors by column solves) per object
-# and per patch. Usage: bench/thermal.sh [HEMIRAD] [WORK]; prints Markdown tables. PARTS="conductors"
-# runs the per-patch conductors alone (the solves need cornell13k's and street64k's F: minutes to hours).
+# and per patch, and the gray solve across MPI ranks. Usage: bench/thermal.sh [HEMIRAD] [WORK]; prints
+# Markdown tables. PARTS="conductors" runs the per-patch conductors alone (the solves need cornell13k's
+# and street64k's F: minutes to hours), PARTS="mpi" the ranks alone (cornell13k's F).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 hemirad=${1:-$root/build/hemirad}
@@ -37,7 +38,7 @@ stage() {  # the seconds of a stage in hemirad's timing table
   awk -v s="$1" 'index($0, s) == 1 && index($0, ":") == 0 { print $NF; exit }'
 }
 
-parts=${PARTS:-solves conductors}
+parts=${PARTS:-solves conductors mpi}
 if [[ " $parts " == *" solves "* ]]; then
 echo "| scene | patches | F nonzeros | radiosity solve (s) | thermal solve (s) | thermal / radiosity | conductors per object (s) | energy balance |"
 echo "|---|---|---|---|---|---|---|---|"
@@ -64,7 +65,7 @@ fi
 # Conductors per patch, every patch a node: one dense Cholesky inverse over every patch pair (auto
 # here) against a column solve per patch (a batch of 64 shares a sweep over F); the 17 mm box is the
 # issue's 10k-node model (10,247 patches).
-[[ " $parts " == *" conductors "* ]] || exit 0
+if [[ " $parts " == *" conductors "* ]]; then
 echo
 echo "| conductors per patch | patches | route | Gebhart factors (s) | written (s) | couplings | peak memory (MiB) |"
 echo "|---|---|---|---|---|---|---|"
@@ -85,3 +86,45 @@ for run in "60 auto" "40 auto" "30 auto" "30 columns" "17 auto"; do
   echo "| cornell_box --subdivide $edge | $patches | ${taken:-$route} | $seconds | $written | $couplings | $peak |"
 done
 rm -f "$work/GRp.csv"
+fi
+
+# The gray solve across MPI ranks (mpi/distributed_thermal.hpp): each rank reads its share of the
+# stored F's rows and the bands go to PETSc where the rows are, against one process holding F whole.
+# cornell13k's conditions above; one thread a rank.
+if [[ " $parts " == *" mpi "* ]]; then
+obj="$work/cornell13k.obj"
+ff="$work/cornell13k.hff"
+[ -f "$ff" ] || "$hemirad" formfactors "$obj" --all-rows -o "$ff" --quiet
+echo
+echo "| cornell13k thermal | processes | solver (tolerance) | thermal solve (s) | whole run (s) | peak memory, largest process (MiB) | energy balance |"
+echo "|---|---|---|---|---|---|---|"
+mpi="mpirun --allow-run-as-root --oversubscribe -np 2"
+for run in "1 auto" "1 tight" "2 auto"; do
+  set -- $run
+  ranks=$1 solver=$2
+  launch=""
+  [ "$ranks" = 2 ] && launch="$mpi"
+  extra=""
+  [ "$solver" = tight ] && extra="--solver bicgstab --tolerance 1e-10"
+  threads=2
+  [ "$ranks" = 2 ] && threads=1
+  log=$(/usr/bin/time -f "peak %M" $launch "$hemirad" thermal "$obj" --unit mm --ff "$ff" --bc "$work/cornell13k_bc.toml" \
+        -o "$work/T$ranks$solver.csv" --threads "$threads" $extra 2>&1)
+  thermal=$(echo "$log" | stage "thermal solve")
+  total=$(echo "$log" | stage "total")
+  peak=$(echo "$log" | awk '/^peak/ { printf "%.0f", $2 / 1024 }')
+  taken=$(echo "$log" | sed -n 's/^thermal solve: \([^,]*\),.*/\1/p')
+  balance=$(echo "$log" | sed -n 's/^energy balance: |sum Q + Q_env| \/ max |Q| = \([^;]*\);.*/\1/p')
+  echo "| $solver | $ranks | $taken | $thermal | $total | $peak | $balance |"
+done
+/usr/bin/python3 - "$work/T2auto.csv" "$work/T1tight.csv" <<'PY'
+import csv, sys
+a, b = ([row for row in csv.reader(open(p))][1:] for p in sys.argv[1:3])
+worst = 0.0
+for c in (6, 8, 9, 11, 12):
+    largest = max(abs(float(r[c])) for r in a)
+    worst = max(worst, max(abs(float(x[c]) - float(y[c])) for x, y in zip(a, b)) / largest)
+print(f"\n2 ranks against one process at 1e-10: largest difference {worst:.2g} of a column's largest value")
+PY
+rm -f "$work"/T1auto.csv "$work"/T1tight.csv "$work"/T2auto.csv
+fi

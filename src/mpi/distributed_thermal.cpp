@@ -1,12 +1,10 @@
 // The gray thermal solve on the ranks' rows (see the header).
 #include "mpi/distributed_thermal.hpp"
 
-#include "engine/error.hpp"
 #include "mpi/petsc_solve.hpp"
 
 #include <mpi.h>
 
-#include <algorithm>
 
 namespace hemirad::mpi {
 namespace {
@@ -18,22 +16,14 @@ void sumAcrossRanks(std::vector<double>& v) {
 
 }  // namespace
 
-void DistributedRows::requireAllRows(const std::string& whose) const {
-    // owner is the same on every rank: every rank throws the same error.
-    for (std::size_t i = 0; i < m_F.owner.size(); ++i)
-        if (m_F.owner[i] < 0)
-            throw Error("thermal: row " + std::to_string(i) + " of " + (whose.empty() ? std::string("F") : whose + "F") +
-                        " was not computed; thermal exchange needs every row (compute F with --all-rows)");
-}
-
-std::vector<double> DistributedRows::rowProducts(const std::vector<double>& x) const {
+std::vector<double> DistributedRows::rowProducts(const std::vector<double>& x, const std::vector<double>* start) const {
     const FormFactors& F = m_F.local;
     std::vector<double> y(size(), 0.0);
     const float* values = F.values();
     const std::uint32_t* columns = F.columns();
     for (std::size_t i = 0; i < y.size(); ++i) {
         if (m_F.owner[i] != m_context.rank()) continue;
-        double h = 0.0;
+        double h = start ? (*start)[i] : 0.0;
         for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) h += double(values[k]) * x[columns[k]];
         y[i] = h;
     }
@@ -60,10 +50,7 @@ BandSolution DistributedRows::solve(const Scene& scene, const std::vector<Band>&
 
 SolverOptions DistributedRows::solverOptions(const SolverOptions& options, std::size_t) const {
     SolverOptions o = options;
-    if (o.solver == "auto") {
-        o.solver = "bicgstab";
-        o.tolerance = std::min(o.tolerance, 1e-10);
-    }
+    if (o.solver == "auto") o.solver = "bicgstab";
     return o;
 }
 

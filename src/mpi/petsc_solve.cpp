@@ -320,15 +320,16 @@ BandSolution solveBandsDistributed(const Context& context, const Scene& scene, c
     std::vector<Channel> channels;
     std::vector<std::size_t> channelOf(bands.size());
     std::vector<std::size_t> firstBand;
+    std::vector<std::vector<std::string>> namesOf;
     for (std::size_t k = 0; k < bands.size(); ++k) {
         std::size_t same = channels.size();
         for (std::size_t d = 0; d < channels.size() && same == channels.size(); ++d)
             if (bands[firstBand[d]].rho == bands[k].rho && bands[firstBand[d]].source == bands[k].source) same = d;
         if (same < channels.size()) {
-            channels[same].names += (bands[k].name.size() == 1 && channels[same].names.size() == 1 ? "" : ", ") + bands[k].name;
+            namesOf[same].push_back(bands[k].name);
         } else {
             Channel ch;
-            ch.names = bands[k].name;
+            namesOf.push_back({bands[k].name});
             for (PatchId i : layout.mine) {
                 ch.rho.push_back(bands[k].rho[i]);
                 ch.E.push_back(bands[k].source[i]);
@@ -339,6 +340,7 @@ BandSolution solveBandsDistributed(const Context& context, const Scene& scene, c
         channelOf[k] = same;
     }
 
+    for (std::size_t d = 0; d < channels.size(); ++d) channels[d].names = joinBandNames(namesOf[d]);
     solveChannels(context, scene, F, layout, channels, name, options, true);
 
     BandSolution result;

@@ -93,16 +93,15 @@ std::uint64_t bandKey(const Band& band) {
     return h;
 }
 
-/// "rgb" for one-letter band names, "ir,solar" otherwise.
-std::string joinNames(const std::vector<std::string>& names) {
+}  // namespace
+
+std::string joinBandNames(const std::vector<std::string>& names) {
     bool letters = true;
     for (const std::string& n : names) letters = letters && n.size() == 1;
     std::string joined;
     for (const std::string& n : names) joined += (joined.empty() || letters ? "" : ",") + n;
     return joined;
 }
-
-}  // namespace
 
 BandSolution solveBands(const Scene& scene, const FormFactors& F, const std::vector<Band>& bands,
                         const SolverOptions& options,
@@ -154,7 +153,7 @@ BandSolution solveBands(const Scene& scene, const FormFactors& F, const std::vec
         channelOf[b] = channels.size() - 1;
         byKey.emplace(key, channelOf[b]);
     }
-    for (std::size_t c = 0; c < channels.size(); ++c) channels[c].names = joinNames(namesOf[c]);
+    for (std::size_t c = 0; c < channels.size(); ++c) channels[c].names = joinBandNames(namesOf[c]);
 
     // No steady state when the spectral radius of R F reaches 1: rho >= 1 in a closed part of the
     // scene, or rows of F summing above 1 / rho (estimates made non-closed, e.g. by averaging).

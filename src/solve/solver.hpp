@@ -54,6 +54,9 @@ struct BandSolution {
     std::vector<SolveReport> reports;     ///< per distinct band (identical bands are solved once)
 };
 
+/// The names of bands solved as one, for reports: "rgb" for one-letter names, "ir,solar" otherwise.
+std::string joinBandNames(const std::vector<std::string>& names);
+
 /// Solves every band on one F: identical (rho, source) bands once, a factorisation shared by the
 /// bands it serves. `afterSweep`, if given, gets each sweep's X (per band) for progressive display.
 /// Throws hemirad::Error as solveRadiosity does.

@@ -6,20 +6,20 @@
 
 namespace hemirad::thermal {
 
-void LocalRows::requireAllRows(const std::string& whose) const {
-    for (std::size_t i = 0; i < m_F.size(); ++i)
-        if (!m_F.rowComputed(i))
+void ExchangeRows::requireAllRows(const std::string& whose) const {
+    for (std::size_t i = 0; i < size(); ++i)
+        if (!rowComputed(i))
             throw Error("thermal: row " + std::to_string(i) + " of " + (whose.empty() ? std::string("F") : whose + "F") +
                         " was not computed; thermal exchange needs every row (compute F with --all-rows)");
 }
 
-std::vector<double> LocalRows::rowProducts(const std::vector<double>& x) const {
+std::vector<double> LocalRows::rowProducts(const std::vector<double>& x, const std::vector<double>* start) const {
     const std::size_t n = m_F.size();
     std::vector<double> y(n, 0.0);
     const float* values = m_F.values();
     const std::uint32_t* columns = m_F.columns();
     for (std::size_t i = 0; i < n; ++i) {
-        double h = 0.0;
+        double h = start ? (*start)[i] : 0.0;
         for (std::uint64_t k = m_F.rowBegin(i); k < m_F.rowEnd(i); ++k) h += double(values[k]) * x[columns[k]];
         y[i] = h;
     }

@@ -17,10 +17,13 @@ public:
     virtual ~ExchangeRows() = default;
     /// N, the scene's patches.
     virtual std::size_t size() const = 0;
+    /// Whether row i of F was computed (on some rank).
+    virtual bool rowComputed(std::size_t i) const = 0;
     /// Throws hemirad::Error naming the first row of F not computed (`whose`: "" or "the solar band's ").
-    virtual void requireAllRows(const std::string& whose) const = 0;
-    /// (F x)_i for every row i (each row summed in its entries' order).
-    virtual std::vector<double> rowProducts(const std::vector<double>& x) const = 0;
+    void requireAllRows(const std::string& whose) const;
+    /// start_i + (F x)_i for every row i, each row summed in its entries' order onto start_i (no
+    /// start: 0).
+    virtual std::vector<double> rowProducts(const std::vector<double>& x, const std::vector<double>* start = nullptr) const = 0;
     /// sum_i w_i F_ij for every column j.
     virtual std::vector<double> columnSums(const std::vector<double>& w) const = 0;
     /// solveBands' contract on this F: X whole, one report per distinct band.
@@ -34,8 +37,8 @@ class LocalRows final : public ExchangeRows {
 public:
     explicit LocalRows(const FormFactors& F) : m_F(F) {}
     std::size_t size() const override { return m_F.size(); }
-    void requireAllRows(const std::string& whose) const override;
-    std::vector<double> rowProducts(const std::vector<double>& x) const override;
+    bool rowComputed(std::size_t i) const override { return m_F.rowComputed(i); }
+    std::vector<double> rowProducts(const std::vector<double>& x, const std::vector<double>* start = nullptr) const override;
     std::vector<double> columnSums(const std::vector<double>& w) const override;
     BandSolution solve(const Scene& scene, const std::vector<Band>& bands, const SolverOptions& options) const override;
     SolverOptions solverOptions(const SolverOptions& options, std::size_t patches) const override;

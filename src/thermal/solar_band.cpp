@@ -39,11 +39,12 @@ SolarSolution solveSolar(const Scene& scene, const ExchangeRows& F, const SolarB
                 << " must be in [0, 1] with a sum of at most 1";
         else if (!(std::isfinite(band.incident[i]) && band.incident[i] >= 0.0))
             msg << "thermal: patch " << i << ": solar irradiance " << band.incident[i] << " W/m^2 must be finite and >= 0";
+        else if (!F.rowComputed(i))
+            msg << "thermal: row " << i << " of the solar band's F was not computed";
         else
             continue;
         throw Error(msg.str());
     }
-    F.requireAllRows("the solar band's ");
     Band b;
     b.name = "solar";
     b.rho.resize(n);

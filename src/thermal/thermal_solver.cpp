@@ -76,6 +76,8 @@ ThermalSolution solveGrayThermal(const Scene& scene, const ExchangeRows& F, cons
     const double envExitance = sigma * envT * envT * envT * envT;
     const double m2 = model.metresPerUnit * model.metresPerUnit;
     auto external = [&](std::size_t i) { return model.absorbedExternal.empty() ? 0.0 : model.absorbedExternal[i]; };
+    std::vector<double> environmentIrradiance(n);  // sigma T_env^4 escape_i, where each row's sum starts
+    for (std::size_t i = 0; i < n; ++i) environmentIrradiance[i] = envExitance * out.escape[i];
 
     // Band 0: the known temperatures and fluxes, isothermal nodes at 0 K. Band 1 + k: node k's
     // patches emitting eps sigma T_ref^4, nothing else (the response to node k's temperature). The
@@ -109,12 +111,16 @@ ThermalSolution solveGrayThermal(const Scene& scene, const ExchangeRows& F, cons
         for (Band& band : bands) band.rho[i] = rho;
         bands[0].source[i] = source;
     }
-    if (!anyTemperature && !model.environment) {
+    // Without a temperature a closed enclosure (nothing seen of the environment, whether there is one
+    // or not) fixes no temperature level: refused here on every process alike, before the solve
+    // (where one process's LU finds the system singular, an iterative solve across ranks would not).
+    if (!anyTemperature) {
         double open = 0.0;
         for (const double e : out.escape) open = std::max(open, e);
         if (open < 1e-6)
-            throw Error("thermal: every surface has a heat-flux or power condition in a closed enclosure and there is no "
-                        "environment: the temperatures are not determined (and exist only if the fluxes sum to 0); "
+            throw Error(std::string("thermal: every surface has a heat-flux or power condition in a closed enclosure ") +
+                        (model.environment ? "that sees nothing of the environment" : "and there is no environment") +
+                        ": the temperatures are not determined (and exist only if the fluxes sum to 0); "
                         "give at least one object a temperature");
     }
     BandSolution solved;
@@ -134,12 +140,12 @@ ThermalSolution solveGrayThermal(const Scene& scene, const ExchangeRows& F, cons
     if (nodes) {
         // Net power of each node per band: sum over its patches of A (J - (1 - s) H).
         auto nodePowers = [&](const std::vector<double>& J, bool withEnvironment) {
-            const std::vector<double> FJ = F.rowProducts(J);
+            const std::vector<double> FJ = F.rowProducts(J, withEnvironment ? &environmentIrradiance : nullptr);
             std::vector<double> Q(nodes, 0.0);
             for (std::size_t i = 0; i < n; ++i) {
                 const Condition& c = model.condition[i];
                 if (c.kind != Condition::Kind::Isothermal) continue;
-                const double h = (withEnvironment ? envExitance * out.escape[i] : 0.0) + FJ[i];
+                const double h = FJ[i];
                 Q[c.node] += scene.patches[i].area * m2 * (J[i] - (1.0 - model.surface[i].specular) * h);
             }
             return Q;
@@ -180,9 +186,9 @@ ThermalSolution solveGrayThermal(const Scene& scene, const ExchangeRows& F, cons
     out.Q.assign(n, 0.0);
     out.areaM2.assign(n, 0.0);
     double largest = 0.0;
-    const std::vector<double> FJ = F.rowProducts(out.J);
+    const std::vector<double> FJ = F.rowProducts(out.J, &environmentIrradiance);
     for (std::size_t i = 0; i < n; ++i) {
-        const double h = envExitance * out.escape[i] + FJ[i];
+        const double h = FJ[i];
         out.H[i] = h;
         const SurfaceProperties& sp = model.surface[i];
         const Condition& c = model.condition[i];
