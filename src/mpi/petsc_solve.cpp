@@ -76,6 +76,40 @@ void solveChannels(const Context& context, const Scene& scene, const Distributed
     const bool cg = name == "cg";
     SymmetricPart symmetric;
     if (cg) buildSymmetricPart(symmetric, scene, F, layout, counts);
+    const std::size_t local = layout.mine.size();
+
+    // The operator for reflectances rho (this rank's rows): I - R F, or for cg K = diag(A / rho) + S
+    // with the black patches' (rho = 0: B = E) rows and columns taken out (the identity there).
+    auto operatorFor = [&](const std::vector<double>& rho) {
+        Mat A;
+        if (cg) {
+            check(MatDuplicate(symmetric.S.mat, MAT_COPY_VALUES, &A), "MatDuplicate");
+            Vec d;
+            check(MatCreateVecs(A, &d, nullptr), "MatCreateVecs");
+            for (std::size_t k = 0; k < local; ++k) {
+                const double area = scene.patches[layout.mine[k]].area;
+                check(VecSetValue(d, layout.begin + PetscInt(k), rho[k] > 0.0 ? area / rho[k] : 1.0, INSERT_VALUES),
+                      "VecSetValue");
+            }
+            check(VecAssemblyBegin(d), "VecAssemblyBegin");
+            check(VecAssemblyEnd(d), "VecAssemblyEnd");
+            const PetscErrorCode code = MatDiagonalSet(A, d, ADD_VALUES);
+            VecDestroy(&d);
+            check(code, "MatDiagonalSet");
+            std::vector<PetscInt> black;
+            for (std::size_t k = 0; k < local; ++k)
+                if (!(rho[k] > 0.0)) black.push_back(layout.begin + PetscInt(k));
+            check(MatZeroRowsColumns(A, PetscInt(black.size()), black.data(), 1.0, nullptr, nullptr), "MatZeroRowsColumns");
+        } else {
+            std::vector<double> one(local, 1.0), minusRho(local);
+            for (std::size_t k = 0; k < local; ++k) minusRho[k] = -rho[k];
+            A = rowsMatrix(F, layout, n, counts, one, minusRho);
+        }
+        return A;
+    };
+    Mat A = nullptr;
+    KSP ksp = nullptr;
+    const std::vector<double>* sameRho = nullptr;  // the rho A was built for
 
     for (Channel& ch : channels) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -91,31 +125,38 @@ void solveChannels(const Context& context, const Scene& scene, const Distributed
             ch.report.note = "no emission in this channel";
         } else {
             Vec b, x, r;
-            KSP ksp;
-            PC pc;
-            const std::size_t local = layout.mine.size();
             std::vector<double> rhs(ch.E);  // this rank's right-hand side
-            Mat A;
-            if (cg) {
-                // K = diag(A / rho) + S with black patches (rho = 0: B = E) moved to the right-hand side.
-                check(MatDuplicate(symmetric.S.mat, MAT_COPY_VALUES, &A), "MatDuplicate");
-                Vec d;
-                check(MatCreateVecs(A, &d, nullptr), "MatCreateVecs");
-                for (std::size_t k = 0; k < local; ++k) {
-                    const double rho = ch.rho[k], area = scene.patches[layout.mine[k]].area;
-                    if (rho > 0.0) rhs[k] = area / rho * ch.E[k];
-                    check(VecSetValue(d, layout.begin + PetscInt(k), rho > 0.0 ? area / rho : 1.0, INSERT_VALUES),
-                          "VecSetValue");
+            if (cg)
+                for (std::size_t k = 0; k < local; ++k)
+                    if (ch.rho[k] > 0.0) rhs[k] = scene.patches[layout.mine[k]].area / ch.rho[k] * ch.E[k];
+            // The operator and its solver depend on rho alone: built once for the channels that share it
+            // (a thermal model's IR band and its isothermal nodes' bands).
+            // (Each rank compares its own rows: agreed, as the rebuild is collective.)
+            int rebuild = !A || !sameRho || ch.rho != *sameRho ? 1 : 0;
+            MPI_Allreduce(MPI_IN_PLACE, &rebuild, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+            if (rebuild) {
+                KSPDestroy(&ksp);
+                MatDestroy(&A);
+                A = operatorFor(ch.rho);
+                PC pc;
+                check(KSPCreate(PETSC_COMM_WORLD, &ksp), "KSPCreate");
+                check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+                check(KSPGetPC(ksp, &pc), "KSPGetPC");
+                check(PCSetType(pc, PCJACOBI), "PCSetType");
+                if (name == "bicgstab") {
+                    check(KSPSetType(ksp, KSPBCGS), "KSPSetType");
+                    check(KSPSetPCSide(ksp, PC_RIGHT), "KSPSetPCSide");  // the norm watched is the true residual's
+                } else if (cg) {
+                    check(KSPSetType(ksp, KSPCG), "KSPSetType");
+                } else {
+                    check(KSPSetType(ksp, KSPRICHARDSON), "KSPSetType");
                 }
-                check(VecAssemblyBegin(d), "VecAssemblyBegin");
-                check(VecAssemblyEnd(d), "VecAssemblyEnd");
-                const PetscErrorCode code = MatDiagonalSet(A, d, ADD_VALUES);
-                VecDestroy(&d);
-                check(code, "MatDiagonalSet");
-            } else {
-                std::vector<double> one(local, 1.0), minusRho(local);
-                for (std::size_t k = 0; k < local; ++k) minusRho[k] = -ch.rho[k];
-                A = rowsMatrix(F, layout, n, counts, one, minusRho);
+                check(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+                // rtol against ||b|| = ||E|| (PETSc's default test), starting from B = E.
+                check(KSPSetTolerances(ksp, options.tolerance, 0.0, PETSC_DEFAULT, options.maxIterations),
+                      "KSPSetTolerances");
+                check(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
+                sameRho = &ch.rho;
             }
             check(MatCreateVecs(A, &x, &b), "MatCreateVecs");
             check(VecDuplicate(b, &r), "VecDuplicate");
@@ -128,9 +169,9 @@ void solveChannels(const Context& context, const Scene& scene, const Distributed
                 check(VecAssemblyEnd(v), "VecAssemblyEnd");
             }
             if (cg) {
-                // Black patches (rho = 0) leave the system, B = E there. Row i's terms A_i F_ij E_j of black
-                // columns j join b_i unsymmetrised, as one process moves them: the pair's mean would halve
-                // the light of a black emitter whose own row is not computed.
+                // Black patches (rho = 0) left the system (operatorFor), B = E there. Row i's terms
+                // A_i F_ij E_j of black columns j join b_i unsymmetrised, as one process moves them: the
+                // pair's mean would halve the light of a black emitter whose own row is not computed.
                 std::vector<PetscInt> black;
                 for (std::size_t k = 0; k < local; ++k)
                     if (!(ch.rho[k] > 0.0)) black.push_back(layout.begin + PetscInt(k));
@@ -144,29 +185,11 @@ void solveChannels(const Context& context, const Scene& scene, const Distributed
                 check(MatMult(symmetric.G.mat, r, moved), "MatMult");
                 check(VecAXPY(b, 1.0, moved), "VecAXPY");
                 VecDestroy(&moved);
-                check(MatZeroRowsColumns(A, PetscInt(black.size()), black.data(), 1.0, nullptr, nullptr),
-                      "MatZeroRowsColumns");
                 for (PetscInt row : black)
                     check(VecSetValue(b, row, ch.E[std::size_t(row - layout.begin)], INSERT_VALUES), "VecSetValue");
                 check(VecAssemblyBegin(b), "VecAssemblyBegin");
                 check(VecAssemblyEnd(b), "VecAssemblyEnd");
             }
-            check(KSPCreate(PETSC_COMM_WORLD, &ksp), "KSPCreate");
-            check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
-            check(KSPGetPC(ksp, &pc), "KSPGetPC");
-            check(PCSetType(pc, PCJACOBI), "PCSetType");
-            if (name == "bicgstab") {
-                check(KSPSetType(ksp, KSPBCGS), "KSPSetType");
-                check(KSPSetPCSide(ksp, PC_RIGHT), "KSPSetPCSide");  // the norm watched is the true residual's
-            } else if (cg) {
-                check(KSPSetType(ksp, KSPCG), "KSPSetType");
-            } else {
-                check(KSPSetType(ksp, KSPRICHARDSON), "KSPSetType");
-            }
-            check(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
-            // rtol against ||b|| = ||E|| (PETSc's default test), starting from B = E.
-            check(KSPSetTolerances(ksp, options.tolerance, 0.0, PETSC_DEFAULT, options.maxIterations), "KSPSetTolerances");
-            check(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
             check(KSPSolve(ksp, b, x), "KSPSolve");
             KSPConvergedReason reason;
             PetscInt iterations = 0;
@@ -232,15 +255,15 @@ void solveChannels(const Context& context, const Scene& scene, const Distributed
             }
             VecScatterDestroy(&toZero);
             VecDestroy(&all);
-            KSPDestroy(&ksp);
             VecDestroy(&r);
             VecDestroy(&x);
             VecDestroy(&b);
-            MatDestroy(&A);
         }
         ch.B = std::move(B);
         ch.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
+    KSPDestroy(&ksp);
+    MatDestroy(&A);
 }
 
 }  // namespace
