@@ -74,8 +74,11 @@ ThermalInputs readThermalModel(Scene& scene, const Options& options, const Repor
 std::string thermalNeedsWholeF(const Options& options, const Scene& scene, const ThermalInputs& inputs) {
     std::string why;
     auto add = [&](const char* reason) { why += (why.empty() ? "" : ", ") + std::string(reason); };
-    if (!inputs.model.bandEmissivity.empty()) add("a band model");
-    if (thermal::hasEmissivityCurves(inputs.model)) add("emissivities against temperature");
+    for (std::size_t k = 0; k < inputs.model.bandSpecular.size(); ++k)
+        if (thermal::bandNeedsOwnFormFactors(scene, inputs.model, k)) {
+            add("an IR band with mirrors of its own");
+            break;
+        }
     if (inputs.solar.active() && inputs.solar.needsOwnFormFactors(scene)) add("a solar band with mirrors of its own");
     if (!options.conductorsPath.empty()) add("--conductors");
     if (!options.exchangePath.empty()) add("--exchange");
@@ -124,18 +127,21 @@ ThermalResults solveThermalModel(const Options& options, const Scene& scene, con
         reporter.line("solar band: " + figure(solar.incidentPower) + " W arrive, " + figure(solar.absorbedPower) +
                       " W absorbed, " + figure(solar.escapedPower) + " W leave; balance " + figure(solar.balance, 3));
     }
-    std::vector<const FormFactors*> bandF;
+    // Each IR band with mirrors of its own on its own F (in this process), the others on `rows`.
+    std::vector<std::unique_ptr<thermal::LocalRows>> ownRows;
+    std::vector<const thermal::ExchangeRows*> bandF;
     for (std::size_t k = 0; k < model.bandSpecular.size(); ++k) {
         bandF.push_back(nullptr);
-        if (thermal::bandNeedsOwnFormFactors(scene, model, k))
-            bandF.back() = &formFactorsFor(model.bandSpecular[k], "IR band " + std::to_string(k + 1) +
-                                                                      ": its specular reflectances differ from the scene's (the "
-                                                                      "bands' weighted at the reference temperature)");
+        if (!thermal::bandNeedsOwnFormFactors(scene, model, k)) continue;
+        wholeF("an IR band with mirrors of its own");
+        ownRows.push_back(std::make_unique<thermal::LocalRows>(
+            formFactorsFor(model.bandSpecular[k], "IR band " + std::to_string(k + 1) +
+                                                      ": its specular reflectances differ from the scene's (the bands' "
+                                                      "weighted at the reference temperature)")));
+        bandF.back() = ownRows.back().get();
     }
     timings.start("thermal solve");
-    const bool gray = model.bandEmissivity.empty() && !thermal::hasEmissivityCurves(model);
-    results.solution = gray ? thermal::solveGrayThermal(scene, rows, model, options.solver)
-                            : thermal::solveThermal(scene, wholeF("a band model"), model, options.solver, bandF);
+    results.solution = thermal::solveThermal(scene, rows, model, options.solver, bandF);
     timings.stop();
     const thermal::ThermalSolution& solution = results.solution;
     // Emissivities against temperature: the outputs, the exchange and the conductors at the solution's.

@@ -1,5 +1,5 @@
 // The stages of `hemirad thermal`, shared by the one-process command and the MPI driver (which
-// computes F's rows across ranks and solves the gray model where they are, or gathers them for
+// computes F's rows across ranks and solves the model where they are, or gathers them for
 // rank 0 where a step needs F whole: thermalNeedsWholeF).
 #pragma once
 
@@ -37,8 +37,8 @@ struct ThermalResults {
     std::vector<std::string> objectNodes;
 };
 
-/// What in the run needs F whole in one process (a band model, emissivity curves, a solar band with
-/// mirrors of its own, --conductors, --exchange), comma-separated, or "": then the gray solve runs on
+/// What in the run needs F whole in one process (an IR band or a solar band with mirrors of its own:
+/// their own F; --conductors, --exchange), comma-separated, or "": then the gray solve runs on
 /// F's rows where they are (solveThermalModel with rows across MPI ranks and no `whole`).
 std::string thermalNeedsWholeF(const Options& options, const Scene& scene, const ThermalInputs& inputs);
 

@@ -322,8 +322,8 @@ void runSolveOrRender(Job& job, bool render) {
 
 /// `thermal` across ranks: every rank reads the model (a specular reflectance in --properties changes
 /// the scene F is computed for), F's rows are computed (or read, --ff) across the ranks as for solve.
-/// The gray model (with a solar band on the same F) is then solved where the rows are (PETSc, every
-/// rank ending with the whole solution) and rank 0 writes; a step that needs F whole
+/// The model (gray or banded, with a solar band on the same F) is then solved where the rows are
+/// (PETSc, every rank ending with the whole solution) and rank 0 writes; a step that needs F whole
 /// (thermalNeedsWholeF) or a solver that does not run distributed has the rows gathered on rank 0,
 /// which solves and writes as one process does.
 void runThermal(Job& job) {

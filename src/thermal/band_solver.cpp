@@ -48,9 +48,9 @@ double temperatureWhere(G g) {
 
 }  // namespace
 
-ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const ThermalModel& model,
-                               const SolverOptions& given, const std::vector<const FormFactors*>& bandF) {
-    const SolverOptions options = thermalSolverOptions(given, scene.size());
+ThermalSolution solveBandModel(const Scene& scene, const ExchangeRows& F, const ThermalModel& model,
+                               const SolverOptions& given, const std::vector<const ExchangeRows*>& bandF) {
+    const SolverOptions options = F.solverOptions(given, scene.size());
     // Bands with limits, or one gray band whose emissivities follow the temperatures (curves).
     const bool curves = model.bandEmissivity.empty();
     const std::size_t n = scene.size(), K = curves ? 1 : model.bandEmissivity.size(), nodes = model.isothermal.size();
@@ -95,11 +95,11 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
             e = *std::max_element(values.begin(), values.end());
         }
     }
-    ThermalSolution out = solveThermal(scene, F, gray, options);
+    ThermalSolution out = solveGrayThermal(scene, F, gray, options);
 
     // Each band's F (its own where its specular reflectances differ from the scene's) and what of
     // each patch's view escapes to the environment in that band.
-    std::vector<const FormFactors*> Fk(K, &F);
+    std::vector<const ExchangeRows*> Fk(K, &F);
     std::vector<std::vector<double>> specular(K, std::vector<double>(n)), escape(K);
     for (std::size_t k = 0; k < K; ++k) {
         if (k < bandF.size() && bandF[k]) Fk[k] = bandF[k];
@@ -166,7 +166,7 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
             std::vector<Band> shared;
             for (std::size_t k = k0; k < K; ++k)
                 if (Fk[k] == Fk[k0]) group.push_back(k), shared.push_back(std::move(bands[k])), done[k] = true;
-            BandSolution solved = solveBands(scene, *Fk[k0], shared, options);
+            BandSolution solved = Fk[k0]->solve(scene, shared, options);
             for (std::size_t g = 0; g < group.size(); ++g) {
                 bands[group[g]] = std::move(shared[g]);
                 J[group[g]] = std::move(solved.X[g]);
@@ -175,12 +175,9 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
             for (const SolveReport& r : solved.reports) report.residualOriginal = std::max(report.residualOriginal, r.residualOriginal);
         }
         for (std::size_t k = 0; k < K; ++k) {
-            const FormFactors& Fb = *Fk[k];
-            for (std::size_t i = 0; i < n; ++i) {
-                double h = envShare[k] * escape[k][i];
-                for (std::uint64_t e = Fb.rowBegin(i); e < Fb.rowEnd(i); ++e) h += double(Fb.values()[e]) * J[k][Fb.columns()[e]];
-                H[k][i] = h;
-            }
+            std::vector<double> start(n);
+            for (std::size_t i = 0; i < n; ++i) start[i] = envShare[k] * escape[k][i];
+            H[k] = Fk[k]->rowProducts(J[k], &start);
         }
         // Each unknown temperature from its own balance: the IR it gives off less what it absorbs
         // (both with the emissivities at that temperature) equals its net flux or power.
@@ -279,13 +276,11 @@ ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const T
     out.isothermalT.assign(nodes, 0.0);
     for (std::size_t k = 0; k < nodes; ++k) out.isothermalT[k] = x[Eigen::Index(free.size() + k)];
     double largest = 0.0, sumQ = 0.0, environment = 0.0;
-    std::vector<std::vector<double>> absorbedFrom(K, std::vector<double>(n, 0.0));  // per band: F's columns
+    std::vector<std::vector<double>> absorbedFrom(K);  // per band: F's columns
     for (std::size_t k = 0; k < K; ++k) {
-        const FormFactors& Fb = *Fk[k];
-        for (std::size_t i = 0; i < n; ++i) {
-            const double w = out.areaM2[i] * (1.0 - specular[k][i]);
-            for (std::uint64_t e = Fb.rowBegin(i); e < Fb.rowEnd(i); ++e) absorbedFrom[k][Fb.columns()[e]] += w * double(Fb.values()[e]);
-        }
+        std::vector<double> w(n);
+        for (std::size_t i = 0; i < n; ++i) w[i] = out.areaM2[i] * (1.0 - specular[k][i]);
+        absorbedFrom[k] = Fk[k]->columnSums(w);
     }
     for (std::size_t i = 0; i < n; ++i) {
         const Condition& c = model.condition[i];

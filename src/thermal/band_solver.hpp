@@ -14,8 +14,9 @@ namespace hemirad::thermal::detail {
 /// eps_k F(lambda_k -> lambda_k+1, T) sigma T^4), then each unknown temperature from its own
 /// balance given the bands' irradiances (bisection: the emitted power grows with T at every
 /// wavelength), Anderson-accelerated; until no temperature moves by 1e-12 relative. Band k runs on
-/// bandF[k] where given (its own specular reflectances: ThermalModel::bandSpecular), else on F.
-ThermalSolution solveBandModel(const Scene& scene, const FormFactors& F, const ThermalModel& model,
-                               const SolverOptions& options, const std::vector<const FormFactors*>& bandF = {});
+/// bandF[k] where given (its own specular reflectances: ThermalModel::bandSpecular), else on F; in one
+/// process or across MPI ranks as F holds its rows (one group of bands sharing F: one solve call).
+ThermalSolution solveBandModel(const Scene& scene, const ExchangeRows& F, const ThermalModel& model,
+                               const SolverOptions& options, const std::vector<const ExchangeRows*>& bandF = {});
 
 }  // namespace hemirad::thermal::detail

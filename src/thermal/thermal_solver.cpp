@@ -52,10 +52,21 @@ SolverOptions thermalSolverOptions(const SolverOptions& options, std::size_t pat
 
 ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const ThermalModel& model,
                              const SolverOptions& given, const std::vector<const FormFactors*>& bandF) {
+    std::vector<LocalRows> own;
+    own.reserve(bandF.size());
+    std::vector<const ExchangeRows*> bandRows;
+    for (const FormFactors* f : bandF) {
+        if (f) own.emplace_back(*f);
+        bandRows.push_back(f ? &own.back() : nullptr);
+    }
+    return solveThermal(scene, LocalRows(F), model, given, bandRows);
+}
+
+ThermalSolution solveThermal(const Scene& scene, const ExchangeRows& F, const ThermalModel& model,
+                             const SolverOptions& given, const std::vector<const ExchangeRows*>& bandF) {
     checkModel(scene, model);
-    if (!model.bandEmissivity.empty() || hasEmissivityCurves(model))
-        return detail::solveBandModel(scene, F, model, thermalSolverOptions(given, scene.size()), bandF);
-    return solveGrayThermal(scene, LocalRows(F), model, given);
+    if (!model.bandEmissivity.empty() || hasEmissivityCurves(model)) return detail::solveBandModel(scene, F, model, given, bandF);
+    return solveGrayThermal(scene, F, model, given);
 }
 
 ThermalSolution solveGrayThermal(const Scene& scene, const ExchangeRows& F, const ThermalModel& model,

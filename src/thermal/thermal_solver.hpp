@@ -46,6 +46,9 @@ struct ThermalSolution {
 /// must then serve that band's reflectances).
 ThermalSolution solveThermal(const Scene& scene, const FormFactors& F, const ThermalModel& model,
                              const SolverOptions& options, const std::vector<const FormFactors*>& bandF = {});
+/// The same on F as `F` holds it (one process, or rows across MPI ranks); bandF[k] likewise.
+ThermalSolution solveThermal(const Scene& scene, const ExchangeRows& F, const ThermalModel& model,
+                             const SolverOptions& options, const std::vector<const ExchangeRows*>& bandF = {});
 
 /// The gray model (no bands, no emissivity curves: else hemirad::Error) on F as `F` holds it: in one
 /// process (LocalRows) or across MPI ranks. solveThermal's errors.
