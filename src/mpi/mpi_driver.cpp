@@ -36,8 +36,10 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
 
 /// One command's state on one rank.
 struct Job {
-    /// Rank 0 alone reports.
-    Job(const Context& c, const Options& o) : context(c), options(o), reporter(o.quiet || !c.root(), reportsToStandardError(o)) {}
+    /// Rank 0 alone reports and prints warnings (every rank loads the same files and finds the same).
+    Job(const Context& c, const Options& o)
+        : context(c), options(o), reporter(o.quiet || !c.root(), reportsToStandardError(o)),
+          warnings(c.root() ? Warnings::stderrSink() : Warnings::Sink([](const std::string&) {})) {}
     const Context& context;
     const Options& options;
     Reporter reporter;

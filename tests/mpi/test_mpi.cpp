@@ -835,6 +835,8 @@ TEST_CASE("thermal on 2 MPI ranks solves the model on the ranks' rows (PETSc) wi
                                   "f 1 2 3 4\nf 8 7 6 5\nf 5 6 2 1\nf 6 7 3 2\nf 7 8 4 3\nf 8 5 1 4\n");
     const Run closed = runHemirad(dir, 2, "thermal closed.obj --bc closed.toml --unit m -o T4.csv");
     CHECK(closed.status == 1);
+    // Every rank loads the box and finds its faces without a material: rank 0 alone says so.
+    CHECK(count(closed.output, "face(s) before any usemtl get the default material") == 1);
     CHECK(count(closed.output, "hemirad: error: ") == 1);
     CHECK(count(closed.output, "the temperatures are not determined") == 1);
     CHECK(count(closed.output, "thermal: solved on F's rows where the 2 ranks hold them (PETSc)") == 1);
