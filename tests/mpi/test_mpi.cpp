@@ -837,6 +837,14 @@ TEST_CASE("thermal on 2 MPI ranks solves the model on the ranks' rows (PETSc) wi
     CHECK(closed.status == 1);
     // Every rank loads the box and finds its faces without a material: rank 0 alone says so.
     CHECK(count(closed.output, "face(s) before any usemtl get the default material") == 1);
+    // The same with an environment that the closed box cannot see: refused before any solve (BiCGSTAB
+    // across the ranks would have found the adiabatic box's source 0 and written 0 K).
+    writeFile(dir / "closed_env.toml", "[environment]\ntemperature_K = 3\n[default]\nadiabatic = true\n");
+    const Run unseen = runHemirad(dir, 2, "thermal closed.obj --bc closed_env.toml --unit m -o T5.csv");
+    CHECK(unseen.status == 1);
+    CHECK(count(unseen.output, "hemirad: error: ") == 1);
+    CHECK(count(unseen.output, "in a closed enclosure that sees nothing of the environment") == 1);
+    CHECK(!std::filesystem::exists(dir / "T5.csv"));
     CHECK(count(closed.output, "hemirad: error: ") == 1);
     CHECK(count(closed.output, "the temperatures are not determined") == 1);
     CHECK(count(closed.output, "thermal: solved on F's rows where the 2 ranks hold them (PETSc)") == 1);
