@@ -1,10 +1,9 @@
-// The gray thermal solve on the ranks' rows (see the header).
+// The thermal solve on the ranks' rows (see the header).
 #include "mpi/distributed_thermal.hpp"
 
 #include "mpi/petsc_solve.hpp"
 
 #include <mpi.h>
-
 
 namespace hemirad::mpi {
 namespace {
@@ -17,29 +16,15 @@ void sumAcrossRanks(std::vector<double>& v) {
 }  // namespace
 
 std::vector<double> DistributedRows::rowProducts(const std::vector<double>& x, const std::vector<double>* start) const {
-    const FormFactors& F = m_F.local;
-    std::vector<double> y(size(), 0.0);
-    const float* values = F.values();
-    const std::uint32_t* columns = F.columns();
-    for (std::size_t i = 0; i < y.size(); ++i) {
-        if (m_F.owner[i] != m_context.rank()) continue;
-        double h = start ? (*start)[i] : 0.0;
-        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) h += double(values[k]) * x[columns[k]];
-        y[i] = h;
-    }
+    std::vector<double> y = thermal::heldRowProducts(m_F.local, [&](std::size_t i) { return m_F.owner[i] == m_context.rank(); },
+                                                     x, start);
     sumAcrossRanks(y);
     return y;
 }
 
 std::vector<double> DistributedRows::columnSums(const std::vector<double>& w) const {
-    const FormFactors& F = m_F.local;
-    std::vector<double> sums(size(), 0.0);
-    const float* values = F.values();
-    const std::uint32_t* columns = F.columns();
-    for (std::size_t i = 0; i < sums.size(); ++i) {
-        if (m_F.owner[i] != m_context.rank()) continue;
-        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) sums[columns[k]] += w[i] * double(values[k]);
-    }
+    std::vector<double> sums =
+        thermal::heldColumnSums(m_F.local, [&](std::size_t i) { return m_F.owner[i] == m_context.rank(); }, w);
     sumAcrossRanks(sums);
     return sums;
 }

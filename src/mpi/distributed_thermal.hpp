@@ -1,4 +1,4 @@
-// The gray thermal solve on F's rows where the ranks hold them (thermal/exchange_rows.hpp): row
+// The thermal solve on F's rows where the ranks hold them (thermal/exchange_rows.hpp): row
 // products and column sums from each rank's rows, summed across the ranks; the bands by PETSc
 // (solveBandsDistributed). Every rank ends with the whole solution, so no rank holds F whole.
 #pragma once

@@ -7,7 +7,7 @@
 #include "engine/form_factors.hpp"
 #include "solve/solver.hpp"
 
-#include <string>
+#include <cstdint>
 #include <vector>
 
 namespace hemirad::thermal {
@@ -19,8 +19,8 @@ public:
     virtual std::size_t size() const = 0;
     /// Whether row i of F was computed (on some rank).
     virtual bool rowComputed(std::size_t i) const = 0;
-    /// Throws hemirad::Error naming the first row of F not computed (`whose`: "" or "the solar band's ").
-    void requireAllRows(const std::string& whose) const;
+    /// Throws hemirad::Error naming the first row of F not computed.
+    void requireAllRows() const;
     /// start_i + (F x)_i for every row i, each row summed in its entries' order onto start_i (no
     /// start: 0).
     virtual std::vector<double> rowProducts(const std::vector<double>& x, const std::vector<double>* start = nullptr) const = 0;
@@ -31,6 +31,36 @@ public:
     /// `options` as this F's solves take them (thermalSolverOptions in one process).
     virtual SolverOptions solverOptions(const SolverOptions& options, std::size_t patches) const = 0;
 };
+
+/// start_i + (F x)_i on the rows this process holds (held(i)), 0 on the others; each row summed in
+/// its entries' order onto start_i (no start: 0).
+template <class Held>
+std::vector<double> heldRowProducts(const FormFactors& F, Held held, const std::vector<double>& x,
+                                    const std::vector<double>* start) {
+    std::vector<double> y(F.size(), 0.0);
+    const float* values = F.values();
+    const std::uint32_t* columns = F.columns();
+    for (std::size_t i = 0; i < y.size(); ++i) {
+        if (!held(i)) continue;
+        double h = start ? (*start)[i] : 0.0;
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) h += double(values[k]) * x[columns[k]];
+        y[i] = h;
+    }
+    return y;
+}
+
+/// sum_i w_i F_ij over the rows this process holds (held(i)), for every column j.
+template <class Held>
+std::vector<double> heldColumnSums(const FormFactors& F, Held held, const std::vector<double>& w) {
+    std::vector<double> sums(F.size(), 0.0);
+    const float* values = F.values();
+    const std::uint32_t* columns = F.columns();
+    for (std::size_t i = 0; i < sums.size(); ++i) {
+        if (!held(i)) continue;
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) sums[columns[k]] += w[i] * double(values[k]);
+    }
+    return sums;
+}
 
 /// F whole in this process: solveBands and plain loops.
 class LocalRows final : public ExchangeRows {

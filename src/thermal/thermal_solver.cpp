@@ -78,7 +78,7 @@ ThermalSolution solveGrayThermal(const Scene& scene, const ExchangeRows& F, cons
     const std::size_t n = scene.size();
     if (F.size() != n)
         throw Error("thermal: F has " + std::to_string(F.size()) + " rows but the scene has " + std::to_string(n) + " patches");
-    F.requireAllRows("");
+    F.requireAllRows();
 
     ThermalSolution out;
     out.escape = escapeFractions(F, specularOf(model));
