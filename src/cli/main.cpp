@@ -3,6 +3,7 @@
 #include "cli/mpi_launch.hpp"
 #include "engine/atomic_file.hpp"
 #include "engine/console.hpp"
+#include "engine/crash_report.hpp"
 #include "engine/threads.hpp"
 
 #include <iostream>
@@ -11,6 +12,7 @@
 int main(int argc, char** argv) {
     using namespace hemirad;
     AtomicFile::removePendingFilesOnInterrupt();
+    reportFatalSignals("hemirad");
 #ifdef HEMIRAD_WITH_MPI
     // Started by mpirun: the command runs as one rank of the job (src/mpi, a module loaded only
     // then); otherwise MPI stays out.

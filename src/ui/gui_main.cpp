@@ -1,5 +1,6 @@
 // hemirad-gui: the event loop. GLFW events become camera moves, picks and actions on AppState;
 // ImGui panels present the state; the viewer draws the scene behind them.
+#include "engine/crash_report.hpp"
 #include "engine/error.hpp"
 #include "engine/result_writer.hpp"
 #include "engine/threads.hpp"
@@ -322,6 +323,7 @@ std::string configPath(const std::string& name) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    reportFatalSignals("hemirad-gui");
     GuiOptions options;
     try {
         options = parse(argc, argv);

@@ -362,6 +362,30 @@ TEST_CASE("Ctrl-C leaves the previous output intact and no temporary files") {
     CHECK(files == 1);
 }
 
+#ifndef __SANITIZE_ADDRESS__  // the sanitizers' own handlers report fatal signals there
+TEST_CASE("A fatal signal is reported as an internal error with the stack, leaves the previous output, and kills as before") {
+    const auto dir = tempDir("cli-fatal-signal");
+    const std::string ff = (dir / "F.hff").string();
+    REQUIRE(runHemirad("formfactors " + scene("unit_cube.obj") + " -o " + ff + " --samples 96 --quiet").status == 0);
+    std::ifstream before(ff, std::ios::binary);
+    const std::string original((std::istreambuf_iterator<char>(before)), {});
+    // As from a fault in a driver: SIGSEGV in the middle of a computation of several seconds.
+    const Result r = runCommand("(" + std::string(HEMIRAD_BINARY) + " formfactors " + scene("unit_cube.obj") + " -o " + ff +
+                                " --subdivide 0.02 --samples 3072 --origins 16 --estimator rays --quiet 2>&1 & pid=$!; sleep 1; "
+                                "kill -SEGV $pid; wait $pid)");
+    CHECK(r.status == 128 + 11);  // still dies of the signal (a core where enabled)
+    CHECK(r.output.find("hemirad: internal error: segmentation fault (SIGSEGV); no partial output was written. Stack:") !=
+          std::string::npos);
+    CHECK(r.output.find("hemirad(") != std::string::npos);  // a frame of the program, for addr2line
+    CHECK(r.output.find("Please report it with the command line") != std::string::npos);
+    std::ifstream after(ff, std::ios::binary);
+    CHECK(std::string((std::istreambuf_iterator<char>(after)), {}) == original);
+    int files = 0;
+    for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir)) ++files;
+    CHECK(files == 1);
+}
+#endif
+
 TEST_CASE("formfactors gives the same F bit for bit from an STL with --materials as from the OBJ of its triangles") {
     const auto dir = tempDir("cli-stl");
     // A closed box of 12 triangles with float-exact corners (binary STL stores float32): floor, walls.
