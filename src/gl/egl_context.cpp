@@ -41,11 +41,16 @@ EGLDisplay sharedDisplay() {
     return display;
 }
 
+/// Contexts are made, made current, released and destroyed one at a time, whatever the driver's
+/// own locking.
+std::mutex g_lifetimeMutex;
+
 void* eglLoader(const char* name) { return reinterpret_cast<void*>(eglGetProcAddress(name)); }
 
 class EglContext final : public GlContext {
 public:
     EglContext() : m_display(sharedDisplay()) {
+        const std::lock_guard<std::mutex> lock(g_lifetimeMutex);
         if (!eglBindAPI(EGL_OPENGL_API)) throw Error("EGL: desktop OpenGL is not available (" + eglErrorText(eglGetError()) + ")");
         const EGLint configAttributes[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
         EGLConfig config = nullptr;
@@ -59,16 +64,21 @@ public:
             throw Error("EGL: cannot create an OpenGL 4.5 core context (" + eglErrorText(eglGetError()) + ")");
     }
     ~EglContext() override {
+        const std::lock_guard<std::mutex> lock(g_lifetimeMutex);
         if (eglGetCurrentContext() == m_context) eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         eglDestroyContext(m_display, m_context);
     }
     void makeCurrent() override {
+        const std::lock_guard<std::mutex> lock(g_lifetimeMutex);
         eglBindAPI(EGL_OPENGL_API);
         if (!eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, m_context))
             throw Error("EGL: eglMakeCurrent failed (" + eglErrorText(eglGetError()) + ")");
         gl::loadApi(eglLoader, "EGL");
     }
-    void release() override { eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT); }
+    void release() override {
+        const std::lock_guard<std::mutex> lock(g_lifetimeMutex);
+        eglMakeCurrent(m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    }
     const char* api() const override { return "egl"; }
 
 private:

@@ -44,6 +44,8 @@ Reduction hemicubeReduction(std::string_view renderer, Reduction requested) {
     return isSoftwareRenderer(renderer) ? Reduction::Cpu : Reduction::Gpu;
 }
 
+bool hemicubeSerializesContexts(std::string_view renderer) { return isSoftwareRenderer(renderer); }
+
 std::uint32_t hemicubeInFlight(std::string_view renderer, std::uint32_t requested) {
     if (requested > 0) return requested;
     return isSoftwareRenderer(renderer) ? kSoftwareInFlight : 3u;
@@ -211,7 +213,7 @@ std::string HemicubeBackend::device() const {
            (m_common.threads > 0                ? " (--threads)"
             : isSoftwareRenderer(m_renderer) ? " (software renderer: one per core)"
                                              : " (GPU: one context)") +
-           ", " + std::to_string(m_layers) + (m_layers == 1 ? " hemicube per pass, " : " hemicubes per pass, ") +
+           (m_workers > 1 && hemicubeSerializesContexts(m_renderer) ? " taking turns at the driver" : "") + ", " + std::to_string(m_layers) + (m_layers == 1 ? " hemicube per pass, " : " hemicubes per pass, ") +
            std::to_string(m_inFlight) + " in flight, reduction on the " + (m_reduction == Reduction::Gpu ? "GPU" : "CPU") +
            (m_rowThreads > 0 ? ", " + std::to_string(m_rowThreads) + " row threads" : "");
 }
@@ -224,13 +226,16 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
     std::mutex failureMutex;
     HemicubeStats total;
     std::mutex totalMutex;
+    std::mutex driverMutex;
+    std::mutex* const exclusive = hemicubeSerializesContexts(m_renderer) ? &driverMutex : nullptr;
     auto worker = [&] {
         try {
             auto context = createHeadlessContext(api);
             context->makeCurrent();
             {
                 const MirrorLimits limits{m_common.maxDepth, m_common.minWeight, m_rays.get()};
-                HemicubeRenderer renderer(*m_scene, m_geometry, *m_layout, reduction, limits, m_layers, m_inFlight);
+                HemicubeRenderer renderer(*m_scene, m_geometry, *m_layout, reduction, limits, m_layers, m_inFlight,
+                                          exclusive);
                 RowAccumulator row(m_scene->size(), RowAccumulator::Mode::Weights);
                 HemicubeStats stats;
                 // A summed row into F (the GL thread's, or a row thread's with its own accumulator).

@@ -28,9 +28,9 @@ constexpr double kRoundedScale = 64.0;
 
 HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& geometry, const HemicubeLayout& layout,
                                    Reduction reduction, const MirrorLimits& mirrors, std::uint32_t layers,
-                                   std::uint32_t inFlight)
-    : m_scene(scene), m_geometry(geometry), m_layout(layout), m_reduction(reduction), m_layers(std::max(1u, layers)),
-      m_limits(mirrors), m_mirrors(scene.hasMirrors()), m_near(1e-6 * geometry.extent) {
+                                   std::uint32_t inFlight, std::mutex* exclusive)
+    : m_exclusive(exclusive), m_lifetimeLock(lockDriver()), m_scene(scene), m_geometry(geometry), m_layout(layout),
+      m_reduction(reduction), m_layers(std::max(1u, layers)), m_limits(mirrors), m_mirrors(scene.hasMirrors()), m_near(1e-6 * geometry.extent) {
     if (m_limits.maxDepth > 254) throw Error("hemicube: --max-depth is limited to 254 (8-bit stencil)");
     if (reduction == Reduction::Auto) throw Error("internal: the hemicube renderer needs a resolved --reduce");
     {
@@ -148,9 +148,11 @@ HemicubeRenderer::HemicubeRenderer(const Scene& scene, const HemicubeGeometry& g
     for (Slot& slot : m_slots) makeSlot(slot, m_layers, m_slots.size() > 1);
     makeSlot(m_rowSlot, 1, false);
     gl::check("setting up the hemicube renderer");
+    if (m_lifetimeLock) m_lifetimeLock.unlock();
 }
 
 HemicubeRenderer::~HemicubeRenderer() {
+    m_lifetimeLock = lockDriver();
     for (Slot& slot : m_slots) releaseSlot(slot);
     releaseSlot(m_rowSlot);
 }
@@ -281,6 +283,7 @@ void HemicubeRenderer::submit(const std::vector<HemicubeItem>& items, HemicubeSt
         m_pool->waitFor([&slot] { return slot.rowsLeft->load(std::memory_order_acquire) == 0; });
         stats.wait += since(t0);
     }
+    const auto lock = lockDriver();
     const auto t0 = Clock::now();
     ++m_busy;
     slot.items = items;
@@ -303,6 +306,7 @@ void HemicubeRenderer::submit(const std::vector<HemicubeItem>& items, HemicubeSt
 void HemicubeRenderer::useRowPool(HemicubeRowPool* pool) {
     if (m_busy) throw Error("internal: a row pool joins a hemicube renderer with passes in flight");
     if (pool && !m_pool) {
+        const auto lock = lockDriver();
         m_slots.emplace_back();
         makeSlot(m_slots.back(), m_layers, m_slots.front().host.empty());
     }
@@ -335,6 +339,7 @@ void HemicubeRenderer::readPixels(std::vector<std::uint32_t>& ids, HemicubeStats
 
 void HemicubeRenderer::computeRow(PatchId i, const Vec3& origin, double weight, RowAccumulator& row,
                                   HemicubeStats& stats) {
+    auto lock = lockDriver();
     auto t0 = Clock::now();
     if (m_rowSlot.queries[0]) gl::QueryCounter(m_rowSlot.queries[0], GL_TIMESTAMP);
     beginRow(i, origin, weight);
@@ -344,9 +349,11 @@ void HemicubeRenderer::computeRow(PatchId i, const Vec3& origin, double weight, 
     stats.render += since(t0);
     startResults(m_rowSlot, 1, stats);
     await(m_rowSlot, stats);
+    if (lock) lock.unlock();
     reduceLayer(m_rowSlot, 0, 1, m_weight, row, stats);
     ++stats.hemicubes;
     stats.pixels += m_layout.weights().size();
+    if (m_exclusive) lock.lock();  // the portals' draws, and the check below
     if (m_mirrors) {
         // Portals only run for rows that see a mirror (Sillion & Puech extended form factors).
         t0 = Clock::now();

@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace hemirad {
@@ -59,10 +60,13 @@ struct HemicubeItem {
 class HemicubeRenderer {
 public:
     /// `layers`: hemicubes drawn per pass (the atlas is an array of that many layers); `inFlight`:
-    /// passes that may be read back or reduced while the next ones draw.
+    /// passes that may be read back or reduced while the next ones draw. `exclusive`, for a driver
+    /// whose contexts may not run commands at once (hemicubeSerializesContexts): held over each of
+    /// this renderer's GL command sequences, from its construction to its destruction; the CPU
+    /// reductions run outside it.
     HemicubeRenderer(const Scene& scene, const HemicubeGeometry& geometry, const HemicubeLayout& layout,
                      Reduction reduction, const MirrorLimits& mirrors = {}, std::uint32_t layers = 1,
-                     std::uint32_t inFlight = 1);
+                     std::uint32_t inFlight = 1, std::mutex* exclusive = nullptr);
     ~HemicubeRenderer();
     HemicubeRenderer(const HemicubeRenderer&) = delete;
     HemicubeRenderer& operator=(const HemicubeRenderer&) = delete;
@@ -152,7 +156,10 @@ private:
     template <class RowDone>
     void finishOldest(RowAccumulator& row, RowDone& rowDone, HemicubeStats& stats) {
         Slot& slot = m_slots[m_first];
-        await(slot, stats);
+        {
+            const auto lock = lockDriver();
+            await(slot, stats);
+        }
         if (m_pool) {
             handToPool(slot);
         } else {
@@ -194,6 +201,15 @@ private:
     /// The hybrid variant: every pixel of `ids` (the direct pass) that sees a mirror is traced onwards with Embree.
     void traceMirrorPixels(PatchId i, const std::uint32_t* ids, RowAccumulator& row, HemicubeStats& stats);
 
+    /// `exclusive`, locked if there is one; an empty lock otherwise.
+    std::unique_lock<std::mutex> lockDriver() const {
+        return m_exclusive ? std::unique_lock<std::mutex>(*m_exclusive) : std::unique_lock<std::mutex>();
+    }
+
+    std::mutex* m_exclusive = nullptr;
+    /// Held through the constructor, and from the destructor's body until the GL objects below it
+    /// are deleted (members go in reverse order).
+    std::unique_lock<std::mutex> m_lifetimeLock;
     const Scene& m_scene;
     const HemicubeGeometry& m_geometry;
     const HemicubeLayout& m_layout;
