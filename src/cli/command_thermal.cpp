@@ -37,6 +37,11 @@ double sceneMetres(const Scene& scene, const Options& options, Warnings& warning
     return 1.0;
 }
 
+// What needs F whole in one process: reasons thermalNeedsWholeF lists and solveThermalModel names
+// when it lacks F whole.
+constexpr const char* kOwnIrMirrors = "an IR band with mirrors of its own";
+constexpr const char* kOwnSolarMirrors = "a solar band with mirrors of its own";
+
 }  // namespace
 
 ThermalInputs readThermalModel(Scene& scene, const Options& options, const Reporter& reporter, Warnings& warnings) {
@@ -76,10 +81,10 @@ std::string thermalNeedsWholeF(const Options& options, const Scene& scene, const
     auto add = [&](const char* reason) { why += (why.empty() ? "" : ", ") + std::string(reason); };
     for (std::size_t k = 0; k < inputs.model.bandSpecular.size(); ++k)
         if (thermal::bandNeedsOwnFormFactors(scene, inputs.model, k)) {
-            add("an IR band with mirrors of its own");
+            add(kOwnIrMirrors);
             break;
         }
-    if (inputs.solar.active() && inputs.solar.needsOwnFormFactors(scene)) add("a solar band with mirrors of its own");
+    if (inputs.solar.active() && inputs.solar.needsOwnFormFactors(scene)) add(kOwnSolarMirrors);
     if (!options.conductorsPath.empty()) add("--conductors");
     if (!options.exchangePath.empty()) add("--exchange");
     return why;
@@ -113,7 +118,7 @@ ThermalResults solveThermalModel(const Options& options, const Scene& scene, con
     if (inputs.solar.active()) {
         const FormFactors* solarF = nullptr;  // its own, else `rows`
         if (inputs.solar.needsOwnFormFactors(scene)) {
-            wholeF("a solar band with specular reflectances of its own");
+            wholeF(kOwnSolarMirrors);
             std::vector<double> specular(scene.size());
             for (PatchId i = 0; i < scene.size(); ++i) specular[i] = inputs.solar.surface[i].specular;
             solarF = &formFactorsFor(specular, "solar band: its specular reflectances differ from the IR ones");
@@ -133,7 +138,7 @@ ThermalResults solveThermalModel(const Options& options, const Scene& scene, con
     for (std::size_t k = 0; k < model.bandSpecular.size(); ++k) {
         bandF.push_back(nullptr);
         if (!thermal::bandNeedsOwnFormFactors(scene, model, k)) continue;
-        wholeF("an IR band with mirrors of its own");
+        wholeF(kOwnIrMirrors);
         ownRows.push_back(std::make_unique<thermal::LocalRows>(
             formFactorsFor(model.bandSpecular[k], "IR band " + std::to_string(k + 1) +
                                                       ": its specular reflectances differ from the scene's (the bands' "
