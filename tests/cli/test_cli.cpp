@@ -343,46 +343,52 @@ TEST_CASE("render writes a PNG of the Cornell box and prints a timing table") {
     CHECK(height == 48);
 }
 
-TEST_CASE("Ctrl-C leaves the previous output intact and no temporary files") {
-    const auto dir = tempDir("cli-interrupt");
+namespace {
+
+/// A computation of several seconds over an F written before into a folder of its own, sent
+/// `signal` (kill's name for it) after one second. `kept`: F as before and alone in its folder.
+struct Killed {
+    Result run;
+    bool kept = false;
+};
+Killed killComputation(const std::string& folder, const std::string& signal) {
+    const auto dir = tempDir(folder);
     const std::string ff = (dir / "F.hff").string();
     REQUIRE(runHemirad("formfactors " + scene("unit_cube.obj") + " -o " + ff + " --samples 96 --quiet").status == 0);
-    std::ifstream before(ff, std::ios::binary);
-    const std::string original((std::istreambuf_iterator<char>(before)), {});
-    // A computation of several seconds, interrupted after one.
-    const Result r = runCommand("(" + std::string(HEMIRAD_BINARY) + " formfactors " + scene("unit_cube.obj") + " -o " + ff +
-                                " --subdivide 0.02 --samples 3072 --origins 16 --estimator rays --quiet 2>&1 & pid=$!; sleep 1; "
-                                "kill -INT $pid; wait $pid)");
-    CHECK(r.status == 130);
-    CHECK(r.output.find("interrupted; no partial output was written") != std::string::npos);
-    std::ifstream after(ff, std::ios::binary);
-    CHECK(std::string((std::istreambuf_iterator<char>(after)), {}) == original);
+    auto read = [&ff] {
+        std::ifstream in(ff, std::ios::binary);
+        return std::string((std::istreambuf_iterator<char>(in)), {});
+    };
+    const std::string original = read();
+    Killed killed;
+    killed.run = runCommand("(" + std::string(HEMIRAD_BINARY) + " formfactors " + scene("unit_cube.obj") + " -o " + ff +
+                            " --subdivide 0.02 --samples 3072 --origins 16 --estimator rays --quiet 2>&1 & pid=$!; sleep 1; "
+                            "kill -" + signal + " $pid; wait $pid)");
     int files = 0;
     for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir)) ++files;
-    CHECK(files == 1);
+    killed.kept = read() == original && files == 1;
+    return killed;
+}
+
+}  // namespace
+
+TEST_CASE("Ctrl-C leaves the previous output intact and no temporary files") {
+    const Killed r = killComputation("cli-interrupt", "INT");
+    CHECK(r.run.status == 130);
+    CHECK(r.run.output.find("interrupted; no partial output was written") != std::string::npos);
+    CHECK(r.kept);
 }
 
 #ifndef __SANITIZE_ADDRESS__  // the sanitizers' own handlers report fatal signals there
 TEST_CASE("A fatal signal is reported as an internal error with the stack, leaves the previous output, and kills as before") {
-    const auto dir = tempDir("cli-fatal-signal");
-    const std::string ff = (dir / "F.hff").string();
-    REQUIRE(runHemirad("formfactors " + scene("unit_cube.obj") + " -o " + ff + " --samples 96 --quiet").status == 0);
-    std::ifstream before(ff, std::ios::binary);
-    const std::string original((std::istreambuf_iterator<char>(before)), {});
-    // As from a fault in a driver: SIGSEGV in the middle of a computation of several seconds.
-    const Result r = runCommand("(" + std::string(HEMIRAD_BINARY) + " formfactors " + scene("unit_cube.obj") + " -o " + ff +
-                                " --subdivide 0.02 --samples 3072 --origins 16 --estimator rays --quiet 2>&1 & pid=$!; sleep 1; "
-                                "kill -SEGV $pid; wait $pid)");
-    CHECK(r.status == 128 + 11);  // still dies of the signal (a core where enabled)
-    CHECK(r.output.find("hemirad: internal error: segmentation fault (SIGSEGV); no partial output was written. Stack:") !=
+    // As from a fault in a driver: SIGSEGV in the middle of a computation.
+    const Killed r = killComputation("cli-fatal-signal", "SEGV");
+    CHECK(r.run.status == 128 + 11);  // still dies of the signal (a core where enabled)
+    CHECK(r.run.output.find("hemirad: internal error: segmentation fault (SIGSEGV); no partial output was written. Stack:") !=
           std::string::npos);
-    CHECK(r.output.find("hemirad(") != std::string::npos);  // a frame of the program, for addr2line
-    CHECK(r.output.find("Please report it with the command line") != std::string::npos);
-    std::ifstream after(ff, std::ios::binary);
-    CHECK(std::string((std::istreambuf_iterator<char>(after)), {}) == original);
-    int files = 0;
-    for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir)) ++files;
-    CHECK(files == 1);
+    CHECK(r.run.output.find("hemirad(") != std::string::npos);  // a frame of the program, for addr2line
+    CHECK(r.run.output.find("Please report it with the command line") != std::string::npos);
+    CHECK(r.kept);
 }
 #endif
 
