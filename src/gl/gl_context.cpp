@@ -5,6 +5,11 @@
 
 namespace hemirad {
 
+std::mutex& sharedDriverMutex() {
+    static std::mutex driver;
+    return driver;
+}
+
 std::unique_ptr<GlContext> createHeadlessContext(GlApiKind kind) {
     if (kind == GlApiKind::Egl) return detail::createEglContext();
     if (kind == GlApiKind::OSMesa) return detail::createOsmesaContext();

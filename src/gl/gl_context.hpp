@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <string>
 
 namespace hemirad {
@@ -24,6 +25,12 @@ public:
 /// Creates a GL 4.5 core context. Auto tries EGL (EGL_PLATFORM_SURFACELESS_MESA), then OSMesa.
 /// Throws hemirad::Error saying why each API failed.
 std::unique_ptr<GlContext> createHeadlessContext(GlApiKind kind);
+
+/// The one lock of this process for a driver whose contexts may not run GL commands at once (Mesa's
+/// llvmpipe: a display's contexts share one screen and its rasterizer). Whoever draws on such a driver
+/// holds it over each GL command sequence: the workers of one computation and any computations
+/// running at once in the same process (two Python threads, say) all take turns.
+std::mutex& sharedDriverMutex();
 
 namespace detail {
 std::unique_ptr<GlContext> createEglContext();     // egl_context.cpp

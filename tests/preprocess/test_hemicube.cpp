@@ -18,7 +18,10 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
+#include <future>
+#include <mutex>
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -124,6 +127,28 @@ TEST_CASE("The worker count follows the renderer: one context per core on llvmpi
     const FormFactorRun r2 = computeFormFactors(unitCube(), MethodSettings::of(o, two), {0, 1});
     CHECK(r2.device.find("2 GL contexts (--threads) taking turns at the driver") != std::string::npos);
     CHECK(r2.F.at(0, 1) == r.F.at(0, 1));  // the same pixels whichever context drew them
+}
+
+TEST_CASE("On llvmpipe the turns at the driver are the process's: a computation waits while another holds the driver") {
+    // Two computations at once in one process (two Python threads, say) share llvmpipe's screen as one
+    // computation's workers do, so they take turns under one lock, not one lock per computation.
+    HemicubeOptions o;
+    o.resolution = 16;
+    CommonOptions two;
+    two.threads = 2;
+    const FormFactorRun alone = computeFormFactors(unitCube(), MethodSettings::of(o, two), {0, 1});
+    REQUIRE(alone.device.find("taking turns at the driver") != std::string::npos);
+    std::future<FormFactorRun> waiting;  // declared first: destroyed after the lock is let go
+    std::unique_lock<std::mutex> held(sharedDriverMutex());
+    waiting = std::async(std::launch::async, [&] {
+        return computeFormFactors(unitCube(), MethodSettings::of(o, two), {0, 1});
+    });
+    // Alone it takes milliseconds; while the driver is held it cannot draw a pixel.
+    CHECK(waiting.wait_for(std::chrono::seconds(2)) == std::future_status::timeout);
+    held.unlock();
+    const FormFactorRun after = waiting.get();
+    for (PatchId i : {0u, 1u})
+        for (PatchId j = 0; j < 6; ++j) CHECK(after.F.at(i, j) == alone.F.at(i, j));
 }
 
 TEST_CASE("Batched hemicubes (one instanced draw into B atlas layers) give the row-by-row F entry by entry") {

@@ -226,8 +226,7 @@ void HemicubeBackend::computeRows(RowSource& rows, FormFactorBuilder& builder) {
     std::mutex failureMutex;
     HemicubeStats total;
     std::mutex totalMutex;
-    std::mutex driverMutex;
-    std::mutex* const exclusive = hemicubeSerializesContexts(m_renderer) ? &driverMutex : nullptr;
+    std::mutex* const exclusive = hemicubeSerializesContexts(m_renderer) ? &sharedDriverMutex() : nullptr;
     auto worker = [&] {
         try {
             auto context = createHeadlessContext(api);
