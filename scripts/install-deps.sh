@@ -5,7 +5,7 @@
 set -euo pipefail
 
 packages=(
-  cmake g++ make pkg-config
+  cmake g++ make pkg-config ccache
   libembree-dev libeigen3-dev doctest-dev libstb-dev
   libglfw3-dev libegl-dev libegl-mesa0 libgl-dev libosmesa6-dev libimgui-dev
   xvfb xdotool python3-matplotlib
