@@ -64,9 +64,11 @@ test-without-opengl: deps
 	@cd build-noopengl && ctest --output-on-failure -j $(JOBS)
 
 # The build without Embree (no hemisphere back end, no render): the hemicube is the default back end,
-# the GUI is built without its ray-cast inspector, and whatever needs rays says how to get it.
+# the GUI is built without its ray-cast inspector, and whatever needs rays says how to get it. Position-
+# independent code as in the main build (whose Python module needs it), so that ccache serves the
+# objects both compile alike.
 test-without-embree: deps
-	@cmake -S . -B build-noembree $(LAUNCHER) -DCMAKE_BUILD_TYPE=Release -DHEMIRAD_WITH_EMBREE=OFF -DHEMIRAD_WITH_MPI=OFF -DHEMIRAD_WITH_PYTHON=OFF \
+	@cmake -S . -B build-noembree $(LAUNCHER) -DCMAKE_POSITION_INDEPENDENT_CODE=ON -DCMAKE_BUILD_TYPE=Release -DHEMIRAD_WITH_EMBREE=OFF -DHEMIRAD_WITH_MPI=OFF -DHEMIRAD_WITH_PYTHON=OFF \
 	    -DHEMIRAD_WITH_BENCH=OFF > build-noembree.configure.log 2>&1 || { cat build-noembree.configure.log; exit 1; }
 	@cmake --build build-noembree -j $(JOBS)
 	@cd build-noembree && ctest --output-on-failure -j $(JOBS)

@@ -234,13 +234,15 @@ def test_progress_is_called_and_an_exception_in_it_stops_the_computation():
 
 
 def test_ctrl_c_cancels_a_running_computation():
-    scene = hemirad.load(scene_path("cornell_box.obj"), subdivide=40)
+    # 4,855 patches: uninterrupted, F takes about 16 s on one thread of a 2-core machine. Stopping
+    # within 3 s of the start shows the cancel without a tight clock that a loaded machine would miss.
+    scene = hemirad.load(scene_path("cornell_box.obj"), subdivide=25)
     timer = threading.Timer(0.2, lambda: signal.pthread_kill(threading.main_thread().ident, signal.SIGINT))
     started = time.perf_counter()
     timer.start()
     with pytest.raises(KeyboardInterrupt):
         hemirad.form_factors(scene, threads=1)
-    assert time.perf_counter() - started < 0.9
+    assert time.perf_counter() - started < 3.0
     timer.join()
 
 
