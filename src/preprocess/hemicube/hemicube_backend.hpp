@@ -24,9 +24,10 @@ bool isSoftwareRenderer(std::string_view renderer);
 int hemicubeWorkers(std::string_view renderer, int requested, int cores);
 
 /// Whether the workers' contexts take turns, each GL command sequence under the process's one
-/// sharedDriverMutex (their CPU reductions still overlap): on a software renderer. Mesa 22.3's llvmpipe (Debian 12) crashes now
-/// and then when two contexts draw at once: a segmentation fault inside the driver in about one run
-/// of 250 of a mirror scene on a loaded 2-core machine (cornell_mirror, --subdivide 100, R = 32).
+/// sharedDriverMutex (their CPU reductions still overlap): on a software renderer. Mesa 22.3's
+/// llvmpipe (Debian 12) crashes now and then when two contexts draw at once: a segmentation fault
+/// inside the driver in about one run of 250 of a mirror scene on a loaded 2-core machine
+/// (cornell_mirror, --subdivide 100, R = 32).
 bool hemicubeSerializesContexts(std::string_view renderer);
 
 /// Where pixels are summed (--reduce): `requested` unless Auto; else on the CPU with a software
