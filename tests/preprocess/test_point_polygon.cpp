@@ -28,7 +28,60 @@ double perpendicularByQuadrature(double X, double y0, double y1, double z0, doub
     return sum;
 }
 
+/// Lambert's formula in long double with the C library's atan2l: the reference for the angles
+/// pointToPolygonFactor computes its own way; `scale` the sum of its terms' sizes (far from the
+/// polygon they nearly cancel, and double rounding is relative to them, not to the factor).
+double lambertLongDouble(const Vec3& x, const Vec3& n, const std::vector<Vec3>& p, double& scale) {
+    long double sum = 0.0L, size = 0.0L;
+    for (std::size_t k = 0; k < p.size(); ++k) {
+        const Vec3& from = p[(k + p.size() - 1) % p.size()];
+        long double a[3], b[3];
+        for (int i = 0; i < 3; ++i) {
+            a[i] = (long double)from[i] - (long double)x[i];
+            b[i] = (long double)p[k][i] - (long double)x[i];
+        }
+        const long double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        const long double s = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        if (!(s > 0.0L)) continue;
+        const long double term =
+            std::atan2(s, a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * (n[0] * c[0] + n[1] * c[1] + n[2] * c[2]) / s;
+        sum += term;
+        size += std::fabs(term);
+    }
+    const long double twoPi = 2.0L * 3.14159265358979323846264338327950288L;
+    scale = double(size / twoPi);
+    return double(std::fabs(sum) / twoPi);
+}
+
 }  // namespace
+
+TEST_CASE("Lambert's edge angles keep their digits from nearly 0 to nearly pi, in every octant of the edge") {
+    // A triangle and a quad seen from afar (every angle tiny), from a point just above their plane
+    // (angles near pi for the edges it lies close to), and from points around them: the factor
+    // within 1e-14 of the formula in long double with the C library's atan2l, relative to the
+    // terms' sizes (the sum cancels far away, as it does with any atan2).
+    const std::vector<std::vector<Vec3>> polygons = {
+        {{0, 0, 0}, {1, 0, 0}, {0.2, 0.9, 0}},
+        {{-1, -0.5, 0}, {1.5, -0.5, 0}, {1.2, 0.7, 0}, {-0.8, 0.6, 0}},
+    };
+    const std::vector<Vec3> points = {{0.3, 0.2, 1e-6}, {0.3, 0.2, 1e-3}, {0.3, 0.2, 0.5}, {0.5, 1e-7, 1e-7},
+                                      {3, 2, 1},        {-2, -3, 0.3},    {0.1, 0.1, 2e3}, {30, -20, 50}};
+    const std::vector<Vec3> normals = {{0, 0, -1}, Vec3(1, 0, -1).normalized(), Vec3(0.3, -0.4, -0.8).normalized()};
+    int compared = 0;
+    for (const auto& polygon : polygons)
+        for (const Vec3& x : points)
+            for (const Vec3& normal : normals) {
+                double scale = 0.0;
+                const double reference = lambertLongDouble(x, normal, polygon, scale);
+                if (!(reference > 0.0)) continue;
+                CAPTURE(x.transpose());
+                CAPTURE(normal.transpose());
+                CHECK(std::abs(pointToPolygonFactor(x, normal, polygon.data(), polygon.size()) - reference) <=
+                      1e-14 * scale);
+                ++compared;
+            }
+    CHECK(compared >= 30);
+}
 
 TEST_CASE("Point to rectangle: Howell B-3 with the normal through a corner, both windings") {
     const Vec3 x(0, 0, 0), n(0, 0, 1);

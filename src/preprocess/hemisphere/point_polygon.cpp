@@ -6,6 +6,40 @@
 
 namespace hemirad {
 
+namespace {
+
+/// atan2(s, c) for s > 0: the angle between two vectors from |a x b| and a . b, within 2.2 ulp of
+/// the exact angle (glibc's atan2: 0.5 ulp) at 60 % of its time, most of which glibc spends keeping
+/// the caller's rounding mode. Lambert's formula takes one per edge, and the analytic estimator's
+/// visible parts spent a sixth of their time in them. Cephes' atan (S. Moshier): the argument
+/// min/max(s, |c|) in [0, 1], reduced above tan(pi/8) by atan(t) = pi/4 + atan((t - 1)/(t + 1)),
+/// then a rational of degree 4/5 in its square; the constants pi/4, pi/2 and pi carried in two
+/// parts, so that the sums keep the small angle's digits.
+inline double edgeAngle(double s, double c) {
+    constexpr double P0 = -8.750608600031904122785e-1, P1 = -1.615753718733365076637e1,
+                     P2 = -7.500855792314704667340e1, P3 = -1.228866684490136173410e2,
+                     P4 = -6.485021904942025371773e1;
+    constexpr double Q0 = 2.485846490142306297962e1, Q1 = 1.650270098316988542046e2, Q2 = 4.328810604912902668951e2,
+                     Q3 = 4.853903996359136964868e2, Q4 = 1.945506571482613964425e2;
+    constexpr double kQuarterPi = 0.78539816339744830962, kQuarterPiLow = 3.061616997868382943065e-17;
+    constexpr double kHalfPi = 1.57079632679489661923, kHalfPiLow = 6.123233995736765886130e-17;
+    constexpr double kPiLow = 1.224646799147353177226e-16;
+    const double ac = std::abs(c);
+    const bool steep = s > ac;
+    const double t = steep ? ac / s : s / ac;
+    const bool high = t > 0.41421356237309504880;
+    const double x = high ? (t - 1.0) / (t + 1.0) : t;
+    const double z = x * x;
+    const double p = (((P0 * z + P1) * z + P2) * z + P3) * z + P4;
+    const double q = ((((z + Q0) * z + Q1) * z + Q2) * z + Q3) * z + Q4;
+    const double r = x * z * p / q;  // atan(x) - x
+    double angle = high ? kQuarterPi + (x + (r + kQuarterPiLow)) : x + r;
+    if (steep) angle = kHalfPi - (angle - kHalfPiLow);
+    return c < 0.0 ? kPi - (angle - kPiLow) : angle;
+}
+
+}  // namespace
+
 double pointToPolygonFactor(const Vec3& x, const Vec3& n, const Vec3* p, std::size_t count) {
     double sum = 0.0;
     Vec3 a = p[count - 1] - x;
@@ -14,7 +48,7 @@ double pointToPolygonFactor(const Vec3& x, const Vec3& n, const Vec3* p, std::si
         const Vec3 c = a.cross(b);
         const double s = c.norm();
         // atan2 keeps the angle accurate for nearly parallel edges where acos loses digits.
-        if (s > 0.0) sum += std::atan2(s, a.dot(b)) * n.dot(c) / s;
+        if (s > 0.0) sum += edgeAngle(s, a.dot(b)) * n.dot(c) / s;
         a = b;
     }
     return std::abs(sum) / (2.0 * kPi);
