@@ -8,19 +8,27 @@ namespace hemirad {
 
 namespace {
 
-/// atan2(s, c) for s > 0: the angle between two vectors from |a x b| and a . b, within 2.2 ulp of
-/// the exact angle (glibc's atan2: 0.5 ulp) at 60 % of its time, most of which glibc spends keeping
-/// the caller's rounding mode. Lambert's formula takes one per edge, and the analytic estimator's
-/// visible parts spent a sixth of their time in them. Cephes' atan (S. Moshier): the argument
-/// min/max(s, |c|) in [0, 1], reduced above tan(pi/8) by atan(t) = pi/4 + atan((t - 1)/(t + 1)),
-/// then a rational of degree 4/5 in its square; the constants pi/4, pi/2 and pi carried in two
-/// parts, so that the sums keep the small angle's digits.
-inline double edgeAngle(double s, double c) {
+/// Cephes' atan (S. Moshier): atan(x) = x + x z P(z) / Q(z), z = x^2, for |x| <= tan(pi/8) (a
+/// rational of degree 4/5, within 2 ulp); p and q are P(z) and Q(z).
+inline void atanRational(double z, double& p, double& q) {
     constexpr double P0 = -8.750608600031904122785e-1, P1 = -1.615753718733365076637e1,
                      P2 = -7.500855792314704667340e1, P3 = -1.228866684490136173410e2,
                      P4 = -6.485021904942025371773e1;
     constexpr double Q0 = 2.485846490142306297962e1, Q1 = 1.650270098316988542046e2, Q2 = 4.328810604912902668951e2,
                      Q3 = 4.853903996359136964868e2, Q4 = 1.945506571482613964425e2;
+    p = (((P0 * z + P1) * z + P2) * z + P3) * z + P4;
+    q = ((((z + Q0) * z + Q1) * z + Q2) * z + Q3) * z + Q4;
+}
+
+/// tan(pi/8)^2: below it atanRational needs no reduction.
+constexpr double kTanEighthPiSquared = 0.17157287525380990239;
+
+/// atan2(s, c) for s > 0: the angle between two vectors from |a x b| and a . b, within 2.2 ulp of
+/// the exact angle (glibc's atan2: 0.5 ulp) at 60 % of its time, most of which glibc spends keeping
+/// the caller's rounding mode. The argument min/max(s, |c|) in [0, 1], reduced above tan(pi/8) by
+/// atan(t) = pi/4 + atan((t - 1)/(t + 1)); the constants pi/4, pi/2 and pi carried in two parts, so
+/// that the sums keep the small angle's digits.
+inline double edgeAngle(double s, double c) {
     constexpr double kQuarterPi = 0.78539816339744830962, kQuarterPiLow = 3.061616997868382943065e-17;
     constexpr double kHalfPi = 1.57079632679489661923, kHalfPiLow = 6.123233995736765886130e-17;
     constexpr double kPiLow = 1.224646799147353177226e-16;
@@ -29,10 +37,9 @@ inline double edgeAngle(double s, double c) {
     const double t = steep ? ac / s : s / ac;
     const bool high = t > 0.41421356237309504880;
     const double x = high ? (t - 1.0) / (t + 1.0) : t;
-    const double z = x * x;
-    const double p = (((P0 * z + P1) * z + P2) * z + P3) * z + P4;
-    const double q = ((((z + Q0) * z + Q1) * z + Q2) * z + Q3) * z + Q4;
-    const double r = x * z * p / q;  // atan(x) - x
+    double p, q;
+    atanRational(x * x, p, q);
+    const double r = x * (x * x) * p / q;  // atan(x) - x
     double angle = high ? kQuarterPi + (x + (r + kQuarterPiLow)) : x + r;
     if (steep) angle = kHalfPi - (angle - kHalfPiLow);
     return c < 0.0 ? kPi - (angle - kPiLow) : angle;
@@ -46,9 +53,21 @@ double pointToPolygonFactor(const Vec3& x, const Vec3& n, const Vec3* p, std::si
     for (std::size_t k = 0; k < count; ++k) {
         const Vec3 b = p[k] - x;
         const Vec3 c = a.cross(b);
-        const double s = c.norm();
-        // atan2 keeps the angle accurate for nearly parallel edges where acos loses digits.
-        if (s > 0.0) sum += edgeAngle(s, a.dot(b)) * n.dot(c) / s;
+        const double s2 = c.squaredNorm(), d = a.dot(b);
+        if (d > 0.0 && s2 <= kTanEighthPiSquared * (d * d)) {
+            // An angle below pi/8 (every edge of a polygon seen from afar): gamma / |c| =
+            // atan(t) / (t d) with t = |c| / d, that is (1 + z P / Q) / d with z = t^2: no root.
+            if (s2 > 0.0) {
+                double p, q;
+                const double z = s2 / (d * d);
+                atanRational(z, p, q);
+                sum += n.dot(c) * (q + z * p) / (d * q);
+            }
+        } else {
+            // atan2 keeps the angle accurate for nearly parallel edges where acos loses digits.
+            const double s = std::sqrt(s2);
+            if (s > 0.0) sum += edgeAngle(s, d) * n.dot(c) / s;
+        }
         a = b;
     }
     return std::abs(sum) / (2.0 * kPi);
