@@ -9,11 +9,9 @@ namespace hemirad {
 
 /// Twice the signed area of the 2D polygon xy[0..2k).
 double doubleArea(const double* xy, std::size_t k) {
-    double a = 0.0;
-    for (std::size_t i = 0; i < k; ++i) {
-        const std::size_t j = (i + 1) % k;
-        a += xy[2 * i] * xy[2 * j + 1] - xy[2 * j] * xy[2 * i + 1];
-    }
+    if (k == 0) return 0.0;
+    double a = xy[2 * (k - 1)] * xy[1] - xy[0] * xy[2 * (k - 1) + 1];  // the closing edge, as the loop's last term was
+    for (std::size_t i = 0; i + 1 < k; ++i) a += xy[2 * i] * xy[2 * i + 3] - xy[2 * i + 2] * xy[2 * i + 1];
     return a;
 }
 

@@ -275,12 +275,13 @@ void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& n
             if (clipToPlane(s.cut, m[k], d[k], s.cutNext, s.sides)) s.cut.swap(s.cutNext);
         }
         if (s.cut.size() < 3) return true;
-        s.shadow.clear();
-        s.image.clear();
-        for (const Vec3& y : s.cut) {
-            s.image.push_back(project(y));
-            s.shadow.push_back((s.image.back() - origin).dot(s.u));
-            s.shadow.push_back((s.image.back() - origin).dot(s.v));
+        const std::size_t cutCorners = s.cut.size();
+        s.image.resize(cutCorners);
+        s.shadow.resize(2 * cutCorners);
+        for (std::size_t c = 0; c < cutCorners; ++c) {
+            s.image[c] = project(s.cut[c]);
+            s.shadow[2 * c] = (s.image[c] - origin).dot(s.u);
+            s.shadow[2 * c + 1] = (s.image[c] - origin).dot(s.v);
         }
         if (smallest == 0.0) {
             std::vector<double>& whole = given ? s.clear.rest : s.clear.pieces;
