@@ -114,8 +114,8 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
             << c.contactEvaluations << " visible-part evaluations)";
     }
     if (c.penumbralPairs)
-        out << "\n  pairs in a penumbra (the emitter's corners disagreed with its points about the receiver), "
-               "weighed by a finer rule with a shadow ray per receiver piece: "
+        out << "\n  pairs in a penumbra (the emitter's corners or the rims of its view of the receiver disagreed with "
+               "its points), weighed by a finer rule with each point's exact visible part: "
             << c.penumbralPairs << " computations";
     if (c.coveredRows)
         out << "\n  rows of patches a solid stands on in part (a block on a floor patch), their rules over the free "

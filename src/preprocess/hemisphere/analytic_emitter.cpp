@@ -57,7 +57,7 @@ double AnalyticEstimator::addRow(PatchId i, RowAccumulator& row, Workspace& ws, 
     if (orders.lowest() == 1) {
         ws.penumbra.clear();
         direct += addFrom(i, m_rules.geometry().shapes[i].centroid, 0, nullptr, unit, row, ws, counts);
-        direct += replaceStraddlingPairs(i, ws.point.exact, 1, row, ws, counts);
+        direct += replaceStraddlingPairs(i, ws.point.exact, row, ws, counts);
         direct += replacePenumbralPairs(i, row, ws, counts);
     }
     for (int m = std::max(2, orders.lowest()); m <= orders.highest(); ++m) {
@@ -68,7 +68,7 @@ double AnalyticEstimator::addRow(PatchId i, RowAccumulator& row, Workspace& ws, 
         const std::vector<double>& weights = ws.rules.quadWeights;
         for (std::size_t q = 0; q < points.size(); ++q)
             direct += addFrom(i, points[q], std::uint32_t(q), &ws.byOrder[m], unit * weights[q], row, ws, counts);
-        direct += replaceStraddlingPairs(i, ws.byOrder[m], m, row, ws, counts);
+        direct += replaceStraddlingPairs(i, ws.byOrder[m], row, ws, counts);
         for (const PatchId j : ws.byOrder[m]) ws.ruled[j] = 0;
     }
     for (const PatchId j : ws.contacts) {
@@ -247,7 +247,7 @@ double AnalyticEstimator::addFrom(PatchId i, const Vec3& x, std::uint32_t point,
     return sum;
 }
 
-double AnalyticEstimator::replaceStraddlingPairs(PatchId i, const std::vector<PatchId>& receivers, int m,
+double AnalyticEstimator::replaceStraddlingPairs(PatchId i, const std::vector<PatchId>& receivers,
                                                  RowAccumulator& row, Workspace& ws, RayCounts& counts) const {
     Workspace::Seen& seen = ws.seen;
     double change = 0.0;
@@ -257,7 +257,7 @@ double AnalyticEstimator::replaceStraddlingPairs(PatchId i, const std::vector<Pa
         if (most < least) continue;  // no term
         const Straddle straddle = straddleOf(i, j, unoccluded, least, most, ws, counts);
         if (straddle == Straddle::None) continue;
-        change += replaceEntry(j, replacementValue(straddle, i, j, m, unoccluded / m_rules.unit(), ws, counts), row, ws);
+        change += replaceEntry(j, replacementValue(straddle, i, j, ws, counts), row, ws);
     }
     return change;
 }
@@ -279,11 +279,13 @@ double AnalyticEstimator::replacePenumbralPairs(PatchId i, RowAccumulator& row, 
         for (std::size_t k = 0; k < count; ++k)
             if ((pen.verdicts[k] != 0) != (pen.blocked[k] != 0)) pen.agree[k] = 0;
     }
+    // Where the corners agree, the bundle's rims (extremesAgree): with cornersAgree's verdicts,
+    // PairRules::centroidVerdictHolds.
     double change = 0.0;
     for (std::size_t k = 0; k < count; ++k) {
-        if (pen.agree[k]) continue;
         const PatchId j = pen.patches[k];
-        change += replaceEntry(j, replacementValue(Straddle::Penumbral, i, j, 1, pen.factors[k], ws, counts), row, ws);
+        if (pen.agree[k] && m_rules.extremesAgree(i, j, pen.factors[k], pen.blocked[k] != 0, ws.rules, counts)) continue;
+        change += replaceEntry(j, replacementValue(Straddle::Penumbral, i, j, ws, counts), row, ws);
     }
     pen.clear();
     return change;
@@ -297,10 +299,10 @@ double AnalyticEstimator::replaceEntry(PatchId j, double value, RowAccumulator& 
     return value - before;
 }
 
-double AnalyticEstimator::replacementValue(Straddle straddle, PatchId e, PatchId r, int m, double factor, Workspace& ws,
+double AnalyticEstimator::replacementValue(Straddle straddle, PatchId e, PatchId r, Workspace& ws,
                                           RayCounts& counts) const {
     return straddle == Straddle::Whole ? m_rules.straddlingValue(e, r, ws.rules, counts)
-                                       : m_rules.penumbralValue(e, r, m_rules.penumbralOrder(m, factor), ws.rules, counts);
+                                       : m_rules.penumbralValue(e, r, ws.rules, counts);
 }
 
 AnalyticEstimator::Straddle AnalyticEstimator::straddleOf(PatchId e, PatchId r, double unoccluded, double least,
@@ -314,7 +316,9 @@ AnalyticEstimator::Straddle AnalyticEstimator::straddleOf(PatchId e, PatchId r, 
     const PatchGeometry& geometry = m_rules.geometry();
     float target[3];
     m_rules.rayTarget(e, r, geometry.polygon(r), geometry.shapes[r].count, 0, 0, target);
-    return m_rules.cornersAgree(e, target, least == 0.0, ws.rules, counts) ? Straddle::None : Straddle::Penumbral;
+    return m_rules.centroidVerdictHolds(e, r, unoccluded / m_rules.unit(), target, least == 0.0, ws.rules, counts)
+               ? Straddle::None
+               : Straddle::Penumbral;
 }
 
 bool AnalyticEstimator::straddlesWhole(PatchId e, PatchId r, double unoccluded, double& least, double& most,

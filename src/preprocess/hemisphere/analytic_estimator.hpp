@@ -49,8 +49,8 @@ private:
     /// After the centroid pass (its exact terms, m = 1) and each rule pass of order m >= 2 (all
     /// terms): the receivers straddling a shadow's edge (straddleOf) get their replacement value in
     /// place of the rule's terms.
-    double replaceStraddlingPairs(PatchId i, const std::vector<PatchId>& receivers, int m, RowAccumulator& row,
-                                  Workspace& ws, RayCounts& counts) const;
+    double replaceStraddlingPairs(PatchId i, const std::vector<PatchId>& receivers, RowAccumulator& row, Workspace& ws,
+                                  RayCounts& counts) const;
     /// Whether emitter e's pair with r straddles a shadow's edge (straddlesWhole: Whole), or its
     /// shares spread enough that a finer rule should weigh them (PairRules::spreadsPenumbra:
     /// Penumbral). Both rows of the pair decide alike.
@@ -59,10 +59,8 @@ private:
     /// Row i's entry for receiver j (ray units) set to `value` in place of its terms, and kept so for
     /// the exchange; returns the change.
     static double replaceEntry(PatchId j, double value, RowAccumulator& row, Workspace& ws);
-    /// The replacement value (ray units) of a pair of rule order m (1: the centroid, 0: the far rule)
-    /// with the unoccluded factor `factor`.
-    double replacementValue(Straddle straddle, PatchId e, PatchId r, int m, double factor, Workspace& ws,
-                            RayCounts& counts) const;
+    /// The replacement value (ray units) of a pair: straddlingValue (Whole) or penumbralValue.
+    double replacementValue(Straddle straddle, PatchId e, PatchId r, Workspace& ws, RayCounts& counts) const;
     /// Whether emitter e's pair with r, whose terms saw shares of r from `least` to `most` (one
     /// share per term: visible / whole for an exact term, its shadow ray's verdict for a ray term)
     /// with the unoccluded terms summing to `unoccluded` (ray units), straddles a shadow's edge:
@@ -71,9 +69,9 @@ private:
     /// decide alike, bit for bit.
     bool straddlesWhole(PatchId e, PatchId r, double unoccluded, double& least, double& most, Workspace& ws,
                         RayCounts& counts) const;
-    /// After the centroid pass: its ray terms and the far rule's (probesPenumbra) whose emitter's
-    /// corners disagree with the centroid's verdict (PairRules::cornersAgree) replaced by their
-    /// penumbralValue.
+    /// After the centroid pass: its ray terms and the far rule's (probesPenumbra) for which the
+    /// centroid's verdict does not hold (PairRules::centroidVerdictHolds: the emitter's corners or
+    /// the bundle's rims disagree) replaced by their penumbralValue.
     double replacePenumbralPairs(PatchId i, RowAccumulator& row, Workspace& ws, RayCounts& counts) const;
     /// Their entries, scaled by `weight`, once the centroid pass has set its statuses too (the
     /// silhouette test reads the neighbours of both); those on a silhouette join the point's split.
@@ -88,9 +86,8 @@ private:
     /// `rays`, a shadow ray per ray term); false when j has no term for i.
     bool reversedTerms(PatchId j, PatchId i, bool rays, Workspace& ws, RayCounts& counts) const;
     /// How emitter p's terms (with their shadow rays' verdicts) are replaced, as row j decides it
-    /// as the emitter (replaceStraddlingPairs, replacePenumbralPairs); `m` and `factor` are set to
-    /// the pair's rule order and unoccluded factor, as replacementValue takes them.
-    Straddle reversedStraddles(PatchId i, std::size_t p, int& m, double& factor, Workspace& ws, RayCounts& counts) const;
+    /// as the emitter (replaceStraddlingPairs, replacePenumbralPairs).
+    Straddle reversedStraddles(PatchId i, std::size_t p, Workspace& ws, RayCounts& counts) const;
     /// Of those, the emitters on a silhouette seen from i (a mesh neighbour's status differs): their
     /// ray terms again with i split into pieces, each with its own shadow ray (not for a pair that
     /// straddles a shadow's edge: its value is whole).

@@ -52,11 +52,9 @@ double AnalyticEstimator::addReversedPairs(PatchId i, RowAccumulator& row, Works
                 if (rev.rayOf[t] == rev.kNoRay ? !(rev.factors[t] > 0.0) : rev.rays.blocked[rev.rayOf[t]] != 0) continue;
                 rev.sum[p] += rev.factors[t] * rev.weights[t];
             }
-            int m = 0;
-            double factor = 0.0;
-            const Straddle straddle = reversedStraddles(i, p, m, factor, ws, counts);  // as row j replaces its terms
+            const Straddle straddle = reversedStraddles(i, p, ws, counts);  // as row j replaces its terms
             if (straddle != Straddle::None) {
-                rev.sum[p] = replacementValue(straddle, rev.emitters[p], i, m, factor, ws, counts);
+                rev.sum[p] = replacementValue(straddle, rev.emitters[p], i, ws, counts);
                 rev.whole[p] = 1;
             }
             rev.handed[p] = m_rules.handedValue(rev.sum[p], rev.emitters[p], i);
@@ -134,26 +132,25 @@ bool AnalyticEstimator::reversedTerms(PatchId j, PatchId i, bool rays, Workspace
     return rev.factors.size() > before;
 }
 
-AnalyticEstimator::Straddle AnalyticEstimator::reversedStraddles(PatchId i, std::size_t p, int& m, double& factor,
-                                                                 Workspace& ws, RayCounts& counts) const {
+AnalyticEstimator::Straddle AnalyticEstimator::reversedStraddles(PatchId i, std::size_t p, Workspace& ws,
+                                                                 RayCounts& counts) const {
     const Workspace::Reversed& rev = ws.reversed;
     const PatchId j = rev.emitters[p];
     // Which terms row j notes (replaceStraddlingPairs): all of a rule pass's (order 2 and up), the
     // exact term of the centroid pass; its ray term and the far rule's are probed from j's corners
     // (replacePenumbralPairs).
     double far = 0.0;
-    m = m_rules.pairOrder(j, i);
+    int m = m_rules.pairOrder(j, i);
     if (m == 0) m = m_rules.farPairOrder(j, i, far);
     if (m <= 1) {  // one term, from j's centroid
         const std::uint32_t t = rev.termBegin[p];
         if (rev.termEnd[p] != t + 1 || rev.rayOf[t] == rev.kNoRay) {
             if (m == 0) return Straddle::None;
         } else {
-            factor = rev.factors[t];
-            if (!m_rules.visibility() || !m_rules.probesPenumbra(factor)) return Straddle::None;
+            if (!m_rules.visibility() || !m_rules.probesPenumbra(rev.factors[t])) return Straddle::None;
             const std::uint32_t ray = rev.rayOf[t];
-            m = 1;  // the far rule's pairs too, as replacePenumbralPairs weighs them
-            return m_rules.cornersAgree(j, &rev.rays.targets[3 * ray], rev.rays.blocked[ray] != 0, ws.rules, counts)
+            return m_rules.centroidVerdictHolds(j, i, rev.factors[t], &rev.rays.targets[3 * ray],
+                                                rev.rays.blocked[ray] != 0, ws.rules, counts)
                        ? Straddle::None
                        : Straddle::Penumbral;
         }
@@ -168,7 +165,6 @@ AnalyticEstimator::Straddle AnalyticEstimator::reversedStraddles(PatchId i, std:
         least = std::min(least, float(share));
         most = std::max(most, float(share));
     }
-    factor = unoccluded / m_rules.unit();  // as row j divides its sum
     return most >= least ? straddleOf(j, i, unoccluded, least, most, ws, counts) : Straddle::None;
 }
 
@@ -196,9 +192,7 @@ void AnalyticEstimator::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCo
                                              added, rev.rays.blocked.data() + first);
                 counts.rays += added;
             }
-            int m = 0;
-            double factor = 0.0;
-            if (reversedStraddles(i, p, m, factor, ws, counts) != Straddle::None) {
+            if (reversedStraddles(i, p, ws, counts) != Straddle::None) {
                 rev.whole[p] = 1;
                 continue;
             }

@@ -32,7 +32,7 @@ void PairRules::build(const Scene& scene, const RayScene& rays, const Hemisphere
     m_orders = EmitterOrders(tolerance / kRuleMargin, farOrder(options.origins), nearOrder(options.origins));
     // The far rule is the default's: --origins K > 1 asks for at least ceil(sqrt(K))^2 points over the emitter.
     m_farRatio = options.origins == 1 ? std::pow(FarRule::kErrorConstant * kRuleMargin / tolerance, 0.25) : 0.0;
-    const int highest = std::max(kPenumbraOrder, 2 * m_orders.highest());  // penumbralOrder's largest
+    const int highest = std::max(kPenumbraQuadOrder, m_orders.highest());
     m_ruleNodes.assign(std::size_t(highest) + 1, {});
     m_ruleWeights.assign(m_ruleNodes.size(), {});
     for (int m = 1; m <= highest; ++m) gaussLegendre(m, m_ruleNodes[m], m_ruleWeights[m]);
@@ -110,41 +110,62 @@ bool PairRules::cornersAgree(PatchId e, const float target[3], bool blocked, Scr
     return true;
 }
 
-double PairRules::penumbralValue(PatchId e, PatchId r, int order, Scratch& s, RayCounts& counts) const {
-    ++counts.penumbralPairs;
-    ruleOver(e, order, s.penumbraPoints, s.penumbraWeights);
+bool PairRules::extremesAgree(PatchId e, PatchId r, double factor, bool blocked, Scratch& s, RayCounts& counts) const {
+    if (factor < kExtremesAbove * m_exactAbove) return true;
+    const PatchShape& a = m_geometry.shapes[e];
+    const PatchShape& b = m_geometry.shapes[r];
+    Vec3 axis = b.centroid - a.centroid;
+    const double length = axis.norm();
+    if (!(length > 0.0)) return true;
+    axis /= length;
+    // A corner's offset from its patch's centroid across the axis.
+    const auto across = [&](PatchId j, std::uint32_t k) {
+        const Vec3 d = m_geometry.insetCorner(j, k) - m_geometry.shapes[j].centroid;
+        return Vec3(d - axis.dot(d) * axis);
+    };
+    const auto furthest = [&](PatchId j, const Vec3& u) {
+        std::uint32_t best = 0;
+        double most = -std::numeric_limits<double>::infinity();
+        for (std::uint32_t l = 0; l < m_geometry.shapes[j].count; ++l) {
+            const double h = across(j, l).dot(u);
+            if (h > most) most = h, best = l;
+        }
+        return best;
+    };
     s.probeOrigins.clear();
     s.probeTargets.clear();
-    s.penumbraTerms.clear();
+    const auto aim = [&](std::uint32_t k, std::uint32_t l) {
+        if (cornerCovered(e, k)) return;  // under a solid: it sees nothing
+        float origin[3], target[3];
+        rayOrigin(e, cornerProbe(e, k), origin);
+        m_rays->toLocal(m_geometry.insetCorner(r, l) + m_rays->originOffset() * b.normal, target);
+        s.probeOrigins.insert(s.probeOrigins.end(), origin, origin + 3);
+        s.probeTargets.insert(s.probeTargets.end(), target, target + 3);
+    };
+    for (std::uint32_t k = 0; k < a.count; ++k) aim(k, furthest(r, across(e, k)));
+    for (std::uint32_t l = 0; l < b.count; ++l) aim(furthest(e, across(r, l)), l);
+    const std::size_t rays = s.probeOrigins.size() / 3;
+    s.probeBlocked.assign(rays, 0);
+    if (rays > 0)
+        m_rays->occludedSegmentPairs(s.probeOrigins.data(), s.probeTargets.data(), rays, s.probeBlocked.data());
+    counts.rays += rays;
+    for (std::size_t k = 0; k < rays; ++k)
+        if ((s.probeBlocked[k] != 0) != blocked) return false;
+    return true;
+}
+
+double PairRules::penumbralValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const {
+    ++counts.penumbralPairs;
+    ruleOver(e, m_geometry.shapes[e].count == 4 ? kPenumbraQuadOrder : kPenumbraOrder, s.penumbraPoints,
+             s.penumbraWeights);
+    const Vec3& n = m_geometry.shapes[e].normal;
     double sum = 0.0;
     PointTerm term;
     for (std::size_t q = 0; q < s.penumbraPoints.size(); ++q) {
         const Vec3& x = s.penumbraPoints[q];
-        if (!pointTerm(e, r, x, s, counts, term)) continue;
-        if (term.exact) {
-            if (term.visible > 0.0) sum += term.visible * s.penumbraWeights[q];
-            continue;
-        }
-        // r in pieces, each with its own factor and shadow ray (as a silhouette receiver's), their
-        // numbers past a silhouette split's (with --jitter, aims drawn apart from theirs).
-        float origin[3];
-        rayOrigin(e, x, origin);
-        forEachPiece(
-            e, r, x, std::uint32_t(q), s,
-            [&](double f, const float target[3]) {
-                s.probeOrigins.insert(s.probeOrigins.end(), origin, origin + 3);
-                s.probeTargets.insert(s.probeTargets.end(), target, target + 3);
-                s.penumbraTerms.push_back(f * s.penumbraWeights[q]);
-            },
-            kPenumbraPieces);
-    }
-    const std::size_t rays = s.penumbraTerms.size();
-    if (rays > 0) {
-        s.probeBlocked.assign(rays, 0);
-        m_rays->occludedSegmentPairs(s.probeOrigins.data(), s.probeTargets.data(), rays, s.probeBlocked.data());
-        counts.rays += rays;
-        for (std::size_t k = 0; k < rays; ++k)
-            if (!s.probeBlocked[k]) sum += s.penumbraTerms[k];
+        term.factor = pointFactor(r, x, n, s.clipped, term.polygon, term.corners);
+        if (!(term.factor > 0.0)) continue;
+        sum += exactVisible(e, r, x, term, s, counts) * s.penumbraWeights[q];
     }
     return sum * unit();
 }

@@ -36,9 +36,9 @@ public:
         std::vector<float> targets;  ///< visibleShare's shadow rays
         std::vector<double> pieceFactors;
         std::vector<std::uint8_t> blocked;
-        std::vector<Vec3> penumbraPoints, penumbraAims;  ///< penumbralValue's rules over the emitter and the receiver
-        std::vector<double> penumbraWeights, penumbraAimWeights, penumbraTerms;
-        std::vector<float> probeOrigins, probeTargets;  ///< cornersAgree's and penumbralValue's shadow rays
+        std::vector<Vec3> penumbraPoints;  ///< penumbralValue's rule over the emitter
+        std::vector<double> penumbraWeights;
+        std::vector<float> probeOrigins, probeTargets;  ///< cornersAgree's and extremesAgree's shadow rays
         std::vector<std::uint8_t> probeBlocked;
     };
 
@@ -98,27 +98,35 @@ public:
     /// one verdict (all or nothing) cannot weigh. A floor patch with a block standing on part of it
     /// is the extreme: its centroid under the block saw nothing where its free part sees the room.
     bool cornersAgree(PatchId e, const float target[3], bool blocked, Scratch& s, RayCounts& counts) const;
+    /// Whether the rims of the bundle of lines from e to r give the centroid's verdict `blocked`:
+    /// from each corner of either patch (a hundredth inside) to the other's corner furthest the
+    /// same way across the line between their centroids, one shadow ray each (e.count + r.count).
+    /// Where an occluder's limb crosses the view, the lines that pass it lie at the bundle's rim;
+    /// cornersAgree's rays, from e's corners to r's centre, lie halfway in. The concentric spheres'
+    /// pairs up to 8 % visible read as hidden where both the centroid and the corners agreed.
+    /// Asked only of terms whose (unoccluded) factor is at least kExtremesAbove of exactAbove()
+    /// (3e-4 by default); true for the rest.
+    bool extremesAgree(PatchId e, PatchId r, double factor, bool blocked, Scratch& s, RayCounts& counts) const;
+    /// cornersAgree, then extremesAgree: whether one shadow ray's verdict from e's centroid to
+    /// `target` (r's centre) holds for the whole pair of that factor, as both rows of a pair ask it.
+    bool centroidVerdictHolds(PatchId e, PatchId r, double factor, const float target[3], bool blocked, Scratch& s,
+                              RayCounts& counts) const {
+        return cornersAgree(e, target, blocked, s, counts) && extremesAgree(e, r, factor, blocked, s, counts);
+    }
     /// Corner k of e a hundredth inside: where cornersAgree's rays start (before rayOrigin's lift).
     Vec3 cornerProbe(PatchId e, std::uint32_t k) const { return m_geometry.insetCorner(e, k); }
     /// A pair in such a penumbra, or a ruled pair whose points' shares spread too far for its few
-    /// points but not enough for straddles(): e's rule of the given order (penumbralOrder), each point with
-    /// its own term (its exact visible part above exactAbove(), else its factor if its own shadow
-    /// ray passes), in ray units as contactValue's: a function of the pair alone, for both rows.
-    /// Each point's ray aims at its own point of r's rule of the same order (a fixed shuffle), so
-    /// that the rays sample a shadow's edge across r as well as across e.
-    double penumbralValue(PatchId e, PatchId r, int order, Scratch& s, RayCounts& counts) const;
+    /// points but not enough for straddles(): the exact visible part (shadow polygons) at each point
+    /// of e's kPenumbraOrder x kPenumbraOrder rule, in ray units as contactValue's: a function of
+    /// the pair alone, for both rows. (Before, each point's term below exactAbove() was r in four
+    /// pieces with a shadow ray each, aimed at the pieces' centres, on a rule of order 2 to 6 by the
+    /// factor's size: every point met the same four points of r, and a part of r seen past an
+    /// occluder's limb near r's rim was missed by all of them. The concentric spheres' pairs 18 to
+    /// 41 % visible read a fifth of their visible part low, each outer row 1.4e-4 low on average.)
+    double penumbralValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const;
     /// Whether a ruled pair (as straddles() takes it) spreads enough to be worth penumbralValue.
     bool spreadsPenumbra(double unoccluded, double least, double most) const {
         return most - least > kStraddleSpread && (most - least) * unoccluded >= m_penumbraProbeAbove * unit();
-    }
-    /// The order of penumbralValue's rule for a pair of rule order m (0, 1: the far rule or the
-    /// centroid) whose unoccluded factor is `factor`: twice m at least, and by the factor's size,
-    /// since the rule misses a fraction of it: 2 below a tenth of exactAbove() (1e-4 by default),
-    /// 4 below 0.3 of it, kPenumbraOrder above. (One order for all, 6, took cornell13k's F from
-    /// 25 s to 60 s for its 2.2 M penumbra computations.)
-    int penumbralOrder(int m, double factor) const {
-        const int bySize = factor < 0.1 * m_exactAbove ? 2 : factor < 0.3 * m_exactAbove ? 4 : kPenumbraOrder;
-        return std::max(bySize, 2 * m);
     }
     /// A silhouette receiver's term from point x of e: where its factor exceeds the silhouette bound
     /// (m_silhouetteExactAbove, half of exactAbove()), Lambert's factor to the part of r that x sees
@@ -148,10 +156,9 @@ public:
                    std::uint32_t piece, float target[3]) const;
     /// Receiver r on a silhouette seen from e's point x (index `point`): r's part above x's plane
     /// in pieces of 4 corners (one split, two with --jitter); visit(factor, target) for each piece
-    /// with a factor above 0, target its shadow ray's end (aimed as piece firstPiece, firstPiece + 1, ...).
+    /// with a factor above 0, target its shadow ray's end (aimed as piece 1, 2, ...).
     template <class Visit>
-    void forEachPiece(PatchId e, PatchId r, const Vec3& x, std::uint32_t point, Scratch& s, Visit visit,
-                      std::uint32_t firstPiece = 1) const {
+    void forEachPiece(PatchId e, PatchId r, const Vec3& x, std::uint32_t point, Scratch& s, Visit visit) const {
         const Vec3& n = m_geometry.shapes[e].normal;
         const Vec3* polygon;
         const std::size_t corners = polygonAbove(r, x, n, s.clipped, polygon);
@@ -160,7 +167,7 @@ public:
             const double f = pointToPolygonFactor(x, n, &s.pieces[q], 4);
             if (!(f > 0.0)) continue;
             float target[3];
-            rayTarget(e, r, &s.pieces[q], 4, point, std::uint32_t(firstPiece + q / 4), target);
+            rayTarget(e, r, &s.pieces[q], 4, point, std::uint32_t(1 + q / 4), target);
             visit(f, target);
         }
     }
@@ -174,10 +181,19 @@ public:
     /// Visible shares further apart than this across a pair's points (or its emitter's corners) mean
     /// a shadow's edge crosses the emitter: its few points cannot place it.
     static constexpr double kStraddleSpread = 0.25;
-    /// The order of penumbralValue's rule for its largest terms.
-    static constexpr int kPenumbraOrder = 6;
-    /// penumbralValue's pieces are numbered from here for rayTarget (a silhouette split's from 1).
-    static constexpr std::uint32_t kPenumbraPieces = 64;
+    /// The order of penumbralValue's rule over a triangle, and over a quadrilateral (even: no
+    /// point at its centre, where the centroid's doubted verdict was). Each point's visible part is
+    /// exact, so the rule's error is where it places the shadow's edge across e, and every receiver
+    /// behind the same edge errs alike: on district1k's tall wall slivers order 4 left a row 1.9e-3
+    /// off, order 3 8.2e-4 (order 2: 2.8e-3). The concentric spheres' outer rows closed to 2.2e-4
+    /// at order 2, 9.0e-5 at 3, 4.1e-5 at 4. A square half in a plate's shadow, its edge through
+    /// the centre (test_partial_visibility.cpp), read 15 % high at order 3 and 2 % low at 2 or 4.
+    static constexpr int kPenumbraOrder = 3, kPenumbraQuadOrder = 4;
+    /// extremesAgree's bound, of exactAbove(): below it a term keeps cornersAgree's answer. With
+    /// every probed term (from a tenth) cornell13k's F took 74 s instead of 58 s on two threads
+    /// for 1.58 M penumbra computations; district1k, the Cornell box at 60 mm and the spheres
+    /// were no better.
+    static constexpr double kExtremesAbove = 0.3;
 
     /// F in ray units: the accumulator's take() scales by 1 / (origins samples).
     double unit() const { return double(m_options.origins) * m_options.samples; }
@@ -239,7 +255,7 @@ private:
     FarRule m_far;  ///< the point-to-point kernel for pairs far from each other's horizon
     double m_farRatio = 0.0;  ///< the smallest FarRule::ratio it serves (0: not used, with --origins > 1)
     std::vector<std::vector<double>> m_ruleNodes, m_ruleWeights;  ///< Gauss-Legendre on [0, 1] per order (up to
-                                                                  ///< penumbralOrder of the highest)
+                                                                  ///< the highest rule's or penumbralValue's)
     int m_splitLevels = 1;  ///< silhouette patches: 1 = split once (4 pieces of a quad), 2 = twice
 };
 
