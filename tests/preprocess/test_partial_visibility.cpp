@@ -181,7 +181,7 @@ TEST_CASE("Partial visibility: a far pair in a penumbra across its emitter is we
     MESSAGE("penumbra: F = " << r.F.at(emitter, receiver) << ", exact " << expected << ", unoccluded " << unoccluded);
     REQUIRE(expected < 0.6 * unoccluded);
     CHECK(r.counts.penumbralPairs > 0);
-    // A 4 x 4 rule over the emitter, each point with its exact visible part: the points of its
+    // A 2 x 2 rule over the emitter, each point with its exact visible part: the points of its
     // x < 0 half see the receiver, the others not, so it finds half where 51 % is visible (2.1 %
     // low; the centroid's verdict was 96 % high; a 3 x 3 rule, its middle point on the edge, 15 %
     // high).

@@ -188,7 +188,10 @@ public:
     /// off, order 3 8.2e-4 (order 2: 2.8e-3). The concentric spheres' outer rows closed to 2.2e-4
     /// at order 2, 9.0e-5 at 3, 4.1e-5 at 4. A square half in a plate's shadow, its edge through
     /// the centre (test_partial_visibility.cpp), read 15 % high at order 3 and 2 % low at 2 or 4.
-    static constexpr int kPenumbraOrder = 3, kPenumbraQuadOrder = 4;
+    /// The Cornell box at 60 mm (quadrilaterals) had 133 entries off by more than 1e-4 at order 2
+    /// and 74 at order 4 (rows 8.1e-4 and 7.3e-4), but cornell13k's F took 54 s at 2 and 68 s at
+    /// 4 (43 s with the rays before; whole processes, two threads).
+    static constexpr int kPenumbraOrder = 3, kPenumbraQuadOrder = 2;
     /// extremesAgree's bound, of exactAbove(): below it a term keeps cornersAgree's answer. With
     /// every probed term (from a tenth) cornell13k's F took 74 s instead of 58 s on two threads
     /// for 1.58 M penumbra computations; district1k, the Cornell box at 60 mm and the spheres
