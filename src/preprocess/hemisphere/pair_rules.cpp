@@ -89,6 +89,17 @@ double PairRules::straddlingValue(PatchId e, PatchId r, Scratch& s, RayCounts& c
     return contactValue(e, r, s, counts, viewed);
 }
 
+bool PairRules::probesAgree(bool blocked, Scratch& s, RayCounts& counts) const {
+    const std::size_t rays = s.probeOrigins.size() / 3;
+    s.probeBlocked.assign(rays, 0);
+    if (rays > 0)
+        m_rays->occludedSegmentPairs(s.probeOrigins.data(), s.probeTargets.data(), rays, s.probeBlocked.data());
+    counts.rays += rays;
+    for (std::size_t k = 0; k < rays; ++k)
+        if ((s.probeBlocked[k] != 0) != blocked) return false;
+    return true;
+}
+
 bool PairRules::cornersAgree(PatchId e, const float target[3], bool blocked, Scratch& s, RayCounts& counts) const {
     const PatchShape& shape = m_geometry.shapes[e];
     s.probeOrigins.clear();
@@ -100,14 +111,7 @@ bool PairRules::cornersAgree(PatchId e, const float target[3], bool blocked, Scr
         s.probeOrigins.insert(s.probeOrigins.end(), origin, origin + 3);
         s.probeTargets.insert(s.probeTargets.end(), target, target + 3);
     }
-    const std::size_t rays = s.probeOrigins.size() / 3;
-    s.probeBlocked.assign(rays, 0);
-    if (rays > 0)
-        m_rays->occludedSegmentPairs(s.probeOrigins.data(), s.probeTargets.data(), rays, s.probeBlocked.data());
-    counts.rays += rays;
-    for (std::size_t k = 0; k < rays; ++k)
-        if ((s.probeBlocked[k] != 0) != blocked) return false;
-    return true;
+    return probesAgree(blocked, s, counts);
 }
 
 bool PairRules::extremesAgree(PatchId e, PatchId r, double factor, bool blocked, Scratch& s, RayCounts& counts) const {
@@ -144,14 +148,7 @@ bool PairRules::extremesAgree(PatchId e, PatchId r, double factor, bool blocked,
     };
     for (std::uint32_t k = 0; k < a.count; ++k) aim(k, furthest(r, across(e, k)));
     for (std::uint32_t l = 0; l < b.count; ++l) aim(furthest(e, across(r, l)), l);
-    const std::size_t rays = s.probeOrigins.size() / 3;
-    s.probeBlocked.assign(rays, 0);
-    if (rays > 0)
-        m_rays->occludedSegmentPairs(s.probeOrigins.data(), s.probeTargets.data(), rays, s.probeBlocked.data());
-    counts.rays += rays;
-    for (std::size_t k = 0; k < rays; ++k)
-        if ((s.probeBlocked[k] != 0) != blocked) return false;
-    return true;
+    return probesAgree(blocked, s, counts);
 }
 
 double PairRules::penumbralValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const {

@@ -236,6 +236,8 @@ private:
     /// the plane; returns the corner count (0 when nothing lies above).
     std::size_t polygonAbove(PatchId j, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer,
                              const Vec3*& polygon) const;
+    /// Casts the probe rays in s.probeOrigins and s.probeTargets; whether every verdict is `blocked`.
+    bool probesAgree(bool blocked, Scratch& s, RayCounts& counts) const;
     /// A polygon in pieces of 4 corners into s.pieces: one split, two with --jitter.
     void piecesOf(const Vec3* polygon, std::size_t corners, Scratch& s) const;
     Vec3 aimPoint(const Vec3* polygon, std::size_t corners, PatchId e, PatchId r, std::uint32_t point,
