@@ -53,7 +53,8 @@ private:
                                   RayCounts& counts) const;
     /// Whether emitter e's pair with r straddles a shadow's edge (straddlesWhole: Whole), or its
     /// shares spread enough that a finer rule should weigh them (PairRules::spreadsPenumbra:
-    /// Penumbral). Both rows of the pair decide alike.
+    /// Penumbral), or every point saw all of r or none while the corners or the rims say otherwise
+    /// (PairRules::centroidVerdictHolds: Penumbral). Both rows of the pair decide alike.
     Straddle straddleOf(PatchId e, PatchId r, double unoccluded, double least, double most, Workspace& ws,
                         RayCounts& counts) const;
     /// Row i's entry for receiver j (ray units) set to `value` in place of its terms, and kept so for

@@ -138,7 +138,7 @@ AnalyticEstimator::Straddle AnalyticEstimator::reversedStraddles(PatchId i, std:
     const PatchId j = rev.emitters[p];
     // Which terms row j notes (replaceStraddlingPairs): all of a rule pass's (order 2 and up), the
     // exact term of the centroid pass; its ray term and the far rule's are probed from j's corners
-    // (replacePenumbralPairs).
+    // and the rims of its view of i (replacePenumbralPairs, PairRules::centroidVerdictHolds).
     double far = 0.0;
     int m = m_rules.pairOrder(j, i);
     if (m == 0) m = m_rules.farPairOrder(j, i, far);

@@ -32,7 +32,7 @@ void PairRules::build(const Scene& scene, const RayScene& rays, const Hemisphere
     m_orders = EmitterOrders(tolerance / kRuleMargin, farOrder(options.origins), nearOrder(options.origins));
     // The far rule is the default's: --origins K > 1 asks for at least ceil(sqrt(K))^2 points over the emitter.
     m_farRatio = options.origins == 1 ? std::pow(FarRule::kErrorConstant * kRuleMargin / tolerance, 0.25) : 0.0;
-    const int highest = std::max(kPenumbraQuadOrder, m_orders.highest());
+    const int highest = std::max({kPenumbraOrder, kPenumbraQuadOrder, m_orders.highest()});
     m_ruleNodes.assign(std::size_t(highest) + 1, {});
     m_ruleWeights.assign(m_ruleNodes.size(), {});
     for (int m = 1; m <= highest; ++m) gaussLegendre(m, m_ruleNodes[m], m_ruleWeights[m]);
@@ -127,10 +127,12 @@ bool PairRules::extremesAgree(PatchId e, PatchId r, double factor, bool blocked,
         const Vec3 d = m_geometry.insetCorner(j, k) - m_geometry.shapes[j].centroid;
         return Vec3(d - axis.dot(d) * axis);
     };
+    // The corner of j furthest along u (of e: one no solid covers, which sees nothing); none: j's count.
     const auto furthest = [&](PatchId j, const Vec3& u) {
-        std::uint32_t best = 0;
+        std::uint32_t best = m_geometry.shapes[j].count;
         double most = -std::numeric_limits<double>::infinity();
         for (std::uint32_t l = 0; l < m_geometry.shapes[j].count; ++l) {
+            if (j == e && cornerCovered(e, l)) continue;
             const double h = across(j, l).dot(u);
             if (h > most) most = h, best = l;
         }
@@ -138,23 +140,39 @@ bool PairRules::extremesAgree(PatchId e, PatchId r, double factor, bool blocked,
     };
     s.probeOrigins.clear();
     s.probeTargets.clear();
+    s.probePairs.clear();
+    // One ray per pair of corners (facing patches pair the same corners from both sides), and
+    // none where one end lies behind the other's plane: that segment would cross e or r itself.
     const auto aim = [&](std::uint32_t k, std::uint32_t l) {
-        if (cornerCovered(e, k)) return;  // under a solid: it sees nothing
+        if (k >= a.count || l >= b.count) return;
+        const std::uint32_t key = k * b.count + l;
+        if (std::find(s.probePairs.begin(), s.probePairs.end(), key) != s.probePairs.end()) return;
+        s.probePairs.push_back(key);
+        const Vec3 x = cornerProbe(e, k), y = m_geometry.insetCorner(r, l);
+        if (!(a.normal.dot(y - x) > 0.0) || !(b.normal.dot(x - y) > 0.0)) return;
         float origin[3], target[3];
-        rayOrigin(e, cornerProbe(e, k), origin);
-        m_rays->toLocal(m_geometry.insetCorner(r, l) + m_rays->originOffset() * b.normal, target);
+        rayOrigin(e, x, origin);
+        m_rays->toLocal(y + m_rays->originOffset() * b.normal, target);
         s.probeOrigins.insert(s.probeOrigins.end(), origin, origin + 3);
         s.probeTargets.insert(s.probeTargets.end(), target, target + 3);
     };
-    for (std::uint32_t k = 0; k < a.count; ++k) aim(k, furthest(r, across(e, k)));
+    for (std::uint32_t k = 0; k < a.count; ++k)
+        if (!cornerCovered(e, k)) aim(k, furthest(r, across(e, k)));
     for (std::uint32_t l = 0; l < b.count; ++l) aim(furthest(e, across(r, l)), l);
     return probesAgree(blocked, s, counts);
 }
 
 double PairRules::penumbralValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const {
     ++counts.penumbralPairs;
-    ruleOver(e, m_geometry.shapes[e].count == 4 ? kPenumbraQuadOrder : kPenumbraOrder, s.penumbraPoints,
-             s.penumbraWeights);
+    // Never coarser than the pair's own rule (a ruled pair's points spread, or all agreed while
+    // the corners or the rims did not).
+    int own = pairOrder(e, r);
+    if (own == 0) {
+        double far = 0.0;
+        own = farPairOrder(e, r, far);
+    }
+    const int base = m_geometry.shapes[e].count == 4 ? kPenumbraQuadOrder : kPenumbraOrder;
+    ruleOver(e, std::max(base, own), s.penumbraPoints, s.penumbraWeights);
     const Vec3& n = m_geometry.shapes[e].normal;
     double sum = 0.0;
     PointTerm term;

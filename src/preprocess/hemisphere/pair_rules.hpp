@@ -39,6 +39,7 @@ public:
         std::vector<Vec3> penumbraPoints;  ///< penumbralValue's rule over the emitter
         std::vector<double> penumbraWeights;
         std::vector<float> probeOrigins, probeTargets;  ///< cornersAgree's and extremesAgree's shadow rays
+        std::vector<std::uint32_t> probePairs;          ///< extremesAgree's pairs of corners, each cast once
         std::vector<std::uint8_t> probeBlocked;
     };
 
@@ -90,7 +91,7 @@ public:
         return most - least > kStraddleSpread && (most - least) * unoccluded > m_straddleAbove * unit();
     }
     /// Whether a ray term from e's centroid (the centroid pass or the far rule) with this factor
-    /// is probed for a penumbra across e (cornersAgree).
+    /// is probed for a penumbra across e (centroidVerdictHolds: the corners, then the rims).
     bool probesPenumbra(double factor) const { return factor >= m_penumbraProbeAbove; }
     /// Whether e's corners (a hundredth inside) give the shadow ray to `target` (the centroid's ray
     /// target, in the ray scene's frame) the centroid's verdict `blocked`. Where they do not, an
@@ -108,7 +109,8 @@ public:
     /// (3e-4 by default); true for the rest.
     bool extremesAgree(PatchId e, PatchId r, double factor, bool blocked, Scratch& s, RayCounts& counts) const;
     /// cornersAgree, then extremesAgree: whether one shadow ray's verdict from e's centroid to
-    /// `target` (r's centre) holds for the whole pair of that factor, as both rows of a pair ask it.
+    /// `target` (the centre of r's part above e's plane, as the ray aimed) holds for the whole pair
+    /// of that factor, as both rows of a pair ask it.
     bool centroidVerdictHolds(PatchId e, PatchId r, double factor, const float target[3], bool blocked, Scratch& s,
                               RayCounts& counts) const {
         return cornersAgree(e, target, blocked, s, counts) && extremesAgree(e, r, factor, blocked, s, counts);
@@ -117,8 +119,9 @@ public:
     Vec3 cornerProbe(PatchId e, std::uint32_t k) const { return m_geometry.insetCorner(e, k); }
     /// A pair in such a penumbra, or a ruled pair whose points' shares spread too far for its few
     /// points but not enough for straddles(): the exact visible part (shadow polygons) at each point
-    /// of e's kPenumbraOrder x kPenumbraOrder rule, in ray units as contactValue's: a function of
-    /// the pair alone, for both rows. (Before, each point's term below exactAbove() was r in four
+    /// of an m x m rule over e, in ray units as contactValue's: a function of the pair alone, for
+    /// both rows. m is kPenumbraQuadOrder on a quadrilateral, kPenumbraOrder on any other polygon,
+    /// or the pair's own rule order where that is higher. (Before, each point's term below exactAbove() was r in four
     /// pieces with a shadow ray each, aimed at the pieces' centres, on a rule of order 2 to 6 by the
     /// factor's size: every point met the same four points of r, and a part of r seen past an
     /// occluder's limb near r's rim was missed by all of them. The concentric spheres' pairs 18 to
@@ -181,7 +184,8 @@ public:
     /// Visible shares further apart than this across a pair's points (or its emitter's corners) mean
     /// a shadow's edge crosses the emitter: its few points cannot place it.
     static constexpr double kStraddleSpread = 0.25;
-    /// The order of penumbralValue's rule over a triangle, and over a quadrilateral (even: no
+    /// The order of penumbralValue's rule over a triangle (any polygon but a quadrilateral), and
+    /// over a quadrilateral (even: no
     /// point at its centre, where the centroid's doubted verdict was). Each point's visible part is
     /// exact, so the rule's error is where it places the shadow's edge across e, and every receiver
     /// behind the same edge errs alike: on district1k's tall wall slivers order 4 left a row 1.9e-3
@@ -255,7 +259,7 @@ private:
     double m_exactAbove = 0.0;
     double m_straddleAbove = 0.0;  ///< F units: straddles() needs spread x unoccluded above this
     double m_silhouetteExactAbove = 0.0;  ///< silhouette terms above this get their exact visible part
-    double m_penumbraProbeAbove = 0.0;  ///< centroid ray terms from this factor up are probed from e's corners
+    double m_penumbraProbeAbove = 0.0;  ///< centroid ray terms from this factor up are probed (e's corners, the rims)
     EmitterOrders m_orders{1.0, 1, 1};  ///< the emitter rule's order per pair (emitter_rule.hpp)
     FarRule m_far;  ///< the point-to-point kernel for pairs far from each other's horizon
     double m_farRatio = 0.0;  ///< the smallest FarRule::ratio it serves (0: not used, with --origins > 1)
