@@ -223,3 +223,55 @@ TEST_CASE("Partial visibility: a floor patch a closed block stands on in part em
     CHECK(r.F.at(floor, receiver) == relative(expected, 1e-2));
     CHECK(r.F.at(receiver, floor) * 1.2 == relative(r.F.at(floor, receiver), 1e-6));  // reciprocity (areas 1 and 1.2)
 }
+
+TEST_CASE("Partial visibility: a receiver seen only near its rim past an occluder's edge is found and weighed, not read as hidden") {
+    // Triangles of half-width a = 0.025 at z = 0 (up) and z = 1 (down), a far pair (its factor
+    // 4e-4, one shadow ray from the emitter's centroid). A plate at z = 0.5 over x < c = 0.018:
+    // the line from (px, py, 0) to (qx, qy, 1) passes iff (px + qx) / 2 > c. The centroid's ray
+    // (x = 0 to 0) and the corners' rays to the receiver's centre (at most (a + 0) / 2 = 0.0125)
+    // are all blocked, yet the emitter's right part sees the receiver's right corner: the lines at
+    // the bundle's rim pass. Read as hidden, the pair was 0.
+    SceneBuilder b;
+    const double a = 0.025, c = 0.018;
+    const PatchId emitter = b.polygon({Vec3(-a, -a, 0), Vec3(a, -a, 0), Vec3(0, a, 0)});
+    const PatchId receiver = b.polygon({Vec3(-a, -a, 1), Vec3(0, a, 1), Vec3(a, -a, 1)});
+    b.rectangle(2, 0.5, -1, c, -1, 1, false);
+    // Reference: from each point of the emitter, the receiver clipped to qx > 2c - px (nothing
+    // left for px <= 2c - a) and Lambert's factor of that part; integrated over px in [2c - a, a]
+    // and py in [-a, a - 2 px] (the emitter's right edge) by a 24 x 24 Gauss-Legendre rule, the
+    // integrand being smooth there.
+    const std::vector<Vec3> r = {Vec3(-a, -a, 1), Vec3(0, a, 1), Vec3(a, -a, 1)};
+    const auto seenFrom = [&](double px, double py) {
+        const double t = 2 * c - px;
+        std::vector<Vec3> part;
+        for (std::size_t k = 0; k < r.size(); ++k) {
+            const Vec3& p = r[k];
+            const Vec3& q = r[(k + 1) % r.size()];
+            if (p.x() > t) part.push_back(p);
+            if ((p.x() > t) != (q.x() > t)) part.push_back(p + (t - p.x()) / (q.x() - p.x()) * (q - p));
+        }
+        return part.size() < 3 ? 0.0 : pointToPolygonFactor(Vec3(px, py, 0), Vec3(0, 0, 1), part.data(), part.size());
+    };
+    std::vector<double> nodes, weights;
+    gaussLegendre(24, nodes, weights);
+    const double from = 2 * c - a, area = 2 * a * a;
+    double expected = 0.0;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        const double px = from + (a - from) * nodes[i], top = a - 2 * px;
+        for (std::size_t j = 0; j < nodes.size(); ++j) {
+            const double py = -a + (top + a) * nodes[j];
+            expected += weights[i] * weights[j] * (a - from) * (top + a) * seenFrom(px, py);
+        }
+    }
+    expected /= area;
+    const double unoccluded = pointToPolygonFactor(Vec3(0, -a / 3, 0), Vec3(0, 0, 1), r.data(), r.size());
+    const FormFactorRun run = analyticF(b.scene);
+    MESSAGE("rim: F = " << run.F.at(emitter, receiver) << ", exact " << expected << ", unoccluded about " << unoccluded);
+    REQUIRE(expected > 0.003 * unoccluded);
+    REQUIRE(expected < 0.03 * unoccluded);
+    CHECK(run.counts.penumbralPairs > 0);
+    // A 3 x 3 rule over the emitter, each point with its exact visible part: its points nearest
+    // the right edge see the receiver's corner.
+    CHECK(run.F.at(emitter, receiver) == relative(expected, 0.5));
+    CHECK(run.F.at(receiver, emitter) == relative(run.F.at(emitter, receiver), 1e-6));  // equal areas
+}
