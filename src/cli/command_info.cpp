@@ -37,8 +37,8 @@ double mib(double bytes) { return bytes / 1048576.0; }
 
 void describe(const RowTotals& t, std::uint64_t sceneHash, const FormFactorProvenance& p,
               const std::map<std::string, std::string>& parameters, double fileBytes) {
-    // In memory as one F: 8 bytes per row start, 8 per entry, 1 per row flag.
-    const double memory = 8.0 * double(t.patches + 1) + 8.0 * double(t.nonZeros) + double(t.patches);
+    // In memory as one F: 8 bytes per row start, 12 per entry, 1 per row flag.
+    const double memory = 8.0 * double(t.patches + 1) + 12.0 * double(t.nonZeros) + double(t.patches);
     std::cout << "\n  patches " << t.patches << ", computed rows " << t.rows << " (skipped " << t.patches - t.rows
               << ")\n  nonzeros " << t.nonZeros << " (" << (t.rows ? double(t.nonZeros) / double(t.rows) : 0.0)
               << " per computed row), in memory " << mib(memory) << " MiB, file " << mib(fileBytes) << " MiB\n"

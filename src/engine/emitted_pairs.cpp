@@ -14,17 +14,17 @@ namespace hemirad {
 namespace {
 
 /// Entries that differ by less than this (relative) differ by rounding alone: the receiver's row
-/// rounds the pair's double value to float, this pass rounds the emitting row's float.
-constexpr double kRounding = 1e-6;
+/// and this pass each scale the pair's value by a ratio of areas in double.
+constexpr double kRounding = 1e-12;
 
 struct Insertion {
     std::uint32_t row, column;
-    float value;
+    double value;
 };
 
-/// A_e F_er / A_r in F's float: the receiver's entry as the emitting row's value gives it.
-float receiverValue(const Scene& scene, double fer, PatchId e, PatchId r) {
-    return float(fer * scene.patches[e].area / scene.patches[r].area);
+/// A_e F_er / A_r: the receiver's entry as the emitting row's value gives it.
+double receiverValue(const Scene& scene, double fer, PatchId e, PatchId r) {
+    return fer * scene.patches[e].area / scene.patches[r].area;
 }
 
 }  // namespace
@@ -54,17 +54,17 @@ EmittedPairsReport takePairsFromEmitters(FormFactors& F, const Scene& scene) {
                 if (j == PatchId(i) || !F.rowComputed(j)) continue;
                 const std::uint64_t at = mirror.find(j, std::uint32_t(i));
                 if (emitsFor(scene, j, PatchId(i))) {
-                    const double fer = at == MirrorCursors::kNone ? 0.0 : double(F.values()[at]);
-                    const float value = receiverValue(scene, fer, j, PatchId(i));
+                    const double fer = at == MirrorCursors::kNone ? 0.0 : F.values()[at];
+                    const double value = receiverValue(scene, fer, j, PatchId(i));
                     ++pairs;
-                    const double change = std::abs(double(value) - double(F.values()[k]));
-                    if (change > kRounding * std::max(double(value), double(F.values()[k]))) ++changed;
+                    const double change = std::abs(value - F.values()[k]);
+                    if (change > kRounding * std::max(value, F.values()[k])) ++changed;
                     largest = std::max(largest, change);
-                    zeroed += value == 0.0f;
+                    zeroed += value == 0.0;
                     F.values()[k] = value;
                 } else if (at == MirrorCursors::kNone) {
-                    const float value = receiverValue(scene, F.values()[k], PatchId(i), j);
-                    if (value > 0.0f) mine.push_back({j, std::uint32_t(i), value});
+                    const double value = receiverValue(scene, F.values()[k], PatchId(i), j);
+                    if (value > 0.0) mine.push_back({j, std::uint32_t(i), value});
                 }
             }
         }
@@ -76,7 +76,7 @@ EmittedPairsReport takePairsFromEmitters(FormFactors& F, const Scene& scene) {
     report.changed = changed + insertions.size();
     report.added = insertions.size();
     report.removed = zeroed;
-    for (const Insertion& add : insertions) largest = std::max(largest, double(add.value));
+    for (const Insertion& add : insertions) largest = std::max(largest, add.value);
     report.largestChange = largest;
     if (insertions.empty() && zeroed == 0) {
         scaleRowsAboveBound(F, report);
@@ -88,7 +88,7 @@ EmittedPairsReport takePairsFromEmitters(FormFactors& F, const Scene& scene) {
               [](const Insertion& a, const Insertion& b) { return a.row != b.row ? a.row < b.row : a.column < b.column; });
     std::vector<std::uint64_t> start(n + 1, 0);
     std::vector<std::uint32_t> columns;
-    std::vector<float> values;
+    std::vector<double> values;
     columns.reserve(F.nonZeros() + insertions.size() - zeroed);
     values.reserve(columns.capacity());
     std::size_t next = 0;
@@ -100,7 +100,7 @@ EmittedPairsReport takePairsFromEmitters(FormFactors& F, const Scene& scene) {
             const bool takeOld =
                 k < end && !(next < insertions.size() && insertions[next].row == r && insertions[next].column < F.columns()[k]);
             if (takeOld) {
-                if (F.values()[k] != 0.0f) {
+                if (F.values()[k] != 0.0) {
                     columns.push_back(F.columns()[k]);
                     values.push_back(F.values()[k]);
                 }
@@ -130,7 +130,7 @@ void scaleRowsAboveBound(FormFactors& F, EmittedPairsReport& report) {
         const double sum = F.rowSum(i);
         if (!(sum > bound + kRowSumExcess)) continue;
         const double scale = bound / sum;
-        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) F.values()[k] = float(F.values()[k] * scale);
+        for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) F.values()[k] = F.values()[k] * scale;
         ++report.rescaledRows;
         report.largestRowSum = std::max(report.largestRowSum, sum);
     }

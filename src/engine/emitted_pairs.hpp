@@ -1,5 +1,5 @@
 // Pairs of F computed once: which patch of a pair computes it, and F's entries of the other patch
-// taken from that computation (A_i F_ij = A_j F_ji to F's float rounding).
+// taken from that computation (A_i F_ij = A_j F_ji to rounding, 1e-16 relative).
 #pragma once
 
 #include "engine/form_factors.hpp"
@@ -19,7 +19,7 @@ inline bool emitsFor(const Scene& scene, PatchId e, PatchId r) {
 /// What takePairsFromEmitters changed.
 struct EmittedPairsReport {
     std::size_t pairs = 0;     ///< receiver entries set from their emitting row (changed or not)
-    std::size_t changed = 0;   ///< of those, entries that changed beyond float rounding (1e-6 relative)
+    std::size_t changed = 0;   ///< of those, entries that changed beyond rounding (1e-12 relative)
     std::size_t added = 0;     ///< entries the receiver's row lacked
     std::size_t removed = 0;   ///< entries the emitting row has not
     double largestChange = 0;  ///< the largest |change| of an entry (F units)

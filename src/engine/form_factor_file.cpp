@@ -4,7 +4,7 @@
 //
 //   offset      size       field
 //   0           8          magic "HEMIRADF"
-//   8           4          version (1)
+//   8           4          version (2; version 1 held float32 values, and is still read)
 //   12          4          L = length of the parameter text
 //   16          8          N, patches
 //   24          8          nnz
@@ -13,7 +13,7 @@
 //   40+L        N          computed-row flags, 0 or 1 (rows of black patches may be skipped)
 //   ...         8 (N+1)    row starts, uint64
 //   ...         4 nnz      columns, uint32, strictly increasing within a row
-//   ...         4 nnz      values, float32
+//   ...         8 nnz      values, float64 (version 1: 4 nnz, float32)
 //   end-8       8          checksum (word-wise FNV-1a) of every byte before it
 #include "engine/form_factor_file.hpp"
 
@@ -36,7 +36,11 @@ namespace hemirad {
 namespace {
 
 constexpr char kMagic[8] = {'H', 'E', 'M', 'I', 'R', 'A', 'D', 'F'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;
+/// Version 1 stored F's values as float32 (F was float then); it is read, widened to double.
+constexpr std::uint32_t kFloatVersion = 1;
+/// The bytes of one stored value in a file of `version`.
+std::uint64_t valueBytes(std::uint32_t version) { return version == kFloatVersion ? 4 : 8; }
 constexpr std::size_t kHeaderBytes = 40;
 constexpr std::uint32_t kMaxParameterBytes = 1u << 20;
 constexpr long kMaxPatches = 1L << 28;  // 268 M patches: far beyond memory for any F
@@ -140,7 +144,7 @@ std::uint64_t saveHff(const FormFactors& F, const std::string& path) {
     w.write(F.computedFlags().data(), F.size());
     w.write(F.rowStarts().data(), F.rowStarts().size() * sizeof(std::uint64_t));
     w.write(F.columns(), F.nonZeros() * sizeof(std::uint32_t));
-    w.write(F.values(), F.nonZeros() * sizeof(float));
+    w.write(F.values(), F.nonZeros() * sizeof(double));
     const std::uint64_t sum = w.finish();
     file.commit();
     return sum;
@@ -162,9 +166,9 @@ public:
         info.fileBytes = m_fileBytes;
         std::uint32_t paramBytes = 0;
         read(&info.version, 4);
-        if (info.version != kVersion)
-            fail("unsupported version " + std::to_string(info.version) + " (this build reads version " +
-                 std::to_string(kVersion) + ")");
+        if (info.version != kVersion && info.version != kFloatVersion)
+            fail("unsupported version " + std::to_string(info.version) + " (this build reads versions " +
+                 std::to_string(kFloatVersion) + " and " + std::to_string(kVersion) + ")");
         read(&paramBytes, 4);
         read(&info.size, 8);
         read(&info.nonZeros, 8);
@@ -174,7 +178,7 @@ public:
         if (info.size > 0 && info.nonZeros / info.size > info.size)
             fail("corrupt header: nnz = " + std::to_string(info.nonZeros) + " exceeds N^2 for N = " + std::to_string(info.size));
         const std::uint64_t expected =
-            kHeaderBytes + paramBytes + info.size + 8 * (info.size + 1) + 8 * info.nonZeros + 8;
+            kHeaderBytes + paramBytes + info.size + 8 * (info.size + 1) + (4 + valueBytes(info.version)) * info.nonZeros + 8;
         if (m_fileBytes < expected)
             fail("truncated: " + std::to_string(m_fileBytes) + " bytes, the header announces " + std::to_string(expected));
         if (m_fileBytes > expected)
@@ -219,7 +223,7 @@ public:
     void skipArrays(const FormFactorFileInfo& info, std::size_t& computedRows) {
         auto flags = array<std::uint8_t>(info.size);
         computedRows = static_cast<std::size_t>(std::count(flags.begin(), flags.end(), 1));
-        skip(8 * (info.size + 1) + 8 * info.nonZeros);
+        skip(8 * (info.size + 1) + (4 + valueBytes(info.version)) * info.nonZeros);
         checkChecksum();
     }
 
@@ -277,7 +281,13 @@ FormFactors readHff(HffReader& r, const std::string& path, std::uint64_t* checks
     // The kept rows' entries [begin, end) (within nnz until the row starts are checked).
     const std::uint64_t begin = std::min(rowStart[first], nnz), end = std::clamp(rowStart[last], begin, nnz);
     auto columns = r.slice<std::uint32_t>(nnz, begin, end);
-    auto values = r.slice<float>(nnz, begin, end);
+    std::vector<double> values;
+    if (info.version == kFloatVersion) {
+        const auto stored = r.slice<float>(nnz, begin, end);
+        values.assign(stored.begin(), stored.end());
+    } else {
+        values = r.slice<double>(nnz, begin, end);
+    }
     const std::uint64_t sum = r.checkChecksum();
     if (checksum) *checksum = sum;
     if (rowStart[0] != 0 || rowStart[n] != nnz) r.fail("corrupt row starts (first must be 0, last nnz)");
@@ -337,7 +347,7 @@ void saveMtx(const FormFactors& F, const std::string& path) {
         out << "% hemirad param " << key << ' ' << value << '\n';
     appendRanges(out, F);
     out << F.size() << ' ' << F.size() << ' ' << F.nonZeros() << '\n';
-    // Each line fits in 60 characters (two 20-digit integers, a shortest-round-trip float).
+    // Each line fits in 70 characters (two 20-digit integers, a shortest-round-trip double).
     char buffer[128];
     char* const limit = buffer + 100;
     for (std::size_t i = 0; i < F.size(); ++i)
@@ -359,7 +369,7 @@ void saveMtx(const FormFactors& F, const std::string& path) {
 struct MtxContents {
     struct Entry {
         std::uint32_t row, column;
-        float value;
+        double value;
     };
     std::uint64_t n = 0;
     std::uint64_t sceneHash = 0;
@@ -457,7 +467,7 @@ MtxContents readMtx(const std::string& path, std::string_view text, std::size_t 
         if (v < 0.0 || v > 3.4e38) r.fail("F value " + quote(t[2]) + " is " + (v < 0.0 ? "negative" : "out of range"));
         if (isSkipped(std::uint64_t(i - 1))) r.fail("row " + std::to_string(i) + " has entries but is listed as skipped");
         if (c.entries.size() >= nnz) r.fail("more entries than the " + std::to_string(nnz) + " announced");
-        c.entries.push_back({static_cast<std::uint32_t>(i - 1), static_cast<std::uint32_t>(j - 1), static_cast<float>(v)});
+        c.entries.push_back({static_cast<std::uint32_t>(i - 1), static_cast<std::uint32_t>(j - 1), v});
     }
     if (c.entries.size() < nnz)
         throw Error(path, r.line(), "truncated: " + std::to_string(c.entries.size()) + " of " + std::to_string(nnz) + " entries");
@@ -470,7 +480,7 @@ MtxContents readMtx(const std::string& path, std::string_view text, std::size_t 
                                      std::to_string(c.entries[k].column + 1) + ")");
     c.provenance = takeProvenance(c.parameters, path);
     if (!haveHash) c.provenance.sceneHashKnown = false;  // a foreign .mtx: only its size can be checked
-    // Row sums, as validateFormFactors checks them on a loaded F (values are finite floats >= 0 already).
+    // Row sums, as validateFormFactors checks them on a loaded F (values are finite and >= 0 already).
     const double bound = rowSumBound(c.provenance);
     for (std::size_t k = 0; k < c.entries.size();) {
         const std::uint32_t row = c.entries[k].row;
@@ -494,7 +504,7 @@ FormFactors toFormFactors(MtxContents&& c, const std::string& path) {
         std::fill(computed.begin() + std::ptrdiff_t(a), computed.begin() + std::ptrdiff_t(b + 1), std::uint8_t(0));
     std::vector<std::uint64_t> rowStart(c.n + 1, 0);
     std::vector<std::uint32_t> columns(c.entries.size());
-    std::vector<float> values(c.entries.size());
+    std::vector<double> values(c.entries.size());
     for (std::size_t k = 0; k < c.entries.size(); ++k) {
         ++rowStart[c.entries[k].row + 1];
         columns[k] = c.entries[k].column;

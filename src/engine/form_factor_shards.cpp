@@ -284,7 +284,7 @@ void saveShardedFormFactors(const FormFactors& F, const std::string& path, std::
         const std::uint64_t end = base + rowStart[n];
         FormFactors shard = FormFactors::fromCsr(
             std::move(rowStart), std::vector<std::uint32_t>(F.columns() + base, F.columns() + end),
-            std::vector<float>(F.values() + base, F.values() + end), std::move(computed));
+            std::vector<double>(F.values() + base, F.values() + end), std::move(computed));
         shard.sceneHash = F.sceneHash;
         shard.provenance = F.provenance;
         shard.parameters = F.parameters;
@@ -355,7 +355,7 @@ FormFactors loadShards(const std::string& manifestPath, const ShardManifest& m, 
     for (std::size_t i = 0; i < n; ++i) rowStart[i + 1] += rowStart[i];
     // Pass 2: each shard read, checked and scattered into place.
     std::vector<std::uint32_t> columns(rowStart[n]);
-    std::vector<float> values(rowStart[n]);
+    std::vector<double> values(rowStart[n]);
     std::vector<std::uint8_t> computed(n, 0);
     visitShards(manifestPath, m, which, [&](std::size_t index, FormFactors&& shard) {
         const std::string path = shardPath(manifestPath, m.shards[index]);

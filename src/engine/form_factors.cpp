@@ -24,7 +24,7 @@ namespace hemirad {
 
 std::size_t FormFactors::memoryBytes() const {
     return m_rowStart.size() * sizeof(std::uint64_t) + m_columns.size() * sizeof(std::uint32_t) +
-           m_values.size() * sizeof(float) + m_computed.size();
+           m_values.size() * sizeof(double) + m_computed.size();
 }
 
 std::size_t FormFactors::computedRows() const {
@@ -63,7 +63,7 @@ FormFactors FormFactors::fromRows(std::vector<std::vector<Entry>>&& rows, std::v
         F.m_columns.resize(at + row.size());
         F.m_values.resize(at + row.size());
         std::uint32_t* columns = F.m_columns.data() + at;
-        float* values = F.m_values.data() + at;
+        double* values = F.m_values.data() + at;
         for (std::size_t k = 0; k < row.size(); ++k) {
             columns[k] = row[k].column;
             values[k] = row[k].value;
@@ -82,7 +82,7 @@ FormFactors FormFactors::fromRows(std::vector<std::vector<Entry>>&& rows, std::v
 }
 
 FormFactors FormFactors::fromCsr(std::vector<std::uint64_t>&& rowStart, std::vector<std::uint32_t>&& columns,
-                                 std::vector<float>&& values, std::vector<std::uint8_t>&& computed) {
+                                 std::vector<double>&& values, std::vector<std::uint8_t>&& computed) {
     FormFactors F;
     F.m_rowStart = std::move(rowStart);
     F.m_columns = std::move(columns);
@@ -224,7 +224,7 @@ double normalizeRows(FormFactors& F) {
         if (!(sum > 0.0)) continue;
         worst = std::max(worst, std::abs(sum - 1.0));
         for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k)
-            F.values()[k] = static_cast<float>(F.values()[k] / sum);
+            F.values()[k] = F.values()[k] / sum;
     }
     F.parameters["rows"] = "normalised to sum 1";
     return worst;
@@ -326,8 +326,8 @@ void validateFormFactors(const FormFactors& F, std::size_t patchCount, const std
     for (std::size_t i = 0; i < F.size(); ++i) {
         double sum = 0.0;
         for (std::uint64_t k = F.rowBegin(i); k < F.rowEnd(i); ++k) {
-            const float v = F.values()[k];
-            if (!std::isfinite(v) || v < 0.0f) {
+            const double v = F.values()[k];
+            if (!std::isfinite(v) || v < 0.0) {
                 std::ostringstream msg;
                 msg << "F(" << i << ", " << F.columns()[k] << ") = " << v << " is not a finite non-negative number";
                 throw Error(source, 0, msg.str());

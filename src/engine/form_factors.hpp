@@ -1,4 +1,4 @@
-// Sparse form-factor matrix F in row-major CSR (float values, 32-bit columns), its builder and statistics.
+// Sparse form-factor matrix F in row-major CSR (double values, 32-bit columns), its builder and statistics.
 #pragma once
 
 #include "engine/math.hpp"
@@ -53,13 +53,16 @@ void checkParameters(const std::map<std::string, std::string>& parameters, const
 
 /// F(i, j) = fraction of the power leaving patch i diffusely that arrives at patch j (directly or,
 /// with mirrors, through chains of specular reflections; Sillion & Puech 1989).
-/// Memory: 8 bytes per nonzero + 9 bytes per row.
+/// Memory: 12 bytes per nonzero + 9 bytes per row.
 class FormFactors {
 public:
-    struct Entry {
+    /// Packed: 12 bytes as in F's arrays, not 16 (the rows of a job are all held as lists before
+    /// F is packed from them, and that peak sets the memory a job needs).
+    struct __attribute__((packed, aligned(4))) Entry {
         std::uint32_t column;
-        float value;
+        double value;
     };
+    static_assert(sizeof(Entry) == 12);
 
     FormFactors() = default;
     explicit FormFactors(std::size_t n) : m_rowStart(n + 1, 0), m_computed(n, 0) {}
@@ -71,8 +74,8 @@ public:
     std::uint64_t rowBegin(std::size_t i) const { return m_rowStart[i]; }
     std::uint64_t rowEnd(std::size_t i) const { return m_rowStart[i + 1]; }
     const std::uint32_t* columns() const { return m_columns.data(); }
-    const float* values() const { return m_values.data(); }
-    float* values() { return m_values.data(); }
+    const double* values() const { return m_values.data(); }
+    double* values() { return m_values.data(); }
     /// Whether row i was computed (rows of black patches are skipped unless asked for).
     bool rowComputed(std::size_t i) const { return m_computed[i] != 0; }
     std::size_t computedRows() const;
@@ -90,12 +93,12 @@ public:
     static FormFactors fromRows(std::vector<std::vector<Entry>>&& rows, std::vector<std::uint8_t> computed);
     /// Builds from raw CSR arrays (taking ownership); callers validate.
     static FormFactors fromCsr(std::vector<std::uint64_t>&& rowStart, std::vector<std::uint32_t>&& columns,
-                               std::vector<float>&& values, std::vector<std::uint8_t>&& computed);
+                               std::vector<double>&& values, std::vector<std::uint8_t>&& computed);
 
     const std::vector<std::uint64_t>& rowStarts() const { return m_rowStart; }
     const std::vector<std::uint8_t>& computedFlags() const { return m_computed; }
     const std::vector<std::uint32_t>& columnVector() const { return m_columns; }
-    const std::vector<float>& valueVector() const { return m_values; }
+    const std::vector<double>& valueVector() const { return m_values; }
 
     /// Takes every row that `other` computed (e.g. rows needed after a material edit); keeps the rest.
     void replaceRows(const FormFactors& other);
@@ -103,7 +106,7 @@ public:
 private:
     std::vector<std::uint64_t> m_rowStart;
     std::vector<std::uint32_t> m_columns;
-    std::vector<float> m_values;
+    std::vector<double> m_values;
     std::vector<std::uint8_t> m_computed;
 };
 
@@ -111,9 +114,9 @@ private:
 struct TransposedFormFactors {
     std::vector<std::uint64_t> start;
     std::vector<std::uint32_t> rows;
-    std::vector<float> values;
+    std::vector<double> values;
 };
-/// Builds F^T (parallel counting sort, O(nnz); 8 bytes per nonzero).
+/// Builds F^T (parallel counting sort, O(nnz); 12 bytes per nonzero).
 TransposedFormFactors transpose(const FormFactors& F);
 
 /// Y = F X for `width` right-hand sides interleaved per patch (value (i, c) at [i width + c]): one
@@ -197,7 +200,7 @@ double normalizeRows(FormFactors& F);
 void validateFormFactors(const FormFactors& F, std::size_t patchCount, const std::string& source,
                          double maxRowSum);
 
-/// The largest row sum F may have: its provenance's bound plus a tolerance of 1e-3 for float accumulation.
+/// The largest row sum F may have: its provenance's bound plus a tolerance of 1e-3 for accumulation.
 double rowSumBound(const FormFactors& F);
 double rowSumBound(const FormFactorProvenance& provenance);
 

@@ -1,4 +1,4 @@
-// Row products of the float CSR F with many interleaved right-hand sides (a year's hours, a sky's
+// Row products of the CSR F with many interleaved right-hand sides (a year's hours, a sky's
 // cells): X holds value (j, c) at X[j * stride + c]. The columns go in chunks of fixed width, so
 // each chunk's sums stay in registers while the row's entries stream past, and rows go in blocks,
 // so a block's entries are read from cache again for each chunk (neighbouring rows meet much the
@@ -17,7 +17,7 @@
 
 namespace hemirad::interleaved {
 
-/// Rows a block: its entries (about 1,000 a row on a large scene, 8 bytes each) stay in a core's
+/// Rows a block: its entries (about 1,000 a row on a large scene, 12 bytes each) stay in a core's
 /// cache while every chunk of columns passes over them. Measured on street64k's ray F (59 M
 /// nonzeros, 106 columns, 2 threads, AVX2) in a stand-alone sweep: 0.78 s with 128 rows and 16
 /// columns, 0.91 s with 32 rows, 1.06 s row by row with the sums in memory; 32 columns a chunk
@@ -29,7 +29,7 @@ constexpr int kChunk = 16;
 /// `skip` (begin <= skip <= end; end: none), in the row's order. W is known to the compiler, and
 /// the sums stay in registers.
 template <int W>
-HEMIRAD_INLINE_KERNEL void chunkSums(const float* val, const std::uint32_t* col, std::uint64_t begin, std::uint64_t skip,
+HEMIRAD_INLINE_KERNEL void chunkSums(const double* val, const std::uint32_t* col, std::uint64_t begin, std::uint64_t skip,
                                      std::uint64_t end, const double* X, std::size_t stride, double* out) {
     static_assert(W > 0 && W <= kChunk);
     double sum[W] = {};
@@ -47,7 +47,7 @@ HEMIRAD_INLINE_KERNEL void chunkSums(const float* val, const std::uint32_t* col,
 
 namespace detail {
 template <int W>
-HEMIRAD_INLINE_KERNEL void rowSumsOf(const float* val, const std::uint32_t* col, std::uint64_t begin, std::uint64_t skip,
+HEMIRAD_INLINE_KERNEL void rowSumsOf(const double* val, const std::uint32_t* col, std::uint64_t begin, std::uint64_t skip,
                                      std::uint64_t end, const double* X, std::size_t stride, int width, double* out) {
     if constexpr (W < kChunk) {
         if (width != W) return rowSumsOf<W + 1>(val, col, begin, skip, end, X, stride, width, out);
@@ -73,12 +73,12 @@ typedef float Floats8 __attribute__((vector_size(32)));
 /// out[0, 8Q) = sum of F_ik X[col(k) * 8Q + c] over the row's entries [begin, end) but `skip`, in
 /// the row's order, in float (iterative refinement's correction sweeps).
 template <int Q>
-HEMIRAD_INLINE_KERNEL void floatSums(const float* val, const std::uint32_t* col, std::uint64_t begin, std::uint64_t skip,
+HEMIRAD_INLINE_KERNEL void floatSums(const double* val, const std::uint32_t* col, std::uint64_t begin, std::uint64_t skip,
                                      std::uint64_t end, const float* X, float* out) {
     Floats8 sum[Q] = {};
     auto run = [&](std::uint64_t from, std::uint64_t to) {
         for (std::uint64_t k = from; k < to; ++k) {
-            const float v = val[k];
+            const float v = float(val[k]);
             const float* x = X + std::size_t(col[k]) * (8 * Q);
             for (int q = 0; q < Q; ++q) {
                 Floats8 a;
@@ -95,7 +95,7 @@ HEMIRAD_INLINE_KERNEL void floatSums(const float* val, const std::uint32_t* col,
 /// Row i's float sums for `lanes` columns (8, 16, ..., 48) of X, as floatSums.
 HEMIRAD_INLINE_KERNEL void floatRowSums(const FormFactors& F, std::size_t i, std::uint64_t skip, const float* X, int lanes,
                                         float* out) {
-    const float* val = F.values();
+    const double* val = F.values();
     const std::uint32_t* col = F.columns();
     switch (lanes) {
     case 8: return floatSums<1>(val, col, F.rowBegin(i), skip, F.rowEnd(i), X, out);

@@ -223,12 +223,11 @@ std::vector<std::vector<FormFactors::Entry>> closedRows(const Scene& scene, cons
             for (std::uint64_t e = S.start[k]; e < S.start[k + 1]; ++e) {
                 const std::uint32_t j = S.columns[e];
                 while (a < aEnd && before.columns()[a] < j) ++a;  // S's pattern holds F's
-                const float old = a < aEnd && before.columns()[a] == j ? before.values()[a] : 0.0f;
-                const double v = S.scales[j] ? x[i] * double(S.values[e]) * x[j] / Ai : double(S.values[e]);
-                const auto value = static_cast<float>(v);
+                const double old = a < aEnd && before.columns()[a] == j ? before.values()[a] : 0.0;
+                const double value = S.scales[j] ? x[i] * S.values[e] * x[j] / Ai : S.values[e];
                 if (value != old) ++changed;
-                largest = std::max(largest, std::abs(double(value) - double(old)));
-                if (value > 0.0f) out.push_back({j, value});
+                largest = std::max(largest, std::abs(value - old));
+                if (value > 0.0) out.push_back({j, value});
             }
         });
     }
@@ -263,7 +262,7 @@ SymmetricRows symmetricRowsOf(const FormFactors& F, const Scene& scene, double d
     // was not computed is fixed and kept, and so is a pair with an emitter (keptFromDropping).
     // Each row gives up at most kDropBudget of its sum (dropCut).
     std::vector<double> cut(dropBelow > 0.0 ? n : 0, 0.0);
-    std::vector<float> scratch;
+    std::vector<double> scratch;
     for (std::size_t i = 0; i < cut.size(); ++i)
         cut[i] = dropCut(F.values() + F.rowBegin(i), F.rowEnd(i) - F.rowBegin(i), dropBelow, scratch);
     auto dropped = [&](std::ptrdiff_t i, std::uint32_t j, double fij, double fji) {
@@ -294,8 +293,7 @@ SymmetricRows symmetricRowsOf(const FormFactors& F, const Scene& scene, double d
                 return;
             }
             S.columns[e] = j;
-            S.values[e++] = static_cast<float>(
-                SymmetricRows::pairMean(i, j, Ai, fij, scene.patches[j].area * fji, F.rowComputed(j)));
+            S.values[e++] = SymmetricRows::pairMean(i, j, Ai, fij, scene.patches[j].area * fji, F.rowComputed(j));
         });
     }
     S.rows.resize(n);
@@ -350,7 +348,7 @@ bool keptFromDropping(const Scene& scene, PatchId i, PatchId j) {
     return (scene.patches[i].emission > 0.0).any() || (scene.patches[j].emission > 0.0).any();
 }
 
-double dropCut(const float* values, std::size_t count, double threshold, std::vector<float>& scratch) {
+double dropCut(const double* values, std::size_t count, double threshold, std::vector<double>& scratch) {
     scratch.clear();
     double sum = 0.0;
     for (std::size_t k = 0; k < count; ++k) {
@@ -359,7 +357,7 @@ double dropCut(const float* values, std::size_t count, double threshold, std::ve
     }
     std::sort(scratch.begin(), scratch.end());
     double taken = 0.0;
-    for (const float v : scratch) {
+    for (const double v : scratch) {
         taken += v;
         if (taken > kDropBudget * sum) return v;  // this entry and larger ones stay
     }

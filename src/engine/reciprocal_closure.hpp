@@ -13,7 +13,7 @@
 namespace hemirad {
 
 /// The rows of S = (G + G^T) / 2 one process holds, G = diag(A) F; every entry in the order of its
-/// column, in float as F is (9 bytes per nonzero with the columns). An entry whose column's row
+/// column, in double as F is (12 bytes per nonzero with the columns). An entry whose column's row
 /// was not computed is fixed: it holds F_ij itself and is kept.
 struct SymmetricRows {
     std::vector<PatchId> rows;            ///< the patches whose rows this process holds
@@ -21,14 +21,14 @@ struct SymmetricRows {
     std::vector<double> estimated;        ///< per held row: its sum in F as estimated
     std::vector<std::uint64_t> start{0};  ///< CSR over held rows
     std::vector<std::uint32_t> columns;
-    std::vector<float> values;
+    std::vector<double> values;
     std::vector<std::uint8_t> scales;     ///< per patch (all of them): its row was computed
 
     /// Appends held row i: call add() for its entries, by column, then this.
     void endRow(PatchId i, bool rowComputed, double estimatedSum);
     void add(std::uint32_t j, double value) {
         columns.push_back(j);
-        values.push_back(static_cast<float>(value));
+        values.push_back(value);
     }
     /// The value of entry e for row i: the pair's mean S_ij, or F_ij where j's row was not computed.
     static double pairMean(std::uint32_t i, std::uint32_t j, double Ai, double fij, double Ajfji, bool jComputed) {
@@ -52,7 +52,7 @@ struct ReciprocityReport {
     double residual = 0.0;       ///< max |row sum - target| / max(target, 1e-9) over the rows it could aim
     int newtonSteps = 0, cgIterations = 0;
     bool converged = false;
-    std::size_t changed = 0;     ///< entries whose float value changed (all processes)
+    std::size_t changed = 0;     ///< entries whose value changed (all processes)
     double largestChange = 0.0;  ///< max |F'_ij - F_ij|
 };
 
@@ -65,8 +65,8 @@ struct ReciprocityReport {
 std::vector<double> closureScaling(const Scene& scene, const SymmetricRows& S, bool closed, const RowExchange& exchange,
                                    ReciprocityReport& report);
 
-/// The held rows of F' = diag(A)^-1 diag(x) S diag(x), fixed entries kept (an entry below float's
-/// smallest value drops out); rows not computed stay empty. Counts changes into `report`.
+/// The held rows of F' = diag(A)^-1 diag(x) S diag(x), fixed entries kept (an entry that comes
+/// to 0 drops out); rows not computed stay empty. Counts changes into `report`.
 std::vector<std::vector<FormFactors::Entry>> closedRows(const Scene& scene, const SymmetricRows& S,
                                                         const std::vector<double>& x, const FormFactors& before,
                                                         ReciprocityReport& report);
@@ -86,7 +86,7 @@ bool estimatedNearOne(const SymmetricRows& S);
 /// One line for the run's report: targets, residual, steps, entries changed.
 std::string describe(const ReciprocityReport& report);
 
-/// --enforce-reciprocity in one process: A_i F_ij = A_j F_ji exactly (to float rounding), each row
+/// --enforce-reciprocity in one process: A_i F_ij = A_j F_ji exactly (to rounding), each row
 /// summing to its target (chooseTargets). Rows of F not computed are left as they are.
 ReciprocityReport enforceReciprocity(FormFactors& F, const Scene& scene);
 
@@ -98,7 +98,7 @@ constexpr double kDropBudget = 0.05;
 /// --drop-below's cut for one row: its entries below `threshold`, smallest first, while their sum
 /// stays within kDropBudget of the row's sum; returns the value below which its entries may go
 /// (`threshold` when all of them fit). `scratch` is reused.
-double dropCut(const float* values, std::size_t count, double threshold, std::vector<float>& scratch);
+double dropCut(const double* values, std::size_t count, double threshold, std::vector<double>& scratch);
 
 /// What --drop-below did: F's size before and after, and what the rows lost before rebalancing.
 struct SparsifyReport {

@@ -426,17 +426,17 @@ FormFactors gatherFormFactors(const Context& context, const DistributedFormFacto
     std::vector<std::uint64_t> start(n + 1, 0);
     for (std::size_t i = 0; i < n; ++i) start[i + 1] = start[i] + total[i];
     std::vector<std::uint32_t> columns(start[n]);
-    std::vector<float> values(start[n]);
+    std::vector<double> values(start[n]);
     std::vector<std::uint8_t> computed(n, 0);
     for (int r = 0; r < context.size(); ++r) {
         std::vector<std::uint32_t> theirColumns;
-        std::vector<float> theirValues;
+        std::vector<double> theirValues;
         if (r > 0) {
             theirColumns = receiveVector<std::uint32_t>(r, kTagColumns);
-            theirValues = receiveVector<float>(r, kTagValues);
+            theirValues = receiveVector<double>(r, kTagValues);
         }
         const std::uint32_t* c = r ? theirColumns.data() : F.local.columns();
-        const float* v = r ? theirValues.data() : F.local.values();
+        const double* v = r ? theirValues.data() : F.local.values();
         std::uint64_t at = 0;  // rows arrive in ascending order, as the rank's CSR holds them
         for (std::size_t i = 0; i < n; ++i) {
             if (F.owner[i] != r) continue;
@@ -469,7 +469,7 @@ DistributedFormFactors readOwnRows(const Context& context, const std::string& pa
                     largest = std::max(largest, entries);
                 }
                 // Its entries (a column and a value each), and the row flags and starts read and kept.
-                checkNodeMemory(context, path, 8.0 * double(largest) + 18.0 * double(patches),
+                checkNodeMemory(context, path, 12.0 * double(largest) + 18.0 * double(patches),
                                 "each rank a share of its rows", "run fewer ranks on each node");
             }
             result.local = loadHffRows(path, firstRow(rank), firstRow(rank + 1), patches);

@@ -56,7 +56,7 @@ SymmetricRows symmetricRows(const Scene& scene, const DistributedFormFactors& F,
                 const double fij = ja == j ? double(F.local.values()[a++]) : 0.0;
                 const double ajfji = jb == j ? column[b++].second : 0.0;
                 if (cut && j != i && F.owner[j] >= 0 && !keptFromDropping(scene, i, j)) {
-                    // F_ji tested as A_j F_ji, the product G^T holds (A_j times the float F_ji), so
+                    // F_ji tested as A_j F_ji, the product G^T holds (A_j times F_ji), so
                     // that an F_ji equal to its row's cut compares equal, as in one process.
                     if (fij < (*cut)[i] && ajfji < scene.patches[j].area * (*cut)[j]) {
                         if (droppedWeight) (*droppedWeight)[i] += fij;
@@ -157,7 +157,7 @@ SparsifyReport dropBelowDistributed(const Context& context, const Scene& scene, 
     VectorSharing sharing(layout);
     // Each row's cut, shared: a pair's test reads both rows'.
     std::vector<double> cut(scene.size(), 0.0), dropped(scene.size(), 0.0);
-    std::vector<float> scratch;
+    std::vector<double> scratch;
     for (const PatchId i : layout.mine)
         cut[i] = dropCut(F.local.values() + F.local.rowBegin(i), F.local.rowEnd(i) - F.local.rowBegin(i), threshold, scratch);
     sharing.share(cut);
@@ -208,19 +208,19 @@ EmittedPairsReport takePairsFromEmittersDistributed(const Context& context, cons
             const PatchId jb = b < column.size() ? column[b].first : UINT32_MAX;
             const PatchId j = std::min(ja, jb);
             const bool own = ja == j;
-            const float mine = own ? F.local.values()[a++] : 0.0f;
+            const double mine = own ? F.local.values()[a++] : 0.0;
             const double emitted = jb == j ? column[b++].second : 0.0;
             if (!fromEmitter(j, r)) {
                 if (own) out.push_back({j, mine});
                 continue;
             }
-            const float value = float(emitted / scene.patches[r].area);
-            if (!own && !(value > 0.0f)) continue;
-            const double change = std::abs(double(value) - double(mine));
+            const double value = emitted / scene.patches[r].area;
+            if (!own && !(value > 0.0)) continue;
+            const double change = std::abs(value - mine);
             ++report.pairs;
-            if (change > 1e-6 * std::max(double(value), double(mine))) ++report.changed;
+            if (change > 1e-12 * std::max(value, mine)) ++report.changed;
             report.largestChange = std::max(report.largestChange, change);
-            if (value > 0.0f) {
+            if (value > 0.0) {
                 if (!own) ++report.added;
                 out.push_back({j, value});
             } else if (own) {

@@ -39,11 +39,11 @@ double expectedWorkPerRow(const Scene& scene, const MethodSettings& settings) {
 }
 
 namespace {
-// F is 8 bytes per nonzero; while it is built the row lists are released (and trimmed) as the CSR
-// arrays fill (FormFactors::fromRows): the cube n = 32 peaked at 1.29 x F, so 1.5 x F with margin.
-// The analytic estimator's pairs handed between rows (pair_exchange.hpp) peak mid-run, next to the
-// rows built so far: cornell13k at 1.40 x F (26 M entries of 8 bytes against F's 70 M nonzeros).
-constexpr double kBytesPerNonzero = 12.0;
+// F is 12 bytes per nonzero; while it is built the row lists (12 bytes an entry) are released
+// (and trimmed) as the CSR arrays fill (FormFactors::fromRows), and the analytic estimator's pairs
+// handed between rows (pair_exchange.hpp, 12 bytes an entry) peak mid-run, next to the rows built
+// so far. The cube n = 32 peaked at 1.29 x F and cornell13k at 1.40 x F; 1.5 x F with margin.
+constexpr double kBytesPerNonzero = 18.0;
 /// What does not grow with F: its row starts and flags, and every worker thread's scratch (the back
 /// end's O(N) workspaces, one per thread).
 double fixedBytes(const Scene& scene, const MethodSettings& settings) {

@@ -20,14 +20,14 @@ std::vector<FormFactors::Entry> collect(std::vector<T>& dense, std::vector<std::
         // dense, where a branch mispredicts often).
         for (std::uint32_t j = 0; j < n && k < entries.size(); ++j) {
             const T value = dense[j];
-            out[k] = {j, static_cast<float>(value * scale)};
+            out[k] = {j, static_cast<double>(value * scale)};
             k += value != T(0);
             dense[j] = T(0);
         }
     } else {
         std::sort(touched.begin(), touched.end());
         for (const std::uint32_t j : touched) {
-            out[k] = {j, static_cast<float>(dense[j] * scale)};
+            out[k] = {j, static_cast<double>(dense[j] * scale)};
             k += dense[j] != T(0);
             dense[j] = T(0);
         }

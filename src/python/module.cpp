@@ -63,7 +63,7 @@ py::tuple csrArrays(FormFactors&& F) {
     // Columns are below 2^28 (the patch cap), so uint32 reads as int32, which scipy takes.
     py::array indptr(py::dtype::of<std::int64_t>(), {n + 1}, {}, owner->rowStarts().data(), base);
     py::array indices(py::dtype::of<std::int32_t>(), {nnz}, {}, owner->columns(), base);
-    py::array data(py::dtype::of<float>(), {nnz}, {}, owner->values(), base);
+    py::array data(py::dtype::of<double>(), {nnz}, {}, owner->values(), base);
     py::array computed(py::dtype::of<bool>(), {n}, {}, owner->computedFlags().data(), base);
     for (py::array* a : {&indptr, &indices, &data, &computed}) a->attr("setflags")(py::arg("write") = false);
     return py::make_tuple(indptr, indices, data, computed);
@@ -81,7 +81,7 @@ double physicalRowSumBound(const Scene& scene) {
 /// past nnz, end at nnz) before any entry is read through them. Throws hemirad::Error naming `argument`.
 FormFactors fromArrays(py::array_t<std::int64_t, py::array::c_style> indptr,
                        py::array_t<std::int32_t, py::array::c_style> indices,
-                       py::array_t<float, py::array::c_style> data, std::size_t n, const std::string& argument) {
+                       py::array_t<double, py::array::c_style> data, std::size_t n, const std::string& argument) {
     if (indptr.ndim() != 1 || indices.ndim() != 1 || data.ndim() != 1)
         throw Error(argument + ": indptr, indices and data must be one-dimensional arrays");
     if (std::size_t(indptr.size()) != n + 1)
@@ -115,8 +115,8 @@ FormFactors fromArrays(py::array_t<std::int64_t, py::array::c_style> indptr,
                             std::to_string(j) + ")");
             columns[std::size_t(k)] = std::uint32_t(j);
         }
-    const float* value = data.data();
-    std::vector<float> values(value, value + nnz);
+    const double* value = data.data();
+    std::vector<double> values(value, value + nnz);
     return FormFactors::fromCsr(std::move(starts), std::move(columns), std::move(values), std::vector<std::uint8_t>(n, 1));
 }
 
@@ -161,7 +161,7 @@ struct GivenFormFactors {
 
 GivenFormFactors formFactorsFor(const Scene& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
                                 py::array_t<std::int32_t, py::array::c_style> indices,
-                                py::array_t<float, py::array::c_style> data, const std::string& argument) {
+                                py::array_t<double, py::array::c_style> data, const std::string& argument) {
     GivenFormFactors given;
     given.shared = sharedFormFactors(scene, indptr, indices, data);
     if (given.shared) return given;
@@ -274,7 +274,7 @@ py::tuple formFactors(const ScenePtr& scene, const std::string& method, const st
 }
 
 py::tuple solve(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
-                py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
+                py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<double, py::array::c_style> data,
                 const std::string& solverName, double tolerance, int maxIterations, bool allowUnconverged,
                 const py::object& progress) {
     const GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");
@@ -326,7 +326,7 @@ py::tuple readFormFactors(const std::string& path, const py::object& scene) {
 }
 
 void writeFormFactors(const std::string& path, const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
-                      py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
+                      py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<double, py::array::c_style> data,
                       const py::object& provenance) {
     GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");
     if (given.shared) {  // the library's own F: its file says how it was made
@@ -446,7 +446,7 @@ py::array_t<double> numpyVector(const std::vector<double>& v) {
 }
 
 py::dict thermalSolve(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
-                      py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
+                      py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<double, py::array::c_style> data,
                       py::array_t<double, py::array::c_style> emissivity, py::array_t<double, py::array::c_style> specular,
                       py::array_t<double, py::array::c_style> temperature, py::array_t<double, py::array::c_style> flux,
                       py::object environment, py::array_t<double, py::array::c_style> absorbed,
@@ -496,7 +496,7 @@ py::dict thermalSolve(const ScenePtr& scene, py::array_t<std::int64_t, py::array
             const auto arrays = bandF[k].cast<py::tuple>();
             ownF.push_back(formFactorsFor(bandScene, arrays[0].cast<py::array_t<std::int64_t, py::array::c_style>>(),
                                           arrays[1].cast<py::array_t<std::int32_t, py::array::c_style>>(),
-                                          arrays[2].cast<py::array_t<float, py::array::c_style>>(),
+                                          arrays[2].cast<py::array_t<double, py::array::c_style>>(),
                                           "band_F[" + std::to_string(k) + "]"));
             bandFormFactors.push_back(&ownF.back().get());
         }
@@ -683,7 +683,7 @@ py::array_t<double> sunlitOf(const ScenePtr& scene, py::array_t<double, py::arra
 }
 
 py::dict irradianceOf(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
-                      py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
+                      py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<double, py::array::c_style> data,
                       py::array_t<double, py::array::c_style | py::array::forcecast> directSun,
                       py::array_t<double, py::array::c_style | py::array::forcecast> skyView, double dhi,
                       py::array_t<double, py::array::c_style | py::array::forcecast> reflected,
@@ -877,7 +877,7 @@ py::tuple sensorGridOf(const ScenePtr& scene, const std::string& object, double 
 }
 
 py::dict conductors(const ScenePtr& scene, py::array_t<std::int64_t, py::array::c_style> indptr,
-                    py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<float, py::array::c_style> data,
+                    py::array_t<std::int32_t, py::array::c_style> indices, py::array_t<double, py::array::c_style> data,
                     py::array_t<double, py::array::c_style> emissivity, py::array_t<double, py::array::c_style> specular,
                     const std::string& lump, double threshold, const std::string& method) {
     const GivenFormFactors given = formFactorsFor(*scene, indptr, indices, data, "F");

@@ -53,7 +53,7 @@ void jacobiSweep(const FormFactors& F, const Block& b, std::vector<double>& next
     }
     const auto n = static_cast<std::ptrdiff_t>(F.size());
     const std::uint32_t* col = F.columns();
-    const float* val = F.values();
+    const double* val = F.values();
 #pragma omp parallel
     {
         double sum[M > 0 ? M : 1];
@@ -85,7 +85,7 @@ HEMIRAD_INLINE_KERNEL void update(Block& b, std::size_t at, double sum, double s
 template <int M>
 void gaussSeidelChannels(const FormFactors& F, Block& b, double omega, double* change) {
     const std::uint32_t* col = F.columns();
-    const float* val = F.values();
+    const double* val = F.values();
     double changes[M] = {};
     double sum[M];
     for (std::size_t i = 0; i < F.size(); ++i) {
@@ -112,7 +112,7 @@ void gaussSeidelChannels(const FormFactors& F, Block& b, double omega, double* c
 HEMIRAD_WIDE_KERNEL void gaussSeidelMany(const FormFactors& F, Block& b, std::size_t t0, std::size_t t1, double omega,
                                          double* change) {
     const std::size_t n = F.size();
-    const float* val = F.values();
+    const double* val = F.values();
     const int c0 = b.tiles[t0].first, c1 = b.tiles[t1 - 1].first + b.tiles[t1 - 1].width;
     std::vector<double> changes(std::size_t(c1 - c0), 0.0);  // the thread's own
     std::uint64_t selfAt[interleaved::kBlockRows];

@@ -1,8 +1,9 @@
 // Gauss-Seidel and SOR over many channels (a year's hours, a sky's cells) by iterative refinement:
 // the residual r = E - (I - R F) B in double, the correction d of (I - R F) d = r by sweeps in
 // float, B += d, until every channel's residual meets the tolerance in double. A float sweep reads
-// F once for up to 48 channels a tile where a double one reads it for 16, and moves half the bytes:
-// on street64k's ray F it takes about 0.45 of a double sweep per channel. The corrections stop at
+// F once for up to 48 channels a tile where a double one reads it for 16, and its channels' values
+// take half the bytes: on street64k's ray F it took about 0.45 of a double sweep per channel (when
+// F's values were float too; they are read as doubles and rounded now). The corrections stop at
 // float's precision (about 1e-6 of their residual), so a solve to 1e-10 takes two or three of
 // them; the answer meets the same residual as the double sweeps', checked the same way.
 #include "solve/refined_sweeps.hpp"
@@ -85,14 +86,14 @@ struct Corrections {
 HEMIRAD_WIDE_KERNEL void correctionSweep(const FormFactors& F, Corrections& x, std::size_t t0, std::size_t t1, float omega,
                                          double* change) {
     const std::size_t n = F.size();
-    const float* val = F.values();
+    const double* val = F.values();
     std::uint64_t selfAt[interleaved::kBlockRows];
     float selfOf[interleaved::kBlockRows], sum[kMostLanes];
     for (std::size_t r0 = 0; r0 < n; r0 += interleaved::kBlockRows) {
         const std::size_t r1 = std::min(n, r0 + interleaved::kBlockRows);
         for (std::size_t i = r0; i < r1; ++i) {
             selfAt[i - r0] = interleaved::selfEntry(F, i);
-            selfOf[i - r0] = selfAt[i - r0] < F.rowEnd(i) ? val[selfAt[i - r0]] : 0.0f;
+            selfOf[i - r0] = selfAt[i - r0] < F.rowEnd(i) ? float(val[selfAt[i - r0]]) : 0.0f;
         }
         for (std::size_t k = t0; k < t1; ++k) {
             const Corrections::Tile& t = x.tiles[k];

@@ -1,4 +1,4 @@
-// Kernels on the float CSR F: products, residuals and the transpose.
+// Kernels on the CSR F: products, residuals and the transpose.
 #include "solve/solver_detail.hpp"
 
 #include <algorithm>
@@ -10,7 +10,7 @@ void multiplyF(const FormFactors& F, const Vector& x, Vector& y) {
     const auto n = static_cast<std::ptrdiff_t>(F.size());
     y.resize(n);
     const std::uint32_t* col = F.columns();
-    const float* val = F.values();
+    const double* val = F.values();
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
         double sum = 0.0;

@@ -38,7 +38,7 @@ template <class Held>
 std::vector<double> heldRowProducts(const FormFactors& F, Held held, const std::vector<double>& x,
                                     const std::vector<double>* start) {
     std::vector<double> y(F.size(), 0.0);
-    const float* values = F.values();
+    const double* values = F.values();
     const std::uint32_t* columns = F.columns();
     for (std::size_t i = 0; i < y.size(); ++i) {
         if (!held(i)) continue;
@@ -53,7 +53,7 @@ std::vector<double> heldRowProducts(const FormFactors& F, Held held, const std::
 template <class Held>
 std::vector<double> heldColumnSums(const FormFactors& F, Held held, const std::vector<double>& w) {
     std::vector<double> sums(F.size(), 0.0);
-    const float* values = F.values();
+    const double* values = F.values();
     const std::uint32_t* columns = F.columns();
     for (std::size_t i = 0; i < sums.size(); ++i) {
         if (!held(i)) continue;

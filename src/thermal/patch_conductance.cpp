@@ -122,7 +122,7 @@ PatchConductance::PatchConductance(const FormFactors& F, const std::vector<doubl
     m_G.reset(allocateZeroed(n * n));
     Matrix G(m_G.get(), N, N);
     const std::uint32_t* columns = F.columns();
-    const float* values = F.values();
+    const double* values = F.values();
     for (std::size_t i = 0; i < n; ++i) {
         if (!F.rowComputed(i)) throw Error("thermal: row " + std::to_string(i) + " of F was not computed");
         const Eigen::Index a = Eigen::Index(m_position[i]);

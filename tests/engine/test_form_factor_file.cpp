@@ -5,11 +5,15 @@
 #include "engine/error.hpp"
 #include "engine/form_factor_file.hpp"
 #include "engine/form_factor_shards.hpp"
+#include "engine/scene_loader.hpp"
 #include "engine/subdivide.hpp"
+#include "preprocess/form_factor_job.hpp"
+#include "preprocess/hemisphere/hemisphere_options.hpp"
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -18,12 +22,12 @@ using namespace hemirad::test;
 
 namespace {
 
-/// A 4-patch F with a skipped row, a self factor and awkward float values.
+/// A 4-patch F with a skipped row, a self factor and awkward values (no float holds 0.1, 1/3 or 1e-7).
 FormFactors sampleF() {
     std::vector<std::vector<FormFactors::Entry>> rows(4);
-    rows[0] = {{1, 0.25f}, {2, 0.1f}, {3, 1.0f / 3.0f}};
-    rows[1] = {{0, 0.5f}, {1, 1e-7f}};
-    rows[3] = {{0, 0.125f}, {2, 0.875f}};
+    rows[0] = {{1, 0.25}, {2, 0.1}, {3, 1.0 / 3.0}};
+    rows[1] = {{0, 0.5}, {1, 1e-7}};
+    rows[3] = {{0, 0.125}, {2, 0.875}};
     FormFactors F = FormFactors::fromRows(std::move(rows), {1, 1, 0, 1});
     F.sceneHash = 0x0123456789abcdefULL;
     F.provenance.method = "hemisphere";
@@ -125,9 +129,46 @@ TEST_CASE("F's provenance is typed in memory and stored under readable keys, and
                          Error);
 }
 
-TEST_CASE("F memory is about 8 bytes per nonzero") {
+TEST_CASE("F memory is about 12 bytes per nonzero") {
     const FormFactors F = sampleF();
-    CHECK(F.memoryBytes() == 7 * 8 + 5 * 8 + 4);
+    CHECK(F.memoryBytes() == 7 * 12 + 5 * 8 + 4);
+}
+
+TEST_CASE("F's values are doubles in .hff (version 2) and .mtx, and a version 1 .hff (float values) still loads") {
+    const auto dir = tempDir("ff-double");
+    const FormFactors F = sampleF();
+    for (const char* name : {"F.hff", "F.mtx"}) {
+        CAPTURE(name);
+        const std::string path = (dir / name).string();
+        saveFormFactors(F, path);
+        const FormFactors G = loadFormFactors(path);
+        CHECK(G.at(0, 2) == 0.1);  // not float(0.1) = 0.100000001490116
+        CHECK(G.at(0, 2) != double(0.1f));
+        CHECK(G.at(0, 3) == 1.0 / 3.0);
+        CHECK(G.at(1, 1) == 1e-7);
+    }
+    CHECK(readFormFactorInfo((dir / "F.hff").string()).version == 2);
+    CHECK(readFormFactorInfo((dir / "F.hff").string()).fileBytes ==
+          std::filesystem::file_size(dir / "F.hff"));
+    // perpendicular_plates_v1.hff: `hemirad formfactors scenes/perpendicular_plates.obj` at 899544d,
+    // when F's values were float (2 patches, 2 entries).
+    const std::string old = sourcePath("tests/data/perpendicular_plates_v1.hff");
+    CHECK(readFormFactorInfo(old).version == 1);
+    const FormFactors V1 = loadFormFactors(old);
+    REQUIRE(V1.size() == 2);
+    REQUIRE(V1.nonZeros() == 2);
+    Warnings warnings = quietWarnings();
+    const Scene plates = loadScene(sourcePath("scenes/perpendicular_plates.obj"), warnings);
+    CHECK(V1.sceneHash == plates.geometryHash());
+    const FormFactors now = computeFormFactors(plates, MethodSettings::of(HemisphereOptions{}), neededRows(plates, true)).F;
+    for (PatchId i = 0; i < 2; ++i) {
+        CHECK(V1.at(i, 1 - i) == double(float(V1.at(i, 1 - i))));  // a float, widened
+        CHECK(V1.at(i, 1 - i) == relative(now.at(i, 1 - i), 1e-7));
+    }
+    // Rewritten, it is a version 2 file with the same values.
+    saveFormFactors(V1, (dir / "again.hff").string());
+    CHECK(readFormFactorInfo((dir / "again.hff").string()).version == 2);
+    requireSame(V1, loadFormFactors((dir / "again.hff").string()));
 }
 
 TEST_CASE("A damaged .hff file fails with a clear message") {

@@ -27,7 +27,7 @@ FormFactors perturbedCubeF(const double (&scale)[6], double skew) {
         for (std::uint32_t j = 0; j < 6; ++j)
             if (i != j) {
                 const double f = ((i ^ 1) == j ? kCubeOpposite : kCubeAdjacent) * scale[i] * (i == 0 && j == 2 ? skew : 1.0);
-                rows[i].push_back({j, static_cast<float>(f)});
+                rows[i].push_back({j, f});
             }
     return FormFactors::fromRows(std::move(rows), std::vector<std::uint8_t>(6, 1));
 }

@@ -414,7 +414,7 @@ TEST_CASE("--drop-below drops the pairs whose entries are both below EPS (none w
     CHECK(report.bytesAfter < report.bytesBefore);
     CHECK(report.largestDroppedRow > 0.0);
     std::vector<double> cut(s.size());
-    std::vector<float> scratch;
+    std::vector<double> scratch;
     for (PatchId i = 0; i < s.size(); ++i) {
         cut[i] = dropCut(original.values() + original.rowBegin(i), original.rowEnd(i) - original.rowBegin(i), eps, scratch);
         CHECK(cut[i] <= eps);

@@ -23,7 +23,7 @@ FormFactors exactCubeF() {
         for (std::uint32_t j = 0; j < 6; ++j) {
             if (i == j) continue;
             const bool opposite = (i ^ 1) == j;
-            rows[i].push_back({j, static_cast<float>(opposite ? kCubeOpposite : kCubeAdjacent)});
+            rows[i].push_back({j, opposite ? kCubeOpposite : kCubeAdjacent});
         }
     return FormFactors::fromRows(std::move(rows), std::vector<std::uint8_t>(6, 1));
 }

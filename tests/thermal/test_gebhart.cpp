@@ -153,7 +153,7 @@ TEST_CASE("Conductors lumped per object, with the environment, and the threshold
         CHECK(b.B[I][I] + b.B[I][1 - I] + b.B[I][2] == relative(1.0, 1e-9));
     }
     MESSAGE("floor-walls GR " << gr(c, 0, 1) << " m^2, asymmetry " << c.asymmetry);
-    CHECK(c.asymmetry <= 1e-5);  // F stored in float: its reciprocity to ~1e-7, the solve to its tolerance
+    CHECK(c.asymmetry <= 1e-5);  // the solve to its tolerance
 
     GebhartOptions coarse;
     coarse.threshold = 0.99;
@@ -285,7 +285,7 @@ TEST_CASE("The dense route on an exactly reciprocal F: closure and reciprocity t
     lu.solver = "lu";
     const Conductors hc = computeConductors(leftover.scene, leftover.F, hair, byColumns, lu);
     for (std::size_t i = 0; i < 3; ++i) {
-        CHECK(h.B[i][0] + h.B[i][1] + h.B[i][2] == relative(1.0, 1e-7));  // F's float rounding
+        CHECK(h.B[i][0] + h.B[i][1] + h.B[i][2] == relative(1.0, 1e-9));
         for (std::size_t j = 0; j < 4; ++j) CHECK(std::abs(h.B[i][j] - hc.B[i][j]) <= 1e-12);
     }
     // White walls (eps = s = 0) alone: every ray reflects forever; no conductor exists.

@@ -81,7 +81,7 @@ TEST_CASE("Two finite parallel plates and a sky: the net heat of the three-node 
     const ThermalSolution sol = solveThermal(s, F, m, SolverOptions{});
     const double expected = platesNetwork(f, 0.8, 0.5, 500, 300, 250);
     MESSAGE("Q_hot = " << sol.Q[0] << " W, network " << expected << " W; balance " << sol.balance);
-    CHECK(std::abs(sol.Q[0] - expected) <= 1e-6 * std::abs(expected));  // F in float: 6e-8
+    CHECK(std::abs(sol.Q[0] - expected) <= 1e-9 * std::abs(expected));
     CHECK(sol.balance <= 1e-9);
     // Every watt goes somewhere: what the plates lose the sky gains.
     CHECK(std::abs(sol.Q[0] + sol.Q[1] + sol.environmentPower) <= 1e-9 * std::abs(sol.Q[0]));

@@ -17,7 +17,7 @@ inline FormFactors denseF(const std::vector<std::vector<double>>& rows) {
     std::vector<std::vector<FormFactors::Entry>> entries(rows.size());
     for (std::size_t i = 0; i < rows.size(); ++i)
         for (std::size_t j = 0; j < rows[i].size(); ++j)
-            if (rows[i][j] != 0.0) entries[i].push_back({std::uint32_t(j), float(rows[i][j])});
+            if (rows[i][j] != 0.0) entries[i].push_back({std::uint32_t(j), rows[i][j]});
     return FormFactors::fromRows(std::move(entries), std::vector<std::uint8_t>(rows.size(), 1));
 }
 

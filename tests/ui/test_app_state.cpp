@@ -181,7 +181,7 @@ TEST_CASE("GUI state: a black patch made reflective gets its row computed, the o
     runToEnd(app);
     REQUIRE(app.formFactors() != nullptr);
     CHECK_FALSE(app.formFactors()->rowComputed(0));
-    const float kept = app.formFactors()->values()[app.formFactors()->rowBegin(1)];
+    const double kept = app.formFactors()->values()[app.formFactors()->rowBegin(1)];
     makePatch0Grey(app);  // re-solve needs row 0: the pipeline adds just that row
     runToEnd(app);
     REQUIRE(app.formFactors()->rowComputed(0));

@@ -23,7 +23,7 @@ AnalyticEstimator::Workspace AnalyticEstimator::workspace(PairExchange& exchange
     ws.seen.least.assign(n, 2.0f);
     ws.seen.most.assign(n, -1.0f);
     ws.byOrder.resize(std::size_t(m_rules.orders().highest()) + 1);  // [0]: the far rule
-    ws.reversed.published.assign(n, -1.0f);
+    ws.reversed.published.assign(n, -1.0);
     return ws;
 }
 

@@ -204,7 +204,7 @@ struct AnalyticEstimator::Workspace {
         std::vector<PatchId> emitters;
         std::vector<std::uint32_t> termBegin, termEnd;
         std::vector<double> sum;    ///< per emitter: its terms for this row, in ray units
-        std::vector<float> handed;  ///< and its entry as the exchange hands it over (-1: from the terms)
+        std::vector<double> handed;  ///< and its entry as the exchange hands it over (-1: from the terms)
         std::vector<double> factors, weights;
         std::vector<double> wholes;           ///< the unoccluded factor (exact terms: factors holds the visible part)
         std::vector<std::uint8_t> whole;      ///< per emitter: its pair straddles a shadow's edge, computed whole
@@ -216,7 +216,7 @@ struct AnalyticEstimator::Workspace {
         std::vector<std::uint32_t> pieceOf;     ///< per silhouette piece ray: its emitter
         std::vector<double> pieceValue;         ///< and its term (factor times the point's weight)
         std::vector<PairExchange::Entry> taken;  ///< handed over by the exchange
-        std::vector<float> published;  ///< per patch: its row's entry for this one (-1: none)
+        std::vector<double> published;  ///< per patch: its row's entry for this one (-1: none)
         static constexpr std::uint32_t kNoRay = ~std::uint32_t(0);
         void clear() {
             emitters.clear();

@@ -19,7 +19,7 @@ double AnalyticEstimator::addReversedPairs(PatchId i, RowAccumulator& row, Works
         if (j == i || !m_rules.emitsFor(j, i)) continue;
         const std::uint32_t begin = std::uint32_t(rev.factors.size());
         double contact = 0.0;  // a close pair's value, computed here (no terms)
-        if (rev.published[j] >= 0.0f) {
+        if (rev.published[j] >= 0.0) {
             rev.handed.push_back(rev.published[j]);
         } else if (ws.exchange->finished(j, ticket)) {
             continue;  // row j had no term for i
@@ -31,7 +31,7 @@ double AnalyticEstimator::addReversedPairs(PatchId i, RowAccumulator& row, Works
         } else if (!reversedTerms(j, i, true, ws, counts)) {
             continue;  // no point of j has a term for i
         } else {
-            rev.handed.push_back(-1.0f);  // from the terms below
+            rev.handed.push_back(-1.0);  // from the terms below
         }
         rev.sum.push_back(contact);
         rev.whole.push_back(0);
@@ -39,7 +39,7 @@ double AnalyticEstimator::addReversedPairs(PatchId i, RowAccumulator& row, Works
         rev.termBegin.push_back(begin);
         rev.termEnd.push_back(std::uint32_t(rev.factors.size()));
     }
-    for (const PairExchange::Entry& entry : rev.taken) rev.published[entry.patch] = -1.0f;
+    for (const PairExchange::Entry& entry : rev.taken) rev.published[entry.patch] = -1.0;
     const std::size_t rays = rev.rays.segments();
     rev.rays.blocked.assign(rays, 0);
     if (m_rules.visibility() && rays > 0) {
@@ -47,7 +47,7 @@ double AnalyticEstimator::addReversedPairs(PatchId i, RowAccumulator& row, Works
         counts.rays += rays;
     }
     for (std::size_t p = 0; p < rev.emitters.size(); ++p) {
-        if (rev.handed[p] < 0.0f) {
+        if (rev.handed[p] < 0.0) {
             for (std::uint32_t t = rev.termBegin[p]; t < rev.termEnd[p]; ++t) {  // row j's sum for i, in row j's order
                 if (rev.rayOf[t] == rev.kNoRay ? !(rev.factors[t] > 0.0) : rev.rays.blocked[rev.rayOf[t]] != 0) continue;
                 rev.sum[p] += rev.factors[t] * rev.weights[t];
@@ -59,7 +59,7 @@ double AnalyticEstimator::addReversedPairs(PatchId i, RowAccumulator& row, Works
             }
             rev.handed[p] = m_rules.handedValue(rev.sum[p], rev.emitters[p], i);
         }
-        ws.status[rev.emitters[p]] = rev.handed[p] > 0.0f ? 1 : 2;
+        ws.status[rev.emitters[p]] = rev.handed[p] > 0.0 ? 1 : 2;
     }
     if (m_rules.visibility()) splitReversedSilhouettes(i, ws, counts);
     double sum = 0.0;
@@ -67,9 +67,8 @@ double AnalyticEstimator::addReversedPairs(PatchId i, RowAccumulator& row, Works
     const double unit = m_rules.unit();
     for (std::size_t p = 0; p < rev.emitters.size(); ++p) {
         const PatchId j = rev.emitters[p];
-        // The handed-over entry in ray units (exact: a float times an integer below 2^29), or the
-        // terms of a pair split here.
-        const double value = rev.handed[p] >= 0.0f ? double(rev.handed[p]) * unit : rev.sum[p] * (m_scene->patches[j].area / Ai);
+        // The handed-over entry in ray units, or the terms of a pair split here.
+        const double value = rev.handed[p] >= 0.0 ? rev.handed[p] * unit : rev.sum[p] * (m_scene->patches[j].area / Ai);
         if (!(value > 0.0)) continue;
         row.addWeight(j, value);
         sum += value;
@@ -208,7 +207,7 @@ void AnalyticEstimator::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCo
         for (std::uint32_t t = rev.termBegin[p]; t < rev.termEnd[p]; ++t) {
             if (rev.rayOf[t] == rev.kNoRay) continue;
             if (!split) {  // the exact terms are kept; the ray terms are replaced by their pieces
-                rev.handed[p] = -1.0f;
+                rev.handed[p] = -1.0;
                 rev.sum[p] = 0.0;
                 for (std::uint32_t u = rev.termBegin[p]; u < rev.termEnd[p]; ++u)
                     if (rev.rayOf[u] == rev.kNoRay && rev.factors[u] > 0.0) rev.sum[p] += rev.factors[u] * rev.weights[u];

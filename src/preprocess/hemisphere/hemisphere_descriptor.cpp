@@ -47,11 +47,11 @@ double bytesPerThread(const Scene& scene, const MethodSettings& s) {
     // The row: its sums (double weights, or 32-bit counts for plain rays) and the patches touched.
     double perPatch = (analytic || scene.hasMirrors() ? 8.0 : 4.0) + 4.0;
     if (analytic) {
-        perPatch += 1.0 + 1.0 + 4.0 + 8.0;        // ruled, status, published, unsplit
+        perPatch += 1.0 + 1.0 + 8.0 + 8.0;        // ruled, status, published, unsplit
         perPatch += 4.0 + 4.0 + 8.0 + 4.0 + 8.0;  // by order, candidates, factors, touched, outgoing
-        perPatch += 4.0 + 8.0 + 4.0 + 8.0;        // as a receiver: emitters, their sums, entries, term ranges
+        perPatch += 4.0 + 8.0 + 8.0 + 8.0;        // as a receiver: emitters, their sums, entries, term ranges
         // The mirror images' workspaces, the row's and a pair's: status, summed, sums, published.
-        if (mirrorImages(scene, o)) perPatch += 2.0 * (1.0 + 1.0 + 8.0 + 4.0);
+        if (mirrorImages(scene, o)) perPatch += 2.0 * (1.0 + 1.0 + 8.0 + 8.0);
     }
     const double directions = (o.jitter ? 24.0 : 12.0) + 4.0 + 4.0;  // rotated (and jittered), hits, distances
     return perPatch * double(scene.size()) + directions * double(o.samples);

@@ -29,7 +29,7 @@ std::unique_ptr<MirrorImages::Workspace> MirrorImages::workspace() const {
     ws->status.assign(m_geometry.shapes.size(), 0);
     ws->summed.assign(m_geometry.shapes.size(), 0);
     ws->sums.assign(m_geometry.shapes.size(), 0.0);
-    ws->published.assign(m_geometry.shapes.size(), -1.0f);
+    ws->published.assign(m_geometry.shapes.size(), -1.0);
     return ws;
 }
 
@@ -200,18 +200,18 @@ void MirrorImages::addRow(PatchId i, RowAccumulator& row, double unit, PairExcha
     const std::uint64_t ticket = exchange.open(i, ws.taken);
     for (const PairExchange::Entry& entry : ws.taken) {
         ws.published[entry.patch] = entry.value;
-        if (entry.value > 0.0f) row.addWeight(entry.patch, double(entry.value) * unit);
+        if (entry.value > 0.0) row.addWeight(entry.patch, entry.value * unit);
     }
     ws.pending.clear();
     for (std::uint32_t q = 0; q < ws.chains.nodes.size(); ++q) {
         const ChainNode& node = ws.chains.nodes[q];
         for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
             const PatchId e = ws.chains.receivers[k];
-            if (e != i && !ws.mine[k] && ws.published[e] < 0.0f && !exchange.finished(e, ticket))
+            if (e != i && !ws.mine[k] && ws.published[e] < 0.0 && !exchange.finished(e, ticket))
                 ws.pending.push_back({e, q});
         }
     }
-    for (const PairExchange::Entry& entry : ws.taken) ws.published[entry.patch] = -1.0f;
+    for (const PairExchange::Entry& entry : ws.taken) ws.published[entry.patch] = -1.0;
     std::sort(ws.pending.begin(), ws.pending.end());
     ws.pending.erase(std::unique(ws.pending.begin(), ws.pending.end()), ws.pending.end());
     if (!ws.pair && !ws.pending.empty()) ws.pair = workspace();
@@ -224,8 +224,8 @@ void MirrorImages::addRow(PatchId i, RowAccumulator& row, double unit, PairExcha
                 ws.reversed.back().push_back(ws.chains.nodes[q].reflector);  // the last mirror first: e's side
         }
         const double terms = pairTerms(e, i, ws, unit, *ws.pair, counts);
-        const float value = handOver(m_scene, terms, e, i, unit);
-        if (value > 0.0f) row.addWeight(e, double(value) * unit);
+        const double value = handOver(m_scene, terms, e, i, unit);
+        if (value > 0.0) row.addWeight(e, value * unit);
     }
 }
 

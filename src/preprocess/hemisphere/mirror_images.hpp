@@ -101,7 +101,7 @@ public:
         std::vector<std::uint8_t> mine, summed;
         std::vector<double> sums;
         std::vector<PatchId> touched;
-        std::vector<float> published;
+        std::vector<double> published;
         std::vector<PairExchange::Entry> taken, outgoing;
         std::vector<std::pair<PatchId, std::uint32_t>> pending;  // (emitter, this row's node seeing it)
         std::vector<std::vector<std::uint32_t>> reversed;        // an emitter's chains toward this row, from its side

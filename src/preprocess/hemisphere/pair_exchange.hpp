@@ -14,9 +14,9 @@
 namespace hemirad {
 
 /// Row e's terms for receiver r, in `unit`s per unit of F_er, as the entry F_re that row r takes
-/// (A_e F_er / A_r, rounded to F's float).
-inline float handOver(const Scene& scene, double terms, PatchId e, PatchId r, double unit) {
-    return float(terms * (scene.patches[e].area / scene.patches[r].area) / unit);
+/// (A_e F_er / A_r).
+inline double handOver(const Scene& scene, double terms, PatchId e, PatchId r, double unit) {
+    return terms * (scene.patches[e].area / scene.patches[r].area) / unit;
 }
 
 /// The analytic estimator computes a pair (e, r) from the points of its emitting patch e (the
@@ -37,15 +37,15 @@ inline float handOver(const Scene& scene, double terms, PatchId e, PatchId r, do
 /// went to another rank, whose list is then freed, or a source that could not tell) gets ticket 0:
 /// every absent pair is recomputed.
 ///
-/// An entry takes 8 bytes (F's own size per nonzero; up to twice that with a list's growth); a
+/// An entry takes 12 bytes (F's own size per nonzero; up to twice that with a list's growth); a
 /// row's entries wait from its first emitter's end to its own start (on an MPI rank, entries for a
 /// row that went to another rank wait until an emitter publishes for it again, or the end). Thread-safe: rows on any
 /// threads, each row published once; a row opened again gets ticket 0.
 class PairExchange {
 public:
-    struct Entry {
+    struct __attribute__((packed, aligned(4))) Entry {  // 12 bytes, as an entry of F
         PatchId patch;  ///< the pair's other patch: the receiver in publish(), the emitter in open()
-        float value;    ///< F_re as row e computed it (direct pairs: before its silhouette split, 0 when
+        double value;   ///< F_re as row e computed it (direct pairs: before its silhouette split, 0 when
                         ///< hidden from every point; image pairs: their sum, only when positive)
     };
     /// `patches` rows; entries are kept only for receivers `wanted` says may still be opened here.

@@ -174,9 +174,9 @@ public:
             visit(f, target);
         }
     }
-    /// F_re from the sum of the pair's terms over e's points (ray units), rounded to F's float as
-    /// the exchange hands it over: both rows of the pair round it alike.
-    float handedValue(double terms, PatchId e, PatchId r) const { return handOver(*m_scene, terms, e, r, unit()); }
+    /// F_re from the sum of the pair's terms over e's points (ray units), as the exchange hands it
+    /// over: both rows of the pair compute it alike.
+    double handedValue(double terms, PatchId e, PatchId r) const { return handOver(*m_scene, terms, e, r, unit()); }
     /// Which patch of a pair integrates the pair's factor over its points (the other is exact): the
     /// smaller one, the lower id on a tie.
     bool emitsFor(PatchId e, PatchId r) const { return hemirad::emitsFor(*m_scene, e, r); }

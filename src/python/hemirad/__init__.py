@@ -4,7 +4,7 @@ The same C++ library as the ``hemirad`` command (no second implementation)::
 
     import hemirad
     scene = hemirad.load("scenes/cornell_box.obj", subdivide=50)
-    F, report = hemirad.form_factors(scene, samples=1024)   # scipy.sparse.csr_array, float32
+    F, report = hemirad.form_factors(scene, samples=1024)   # scipy.sparse.csr_array, float64
     B, _ = hemirad.solve(scene, F)                          # (N, 3) numpy array, W/m^2
     hemirad.render(scene, B, "cornell.png")
 
@@ -169,7 +169,7 @@ def form_factors(scene, method=None, *, max_depth=8, threads=0, all_rows=False,
     every pair); memory_check: refuse an F
     that would not fit in memory; progress: ``progress(rows_done, rows_total, seconds)``.
 
-    Returns ``(F, report)``: F a ``scipy.sparse.csr_array`` of float32 (row i = emitter, F[i, j] the
+    Returns ``(F, report)``: F a ``scipy.sparse.csr_array`` of float64 (row i = emitter, F[i, j] the
     fraction of i's power reaching j), sharing the library's memory (no copy); report a dict of the
     diagnostics the command line prints (row sums, reciprocity, lost power, rays and rays/s,
     seconds) plus ``computed`` (rows computed) and ``provenance`` (for write_form_factors).
@@ -202,7 +202,7 @@ def _check_structure(F, n, name):
 
 
 def _canonical(F, n, name="F"):
-    """F as CSR arrays the library takes: int64 row pointers, int32 sorted unique columns, float32."""
+    """F as CSR arrays the library takes: int64 row pointers, int32 sorted unique columns, float64."""
     if not (_sparse.issparse(F) or isinstance(F, _np.ndarray)):
         raise TypeError(f"{name}: expected a scipy sparse matrix or a numpy array, got {type(F).__name__}")
     if F.shape != (n, n):
@@ -213,7 +213,7 @@ def _canonical(F, n, name="F"):
         F = F.copy()
         F.sum_duplicates()
     return (_np.ascontiguousarray(F.indptr, dtype=_np.int64), _np.ascontiguousarray(F.indices, dtype=_np.int32),
-            _np.ascontiguousarray(F.data, dtype=_np.float32))
+            _np.ascontiguousarray(F.data, dtype=_np.float64))
 
 
 def solve(scene, F, solver="auto", tolerance=1e-6, *, max_iterations=100000, allow_unconverged=False,
@@ -242,7 +242,7 @@ def solve(scene, F, solver="auto", tolerance=1e-6, *, max_iterations=100000, all
 def read_form_factors(path, scene=None, *, info=False):
     """Reads F from an .hff file (checked: checksum, structure, values; a shard manifest too) or a
     Matrix Market .mtx. With ``scene``, F must have been computed for it (scene hash), else
-    :class:`Error`. Returns F (csr_array, float32; with ``info=True``, ``(F, provenance)``)."""
+    :class:`Error`. Returns F (csr_array, float64; with ``info=True``, ``(F, provenance)``)."""
     if scene is not None:
         _check_scene(scene)
     arrays, provenance = _hemirad._read_form_factors(_os.fspath(path), scene)
