@@ -266,8 +266,9 @@ SymmetricRows symmetricRowsOf(const FormFactors& F, const Scene& scene, double d
     for (std::size_t i = 0; i < cut.size(); ++i)
         cut[i] = dropCut(F.values() + F.rowBegin(i), F.rowEnd(i) - F.rowBegin(i), dropBelow, scratch);
     auto dropped = [&](std::ptrdiff_t i, std::uint32_t j, double fij, double fji) {
-        return dropBelow > 0.0 && j != std::uint32_t(i) && F.rowComputed(j) && fij < cut[std::size_t(i)] && fji < cut[j] &&
-               !keptFromDropping(scene, PatchId(i), j);
+        if (!(dropBelow > 0.0 && j != std::uint32_t(i) && F.rowComputed(j))) return false;
+        const double Ai = scene.patches[std::size_t(i)].area, Aj = scene.patches[j].area;
+        return droppedPair(Ai * fij, Ai * cut[std::size_t(i)], Aj * fji, Aj * cut[j]) && !keptFromDropping(scene, PatchId(i), j);
     };
     if (droppedWeight) droppedWeight->assign(n, 0.0);
     // Two passes over the merged row and column of each computed row, in parallel: count, then fill.

@@ -100,6 +100,15 @@ constexpr double kDropBudget = 0.05;
 /// (`threshold` when all of them fit). `scratch` is reused.
 double dropCut(const double* values, std::size_t count, double threshold, std::vector<double>& scratch);
 
+/// --drop-below's test of a pair (i, j): both entries below their rows' cuts, each side weighed by
+/// its patch's area (A_i F_ij < A_i cut_i, A_j F_ji < A_j cut_j). Rows i and j, in one process or
+/// on two MPI ranks (which hold A_j F_ji from the transpose of diag(A) F, not F_ji), then take the
+/// same products and agree on the pair, where F_ji < cut_j and A_j F_ji < A_j cut_j can differ for
+/// values an ulp apart.
+inline bool droppedPair(double aiFij, double aiCutI, double ajFji, double ajCutJ) {
+    return aiFij < aiCutI && ajFji < ajCutJ;
+}
+
 /// What --drop-below did: F's size before and after, and what the rows lost before rebalancing.
 struct SparsifyReport {
     double threshold = 0.0;

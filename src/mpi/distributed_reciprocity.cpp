@@ -56,9 +56,9 @@ SymmetricRows symmetricRows(const Scene& scene, const DistributedFormFactors& F,
                 const double fij = ja == j ? double(F.local.values()[a++]) : 0.0;
                 const double ajfji = jb == j ? column[b++].second : 0.0;
                 if (cut && j != i && F.owner[j] >= 0 && !keptFromDropping(scene, i, j)) {
-                    // F_ji tested as A_j F_ji, the product G^T holds (A_j times F_ji), so
-                    // that an F_ji equal to its row's cut compares equal, as in one process.
-                    if (fij < (*cut)[i] && ajfji < scene.patches[j].area * (*cut)[j]) {
+                    // As one process tests it (droppedPair): each side weighed by its area, the
+                    // product G^T holds for F_ji (A_j times F_ji).
+                    if (droppedPair(Ai * fij, Ai * (*cut)[i], ajfji, scene.patches[j].area * (*cut)[j])) {
                         if (droppedWeight) (*droppedWeight)[i] += fij;
                         continue;
                     }

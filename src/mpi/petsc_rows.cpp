@@ -2,8 +2,14 @@
 #include "mpi/petsc_rows.hpp"
 
 #include <string>
+#include <type_traits>
 
 namespace hemirad::mpi {
+
+// F's rows go to PETSc as they are, and the transpose of diag(A) F comes back bit for bit as one
+// process computes A_j F_ji (--enforce-reciprocity, --drop-below, the emitted pairs): PETSc's
+// scalars must be F's doubles (Debian's PETSc is real, double precision).
+static_assert(std::is_same_v<PetscScalar, double>, "Hemirad needs a real, double-precision PETSc");
 
 void check(PetscErrorCode code, const char* what) {
     if (!code) return;

@@ -26,8 +26,8 @@ using detail::Vector;
 const char* kChannelNames[3] = {"r", "g", "b"};
 
 /// A symmetrised solve (Cholesky, CG) counts as converged only while the residual on the original
-/// I - R F stays within this factor of the tolerance, or within the float precision of F's values
-/// (a reciprocal F stored in float is symmetric only to ~1e-7 relative).
+/// I - R F stays within this factor of the tolerance, or within 1e-6: an F whose values were
+/// rounded to float (a version 1 .hff, float32 arrays from Python) is symmetric only to ~1e-7.
 constexpr double kSymmetricGateFactor = 10.0;
 constexpr double kFloatResidualFloor = 1e-6;
 

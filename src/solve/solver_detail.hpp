@@ -1,4 +1,4 @@
-// Internals shared by the solver files: channels, sparse kernels on the float CSR F, the symmetric form.
+// Internals shared by the solver files: channels, sparse kernels on the CSR F, the symmetric form.
 #pragma once
 
 #include "engine/form_factors.hpp"

@@ -232,7 +232,8 @@ std::vector<float> AppState::formFactorRow(PatchId i) const {
     // An F of another mesh (stale after meshing) has other patch ids.
     if (!m_F || !hasScene() || m_F->size() != m_scene->size() || i >= m_F->size() || !m_F->rowComputed(i)) return {};
     std::vector<float> row(m_scene->size(), 0.0f);
-    for (std::uint64_t k = m_F->rowBegin(i); k < m_F->rowEnd(i); ++k) row[m_F->columns()[k]] = m_F->values()[k];
+    for (std::uint64_t k = m_F->rowBegin(i); k < m_F->rowEnd(i); ++k)
+        row[m_F->columns()[k]] = static_cast<float>(m_F->values()[k]);  // for display: the legend and the GPU's colours
     return row;
 }
 

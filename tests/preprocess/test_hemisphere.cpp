@@ -426,7 +426,8 @@ TEST_CASE("--drop-below drops the pairs whose entries are both below EPS (none w
         worstSum = std::max(worstSum, std::abs(F.rowSum(i) - original.rowSum(i)));
         for (PatchId j = 0; j < s.size(); ++j) {
             const double fij = original.at(i, j), fji = original.at(j, i);
-            const bool small = i != j && fij < cut[i] && fji < cut[j] && !keptFromDropping(s, i, j);
+            const double Ai = s.patches[i].area, Aj = s.patches[j].area;
+            const bool small = i != j && droppedPair(Ai * fij, Ai * cut[i], Aj * fji, Aj * cut[j]) && !keptFromDropping(s, i, j);
             if (small && fij > 0.0) {
                 ++dropped;
                 CHECK(F.at(i, j) == 0.0);

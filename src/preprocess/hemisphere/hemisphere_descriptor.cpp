@@ -48,7 +48,7 @@ double bytesPerThread(const Scene& scene, const MethodSettings& s) {
     double perPatch = (analytic || scene.hasMirrors() ? 8.0 : 4.0) + 4.0;
     if (analytic) {
         perPatch += 1.0 + 1.0 + 8.0 + 8.0;        // ruled, status, published, unsplit
-        perPatch += 4.0 + 4.0 + 8.0 + 4.0 + 8.0;  // by order, candidates, factors, touched, outgoing
+        perPatch += 4.0 + 4.0 + 8.0 + 4.0 + 12.0;  // by order, candidates, factors, touched, outgoing
         perPatch += 4.0 + 8.0 + 8.0 + 8.0;        // as a receiver: emitters, their sums, entries, term ranges
         // The mirror images' workspaces, the row's and a pair's: status, summed, sums, published.
         if (mirrorImages(scene, o)) perPatch += 2.0 * (1.0 + 1.0 + 8.0 + 8.0);
