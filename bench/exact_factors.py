@@ -201,7 +201,7 @@ def main():
         for label, extra in SETTINGS:
             seconds, peak, _ = timed(HEMIRAD, scene, f_path, extra)
             F = read_f(f_path)
-            f_mib = (F.nnz * 8 + (F.shape[0] + 1) * 8) / 2**20  # float values, 32-bit columns, row offsets
+            f_mib = (F.nnz * 12 + (F.shape[0] + 1) * 8) / 2**20  # double values, 32-bit columns, row offsets
             if kind == "cube":
                 errors = "%s / %s" % tuple(fmt(e) for e in cube_errors(faces, F))
             elif kind == "plates":
