@@ -116,6 +116,7 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
     const Vec3* receiver = s.receiver.data();
     const std::size_t corners = s.receiver.size();
     std::uint32_t evaluations = 0;
+    bool sawVisible = false, sawHidden = false;  // some point saw part of r, some point missed part of it
     const auto estimate = [&](const Vec3& p0, const Vec3& p1, const Vec3& p2) {
         double sum = 0.0;
         for (std::size_t k = 0; k < rule.weight.size(); ++k) {
@@ -123,18 +124,21 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
             const double f = pointToPolygonFactor(x, n, receiver, corners);
             if (!(f > 0.0)) continue;
             const double visible = m_shadows->visibleFactor(x, n, receiver, corners, e, r, f, s.shadow, &s.blockers);
+            sawVisible = sawVisible || visible > 0.0;
+            sawHidden = sawHidden || visible < f;
             sum += rule.weight[k] * (f - visible);
         }
         evaluations += std::uint32_t(rule.weight.size());
         return sum * triangleArea(p0, p1, p2);
     };
     // A cell: a triangle, its rule's value and its four children's (corner-midpoint split).
+    double forced = 0.0;  // per unit area: a cell's least error once the rims contradict the points
     const auto open = [&](const Vec3& p0, const Vec3& p1, const Vec3& p2, double coarse) {
         ContactCell c{{p0, p1, p2}, coarse, {}, 0.0, 0.0};
         const Vec3 m01 = 0.5 * (p0 + p1), m12 = 0.5 * (p1 + p2), m20 = 0.5 * (p2 + p0);
         c.child = {estimate(p0, m01, m20), estimate(m01, p1, m12), estimate(m20, m12, p2), estimate(m12, m20, m01)};
         c.fine = c.child[0] + c.child[1] + c.child[2] + c.child[3];
-        c.error = std::abs(c.fine - c.coarse);
+        c.error = std::abs(c.fine - c.coarse) + forced * triangleArea(p0, p1, p2);
         return c;
     };
     // The rule on each fan triangle, then its first split, whatever the points see: seven points
@@ -156,6 +160,42 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
         s.cells.push_back(open(p0, p1, p2, s.coarse[k - 1]));
         error += s.cells.back().error;
         std::push_heap(s.cells.begin(), s.cells.end(), larger);
+    }
+    // Every point so far saw r whole, or none of it: a hidden (or visible) part of the view that
+    // lies between them leaves every cell's disagreement near 0, and the refinement stops there at
+    // any --pair-digits. The district's ground 157 saw wall 834 whole from all 35 points, 0.01706,
+    // where a Monte Carlo estimate gives 0.01654 +- 0.00002; 264 -> 580 read 2e-9 for 1.3e-4. The
+    // emitter's corners and edge midpoints (a thousandth inside) probe its rims: where one sees r
+    // otherwise, every cell gets a least error by its area, and the budget refines them, the
+    // largest first.
+    if (!(sawVisible && sawHidden)) {
+        Vec3 centre = Vec3::Zero();
+        for (const Vec3& y : s.emitter) centre += y;
+        centre /= double(s.emitter.size());
+        bool contradicted = false;
+        for (std::size_t k = 0; k < s.emitter.size() && !contradicted; ++k) {
+            const Vec3 next = s.emitter[(k + 1) % s.emitter.size()];
+            for (const Vec3& y : std::array<Vec3, 2>{s.emitter[k], Vec3(0.5 * (s.emitter[k] + next))}) {
+                const Vec3 x = y + 1e-3 * (centre - y);
+                const double f = pointToPolygonFactor(x, n, receiver, corners);
+                if (!(f > 0.0)) continue;
+                const double visible = m_shadows->visibleFactor(x, n, receiver, corners, e, r, f, s.shadow, &s.blockers);
+                ++evaluations;
+                if ((sawVisible && visible < f) || (sawHidden && visible > 0.0)) {
+                    contradicted = true;
+                    break;
+                }
+            }
+        }
+        if (contradicted) {
+            forced = 1e-3 * exact / area;
+            error = 0.0;
+            for (ContactCell& c : s.cells) {
+                c.error += forced * triangleArea(c.corner[0], c.corner[1], c.corner[2]);
+                error += c.error;
+            }
+            std::make_heap(s.cells.begin(), s.cells.end(), larger);
+        }
     }
     // The budget shrinks with the blockers in the shaft (each evaluation meets them all): a big
     // patch's pairs in a cluttered scene get one refinement, a touching pair past one blocker the
