@@ -108,15 +108,15 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
             out << " (every pair, --pairs whole";
         } else {
             out << " (close pairs, within " << int(kNearDistance) << " radii";
-            if (c.straddlingPairs) out << ", and " << c.straddlingPairs << " farther ones across a shadow's edge";
+            if (c.straddlingPairs) out << "; " << c.straddlingPairs << " farther ones across a shadow's edge";
+            if (c.penumbralPairs)
+                out << "; " << c.penumbralPairs
+                    << " computations of farther ones in a penumbra: the emitter's corners or the rims of its view "
+                       "disagreed with its points";
         }
         out << "); with a blocker in their shaft: " << c.contactShafts << " (hidden part adaptive, "
             << c.contactEvaluations << " visible-part evaluations)";
     }
-    if (c.penumbralPairs)
-        out << "\n  pairs in a penumbra (the emitter's corners or the rims of its view of the receiver disagreed with "
-               "its points), weighed by a finer rule with each point's exact visible part: "
-            << c.penumbralPairs << " computations";
     if (c.coveredRows)
         out << "\n  rows of patches a solid stands on in part (a block on a floor patch), their rules over the free "
                "part: "

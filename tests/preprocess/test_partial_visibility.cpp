@@ -181,12 +181,13 @@ TEST_CASE("Partial visibility: a far pair in a penumbra across its emitter is we
     MESSAGE("penumbra: F = " << r.F.at(emitter, receiver) << ", exact " << expected << ", unoccluded " << unoccluded);
     REQUIRE(expected < 0.6 * unoccluded);
     CHECK(r.counts.penumbralPairs > 0);
-    // A 2 x 2 rule over the emitter, each point with its exact visible part: the points of its
-    // x < 0 half see the receiver, the others not, so it finds half where 51 % is visible (2.1 %
-    // low; the centroid's verdict was 96 % high; a 3 x 3 rule, its middle point on the edge, 15 %
-    // high).
-    CHECK(r.F.at(emitter, receiver) == relative(expected, 3e-2));
-    CHECK(r.F.at(receiver, emitter) == r.F.at(emitter, receiver));  // equal areas: reciprocity
+    // Computed whole, as a close pair: the exact unoccluded part less the adaptive hidden part
+    // (0.6 % high, within the budget of a pair past one blocker). The centroid's verdict was 96 %
+    // high; a 2 x 2 rule over the emitter, each point with its exact visible part, 2.1 % low (its
+    // x < 0 points see the receiver, the others not: half, where 51 % is visible); a 3 x 3 rule,
+    // its middle point on the edge, 15 % high.
+    CHECK(r.F.at(emitter, receiver) == relative(expected, 1e-2));
+    CHECK(r.F.at(receiver, emitter) == relative(r.F.at(emitter, receiver), 1e-12));  // equal areas: reciprocity
 }
 
 TEST_CASE("Partial visibility: a floor patch a closed block stands on in part emits from its free part alone") {

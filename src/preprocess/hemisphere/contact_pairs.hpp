@@ -19,6 +19,7 @@ struct ContactCell {
     double coarse = 0.0;
     std::array<double, 4> child{};
     double fine = 0.0, error = 0.0;
+    bool rim = false;  ///< a point of its rim had a view none of its rule's points had: its children's rims are evaluated
 };
 
 /// A close pair's exchange area A_e F_er as a function of the pair alone, so that whichever row,
@@ -42,13 +43,14 @@ public:
     struct Precision {
         double tolerance = 1e-4;
         double floor = 1e-5;
-        std::uint32_t budget = 2000;
+        std::uint32_t budget = 2500;
     };
-    /// For --pair-digits D: tolerance 10^-(D+2), floor 10^-(D+3), budget 2000 x 10^(D-2) (at most
+    /// For --pair-digits D: tolerance 10^-(D+2), floor 10^-(D+3), budget 2500 x 10^(D-2) (at most
     /// 2^31): two digits past the pair rule's, as the defaults are for D = 2.
     static Precision precisionFor(std::uint32_t pairDigits);
-    /// The least evaluations: the first split of each triangle of the emitter's fan.
-    static constexpr std::uint32_t kLeastEvaluations = 35;
+    /// The least evaluations: the first triangle of the emitter's fan, its rule (7 points), its
+    /// first split (4 x 7) and its corners and edge midpoints (6).
+    static constexpr std::uint32_t kLeastEvaluations = 41;
 
     struct Scratch {
         ExchangeAreaScratch exchange;

@@ -32,7 +32,7 @@ void PairRules::build(const Scene& scene, const RayScene& rays, const Hemisphere
     m_orders = EmitterOrders(tolerance / kRuleMargin, farOrder(options.origins), nearOrder(options.origins));
     // The far rule is the default's: --origins K > 1 asks for at least ceil(sqrt(K))^2 points over the emitter.
     m_farRatio = options.origins == 1 ? std::pow(FarRule::kErrorConstant * kRuleMargin / tolerance, 0.25) : 0.0;
-    const int highest = std::max({kPenumbraOrder, kPenumbraQuadOrder, m_orders.highest()});
+    const int highest = m_orders.highest();
     m_ruleNodes.assign(std::size_t(highest) + 1, {});
     m_ruleWeights.assign(m_ruleNodes.size(), {});
     for (int m = 1; m <= highest; ++m) gaussLegendre(m, m_ruleNodes[m], m_ruleWeights[m]);
@@ -163,26 +163,9 @@ bool PairRules::extremesAgree(PatchId e, PatchId r, double factor, bool blocked,
 }
 
 double PairRules::penumbralValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const {
-    ++counts.penumbralPairs;
-    // Never coarser than the pair's own rule (a ruled pair's points spread, or all agreed while
-    // the corners or the rims did not).
-    int own = pairOrder(e, r);
-    if (own == 0) {
-        double far = 0.0;
-        own = farPairOrder(e, r, far);
-    }
-    const int base = m_geometry.shapes[e].count == 4 ? kPenumbraQuadOrder : kPenumbraOrder;
-    ruleOver(e, std::max(base, own), s.penumbraPoints, s.penumbraWeights);
-    const Vec3& n = m_geometry.shapes[e].normal;
-    double sum = 0.0;
-    PointTerm term;
-    for (std::size_t q = 0; q < s.penumbraPoints.size(); ++q) {
-        const Vec3& x = s.penumbraPoints[q];
-        term.factor = pointFactor(r, x, n, s.clipped, term.polygon, term.corners);
-        if (!(term.factor > 0.0)) continue;
-        sum += exactVisible(e, r, x, term, s, counts) * s.penumbraWeights[q];
-    }
-    return sum * unit();
+    bool viewed = false;
+    ++counts.penumbralPairs;  // of the pairs contactValue counts
+    return contactValue(e, r, s, counts, viewed);
 }
 
 void PairRules::ruleOver(PatchId e, int m, std::vector<Vec3>& points, std::vector<double>& weights) const {

@@ -36,8 +36,6 @@ public:
         std::vector<float> targets;  ///< visibleShare's shadow rays
         std::vector<double> pieceFactors;
         std::vector<std::uint8_t> blocked;
-        std::vector<Vec3> penumbraPoints;  ///< penumbralValue's rule over the emitter
-        std::vector<double> penumbraWeights;
         std::vector<float> probeOrigins, probeTargets;  ///< cornersAgree's and extremesAgree's shadow rays
         std::vector<std::uint32_t> probePairs;          ///< extremesAgree's pairs of corners, each cast once
         std::vector<std::uint8_t> probeBlocked;
@@ -118,14 +116,19 @@ public:
     /// Corner k of e a hundredth inside: where cornersAgree's rays start (before rayOrigin's lift).
     Vec3 cornerProbe(PatchId e, std::uint32_t k) const { return m_geometry.insetCorner(e, k); }
     /// A pair in such a penumbra, or a ruled pair whose points' shares spread too far for its few
-    /// points but not enough for straddles(): the exact visible part (shadow polygons) at each point
-    /// of an m x m rule over e, in ray units as contactValue's: a function of the pair alone, for
-    /// both rows. m is kPenumbraQuadOrder on a quadrilateral, kPenumbraOrder on any other polygon,
-    /// or the pair's own rule order where that is higher. (Before, each point's term below exactAbove() was r in four
-    /// pieces with a shadow ray each, aimed at the pieces' centres, on a rule of order 2 to 6 by the
-    /// factor's size: every point met the same four points of r, and a part of r seen past an
-    /// occluder's limb near r's rim was missed by all of them. The concentric spheres' pairs 18 to
-    /// 41 % visible read a fifth of their visible part low, each outer row 1.4e-4 low on average.)
+    /// points but not enough for straddles(): its value whole, as contactValue's (the exact
+    /// unoccluded part less the adaptive hidden part), a function of the pair alone for both rows,
+    /// counted apart. (Before, the exact visible part at each point of a fixed rule over e, 3 x 3
+    /// on a triangle and 2 x 2 on a quadrilateral: the rule placed the shadow's edge across e
+    /// coarsely, and every receiver behind the same edge erred alike. district1k's row 573 summed
+    /// 7.4e-4 too much over 37 such pairs, row 39 5.8e-4 too little. With the hidden part's rims
+    /// (contact_pairs.cpp) the entries off by more than 1e-4 went from 110 to 45 and the largest
+    /// row error from 1.2e-3 to 5.9e-4, for 1.2x the time; the Cornell box at 60 mm took 2.2x, the
+    /// concentric spheres 2.5x (a quadrilateral's adaptive part starts at 82 evaluations where its
+    /// rule had 4: bench/BENCHMARKS.md). Its history: order 4 on district1k's tall wall slivers left a row 1.9e-3 off, order
+    /// 3 8.2e-4; before that, each point's term below exactAbove() was r in four pieces with a ray
+    /// each, and the concentric spheres' pairs 18 to 41 % visible read a fifth of their visible
+    /// part low.)
     double penumbralValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const;
     /// Whether a ruled pair (as straddles() takes it) spreads enough to be worth penumbralValue.
     bool spreadsPenumbra(double unoccluded, double least, double most) const {
@@ -184,18 +187,6 @@ public:
     /// Visible shares further apart than this across a pair's points (or its emitter's corners) mean
     /// a shadow's edge crosses the emitter: its few points cannot place it.
     static constexpr double kStraddleSpread = 0.25;
-    /// The order of penumbralValue's rule over a triangle (any polygon but a quadrilateral), and
-    /// over a quadrilateral (even: no
-    /// point at its centre, where the centroid's doubted verdict was). Each point's visible part is
-    /// exact, so the rule's error is where it places the shadow's edge across e, and every receiver
-    /// behind the same edge errs alike: on district1k's tall wall slivers order 4 left a row 1.9e-3
-    /// off, order 3 8.2e-4 (order 2: 2.8e-3). The concentric spheres' outer rows closed to 2.2e-4
-    /// at order 2, 9.0e-5 at 3, 4.1e-5 at 4. A square half in a plate's shadow, its edge through
-    /// the centre (test_partial_visibility.cpp), read 15 % high at order 3 and 2 % low at 2 or 4.
-    /// The Cornell box at 60 mm (quadrilaterals) had 133 entries off by more than 1e-4 at order 2
-    /// and 74 at order 4 (rows 8.1e-4 and 7.3e-4), but cornell13k's F took 54 s at 2 and 68 s at
-    /// 4 (43 s with the rays before; whole processes, two threads).
-    static constexpr int kPenumbraOrder = 3, kPenumbraQuadOrder = 2;
     /// extremesAgree's bound, of exactAbove(): below it a term keeps cornersAgree's answer. With
     /// every probed term (from a tenth) cornell13k's F took 74 s instead of 58 s on two threads
     /// for 1.58 M penumbra computations; district1k, the Cornell box at 60 mm and the spheres
@@ -264,7 +255,7 @@ private:
     FarRule m_far;  ///< the point-to-point kernel for pairs far from each other's horizon
     double m_farRatio = 0.0;  ///< the smallest FarRule::ratio it serves (0: not used, with --origins > 1)
     std::vector<std::vector<double>> m_ruleNodes, m_ruleWeights;  ///< Gauss-Legendre on [0, 1] per order (up to
-                                                                  ///< the highest rule's or penumbralValue's)
+                                                                  ///< the highest rule's)
     int m_splitLevels = 1;  ///< silhouette patches: 1 = split once (4 pieces of a quad), 2 = twice
 };
 
