@@ -108,11 +108,10 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
             out << " (every pair, --pairs whole";
         } else {
             out << " (close pairs, within " << int(kNearDistance) << " radii";
-            if (c.straddlingPairs) out << "; " << c.straddlingPairs << " farther ones across a shadow's edge";
-            if (c.penumbralPairs)
-                out << "; " << c.penumbralPairs
-                    << " computations of farther ones in a penumbra: the emitter's corners or the rims of its view "
-                       "disagreed with its points";
+            if (c.straddlingPairs || c.penumbralPairs) {
+                out << ", and farther ones: " << c.straddlingPairs << " across a shadow's edge, " << c.penumbralPairs
+                    << " in a penumbra, where the emitter's corners or the rims of its view disagreed with its points";
+            }
         }
         out << "); with a blocker in their shaft: " << c.contactShafts << " (hidden part adaptive, "
             << c.contactEvaluations << " visible-part evaluations)";

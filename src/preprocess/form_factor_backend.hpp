@@ -64,7 +64,7 @@ struct RayCounts {
     std::uint64_t contactShafts = 0; ///< of those, pairs with a blocker in their shaft
     std::uint64_t contactEvaluations = 0;  ///< visible-part evaluations of their hidden parts
     std::uint64_t straddlingPairs = 0;     ///< of the close-pair computations, ruled pairs across a shadow's edge
-    std::uint64_t penumbralPairs = 0;      ///< analytic estimator: pairs in a penumbra, by a finer rule with exact visible parts
+    std::uint64_t penumbralPairs = 0;      ///< of the close-pair computations, pairs in a penumbra (computed whole too)
     std::uint64_t coveredRows = 0;         ///< analytic estimator: rows whose patch a solid covers in part
     RayCounts& operator+=(const RayCounts& o);
     /// The fraction of the power leaving the computed rows' patches that reached no patch, each row

@@ -414,8 +414,10 @@ TEST_CASE("A close pair whose emitter's tip a building's corner stands on: the h
     // district1k's ground sliver 157 and wall 832, with the two walls of the building whose corner
     // stands on the sliver's tip (x > 79.5). From the rest of the sliver no line to the wall
     // reaches x = 79.5, nor crosses y = 71.5 where a wall stands: it sees all of it. From the tip
-    // most lines pass a wall below its top. The hidden part jumps at x = 79.5, and none of the
-    // first points of the hidden part's rule lies on the tip (2.5 % of the sliver): the
+    // a line is hidden by the direction from the building's corner (79.5, 71.5): the view changes
+    // around that corner, the lines along y = 71.5 hidden below the walls' tops, those along
+    // x = 79.5 not. None of the first points of the hidden part's rule lies on the tip (2.5 % of
+    // the sliver): the
     // refinement stopped at 0.016244 even with --pair-digits 4, where a Monte Carlo estimate of
     // the district's pair gives 0.016165 +- 1e-5. The reference: the rest unoccluded, the tip
     // past both walls, each by the test's adaptive quadrature (the jump lies on their border).

@@ -271,8 +271,9 @@ TEST_CASE("Partial visibility: a receiver seen only near its rim past an occlude
     REQUIRE(expected > 0.003 * unoccluded);
     REQUIRE(expected < 0.03 * unoccluded);
     CHECK(run.counts.penumbralPairs > 0);
-    // A 3 x 3 rule over the emitter, each point with its exact visible part: its points nearest
-    // the right edge see the receiver's corner.
-    CHECK(run.F.at(emitter, receiver) == relative(expected, 0.5));
+    // Computed whole (the adaptive hidden part): 2.3 % low. A 3 x 3 rule over the emitter, each
+    // point with its exact visible part, was within half (its points nearest the right edge see
+    // the receiver's corner).
+    CHECK(run.F.at(emitter, receiver) == relative(expected, 5e-2));
     CHECK(run.F.at(receiver, emitter) == relative(run.F.at(emitter, receiver), 1e-6));  // equal areas
 }

@@ -52,7 +52,7 @@ private:
     double replaceStraddlingPairs(PatchId i, const std::vector<PatchId>& receivers, RowAccumulator& row, Workspace& ws,
                                   RayCounts& counts) const;
     /// Whether emitter e's pair with r straddles a shadow's edge (straddlesWhole: Whole), or its
-    /// shares spread enough that a finer rule should weigh them (PairRules::spreadsPenumbra:
+    /// shares spread enough that its few points cannot weigh them (PairRules::spreadsPenumbra:
     /// Penumbral), or every point saw all of r or none while the corners or the rims say otherwise
     /// (PairRules::centroidVerdictHolds: Penumbral). Both rows of the pair decide alike.
     Straddle straddleOf(PatchId e, PatchId r, double unoccluded, double least, double most, Workspace& ws,
