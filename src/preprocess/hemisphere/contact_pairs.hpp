@@ -79,11 +79,14 @@ public:
 
     /// A_e F_er (area units of the scene) past the blockers, and in `unoccluded` without them (0: the
     /// pair has no view at all, not even a hidden one). Thread-safe with one Scratch per thread.
-    double exchange(PatchId e, PatchId r, Scratch& s, Cost& cost, double& unoccluded) const;
+    /// `changes`: the hidden part's triangles also count least errors where the view changes
+    /// between their points (its rims, its jumps: hidden()), as close pairs need; far pairs
+    /// computed whole (across a shadow's edge, in a penumbra) go by the disagreements alone.
+    double exchange(PatchId e, PatchId r, Scratch& s, Cost& cost, double& unoccluded, bool changes = true) const;
 
 private:
     /// The hidden part of the exchange, sum over the emitter part of (f - visible).
-    double hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost& cost) const;
+    double hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost& cost, bool changes) const;
 
     const PatchGeometry* m_geometry = nullptr;
     const ShadowPolygons* m_shadows = nullptr;

@@ -72,10 +72,10 @@ void PairRules::build(const Scene& scene, const RayScene& rays, const Hemisphere
     m_penumbraProbeAbove = m_visibility ? 1e-2 * tolerance : std::numeric_limits<double>::infinity();
 }
 
-double PairRules::contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, bool& viewed) const {
+double PairRules::contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, bool& viewed, bool close) const {
     ContactPairs::Cost cost;
     double unoccluded = 0.0;
-    const double exchange = m_contacts.exchange(e, r, s.contact, cost, unoccluded);
+    const double exchange = m_contacts.exchange(e, r, s.contact, cost, unoccluded, close || m_wholePairs);
     viewed = unoccluded > 0.0;
     ++counts.contactPairs;
     counts.contactShafts += cost.shafts;
@@ -86,7 +86,7 @@ double PairRules::contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& coun
 double PairRules::straddlingValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const {
     bool viewed = false;
     ++counts.straddlingPairs;  // of the pairs contactValue counts
-    return contactValue(e, r, s, counts, viewed);
+    return contactValue(e, r, s, counts, viewed, false);
 }
 
 bool PairRules::probesAgree(bool blocked, Scratch& s, RayCounts& counts) const {
@@ -165,7 +165,7 @@ bool PairRules::extremesAgree(PatchId e, PatchId r, double factor, bool blocked,
 double PairRules::penumbralValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const {
     bool viewed = false;
     ++counts.penumbralPairs;  // of the pairs contactValue counts
-    return contactValue(e, r, s, counts, viewed);
+    return contactValue(e, r, s, counts, viewed, false);
 }
 
 void PairRules::ruleOver(PatchId e, int m, std::vector<Vec3>& points, std::vector<double>& weights) const {

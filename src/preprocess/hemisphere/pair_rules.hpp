@@ -74,7 +74,9 @@ public:
     /// A close pair's value in ray units of row e (A_e F_er / A_e x unit): a function of the pair
     /// alone; `viewed` says whether it has a view at all (unoccluded value above 0: a term, visible
     /// or hidden, for the silhouette statuses).
-    double contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, bool& viewed) const;
+    /// `close` false: a far pair computed whole (straddlingValue, penumbralValue), its hidden part
+    /// by the disagreements alone (ContactPairs::exchange's `changes`).
+    double contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, bool& viewed, bool close = true) const;
     /// A straddling pair's value (straddles()), as contactValue's (a function of the pair alone, for
     /// both rows), counted apart.
     double straddlingValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const;
