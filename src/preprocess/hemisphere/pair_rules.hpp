@@ -124,7 +124,7 @@ public:
     /// on a triangle and 2 x 2 on a quadrilateral: the rule placed the shadow's edge across e
     /// coarsely, and every receiver behind the same edge erred alike. district1k's row 573 summed
     /// 7.4e-4 too much over 37 such pairs, row 39 5.8e-4 too little. With the hidden part's rims
-    /// (contact_pairs.cpp) the entries off by more than 1e-4 went from 110 to 45 and the largest
+    /// (contact_pairs.cpp) the entries off by more than 1e-4 went from 110 to 46 and the largest
     /// row error from 1.2e-3 to 5.9e-4, for 1.2x the time; the Cornell box at 60 mm took 2.2x, the
     /// concentric spheres 2.5x (a quadrilateral's adaptive part starts at 82 evaluations where its
     /// rule had 4: bench/BENCHMARKS.md). Its history: order 4 on district1k's tall wall slivers left a row 1.9e-3 off, order
