@@ -126,9 +126,9 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
     std::uint32_t evaluations = 0;
     // The hidden part of r's factor f at x, f - visible, and x's view of r: 1 all of it, 2 a part,
     // 4 none of it (0: x has no view of r at all).
-    const auto hiddenAt = [&](const Vec3& x, double& f, std::uint8_t& seen) {
+    const auto hiddenAt = [&](const Vec3& x, std::uint8_t& seen) {
         ++evaluations;
-        f = pointToPolygonFactor(x, n, receiver, corners);
+        const double f = pointToPolygonFactor(x, n, receiver, corners);
         if (!(f > 0.0)) {
             seen = 0;
             return 0.0;
@@ -143,9 +143,8 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
     const auto estimate = [&](const Vec3& p0, const Vec3& p1, const Vec3& p2) {
         double sum = 0.0;
         for (std::size_t k = 0; k < rule.weight.size(); ++k) {
-            double f = 0.0;
             std::uint8_t seen = 0;
-            const double h = hiddenAt(rule.point[k][0] * p0 + rule.point[k][1] * p1 + rule.point[k][2] * p2, f, seen);
+            const double h = hiddenAt(rule.point[k][0] * p0 + rule.point[k][1] * p1 + rule.point[k][2] * p2, seen);
             sum += rule.weight[k] * h;
             views |= seen;
             if (seen != 0) lowest = std::min(lowest, h), highest = std::max(highest, h);
@@ -158,9 +157,10 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
     // one side of the change. So a share (kLeastErrorShare) of a least error counts too:
     //   - where a corner or an edge's midpoint (a thousandth inside) has a view none of the rule's
     //     points had, its hidden part less the cell's mean, times the area: the cell is split
-    //     until its points see what its rim sees (the emitter's rim first: district1k's ground 157 saw wall 834
-    //     whole from all 35 first points, 0.01706 for a Monte Carlo estimate of 0.01654 +-
-    //     0.00002; 792 -> 636 read 0 for 1.18e-4);
+    //     until its points see what its rim sees (the emitter's rim first, then the children of
+    //     cells whose rim disagreed: district1k's ground 157 saw wall 834 whole from all 35 first
+    //     points, 0.01706 for a Monte Carlo estimate of 0.01654 +- 0.00002; 792 -> 636 read 0 for
+    //     1.18e-4);
     //   - where some points saw all of r and some none of it (a jump: a blocker standing on the
     //     emitter's plane, or a penumbra narrower than the cell), the spread of their hidden
     //     parts times the area: the district's ground sliver 157, a building's corner standing on
@@ -181,15 +181,14 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
         if (changes && (views & 1) && (views & 4)) least = highest - lowest;
         const Vec3 centre = (p0 + p1 + p2) / 3.0;
         const double cellArea = triangleArea(p0, p1, p2);
-        for (const Vec3& y : {p0, p1, p2, m01, m12, m20}) {
-            if (!rim) break;
-            double f = 0.0;
-            std::uint8_t seen = 0;
-            const double h = hiddenAt(y + 1e-3 * (centre - y), f, seen);
-            if (seen == 0 || (seen & views) || !(cellArea > 0.0)) continue;
-            least = std::max(least, std::abs(h - c.fine / cellArea));
-            c.rim = true;
-        }
+        if (rim)
+            for (const Vec3& y : {p0, p1, p2, m01, m12, m20}) {
+                std::uint8_t seen = 0;
+                const double h = hiddenAt(y + 1e-3 * (centre - y), seen);
+                if (seen == 0 || (seen & views) || !(cellArea > 0.0)) continue;
+                least = std::max(least, std::abs(h - c.fine / cellArea));
+                c.rim = true;
+            }
         c.error = std::abs(c.fine - c.coarse) + kLeastErrorShare * least * cellArea;
         return c;
     };
