@@ -57,11 +57,14 @@ void PairRules::build(const Scene& scene, const RayScene& rays, const Hemisphere
     m_straddleAbove = m_visibility ? 0.1 * tolerance : std::numeric_limits<double>::infinity();
     // A term on a silhouette (its receiver's mesh neighbours' verdicts differ) is half hidden as
     // likely as not, and a row of many small terms along an occluder's limb adds their errors up:
-    // exact from half the exact terms' bound (5e-4 by default). Pieces with a ray each left two
-    // concentric faceted spheres' outer rows 4.5e-3 from closing, exact terms 9.1e-4; with the
-    // bound at 1e-4 instead district1k took 1.7x its time (3e-4: 1.4x; 5e-4: 1.04x) for 421
-    // entries off by more than 1e-4 instead of 518, and every silhouette term exact cornell13k 1.6x.
-    m_silhouetteExactAbove = 0.05 * tolerance;
+    // exact from a tenth of the exact terms' bound (1e-4 by default). Pieces with a ray each left
+    // two concentric faceted spheres' outer rows 4.5e-3 from closing, exact terms 9.1e-4. At half
+    // the bound (5e-4), the terms in pieces held the largest share of district1k's entry errors
+    // once the pairs in a penumbra were computed whole (0.057 of 0.176, and 12 of its 46 entries
+    // off by more than 1e-4); at a tenth they hold 0.014 and the district has 35 such entries, for
+    // 1.05x its time (every silhouette term exact: 35, 1.16x). (Before the pairs in a penumbra and
+    // across a shadow's edge were computed whole, 1e-4 took district1k 1.7x its time.)
+    m_silhouetteExactAbove = 0.01 * tolerance;
     // A ray term from the centroid is one verdict for the whole emitter. Where an occluder's edge
     // crosses the view between the emitter's points, that verdict is all or nothing for a pair that
     // is partly seen, and a row's such pairs err alike (all behind the same edge): the subdivided
@@ -185,35 +188,10 @@ void PairRules::ruleOver(PatchId e, int m, std::vector<Vec3>& points, std::vecto
 }
 
 double PairRules::visibleShare(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts) const {
-    const Vec3& n = m_geometry.shapes[e].normal;
-    const Vec3* polygon = nullptr;
-    std::size_t corners = 0;
-    const double f = pointFactor(r, x, n, s.clipped, polygon, corners);
-    if (!(f > 0.0)) return -1.0;
-    s.pieces.clear();
-    splitPolygon(polygon, corners, s.pieces);
-    s.targets.clear();
-    s.pieceFactors.clear();
-    for (std::size_t q = 0; q < s.pieces.size(); q += 4) {
-        const double piece = pointToPolygonFactor(x, n, &s.pieces[q], 4);
-        if (!(piece > 0.0)) continue;
-        float target[3];
-        m_rays->toLocal(vertexMean(&s.pieces[q], 4) + m_rays->originOffset() * m_geometry.shapes[r].normal, target);
-        s.targets.insert(s.targets.end(), target, target + 3);
-        s.pieceFactors.push_back(piece);
-    }
-    if (s.pieceFactors.empty()) return -1.0;
-    float origin[3];
-    rayOrigin(e, x, origin);
-    s.blocked.assign(s.pieceFactors.size(), 0);
-    m_rays->occludedSegments(origin, s.targets.data(), s.pieceFactors.size(), s.blocked.data());
-    counts.rays += s.pieceFactors.size();
-    double seen = 0.0, all = 0.0;
-    for (std::size_t k = 0; k < s.pieceFactors.size(); ++k) {
-        all += s.pieceFactors[k];
-        if (!s.blocked[k]) seen += s.pieceFactors[k];
-    }
-    return seen / all;
+    PointTerm term;
+    term.factor = pointFactor(r, x, m_geometry.shapes[e].normal, s.clipped, term.polygon, term.corners);
+    if (!(term.factor > 0.0)) return -1.0;
+    return exactVisible(e, r, x, term, s, counts) / term.factor;
 }
 
 bool PairRules::pointTerm(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts, PointTerm& term) const {

@@ -33,9 +33,6 @@ public:
         std::vector<Vec3> pieces, finer;  ///< a silhouette receiver's pieces, 4 corners each
         ShadowPolygons::Scratch shadow;
         ContactPairs::Scratch contact;
-        std::vector<float> targets;  ///< visibleShare's shadow rays
-        std::vector<double> pieceFactors;
-        std::vector<std::uint8_t> blocked;
         std::vector<float> probeOrigins, probeTargets;  ///< cornersAgree's and extremesAgree's shadow rays
         std::vector<std::uint32_t> probePairs;          ///< extremesAgree's pairs of corners, each cast once
         std::vector<std::uint8_t> probeBlocked;
@@ -80,9 +77,14 @@ public:
     /// A straddling pair's value (straddles()), as contactValue's (a function of the pair alone, for
     /// both rows), counted apart.
     double straddlingValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const;
-    /// The share of r's factor that point x of e sees past the blockers, by r's part above x's plane
-    /// in pieces (one split), each piece's factor counted where its shadow ray from x passes; -1
-    /// when x has no term for r. A probe for straddles(), a few rays whatever the blockers.
+    /// The share of r's factor that point x of e sees past the blockers: the exact visible part of
+    /// r's part above x's plane (shadow polygons, as exact terms) over its factor; -1 when x has no
+    /// term for r. The probe of a pair's corners (AnalyticEstimator::cornersWiden). It was r in
+    /// four pieces with a shadow ray each: a wall corner that sees 42 % of a far wall read 0 where
+    /// the four pieces' centres were hidden (district1k's 468 -> 803, 0 for 8.4e-5; 934 -> 750
+    /// 2.9e-5 for 1.8e-4, its top corners seeing 27 % of the wall); exact, the
+    /// district's entries off by more than 1e-4 went from 16 to 14 and the 60 mm Cornell box's
+    /// from 10 to 6, in the same time.
     double visibleShare(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts) const;
     /// Whether a ruled pair whose points saw between `least` and `most` of the receiver, with the
     /// rule's unoccluded sum `unoccluded` (ray units), straddles a shadow's edge enough for its
@@ -187,8 +189,12 @@ public:
     bool emitsFor(PatchId e, PatchId r) const { return hemirad::emitsFor(*m_scene, e, r); }
 
     /// Visible shares further apart than this across a pair's points (or its emitter's corners) mean
-    /// a shadow's edge crosses the emitter: its few points cannot place it.
-    static constexpr double kStraddleSpread = 0.25;
+    /// a shadow's edge crosses the emitter: its few points cannot place it. At 0.25, the ruled
+    /// pairs with exact terms whose shares spread less than that held district1k's largest row
+    /// errors (row 934: 2.6e-4 of its 5.9e-4 from them); at 0.05 (with the silhouette bound at
+    /// 1e-4) its entries off by more than 1e-4 went from 35 to 19 and the 60 mm Cornell box's
+    /// from 32 to 10, for 1.17x the box's time (0.1: 24 and 22 entries).
+    static constexpr double kStraddleSpread = 0.05;
     /// extremesAgree's bound, of exactAbove(): below it a term keeps cornersAgree's answer. With
     /// every probed term (from a tenth) cornell13k's F took 74 s instead of 58 s on two threads
     /// for 1.58 M penumbra computations; district1k, the Cornell box at 60 mm and the spheres
