@@ -260,7 +260,7 @@ def build():
 
 
 def main():
-    if len(sys.argv) != 2:
+    if len(sys.argv) != 2 or sys.argv[1].startswith("-"):  # `--help` is not a folder to write into
         sys.exit("usage: cornell13k.py OUTPUT_DIR")
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)

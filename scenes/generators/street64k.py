@@ -294,7 +294,7 @@ def main():
     if len(args) == 3 and args[1] == "--tiles" and args[2].isdigit() and int(args[2]) >= 1:
         tiles = int(args[2])
         args = args[:1]
-    if len(args) != 1:
+    if len(args) != 1 or args[0].startswith("-"):  # `--help` is not a folder to write into
         sys.exit("usage: street64k.py OUTPUT_DIR [--tiles N]")
     out = args[0]
     os.makedirs(out, exist_ok=True)
