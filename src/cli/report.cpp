@@ -102,6 +102,10 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
         out << "\n  point-to-patch terms whose visible part came from shadow polygons (exact partial visibility, no "
                "shadow ray): "
             << c.shadowTerms;
+    if (c.shadowProbes)
+        out << "\n  shadow-polygon probes of pairs' corners and edges' midpoints (whether a shadow's edge crosses the "
+               "emitter; not terms of F): "
+            << c.shadowProbes;
     if (c.contactPairs) {
         out << "\n  pairs computed whole, exact by contour integrals: " << c.contactPairs;
         if (run.F.parameters.count("pairs")) {

@@ -20,6 +20,7 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
     cutoffWeight += o.cutoffWeight;
     rescaledRows += o.rescaledRows;
     shadowTerms += o.shadowTerms;
+    shadowProbes += o.shadowProbes;
     contactPairs += o.contactPairs;
     contactShafts += o.contactShafts;
     contactEvaluations += o.contactEvaluations;

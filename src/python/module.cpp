@@ -207,6 +207,7 @@ py::dict runDict(const FormFactorRun& run, const Scene& scene, const MethodSetti
     d["cutoff_fraction"] = c.cutoffWeight / rows;
     d["rescaled_rows"] = c.rescaledRows;
     d["shadow_terms"] = c.shadowTerms;
+    d["shadow_probes"] = c.shadowProbes;
     py::dict seconds;
     seconds["prepare"] = run.prepareSeconds;
     seconds["compute"] = run.computeSeconds;

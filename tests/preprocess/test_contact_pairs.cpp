@@ -373,6 +373,7 @@ TEST_CASE("A ruled pair whose points all see the receiver whole and whose corner
     CHECK(expected < 0.95 * unoccluded);
     const FormFactorRun run = defaultRun({e, r, o});
     CHECK(run.counts.straddlingPairs >= 1);
+    CHECK(run.counts.shadowProbes >= 1);  // the corners' shares, counted apart from F's terms
     CHECK(run.F.at(0, 1) == relative(expected, 2e-4));  // computed whole: its hidden part to 1e-4
     CHECK(reciprocity(run.F, {e, r, o}, 0, 1) < 1e-9);
 }

@@ -139,14 +139,15 @@ public:
         return most - least > kStraddleSpread && (most - least) * unoccluded >= m_penumbraProbeAbove * unit();
     }
     /// A silhouette receiver's term from point x of e: where its factor exceeds the silhouette bound
-    /// (m_silhouetteExactAbove, half of exactAbove()), Lambert's factor to the part of r that x sees
+    /// (m_silhouetteExactAbove, a tenth of exactAbove()), Lambert's factor to the part of r that x sees
     /// past the blockers (exact, shadow polygons, as pointTerm's exact terms) into `visible`, and
     /// true; else false (forEachPiece takes it in pieces, a shadow ray each).
     bool silhouetteTerm(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts, double& visible) const {
         PointTerm term;
         term.factor = pointFactor(r, x, m_geometry.shapes[e].normal, s.clipped, term.polygon, term.corners);
         if (!(term.factor > m_silhouetteExactAbove)) return false;
-        visible = exactVisible(e, r, x, term, s, counts);
+        ++counts.shadowTerms;
+        visible = exactVisible(e, r, x, term, s);
         return true;
     }
     /// The points and weights (summing to 1, or to a covered emitter's free fraction) of the m x m
@@ -229,9 +230,8 @@ private:
     double pointFactor(PatchId r, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer, const Vec3*& polygon,
                        std::size_t& corners) const;
     /// The visible part of `term` (its factor and polygon set) from x past the blockers, by shadow
-    /// polygons; counted as a shadow term.
-    double exactVisible(PatchId e, PatchId r, const Vec3& x, const PointTerm& term, Scratch& s, RayCounts& counts) const {
-        ++counts.shadowTerms;
+    /// polygons.
+    double exactVisible(PatchId e, PatchId r, const Vec3& x, const PointTerm& term, Scratch& s) const {
         return m_shadows.visibleFactor(x, m_geometry.shapes[e].normal, term.polygon, term.corners, e, r, term.factor,
                                        s.shadow);
     }
