@@ -191,8 +191,7 @@ double PairRules::visibleShare(PatchId e, PatchId r, const Vec3& x, Scratch& s, 
     PointTerm term;
     term.factor = pointFactor(r, x, m_geometry.shapes[e].normal, s.clipped, term.polygon, term.corners);
     if (!(term.factor > 0.0)) return -1.0;
-    ++counts.shadowProbes;
-    return exactVisible(e, r, x, term, s) / term.factor;
+    return exactVisible(e, r, x, term, s, counts.shadowProbes) / term.factor;
 }
 
 bool PairRules::pointTerm(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCounts& counts, PointTerm& term) const {
@@ -200,10 +199,7 @@ bool PairRules::pointTerm(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCo
     term.factor = pointFactor(r, x, n, s.clipped, term.polygon, term.corners);
     if (!(term.factor > 0.0)) return false;
     term.exact = term.factor > m_exactAbove;  // too large for one shadow ray's verdict
-    if (term.exact) {
-        ++counts.shadowTerms;
-        term.visible = exactVisible(e, r, x, term, s);
-    }
+    if (term.exact) term.visible = exactVisible(e, r, x, term, s, counts.shadowTerms);
     return true;
 }
 

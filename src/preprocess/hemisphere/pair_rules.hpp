@@ -146,8 +146,7 @@ public:
         PointTerm term;
         term.factor = pointFactor(r, x, m_geometry.shapes[e].normal, s.clipped, term.polygon, term.corners);
         if (!(term.factor > m_silhouetteExactAbove)) return false;
-        ++counts.shadowTerms;
-        visible = exactVisible(e, r, x, term, s);
+        visible = exactVisible(e, r, x, term, s, counts.shadowTerms);
         return true;
     }
     /// The points and weights (summing to 1, or to a covered emitter's free fraction) of the m x m
@@ -230,8 +229,10 @@ private:
     double pointFactor(PatchId r, const Vec3& x, const Vec3& n, std::vector<Vec3>& buffer, const Vec3*& polygon,
                        std::size_t& corners) const;
     /// The visible part of `term` (its factor and polygon set) from x past the blockers, by shadow
-    /// polygons.
-    double exactVisible(PatchId e, PatchId r, const Vec3& x, const PointTerm& term, Scratch& s) const {
+    /// polygons; one more in `count` (RayCounts::shadowTerms for F's terms, shadowProbes for probes).
+    double exactVisible(PatchId e, PatchId r, const Vec3& x, const PointTerm& term, Scratch& s,
+                        std::uint64_t& count) const {
+        ++count;
         return m_shadows.visibleFactor(x, m_geometry.shapes[e].normal, term.polygon, term.corners, e, r, term.factor,
                                        s.shadow);
     }
