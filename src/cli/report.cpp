@@ -106,6 +106,10 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
         out << "\n  shadow-polygon probes of pairs' corners and edges' midpoints (whether a shadow's edge crosses the "
                "emitter; not terms of F): "
             << c.shadowProbes;
+    if (c.cutPairs)
+        out << "\n  far pairs whose receiver's plane cuts the emitter (a rule over the emitter's part in front of it, "
+               "exact visible parts): "
+            << c.cutPairs << " (" << c.cutWholePairs << " of them computed whole: a shadow's edge crosses that part)";
     if (c.contactPairs) {
         out << "\n  pairs computed whole, exact by contour integrals: " << c.contactPairs;
         if (run.F.parameters.count("pairs")) {

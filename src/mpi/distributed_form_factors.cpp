@@ -366,14 +366,14 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
 
     // Bookkeeping to rank 0: counts summed (the largest direct sum taken), stage times, per-rank load.
     const RayCounts mine = builder.counts();
-    std::uint64_t integers[13] = {mine.rays,         mine.bounces,       mine.misses,
+    std::uint64_t integers[15] = {mine.rays,         mine.bounces,       mine.misses,
                                   mine.backfaces,    mine.rescaledRows,  mine.shadowTerms,
                                   mine.contactPairs, mine.contactShafts, mine.contactEvaluations,
                                   mine.straddlingPairs, mine.penumbralPairs, mine.coveredRows,
-                                  mine.shadowProbes},
-                  integerSums[13];
+                                  mine.shadowProbes, mine.cutPairs, mine.cutWholePairs},
+                  integerSums[15];
     double reals[4] = {mine.lostWeight, mine.cutoffWeight, mine.lostArea, mine.rowArea}, realSums[4];
-    MPI_Reduce(integers, integerSums, 13, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    MPI_Reduce(integers, integerSums, 15, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
     MPI_Reduce(reals, realSums, 4, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
     double largest = 0;
     MPI_Reduce(&mine.largestDirectSum, &largest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
@@ -399,7 +399,7 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
         c.rescaledRows = integerSums[4], c.shadowTerms = integerSums[5];
         c.contactPairs = integerSums[6], c.contactShafts = integerSums[7], c.contactEvaluations = integerSums[8];
         c.straddlingPairs = integerSums[9], c.penumbralPairs = integerSums[10], c.coveredRows = integerSums[11];
-        c.shadowProbes = integerSums[12];
+        c.shadowProbes = integerSums[12], c.cutPairs = integerSums[13], c.cutWholePairs = integerSums[14];
         c.lostWeight = realSums[0], c.cutoffWeight = realSums[1], c.lostArea = realSums[2], c.rowArea = realSums[3];
         c.largestDirectSum = largest;
     }

@@ -60,6 +60,8 @@ struct RayCounts {
     std::uint64_t rescaledRows = 0;  ///< analytic estimator: rows whose direct factors summed above 1.001, scaled to 1
     std::uint64_t shadowTerms = 0;   ///< analytic estimator: point-to-patch terms whose visibility came from shadow polygons
     std::uint64_t shadowProbes = 0;  ///< analytic estimator: shadow-polygon probes of a pair's corners and edges' midpoints (not terms)
+    std::uint64_t cutPairs = 0;      ///< analytic estimator: far pairs whose receiver's plane cuts the emitter (PairRules::cutValue)
+    std::uint64_t cutWholePairs = 0; ///< of those, pairs a shadow's edge crosses, computed whole
     double largestDirectSum = 0;     ///< analytic estimator: the largest direct row sum before that scaling
     std::uint64_t contactPairs = 0;  ///< analytic estimator: close pairs computed whole (contact_pairs.hpp)
     std::uint64_t contactShafts = 0; ///< of those, pairs with a blocker in their shaft

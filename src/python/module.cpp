@@ -208,6 +208,8 @@ py::dict runDict(const FormFactorRun& run, const Scene& scene, const MethodSetti
     d["rescaled_rows"] = c.rescaledRows;
     d["shadow_terms"] = c.shadowTerms;
     d["shadow_probes"] = c.shadowProbes;
+    d["cut_pairs"] = c.cutPairs;
+    d["cut_whole_pairs"] = c.cutWholePairs;
     py::dict seconds;
     seconds["prepare"] = run.prepareSeconds;
     seconds["compute"] = run.computeSeconds;

@@ -500,6 +500,54 @@ TEST_CASE("A close pair whose view narrows across a shadow's edge (points seeing
     CHECK(reciprocity(run.F, {e, r, south, west}, 0, 1) < 1e-9);
 }
 
+TEST_CASE("A far pair whose receiver's plane cuts the emitter: the rule over the emitter's front part, exact") {
+    // district1k's wall 572 (z 11 to 15; its points emit: the smaller patch) and the roof 808 at
+    // z = 14, 23 m away (6 radii: a far pair): only the wall's part above the roof's plane sees it,
+    // and Lambert's factor grows from 0 there. The pair's rule over the whole wall could not place
+    // that kink, and the pair read 8.0e-5 for 1.56e-4. The reference: the test's quadrature over the
+    // front part (the factor is 0 behind the plane).
+    const Polygon r = {{143, 72.5, 14}, {157, 91.5, 14}, {143, 91.5, 14}};
+    const Polygon e = facing({{121, 56, 11}, {121, 56, 15}, {127.5, 56, 15}}, r);
+    const Polygon front = clip(e, r[0], newell(r));
+    const double expected = referenceFactor(front, r, std::nullopt, 1e-13) * area(front) / area(e);
+    MESSAGE("reference " << expected);
+    const FormFactorRun run = defaultRun({e, r});
+    CHECK(run.counts.cutPairs >= 1);
+    CHECK(run.counts.cutWholePairs == 0);  // nothing hides a part: the rule alone
+    MESSAGE("F " << run.F.at(0, 1));
+    CHECK(run.F.at(0, 1) == relative(expected, 1e-4));
+    CHECK(reciprocity(run.F, {e, r}, 0, 1) < 1e-9);
+}
+
+TEST_CASE("A far pair whose receiver's plane cuts the emitter, a shadow's edge across its front part: computed whole") {
+    // The pair above with a wall at y = 64 up to z = 14.45 between them: it hides the roof from the
+    // front part's points below about z = 14.2, part of it up to z = 14.7, none of it above; the
+    // front part's points and corners disagree (district1k's wall 734 read 0 for the roof 905,
+    // 4.8e-4, by the rule over its front part alone).
+    const Polygon r = {{143, 72.5, 14}, {157, 91.5, 14}, {143, 91.5, 14}};
+    const Polygon e = facing({{121, 56, 11}, {121, 56, 15}, {127.5, 56, 15}}, r);
+    const Polygon o = facing({{100, 64, 0}, {180, 64, 0}, {180, 64, 14.45}, {100, 64, 14.45}}, e);
+    const Polygon front = clip(e, r[0], newell(r));
+    const double expected = referenceFactor(front, r, o, 1e-12) * area(front) / area(e);
+    const double unoccluded = referenceFactor(front, r, std::nullopt, 1e-12) * area(front) / area(e);
+    MESSAGE("reference " << expected << ", unoccluded " << unoccluded);
+    CHECK(expected < 0.8 * unoccluded);  // the wall hides a part
+    CHECK(expected > 0.2 * unoccluded);
+    const std::vector<Polygon> polygons = {e, r, o};
+    const FormFactorRun run = defaultRun(polygons);
+    CHECK(run.counts.cutWholePairs >= 1);
+    MESSAGE("F " << run.F.at(0, 1));
+    CHECK(run.F.at(0, 1) == relative(expected, 5e-3));  // 2.1e-3 high; before: 0
+    CHECK(reciprocity(run.F, polygons, 0, 1) < 1e-9);
+    HemisphereOptions finer;
+    finer.pairDigits = 4;
+    SceneBuilder b;
+    for (const Polygon& polygon : polygons) b.polygon(polygon);
+    const FormFactorRun fine = computeFormFactors(b.scene, MethodSettings::of(finer), neededRows(b.scene, true));
+    MESSAGE("--pair-digits 4: F " << fine.F.at(0, 1));
+    CHECK(fine.F.at(0, 1) == relative(expected, 1e-4));  // 1e-5 low
+}
+
 TEST_CASE("--pairs whole computes every pair by its contour integral: far pairs to closed forms, past an occluder to 1e-6") {
     // The straddling case above with a wall beside it, 4 emitter radii away and in nobody's shadow:
     // default flags integrate that pair by the emitter's rule, --pairs whole by its contour integral.

@@ -109,10 +109,13 @@ TEST_CASE("Every back end handles a mesh refined per object (T-junctions): facto
     // refined receiver's shadow is resolved finer (the worst pair: the tall block's shadow on the
     // short block); rays from the same origin hit the same surfaces, T-junctions or not. A row whose
     // hemisphere the room closes (a block face turned to the back wall) sums to 1 within the
-    // analytic estimator's quadrature error: 1 + 1.4e-6 measured.
+    // analytic estimator's error: 1 + 1.26e-5 measured for row 132. Its pairs with patches 7, 18
+    // and 22 (each one's plane cuts the pair's emitter) read 0 for 1e-6 to 7e-6 until
+    // PairRules::cutValue, and so hid the 1.4e-5 its pair with patch 12 reads high (against
+    // --pairs whole --pair-digits 4, whose row sums to 1 - 1.4e-8).
     for (const Case& c : {Case{"hemicube, parent polygons", MethodSettings::of(parents), 1e-6},
                           Case{"hemicube, patch triangles", MethodSettings::of(triangles), 1e-4},
-                          Case{"hemisphere, analytic", MethodSettings::of(analytic), 1e-3, false, 1e-5},
+                          Case{"hemisphere, analytic", MethodSettings::of(analytic), 1e-3, false, 3e-5},
                           Case{"hemisphere, rays", MethodSettings::of(rays), 1e-8, true}}) {
         CAPTURE(c.name);
         const FormFactorRun whole = computeFormFactors(s, c.method, neededRows(s, true));

@@ -76,6 +76,11 @@ void PairRules::build(const Scene& scene, const RayScene& rays, const Hemisphere
 }
 
 double PairRules::contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, bool& viewed, bool close) const {
+    if (close && !m_wholePairs && ruleRatio(e, r) >= kNearDistance) return cutValue(e, r, s, counts, viewed);
+    return wholeValue(e, r, s, counts, viewed, close);
+}
+
+double PairRules::wholeValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, bool& viewed, bool close) const {
     ContactPairs::Cost cost;
     double unoccluded = 0.0;
     const double exchange = m_contacts.exchange(e, r, s.contact, cost, unoccluded, close || m_wholePairs);
@@ -84,6 +89,51 @@ double PairRules::contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& coun
     counts.contactShafts += cost.shafts;
     counts.contactEvaluations += cost.evaluations;
     return exchange / m_scene->patches[e].area * unit();
+}
+
+double PairRules::cutValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, bool& viewed) const {
+    ++counts.cutPairs;
+    viewed = false;
+    const PatchShape& a = m_geometry.shapes[e];
+    const PatchShape& b = m_geometry.shapes[r];
+    clipAbovePlane(b.centroid, b.normal, m_geometry.polygon(e), a.count, s.front);
+    if (s.front.size() < 3) return 0.0;
+    Vec3 normal = Vec3::Zero();  // Newell's: twice the front part's area along its normal
+    for (std::size_t k = 0; k < s.front.size(); ++k) normal += s.front[k].cross(s.front[(k + 1) % s.front.size()]);
+    const double share = std::min(1.0, 0.5 * normal.norm() / m_scene->patches[e].area);
+    const int m = std::min(std::max(1, ruleOrder(e, r)), int(m_ruleNodes.size()) - 1);
+    s.cutPoints.clear();
+    s.cutWeights.clear();
+    polygonQuadrature(s.front.data(), s.front.size(), m_ruleNodes[m], m_ruleWeights[m], s.cutPoints, s.cutWeights);
+    double sum = 0.0, least = 2.0, most = -1.0;  // the points' visible shares
+    for (std::size_t k = 0; k < s.cutPoints.size(); ++k) {
+        PointTerm term;
+        term.factor = pointFactor(r, s.cutPoints[k], a.normal, s.clipped, term.polygon, term.corners);
+        if (!(term.factor > 0.0)) continue;
+        viewed = true;
+        double visible = term.factor;
+        if (m_visibility) visible = exactVisible(e, r, s.cutPoints[k], term, s, counts.shadowTerms);
+        least = std::min(least, visible / term.factor);
+        most = std::max(most, visible / term.factor);
+        sum += s.cutWeights[k] * visible;
+    }
+    if (!m_visibility) return share * sum * unit();
+    // The front part's corners (inset by 1 % towards its centroid) ask whether a shadow's edge
+    // crosses it: then the pair is computed whole, as a penumbral one.
+    Vec3 centre = Vec3::Zero();
+    for (const Vec3& p : s.front) centre += p;
+    centre /= double(s.front.size());
+    for (const Vec3& p : s.front) {
+        const double corner = visibleShare(e, r, p + 0.01 * (centre - p), s, counts);
+        if (!(corner >= 0.0)) continue;
+        least = std::min(least, corner);
+        most = std::max(most, corner);
+    }
+    if (most - least > kStraddleSpread) {
+        ++counts.cutWholePairs;
+        return wholeValue(e, r, s, counts, viewed, true);
+    }
+    return share * sum * unit();
 }
 
 double PairRules::straddlingValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const {

@@ -5,6 +5,7 @@
 #include "engine/scene.hpp"
 
 #include <cstdint>
+#include <cmath>
 #include <vector>
 
 namespace hemirad {
@@ -41,6 +42,23 @@ struct PatchGeometry {
     Vec3 insetCorner(PatchId j, std::uint32_t k) const {
         const Vec3& corner = corners[shapes[j].first + k];
         return corner + 0.01 * (shapes[j].centroid - corner);
+    }
+
+    /// Whether patch r's plane cuts patch e: e's corners lie on both sides of it, further than 1e-9
+    /// of e's radius. Lambert's factor from e's points to r is 0 behind r's plane and grows from 0
+    /// in front of it: a kink across e that no rule over e's points weighs.
+    bool planeCuts(PatchId r, PatchId e) const {
+        const PatchShape& a = shapes[e];
+        const PatchShape& b = shapes[r];
+        const double centre = b.normal.dot(a.centroid - b.centroid), margin = 1e-9 * a.radius;
+        if (!(std::abs(centre) < a.radius)) return false;  // e lies on one side whole
+        bool front = false, back = false;
+        for (std::uint32_t k = 0; k < a.count; ++k) {
+            const double h = b.normal.dot(corners[a.first + k] - b.centroid);
+            front = front || h > margin;
+            back = back || h < -margin;
+        }
+        return front && back;
     }
 
     /// Fills neighbourStart and neighbours: patches sharing a corner position within 1e-9 of the
