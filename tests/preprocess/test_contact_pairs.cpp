@@ -500,6 +500,31 @@ TEST_CASE("A close pair whose view narrows across a shadow's edge (points seeing
     CHECK(reciprocity(run.F, {e, r, south, west}, 0, 1) < 1e-9);
 }
 
+TEST_CASE("A far pair computed whole whose first points all see none of the receiver asks its emitter's rim") {
+    // district1k's ground sliver 271 (x 100 to 101, y 56 to 59.5) and the wall 588 of the building
+    // south-east of it (x = 114.5, y 54.25 to 56), past the west wall (x = 101, y 56 to 77) of the
+    // building beside the sliver: a line from the sliver reaches the wall only if it crosses y = 56
+    // west of x = 101, which needs y - 56 below about 0.13 (101 - x) at its start: a wedge along
+    // the sliver's south edge, 4 % of it. The pair is far (3 radii) and computed whole (its
+    // corners see a part, its centroid none); the hidden part's first points all saw none of the
+    // wall, so the pair read 0 (the district: 1.5e-12 for 1.42e-4) until its emitter's rim was
+    // asked. The reference: the part within 0.2 of that edge, by the test's quadrature.
+    const Polygon e = {{100, 59.5, 0}, {100, 56, 0}, {101, 56, 0}};
+    const Polygon r = facing({{114.5, 54.25, 0}, {114.5, 54.25, 15}, {114.5, 56, 15}}, e);
+    const Polygon o = facing({{101, 56, 0}, {101, 77, 0}, {101, 77, 11}, {101, 56, 11}}, e);
+    const Polygon band = clip(e, Vec3(0, 56.2, 0), Vec3(0, -1, 0));
+    const double expected = referenceFactor(band, r, o, 1e-12) * area(band) / area(e);
+    const double unoccluded = exchangeOf(e, r) / area(e);
+    MESSAGE("reference " << expected << ", unoccluded " << unoccluded);
+    CHECK(expected > 0.005 * unoccluded);
+    const std::vector<Polygon> polygons = {e, r, o};
+    const FormFactorRun run = defaultRun(polygons);
+    CHECK(run.counts.straddlingPairs + run.counts.penumbralPairs >= 1);  // a far pair computed whole
+    MESSAGE("F " << run.F.at(0, 1));
+    CHECK(run.F.at(0, 1) == relative(expected, 3e-2));  // 1.7 % high
+    CHECK(reciprocity(run.F, polygons, 0, 1) < 1e-9);
+}
+
 TEST_CASE("A far pair whose receiver's plane cuts the emitter: the rule over the emitter's front part, exact") {
     // district1k's wall 572 (z 11 to 15; its points emit: the smaller patch) and the roof 808 at
     // z = 14, 23 m away (6 radii: a far pair): only the wall's part above the roof's plane sees it,
