@@ -257,10 +257,14 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
     // patch's pairs in a cluttered scene get one refinement, a touching pair past one blocker the
     // whole budget (2500 at the default --pair-digits 2, 2500 x 10^(D-2) at D; it was 2000 before
     // the rims were evaluated, which add 6 evaluations to each child of a cell whose rim disagreed).
+    // Past it, a pair whose disagreements still sum above the overrun (twice the floor) goes on,
+    // up to kBudgetOverrun times the budget.
     const double allowed = std::max(m_precision.tolerance * exact, m_precision.floor * area);
     const std::uint32_t budget = std::max<std::uint32_t>(
         kLeastEvaluations, m_precision.budget / std::uint32_t(std::max<std::size_t>(s.blockers.size(), 1)));
-    while (error > allowed && evaluations < budget) {
+    const double overrun = m_precision.overrun * area;
+    const std::uint64_t most = std::uint64_t(kBudgetOverrun) * budget;
+    while (error > allowed && (evaluations < budget || (error > overrun && evaluations < most))) {
         std::pop_heap(s.cells.begin(), s.cells.end(), larger);
         const ContactCell worst = s.cells.back();
         s.cells.pop_back();
@@ -285,6 +289,7 @@ ContactPairs::Precision ContactPairs::precisionFor(std::uint32_t pairDigits) {
     Precision p;
     p.tolerance = std::pow(10.0, -(digits + 2.0));
     p.floor = std::pow(10.0, -(digits + 3.0));
+    p.overrun = 2.0 * p.floor;
     p.budget = std::uint32_t(std::min(2500.0 * std::pow(10.0, digits - 2.0), 2147483648.0));
     return p;
 }
