@@ -212,7 +212,10 @@ bool PairRules::extremesAgree(PatchId e, PatchId r, double factor, bool blocked,
     for (std::uint32_t k = 0; k < a.count; ++k)
         if (!cornerCovered(e, k)) aim(k, furthest(r, across(e, k)));
     for (std::uint32_t l = 0; l < b.count; ++l) aim(furthest(e, across(r, l)), l);
-    return probesAgree(blocked, s, counts);
+    if (!probesAgree(blocked, s, counts)) return false;
+    // Every ray was blocked; the centroid may still see a part of r between them (the rays aim at
+    // r's centre and rims). Then the pair is in a penumbra: its one ray read 0 for all of it.
+    return !blocked || !(visibleShare(e, r, a.centroid, s, counts) > kBlockedCentreShare);
 }
 
 double PairRules::penumbralValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const {
