@@ -116,9 +116,10 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
             out << " (every pair, --pairs whole";
         } else {
             out << " (close pairs, within " << int(kNearDistance) << " radii";
-            if (c.straddlingPairs || c.penumbralPairs) {
+            if (c.straddlingPairs || c.penumbralPairs || c.cutWholePairs) {
                 out << ", and farther ones: " << c.straddlingPairs << " across a shadow's edge, " << c.penumbralPairs
                     << " in a penumbra, where the emitter's corners or the rims of its view disagreed with its points";
+                if (c.cutWholePairs) out << ", " << c.cutWholePairs << " cut by the receiver's plane and a shadow's edge";
             }
         }
         out << "); with a blocker in their shaft: " << c.contactShafts << " (hidden part adaptive, "

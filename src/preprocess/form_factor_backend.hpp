@@ -63,7 +63,7 @@ struct RayCounts {
     std::uint64_t cutPairs = 0;      ///< analytic estimator: far pairs whose receiver's plane cuts the emitter (PairRules::cutValue)
     std::uint64_t cutWholePairs = 0; ///< of those, pairs a shadow's edge crosses, computed whole
     double largestDirectSum = 0;     ///< analytic estimator: the largest direct row sum before that scaling
-    std::uint64_t contactPairs = 0;  ///< analytic estimator: close pairs computed whole (contact_pairs.hpp)
+    std::uint64_t contactPairs = 0;  ///< analytic estimator: pairs computed whole (close, straddling, penumbral, cut: contact_pairs.hpp)
     std::uint64_t contactShafts = 0; ///< of those, pairs with a blocker in their shaft
     std::uint64_t contactEvaluations = 0;  ///< visible-part evaluations of their hidden parts
     std::uint64_t straddlingPairs = 0;     ///< of the close-pair computations, ruled pairs across a shadow's edge

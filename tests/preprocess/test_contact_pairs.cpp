@@ -503,8 +503,9 @@ TEST_CASE("A close pair whose view narrows across a shadow's edge (points seeing
 TEST_CASE("A close pair past blockers meshed finely goes past its budget while its hidden part's error is above the floor") {
     // district1k's ground sliver 264 (x 100 to 101, y 42 to 52.5) and wall 580 (x = 114.5, y 37.75
     // to 42) past the building between them (x 101 to 114.5, y 42 to 52.5, 13 high), its west and
-    // south walls in 4 triangles each as the district has them: 8 blockers in the shaft cut the
-    // budget to 2500 / 8 = 312 evaluations. A line from the sliver reaches the wall only if it
+    // south walls in 4 triangles each (in the district 8 blockers in the shaft cut the budget to
+    // 2500 / 8 = 312 evaluations; here the shadow polygons may merge coplanar neighbours, and the
+    // pair still stops at its budget). A line from the sliver reaches the wall only if it
     // crosses y = 42 west of x = 101: from a wedge along the sliver's south edge, y - 42 below
     // about 0.32 (101 - x). The refinement stopped at the budget with its disagreements at 1.7e-4
     // of F, and the pair read 3.3e-5 for 1.37e-4 in the district; here, with these blockers alone,

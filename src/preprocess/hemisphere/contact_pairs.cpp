@@ -131,7 +131,7 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
     const TriangleRule& rule = dunavant5();
     const Vec3* receiver = s.receiver.data();
     const std::size_t corners = s.receiver.size();
-    std::uint32_t evaluations = 0;
+    std::uint64_t evaluations = 0;
     // The hidden part of r's factor f at x, f - visible, and x's view of r: 1 all of it, 2 a part,
     // 4 none of it (0: x has no view of r at all).
     const auto hiddenAt = [&](const Vec3& x, std::uint8_t& seen, double& visible) {

@@ -104,7 +104,20 @@ double PairRules::cutValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, 
     const int m = std::min(std::max(1, ruleOrder(e, r)), int(m_ruleNodes.size()) - 1);
     s.cutPoints.clear();
     s.cutWeights.clear();
-    polygonQuadrature(s.front.data(), s.front.size(), m_ruleNodes[m], m_ruleWeights[m], s.cutPoints, s.cutWeights);
+    if (m == 1) {  // the part's centroid (one Gauss node per fan triangle would sit off its centre)
+        Vec3 weighted = Vec3::Zero();
+        double total = 0.0;
+        for (std::size_t k = 1; k + 1 < s.front.size(); ++k) {
+            const double w = (s.front[k] - s.front[0]).cross(s.front[k + 1] - s.front[0]).norm();
+            weighted += w * (s.front[0] + s.front[k] + s.front[k + 1]) / 3.0;
+            total += w;
+        }
+        if (!(total > 0.0)) return 0.0;
+        s.cutPoints.push_back(weighted / total);
+        s.cutWeights.push_back(1.0);
+    } else {
+        polygonQuadrature(s.front.data(), s.front.size(), m_ruleNodes[m], m_ruleWeights[m], s.cutPoints, s.cutWeights);
+    }
     double sum = 0.0, least = 2.0, most = -1.0;  // the points' visible shares
     for (std::size_t k = 0; k < s.cutPoints.size(); ++k) {
         PointTerm term;

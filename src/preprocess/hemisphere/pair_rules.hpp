@@ -69,10 +69,12 @@ public:
     /// Whether (e, r) is a close pair (within kNearDistance, where the factor varies fastest over e
     /// and the patches may touch), or any pair with --pairs whole: computed as a whole by
     /// contactValue, not by e's rules.
-    /// A pair whose receiver's plane cuts the emitter (PatchGeometry::planeCuts) is one too: its
-    /// value is cutValue's, by both rows.
+    /// A far pair whose receiver's plane cuts the emitter (PatchGeometry::planeCuts) is one too
+    /// (cutValue's, by both rows), unless a solid covers part of the emitter: its rule is then
+    /// over the free part (CoveredEmitters), as before.
     bool contactPair(PatchId e, PatchId r) const {
-        return m_wholePairs || !(ruleRatio(e, r) >= kNearDistance) || m_geometry.planeCuts(r, e);
+        return m_wholePairs || !(ruleRatio(e, r) >= kNearDistance) ||
+               (!m_covered.covered(e) && m_geometry.planeCuts(r, e));
     }
     /// A close pair's value in ray units of row e (A_e F_er / A_e x unit): a function of the pair
     /// alone; `viewed` says whether it has a view at all (unoccluded value above 0: a term, visible
@@ -82,7 +84,8 @@ public:
     /// A far pair that contactPair() holds only because r's plane cuts e gets cutValue instead.
     double contactValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, bool& viewed, bool close = true) const;
     /// A far pair (3 radii apart or more) whose receiver's plane cuts the emitter, in ray units of
-    /// row e: the pair's rule (ruleOrder) over e's part in front of r's plane, each point's
+    /// row e: the pair's rule (ruleOrder; order 1: the part's centroid) over e's part in front of
+    /// r's plane, each point's
     /// visible part exact (shadow polygons), times that part's share of e. Where the visible
     /// shares of those points and of the part's corners spread more than kStraddleSpread (a
     /// shadow's edge crosses it), the pair computed whole instead (wholeValue, with the close
@@ -133,7 +136,8 @@ public:
     /// cornersAgree's rays, from e's corners to r's centre, lie halfway in. The concentric spheres'
     /// pairs up to 8 % visible read as hidden where both the centroid and the corners agreed.
     /// Asked only of terms whose (unoccluded) factor is at least kExtremesAbove of exactAbove()
-    /// (3e-4 by default); true for the rest.
+    /// (3e-4 by default); true for the rest. Where the verdict is `blocked` and every ray agrees
+    /// (or none is cast), the centroid's exact visible share decides too (kBlockedCentreShare).
     bool extremesAgree(PatchId e, PatchId r, double factor, bool blocked, Scratch& s, RayCounts& counts) const;
     /// cornersAgree, then extremesAgree: whether one shadow ray's verdict from e's centroid to
     /// `target` (the centre of r's part above e's plane, as the ray aimed) holds for the whole pair
