@@ -225,6 +225,46 @@ TEST_CASE("Partial visibility: a floor patch a closed block stands on in part em
     CHECK(r.F.at(receiver, floor) * 1.2 == relative(r.F.at(floor, receiver), 1e-6));  // reciprocity (areas 1 and 1.2)
 }
 
+TEST_CASE("Partial visibility: a covered floor patch keeps its free part's rule for a far wall whose plane cuts it") {
+    // The covered floor above with a wall in the plane y = 0.5 (x 4 to 5, z 0 to 1, facing +y) in
+    // place of the receiver overhead: its plane cuts the floor (a cut pair, PairRules::cutValue),
+    // and the block stands on the floor's part in front of it ([0.3, 0.7] x [0.5, 0.7]). The rule
+    // over that front part ignored the cover and counted the block's footprint as emitting
+    // (cornell13k's floor patches under its blocks summed up to 1.85e-3 low). The reference: the
+    // floor's front part less the footprint, by Gauss-Legendre over each of Lambert's factor.
+    SceneBuilder b;
+    const PatchId floor = b.rectangle(2, 0, 0, 1, 0, 1, true);
+    const PatchId wall = b.rectangle(1, 0.5, 0, 1, 4, 5, true);  // u: z, v: x
+    const double lo = 0.3, hi = 0.7, h = 1e-3;
+    b.rectangle(0, lo, lo, hi, 0, h, false);
+    b.rectangle(0, hi, lo, hi, 0, h, true);
+    b.rectangle(1, lo, 0, h, lo, hi, false);
+    b.rectangle(1, hi, 0, h, lo, hi, true);
+    b.rectangle(2, h, lo, hi, lo, hi, true);
+    const std::vector<Vec3> polygon = {{4, 0.5, 0}, {5, 0.5, 0}, {5, 0.5, 1}, {4, 0.5, 1}};
+    std::vector<double> nodes, weights;
+    gaussLegendre(24, nodes, weights);
+    // Over [x0, x1] x [y0, y1] of the floor.
+    const auto over = [&](double x0, double x1, double y0, double y1) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < nodes.size(); ++i)
+            for (std::size_t j = 0; j < nodes.size(); ++j)
+                sum += weights[i] * weights[j] *
+                       lambertFactor(Vec3(x0 + (x1 - x0) * nodes[i], y0 + (y1 - y0) * nodes[j], 0), Vec3(0, 0, 1), polygon);
+        return sum * (x1 - x0) * (y1 - y0);
+    };
+    const double front = over(0, 1, 0.5, 1), footprint = over(lo, hi, 0.5, hi);
+    const double expected = front - footprint;
+    const FormFactorRun r = analyticF(b.scene);
+    MESSAGE("covered floor to a wall cutting it: F = " << r.F.at(floor, wall) << ", its free part " << expected
+                                                       << ", all of its front part " << front);
+    CHECK(r.counts.coveredRows == 1);
+    // 1.4 % high: the free part's rule weighs the factor's kink along the wall's plane by its points
+    // (as every cut pair did before PairRules::cutValue); 6.5 % high with the footprint emitting.
+    CHECK(r.F.at(floor, wall) == relative(expected, 3e-2));
+    CHECK(r.F.at(wall, floor) == relative(r.F.at(floor, wall), 1e-6));  // reciprocity (areas 1 and 1)
+}
+
 TEST_CASE("Partial visibility: a receiver seen only near its rim past an occluder's edge is found and weighed, not read as hidden") {
     // Triangles of half-width a = 0.025 at z = 0 (up) and z = 1 (down), a far pair (its factor
     // 4e-4, one shadow ray from the emitter's centroid). A plate at z = 0.5 over x < c = 0.018:
