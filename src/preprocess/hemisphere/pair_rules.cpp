@@ -1,5 +1,6 @@
 #include "preprocess/hemisphere/pair_rules.hpp"
 
+#include "engine/polygon.hpp"
 #include "preprocess/hemisphere/obstruction.hpp"
 #include "preprocess/hemisphere/patch_sampler.hpp"
 
@@ -98,22 +99,14 @@ double PairRules::cutValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, 
     const PatchShape& b = m_geometry.shapes[r];
     clipAbovePlane(b.centroid, b.normal, m_geometry.polygon(e), a.count, s.front);
     if (s.front.size() < 3) return 0.0;
-    Vec3 normal = Vec3::Zero();  // Newell's: twice the front part's area along its normal
-    for (std::size_t k = 0; k < s.front.size(); ++k) normal += s.front[k].cross(s.front[(k + 1) % s.front.size()]);
-    const double share = std::min(1.0, 0.5 * normal.norm() / m_scene->patches[e].area);
+    const PolygonMeasures part = measurePolygon(s.front);
+    if (!(part.area > 0.0)) return 0.0;
+    const double share = std::min(1.0, part.area / m_scene->patches[e].area);
     const int m = std::min(std::max(1, ruleOrder(e, r)), int(m_ruleNodes.size()) - 1);
     s.cutPoints.clear();
     s.cutWeights.clear();
     if (m == 1) {  // the part's centroid (one Gauss node per fan triangle would sit off its centre)
-        Vec3 weighted = Vec3::Zero();
-        double total = 0.0;
-        for (std::size_t k = 1; k + 1 < s.front.size(); ++k) {
-            const double w = (s.front[k] - s.front[0]).cross(s.front[k + 1] - s.front[0]).norm();
-            weighted += w * (s.front[0] + s.front[k] + s.front[k + 1]) / 3.0;
-            total += w;
-        }
-        if (!(total > 0.0)) return 0.0;
-        s.cutPoints.push_back(weighted / total);
+        s.cutPoints.push_back(part.centroid);
         s.cutWeights.push_back(1.0);
     } else {
         polygonQuadrature(s.front.data(), s.front.size(), m_ruleNodes[m], m_ruleWeights[m], s.cutPoints, s.cutWeights);
@@ -133,11 +126,8 @@ double PairRules::cutValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts, 
     if (!m_visibility) return share * sum * unit();
     // The front part's corners (inset by 1 % towards its centroid) ask whether a shadow's edge
     // crosses it: then the pair is computed whole, as a penumbral one.
-    Vec3 centre = Vec3::Zero();
-    for (const Vec3& p : s.front) centre += p;
-    centre /= double(s.front.size());
     for (const Vec3& p : s.front) {
-        const double corner = visibleShare(e, r, p + 0.01 * (centre - p), s, counts);
+        const double corner = visibleShare(e, r, p + 0.01 * (part.centroid - p), s, counts);
         if (!(corner >= 0.0)) continue;
         least = std::min(least, corner);
         most = std::max(most, corner);
