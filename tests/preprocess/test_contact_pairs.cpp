@@ -589,6 +589,29 @@ TEST_CASE("A far pair whose rays to the receiver's centre and rims are all block
     CHECK(reciprocity(run.F, polygons, 0, 1) < 1e-9);
 }
 
+TEST_CASE("A far pair computed whole whose points see the receiver whole asks its rim: a roof's edge hides it from the emitter's lowest band") {
+    // district1k's wall sliver 835 (x = 79.5, z 6 to 27.5, widest at the bottom) stands on the
+    // roof of a lower building (z = 6, x 79.5 to 88) and sees the wall 806, 63.5 m east. Over the
+    // sliver's lowest metre the roof hides up to 40 % of the wall; above it nothing. The pair is
+    // far and computed whole (its bottom corners see less than its points); the hidden part's
+    // first 35 points all lie above that band and saw 99 % or more, so the pair read its
+    // unoccluded 0.0050926 (the district: 0.005093 for 0.005072, and so its 804 and 958) until a
+    // rim point's hidden part beyond the points' counted. The reference: the test's quadrature.
+    const Polygon r = {{143, 91.5, 0}, {143, 82, 14}, {143, 91.5, 14}};
+    const Polygon e = facing({{79.5, 89, 6}, {79.5, 91.25, 6}, {79.5, 91.25, 27.5}}, r);
+    const Polygon roof = facing({{79.5, 71.5, 6}, {88, 71.5, 6}, {88, 93.5, 6}, {79.5, 93.5, 6}}, e);
+    const double expected = referenceFactor(e, r, roof, 1e-11);
+    const double unoccluded = exchangeOf(e, r) / area(e);
+    MESSAGE("reference " << expected << ", unoccluded " << unoccluded);
+    CHECK(expected < (1.0 - 2e-3) * unoccluded);  // the roof hides 0.4 %
+    const std::vector<Polygon> polygons = {e, r, roof};
+    const FormFactorRun run = defaultRun(polygons);
+    CHECK(run.counts.penumbralPairs >= 1);  // a far pair computed whole
+    MESSAGE("F " << run.F.at(0, 1));
+    CHECK(run.F.at(0, 1) == relative(expected, 5e-4));  // 1.8e-4 low; 4.2e-3 high before
+    CHECK(reciprocity(run.F, polygons, 0, 1) < 1e-9);
+}
+
 TEST_CASE("A far pair whose receiver's plane cuts the emitter: the rule over the emitter's front part, exact") {
     // district1k's wall 572 (z 11 to 15; its points emit: the smaller patch) and the roof 808 at
     // z = 14, 23 m away (6 radii: a far pair): only the wall's part above the roof's plane sees it,

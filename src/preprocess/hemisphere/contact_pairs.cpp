@@ -195,7 +195,9 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
     // Close pairs only (`changes`): far pairs computed whole (across a shadow's edge, in a
     // penumbra) gained nothing from them and took the Cornell box at 60 mm 1.29x its time (user
     // seconds 4.78 -> 6.15; district1k 46 entries off by more than 1e-4 without, 45 with).
-    const auto open = [&](const Vec3& p0, const Vec3& p1, const Vec3& p2, double coarse, bool rim) {
+    double allowed = 0.0;  // the error the pair may keep (set once the emitter's area is known)
+    // `rimPoints`: the rim's corners (3) or its corners and edges' midpoints (6).
+    const auto open = [&](const Vec3& p0, const Vec3& p1, const Vec3& p2, double coarse, bool rim, std::size_t rimPoints = 6) {
         ContactCell c{{p0, p1, p2}, coarse, {}, 0.0, 0.0, false};
         const Vec3 m01 = 0.5 * (p0 + p1), m12 = 0.5 * (p1 + p2), m20 = 0.5 * (p2 + p0);
         views = 0;
@@ -213,13 +215,21 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
         const Vec3 centre = (p0 + p1 + p2) / 3.0;
         const double cellArea = triangleArea(p0, p1, p2);
         if (rim)
-            for (const Vec3& y : {p0, p1, p2, m01, m12, m20}) {
+            for (const Vec3& y : std::array<Vec3, 6>{p0, p1, p2, m01, m12, m20}) {
+                if (rimPoints-- == 0) break;
                 std::uint8_t seen = 0;
                 double visible = 0.0;
                 const double h = hiddenAt(y + 1e-3 * (centre - y), seen, visible);
-                if (seen == 0 || (seen & views) || !(cellArea > 0.0)) continue;
-                least = std::max(least, std::abs(h - c.fine / cellArea));
-                c.rim = true;
+                if (seen == 0 || !(cellArea > 0.0)) continue;
+                if (!(seen & views)) {  // a view none of the points had
+                    least = std::max(least, std::abs(h - c.fine / cellArea));
+                    c.rim = true;
+                } else if (!changes) {  // a far pair: a hidden part beyond the points' range
+                    const double beyond = std::max(h - highest, lowest - h);
+                    if (!(beyond > 0.0)) continue;
+                    least = std::max(least, beyond);
+                    if (kLeastErrorShare * beyond * cellArea > allowed) c.rim = true;
+                }
             }
         c.error = std::abs(c.fine - c.coarse) + kLeastErrorShare * least * cellArea;
         return c;
@@ -237,19 +247,29 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
         s.coarse.push_back(estimate(p0, p1, p2));
     }
     // A far pair computed whole is in a penumbra or across a shadow's edge: its emitter's corners
-    // or points disagreed. Where all the first points here see none of r, only the rims can find
-    // the view (district1k's ground sliver 271 sees wall 588 from a wedge along one edge, 4 % of
-    // it, and read 1.5e-12 for 1.42e-4); there the rims count, for 1 % more visible-part
-    // evaluations on district1k and the 60 mm Cornell box. On every far pair computed whole they
-    // cost the box 20 % for no better row; counted also where the first points all see r whole,
-    // 1.9 % for no better row (district1k: one row more off by more than 1e-4).
-    const bool rims = changes || views == 4;
+    // or points disagreed, and the rims are where the first points may miss why. Where they all
+    // see none of r, only the rims find the view (district1k's ground sliver 271 sees wall 588
+    // from a wedge along one edge, 4 % of it, and read 1.5e-12 for 1.42e-4). Where the points
+    // see r whole or nearly, a rim point's hidden part beyond theirs counts as a least error
+    // (open(), far pairs): district1k's wall sliver 835 stands on a neighbour's roof, whose edge
+    // hides up to 40 % of the wall 806 from the sliver's lowest metre; the first 35 points, all
+    // above it, saw 99 % or more, and the pair read 0.005093 for 0.005072 (as did 804 and
+    // 958). Such a far pair's first cells ask their corners (its midpoints too where the points
+    // see none), and a cell keeps its rims for its children only where that least error could
+    // reach the pair's allowance. On district1k alone it took the rows off by more than 1e-4 from
+    // 25 to 22 (summed entry error 0.0655 -> 0.0620). Visible-part evaluations with it (and the
+    // corners' check of PairRules::extremesAgree): district1k +7 %, the 60 mm box +30 % (29,467 of
+    // its 57,378 pairs computed whole are far), the concentric spheres +28 % (1.38x the time: each
+    // evaluation meets the inner sphere's facets), cornell13k +11 % (1.08x the time). Every first
+    // cell's midpoints too cost the spheres and the box another 7 % and 4 % of evaluations for no
+    // better district1k.
+    allowed = std::max(m_precision.tolerance * exact, m_precision.floor * area);
     const auto larger = [](const ContactCell& a, const ContactCell& b) { return a.error < b.error; };
     s.cells.clear();
     double error = 0.0;
     for (std::size_t k = 1; k + 1 < s.emitter.size(); ++k) {
         const Vec3 &p0 = s.emitter[0], &p1 = s.emitter[k], &p2 = s.emitter[k + 1];
-        s.cells.push_back(open(p0, p1, p2, s.coarse[k - 1], rims));
+        s.cells.push_back(open(p0, p1, p2, s.coarse[k - 1], true, changes || views == 4 ? 6 : 3));
         error += s.cells.back().error;
         std::push_heap(s.cells.begin(), s.cells.end(), larger);
     }
@@ -259,7 +279,6 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
     // the rims were evaluated, which add 6 evaluations to each child of a cell whose rim disagreed).
     // Past it, a pair whose disagreements still sum above the overrun (twice the floor) goes on,
     // up to kBudgetOverrun times the budget.
-    const double allowed = std::max(m_precision.tolerance * exact, m_precision.floor * area);
     const std::uint32_t budget = std::max<std::uint32_t>(
         kLeastEvaluations, m_precision.budget / std::uint32_t(std::max<std::size_t>(s.blockers.size(), 1)));
     const double overrun = m_precision.overrun * area;

@@ -19,7 +19,7 @@ struct ContactCell {
     double coarse = 0.0;
     std::array<double, 4> child{};
     double fine = 0.0, error = 0.0;
-    bool rim = false;  ///< a point of its rim had a view none of its rule's points had: its children's rims are evaluated
+    bool rim = false;  ///< its rim had a view none of its rule's points had (or, for a far pair, a hidden part well beyond theirs): its children's rims are evaluated
 };
 
 /// A close pair's exchange area A_e F_er as a function of the pair alone, so that whichever row,
@@ -91,7 +91,8 @@ public:
     /// pair has no view at all, not even a hidden one). Thread-safe with one Scratch per thread.
     /// `changes`: the hidden part's triangles also count least errors where the view changes
     /// between their points (its rims, its jumps: hidden()), as close pairs need; far pairs
-    /// computed whole (across a shadow's edge, in a penumbra) go by the disagreements alone.
+    /// computed whole (across a shadow's edge, in a penumbra) go by the disagreements and their
+    /// rims alone (a view the points lack, a hidden part beyond theirs).
     double exchange(PatchId e, PatchId r, Scratch& s, Cost& cost, double& unoccluded, bool changes = true) const;
 
 private:
