@@ -217,8 +217,13 @@ bool PairRules::extremesAgree(PatchId e, PatchId r, double factor, bool blocked,
     for (std::uint32_t l = 0; l < b.count; ++l) aim(furthest(e, across(r, l)), l);
     if (!probesAgree(blocked, s, counts)) return false;
     // Every ray was blocked; the centroid may still see a part of r between them (the rays aim at
-    // r's centre and rims). Then the pair is in a penumbra: its one ray read 0 for all of it.
-    return !blocked || !(visibleShare(e, r, a.centroid, s, counts) > kBlockedCentreShare);
+    // r's centre and rims), or a corner may see it past an occluder's edge that hides the rest
+    // of e. Then the pair is in a penumbra: its one ray read 0 for all of it.
+    if (!blocked) return true;
+    if (visibleShare(e, r, a.centroid, s, counts) > kBlockedCentreShare) return false;
+    for (std::uint32_t k = 0; k < a.count; ++k)
+        if (!cornerCovered(e, k) && visibleShare(e, r, cornerProbe(e, k), s, counts) > kStraddleSpread) return false;
+    return true;
 }
 
 double PairRules::penumbralValue(PatchId e, PatchId r, Scratch& s, RayCounts& counts) const {
