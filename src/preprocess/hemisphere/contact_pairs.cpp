@@ -214,23 +214,23 @@ double ContactPairs::hidden(PatchId e, PatchId r, double exact, Scratch& s, Cost
             least = kNarrowingErrorShare / kLeastErrorShare * (mostVisible - leastVisible);
         const Vec3 centre = (p0 + p1 + p2) / 3.0;
         const double cellArea = triangleArea(p0, p1, p2);
-        if (rim)
-            for (const Vec3& y : std::array<Vec3, 6>{p0, p1, p2, m01, m12, m20}) {
-                if (rimPoints-- == 0) break;
-                std::uint8_t seen = 0;
-                double visible = 0.0;
-                const double h = hiddenAt(y + 1e-3 * (centre - y), seen, visible);
-                if (seen == 0 || !(cellArea > 0.0)) continue;
-                if (!(seen & views)) {  // a view none of the points had
-                    least = std::max(least, std::abs(h - c.fine / cellArea));
-                    c.rim = true;
-                } else if (!changes) {  // a far pair: a hidden part beyond the points' range
-                    const double beyond = std::max(h - highest, lowest - h);
-                    if (!(beyond > 0.0)) continue;
-                    least = std::max(least, beyond);
-                    if (kLeastErrorShare * beyond * cellArea > allowed) c.rim = true;
-                }
+        const std::array<Vec3, 6> rimAt = {p0, p1, p2, m01, m12, m20};
+        for (std::size_t q = 0; rim && q < std::min(rimPoints, rimAt.size()); ++q) {
+            const Vec3& y = rimAt[q];
+            std::uint8_t seen = 0;
+            double visible = 0.0;
+            const double h = hiddenAt(y + 1e-3 * (centre - y), seen, visible);
+            if (seen == 0 || !(cellArea > 0.0)) continue;
+            if (!(seen & views)) {  // a view none of the points had
+                least = std::max(least, std::abs(h - c.fine / cellArea));
+                c.rim = true;
+            } else if (!changes) {  // a far pair: a hidden part beyond the points' range
+                const double beyond = std::max(h - highest, lowest - h);
+                if (!(beyond > 0.0)) continue;
+                least = std::max(least, beyond);
+                if (kLeastErrorShare * beyond * cellArea > allowed) c.rim = true;
             }
+        }
         c.error = std::abs(c.fine - c.coarse) + kLeastErrorShare * least * cellArea;
         return c;
     };
