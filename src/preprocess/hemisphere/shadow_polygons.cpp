@@ -52,14 +52,18 @@ bool clipToPlane(const std::vector<Vec3>& poly, const Vec3& m, double d, std::ve
 
 }  // namespace
 
-void ShadowPolygons::addBlocker(const Vec3* corners, std::size_t count, PatchId owner) {
+void ShadowPolygons::addBlocker(const Vec3* corners, std::size_t count, PatchId owner, PatchId face, std::uint32_t solid) {
     m_corners.insert(m_corners.end(), corners, corners + count);
     m_first.push_back(std::uint32_t(m_corners.size()));
     m_owner.push_back(owner);
     m_centre.push_back(vertexMean(corners, count));
+    const PatchShape& shape = m_geometry->shapes[face];
+    m_plane.push_back({shape.normal, shape.normal.dot(shape.centroid)});
+    m_solid.push_back(solid);
 }
 
-void ShadowPolygons::build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks, bool merge) {
+void ShadowPolygons::build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks, bool merge,
+                           bool solids) {
     m_geometry = &geometry;
     m_corners.clear();
     m_first.assign(1, 0);
@@ -67,6 +71,10 @@ void ShadowPolygons::build(const PatchGeometry& geometry, const std::vector<std:
     m_centre.clear();
     m_items.clear();
     m_nodes.clear();
+    m_plane.clear();
+    m_solid.clear();
+    m_solids = ConvexSolids();
+    if (merge && solids) m_solids.build(geometry, blocks);
     // Components of blockers that share a corner position and a plane (union-find).
     const std::size_t n = blocks.size();
     std::vector<PatchId> root(n);
@@ -141,11 +149,16 @@ void ShadowPolygons::build(const PatchGeometry& geometry, const std::vector<std:
             if (hull.size() >= 3 && std::abs(area - std::abs(tiles)) <= 1e-9 * std::abs(tiles)) {
                 lifted.clear();
                 for (const auto& h : hull) lifted.push_back(origin + h[0] * u + h[1] * v);
-                addBlocker(lifted.data(), lifted.size(), kMerged);
+                // A face of a solid only if every tile is one of its faces (a coplanar neighbour
+                // touching it at a corner joins the union too).
+                std::uint32_t solid = m_solids.solidOf(group[0]);
+                for (const PatchId j : group)
+                    if (m_solids.solidOf(j) != solid) solid = ConvexSolids::kNone;
+                addBlocker(lifted.data(), lifted.size(), kMerged, group[0], solid);
                 continue;
             }
         }
-        for (const PatchId j : group) addBlocker(geometry.polygon(j), geometry.shapes[j].count, j);
+        for (const PatchId j : group) addBlocker(geometry.polygon(j), geometry.shapes[j].count, j, j, m_solids.solidOf(j));
     }
     if (m_owner.empty()) return;
     m_items.resize(m_owner.size());
@@ -255,8 +268,9 @@ void ShadowPolygons::collect(const Vec3* m, const double* d, std::size_t planes,
 template <class Project>
 void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& normal, std::size_t planes, double tolerance,
                                  PatchId e, PatchId r, Scratch& s, const std::vector<std::uint32_t>* within,
-                                 Project project, const Vec3* nearFirst, const Vec3* box, bool given) const {
+                                 Project project, const Vec3* nearFirst, const Vec3* box, bool given, const Vec3* eye) const {
     s.shadows = 0;
+    s.solidsSeen.clear();
     const std::vector<Vec3>& m = s.planeNormals;
     const std::vector<double>& d = s.planeOffsets;
     // 2D coordinates in the receiver's plane (origin p[0]); the receiver itself, counter-clockwise,
@@ -267,6 +281,7 @@ void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& n
     double smallest = 0.0;  // pieces below this area are dropped; 0 until the receiver is set up
 
     const auto shade = [&](std::uint32_t b) {
+        if (eye && turnedAway(b, *eye, s)) return true;
         const Vec3* corners = &m_corners[m_first[b]];
         const std::uint32_t cornerCount = m_first[b + 1] - m_first[b];
         // The blocker's part inside the region, projected onto the receiver's plane.
@@ -374,7 +389,7 @@ double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p
             const double gap = std::max(height - (normal.dot(y) - offset), 1e-12 * height);
             return Vec3(x + (y - x) * (height / gap));
         },
-        &axis, box);
+        &axis, box, false, &x);
     if (s.shadows == 0) return whole;
     if (s.shadows == 1) {
         const double visible = whole - pointToPolygonFactor(x, n, s.first.data(), s.first.size());
@@ -391,6 +406,16 @@ double ShadowPolygons::visibleFactor(const Vec3& x, const Vec3& n, const Vec3* p
         at += 1 + 2 * k;
     }
     return factor > kDust * whole ? factor : 0.0;
+}
+
+bool ShadowPolygons::turnedAway(std::uint32_t b, const Vec3& x, Scratch& s) const {
+    const std::uint32_t solid = m_solid[b];
+    if (solid == ConvexSolids::kNone || !(m_plane[b].first.dot(x) - m_plane[b].second < 0.0)) return false;
+    for (const auto& [known, enters] : s.solidsSeen)
+        if (known == solid) return enters;
+    const bool enters = m_solids.entersByFrontFace(solid, x, s.solidHint);
+    s.solidsSeen.push_back({solid, enters});
+    return enters;
 }
 
 bool ShadowPolygons::blocksRay(const Vec3& x, const Vec3& d, double tolerance, Scratch& s) const {

@@ -4,6 +4,7 @@
 
 #include "engine/math.hpp"
 #include "preprocess/hemisphere/convex_pieces.hpp"
+#include "preprocess/hemisphere/convex_solids.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
 
 #include <cstddef>
@@ -17,6 +18,8 @@ namespace hemirad {
 /// from x onto the receiver's plane; the receiver's part outside all these shadows, kept as convex
 /// pieces, gets Lambert's factor. Exact for planar convex blockers (back faces block too); the
 /// blockers are the patches flagged by obstructingPatches, found through a bounding-volume tree.
+/// A convex solid's faces that the point sees from behind cast no shadow where the faces it sees
+/// cover theirs (ConvexSolids): about half the shadows that a block or a faceted sphere casts.
 class ShadowPolygons {
 public:
     /// Per-thread scratch (reused between calls).
@@ -32,13 +35,21 @@ public:
         std::vector<double> planeOffsets;
         Vec3 u, v;                                // the receiver plane's 2D axes (origin its corner 0)
         std::size_t shadows = 0;                  // shadows met by the last call
+        std::vector<std::pair<std::uint32_t, bool>> solidsSeen;  // this point's solids: entered by a front face?
+        std::vector<std::uint32_t> solidHint;     // per solid, the plane last found in front
     };
 
     /// The tree over the patches with blocks[j] != 0 of `geometry` (its neighbours built). Connected
     /// coplanar blockers whose union is convex (a subdivided face) become one blocker polygon: one
     /// shadow instead of a tile per patch.
     /// `merge` false: every blocker stays its own patch (owner() names it), for searches of patches.
-    void build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks, bool merge = true);
+    /// `solids` (with `merge`): the faces of convex solids (ConvexSolids) that a point sees from
+    /// behind cast no shadow from it, as the solid's faces turned towards it cover theirs; false
+    /// keeps every face (tests compare the two).
+    void build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks, bool merge = true,
+               bool solids = true);
+    /// Convex solids found among the blockers (0 without `solids`).
+    std::size_t solids() const { return m_solids.size(); }
     bool empty() const { return m_owner.empty(); }
     /// Blocker polygons (after merging).
     std::size_t size() const { return m_owner.size(); }
@@ -100,7 +111,12 @@ private:
     template <class Project>
     void castShadows(const Vec3* p, std::size_t count, const Vec3& normal, std::size_t planes, double tolerance, PatchId e,
                      PatchId r, Scratch& s, const std::vector<std::uint32_t>* within, Project project,
-                     const Vec3* nearFirst = nullptr, const Vec3* box = nullptr, bool given = false) const;
+                     const Vec3* nearFirst = nullptr, const Vec3* box = nullptr, bool given = false,
+                     const Vec3* eye = nullptr) const;
+    /// Whether blocker b is a face of a convex solid (ConvexSolids) turned away from x, with every
+    /// line from x into the solid entering by a face turned towards it: b's shadow from x lies in
+    /// theirs. Caches each solid's answer in s.solidsSeen (cleared per point by the caller).
+    bool turnedAway(std::uint32_t b, const Vec3& x, Scratch& s) const;
     /// The scratch's planes for a parallel beam from `toSource` through p (the prism's sides, p's
     /// plane, the slab's plane when given), and in `box` (lo, hi) a box holding the prism's part in
     /// the tree's box; false where there is none to give (the box then unused).
@@ -121,7 +137,9 @@ private:
     /// Whether blocker b's corners all lie outside one of the planes (m . y - d <= tolerance).
     bool outsideSomePlane(std::uint32_t b, const Vec3* m, const double* d, std::size_t planes, double tolerance) const;
     std::uint32_t buildNode(std::uint32_t first, std::uint32_t count);
-    void addBlocker(const Vec3* corners, std::size_t count, PatchId owner);
+    /// `face`: a patch in the blocker's plane (the blocker itself, or a tile of a union); `solid`:
+    /// the convex solid it is a face of, or ConvexSolids::kNone.
+    void addBlocker(const Vec3* corners, std::size_t count, PatchId owner, PatchId face, std::uint32_t solid);
 
     static constexpr PatchId kMerged = ~PatchId(0);
     const PatchGeometry* m_geometry = nullptr;  ///< for the receivers' planes
@@ -129,6 +147,9 @@ private:
     std::vector<std::uint32_t> m_first;  ///< per blocker, into m_corners (one past the end appended)
     std::vector<PatchId> m_owner;        ///< the patch a blocker is, or kMerged for a union of tiles
     std::vector<Vec3> m_centre;          ///< per blocker, its corners' mean (for the tree's splits)
+    std::vector<std::pair<Vec3, double>> m_plane;  ///< per blocker, its plane (normal . y = offset)
+    std::vector<std::uint32_t> m_solid;  ///< per blocker, its convex solid or ConvexSolids::kNone
+    ConvexSolids m_solids;               ///< built with merging (searches of patches take every face)
     std::vector<std::uint32_t> m_items;  ///< blockers in tree order
     std::vector<Node> m_nodes;
 };

@@ -1,0 +1,60 @@
+// Closed convex solids among the blockers: a block, a faceted sphere or cylinder, a building on its
+// ground. From a point outside such a solid, its faces turned away from the point lie in the
+// shadows of its faces turned towards it, so shadow polygons need only the latter.
+#pragma once
+
+#include "engine/math.hpp"
+#include "preprocess/hemisphere/patch_geometry.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace hemirad {
+
+/// The solids: connected blocker patches whose shared edges are shared by exactly two of them in
+/// opposite directions (consistently oriented), whose remaining (open) edges all lie in one plane,
+/// the solid's open side (none for a closed surface; the bottom of a block standing on a floor),
+/// and with every corner behind or on every face's plane and the open side's (convex, facing out).
+/// A component that fails any of these (a T-junction, an inward-facing box, an L-shaped solid,
+/// open edges in two planes) is no solid, and its faces cast their shadows as before.
+class ConvexSolids {
+public:
+    static constexpr std::uint32_t kNone = ~std::uint32_t(0);
+
+    /// After geometry.buildNeighbours; blocks[j] != 0 marks the blockers. Components whose planes
+    /// times corners exceed kMostChecks are not checked (and are no solid).
+    void build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks);
+
+    /// The solid patch j is a face of, or kNone.
+    std::uint32_t solidOf(PatchId j) const { return m_solidOf.empty() ? kNone : m_solidOf[j]; }
+    std::size_t size() const { return m_solids.size(); }
+    /// Whether every line from x into solid `solid` enters through a face turned towards x: x lies
+    /// in front of some face's plane (outside the solid, further than the solid's tolerance) and
+    /// not in front of its open side's plane (a line entering by the open side meets no face
+    /// first: a lidless box seen from below). Then a face turned away from x casts no shadow of
+    /// its own.
+    /// `hint`: per solid, the plane to try first (the last one found in front; sized by the
+    /// call, one per thread).
+    bool entersByFrontFace(std::uint32_t solid, const Vec3& x, std::vector<std::uint32_t>& hint) const;
+
+    /// Convex, flat and outside within this share of the solid's size (the rounding of corners as
+    /// files give them): a line grazing a face closer than that may lose a sliver of its shadow.
+    static constexpr double kFlatness = 1e-5;
+    /// The most plane-corner checks of convexity per component (a finer solid than this is no solid).
+    static constexpr std::uint64_t kMostChecks = 50000000;
+
+private:
+    struct Solid {
+        std::uint32_t firstPlane = 0, planes = 0;  ///< its distinct face planes in m_normals/m_offsets
+        bool open = false;                         ///< has an open side
+        Vec3 openNormal = Vec3::Zero();            ///< the open side's plane, normal out of the solid
+        double openOffset = 0.0;
+        double tolerance = 0.0;                    ///< kFlatness of its size
+    };
+    std::vector<std::uint32_t> m_solidOf;
+    std::vector<Solid> m_solids;
+    std::vector<Vec3> m_normals;
+    std::vector<double> m_offsets;
+};
+
+}  // namespace hemirad
