@@ -66,7 +66,7 @@ struct Built {
 
 }  // namespace
 
-TEST_CASE("Convex solids: a closed box, a lidless box on its floor and a box with T-junctions on its top are solids, an inward box, a box open on two sides and flat faces are not") {
+TEST_CASE("Convex solids: a closed box, a lidless box on its floor and boxes with T-junctions along their tops are solids, an inward box, a box open on two sides and flat faces are not") {
     SceneBuilder b;
     const std::vector<PatchId> closed = box(b, Vec3(0, 0, 1), Vec3(1, 1, 2), 2);
     const std::vector<PatchId> lidless = box(b, Vec3(2, 0, 0), Vec3(3, 1, 1), 3, false);
@@ -81,20 +81,20 @@ TEST_CASE("Convex solids: a closed box, a lidless box on its floor and a box wit
                                   std::array<Vec3, 3>{Vec3(3.5, 3, 0), Vec3(1, 0, 0), Vec3(0, 0, 1)},
                                   std::array<Vec3, 3>{Vec3(3.5, 3, 1), Vec3(1, 0, 0), Vec3(0, 1, 0)}})
         twoSides.push_back(face(open, o, u, v, 1).front());
-    // The top tiled 2 x 2 against sides in one tile: the rim's edges are no one's whole edge.
+    // The top tiled 2 x 2 against sides in one tile (a side's top edge meets two tiles: T-junctions),
+    // and 2 x 2 against sides in 3 x 3 (the rim split at halves on one side, thirds on the other).
     const std::vector<PatchId> tjunction = box(b, Vec3(2, 3, 0.5), Vec3(3, 4, 1.5), 1, true, false, 2);
+    const std::vector<PatchId> staggered = box(b, Vec3(-3, 0, 0.5), Vec3(-2, 1, 1.5), 3, true, false, 2);
     const Built built(b.scene);
-    CHECK(built.solids.size() == 3);
+    CHECK(built.solids.size() == 4);
     CHECK(built.solidOf(closed) != ConvexSolids::kNone);
     CHECK(built.solidOf(lidless) != ConvexSolids::kNone);
     CHECK(built.solidOf(closed) != built.solidOf(lidless));
     for (const PatchId j : floor) CHECK(built.solids.solidOf(j) == ConvexSolids::kNone);
     for (const PatchId j : inward) CHECK(built.solids.solidOf(j) == ConvexSolids::kNone);
-    // Five faces of the T-junction box make a solid open on the top's side; the top's tiles, flat, none.
-    const std::vector<PatchId> fiveFaces(tjunction.begin(), tjunction.begin() + 4);
-    CHECK(built.solidOf(fiveFaces) != ConvexSolids::kNone);
-    CHECK(built.solids.solidOf(tjunction[4]) == ConvexSolids::kNone);
-    CHECK(built.solids.solidOf(tjunction.back()) == built.solidOf(fiveFaces));  // the bottom
+    CHECK(built.solidOf(tjunction) != ConvexSolids::kNone);
+    CHECK(built.solidOf(staggered) != ConvexSolids::kNone);
+    CHECK(built.solidOf(staggered) != built.solidOf(tjunction));
     // Which points a solid's far faces may be left out for: outside it, not below its open side.
     std::vector<std::uint32_t> hint;
     const std::uint32_t l = built.solidOf(lidless);
@@ -106,6 +106,51 @@ TEST_CASE("Convex solids: a closed box, a lidless box on its floor and a box wit
 
     const Built twoOpen(open.scene);
     for (const PatchId j : twoSides) CHECK(twoOpen.solids.solidOf(j) == ConvexSolids::kNone);
+}
+
+TEST_CASE("Convex solids: a district's building (walls in strips of two triangles, a roof of two, T-junctions along the roof and the ground) is a solid open on the ground, two buildings wall to wall are not") {
+    // Walls of the footprint [x0, x1] x [y0, y1] up to h, each in `strips` vertical strips of two
+    // triangles facing out, and a roof of two; side `cut` (0: y = y0, 2: y = y1) only from z =
+    // `from` up (above a neighbour's roof; none of it where from >= h).
+    const auto building = [](SceneBuilder& b, double x0, double y0, double x1, double y1, double h, int strips,
+                             int cut = -1, double from = 0.0) {
+        std::vector<PatchId> ids;
+        const std::array<Vec3, 4> corners = {Vec3(x0, y0, 0), Vec3(x1, y0, 0), Vec3(x1, y1, 0), Vec3(x0, y1, 0)};
+        for (int side = 0; side < 4; ++side) {
+            const Vec3 p = corners[side], q = corners[(side + 1) % 4];
+            const double low = side == cut ? from : 0.0;
+            if (low >= h) continue;
+            for (int k = 0; k < strips; ++k) {
+                const Vec3 u = p + (q - p) * (double(k) / strips), v = p + (q - p) * (double(k + 1) / strips);
+                const Vec3 du(u.x(), u.y(), low), dv(v.x(), v.y(), low), tu(u.x(), u.y(), h), tv(v.x(), v.y(), h);
+                ids.push_back(b.polygon({du, dv, tv}));
+                ids.push_back(b.polygon({du, tv, tu}));
+            }
+        }
+        ids.push_back(b.polygon({Vec3(x0, y0, h), Vec3(x1, y0, h), Vec3(x1, y1, h)}));
+        ids.push_back(b.polygon({Vec3(x0, y0, h), Vec3(x1, y1, h), Vec3(x0, y1, h)}));
+        return ids;
+    };
+    SceneBuilder b;
+    const std::vector<PatchId> alone = building(b, 0, 0, 10, 6, 12, 3);
+    // The ground around it: four quads whose inner edges are the footprint's sides whole (the
+    // walls' bottoms are split in three: T-junctions), facing up.
+    b.polygon({Vec3(-5, -5, 0), Vec3(15, -5, 0), Vec3(10, 0, 0), Vec3(0, 0, 0)});
+    b.polygon({Vec3(15, -5, 0), Vec3(15, 11, 0), Vec3(10, 6, 0), Vec3(10, 0, 0)});
+    b.polygon({Vec3(15, 11, 0), Vec3(-5, 11, 0), Vec3(0, 6, 0), Vec3(10, 6, 0)});
+    b.polygon({Vec3(-5, 11, 0), Vec3(-5, -5, 0), Vec3(0, 0, 0), Vec3(0, 6, 0)});
+    // Wall to wall at y = 26: a tall building's wall there stands above the low one's roof (from
+    // z = 8), the low one has none there (as district.py writes them).
+    const std::vector<PatchId> tall = building(b, 0, 20, 10, 26, 20, 2, 2, 8);
+    const std::vector<PatchId> low = building(b, 0, 26, 10, 32, 8, 2, 0, 8);
+    const Built built(b.scene);
+    CHECK(built.solids.size() == 1);
+    CHECK(built.solidOf(alone) != ConvexSolids::kNone);
+    std::vector<std::uint32_t> hint;
+    CHECK(built.solids.entersByFrontFace(built.solidOf(alone), Vec3(20, 3, 0), hint));       // on the ground
+    CHECK_FALSE(built.solids.entersByFrontFace(built.solidOf(alone), Vec3(5, 3, 0), hint));  // under it
+    for (const PatchId j : tall) CHECK(built.solids.solidOf(j) == ConvexSolids::kNone);
+    for (const PatchId j : low) CHECK(built.solids.solidOf(j) == ConvexSolids::kNone);
 }
 
 TEST_CASE("Convex solids: a dented bipyramid, closed and consistently oriented but not convex, is no solid") {
@@ -143,6 +188,7 @@ TEST_CASE("Convex solids: leaving out the faces a point sees from behind changes
     box(b, Vec3(2, 0, 0), Vec3(3, 1, 1.5), 3, false);           // lidless, on the floor
     box(b, Vec3(0.5, 2.5, 2.5), Vec3(1.8, 3.5, 3.5), 2, false); // lidless, floating: open below
     box(b, Vec3(2.5, 2.5, 1), Vec3(3.5, 3.5, 2), 1, true, false, 2);  // T-junctions on its top
+    box(b, Vec3(-0.8, 3.8, 0), Vec3(0.2, 4.6, 2.2), 3, false, false, 2);  // on the floor, the rim staggered
     for (int k = 0; k < 4; ++k) {                                // the dented bipyramid
         const std::array<Vec3, 4> ring = {Vec3(4.5, 2, 2), Vec3(4, 2.5, 2), Vec3(3.5, 2, 2), Vec3(4, 1.5, 2)};
         b.polygon({Vec3(4, 2, 1), ring[(k + 1) % 4], ring[k]});
@@ -157,7 +203,7 @@ TEST_CASE("Convex solids: leaving out the faces a point sees from behind changes
     withSolids.build(geometry, blocks, true);
     tiles.build(geometry, blocks, false);
     merged.build(geometry, blocks, true, false);
-    CHECK(withSolids.solids() == 4);
+    CHECK(withSolids.solids() == 5);
     CHECK(merged.solids() == 0);
     ShadowPolygons::Scratch s1, s2, s3;
     std::mt19937 random(7);
@@ -193,10 +239,10 @@ TEST_CASE("Convex solids: leaving out the faces a point sees from behind changes
     for (const PatchId r : ceiling) compare(Vec3(2.4, 0.6, 0), Vec3(0, 0, 1), floor[0], r);
     // Below the floating lidless box, looking into it: the tiles above it hidden alike.
     for (const PatchId r : ceiling) compare(Vec3(1.1, 3.0, 0), Vec3(0, 0, 1), floor[0], r);
-    // Seen: 2,952 factors, 1,278 in part, 516 hidden whole; 4,007 shadows with the solids, 4,944
-    // with every face of theirs, 9,457 with every tile.
+    // Seen: 2,952 factors, 1,389 in part, 555 hidden whole; 3,714 shadows with the solids, 5,367
+    // with every face of theirs, 10,588 with every tile.
     CHECK(compared > 2500);
     CHECK(partial > 1000);
     CHECK(hiddenWhole > 400);
-    CHECK(double(shadowsWith) < 0.9 * double(shadowsMerged));
+    CHECK(double(shadowsWith) < 0.8 * double(shadowsMerged));
 }

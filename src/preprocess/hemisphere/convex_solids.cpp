@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <unordered_map>
 
 namespace hemirad {
 
@@ -27,9 +29,14 @@ void ConvexSolids::build(const PatchGeometry& geometry, const std::vector<std::u
         return geometry.corners[geometry.shapes[j].first + k % geometry.shapes[j].count];
     };
 
-    // Components over convex (or flat) edges shared by two blockers in opposite directions; a
-    // component is spoilt by an edge shared the same way round, by three or more patches, or with
-    // a patch that does not block. Unshared and concave edges are its open edges.
+    // Components over the lines where blockers meet. Along a line, the edges of one side (in one
+    // direction, chained end to start) must be covered by the other side's (the other direction)
+    // from one end of the run to the other: whole edges shared, or T-junctions (a roof's edge
+    // against a wall split into strips, strips split differently on each side). Such a line joins
+    // the faces of both runs unless two of them meet concavely (the other face rises in front of
+    // one's plane: a wall on its ground); then, or where the other side does not cover the run,
+    // its edges are open edges. A fork (two edges going on from one point along the line on one
+    // side: three faces at an edge, or two alike) spoils the faces met.
     std::vector<PatchId> root(n);
     for (PatchId j = 0; j < n; ++j) root[j] = j;
     const auto find = [&](PatchId j) {
@@ -39,43 +46,111 @@ void ConvexSolids::build(const PatchGeometry& geometry, const std::vector<std::u
     std::vector<std::uint8_t> spoilt(n, 0);
     std::vector<std::array<Vec3, 2>> openEdges;
     std::vector<PatchId> openOwner;
-    for (PatchId j = 0; j < n; ++j) {
-        if (!blocks[j]) continue;
-        const std::uint32_t count = geometry.shapes[j].count;
-        for (std::uint32_t k = 0; k < count; ++k) {
-            const Vec3& a = corner(j, k);
-            const Vec3& b = corner(j, k + 1);
-            std::uint32_t opposite = 0;
-            PatchId other = j;
-            for (std::uint32_t e = geometry.neighbourStart[j]; e < geometry.neighbourStart[j + 1]; ++e) {
-                const PatchId o = geometry.neighbours[e];
-                if (o == j) continue;
-                for (std::uint32_t c = 0; c < geometry.shapes[o].count; ++c) {
-                    const Vec3& p = corner(o, c);
-                    const Vec3& q = corner(o, c + 1);
-                    if (near(p, b) && near(q, a)) {
-                        ++opposite;
-                        other = o;
-                    } else if (near(p, a) && near(q, b)) {
-                        spoilt[j] = 1;
+    // Edges by the cell of their first (0) or second (1) corner, cells 4 matching distances wide.
+    struct Edge {
+        PatchId face;
+        std::uint32_t k;
+    };
+    struct Hash {
+        std::size_t operator()(const std::array<std::int64_t, 3>& c) const {
+            return std::size_t(c[0]) * 0x9e3779b97f4a7c15ULL ^ std::size_t(c[1]) * 0xc2b2ae3d27d4eb4fULL ^ std::size_t(c[2]);
+        }
+    };
+    const auto cell = [match](const Vec3& p) {
+        return std::array<std::int64_t, 3>{std::llround(p.x() / match / 4), std::llround(p.y() / match / 4),
+                                           std::llround(p.z() / match / 4)};
+    };
+    std::array<std::unordered_map<std::array<std::int64_t, 3>, std::vector<Edge>, Hash>, 2> ends;
+    for (PatchId j = 0; j < n; ++j)
+        if (blocks[j])
+            for (std::uint32_t k = 0; k < geometry.shapes[j].count; ++k)
+                for (int side = 0; side < 2; ++side) ends[side][cell(corner(j, k + side))].push_back({j, k});
+    // The edges along unit direction d (on the line through `on`) whose corner `which` (0 first,
+    // 1 second) lies at p.
+    std::vector<Edge> found;
+    const auto along = [&](const Vec3& p, int which, const Vec3& d, const Vec3& on) {
+        found.clear();
+        const auto c = cell(p);
+        for (std::int64_t dx = -1; dx <= 1; ++dx)
+            for (std::int64_t dy = -1; dy <= 1; ++dy)
+                for (std::int64_t dz = -1; dz <= 1; ++dz) {
+                    const auto it = ends[which].find({c[0] + dx, c[1] + dy, c[2] + dz});
+                    if (it == ends[which].end()) continue;
+                    for (const Edge& e : it->second) {
+                        const Vec3& a = corner(e.face, e.k);
+                        const Vec3& b = corner(e.face, e.k + 1);
+                        if (!near(which == 0 ? a : b, p)) continue;
+                        const Vec3 edge = b - a;
+                        const double length = edge.norm();
+                        if (!(length > 0.0) || edge.dot(d) < (1.0 - 1e-9) * length) continue;
+                        const Vec3 far = (which == 0 ? b : a) - on;  // off the line within kFlatness of the way
+                        if (far.cross(d).norm() > kFlatness * far.norm() + match) continue;
+                        found.push_back(e);
                     }
                 }
-            }
-            // A concave edge (the other face rises in front of this one's plane: a wall on its
-            // ground) joins no solid: it is an open edge of each.
-            if (opposite == 1) {
-                const PatchShape& t = geometry.shapes[j];
-                const double offset = t.normal.dot(t.centroid);
-                for (std::uint32_t c = 0; c < geometry.shapes[other].count; ++c)
-                    if (t.normal.dot(corner(other, c)) - offset > flatness) opposite = 0;
-            }
-            if (opposite == 0) {
-                openEdges.push_back({a, b});
-                openOwner.push_back(j);
-            } else if (opposite > 1 || !blocks[other]) {
+        return found.size();
+    };
+    const auto concave = [&](PatchId j, PatchId o) {
+        const PatchShape& t = geometry.shapes[j];
+        const double offset = t.normal.dot(t.centroid);
+        for (std::uint32_t c = 0; c < geometry.shapes[o].count; ++c)
+            if (t.normal.dot(corner(o, c)) - offset > flatness) return true;
+        return false;
+    };
+    std::vector<std::uint8_t> done(geometry.corners.size(), 0);
+    std::vector<Edge> run, other;
+    for (PatchId j = 0; j < n; ++j) {
+        if (!blocks[j]) continue;
+        for (std::uint32_t k = 0; k < geometry.shapes[j].count; ++k) {
+            if (done[geometry.shapes[j].first + k]) continue;
+            const Vec3& a = corner(j, k);
+            const Vec3 d = (corner(j, k + 1) - a).normalized();
+            if (!d.allFinite()) {
                 spoilt[j] = 1;
+                continue;
+            }
+            // This side's run through the edge, both ways, and the other side's from its end back.
+            bool forked = false;
+            run.assign(1, {j, k});
+            while (run.size() <= geometry.corners.size() && along(corner(run.back().face, run.back().k + 1), 0, d, a) > 0) {
+                forked = forked || found.size() > 1;
+                run.push_back(found[0]);
+            }
+            std::reverse(run.begin(), run.end());
+            while (run.size() <= geometry.corners.size() && along(corner(run.back().face, run.back().k), 1, d, a) > 0) {
+                forked = forked || found.size() > 1;
+                run.push_back(found[0]);
+            }
+            const Vec3 from = corner(run.back().face, run.back().k), to = corner(run.front().face, run.front().k + 1);
+            bool covered = false;
+            other.clear();
+            for (Vec3 at = to; other.size() <= geometry.corners.size() && along(at, 0, -d, a) > 0;) {
+                forked = forked || found.size() > 1;
+                other.push_back(found[0]);
+                at = corner(found[0].face, found[0].k + 1);
+                if ((at - from).dot(d) < -match) break;  // past the run's end
+                if (near(at, from)) {
+                    covered = true;
+                    break;
+                }
+            }
+            bool joins = covered;
+            for (const Edge& e : run) {
+                done[geometry.shapes[e.face].first + e.k] = 1;
+                if (forked) spoilt[e.face] = 1;
+                for (const Edge& f : other) joins = joins && !concave(e.face, f.face) && !concave(f.face, e.face);
+            }
+            if (forked)
+                for (const Edge& f : other) spoilt[f.face] = 1;
+            if (joins) {
+                for (const Edge& f : other) done[geometry.shapes[f.face].first + f.k] = 1;
+                for (const Edge& e : run)
+                    for (const Edge& f : other) root[find(e.face)] = find(f.face);
             } else {
-                root[find(j)] = find(other);
+                for (const Edge& e : run) {
+                    openEdges.push_back({corner(e.face, e.k), corner(e.face, e.k + 1)});
+                    openOwner.push_back(e.face);
+                }
             }
         }
     }

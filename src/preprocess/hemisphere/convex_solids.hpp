@@ -11,12 +11,14 @@
 
 namespace hemirad {
 
-/// The solids: connected blocker patches whose shared edges are shared by exactly two of them in
-/// opposite directions (consistently oriented), whose remaining (open) edges all lie in one plane,
-/// the solid's open side (none for a closed surface; the bottom of a block standing on a floor),
-/// and with every corner behind or on every face's plane and the open side's (convex, facing out).
-/// A component that fails any of these (a T-junction, an inward-facing box, an L-shaped solid,
-/// open edges in two planes) is no solid, and its faces cast their shadows as before.
+/// The solids: blocker patches joined along lines where the edges of one side are covered by the
+/// other side's, running the other way (consistently oriented; whole edges shared or T-junctions:
+/// a roof's edge against a wall in strips), at convex or flat edges; whose remaining (open) edges
+/// all lie in one plane, the solid's open side (none for a closed surface; the bottom of a block
+/// standing on a floor, of a building on its ground); with every corner behind or on every face's
+/// plane and the open side's (convex, facing out). A component that fails any of these (an
+/// inward-facing box, a dented or L-shaped solid, open edges in two planes: a building whose wall
+/// stands on a neighbour's roof) is no solid, and its faces cast their shadows as before.
 class ConvexSolids {
 public:
     static constexpr std::uint32_t kNone = ~std::uint32_t(0);
