@@ -1,11 +1,12 @@
 // Closed convex solids among the blockers (see convex_solids.hpp).
 #include "preprocess/hemisphere/convex_solids.hpp"
 
+#include "preprocess/hemisphere/point_grid.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
 
 namespace hemirad {
 
@@ -15,7 +16,6 @@ void ConvexSolids::build(const PatchGeometry& geometry, const std::vector<std::u
     m_solids.clear();
     m_normals.clear();
     m_offsets.clear();
-    if (geometry.neighbourStart.size() != n + 1) return;
     // Corners match within 1e-9 of the scene's size, as PatchGeometry's neighbours do.
     Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
     for (const Vec3& c : geometry.corners) lo = lo.cwiseMin(c), hi = hi.cwiseMax(c);
@@ -46,48 +46,32 @@ void ConvexSolids::build(const PatchGeometry& geometry, const std::vector<std::u
     std::vector<std::uint8_t> spoilt(n, 0);
     std::vector<std::array<Vec3, 2>> openEdges;
     std::vector<PatchId> openOwner;
-    // Edges by the cell of their first (0) or second (1) corner, cells 4 matching distances wide.
+    // Edges by the position of their first (0) or second (1) corner.
     struct Edge {
         PatchId face;
         std::uint32_t k;
     };
-    struct Hash {
-        std::size_t operator()(const std::array<std::int64_t, 3>& c) const {
-            return std::size_t(c[0]) * 0x9e3779b97f4a7c15ULL ^ std::size_t(c[1]) * 0xc2b2ae3d27d4eb4fULL ^ std::size_t(c[2]);
-        }
-    };
-    const auto cell = [match](const Vec3& p) {
-        return std::array<std::int64_t, 3>{std::llround(p.x() / match / 4), std::llround(p.y() / match / 4),
-                                           std::llround(p.z() / match / 4)};
-    };
-    std::array<std::unordered_map<std::array<std::int64_t, 3>, std::vector<Edge>, Hash>, 2> ends;
+    std::array<PointGrid<Edge>, 2> ends = {PointGrid<Edge>(match), PointGrid<Edge>(match)};
     for (PatchId j = 0; j < n; ++j)
         if (blocks[j])
             for (std::uint32_t k = 0; k < geometry.shapes[j].count; ++k)
-                for (int side = 0; side < 2; ++side) ends[side][cell(corner(j, k + side))].push_back({j, k});
+                for (int side = 0; side < 2; ++side) ends[side].add(corner(j, k + side), {j, k});
     // The edges along unit direction d (on the line through `on`) whose corner `which` (0 first,
     // 1 second) lies at p.
     std::vector<Edge> found;
     const auto along = [&](const Vec3& p, int which, const Vec3& d, const Vec3& on) {
         found.clear();
-        const auto c = cell(p);
-        for (std::int64_t dx = -1; dx <= 1; ++dx)
-            for (std::int64_t dy = -1; dy <= 1; ++dy)
-                for (std::int64_t dz = -1; dz <= 1; ++dz) {
-                    const auto it = ends[which].find({c[0] + dx, c[1] + dy, c[2] + dz});
-                    if (it == ends[which].end()) continue;
-                    for (const Edge& e : it->second) {
-                        const Vec3& a = corner(e.face, e.k);
-                        const Vec3& b = corner(e.face, e.k + 1);
-                        if (!near(which == 0 ? a : b, p)) continue;
-                        const Vec3 edge = b - a;
-                        const double length = edge.norm();
-                        if (!(length > 0.0) || edge.dot(d) < (1.0 - 1e-9) * length) continue;
-                        const Vec3 far = (which == 0 ? b : a) - on;  // off the line within kFlatness of the way
-                        if (far.cross(d).norm() > kFlatness * far.norm() + match) continue;
-                        found.push_back(e);
-                    }
-                }
+        ends[which].nearby(p, [&](const Edge& e) {
+            const Vec3& a = corner(e.face, e.k);
+            const Vec3& b = corner(e.face, e.k + 1);
+            if (!near(which == 0 ? a : b, p)) return;
+            const Vec3 edge = b - a;
+            const double length = edge.norm();
+            if (!(length > 0.0) || edge.dot(d) < (1.0 - 1e-9) * length) return;
+            const Vec3 far = (which == 0 ? b : a) - on;  // off the line within kFlatness of the way
+            if (far.cross(d).norm() > kFlatness * far.norm() + match) return;
+            found.push_back(e);
+        });
         return found.size();
     };
     const auto concave = [&](PatchId j, PatchId o) {

@@ -23,8 +23,8 @@ class ConvexSolids {
 public:
     static constexpr std::uint32_t kNone = ~std::uint32_t(0);
 
-    /// After geometry.buildNeighbours; blocks[j] != 0 marks the blockers. Components whose planes
-    /// times corners exceed kMostChecks are not checked (and are no solid).
+    /// blocks[j] != 0 marks the blockers. Components whose planes times corners exceed kMostChecks
+    /// are not checked (and are no solid).
     void build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks);
 
     /// The solid patch j is a face of, or kNone.
