@@ -125,6 +125,10 @@ void Reporter::formFactorRun(const FormFactorRun& run, const Scene& scene, const
         out << "); with a blocker in their shaft: " << c.contactShafts << " (hidden part adaptive, "
             << c.contactEvaluations << " visible-part evaluations)";
     }
+    if (c.convexSolids)
+        out << "\n  convex solids among the patches that can obstruct (a block, a faceted sphere; their faces turned "
+               "away from a point cast no shadow from it): "
+            << c.convexSolids << " (" << c.solidFaces << " faces)";
     if (c.coveredRows)
         out << "\n  rows of patches a solid stands on in part (a block on a floor patch), their rules over the free "
                "part: "

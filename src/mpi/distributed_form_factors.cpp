@@ -377,6 +377,8 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
     MPI_Reduce(reals, realSums, 4, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
     double largest = 0;
     MPI_Reduce(&mine.largestDirectSum, &largest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+    std::uint64_t solids[2] = {mine.convexSolids, mine.solidFaces}, solidsMost[2] = {0, 0};  // the scene's: the largest
+    MPI_Reduce(solids, solidsMost, 2, MPI_UINT64_T, MPI_MAX, 0, MPI_COMM_WORLD);
     MPI_Reduce(&prepareSeconds, &result.prepareSeconds, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
     std::uint64_t rowsHere = builder.rowsDone();
     result.rowsPerRank.resize(context.root() ? std::size_t(K) : 0);
@@ -402,6 +404,7 @@ DistributedFormFactors computeDistributed(const Context& context, const Scene& s
         c.shadowProbes = integerSums[12], c.cutPairs = integerSums[13], c.cutWholePairs = integerSums[14];
         c.lostWeight = realSums[0], c.cutoffWeight = realSums[1], c.lostArea = realSums[2], c.rowArea = realSums[3];
         c.largestDirectSum = largest;
+        c.convexSolids = solidsMost[0], c.solidFaces = solidsMost[1];
     }
     result.computeSeconds = computeSeconds;
     result.rowsComputed = rows.size();

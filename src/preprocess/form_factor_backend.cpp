@@ -30,6 +30,8 @@ RayCounts& RayCounts::operator+=(const RayCounts& o) {
     penumbralPairs += o.penumbralPairs;
     coveredRows += o.coveredRows;
     largestDirectSum = std::max(largestDirectSum, o.largestDirectSum);
+    convexSolids = std::max(convexSolids, o.convexSolids);
+    solidFaces = std::max(solidFaces, o.solidFaces);
     return *this;
 }
 

@@ -69,6 +69,8 @@ struct RayCounts {
     std::uint64_t straddlingPairs = 0;     ///< of the close-pair computations, ruled pairs across a shadow's edge
     std::uint64_t penumbralPairs = 0;      ///< of the close-pair computations, pairs in a penumbra (computed whole too)
     std::uint64_t coveredRows = 0;         ///< analytic estimator: rows whose patch a solid covers in part
+    std::uint64_t convexSolids = 0;        ///< analytic estimator: convex solids among the blockers (the scene's, not summed: the largest)
+    std::uint64_t solidFaces = 0;          ///< the patches that are their faces (likewise)
     RayCounts& operator+=(const RayCounts& o);
     /// The fraction of the power leaving the computed rows' patches that reached no patch, each row
     /// weighted by its patch's area (what a uniformly bright scene loses; the same on any mesh of the

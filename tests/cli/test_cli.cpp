@@ -194,6 +194,31 @@ TEST_CASE("The report's lost power is area-weighted and says so: meshing one blo
     }
 }
 
+TEST_CASE("The report counts the convex solids whose far faces cast no shadow: the Cornell box's two blocks, however finely meshed") {
+    const auto dir = tempDir("solids-report");
+    const Scene coarse = bundledScene("cornell_box.obj");
+    std::vector<double> byObject(coarse.objects.size(), 0.0);
+    const auto tall = std::find(coarse.objects.begin(), coarse.objects.end(), "tall_block");
+    REQUIRE(tall != coarse.objects.end());
+    byObject[std::size_t(tall - coarse.objects.begin())] = 30.0;
+    const std::string fine = (dir / "fine.obj").string();
+    saveObj(subdivide(coarse, byObject), fine);
+    const auto solidsLine = [&](const std::string& scene) {
+        const Result r = runCommand(std::string(HEMIRAD_BINARY) + " formfactors " + scene +
+                                    " --method hemisphere --estimator analytic -o " + (dir / "F.hff").string() + " 2>&1");
+        INFO(r.output);
+        REQUIRE(r.status == 0);
+        const std::size_t at = r.output.find("convex solids among the patches that can obstruct");
+        REQUIRE(at != std::string::npos);
+        const std::size_t colon = r.output.find("): ", at);
+        return r.output.substr(colon + 3, r.output.find('\n', colon) - colon - 3);
+    };
+    CHECK(solidsLine(sourcePath("scenes/cornell_box.obj")) == "2 (10 faces)");  // two lidless blocks on the floor
+    const std::string finer = solidsLine(fine);
+    CHECK(finer.rfind("2 (", 0) == 0);
+    CHECK(finer != "2 (10 faces)");
+}
+
 TEST_CASE("The usage text lists every back end and its flags from the registry") {
     const Result r = runHemirad("help");
     REQUIRE(r.status == 0);

@@ -13,6 +13,7 @@ namespace hemirad {
 void ConvexSolids::build(const PatchGeometry& geometry, const std::vector<std::uint8_t>& blocks) {
     const std::size_t n = geometry.shapes.size();
     m_solidOf.assign(n, kNone);
+    m_faces = 0;
     m_solids.clear();
     m_normals.clear();
     m_offsets.clear();
@@ -207,6 +208,7 @@ void ConvexSolids::build(const PatchGeometry& geometry, const std::vector<std::u
             m_offsets.push_back(offset);
         }
         for (const PatchId j : faces) m_solidOf[j] = std::uint32_t(m_solids.size());
+        m_faces += faces.size();
         m_solids.push_back(solid);
     }
 }

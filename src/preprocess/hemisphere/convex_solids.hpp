@@ -30,6 +30,8 @@ public:
     /// The solid patch j is a face of, or kNone.
     std::uint32_t solidOf(PatchId j) const { return m_solidOf.empty() ? kNone : m_solidOf[j]; }
     std::size_t size() const { return m_solids.size(); }
+    /// The patches that are faces of a solid.
+    std::size_t faces() const { return m_faces; }
     /// Whether every line from x into solid `solid` enters through a face turned towards x: x lies
     /// in front of some face's plane (outside the solid, further than the solid's tolerance) and
     /// not in front of its open side's plane (a line entering by the open side meets no face
@@ -54,6 +56,7 @@ private:
         double tolerance = 0.0;                    ///< kFlatness of its size
     };
     std::vector<std::uint32_t> m_solidOf;
+    std::size_t m_faces = 0;
     std::vector<Solid> m_solids;
     std::vector<Vec3> m_normals;
     std::vector<double> m_offsets;

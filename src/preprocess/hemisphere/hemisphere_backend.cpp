@@ -138,6 +138,10 @@ void HemisphereBackend::computeRows(RowSource& rows, FormFactorBuilder& builder)
             }
             builder.setRow(i, row.take(1.0 / unit), counts.lostWeight - lostBefore);
         }
+        if (m_analytic) {
+            counts.convexSolids = m_analyticEstimator.rules().solids();
+            counts.solidFaces = m_analyticEstimator.rules().solidFaces();
+        }
         builder.addCounts(counts);
     });
     failure.rethrowIfFailed();

@@ -258,6 +258,9 @@ public:
     const EmitterOrders& orders() const { return m_orders; }
     const FarRule& farRule() const { return m_far; }
     std::size_t blockers() const { return m_shadows.size(); }
+    /// Convex solids among the patches that can obstruct, and the patches that are their faces.
+    std::size_t solids() const { return m_shadows.solids(); }
+    std::size_t solidFaces() const { return m_shadows.solidFaces(); }
     int splitLevels() const { return m_splitLevels; }
 
 private:

@@ -50,6 +50,8 @@ public:
                bool solids = true);
     /// Convex solids found among the blockers (0 without `solids`).
     std::size_t solids() const { return m_solids.size(); }
+    /// The patches that are faces of those solids.
+    std::size_t solidFaces() const { return m_solids.faces(); }
     bool empty() const { return m_owner.empty(); }
     /// Blocker polygons (after merging).
     std::size_t size() const { return m_owner.size(); }
