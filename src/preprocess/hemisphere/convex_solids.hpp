@@ -40,6 +40,14 @@ public:
     /// `hint`: per solid, the plane to try first (the last one found in front; sized by the
     /// call, one per thread).
     bool entersByFrontFace(std::uint32_t solid, const Vec3& x, std::vector<std::uint32_t>& hint) const;
+    /// The same for the lines of a parallel beam along the direction `toSource` (towards the source,
+    /// light travelling the other way): every such line that meets the solid enters it through a
+    /// face turned towards the source, and leaves it (or reaches a receiver inside) only after that;
+    /// true unless the open side faces the source (a lidless box with the sun above its rim).
+    bool beamEntersByFrontFace(std::uint32_t solid, const Vec3& toSource) const {
+        const Solid& q = m_solids[solid];
+        return !q.open || q.openNormal.dot(toSource) <= 0.0;
+    }
 
     /// Convex, flat and outside within this share of the solid's size (the rounding of corners as
     /// files give them): a line grazing a face closer than that may lose a sliver of its shadow.

@@ -268,7 +268,8 @@ void ShadowPolygons::collect(const Vec3* m, const double* d, std::size_t planes,
 template <class Project>
 void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& normal, std::size_t planes, double tolerance,
                                  PatchId e, PatchId r, Scratch& s, const std::vector<std::uint32_t>* within,
-                                 Project project, const Vec3* nearFirst, const Vec3* box, bool given, const Vec3* eye) const {
+                                 Project project, const Vec3* nearFirst, const Vec3* box, bool given, const Vec3* eye,
+                                 const Vec3* beam) const {
     s.shadows = 0;
     s.solidsSeen.clear();
     const std::vector<Vec3>& m = s.planeNormals;
@@ -282,6 +283,7 @@ void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& n
 
     const auto shade = [&](std::uint32_t b) {
         if (eye && turnedAway(b, *eye, s)) return true;
+        if (beam && beamTurnedAway(b, *beam)) return true;
         const Vec3* corners = &m_corners[m_first[b]];
         const std::uint32_t cornerCount = m_first[b + 1] - m_first[b];
         // The blocker's part inside the region, projected onto the receiver's plane.
@@ -418,6 +420,11 @@ bool ShadowPolygons::turnedAway(std::uint32_t b, const Vec3& x, Scratch& s) cons
     return enters;
 }
 
+bool ShadowPolygons::beamTurnedAway(std::uint32_t b, const Vec3& toSource) const {
+    const std::uint32_t solid = m_solid[b];
+    return solid != ConvexSolids::kNone && m_plane[b].first.dot(toSource) < 0.0 && m_solids.beamEntersByFrontFace(solid, toSource);
+}
+
 bool ShadowPolygons::blocksRay(const Vec3& x, const Vec3& d, double tolerance, Scratch& s) const {
     if (m_items.empty()) return false;
     const Vec3 inverse(1.0 / d.x(), 1.0 / d.y(), 1.0 / d.z());
@@ -552,7 +559,7 @@ double ShadowPolygons::litFraction(const Vec3* p, std::size_t count, const Vec3&
     castShadows(
         p, count, normal, s.planeNormals.size(), tolerance, r, r, s, nullptr,
         [&](const Vec3& y) { return Vec3(y - toSource * ((normal.dot(y) - offset) / facing)); }, &toSource,
-        boxed ? box : nullptr);
+        boxed ? box : nullptr, false, nullptr, &toSource);
     if (s.shadows == 0) return 1.0;
     double clear = 0.0;
     if (s.shadows == 1) {
@@ -582,7 +589,7 @@ void ShadowPolygons::shadeBeam(const Vec3* p, std::size_t count, const Vec3& nor
     castShadows(
         p, count, normal, s.planeNormals.size(), tolerance, r, r, s, nullptr,
         [&](const Vec3& y) { return Vec3(y - toSource * ((normal.dot(y) - offset) / facing)); }, &toSource,
-        boxed ? box : nullptr, true);
+        boxed ? box : nullptr, true, nullptr, slabNormal ? nullptr : &toSource);
 }
 
 }  // namespace hemirad

@@ -110,15 +110,21 @@ private:
     /// scratch.shadows, and the one shadow (first, firstShadow) or the clear pieces.
     /// `nearFirst` and `box` as traverse takes them. `given`: the clear pieces are scratch.clear's
     /// already (every shadow cut from them), not the whole of p.
+    /// `eye` (a central projection from that point) or `beam` (a parallel one from that direction
+    /// to the source): a convex solid's faces turned away from it pass (turnedAway, beamTurnedAway).
     template <class Project>
     void castShadows(const Vec3* p, std::size_t count, const Vec3& normal, std::size_t planes, double tolerance, PatchId e,
                      PatchId r, Scratch& s, const std::vector<std::uint32_t>* within, Project project,
                      const Vec3* nearFirst = nullptr, const Vec3* box = nullptr, bool given = false,
-                     const Vec3* eye = nullptr) const;
+                     const Vec3* eye = nullptr, const Vec3* beam = nullptr) const;
     /// Whether blocker b is a face of a convex solid (ConvexSolids) turned away from x, with every
     /// line from x into the solid entering by a face turned towards it: b's shadow from x lies in
     /// theirs. Caches each solid's answer in s.solidsSeen (cleared per point by the caller).
     bool turnedAway(std::uint32_t b, const Vec3& x, Scratch& s) const;
+    /// Whether blocker b is a face of a convex solid turned away from the source of a parallel beam
+    /// along `toSource`, with every line of the beam that meets the solid entering by a face turned
+    /// towards the source (ConvexSolids::beamEntersByFrontFace): b's shadow lies in theirs.
+    bool beamTurnedAway(std::uint32_t b, const Vec3& toSource) const;
     /// The scratch's planes for a parallel beam from `toSource` through p (the prism's sides, p's
     /// plane, the slab's plane when given), and in `box` (lo, hi) a box holding the prism's part in
     /// the tree's box; false where there is none to give (the box then unused).
