@@ -91,6 +91,26 @@ TEST_CASE("Sunlit fraction: a shadow partly off the patch, overlapping shadows c
     CHECK_THROWS_AS(sunlitFractions(b.scene, Vec3(0, 0, 0)), Error);
 }
 
+TEST_CASE("Sunlit fraction of a receiver whose corner leaves its plane by the file's rounding, behind a wall, at a grazing sun: dark") {
+    // A unit square on z = 0 (counter-clockwise from above) with its last corner 1e-4 down (a
+    // file's rounding), a wall at x = 2 from z = -1 to 1 in two overlapping halves (the second 0.1
+    // further) across every y the beam can take, and a sun 1.7 degrees above the horizon towards
+    // +x: every line from the receiver to the sun meets the wall (the rays rise at most 0.06
+    // before it). The receiver's outline dropped square onto its plane while the prism's sides run
+    // along the beam through its corners: a sliver along its rim lay outside both shadows (1/cos =
+    // 34 times the corner's depth wide): 8.3e-4 and 1.1e-3 of it read lit for the first two suns.
+    SceneBuilder b;
+    b.polygon({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, -1e-4)});
+    b.rectangle(0, 2.0, -5, 0.6, -1, 1, false);
+    b.rectangle(0, 2.1, 0.4, 6, -1, 1, false);
+    for (const double along : {0.0, 0.3, -0.4}) {
+        const Vec3 sun = Vec3(1, along, 0.03).normalized();
+        CAPTURE(sun.transpose());
+        const std::vector<double> lit = sunlitFractions(b.scene, sun);
+        CHECK(lit[0] <= 1e-12);
+    }
+}
+
 TEST_CASE("Convex difference: a square less a square across its corner leaves an L of the right area") {
     const std::vector<std::vector<Vec2>> square = {{Vec2(0, 0), Vec2(2, 0), Vec2(2, 2), Vec2(0, 2)}};
     const auto rest = subtractConvex(square, {Vec2(1, 1), Vec2(3, 1), Vec2(3, 3), Vec2(1, 3)});

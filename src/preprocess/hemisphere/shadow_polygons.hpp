@@ -31,6 +31,7 @@ public:
         std::vector<double> shadow, firstShadow;
         std::vector<Vec3> image, first;           // the shadow's corners on the receiver (3D)
         std::vector<Vec3> lifted;
+        std::vector<Vec3> onPlane;                // a beam's receiver corners moved along it onto the receiver's plane
         std::vector<Vec3> planeNormals;           // the cone's planes (inward normals and offsets)
         std::vector<double> planeOffsets;
         Vec3 u, v;                                // the receiver plane's 2D axes (origin its corner 0)
