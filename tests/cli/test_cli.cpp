@@ -166,8 +166,10 @@ TEST_CASE("Iteration flags are usage errors for a solver that does not iterate")
     CHECK(findSolver("gauss-seidel").flags.size() == 2);
 }
 
-TEST_CASE("The report's lost power is area-weighted and says so: meshing one block finer leaves it where it was") {
-    const auto dir = tempDir("lost-area");
+namespace {
+
+/// The bundled Cornell box with its tall block alone subdivided at 30 mm, saved as DIR/fine.obj.
+std::string tallBlockFiner(const std::filesystem::path& dir) {
     const Scene coarse = bundledScene("cornell_box.obj");
     std::vector<double> byObject(coarse.objects.size(), 0.0);
     const auto tall = std::find(coarse.objects.begin(), coarse.objects.end(), "tall_block");
@@ -175,6 +177,14 @@ TEST_CASE("The report's lost power is area-weighted and says so: meshing one blo
     byObject[std::size_t(tall - coarse.objects.begin())] = 30.0;
     const std::string fine = (dir / "fine.obj").string();
     saveObj(subdivide(coarse, byObject), fine);
+    return fine;
+}
+
+}  // namespace
+
+TEST_CASE("The report's lost power is area-weighted and says so: meshing one block finer leaves it where it was") {
+    const auto dir = tempDir("lost-area");
+    const std::string fine = tallBlockFiner(dir);
     const auto lostPercent = [&](const std::string& scene, const std::string& method) {
         const Result r = runCommand(std::string(HEMIRAD_BINARY) + " formfactors " + scene + " " + method + " -o " +
                                     (dir / "F.hff").string() + " 2>&1");
@@ -196,13 +206,7 @@ TEST_CASE("The report's lost power is area-weighted and says so: meshing one blo
 
 TEST_CASE("The report counts the convex solids whose far faces cast no shadow: the Cornell box's two blocks, however finely meshed") {
     const auto dir = tempDir("solids-report");
-    const Scene coarse = bundledScene("cornell_box.obj");
-    std::vector<double> byObject(coarse.objects.size(), 0.0);
-    const auto tall = std::find(coarse.objects.begin(), coarse.objects.end(), "tall_block");
-    REQUIRE(tall != coarse.objects.end());
-    byObject[std::size_t(tall - coarse.objects.begin())] = 30.0;
-    const std::string fine = (dir / "fine.obj").string();
-    saveObj(subdivide(coarse, byObject), fine);
+    const std::string fine = tallBlockFiner(dir);
     const auto solidsLine = [&](const std::string& scene) {
         const Result r = runCommand(std::string(HEMIRAD_BINARY) + " formfactors " + scene +
                                     " --method hemisphere --estimator analytic -o " + (dir / "F.hff").string() + " 2>&1");

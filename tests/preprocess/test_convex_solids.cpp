@@ -85,6 +85,23 @@ Scene solidsBetweenFloorAndCeiling(std::vector<PatchId>& floor, std::vector<Patc
     return b.scene;
 }
 
+/// The floor-and-ceiling scene's blockers three ways: with the solids, merged without them, and
+/// every tile its own (the reference).
+struct ThreeWays {
+    std::vector<PatchId> floor, ceiling;
+    Scene scene;
+    PatchGeometry geometry;
+    ShadowPolygons withSolids, merged, tiles;
+    ThreeWays() : scene(solidsBetweenFloorAndCeiling(floor, ceiling)) {
+        geometry.build(scene);
+        geometry.buildNeighbours(scene);
+        const std::vector<std::uint8_t> blocks(scene.size(), 1);
+        withSolids.build(geometry, blocks, true);
+        merged.build(geometry, blocks, true, false);
+        tiles.build(geometry, blocks, false);
+    }
+};
+
 }  // namespace
 
 TEST_CASE("Convex solids: a closed box, a lidless box on its floor and boxes with T-junctions along their tops are solids, an inward box, a box open on two sides and flat faces are not") {
@@ -202,16 +219,10 @@ TEST_CASE("Convex solids: leaving out the faces a point sees from behind changes
     // Points on the floor (under the lidless box standing on it too) and on the ceiling's
     // underside look at every tile of the other. Reference: the same blockers, every tile its
     // own, none left out (merge off).
-    std::vector<PatchId> floor, ceiling;
-    Scene scene = solidsBetweenFloorAndCeiling(floor, ceiling);
-    PatchGeometry geometry;
-    geometry.build(scene);
-    geometry.buildNeighbours(scene);
-    const std::vector<std::uint8_t> blocks(scene.size(), 1);
-    ShadowPolygons withSolids, tiles, merged;
-    withSolids.build(geometry, blocks, true);
-    tiles.build(geometry, blocks, false);
-    merged.build(geometry, blocks, true, false);
+    const ThreeWays w;
+    const std::vector<PatchId>&floor = w.floor, &ceiling = w.ceiling;
+    const PatchGeometry& geometry = w.geometry;
+    const ShadowPolygons &withSolids = w.withSolids, &tiles = w.tiles, &merged = w.merged;
     CHECK(withSolids.solids() == 5);
     CHECK(merged.solids() == 0);
     ShadowPolygons::Scratch s1, s2, s3;
@@ -260,16 +271,9 @@ TEST_CASE("Convex solids: leaving out the faces turned away from the sun changes
     // Every patch of the floor-and-ceiling scene lit by 200 suns spread over the sphere (from below
     // too: into the floating lidless box's open side, onto the ceiling's underside). Reference:
     // every tile its own blocker, none left out.
-    std::vector<PatchId> floor, ceiling;
-    const Scene scene = solidsBetweenFloorAndCeiling(floor, ceiling);
-    PatchGeometry geometry;
-    geometry.build(scene);
-    geometry.buildNeighbours(scene);
-    const std::vector<std::uint8_t> blocks(scene.size(), 1);
-    ShadowPolygons withSolids, tiles, merged;
-    withSolids.build(geometry, blocks, true);
-    tiles.build(geometry, blocks, false);
-    merged.build(geometry, blocks, true, false);
+    const ThreeWays w;
+    const PatchGeometry& geometry = w.geometry;
+    const ShadowPolygons &withSolids = w.withSolids, &tiles = w.tiles, &merged = w.merged;
     REQUIRE(withSolids.solids() == 5);
     ShadowPolygons::Scratch s1, s2, s3;
     std::mt19937 random(11);
@@ -278,7 +282,7 @@ TEST_CASE("Convex solids: leaving out the faces turned away from the sun changes
     std::size_t compared = 0, partial = 0, dark = 0, shadowsWith = 0, shadowsMerged = 0, shadowsTiles = 0;
     for (int k = 0; k < 200; ++k) {
         const Vec3 toSun = Vec3(gauss(random), gauss(random), gauss(random)).normalized();
-        for (PatchId r = 0; r < scene.size(); ++r) {
+        for (PatchId r = 0; r < w.scene.size(); ++r) {
             const PatchShape& t = geometry.shapes[r];
             if (!(t.normal.dot(toSun) > 0.0)) continue;
             const double a = withSolids.litFraction(geometry.polygon(r), t.count, t.normal, r, toSun, tolerance, s1);
