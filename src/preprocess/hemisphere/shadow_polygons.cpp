@@ -547,8 +547,9 @@ double ShadowPolygons::litFraction(const Vec3* p, std::size_t count, const Vec3&
     // the sides run along the beam, 1/cos as far at a grazing sun: a sphere's facet at cos 0.03
     // behind a block kept slivers along its rim lit (3.8e-5 of it, where rays find it dark).
     const double offset = normal.dot(p[0]);
+    const auto alongBeam = [&](const Vec3& y) { return Vec3(y - toSource * ((normal.dot(y) - offset) / facing)); };
     s.onPlane.resize(count);
-    for (std::size_t k = 0; k < count; ++k) s.onPlane[k] = p[k] - toSource * ((normal.dot(p[k]) - offset) / facing);
+    for (std::size_t k = 0; k < count; ++k) s.onPlane[k] = alongBeam(p[k]);
     const Vec3* q = s.onPlane.data();
     // The whole receiver in its plane's axes: a receiver without area is lit nowhere.
     planeAxes(normal, s.u, s.v);
@@ -565,8 +566,7 @@ double ShadowPolygons::litFraction(const Vec3* p, std::size_t count, const Vec3&
     // Parallel projection along the beam onto the receiver's plane, the blockers nearest the
     // receiver first: they cover it soonest.
     castShadows(
-        q, count, normal, s.planeNormals.size(), tolerance, r, r, s, nullptr,
-        [&](const Vec3& y) { return Vec3(y - toSource * ((normal.dot(y) - offset) / facing)); }, &toSource,
+        q, count, normal, s.planeNormals.size(), tolerance, r, r, s, nullptr, alongBeam, &toSource,
         boxed ? box : nullptr, false, nullptr, &toSource);
     if (s.shadows == 0) return 1.0;
     double clear = 0.0;
