@@ -1,14 +1,17 @@
 // Sunlit fractions against exact shadow polygons computed in the test (the convex hull of a box's
-// corners projected along the sun's rays), and the convex-difference geometry underneath.
+// corners projected along the sun's rays), and the convex-difference and hull geometry underneath.
 #include "support.hpp"
 
 #include "engine/error.hpp"
 #include "environment/solar_position.hpp"
 #include "environment/sunlit.hpp"
+#include "preprocess/hemisphere/convex_pieces.hpp"
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 
 using namespace hemirad;
 using namespace hemirad::test;
@@ -140,6 +143,52 @@ TEST_CASE("Convex difference: a shadow that repeats a corner (an edge of no leng
         double area = 0;
         for (const auto& piece : rest) area += polygonArea2d(piece);
         CHECK(std::abs(area - 3.0) <= 1e-12);
+    }
+}
+
+TEST_CASE("Convex hull: corners a rounding apart and columns of points (a solid's corners projected once per face) keep every point inside") {
+    // Two sets of projected corners as cornell13k's shadows met them: a block's faces (merged tiles,
+    // their corners lifted back from the plane a rounding apart) and a cylinder's two faces with a
+    // column of four points at one u. Floating-point turns kept points 1e-13 apart as an edge and
+    // bent the chain the wrong way, or took the column's lowest corner for a straight line and
+    // dropped it: hulls that left most of the shadow out.
+    const std::vector<std::vector<std::array<double, 2>>> sets = {
+        {{-660.85181471895589, -2352.3854490582294}, {-498.24028756430602, -1748.5160681424966},
+         {-498.24028756430602, -1748.5160681424966}, {-335.38421688742596, -1143.7429435923864},
+         {-335.38421688742591, -1143.7429435923864}, {-288.81024582307407, -970.78658974355358},
+         {-288.81024582307401, -970.78658974355358}, {-253.86598994339909, -841.02030855059013},
+         {-253.86598994339823, -841.02030855058899}, {-226.67946872934229, -740.06210255752671},
+         {-226.67946872934161, -740.0621025575258}, {-204.92590775740291, -659.27808958564106},
+         {20.071342870492355, 87.218311727284956}, {21.924963901034921, 88.41366513011485},
+         {21.924963901035028, 88.413665130114865}, {24.031316409211342, 89.772154823110043},
+         {24.031316409211595, 89.772154823110057}, {26.446080470168347, 91.329605440624434},
+         {26.446080470168525, 91.329605440624434}, {29.242809008693797, 93.133175594528069},
+         {29.242809008694117, 93.133175594528069}, {36.410453097493892, 97.755916063566076},
+         {36.410453097493892, 97.755916063566076}, {41.108105900103496, 100.78540951644679}},
+        {{602.22466634577427, -0.3979434557775221}, {472.4750422507841, -0.0083163112511783766},
+         {-135.36590000000001, -0.0083163112511783766}, {-135.36590000000004, -0.3979434557775221},
+         {-135.36590000000001, -19.242285488277787}, {767.77173226309753, -19.242285488277787},
+         {602.22466634577381, -0.39794345577780632}, {-135.36590000000001, -0.39794345577780632}}};
+    for (const auto& set : sets) {
+        std::vector<std::array<double, 2>> points = set, hull;
+        convexHull2D(points, hull);
+        REQUIRE(hull.size() >= 3);
+        double scale = 0.0;
+        for (const auto& p : set) scale = std::max({scale, std::abs(p[0]), std::abs(p[1])});
+        // Counter-clockwise, every point inside or on it (within 1e-9 of the scale), every corner
+        // one of the points.
+        for (std::size_t k = 0; k < hull.size(); ++k) {
+            const auto& a = hull[k];
+            const auto& b = hull[(k + 1) % hull.size()];
+            const double length = std::hypot(b[0] - a[0], b[1] - a[1]);
+            for (const auto& p : set) {
+                const double left = ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])) / length;
+                CHECK(left >= -1e-9 * scale);
+            }
+            double nearest = INFINITY;
+            for (const auto& p : set) nearest = std::min(nearest, std::hypot(p[0] - a[0], p[1] - a[1]));
+            CHECK(nearest <= 1e-11 * scale);
+        }
     }
 }
 

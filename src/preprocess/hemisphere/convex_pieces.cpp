@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace hemirad {
 
@@ -67,6 +68,75 @@ void splitByLine(const double* xy, std::size_t k, const double* a, const double*
 }
 
 }  // namespace
+
+void convexHull2D(std::vector<std::array<double, 2>>& points, std::vector<std::array<double, 2>>& hull) {
+    hull.clear();
+    if (points.size() < 3) return;
+    // The points on a grid of 2^-40 of their largest coordinate (a power of two), as integers: the
+    // turns are then exact (128-bit cross products). Points a rounding apart (a solid's corner
+    // projected once for each of its faces, corners of merged tiles lifted back from their plane)
+    // make edges of no length whose direction is their rounding: with floating-point turns the
+    // chain kept both and bent the wrong way, or took a corner below a column of points for a
+    // straight line and dropped it (hulls that lost most of a block's shadow).
+    double largest = 0.0;
+    for (const auto& p : points) largest = std::max({largest, std::abs(p[0]), std::abs(p[1])});
+    if (!(largest > 0.0) || !std::isfinite(largest)) return;
+    const double step = std::ldexp(1.0, std::ilogb(largest) + 1 - 40);  // |k| <= 2^40
+    using Grid = std::array<std::int64_t, 2>;
+    std::vector<Grid> grid(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+        grid[i] = {std::llround(points[i][0] / step), std::llround(points[i][1] / step)};
+    std::sort(grid.begin(), grid.end());
+    grid.erase(std::unique(grid.begin(), grid.end()), grid.end());
+    if (grid.size() < 3) return;
+    std::vector<Grid> chain(2 * grid.size());
+    std::size_t k = 0;
+    const auto notLeft = [](const Grid& o, const Grid& a, const Grid& b) {
+        return __int128(a[0] - o[0]) * (b[1] - o[1]) - __int128(a[1] - o[1]) * (b[0] - o[0]) <= 0;
+    };
+    for (std::size_t i = 0; i < grid.size(); ++i) {  // the lower chain
+        while (k >= 2 && notLeft(chain[k - 2], chain[k - 1], grid[i])) --k;
+        chain[k++] = grid[i];
+    }
+    for (std::size_t i = grid.size() - 1, lower = k + 1; i-- > 0;) {  // the upper chain
+        while (k >= lower && notLeft(chain[k - 2], chain[k - 1], grid[i])) --k;
+        chain[k++] = grid[i];
+    }
+    if (k < 4) return;  // collinear: no area
+    hull.resize(k - 1);  // the last corner is the first
+    for (std::size_t i = 0; i + 1 < k; ++i) hull[i] = {double(chain[i][0]) * step, double(chain[i][1]) * step};
+}
+
+std::size_t clipToConvex(const double* xy, std::size_t k, const double* window, std::size_t w, std::vector<double>& out,
+                         std::vector<double>& scratch) {
+    out.assign(xy, xy + 2 * k);
+    std::size_t corners = k;
+    for (std::size_t c = 0; c < w && corners >= 3; ++c) {
+        // The part left of the window's edge a -> b (inside, counter-clockwise).
+        const double* a = &window[2 * c];
+        const double* b = &window[2 * (c + 1 == w ? 0 : c + 1)];
+        const double ex = b[0] - a[0], ey = b[1] - a[1];
+        const auto side = [&](const double* p) { return ex * (p[1] - a[1]) - ey * (p[0] - a[0]); };
+        if (scratch.size() < 4 * corners) scratch.resize(4 * corners);
+        double* at = scratch.data();
+        double sp = side(out.data());
+        for (std::size_t i = 0; i < corners; ++i) {
+            const double* p = &out[2 * i];
+            const double* q = &out[2 * (i + 1 == corners ? 0 : i + 1)];
+            const double sq = side(q);
+            if (sp >= 0.0) at[0] = p[0], at[1] = p[1], at += 2;
+            if ((sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0)) {
+                const double t = sp / (sp - sq);
+                at[0] = p[0] + t * (q[0] - p[0]), at[1] = p[1] + t * (q[1] - p[1]), at += 2;
+            }
+            sp = sq;
+        }
+        const std::size_t kept = std::size_t(at - scratch.data()) / 2;
+        out.assign(scratch.begin(), scratch.begin() + std::ptrdiff_t(2 * kept));
+        corners = kept;
+    }
+    return corners;
+}
 
 /// Cuts the counter-clockwise 2D polygon given[0..2 n) out of every clear piece of s.pieces that it
 /// overlaps: each piece's parts outside the shadow's edges, one edge after the other, stay clear;

@@ -3,6 +3,7 @@
 // and the sun's sunlit parts).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -20,6 +21,16 @@ double doubleArea(const double* xy, std::size_t k);
 
 /// Reverses the order of the 2D polygon xy[0..2k)'s corners.
 void reverse2D(double* xy, std::size_t k);
+
+/// The convex hull of `points` (sorted here) into `hull`, counter-clockwise, collinear corners
+/// dropped (Andrew's monotone chain); fewer than 3 corners where the points span no area.
+void convexHull2D(std::vector<std::array<double, 2>>& points, std::vector<std::array<double, 2>>& hull);
+
+/// The part of the convex 2D polygon xy[0..2k) inside the counter-clockwise convex polygon
+/// window[0..2w) into `out` (2 values a corner, Sutherland-Hodgman); `scratch` is reused. Returns
+/// its corner count (below 3: they do not meet).
+std::size_t clipToConvex(const double* xy, std::size_t k, const double* window, std::size_t w, std::vector<double>& out,
+                         std::vector<double>& scratch);
 
 /// Cuts the counter-clockwise convex 2D polygon shadow[0..2n) out of every piece of s.pieces it
 /// overlaps: each piece's parts outside the shadow's edges, one edge after the other, stay clear

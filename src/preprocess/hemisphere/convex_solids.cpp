@@ -162,6 +162,9 @@ void ConvexSolids::build(const PatchGeometry& geometry, const std::vector<std::u
         for (const Vec3& p : points) plo = plo.cwiseMin(p), phi = phi.cwiseMax(p);
         Solid solid;
         solid.tolerance = std::max(kFlatness * (phi - plo).norm(), match);
+        solid.lo = plo;
+        solid.hi = phi;
+        for (const Vec3& p : points) solid.radius = std::max(solid.radius, (p - 0.5 * (plo + phi)).norm());
         // The open side: the open edges' loops, reversed, as one polygon's Newell normal.
         if (!opens[c].empty()) {
             const Vec3 origin = openEdges[opens[c][0]][0];

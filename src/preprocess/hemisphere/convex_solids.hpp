@@ -48,6 +48,13 @@ public:
         const Solid& q = m_solids[solid];
         return !q.open || q.openNormal.dot(toSource) <= 0.0;
     }
+    /// Whether the solid has an open side.
+    bool open(std::uint32_t solid) const { return m_solids[solid].open; }
+    /// The box around the solid's corners: lo, hi; and the ball about the box's centre that holds
+    /// them, its radius.
+    const Vec3& lo(std::uint32_t solid) const { return m_solids[solid].lo; }
+    const Vec3& hi(std::uint32_t solid) const { return m_solids[solid].hi; }
+    double radius(std::uint32_t solid) const { return m_solids[solid].radius; }
 
     /// Convex, flat and outside within this share of the solid's size (the rounding of corners as
     /// files give them): a line grazing a face closer than that may lose a sliver of its shadow.
@@ -62,6 +69,8 @@ private:
         Vec3 openNormal = Vec3::Zero();            ///< the open side's plane, normal out of the solid
         double openOffset = 0.0;
         double tolerance = 0.0;                    ///< kFlatness of its size
+        Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  ///< the box around its corners
+        double radius = 0.0;                        ///< of the ball about the box's centre holding them
     };
     std::vector<std::uint32_t> m_solidOf;
     std::size_t m_faces = 0;

@@ -7,6 +7,7 @@
 #include "preprocess/hemisphere/convex_solids.hpp"
 #include "preprocess/hemisphere/patch_geometry.hpp"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -19,7 +20,9 @@ namespace hemirad {
 /// pieces, gets Lambert's factor. Exact for planar convex blockers (back faces block too); the
 /// blockers are the patches flagged by obstructingPatches, found through a bounding-volume tree.
 /// A convex solid's faces that the point sees from behind cast no shadow where the faces it sees
-/// cover theirs (ConvexSolids): about half the shadows that a block or a faceted sphere casts.
+/// cover theirs (ConvexSolids): about half the shadows that a block or a faceted sphere casts; and
+/// the faces it sees cast one shadow together, the convex hull of their projected corners (a
+/// faceted sphere's dozens of facets in a cone one cut instead of dozens).
 class ShadowPolygons {
 public:
     /// Per-thread scratch (reused between calls).
@@ -38,6 +41,10 @@ public:
         std::size_t shadows = 0;                  // shadows met by the last call
         std::vector<std::pair<std::uint32_t, bool>> solidsSeen;  // this point's solids: entered by a front face?
         std::vector<std::uint32_t> solidHint;     // per solid, the plane last found in front
+        std::vector<std::pair<std::uint32_t, int>> hullFits;  // this call's solids: one shadow each? (castShadows)
+        std::vector<std::uint32_t> deferred;      // their faces met in the region
+        std::vector<std::array<double, 2>> hullPoints, hull;  // a solid's projected corners, their hull
+        std::vector<double> outline, hullScratch;  // the receiver in 2D (counter-clockwise); scratch
     };
 
     /// The tree over the patches with blocks[j] != 0 of `geometry` (its neighbours built). Connected
@@ -108,20 +115,26 @@ private:
     /// Cuts out of p[0..count) (in the plane of unit `normal`) the shadow of each blocker other than
     /// e and r inside the region of the scratch's first `planes` planes (from the tree, or `within`):
     /// the blocker clipped to them and each corner sent onto p's plane by project(y). Leaves
-    /// scratch.shadows, and the one shadow (first, firstShadow) or the clear pieces.
+    /// scratch.shadows, and the one shadow (first, firstShadow) or the clear pieces. `base`: the
+    /// offset of the region's plane along p's (normal . y >= base), where a convex solid's faces are
+    /// cut when they cast one shadow together (castShadows' hullShadow).
     /// `nearFirst` and `box` as traverse takes them. `given`: the clear pieces are scratch.clear's
     /// already (every shadow cut from them), not the whole of p.
     /// `eye` (a central projection from that point) or `beam` (a parallel one from that direction
     /// to the source): a convex solid's faces turned away from it pass (turnedAway, beamTurnedAway).
     template <class Project>
-    void castShadows(const Vec3* p, std::size_t count, const Vec3& normal, std::size_t planes, double tolerance, PatchId e,
-                     PatchId r, Scratch& s, const std::vector<std::uint32_t>* within, Project project,
+    void castShadows(const Vec3* p, std::size_t count, const Vec3& normal, double base, std::size_t planes,
+                     double tolerance, PatchId e, PatchId r, Scratch& s, const std::vector<std::uint32_t>* within,
+                     Project project,
                      const Vec3* nearFirst = nullptr, const Vec3* box = nullptr, bool given = false,
                      const Vec3* eye = nullptr, const Vec3* beam = nullptr) const;
     /// Whether blocker b is a face of a convex solid (ConvexSolids) turned away from x, with every
     /// line from x into the solid entering by a face turned towards it: b's shadow from x lies in
     /// theirs. Caches each solid's answer in s.solidsSeen (cleared per point by the caller).
     bool turnedAway(std::uint32_t b, const Vec3& x, Scratch& s) const;
+    /// Whether every line from x into the solid enters by a face turned towards x
+    /// (ConvexSolids::entersByFrontFace), cached in s.solidsSeen.
+    bool entered(std::uint32_t solid, const Vec3& x, Scratch& s) const;
     /// Whether blocker b is a face of a convex solid turned away from the source of a parallel beam
     /// along `toSource`, with every line of the beam that meets the solid entering by a face turned
     /// towards the source (ConvexSolids::beamEntersByFrontFace): b's shadow lies in theirs.
@@ -158,6 +171,9 @@ private:
     std::vector<Vec3> m_centre;          ///< per blocker, its corners' mean (for the tree's splits)
     std::vector<std::pair<Vec3, double>> m_plane;  ///< per blocker, its plane (normal . y = offset)
     std::vector<std::uint32_t> m_solid;  ///< per blocker, its convex solid or ConvexSolids::kNone
+    std::vector<std::uint32_t> m_solidBlockers;  ///< per solid, its blockers (after merging)
+    /// A solid of fewer blockers casts its faces' shadows one by one (castShadows' hullShadow).
+    static constexpr std::uint32_t kHullBlockers = 8;
     ConvexSolids m_solids;               ///< built with merging (searches of patches take every face)
     std::vector<std::uint32_t> m_items;  ///< blockers in tree order
     std::vector<Node> m_nodes;
