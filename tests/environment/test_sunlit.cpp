@@ -146,7 +146,7 @@ TEST_CASE("Convex difference: a shadow that repeats a corner (an edge of no leng
     }
 }
 
-TEST_CASE("Convex hull: corners a rounding apart and columns of points (a solid's corners projected once per face) keep every point inside") {
+TEST_CASE("Convex hull: corners a rounding apart and columns of points (a solid's corners projected once per face) keep every point inside, and its cut to an outline with an edge of rounding length keeps all") {
     // Two sets of projected corners as cornell13k's shadows met them: a block's faces (merged tiles,
     // their corners lifted back from the plane a rounding apart) and a cylinder's two faces with a
     // column of four points at one u. Floating-point turns kept points 1e-13 apart as an edge and
@@ -190,6 +190,18 @@ TEST_CASE("Convex hull: corners a rounding apart and columns of points (a solid'
             CHECK(nearest <= 1e-11 * scale);
         }
     }
+    // A coordinate that is not finite: no hull, said (the caller casts the faces one by one).
+    std::vector<std::array<double, 2>> bad = {{0, 0}, {1, 0}, {NAN, 1}}, hull;
+    CHECK_FALSE(convexHull2D(bad, hull));
+    CHECK(hull.empty());
+    // Clipped to a receiver whose outline has two corners a rounding apart (cut at a plane): the
+    // edge between them, its direction rounding, cuts nothing (it cut the square along x + y = 2).
+    const std::vector<double> square = {-1, -1, 3, -1, 3, 3, -1, 3};
+    const std::vector<double> window = {0, 0, 2, 0, 2 - 1e-13, 1e-13, 2, 2, 0, 2};
+    std::vector<double> out, scratch;
+    const std::size_t corners = clipToConvex(square.data(), 4, window.data(), 5, out, scratch);
+    REQUIRE(corners >= 3);
+    CHECK(std::abs(doubleArea(out.data(), corners) - 8.0) <= 1e-9);
 }
 
 TEST_CASE("Sunlit fractions with one set-up for many suns: walls in triangles (merged to their rectangles) shade as the box") {

@@ -69,9 +69,11 @@ void splitByLine(const double* xy, std::size_t k, const double* a, const double*
 
 }  // namespace
 
-void convexHull2D(std::vector<std::array<double, 2>>& points, std::vector<std::array<double, 2>>& hull) {
+bool convexHull2D(const std::vector<std::array<double, 2>>& points, std::vector<std::array<double, 2>>& hull) {
     hull.clear();
-    if (points.size() < 3) return;
+    for (const auto& p : points)
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1])) return false;
+    if (points.size() < 3) return true;
     // The points on a grid of 2^-40 of their largest coordinate (a power of two), as integers: the
     // turns are then exact (128-bit cross products). Points a rounding apart (a solid's corner
     // projected once for each of its faces, corners of merged tiles lifted back from their plane)
@@ -80,7 +82,7 @@ void convexHull2D(std::vector<std::array<double, 2>>& points, std::vector<std::a
     // straight line and dropped it (hulls that lost most of a block's shadow).
     double largest = 0.0;
     for (const auto& p : points) largest = std::max({largest, std::abs(p[0]), std::abs(p[1])});
-    if (!(largest > 0.0) || !std::isfinite(largest)) return;
+    if (!(largest > 0.0)) return true;
     const double step = std::ldexp(1.0, std::ilogb(largest) + 1 - 40);  // |k| <= 2^40
     using Grid = std::array<std::int64_t, 2>;
     std::vector<Grid> grid(points.size());
@@ -88,7 +90,7 @@ void convexHull2D(std::vector<std::array<double, 2>>& points, std::vector<std::a
         grid[i] = {std::llround(points[i][0] / step), std::llround(points[i][1] / step)};
     std::sort(grid.begin(), grid.end());
     grid.erase(std::unique(grid.begin(), grid.end()), grid.end());
-    if (grid.size() < 3) return;
+    if (grid.size() < 3) return true;
     std::vector<Grid> chain(2 * grid.size());
     std::size_t k = 0;
     const auto notLeft = [](const Grid& o, const Grid& a, const Grid& b) {
@@ -102,20 +104,29 @@ void convexHull2D(std::vector<std::array<double, 2>>& points, std::vector<std::a
         while (k >= lower && notLeft(chain[k - 2], chain[k - 1], grid[i])) --k;
         chain[k++] = grid[i];
     }
-    if (k < 4) return;  // collinear: no area
+    if (k < 4) return true;  // collinear: no area
     hull.resize(k - 1);  // the last corner is the first
     for (std::size_t i = 0; i + 1 < k; ++i) hull[i] = {double(chain[i][0]) * step, double(chain[i][1]) * step};
+    return true;
 }
 
 std::size_t clipToConvex(const double* xy, std::size_t k, const double* window, std::size_t w, std::vector<double>& out,
                          std::vector<double>& scratch) {
     out.assign(xy, xy + 2 * k);
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (std::size_t c = 0; c < w; ++c)
+        for (int a = 0; a < 2; ++a) {
+            lo[a] = std::min(lo[a], window[2 * c + a]);
+            hi[a] = std::max(hi[a], window[2 * c + a]);
+        }
+    const double shortest = 1e-9 * std::hypot(hi[0] - lo[0], hi[1] - lo[1]);
     std::size_t corners = k;
     for (std::size_t c = 0; c < w && corners >= 3; ++c) {
         // The part left of the window's edge a -> b (inside, counter-clockwise).
         const double* a = &window[2 * c];
         const double* b = &window[2 * (c + 1 == w ? 0 : c + 1)];
         const double ex = b[0] - a[0], ey = b[1] - a[1];
+        if (!(std::hypot(ex, ey) > shortest)) continue;
         const auto side = [&](const double* p) { return ex * (p[1] - a[1]) - ey * (p[0] - a[0]); };
         if (scratch.size() < 4 * corners) scratch.resize(4 * corners);
         double* at = scratch.data();

@@ -22,13 +22,17 @@ double doubleArea(const double* xy, std::size_t k);
 /// Reverses the order of the 2D polygon xy[0..2k)'s corners.
 void reverse2D(double* xy, std::size_t k);
 
-/// The convex hull of `points` (sorted here) into `hull`, counter-clockwise, collinear corners
-/// dropped (Andrew's monotone chain); fewer than 3 corners where the points span no area.
-void convexHull2D(std::vector<std::array<double, 2>>& points, std::vector<std::array<double, 2>>& hull);
+/// The convex hull of `points` into `hull`, counter-clockwise, collinear corners dropped (Andrew's
+/// monotone chain on the points snapped to a grid of 2^-40 of their largest coordinate: the
+/// corners are the points moved by 1e-12 of it at most); fewer than 3 corners where the points
+/// span no area. False, `hull` empty, where a coordinate is not finite.
+bool convexHull2D(const std::vector<std::array<double, 2>>& points, std::vector<std::array<double, 2>>& hull);
 
 /// The part of the convex 2D polygon xy[0..2k) inside the counter-clockwise convex polygon
 /// window[0..2w) into `out` (2 values a corner, Sutherland-Hodgman); `scratch` is reused. Returns
-/// its corner count (below 3: they do not meet).
+/// its corner count (below 3: they do not meet). Window edges shorter than 1e-9 of the window's
+/// size (two corners a rounding apart, where a receiver was cut at a plane) cut nothing: their
+/// direction is rounding.
 std::size_t clipToConvex(const double* xy, std::size_t k, const double* window, std::size_t w, std::vector<double>& out,
                          std::vector<double>& scratch);
 

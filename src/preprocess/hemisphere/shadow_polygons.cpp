@@ -342,7 +342,7 @@ void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& n
     // side, if any, turned away). The cache holds 0 (no), 1 (yes) or 2 (yes, and the solid lies
     // nearer the receiver's plane than the eye by a hundredth of the eye's height at least: its
     // faces then need no cut but the receiver's plane, their projection's magnification bounded;
-    // a parallel beam's always do).
+    // a parallel beam's where it meets the receiver at cos 0.1 or more).
     const double eyeHeight = eye ? normal.dot(*eye) - offset : 0.0;
     const auto hullFits = [&](std::uint32_t solid) -> int {
         for (const auto& [known, fits] : s.hullFits)
@@ -350,7 +350,7 @@ void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& n
         bool fits = (eye || beam) && m_solidBlockers[solid] >= kHullBlockers && m_solids.solidOf(e) != solid &&
                     m_solids.solidOf(r) != solid;
         if (fits) fits = eye ? entered(solid, *eye, s) : m_solids.beamEntersByFrontFace(solid, *beam);
-        bool low = fits && !eye;
+        bool low = fits && !eye && normal.dot(*beam) >= 0.1;  // a grazing beam's projection stretches 1/cos
         if (fits && eye) {
             const Vec3 centre = 0.5 * (m_solids.lo(solid) + m_solids.hi(solid));
             const Vec3 half = 0.5 * (m_solids.hi(solid) - m_solids.lo(solid));
@@ -382,7 +382,11 @@ void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& n
             if (s.cut.size() < 3) continue;  // nothing of it in the region (its corners left unclipped)
             for (const Vec3& y : s.cut) s.hullPoints.push_back(toPlane(project(y)));
         }
-        convexHull2D(s.hullPoints, s.hull);
+        if (!convexHull2D(s.hullPoints, s.hull)) {  // a corner projected out of range: face by face
+            for (std::size_t k = first; k < last; ++k)
+                if (!castFace(s.deferred[k])) return false;
+            return true;
+        }
         if (s.hull.size() < 3) return true;
         if (!setUp()) return false;
         const std::size_t corners =

@@ -21,8 +21,9 @@ namespace hemirad {
 /// blockers are the patches flagged by obstructingPatches, found through a bounding-volume tree.
 /// A convex solid's faces that the point sees from behind cast no shadow where the faces it sees
 /// cover theirs (ConvexSolids): about half the shadows that a block or a faceted sphere casts; and
-/// the faces it sees cast one shadow together, the convex hull of their projected corners (a
-/// faceted sphere's dozens of facets in a cone one cut instead of dozens).
+/// where such a solid has 8 blocker polygons or more and neither the point's patch nor the
+/// receiver is one of its faces, the faces the point sees cast one shadow together, the convex
+/// hull of their projected corners (a faceted sphere's dozens of facets in a cone one cut).
 class ShadowPolygons {
 public:
     /// Per-thread scratch (reused between calls).
