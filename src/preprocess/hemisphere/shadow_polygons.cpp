@@ -314,14 +314,15 @@ void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& n
                         std::to_string(kMaxClearValues / 7) + " pieces under " + std::to_string(s.shadows) + " shadows");
         return !s.clear.pieces.empty();
     };
+    // Blocker b's part inside the region into s.cut (fewer than 3 corners: none).
+    const auto cutToRegion = [&](std::uint32_t b) {
+        s.cut.assign(&m_corners[m_first[b]], &m_corners[m_first[b + 1]]);
+        for (std::size_t k = 0; k < planes && s.cut.size() >= 3; ++k)
+            if (clipToPlane(s.cut, m[k], d[k], s.cutNext, s.sides)) s.cut.swap(s.cutNext);
+    };
     // Blocker b's part inside the region, projected onto the receiver's plane.
     const auto castFace = [&](std::uint32_t b) {
-        const Vec3* corners = &m_corners[m_first[b]];
-        const std::uint32_t cornerCount = m_first[b + 1] - m_first[b];
-        s.cut.assign(corners, corners + cornerCount);
-        for (std::size_t k = 0; k < planes && s.cut.size() >= 3; ++k) {
-            if (clipToPlane(s.cut, m[k], d[k], s.cutNext, s.sides)) s.cut.swap(s.cutNext);
-        }
+        cutToRegion(b);
         if (s.cut.size() < 3) return true;
         const std::size_t cutCorners = s.cut.size();
         s.image.resize(cutCorners);
@@ -372,12 +373,11 @@ void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& n
         s.hullPoints.clear();
         for (std::size_t k = first; k < last; ++k) {
             const std::uint32_t b = s.deferred[k];
-            s.cut.assign(&m_corners[m_first[b]], &m_corners[m_first[b + 1]]);
             if (low) {
+                s.cut.assign(&m_corners[m_first[b]], &m_corners[m_first[b + 1]]);
                 if (clipToPlane(s.cut, normal, base, s.cutNext, s.sides)) s.cut.swap(s.cutNext);
             } else {
-                for (std::size_t c = 0; c < planes && s.cut.size() >= 3; ++c)
-                    if (clipToPlane(s.cut, m[c], d[c], s.cutNext, s.sides)) s.cut.swap(s.cutNext);
+                cutToRegion(b);
             }
             if (s.cut.size() < 3) continue;  // nothing of it in the region (its corners left unclipped)
             for (const Vec3& y : s.cut) s.hullPoints.push_back(toPlane(project(y)));
