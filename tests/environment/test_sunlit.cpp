@@ -198,8 +198,8 @@ TEST_CASE("Convex hull: corners a rounding apart and columns of points (a solid'
     // edge between them, its direction rounding, cuts nothing (it cut the square along x + y = 2).
     const std::vector<double> square = {-1, -1, 3, -1, 3, 3, -1, 3};
     const std::vector<double> window = {0, 0, 2, 0, 2 - 1e-13, 1e-13, 2, 2, 0, 2};
-    std::vector<double> out, scratch;
-    const std::size_t corners = clipToConvex(square.data(), 4, window.data(), 5, out, scratch);
+    std::vector<double> out, scratch, rest;
+    const std::size_t corners = clipToConvex(square.data(), 4, window.data(), 5, out, scratch, rest);
     REQUIRE(corners >= 3);
     CHECK(std::abs(doubleArea(out.data(), corners) - 8.0) <= 1e-9);
 }

@@ -111,7 +111,7 @@ bool convexHull2D(const std::vector<std::array<double, 2>>& points, std::vector<
 }
 
 std::size_t clipToConvex(const double* xy, std::size_t k, const double* window, std::size_t w, std::vector<double>& out,
-                         std::vector<double>& scratch) {
+                         std::vector<double>& scratch, std::vector<double>& rest) {
     out.assign(xy, xy + 2 * k);
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (std::size_t c = 0; c < w; ++c)
@@ -120,32 +120,16 @@ std::size_t clipToConvex(const double* xy, std::size_t k, const double* window, 
             hi[a] = std::max(hi[a], window[2 * c + a]);
         }
     const double shortest = 1e-9 * std::hypot(hi[0] - lo[0], hi[1] - lo[1]);
-    std::size_t corners = k;
+    std::size_t corners = k, outside = 0;
     for (std::size_t c = 0; c < w && corners >= 3; ++c) {
         // The part left of the window's edge a -> b (inside, counter-clockwise).
         const double* a = &window[2 * c];
         const double* b = &window[2 * (c + 1 == w ? 0 : c + 1)];
-        const double ex = b[0] - a[0], ey = b[1] - a[1];
-        if (!(std::hypot(ex, ey) > shortest)) continue;
-        const auto side = [&](const double* p) { return ex * (p[1] - a[1]) - ey * (p[0] - a[0]); };
-        if (scratch.size() < 4 * corners) scratch.resize(4 * corners);
-        double* at = scratch.data();
-        double sp = side(out.data());
-        for (std::size_t i = 0; i < corners; ++i) {
-            const double* p = &out[2 * i];
-            const double* q = &out[2 * (i + 1 == corners ? 0 : i + 1)];
-            const double sq = side(q);
-            if (sp >= 0.0) at[0] = p[0], at[1] = p[1], at += 2;
-            if ((sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0)) {
-                const double t = sp / (sp - sq);
-                at[0] = p[0] + t * (q[0] - p[0]), at[1] = p[1] + t * (q[1] - p[1]), at += 2;
-            }
-            sp = sq;
-        }
-        const std::size_t kept = std::size_t(at - scratch.data()) / 2;
-        out.assign(scratch.begin(), scratch.begin() + std::ptrdiff_t(2 * kept));
-        corners = kept;
+        if (!(std::hypot(b[0] - a[0], b[1] - a[1]) > shortest)) continue;
+        splitByLine(out.data(), corners, a, b, scratch, corners, rest, outside);
+        out.swap(scratch);
     }
+    out.resize(2 * corners);
     return corners;
 }
 

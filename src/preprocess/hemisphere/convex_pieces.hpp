@@ -29,12 +29,12 @@ void reverse2D(double* xy, std::size_t k);
 bool convexHull2D(const std::vector<std::array<double, 2>>& points, std::vector<std::array<double, 2>>& hull);
 
 /// The part of the convex 2D polygon xy[0..2k) inside the counter-clockwise convex polygon
-/// window[0..2w) into `out` (2 values a corner, Sutherland-Hodgman); `scratch` is reused. Returns
+/// window[0..2w) into `out` (2 values a corner, Sutherland-Hodgman); `scratch` and `rest` are reused. Returns
 /// its corner count (below 3: they do not meet). Window edges shorter than 1e-9 of the window's
 /// size (two corners a rounding apart, where a receiver was cut at a plane) cut nothing: their
 /// direction is rounding.
 std::size_t clipToConvex(const double* xy, std::size_t k, const double* window, std::size_t w, std::vector<double>& out,
-                         std::vector<double>& scratch);
+                         std::vector<double>& scratch, std::vector<double>& rest);
 
 /// Cuts the counter-clockwise convex 2D polygon shadow[0..2n) out of every piece of s.pieces it
 /// overlaps: each piece's parts outside the shadow's edges, one edge after the other, stay clear

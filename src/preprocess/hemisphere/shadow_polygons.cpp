@@ -390,7 +390,7 @@ void ShadowPolygons::castShadows(const Vec3* p, std::size_t count, const Vec3& n
         if (s.hull.size() < 3) return true;
         if (!setUp()) return false;
         const std::size_t corners =
-            clipToConvex(s.hull[0].data(), s.hull.size(), s.outline.data(), count, s.shadow, s.hullScratch);
+            clipToConvex(s.hull[0].data(), s.hull.size(), s.outline.data(), count, s.shadow, s.hullScratch, s.hullRest);
         if (corners < 3) return true;
         s.image.resize(corners);
         for (std::size_t c = 0; c < corners; ++c) s.image[c] = origin + s.shadow[2 * c] * s.u + s.shadow[2 * c + 1] * s.v;

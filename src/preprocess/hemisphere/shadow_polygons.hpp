@@ -45,7 +45,7 @@ public:
         std::vector<std::pair<std::uint32_t, int>> hullFits;  // this call's solids: one shadow each? (castShadows)
         std::vector<std::uint32_t> deferred;      // their faces met in the region
         std::vector<std::array<double, 2>> hullPoints, hull;  // a solid's projected corners, their hull
-        std::vector<double> outline, hullScratch;  // the receiver in 2D (counter-clockwise); scratch
+        std::vector<double> outline, hullScratch, hullRest;  // the receiver in 2D (counter-clockwise); scratch
     };
 
     /// The tree over the patches with blocks[j] != 0 of `geometry` (its neighbours built). Connected
