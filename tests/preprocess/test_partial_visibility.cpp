@@ -317,3 +317,43 @@ TEST_CASE("Partial visibility: a receiver seen only near its rim past an occlude
     CHECK(run.F.at(emitter, receiver) == relative(expected, 5e-2));
     CHECK(run.F.at(receiver, emitter) == relative(run.F.at(emitter, receiver), 1e-6));  // equal areas
 }
+
+TEST_CASE("Partial visibility: a receiver whose centre is seen and part hidden is split by its corners' rays, in both rows") {
+    // A far pair of factor 2e-4 (one shadow ray from the emitter's centroid, below the rims'
+    // bound): the square emitter of side 2w = 0.002 at z = 0 (up), the square receiver of side
+    // 0.05 at z = 2 (down), and a plate at z = 1.9 over x > c = 0.01 that hides the receiver's part
+    // x > 0.0105 from the emitter. The ray to the receiver's centre passes, the receiver has no
+    // mesh neighbours to disagree with it, the emitter's corners see its centre too: read by that
+    // one ray, the pair was its unoccluded factor, 40 % high. The rays to the receiver's corners
+    // (two of them blocked) split it.
+    SceneBuilder b;
+    const double w = 0.001, h = 0.025, c = 0.01;
+    const PatchId emitter = b.rectangle(2, 0, -w, w, -w, w, true);
+    const PatchId receiver = b.rectangle(2, 2, -h, h, -h, h, false);
+    b.rectangle(2, 1.9, c, 1, -1, 1, false);
+    // Reference: from each point (px, py) of the emitter, Lambert's factor of the receiver's part
+    // x < px + (c - px) 2 / 1.9 (a rectangle), by a 6 x 6 Gauss-Legendre rule over the emitter.
+    std::vector<double> nodes, weights;
+    gaussLegendre(6, nodes, weights);
+    double expected = 0.0, unoccluded = 0.0;
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+        for (std::size_t j = 0; j < nodes.size(); ++j) {
+            const double px = -w + 2 * w * nodes[i], py = -w + 2 * w * nodes[j];
+            const double edge = px + (c - px) * 2.0 / 1.9;
+            expected += weights[i] * weights[j] * toRectangle(px, py, -h, edge, -h, h, 2);
+            unoccluded += weights[i] * weights[j] * toRectangle(px, py, -h, h, -h, h, 2);
+        }
+    REQUIRE(unoccluded > 1e-4);
+    REQUIRE(unoccluded < 3e-4);
+    REQUIRE(expected < 0.75 * unoccluded);
+    const double ratio = b.scene.patches[emitter].area / b.scene.patches[receiver].area;
+    const FormFactorRun both = analyticF(b.scene);
+    MESSAGE("F = " << both.F.at(emitter, receiver) << ", exact " << expected << ", unoccluded " << unoccluded);
+    CHECK(both.F.at(emitter, receiver) == relative(expected, 1e-4));
+    CHECK(both.F.at(receiver, emitter) == relative(expected * ratio, 1e-4));
+    // The receiver's row alone (no emitting row to hand the pair over) splits it alike.
+    HemisphereOptions o;
+    o.estimator = Estimator::Analytic;
+    const FormFactorRun alone = computeFormFactors(b.scene, MethodSettings::of(o), {receiver});
+    CHECK(alone.F.at(receiver, emitter) == relative(expected * ratio, 1e-4));
+}

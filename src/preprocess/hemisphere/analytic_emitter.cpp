@@ -124,6 +124,8 @@ void AnalyticEstimator::castFarRays(PatchId i, Workspace& ws, RayCounts& counts)
         counts.rays += far.patches.size();
     }
     for (std::size_t k = 0; k < far.patches.size(); ++k) ws.status[far.patches[k]] = far.rays.blocked[k] ? 2 : 1;
+    probeReceiverCorners(i, geometry.shapes[i].centroid, far.patches, far.factors, far.rays.blocked, far.cornersDiffer,
+                         ws, counts);
 }
 
 double AnalyticEstimator::addFarPairs(double weight, RowAccumulator& row, Workspace& ws) const {
@@ -132,11 +134,14 @@ double AnalyticEstimator::addFarPairs(double weight, RowAccumulator& row, Worksp
     for (std::size_t k = 0; k < far.patches.size(); ++k) {
         const PatchId j = far.patches[k];
         if (!(far.factors[k] > 0.0)) continue;  // facing away: nothing to split either
-        ws.kept.keep(j, far.rays.blocked[k] ? 0.0 : far.factors[k] * weight);
+        if (!far.cornersDiffer[k])  // else its split value, kept by the centroid pass
+            ws.kept.keep(j, far.rays.blocked[k] ? 0.0 : far.factors[k] * weight);
         if (m_rules.visibility() && m_rules.probesPenumbra(far.factors[k]))
             ws.penumbra.add(j, far.factors[k], &far.rays.targets[3 * k], far.rays.blocked[k]);
-        if (m_rules.geometry().onSilhouette(j, ws.status)) {  // split by the centroid pass, as its own receivers
+        // Split by the centroid pass, as its own receivers: on a silhouette, or its corners' rays disagreed.
+        if (far.cornersDiffer[k] || m_rules.geometry().onSilhouette(j, ws.status)) {
             ws.point.split.push_back(j);
+            ws.point.splitKept.push_back(far.cornersDiffer[k]);
             continue;
         }
         if (far.rays.blocked[k]) continue;
@@ -189,8 +194,10 @@ double AnalyticEstimator::addFrom(PatchId i, const Vec3& x, std::uint32_t point,
         aimAt(j, term.factor, target);
     }
     shoot();
+    probeReceiverCorners(i, x, p.candidates, p.factors, p.rays.blocked, p.cornersDiffer, ws, counts);
     // Visibility of each patch from its shadow ray; a patch whose mesh neighbours disagree with it
-    // sits on a silhouette and is split into pieces, each with its own factor and shadow ray.
+    // sits on a silhouette and is split into pieces, each with its own factor and shadow ray, as is
+    // one whose corners' rays disagree with its centre's (probeReceiverCorners).
     for (std::size_t k = 0; k < p.candidates.size(); ++k) ws.status[p.candidates[k]] = p.rays.blocked[k] ? 2 : 1;
     double sum = 0.0;
     for (std::size_t k = 0; k < p.exact.size(); ++k) {
@@ -202,17 +209,19 @@ double AnalyticEstimator::addFrom(PatchId i, const Vec3& x, std::uint32_t point,
         sum += p.exactVisible[k] * weight;
     }
     p.split.clear();
+    p.splitKept.clear();
     const PatchGeometry& geometry = m_rules.geometry();
     for (std::size_t k = 0; k < p.candidates.size(); ++k) {
         const PatchId j = p.candidates[k];
-        ws.kept.keep(j, p.rays.blocked[k] ? 0.0 : p.factors[k] * weight);
+        if (!p.cornersDiffer[k]) ws.kept.keep(j, p.rays.blocked[k] ? 0.0 : p.factors[k] * weight);  // else its split value
         // The centre ray's verdict is the term's share, split or not (as the receiving row sees it).
         if (candidates)
             ws.seen.note(j, p.rays.blocked[k] ? 0.0 : 1.0, p.factors[k] * weight);
         else if (visibility && m_rules.probesPenumbra(p.factors[k]))
             ws.penumbra.add(j, p.factors[k], &p.rays.targets[3 * k], p.rays.blocked[k]);
-        if (geometry.onSilhouette(j, ws.status)) {
+        if (p.cornersDiffer[k] || geometry.onSilhouette(j, ws.status)) {
             p.split.push_back(j);
+            p.splitKept.push_back(p.cornersDiffer[k]);
         } else if (!p.rays.blocked[k]) {
             row.addWeight(j, p.factors[k] * weight);
             sum += p.factors[k] * weight;
@@ -224,27 +233,67 @@ double AnalyticEstimator::addFrom(PatchId i, const Vec3& x, std::uint32_t point,
     // A receiver on a silhouette: the edge moves across it, so its centre's ray (all or nothing) is
     // not its term. Above PairRules' silhouette bound its exact visible part, below it in pieces
     // with a shadow ray each.
+    // A term split because its corners' rays disagreed keeps its split value for the exchange (the
+    // receiver's row splits it alike: splitDifferingTerms); one split on a silhouette alone keeps
+    // its ray's verdict (the receiver's row decides its own silhouettes).
     p.candidates.clear();
     p.factors.clear();
     p.rays.clear();
-    for (const PatchId j : p.split) {
+    p.pieceOf.clear();
+    p.splitValue.assign(p.split.size(), 0.0);
+    for (std::size_t s = 0; s < p.split.size(); ++s) {
+        const PatchId j = p.split[s];
         double visible = 0.0;
         if (m_rules.silhouetteTerm(i, j, x, ws.rules, counts, visible)) {
             if (!(visible > 0.0)) continue;
+            p.splitValue[s] = visible * weight;
             row.addWeight(j, visible * weight);
             sum += visible * weight;
             continue;
         }
-        m_rules.forEachPiece(i, j, x, point, ws.rules, [&](double f, const float target[3]) { aimAt(j, f, target); });
+        m_rules.forEachPiece(i, j, x, point, ws.rules, [&](double f, const float target[3]) {
+            aimAt(j, f, target);
+            p.pieceOf.push_back(std::uint32_t(s));
+        });
     }
-    if (p.candidates.empty()) return sum;
-    shoot();
-    for (std::size_t k = 0; k < p.candidates.size(); ++k) {
-        if (p.rays.blocked[k]) continue;
-        row.addWeight(p.candidates[k], p.factors[k] * weight);
-        sum += p.factors[k] * weight;
+    if (!p.candidates.empty()) {
+        shoot();
+        for (std::size_t k = 0; k < p.candidates.size(); ++k) {
+            if (p.rays.blocked[k]) continue;
+            row.addWeight(p.candidates[k], p.factors[k] * weight);
+            sum += p.factors[k] * weight;
+            p.splitValue[p.pieceOf[k]] += p.factors[k] * weight;  // in piece order, as the receiver's row sums them
+        }
     }
+    for (std::size_t s = 0; s < p.split.size(); ++s)
+        if (p.splitKept[s]) ws.kept.keep(p.split[s], p.splitValue[s]);
     return sum;
+}
+
+void AnalyticEstimator::probeReceiverCorners(PatchId i, const Vec3& x, const std::vector<PatchId>& patches,
+                                             const std::vector<double>& factors,
+                                             const std::vector<std::uint8_t>& blocked, std::vector<std::uint8_t>& differ,
+                                             Workspace& ws, RayCounts& counts) const {
+    differ.assign(patches.size(), 0);
+    if (!m_rules.visibility()) return;
+    ws.cornerRays.clear();
+    ws.cornerRayTerm.clear();
+    for (std::size_t k = 0; k < patches.size(); ++k) {
+        if (!(factors[k] > 0.0)) continue;  // no term
+        const std::size_t added = m_rules.receiverCornerTargets(i, patches[k], x, ws.cornerRays.targets);
+        ws.cornerRayTerm.insert(ws.cornerRayTerm.end(), added, std::uint32_t(k));
+    }
+    const std::size_t count = ws.cornerRayTerm.size();
+    if (count == 0) return;
+    float origin[3];
+    m_rules.rayOrigin(i, x, origin);
+    ws.cornerRays.blocked.resize(count);
+    m_rays->occludedSegments(origin, ws.cornerRays.targets.data(), count, ws.cornerRays.blocked.data());
+    counts.rays += count;
+    for (std::size_t q = 0; q < count; ++q) {
+        const std::uint32_t k = ws.cornerRayTerm[q];
+        if ((ws.cornerRays.blocked[q] != 0) != (blocked[k] != 0)) differ[k] = 1;
+    }
 }
 
 double AnalyticEstimator::replaceStraddlingPairs(PatchId i, const std::vector<PatchId>& receivers,

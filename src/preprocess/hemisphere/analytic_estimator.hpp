@@ -88,6 +88,16 @@ private:
     /// Their entries, scaled by `weight`, once the centroid pass has set its statuses too (the
     /// silhouette test reads the neighbours of both); those on a silhouette join the point's split.
     double addFarPairs(double weight, RowAccumulator& row, Workspace& ws) const;
+    /// For the ray terms from point x of row i (receivers `patches` with their factors, above 0
+    /// where there is a term, and their centre rays' verdicts `blocked`): whether a ray to a
+    /// corner of the receiver (PairRules::receiverCornerTargets) got another verdict, into
+    /// `differ`; such a term is split as a receiver on a silhouette is. The silhouette test asks
+    /// the receiver's mesh neighbours, which are blind where a blocker's edge crosses a whole
+    /// strip of them (a ground cell between buildings, a tall wall whose lower part a nearer
+    /// building hides): their centres all see, or all miss, what their corners do not.
+    void probeReceiverCorners(PatchId i, const Vec3& x, const std::vector<PatchId>& patches,
+                              const std::vector<double>& factors, const std::vector<std::uint8_t>& blocked,
+                              std::vector<std::uint8_t>& differ, Workspace& ws, RayCounts& counts) const;
 
     // As a receiver (analytic_receiver.cpp).
     /// Row i's entries for the patches that emit for i: the terms each of their rows sums for i
@@ -104,6 +114,17 @@ private:
     /// ray terms again with i split into pieces, each with its own shadow ray (not for a pair that
     /// straddles a shadow's edge: its value is whole).
     void splitReversedSilhouettes(PatchId i, Workspace& ws, RayCounts& counts) const;
+    /// The emitters' ray terms whose rays to this row's corners disagree with their rays to its
+    /// centre (row j's probeReceiverCorners), split as row j splits them (silhouetteTerm or
+    /// pieces): into the reversed terms' splitValue, which their sum takes as row j's kept sum does.
+    void splitDifferingTerms(PatchId i, Workspace& ws, RayCounts& counts) const;
+    /// Reversed term t (emitter j's point) with this row's patch i split as row j splits it: its
+    /// exact visible part above the silhouette bound, times the point's weight, into `exact` (left
+    /// alone where 0); else each piece's shadow ray and value (factor times the weight) to
+    /// piece(origin, target, value), in row j's order.
+    template <class Piece>
+    void splitTerm(PatchId j, PatchId i, std::uint32_t t, Workspace& ws, RayCounts& counts, double& exact,
+                   Piece piece) const;
 
     HemisphereOptions m_options;
     const Scene* m_scene = nullptr;
@@ -180,7 +201,14 @@ struct AnalyticEstimator::Workspace {
         std::vector<PatchId> exact;
         std::vector<double> exactVisible, exactWhole;
         std::vector<PatchId> split;
+        std::vector<std::uint8_t> cornersDiffer;  ///< per candidate: a ray to its receiver's corner disagreed
+        std::vector<std::uint8_t> splitKept;      ///< per split receiver: split because its corners disagreed
+        std::vector<double> splitValue;           ///< per split receiver: its value split
+        std::vector<std::uint32_t> pieceOf;       ///< per piece's ray: its split receiver
     } point;
+    /// The receivers' corners' rays of one point (probeReceiverCorners) and the term of each.
+    ShadowRayBatch cornerRays;
+    std::vector<std::uint32_t> cornerRayTerm;
     /// The centroid pass's ray terms and far pairs that probesPenumbra: their factor, and their
     /// centroid ray's target and verdict.
     struct Penumbra {
@@ -207,6 +235,7 @@ struct AnalyticEstimator::Workspace {
         std::vector<PatchId> patches;
         std::vector<double> factors;
         ShadowRayBatch rays;
+        std::vector<std::uint8_t> cornersDiffer;
     } far;
 
     // As a receiver: the patches that emit for this row, the range of each one's terms, its entry
@@ -223,6 +252,13 @@ struct AnalyticEstimator::Workspace {
         std::vector<std::uint32_t> pointIndex;  ///< its index in the emitter's rule
         std::vector<std::uint32_t> rayOf;     ///< its shadow ray, or kNoRay (exact: shadow polygons)
         ShadowRayBatch rays;
+        std::vector<std::uint8_t> differs;    ///< per term: a ray to a corner of this row's patch disagreed with its ray
+        std::vector<double> splitValue;       ///< per term that differs: its split value, as row j keeps it
+        ShadowRayBatch cornerRays;            ///< those corners' rays (probeReceiverCorners' in row j)
+        std::vector<std::uint32_t> cornerRayTerm;  ///< and the term of each
+        ShadowRayBatch pieces;                ///< the pieces' rays of the terms that differ
+        std::vector<std::uint32_t> pieceTerm;  ///< and the term of each
+        std::vector<double> pieceTermValue;    ///< and its value (factor times the point's weight)
         std::vector<std::uint32_t> silhouette;  ///< the emitters on a silhouette seen from this row
         std::vector<std::uint32_t> pieceOf;     ///< per silhouette piece ray: its emitter
         std::vector<double> pieceValue;         ///< and its term (factor times the point's weight)
@@ -243,6 +279,9 @@ struct AnalyticEstimator::Workspace {
             pointIndex.clear();
             rayOf.clear();
             rays.clear();
+            differs.clear();
+            cornerRays.clear();
+            cornerRayTerm.clear();
         }
     } reversed;
 };

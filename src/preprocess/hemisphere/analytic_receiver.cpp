@@ -46,9 +46,14 @@ double AnalyticEstimator::addReversedPairs(PatchId i, RowAccumulator& row, Works
         m_rays->occludedSegmentPairs(rev.rays.origins.data(), rev.rays.targets.data(), rays, rev.rays.blocked.data());
         counts.rays += rays;
     }
+    splitDifferingTerms(i, ws, counts);
     for (std::size_t p = 0; p < rev.emitters.size(); ++p) {
         if (rev.handed[p] < 0.0) {
             for (std::uint32_t t = rev.termBegin[p]; t < rev.termEnd[p]; ++t) {  // row j's sum for i, in row j's order
+                if (rev.differs[t]) {  // split, as row j keeps it
+                    if (rev.splitValue[t] > 0.0) rev.sum[p] += rev.splitValue[t];
+                    continue;
+                }
                 if (rev.rayOf[t] == rev.kNoRay ? !(rev.factors[t] > 0.0) : rev.rays.blocked[rev.rayOf[t]] != 0) continue;
                 rev.sum[p] += rev.factors[t] * rev.weights[t];
             }
@@ -91,6 +96,7 @@ bool AnalyticEstimator::reversedTerms(PatchId j, PatchId i, bool rays, Workspace
     // at, null for an exact term (shadow polygons: no ray).
     auto addTerm = [&](const Vec3& x, std::uint32_t q, double f, double whole, double weight, const Vec3* polygon,
                        std::size_t corners) {
+        rev.differs.push_back(0);
         rev.factors.push_back(f);
         rev.wholes.push_back(whole);
         rev.weights.push_back(weight);
@@ -106,6 +112,12 @@ bool AnalyticEstimator::reversedTerms(PatchId j, PatchId i, bool rays, Workspace
         m_rules.rayOrigin(j, x, origin);
         m_rules.rayTarget(j, i, polygon, corners, q, 0, target);
         rev.rays.addSegment(origin, target);
+        if (!m_rules.visibility()) return;
+        // Its rays to i's corners, as row j probes them (probeReceiverCorners).
+        const std::size_t added = m_rules.receiverCornerTargets(j, i, x, rev.cornerRays.targets);
+        for (std::size_t k = 0; k < added; ++k)
+            rev.cornerRays.origins.insert(rev.cornerRays.origins.end(), origin, origin + 3);
+        rev.cornerRayTerm.insert(rev.cornerRayTerm.end(), added, std::uint32_t(rev.factors.size() - 1));
     };
     const double unit = m_rules.unit();
     double far = 0.0;
@@ -167,6 +179,61 @@ AnalyticEstimator::Straddle AnalyticEstimator::reversedStraddles(PatchId i, std:
     return most >= least ? straddleOf(j, i, unoccluded, least, most, ws, counts) : Straddle::None;
 }
 
+template <class Piece>
+void AnalyticEstimator::splitTerm(PatchId j, PatchId i, std::uint32_t t, Workspace& ws, RayCounts& counts,
+                                  double& exact, Piece piece) const {
+    const Workspace::Reversed& rev = ws.reversed;
+    double visible = 0.0;
+    if (m_rules.silhouetteTerm(j, i, rev.points[t], ws.rules, counts, visible)) {  // as row j decides
+        if (visible > 0.0) exact = visible * rev.weights[t];
+        return;
+    }
+    float origin[3];
+    m_rules.rayOrigin(j, rev.points[t], origin);
+    m_rules.forEachPiece(j, i, rev.points[t], rev.pointIndex[t], ws.rules,
+                         [&](double f, const float target[3]) { piece(origin, target, f * rev.weights[t]); });
+}
+
+void AnalyticEstimator::splitDifferingTerms(PatchId i, Workspace& ws, RayCounts& counts) const {
+    // Row j's probe of this patch's corners from each ray term's point (probeReceiverCorners): the
+    // same rays, so the same terms disagree, and each such term split as row j splits it, into
+    // splitValue (row j keeps that value for the pair, not its ray's verdict).
+    Workspace::Reversed& rev = ws.reversed;
+    const std::size_t cornerRays = rev.cornerRayTerm.size();
+    if (cornerRays == 0) return;
+    rev.cornerRays.blocked.resize(cornerRays);
+    m_rays->occludedSegmentPairs(rev.cornerRays.origins.data(), rev.cornerRays.targets.data(), cornerRays,
+                                 rev.cornerRays.blocked.data());
+    counts.rays += cornerRays;
+    for (std::size_t q = 0; q < cornerRays; ++q) {
+        const std::uint32_t t = rev.cornerRayTerm[q];
+        if ((rev.cornerRays.blocked[q] != 0) != (rev.rays.blocked[rev.rayOf[t]] != 0)) rev.differs[t] = 1;
+    }
+    rev.splitValue.assign(rev.factors.size(), 0.0);
+    rev.pieces.clear();
+    rev.pieceTerm.clear();
+    rev.pieceTermValue.clear();
+    for (std::size_t p = 0; p < rev.emitters.size(); ++p) {
+        const PatchId j = rev.emitters[p];
+        for (std::uint32_t t = rev.termBegin[p]; t < rev.termEnd[p]; ++t) {
+            if (!rev.differs[t]) continue;
+            const auto piece = [&](const float origin[3], const float target[3], double value) {
+                rev.pieces.addSegment(origin, target);
+                rev.pieceTerm.push_back(t);
+                rev.pieceTermValue.push_back(value);
+            };
+            splitTerm(j, i, t, ws, counts, rev.splitValue[t], piece);
+        }
+    }
+    if (rev.pieceTerm.empty()) return;
+    rev.pieces.blocked.assign(rev.pieceTerm.size(), 0);
+    m_rays->occludedSegmentPairs(rev.pieces.origins.data(), rev.pieces.targets.data(), rev.pieceTerm.size(),
+                                 rev.pieces.blocked.data());
+    counts.rays += rev.pieceTerm.size();
+    for (std::size_t k = 0; k < rev.pieceTerm.size(); ++k)  // in piece order, as row j sums them
+        if (!rev.pieces.blocked[k]) rev.splitValue[rev.pieceTerm[k]] += rev.pieceTermValue[k];
+}
+
 void AnalyticEstimator::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCounts& counts) const {
     // An emitter j whose mesh neighbours disagree with it about i sees i past a silhouette, which
     // moves across i as the point on j moves: each of its ray terms takes i's exact visible part
@@ -213,18 +280,13 @@ void AnalyticEstimator::splitReversedSilhouettes(PatchId i, Workspace& ws, RayCo
                     if (rev.rayOf[u] == rev.kNoRay && rev.factors[u] > 0.0) rev.sum[p] += rev.factors[u] * rev.weights[u];
                 split = true;
             }
-            double visible = 0.0;
-            if (m_rules.silhouetteTerm(j, i, rev.points[t], ws.rules, counts, visible)) {  // as row j decides
-                if (visible > 0.0) rev.sum[p] += visible * rev.weights[t];
-                continue;
-            }
-            float origin[3];
-            m_rules.rayOrigin(j, rev.points[t], origin);
-            m_rules.forEachPiece(j, i, rev.points[t], rev.pointIndex[t], ws.rules, [&](double f, const float target[3]) {
+            double exact = 0.0;
+            splitTerm(j, i, t, ws, counts, exact, [&](const float origin[3], const float target[3], double value) {
                 rev.rays.addSegment(origin, target);
                 rev.pieceOf.push_back(p);
-                rev.pieceValue.push_back(f * rev.weights[t]);
+                rev.pieceValue.push_back(value);
             });
+            if (exact > 0.0) rev.sum[p] += exact;
         }
     }
     if (rev.pieceOf.empty()) return;

@@ -264,6 +264,21 @@ bool PairRules::pointTerm(PatchId e, PatchId r, const Vec3& x, Scratch& s, RayCo
     return true;
 }
 
+std::size_t PairRules::receiverCornerTargets(PatchId e, PatchId r, const Vec3& x, std::vector<float>& targets) const {
+    const Vec3& n = m_geometry.shapes[e].normal;
+    const PatchShape& shape = m_geometry.shapes[r];
+    std::size_t added = 0;
+    for (std::uint32_t k = 0; k < shape.count; ++k) {
+        const Vec3 y = m_geometry.insetCorner(r, k);
+        if (!(n.dot(y - x) > 0.0)) continue;
+        float target[3];
+        m_rays->toLocal(y + m_rays->originOffset() * shape.normal, target);
+        targets.insert(targets.end(), target, target + 3);
+        ++added;
+    }
+    return added;
+}
+
 void PairRules::rayOrigin(PatchId e, const Vec3& x, float origin[3]) const {
     m_rays->toLocal(x + m_rays->originOffset() * m_geometry.shapes[e].normal, origin);
 }

@@ -147,6 +147,12 @@ public:
                               RayCounts& counts) const {
         return cornersAgree(e, target, blocked, s, counts) && extremesAgree(e, r, factor, blocked, s, counts);
     }
+    /// The ends of the shadow rays from e's point x to r's corners (a hundredth inside, lifted off
+    /// r as rayTarget lifts them; those behind x's plane left out), appended to `targets`; returns
+    /// how many. Where one of them gets another verdict than the ray to r's centre, a blocker's
+    /// edge crosses r as seen from x, whatever r's mesh neighbours say: the term is split as a
+    /// silhouette term is (silhouetteTerm, forEachPiece).
+    std::size_t receiverCornerTargets(PatchId e, PatchId r, const Vec3& x, std::vector<float>& targets) const;
     /// Corner k of e a hundredth inside: where cornersAgree's rays start (before rayOrigin's lift).
     Vec3 cornerProbe(PatchId e, std::uint32_t k) const { return m_geometry.insetCorner(e, k); }
     /// A pair in such a penumbra, or a ruled pair whose points' shares spread too far for its few
